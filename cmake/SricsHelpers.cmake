@@ -1,0 +1,25 @@
+# Small helpers so that each folder's CMakeLists.txt stays a few lines.
+
+# Adds a subdirectory only once it has a CMakeLists.txt (folders are filled one issue at a time).
+function(srics_add_subdirectory_if_present dir)
+  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/CMakeLists.txt)
+    add_subdirectory(${dir})
+  endif()
+endfunction()
+
+# srics_add_test(NAME name SOURCES a.cc b.cc LIBS lib... [LABELS slow ...] [TIMEOUT s])
+# One GoogleTest executable; each TEST becomes its own ctest entry carrying LABELS.
+function(srics_add_test)
+  cmake_parse_arguments(T "" "NAME;TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
+  if(NOT T_TIMEOUT)
+    set(T_TIMEOUT 120)
+  endif()
+  add_executable(${T_NAME} ${T_SOURCES})
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main Threads::Threads)
+  target_compile_definitions(${T_NAME} PRIVATE
+    SRICS_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    SRICS_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  gtest_discover_tests(${T_NAME}
+    DISCOVERY_TIMEOUT 60
+    PROPERTIES LABELS "${T_LABELS}" TIMEOUT ${T_TIMEOUT})
+endfunction()

@@ -1,0 +1,31 @@
+# Build options and compiler settings shared by every target.
+option(SRICS_NATIVE "Compile for this host's vector instructions (-march=native); the networks are ~6x slower without" ON)
+option(SRICS_BUILD_TESTS "Build the test suite" ON)
+option(SRICS_BUILD_BENCHMARKS "Build the benchmarks" ON)
+option(SRICS_WARNINGS_AS_ERRORS "Treat compiler warnings as errors" OFF)
+
+if(NOT CMAKE_BUILD_TYPE AND NOT CMAKE_CONFIGURATION_TYPES)
+  set(CMAKE_BUILD_TYPE Release CACHE STRING "Build type" FORCE)
+endif()
+
+set(CMAKE_CXX_STANDARD 20)
+set(CMAKE_CXX_STANDARD_REQUIRED ON)
+set(CMAKE_CXX_EXTENSIONS OFF)
+set(CMAKE_POSITION_INDEPENDENT_CODE ON)
+set(CMAKE_EXPORT_COMPILE_COMMANDS ON)
+
+find_program(SRICS_CCACHE ccache)
+if(SRICS_CCACHE)
+  set(CMAKE_C_COMPILER_LAUNCHER ${SRICS_CCACHE})
+  set(CMAKE_CXX_COMPILER_LAUNCHER ${SRICS_CCACHE})
+endif()
+
+add_compile_options(-Wall -Wextra -Wno-unused-parameter)
+if(SRICS_WARNINGS_AS_ERRORS)
+  add_compile_options(-Werror)
+endif()
+if(SRICS_NATIVE)
+  add_compile_options(-march=native)
+endif()
+# Release keeps assertions off; RelWithDebInfo is the profiling build.
+set(CMAKE_CXX_FLAGS_RELEASE "-O2 -DNDEBUG")

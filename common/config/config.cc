@@ -1,0 +1,62 @@
+#include "common/config/config.h"
+
+#include <memory>
+
+#include "common/config/sections.h"
+
+namespace srics::config {
+namespace {
+
+Config ParseTree(const YAML::Node& root, std::shared_ptr<const OriginMap> origins,
+                 const std::string& name) {
+  Config config;
+  config.source_file = name;
+  YamlSection top(root, "", origins, name);
+  ParseRun(top.Child("run"), &config.run);
+  ParseTransport(top.Child("transport"), &config.transport);
+  ParseEnv(top.Child("env"), &config.env);
+  ParseGraph(top.Child("graph"), &config.graph);
+  ParseAgent(top.Child("agent"), &config.agent);
+  ParseLearner(top.Child("learner"), &config.learner);
+  ParseActors(top.Child("actors"), &config.actors);
+  top.Finish();
+  YAML::Emitter emitter;
+  emitter << root;
+  config.effective_yaml = emitter.c_str();
+  return config;
+}
+
+}  // namespace
+
+const char* MethodName(Method method) {
+  switch (method) {
+    case Method::kSrics: return "srics";
+    case Method::kSricsNoSelectivity: return "srics_no_selectivity";
+    case Method::kSricsNoSelectivityNoOrder: return "srics_no_selectivity_no_order";
+    case Method::kSmorl: return "smorl";
+    case Method::kSacHer: return "sac_her";
+    case Method::kHac: return "hac";
+  }
+  return "unknown";
+}
+
+Config LoadConfig(const std::string& file, const std::vector<std::string>& overrides) {
+  auto origins = std::make_shared<OriginMap>();
+  YAML::Node root = LoadMergedYaml(file, origins.get());
+  for (const auto& assignment : overrides) ApplyOverride(&root, assignment, origins.get());
+  return ParseTree(root, origins, file);
+}
+
+Config ParseConfig(const std::string& yaml_text, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(name + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+  }
+  if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  if (!root.IsMap()) throw ConfigError(name + ": expected a mapping at the top level");
+  return ParseTree(root, std::make_shared<OriginMap>(), name);
+}
+
+}  // namespace srics::config

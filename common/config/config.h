@@ -1,0 +1,42 @@
+#pragma once
+// The whole configuration of a run, parsed once from YAML into plain structs.
+//
+//   Config config = LoadConfig("deploy/configs/rearrange-3.yaml", {"actors.count=4"});
+//
+// Unknown keys, wrong types and out-of-range values throw ConfigError naming the file (and
+// line), the key path and what was expected. Files may start with `extends: base.yaml`.
+
+#include <string>
+#include <vector>
+
+#include "common/config/actor_config.h"
+#include "common/config/agent_config.h"
+#include "common/config/config_error.h"
+#include "common/config/env_config.h"
+#include "common/config/graph_config.h"
+#include "common/config/learner_config.h"
+#include "common/config/run_config.h"
+#include "common/config/transport_config.h"
+
+namespace srics::config {
+
+struct Config {
+  RunConfig run;
+  TransportConfig transport;
+  EnvConfig env;
+  GraphConfig graph;
+  AgentConfig agent;
+  LearnerConfig learner;
+  ActorConfig actors;
+  std::string source_file;     // the file it was loaded from
+  std::string effective_yaml;  // the merged YAML (extends + overrides), for the run folder
+};
+
+// Loads `file`, applies each "key.path=value" override, validates everything.
+Config LoadConfig(const std::string& file, const std::vector<std::string>& overrides = {});
+
+// Parses YAML text (for tests and for configs received from elsewhere); `name` is used in
+// error messages in place of a file name.
+Config ParseConfig(const std::string& yaml_text, const std::string& name);
+
+}  // namespace srics::config

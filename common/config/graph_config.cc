@@ -1,0 +1,27 @@
+#include "common/config/sections.h"
+
+namespace srics::config {
+
+void ParseGraph(YamlSection s, GraphConfig* out) {
+  s.ReadInt("episodes", &out->episodes, 1, 1 << 24);
+  s.ReadInt("episode_steps", &out->episode_steps, 2, 100000);
+  s.ReadDouble("held_out_fraction", &out->held_out_fraction, 0, 0.9);
+  s.ReadInt("hidden_dim", &out->hidden_dim, 1, 4096);
+  s.ReadInt("mlp_hidden", &out->mlp_hidden, 1, 8192);
+  s.ReadInt("window", &out->window, 2, 100000);
+  s.ReadInt("batch_windows", &out->batch_windows, 1, 1 << 20);
+  s.ReadDouble("learning_rate", &out->learning_rate, 0, 1);
+  s.ReadDouble("edge_prior", &out->edge_prior, 1e-6, 1 - 1e-6);
+  s.ReadDouble("kl_weight", &out->kl_weight, 0, 1e6);
+  s.ReadDouble("gumbel_temperature", &out->gumbel_temperature, 1e-3, 100);
+  s.ReadDouble("threshold", &out->threshold, 0, 1);
+  s.ReadInt("max_updates", &out->max_updates, 1, 1 << 30);
+  s.ReadInt("eval_every_updates", &out->eval_every_updates, 1, 1 << 30);
+  s.ReadInt("stable_evaluations", &out->stable_evaluations, 1, 1 << 20);
+  s.ReadBool("refine_after_publish", &out->refine_after_publish);
+  if (out->window > out->episode_steps)
+    s.FailRule("window", "must not exceed episode_steps (" + std::to_string(out->episode_steps) + ")");
+  s.Finish();
+}
+
+}  // namespace srics::config

@@ -1,0 +1,27 @@
+#pragma once
+// The graph service: random-action data, recurrent GNN, aggregation (srics-method.md section 2).
+
+#include <cstdint>
+
+namespace srics::config {
+
+struct GraphConfig {
+  int episodes = 1000;             // random-action episodes collected
+  int episode_steps = 50;
+  double held_out_fraction = 0.1;
+  int hidden_dim = 20;             // per-entity recurrent state
+  int mlp_hidden = 100;
+  int window = 20;                 // training windows of this many steps
+  int batch_windows = 100;
+  double learning_rate = 5e-4;     // RMSprop
+  double edge_prior = 0.05;        // Bernoulli prior of an edge
+  double kl_weight = 1e-5;
+  double gumbel_temperature = 0.5;
+  double threshold = 0.06;         // keep edges with mean weight above this
+  int max_updates = 20000;
+  int eval_every_updates = 500;    // held-out loss and thresholded graph
+  int stable_evaluations = 4;      // stop once the graph is unchanged this many times
+  bool refine_after_publish = false;
+};
+
+}  // namespace srics::config

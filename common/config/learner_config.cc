@@ -1,0 +1,27 @@
+#include <cmath>
+
+#include "common/config/sections.h"
+
+namespace srics::config {
+
+void ParseLearner(YamlSection s, LearnerConfig* out) {
+  s.ReadUint64("replay_capacity", &out->replay_capacity);
+  if (out->replay_capacity == 0) s.Fail("replay_capacity", "a positive number of transitions");
+  s.ReadUint64("warmup_steps", &out->warmup_steps);
+  s.ReadDouble("updates_per_step", &out->updates_per_step, 0, 1e4);
+  s.ReadDouble("rate_tolerance", &out->rate_tolerance, 0, 1e3);
+  s.ReadInt("publish_every_updates", &out->publish_every_updates, 1, 1 << 30);
+  s.ReadInt("checkpoint_every_updates", &out->checkpoint_every_updates, 1, 1 << 30);
+  s.ReadInt("threads", &out->threads, 1, 256);
+  YamlSection relabel = s.Child("relabel");
+  RelabelConfig& r = out->relabel;
+  relabel.ReadDouble("original", &r.original, 0, 1);
+  relabel.ReadDouble("future", &r.future, 0, 1);
+  relabel.ReadDouble("sampled", &r.sampled, 0, 1);
+  if (std::abs(r.original + r.future + r.sampled - 1.0) > 1e-6)
+    relabel.FailRule("sampled", "original + future + sampled must add up to 1");
+  relabel.Finish();
+  s.Finish();
+}
+
+}  // namespace srics::config

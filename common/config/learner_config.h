@@ -1,0 +1,25 @@
+#pragma once
+// The learner process: replay, relabeling, update schedule, rate limiting, checkpoints.
+
+#include <cstdint>
+
+namespace srics::config {
+
+struct RelabelConfig {
+  double original = 0.1;  // keep the episode's goal
+  double future = 0.4;    // a future state of the same entity in the same episode
+  double sampled = 0.5;   // a goal from the goal distribution
+};
+
+struct LearnerConfig {
+  uint64_t replay_capacity = 250000;  // transitions; whole episodes leave oldest first
+  uint64_t warmup_steps = 10000;      // random-action transitions before the first update
+  double updates_per_step = 1.0;      // target update-to-data ratio
+  double rate_tolerance = 0.2;        // limiter keeps the ratio within +-this fraction
+  int publish_every_updates = 100;    // PolicyWeights period
+  int checkpoint_every_updates = 5000;
+  int threads = 1;                    // Eigen threads for updates
+  RelabelConfig relabel;
+};
+
+}  // namespace srics::config

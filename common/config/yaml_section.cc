@@ -1,0 +1,310 @@
+#include "common/config/yaml_section.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+namespace srics::config {
+namespace {
+
+// Edit distance, for "did you mean" on unknown keys.
+size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1u : 0u)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string Describe(const YAML::Node& node) {
+  if (!node.IsDefined() || node.IsNull()) return "nothing";
+  if (node.IsScalar()) return "'" + node.Scalar() + "'";
+  if (node.IsSequence()) return "a list";
+  return "a mapping";
+}
+
+std::string Join(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
+               const std::string& file, OriginMap* origins) {
+  for (auto it = top.begin(); it != top.end(); ++it) {
+    const std::string key = it->first.as<std::string>();
+    const std::string key_path = Join(path, key);
+    YAML::Node existing = base[key];
+    if (existing.IsMap() && it->second.IsMap()) {
+      MergeInto(existing, it->second, key_path, file, origins);
+    } else {
+      base[key] = YAML::Clone(it->second);
+      // every key below this one now comes from `file`
+      for (auto o = origins->begin(); o != origins->end();) {
+        if (o->first.rfind(key_path + ".", 0) == 0) o = origins->erase(o); else ++o;
+      }
+      std::function<void(const YAML::Node&, const std::string&)> mark =
+          [&](const YAML::Node& n, const std::string& p) {
+            (*origins)[p] = file;
+            if (n.IsMap())
+              for (auto c = n.begin(); c != n.end(); ++c) mark(c->second, Join(p, c->first.as<std::string>()));
+          };
+      mark(it->second, key_path);
+    }
+  }
+}
+
+YAML::Node LoadMergedYamlImpl(const std::filesystem::path& file, OriginMap* origins, int depth) {
+  if (depth > 8) throw ConfigError(file.string() + ": 'extends' chain deeper than 8 files (a cycle?)");
+  if (!std::filesystem::exists(file)) throw ConfigError(file.string() + ": no such config file");
+  YAML::Node top;
+  try {
+    top = YAML::LoadFile(file.string());
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(file.string() + ":" + std::to_string(e.mark.line + 1) + ":" +
+                      std::to_string(e.mark.column + 1) + ": not valid YAML: " + e.msg);
+  }
+  if (top.IsNull()) top = YAML::Node(YAML::NodeType::Map);
+  if (!top.IsMap()) throw ConfigError(file.string() + ": expected a mapping at the top level");
+  YAML::Node merged(YAML::NodeType::Map);
+  if (top["extends"]) {
+    const YAML::Node base_name = top["extends"];
+    if (!base_name.IsScalar())
+      throw ConfigError(file.string() + ": extends: expected a file name relative to this file");
+    merged.reset(LoadMergedYamlImpl(file.parent_path() / base_name.Scalar(), origins, depth + 1));
+    top.remove("extends");
+  }
+  MergeInto(merged, top, "", file.string(), origins);
+  return merged;
+}
+
+}  // namespace
+
+YamlSection::YamlSection(YAML::Node node, std::string path,
+                         std::shared_ptr<const OriginMap> origins, std::string default_file)
+    : node_(std::move(node)),
+      path_(std::move(path)),
+      origins_(std::move(origins)),
+      default_file_(std::move(default_file)) {
+  if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) {
+    throw ConfigError(Where("") + ": " + (path_.empty() ? "<top>" : path_) +
+                      ": expected a mapping, got " + Describe(node_));
+  }
+}
+
+std::string YamlSection::KeyPath(const std::string& key) const { return Join(path_, key); }
+
+std::string YamlSection::Where(const std::string& key) const {
+  std::string file = default_file_;
+  if (origins_) {
+    // the deepest recorded prefix of this key path names the file it came from
+    std::string p = key.empty() ? path_ : KeyPath(key);
+    while (true) {
+      auto it = origins_->find(p);
+      if (it != origins_->end()) {
+        file = it->second;
+        break;
+      }
+      size_t dot = p.rfind('.');
+      if (dot == std::string::npos) break;
+      p = p.substr(0, dot);
+    }
+  }
+  YAML::Node value = (!key.empty() && node_.IsMap()) ? YAML::Node(node_[key]) : node_;
+  if (value.IsDefined() && value.Mark().line >= 0 && file != "command line")
+    return file + ":" + std::to_string(value.Mark().line + 1);
+  return file;
+}
+
+bool YamlSection::Has(const std::string& key) const {
+  known_keys_.insert(key);
+  if (!node_.IsMap()) return false;
+  const YAML::Node& const_node = node_;
+  return static_cast<bool>(const_node[key]);
+}
+
+YAML::Node YamlSection::Get(const std::string& key) {
+  consumed_.insert(key);
+  const YAML::Node& const_node = node_;
+  return const_node[key];
+}
+
+std::string YamlSection::Quote(const std::string& key) const {
+  const YAML::Node& const_node = node_;
+  return Describe(node_.IsMap() ? YAML::Node(const_node[key]) : YAML::Node());
+}
+
+void YamlSection::Fail(const std::string& key, const std::string& expected) const {
+  throw ConfigError(Where(key) + ": " + KeyPath(key) + ": expected " + expected + ", got " +
+                    Quote(key));
+}
+
+void YamlSection::FailRule(const std::string& key, const std::string& message) const {
+  throw ConfigError(Where(key) + ": " + KeyPath(key) + ": " + message);
+}
+
+void YamlSection::ReadInt(const std::string& key, int* out, int64_t lo, int64_t hi) {
+  if (!Has(key)) return;
+  YAML::Node value = Get(key);
+  std::ostringstream expected;
+  expected << "an integer in [" << lo << ", " << hi << "]";
+  int64_t parsed = 0;
+  if (!value.IsScalar() || !YAML::convert<int64_t>::decode(value, parsed) || parsed < lo ||
+      parsed > hi)
+    Fail(key, expected.str());
+  *out = static_cast<int>(parsed);
+}
+
+void YamlSection::ReadUint64(const std::string& key, uint64_t* out) {
+  if (!Has(key)) return;
+  YAML::Node value = Get(key);
+  uint64_t parsed = 0;
+  if (!value.IsScalar() || value.Scalar().starts_with("-") ||
+      !YAML::convert<uint64_t>::decode(value, parsed))
+    Fail(key, "a non-negative integer");
+  *out = parsed;
+}
+
+void YamlSection::ReadDouble(const std::string& key, double* out, double lo, double hi) {
+  if (!Has(key)) return;
+  YAML::Node value = Get(key);
+  std::ostringstream expected;
+  expected << "a number in [" << lo << ", " << hi << "]";
+  double parsed = 0;
+  if (!value.IsScalar() || !YAML::convert<double>::decode(value, parsed) ||
+      !std::isfinite(parsed) || parsed < lo || parsed > hi)
+    Fail(key, expected.str());
+  *out = parsed;
+}
+
+void YamlSection::ReadBool(const std::string& key, bool* out) {
+  if (!Has(key)) return;
+  YAML::Node value = Get(key);
+  bool parsed = false;
+  if (!value.IsScalar() || !YAML::convert<bool>::decode(value, parsed))
+    Fail(key, "true or false");
+  *out = parsed;
+}
+
+void YamlSection::ReadString(const std::string& key, std::string* out, bool allow_empty) {
+  if (!Has(key)) return;
+  YAML::Node value = Get(key);
+  if (!value.IsScalar() || (!allow_empty && value.Scalar().empty()))
+    Fail(key, allow_empty ? "a string" : "a non-empty string");
+  *out = value.Scalar();
+}
+
+void YamlSection::ReadDoubleList(const std::string& key, std::vector<double>* out, size_t size,
+                                 double lo, double hi) {
+  if (!Has(key)) return;
+  YAML::Node value = Get(key);
+  std::ostringstream expected;
+  expected << (size ? "a list of " + std::to_string(size) + " numbers" : std::string("a list of numbers"))
+           << " in [" << lo << ", " << hi << "]";
+  if (!value.IsSequence() || (size && value.size() != size)) Fail(key, expected.str());
+  std::vector<double> parsed;
+  for (const auto& item : value) {
+    double v = 0;
+    if (!item.IsScalar() || !YAML::convert<double>::decode(item, v) || !std::isfinite(v) ||
+        v < lo || v > hi)
+      Fail(key, expected.str());
+    parsed.push_back(v);
+  }
+  *out = std::move(parsed);
+}
+
+void YamlSection::ReadIntList(const std::string& key, std::vector<int>* out, int64_t lo,
+                              int64_t hi) {
+  if (!Has(key)) return;
+  YAML::Node value = Get(key);
+  std::ostringstream expected;
+  expected << "a list of integers in [" << lo << ", " << hi << "]";
+  if (!value.IsSequence()) Fail(key, expected.str());
+  std::vector<int> parsed;
+  for (const auto& item : value) {
+    int64_t v = 0;
+    if (!item.IsScalar() || !YAML::convert<int64_t>::decode(item, v) || v < lo || v > hi)
+      Fail(key, expected.str());
+    parsed.push_back(static_cast<int>(v));
+  }
+  *out = std::move(parsed);
+}
+
+YamlSection YamlSection::Child(const std::string& key) {
+  if (!Has(key)) return YamlSection(YAML::Node(YAML::NodeType::Map), KeyPath(key), origins_, default_file_);
+  YAML::Node value = Get(key);
+  if (!value.IsMap() && !value.IsNull()) Fail(key, "a mapping");
+  return YamlSection(value, KeyPath(key), origins_, default_file_);
+}
+
+std::vector<YamlSection> YamlSection::ChildList(const std::string& key) {
+  std::vector<YamlSection> children;
+  if (!Has(key)) return children;
+  YAML::Node value = Get(key);
+  if (!value.IsSequence()) Fail(key, "a list of mappings");
+  for (size_t i = 0; i < value.size(); ++i) {
+    if (!value[i].IsMap()) Fail(key, "a list of mappings");
+    children.emplace_back(value[i], KeyPath(key) + "[" + std::to_string(i) + "]", origins_,
+                          default_file_);
+  }
+  return children;
+}
+
+void YamlSection::Finish() const {
+  if (!node_.IsMap()) return;
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    const std::string key = it->first.as<std::string>();
+    if (consumed_.count(key)) continue;
+    std::string best;
+    size_t best_distance = 3;
+    // suggest among the keys this mapping accepts (every Read*/Child call asked for one)
+    for (const auto& k : known_keys_) {
+      size_t d = EditDistance(key, k);
+      if (d < best_distance) {
+        best_distance = d;
+        best = k;
+      }
+    }
+    std::string message = Where(key) + ": " + KeyPath(key) + ": unknown key";
+    if (!best.empty()) message += " (did you mean '" + best + "'?)";
+    throw ConfigError(message);
+  }
+}
+
+YAML::Node LoadMergedYaml(const std::string& file, OriginMap* origins) {
+  return LoadMergedYamlImpl(std::filesystem::path(file), origins, 0);
+}
+
+void ApplyOverride(YAML::Node* root, const std::string& assignment, OriginMap* origins) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ConfigError("command line: '" + assignment + "': expected key.path=value");
+  const std::string path = assignment.substr(0, eq);
+  YAML::Node value;
+  try {
+    value = YAML::Load(assignment.substr(eq + 1));
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("command line: " + path + ": value is not valid YAML: " + e.msg);
+  }
+  // walk down, creating mappings as needed
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  // wrap the value from the inside out (reset() rebinds; yaml-cpp's operator= would assign)
+  YAML::Node nested = value;
+  for (size_t i = parts.size(); i-- > 0;) {
+    if (parts[i].empty()) throw ConfigError("command line: '" + path + "': empty key in path");
+    YAML::Node mapping(YAML::NodeType::Map);
+    mapping[parts[i]] = nested;
+    nested.reset(mapping);
+  }
+  MergeInto(*root, nested, "", "command line", origins);
+}
+
+}  // namespace srics::config

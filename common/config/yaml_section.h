@@ -1,0 +1,104 @@
+#pragma once
+// Strict, typed reading of one YAML mapping. Internal to the config library: algorithms and
+// mains never include yaml-cpp; they see only the plain structs of the *_config.h headers.
+//
+// A key that is absent keeps the struct's default (defaults live only in the structs); a key
+// that is present must have the right type and range; a key nobody read is an error at
+// Finish(), so a typo never passes silently.
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/config/config_error.h"
+
+namespace srics::config {
+
+// Where each key path came from (file name, "command line", ...), filled when files are merged.
+using OriginMap = std::map<std::string, std::string>;
+
+class YamlSection {
+ public:
+  // `path` is the dotted key path of this mapping ("" for the root).
+  YamlSection(YAML::Node node, std::string path, std::shared_ptr<const OriginMap> origins,
+              std::string default_file);
+
+  bool Has(const std::string& key) const;
+  // Each Read* leaves *out untouched when the key is absent and throws ConfigError when the
+  // value is of the wrong type or out of range. Ranges are inclusive.
+  void ReadInt(const std::string& key, int* out, int64_t lo, int64_t hi);
+  void ReadUint64(const std::string& key, uint64_t* out);
+  void ReadDouble(const std::string& key, double* out, double lo, double hi);
+  void ReadBool(const std::string& key, bool* out);
+  void ReadString(const std::string& key, std::string* out, bool allow_empty = true);
+  void ReadDoubleList(const std::string& key, std::vector<double>* out, size_t size, double lo,
+                      double hi);  // size 0 = any length
+  void ReadIntList(const std::string& key, std::vector<int>* out, int64_t lo, int64_t hi);
+  template <typename Enum>
+  void ReadEnum(const std::string& key, Enum* out,
+                const std::vector<std::pair<std::string, Enum>>& names);
+
+  // A nested mapping; absent gives an empty mapping so nested defaults apply.
+  YamlSection Child(const std::string& key);
+  // A sequence of mappings (for lists of objects); absent gives an empty list.
+  std::vector<YamlSection> ChildList(const std::string& key);
+
+  // Throws for every key of this mapping that no Read*/Child call consumed.
+  void Finish() const;
+
+  // Throws ConfigError "<file>:<line>: <path.key>: expected <expected>, got <got>".
+  [[noreturn]] void Fail(const std::string& key, const std::string& expected) const;
+  // Same, for a rule that involves several keys (no single value to quote).
+  [[noreturn]] void FailRule(const std::string& key, const std::string& message) const;
+
+  const std::string& path() const { return path_; }
+  std::string KeyPath(const std::string& key) const;
+
+ private:
+  YAML::Node Get(const std::string& key);
+  std::string Where(const std::string& key) const;
+  std::string Quote(const std::string& key) const;
+
+  YAML::Node node_;
+  std::string path_;
+  std::shared_ptr<const OriginMap> origins_;
+  std::string default_file_;
+  std::set<std::string> consumed_;
+  mutable std::set<std::string> known_keys_;  // for "did you mean" at Finish()
+};
+
+template <typename Enum>
+void YamlSection::ReadEnum(const std::string& key, Enum* out,
+                           const std::vector<std::pair<std::string, Enum>>& names) {
+  std::string text;
+  std::string expected = "one of";
+  for (const auto& [name, value] : names) expected += " '" + name + "'";
+  if (!Has(key)) return;
+  YAML::Node value = Get(key);
+  if (!value.IsScalar()) Fail(key, expected);
+  text = value.Scalar();
+  for (const auto& [name, v] : names) {
+    if (name == text) {
+      *out = v;
+      return;
+    }
+  }
+  Fail(key, expected);
+}
+
+// Reads a YAML file, following `extends: other.yaml` (relative to the file) recursively and
+// merging mappings key by key (the extending file wins; sequences are replaced whole).
+// Records in *origins which file each key path came from.
+YAML::Node LoadMergedYaml(const std::string& file, OriginMap* origins);
+
+// Applies "a.b.c=value" (value parsed as YAML) on top of a loaded tree.
+void ApplyOverride(YAML::Node* root, const std::string& assignment, OriginMap* origins);
+
+}  // namespace srics::config

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs the Debian packages SRICS-DDS needs. Idempotent: does nothing when all are present,
+# and runs `apt-get update` only when something is missing.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ccache pkg-config
+  cyclonedds-dev cyclonedds-tools
+  libmujoco-dev
+  libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libpng-dev gnuplot-nox graphviz
+  iproute2 procps
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"

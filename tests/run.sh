@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# The whole test suite: installs what is missing, builds, runs every test with ctest.
+#   ./tests/run.sh                 everything
+#   ./tests/run.sh -L unit         only tests labelled unit (labels: unit, integration, slow)
+#   ./tests/run.sh -R Transport    ctest's own filters pass through
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${SRICS_BUILD_DIR:-$root/build}
+"$root/tests/build.sh"
+cd "$build"
+ctest --output-on-failure --timeout 600 -j "${SRICS_TEST_JOBS:-2}" "$@"
