@@ -1,0 +1,56 @@
+#pragma once
+// Interaction graphs over entities and the independently controllable subgoals they imply
+// (srics-method.md sections 2-3). Shared by the graph service (which learns the graph) and
+// by actors and the learner (which use it); no DDS, no YAML.
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace srics::rl {
+
+// A directed graph over N entities plus an action node that drives one entity.
+// adjacency[i * N + j] != 0 means "entity i acts on entity j".
+struct InteractionGraph {
+  int num_entities = 0;
+  std::vector<uint8_t> adjacency;
+  int action_entity = 0;  // the entity the action node has an edge to (the arm)
+
+  bool edge(int from, int to) const { return adjacency[from * num_entities + to] != 0; }
+  // The graph in which the action drives the arm and the arm acts on every other entity
+  // (what the graph service finds on plain Rearrange); handy for tests and ground truth.
+  static InteractionGraph Star(int num_entities);
+};
+
+// Ancestor sets and depths derived from a graph.
+struct SubgoalStructure {
+  // bit j of ancestor_mask[i]: entity j lies on some simple path from the action node to i
+  // (i itself excluded).
+  std::vector<uint64_t> ancestor_mask;
+  // length (in edges) of the longest simple path from the action node to i; the driven entity
+  // has depth 1; -1 when no path exists (no subgoal for that entity).
+  std::vector<int> depth;
+
+  int num_entities() const { return static_cast<int>(depth.size()); }
+  bool has_subgoal(int entity) const { return depth[entity] >= 1; }
+  bool is_ancestor(int ancestor, int of) const { return (ancestor_mask[of] >> ancestor) & 1u; }
+  // entities that have a subgoal, in index order
+  std::vector<int> SubgoalEntities() const;
+};
+
+// Largest graph the exact simple-path search accepts (paths are enumerated exhaustively).
+constexpr int kMaxGraphEntities = 16;
+
+// Ancestor sets over all simple paths from the action node and longest-simple-path depths.
+// Handles cycles. Throws std::invalid_argument for a malformed graph (size mismatch, action
+// entity out of range, more than kMaxGraphEntities entities).
+SubgoalStructure ComputeSubgoalStructure(const InteractionGraph& graph);
+
+// Validates a graph; returns an empty string when fine, else what is wrong.
+std::string ValidateGraph(const InteractionGraph& graph);
+
+// One-line description such as "action->0, 0->1, 0->2, 2->3" for logs and monitors.
+std::string DescribeGraph(const InteractionGraph& graph);
+
+}  // namespace srics::rl

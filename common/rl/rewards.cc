@@ -1,0 +1,77 @@
+#include "common/rl/rewards.h"
+
+#include <cmath>
+
+namespace srics::rl {
+namespace {
+
+// Sum and count of ||Δs_j|| over entities that are neither `entity` nor its ancestors.
+struct IndependentMotion {
+  double sum = 0;
+  int count = 0;
+  double mean() const { return count ? sum / count : 0.0; }
+};
+
+IndependentMotion MotionOfOthers(const EntityLayout& layout, const float* before,
+                                 const float* after, int entity, uint64_t ancestors) {
+  IndependentMotion motion;
+  for (int j = 0; j < layout.num_entities; ++j) {
+    if (j == entity || ((ancestors >> j) & 1u)) continue;
+    motion.sum += Displacement(layout, before, after, j);
+    ++motion.count;
+  }
+  return motion;
+}
+
+}  // namespace
+
+double SelectivityReward(const EntityLayout& layout, const float* before, const float* after,
+                         int entity, const float* goal, uint64_t ancestors,
+                         const config::RewardConfig& config) {
+  const double distance = DistanceToGoal(layout, after, entity, goal);
+  const double own_motion = Displacement(layout, before, after, entity);
+  const IndependentMotion others = MotionOfOthers(layout, before, after, entity, ancestors);
+  const bool solved = distance < config.solved_threshold;
+  if (config.selectivity_form == config::SelectivityForm::kReference) {
+    // reference code: mean motion of the independent entities; sel in [-1, 0]
+    if (solved) return -distance - others.mean();
+    const double total = own_motion + others.mean();
+    const double selectivity = total > config.epsilon ? -1.0 + own_motion / total : -1.0;
+    return -distance + config.selectivity_weight * selectivity;
+  }
+  // paper: sums over j not in P^i (the entity itself included in the denominator)
+  double selectivity;
+  if (solved) {
+    selectivity = 1.0 - others.sum;
+  } else {
+    const double total = own_motion + others.sum;
+    selectivity = total > config.epsilon ? own_motion / total : 0.0;
+  }
+  return -distance + config.selectivity_weight * (selectivity - 1.0);
+}
+
+double DistanceReward(const EntityLayout& layout, const float* after, int entity,
+                      const float* goal) {
+  return -DistanceToGoal(layout, after, entity, goal);
+}
+
+double FullGoalReward(const EntityLayout& layout, const float* after, const float* goal) {
+  double squared = 0;
+  for (int j = 0; j < layout.num_entities; ++j) {
+    const double dx = layout.x(after, j) - goal[2 * j];
+    const double dy = layout.y(after, j) - goal[2 * j + 1];
+    squared += dx * dx + dy * dy;
+  }
+  return -std::sqrt(squared);
+}
+
+std::optional<double> SelectivityMeasure(const EntityLayout& layout, const float* before,
+                                         const float* after, int entity, uint64_t ancestors,
+                                         double epsilon) {
+  const double own_motion = Displacement(layout, before, after, entity);
+  const double total = own_motion + MotionOfOthers(layout, before, after, entity, ancestors).mean();
+  if (total <= epsilon) return std::nullopt;
+  return own_motion / total;
+}
+
+}  // namespace srics::rl

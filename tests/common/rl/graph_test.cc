@@ -1,0 +1,94 @@
+#include "common/rl/graph.h"
+
+#include <gtest/gtest.h>
+
+namespace srics::rl {
+namespace {
+
+InteractionGraph FromEdges(int n, std::vector<std::pair<int, int>> edges, int action = 0) {
+  InteractionGraph graph;
+  graph.num_entities = n;
+  graph.adjacency.assign(n * n, 0);
+  for (auto [from, to] : edges) graph.adjacency[from * n + to] = 1;
+  graph.action_entity = action;
+  return graph;
+}
+
+uint64_t Mask(std::initializer_list<int> entities) {
+  uint64_t mask = 0;
+  for (int e : entities) mask |= uint64_t{1} << e;
+  return mask;
+}
+
+TEST(GraphTest, StarGivesArmDepthOneAndPucksDepthTwo) {
+  SubgoalStructure s = ComputeSubgoalStructure(InteractionGraph::Star(4));
+  EXPECT_EQ(s.depth, (std::vector<int>{1, 2, 2, 2}));
+  EXPECT_EQ(s.ancestor_mask[0], 0u);
+  for (int i = 1; i < 4; ++i) EXPECT_EQ(s.ancestor_mask[i], Mask({0})) << i;
+  EXPECT_EQ(s.SubgoalEntities(), (std::vector<int>{0, 1, 2, 3}));
+}
+
+TEST(GraphTest, RelationalGraphWithCycleAndStaticPuck) {
+  // arm 0 -> pucks 2, 3, 4; tied pair 2 <-> 3 (a cycle); static puck 1 unreachable
+  auto graph = FromEdges(5, {{0, 2}, {0, 3}, {0, 4}, {2, 3}, {3, 2}});
+  SubgoalStructure s = ComputeSubgoalStructure(graph);
+  // longest simple paths: action->0->2->3 has 3 edges, likewise 3 via 2
+  EXPECT_EQ(s.depth, (std::vector<int>{1, -1, 3, 3, 2}));
+  EXPECT_FALSE(s.has_subgoal(1));
+  EXPECT_EQ(s.ancestor_mask[1], 0u);
+  EXPECT_EQ(s.ancestor_mask[2], Mask({0, 3}));
+  EXPECT_EQ(s.ancestor_mask[3], Mask({0, 2}));
+  EXPECT_EQ(s.ancestor_mask[4], Mask({0}));
+  EXPECT_EQ(s.SubgoalEntities(), (std::vector<int>{0, 2, 3, 4}));
+}
+
+TEST(GraphTest, ChainAndDiamondTakeLongestPathAndEveryPathNode) {
+  // 0 -> 1 -> 2 -> 3 and a shortcut 0 -> 3; plus 1 -> 4, 0 -> 4
+  auto graph = FromEdges(5, {{0, 1}, {1, 2}, {2, 3}, {0, 3}, {1, 4}, {0, 4}});
+  SubgoalStructure s = ComputeSubgoalStructure(graph);
+  EXPECT_EQ(s.depth, (std::vector<int>{1, 2, 3, 4, 3}));
+  EXPECT_EQ(s.ancestor_mask[3], Mask({0, 1, 2}));
+  EXPECT_EQ(s.ancestor_mask[4], Mask({0, 1}));
+}
+
+TEST(GraphTest, CycleBackToTheArmDoesNotMakeItItsOwnAncestor) {
+  auto graph = FromEdges(3, {{0, 1}, {1, 0}, {1, 2}});
+  SubgoalStructure s = ComputeSubgoalStructure(graph);
+  EXPECT_EQ(s.ancestor_mask[0], 0u);
+  EXPECT_EQ(s.depth, (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(s.ancestor_mask[2], Mask({0, 1}));
+}
+
+TEST(GraphTest, ActionOnAnotherEntity) {
+  auto graph = FromEdges(3, {{2, 0}}, /*action=*/2);
+  SubgoalStructure s = ComputeSubgoalStructure(graph);
+  EXPECT_EQ(s.depth, (std::vector<int>{2, -1, 1}));
+  EXPECT_EQ(s.ancestor_mask[0], Mask({2}));
+}
+
+TEST(GraphTest, MalformedGraphsAreRejectedWithTheReason) {
+  InteractionGraph graph = InteractionGraph::Star(3);
+  graph.adjacency.pop_back();
+  EXPECT_THROW(
+      {
+        try {
+          ComputeSubgoalStructure(graph);
+        } catch (const std::invalid_argument& e) {
+          EXPECT_NE(std::string(e.what()).find("adjacency has 8 entries, expected 9"),
+                    std::string::npos);
+          throw;
+        }
+      },
+      std::invalid_argument);
+  graph = InteractionGraph::Star(3);
+  graph.action_entity = 3;
+  EXPECT_NE(ValidateGraph(graph).find("action_entity 3"), std::string::npos);
+  EXPECT_EQ(ValidateGraph(InteractionGraph::Star(3)), "");
+}
+
+TEST(GraphTest, DescribeListsEdges) {
+  EXPECT_EQ(DescribeGraph(FromEdges(3, {{0, 1}, {1, 2}})), "action->0, 0->1, 1->2");
+}
+
+}  // namespace
+}  // namespace srics::rl
