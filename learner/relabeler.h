@@ -1,0 +1,71 @@
+#pragma once
+// Builds SAC training batches from the replay: samples transitions, relabels their goals
+// (original / future state of the same entity / sampled from the goal distribution) and
+// recomputes the method's reward for the new goal (srics-method.md section 3).
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "common/config/agent_config.h"
+#include "common/config/learner_config.h"
+#include "common/config/run_config.h"
+#include "common/rl/graph.h"
+#include "learner/replay_buffer.h"
+
+namespace srics::learner {
+
+// The region goals are drawn from (subgoal goals: x [-0.2, 0.2], y [0.45, 0.7]).
+struct GoalRegion {
+  double x_min = -0.2, x_max = 0.2, y_min = 0.45, y_max = 0.7;
+};
+
+// A batch in the layout the attention networks take. Entities are padded to max_entities;
+// padded rows are zero and masked out.
+struct TrainingBatch {
+  int size = 0;          // B
+  int max_entities = 0;  // N
+  int entity_dim = 0;    // D
+  int goal_dim = 0;      // G: [kind one-hot (K), goal xy, 1] for subgoals; 2N for full goals
+  int action_dim = 0;    // A
+  std::vector<float> entities;       // (B*N) x D, state t
+  std::vector<float> next_entities;  // (B*N) x D, state t + 1
+  std::vector<float> mask;           // B x N, 1 = real entity
+  std::vector<float> goal;           // B x G
+  std::vector<float> action;         // B x A
+  std::vector<float> reward;         // B
+  std::vector<int> subgoal_entity;   // B (-1 for full goals)
+};
+
+// Which goal each sample ended up with, for statistics and tests.
+enum class GoalSource { kOriginal, kFuture, kSampled };
+
+class Relabeler {
+ public:
+  Relabeler(config::Method method, const config::RewardConfig& reward,
+            const config::RelabelConfig& relabel, GoalRegion region, uint64_t seed);
+
+  // The ancestor sets used for rewards and for picking subgoals of episodes that have none
+  // (explore episodes). Until called, every entity is a subgoal with no ancestors.
+  void SetSubgoalStructure(const rl::SubgoalStructure& structure);
+
+  // Fills *batch with `size` relabeled transitions. Precondition: !replay.empty().
+  void Sample(const ReplayBuffer& replay, int size, TrainingBatch* batch,
+              std::vector<GoalSource>* sources = nullptr);
+
+  bool full_goal() const { return method_ == config::Method::kSacHer; }
+
+ private:
+  int PickSubgoalEntity(const rl::Episode& episode);
+  double Reward(const rl::Episode& episode, int t, int entity, const float* goal) const;
+
+  config::Method method_;
+  config::RewardConfig reward_;
+  config::RelabelConfig relabel_;
+  GoalRegion region_;
+  std::mt19937_64 rng_;
+  rl::SubgoalStructure structure_;
+  bool have_structure_ = false;
+};
+
+}  // namespace srics::learner

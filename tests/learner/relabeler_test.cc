@@ -1,0 +1,156 @@
+#include "learner/relabeler.h"
+
+#include <gtest/gtest.h>
+
+#include "common/rl/rewards.h"
+#include "tests/learner/test_episodes.h"
+
+namespace srics::learner {
+namespace {
+
+using testing::MakeEpisode;
+
+class RelabelerTest : public ::testing::Test {
+ protected:
+  void Fill(int episodes, int subgoal_entity) {
+    for (int i = 0; i < episodes; ++i) replay_.Insert(MakeEpisode(4, 20, i, subgoal_entity));
+  }
+  ReplayBuffer replay_{100000};
+  config::RewardConfig reward_;
+  config::RelabelConfig relabel_;
+};
+
+TEST_F(RelabelerTest, GoalSourcesFollowTheConfiguredFractions) {
+  Fill(50, 2);
+  Relabeler relabeler(config::Method::kSrics, reward_, relabel_, {}, 3);
+  TrainingBatch batch;
+  std::vector<GoalSource> sources;
+  int counts[3] = {0, 0, 0};
+  const int batches = 20;
+  for (int i = 0; i < batches; ++i) {
+    relabeler.Sample(replay_, 1000, &batch, &sources);
+    for (GoalSource s : sources) ++counts[static_cast<int>(s)];
+  }
+  const double total = 1000.0 * batches;
+  EXPECT_NEAR(counts[0] / total, 0.1, 0.01);
+  EXPECT_NEAR(counts[1] / total, 0.4, 0.015);
+  EXPECT_NEAR(counts[2] / total, 0.5, 0.015);
+}
+
+TEST_F(RelabelerTest, RewardsAreRecomputedForTheRelabeledGoal) {
+  Fill(20, 2);
+  // ancestors of entity 2: the arm
+  rl::SubgoalStructure structure = rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(4));
+  Relabeler relabeler(config::Method::kSrics, reward_, relabel_, {}, 4);
+  relabeler.SetSubgoalStructure(structure);
+  TrainingBatch batch;
+  std::vector<GoalSource> sources;
+  relabeler.Sample(replay_, 512, &batch, &sources);
+  ASSERT_EQ(batch.goal_dim, 4 + 3);
+  const rl::EntityLayout layout{4, 4, false};
+  int checked = 0;
+  for (int b = 0; b < batch.size; ++b) {
+    const float* g = &batch.goal[b * batch.goal_dim];
+    EXPECT_EQ(batch.subgoal_entity[b], 2);
+    EXPECT_EQ(g[2], 1.0f);  // one-hot of the subgoal entity's kind
+    EXPECT_EQ(g[6], 1.0f);  // flag
+    const float goal_xy[2] = {g[4], g[5]};
+    if (sources[b] == GoalSource::kOriginal) {
+      EXPECT_EQ(goal_xy[0], 0.05f);
+      EXPECT_EQ(goal_xy[1], 0.6f);
+    }
+    if (sources[b] == GoalSource::kSampled) {
+      EXPECT_GE(goal_xy[0], -0.2f);
+      EXPECT_LE(goal_xy[0], 0.2f);
+      EXPECT_GE(goal_xy[1], 0.45f);
+      EXPECT_LE(goal_xy[1], 0.7f);
+    }
+    const double expected = rl::SelectivityReward(
+        layout, &batch.entities[b * 4 * batch.entity_dim],
+        &batch.next_entities[b * 4 * batch.entity_dim], 2, goal_xy, 0b1, reward_);
+    EXPECT_NEAR(batch.reward[b], expected, 1e-6);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 512);
+}
+
+TEST_F(RelabelerTest, FutureGoalsComeFromTheSameEntityLaterInTheEpisode) {
+  Fill(1, 1);
+  config::RelabelConfig all_future{0.0, 1.0, 0.0};
+  Relabeler relabeler(config::Method::kSmorl, reward_, all_future, {}, 5);
+  TrainingBatch batch;
+  relabeler.Sample(replay_, 200, &batch);
+  const rl::Episode& e = replay_.contents().front();
+  for (int b = 0; b < batch.size; ++b) {
+    const float gx = batch.goal[b * batch.goal_dim + 4 + 0];
+    const float gy = batch.goal[b * batch.goal_dim + 4 + 1];
+    // find the transition's time step from its state, then the goal among later states
+    int t = -1;
+    for (int s = 0; s < e.num_steps && t < 0; ++s)
+      if (std::equal(e.state(s), e.state(s) + e.layout.state_size(), &batch.entities[b * 4 * batch.entity_dim]))
+        t = s;
+    ASSERT_GE(t, 0);
+    bool found = false;
+    for (int f = t + 1; f <= e.num_steps; ++f)
+      found |= e.layout.x(e.state(f), 1) == gx && e.layout.y(e.state(f), 1) == gy;
+    EXPECT_TRUE(found) << "sample " << b;
+    // SMORL: the reward is the plain distance
+    EXPECT_NEAR(batch.reward[b], -std::hypot(e.layout.x(e.state(t + 1), 1) - gx, e.layout.y(e.state(t + 1), 1) - gy), 1e-6);
+  }
+}
+
+TEST_F(RelabelerTest, ExploreEpisodesGetSubgoalsTheGraphAllows) {
+  Fill(10, -1);
+  // relational-style graph: entity 1 unreachable
+  rl::InteractionGraph graph = rl::InteractionGraph::Star(4);
+  graph.adjacency[0 * 4 + 1] = 0;
+  Relabeler relabeler(config::Method::kSrics, reward_, relabel_, {}, 6);
+  relabeler.SetSubgoalStructure(rl::ComputeSubgoalStructure(graph));
+  TrainingBatch batch;
+  std::vector<GoalSource> sources;
+  relabeler.Sample(replay_, 2000, &batch, &sources);
+  int per_entity[4] = {0, 0, 0, 0};
+  for (int b = 0; b < batch.size; ++b) {
+    ++per_entity[batch.subgoal_entity[b]];
+    EXPECT_NE(sources[b], GoalSource::kOriginal);
+  }
+  EXPECT_EQ(per_entity[1], 0);
+  for (int i : {0, 2, 3}) EXPECT_NEAR(per_entity[i], 2000 / 3.0, 120) << i;
+}
+
+TEST_F(RelabelerTest, FullGoalForSacHer) {
+  Fill(5, -1);
+  Relabeler relabeler(config::Method::kSacHer, reward_, relabel_, {}, 7);
+  TrainingBatch batch;
+  relabeler.Sample(replay_, 64, &batch);
+  ASSERT_EQ(batch.goal_dim, 8);
+  const rl::EntityLayout layout{4, 4, false};
+  for (int b = 0; b < batch.size; ++b)
+    EXPECT_NEAR(batch.reward[b],
+                rl::FullGoalReward(layout, &batch.next_entities[b * 4 * batch.entity_dim], &batch.goal[b * 8]),
+                1e-6);
+}
+
+TEST_F(RelabelerTest, MixedEntityCountsArePaddedAndMasked) {
+  replay_.Insert(MakeEpisode(3, 20, 1, 1, 5));
+  replay_.Insert(MakeEpisode(5, 20, 2, 1, 5));
+  Relabeler relabeler(config::Method::kSmorl, reward_, relabel_, {}, 8);
+  TrainingBatch batch;
+  relabeler.Sample(replay_, 400, &batch);
+  ASSERT_EQ(batch.max_entities, 5);
+  int padded = 0;
+  for (int b = 0; b < batch.size; ++b) {
+    const float* m = &batch.mask[b * 5];
+    const int real = static_cast<int>(m[0] + m[1] + m[2] + m[3] + m[4]);
+    ASSERT_TRUE(real == 3 || real == 5);
+    if (real == 3) {
+      ++padded;
+      for (int i = 3 * batch.entity_dim; i < 5 * batch.entity_dim; ++i)
+        EXPECT_EQ(batch.entities[b * 5 * batch.entity_dim + i], 0.0f);
+    }
+  }
+  EXPECT_NEAR(padded, 200, 50);
+}
+
+}  // namespace
+}  // namespace srics::learner

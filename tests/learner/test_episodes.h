@@ -1,0 +1,45 @@
+#pragma once
+// Synthetic episodes for learner tests: entities walk deterministically from a seed.
+
+#include <random>
+
+#include "common/rl/episode.h"
+
+namespace srics::learner::testing {
+
+inline rl::Episode MakeEpisode(int num_entities, int num_steps, uint64_t seed,
+                               int subgoal_entity = 1, int num_kinds = 0) {
+  rl::Episode e;
+  e.layout = {num_entities, num_kinds ? num_kinds : num_entities, false};
+  e.num_steps = num_steps;
+  e.action_dim = 2;
+  for (int i = 0; i < num_entities; ++i) e.entity_kinds.push_back(static_cast<uint16_t>(i));
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> u(-0.02f, 0.02f);
+  std::vector<float> xy(2 * num_entities);
+  for (int i = 0; i < num_entities; ++i) {
+    xy[2 * i] = -0.2f + 0.1f * i;
+    xy[2 * i + 1] = 0.5f;
+  }
+  const int d = e.layout.entity_dim();
+  for (int t = 0; t <= num_steps; ++t) {
+    for (int i = 0; i < num_entities; ++i) {
+      std::vector<float> token(d, 0.0f);
+      token[e.entity_kinds[i]] = 1.0f;
+      token[e.layout.num_kinds] = xy[2 * i];
+      token[e.layout.num_kinds + 1] = xy[2 * i + 1];
+      e.states.insert(e.states.end(), token.begin(), token.end());
+    }
+    if (t == num_steps) break;
+    e.actions.push_back(u(rng) * 50);
+    e.actions.push_back(u(rng) * 50);
+    for (auto& v : xy) v += u(rng);
+  }
+  e.subgoal_entity = subgoal_entity;
+  if (subgoal_entity >= 0) e.goal = {0.05f, 0.6f};
+  e.mode = subgoal_entity >= 0 ? rl::EpisodeMode::kTrain : rl::EpisodeMode::kExplore;
+  e.episode_id = seed;
+  return e;
+}
+
+}  // namespace srics::learner::testing
