@@ -9,7 +9,7 @@ void ParseLearner(YamlSection s, LearnerConfig* out) {
   if (out->replay_capacity == 0) s.Fail("replay_capacity", "a positive number of transitions");
   s.ReadUint64("warmup_steps", &out->warmup_steps);
   s.ReadDouble("updates_per_step", &out->updates_per_step, 0, 1e4);
-  s.ReadDouble("rate_tolerance", &out->rate_tolerance, 0, 1e3);
+  s.ReadDouble("rate_error_buffer", &out->rate_error_buffer, 1, 1e9);
   s.ReadInt("publish_every_updates", &out->publish_every_updates, 1, 1 << 30);
   s.ReadInt("checkpoint_every_updates", &out->checkpoint_every_updates, 1, 1 << 30);
   s.ReadInt("threads", &out->threads, 1, 256);

@@ -15,7 +15,7 @@ struct LearnerConfig {
   uint64_t replay_capacity = 250000;  // transitions; whole episodes leave oldest first
   uint64_t warmup_steps = 10000;      // random-action transitions before the first update
   double updates_per_step = 1.0;      // target update-to-data ratio
-  double rate_tolerance = 0.2;        // limiter keeps the ratio within +-this fraction
+  double rate_error_buffer = 500;     // updates the learner may run ahead of (or behind) the ratio
   int publish_every_updates = 100;    // PolicyWeights period
   int checkpoint_every_updates = 5000;
   int threads = 1;                    // Eigen threads for updates
