@@ -1,0 +1,798 @@
+#include "common/nn/tape.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace srics::nn {
+namespace {
+
+using Eigen::Index;
+
+// first contribution assigns (no zero fill), later ones add
+template <typename NodeT, typename Expr>
+void Acc(NodeT& n, const Expr& e) {
+  if (!n.has_grad) {
+    n.grad = e;
+    n.has_grad = true;
+  } else {
+    n.grad += e;
+  }
+}
+
+// same for a matrix product, without temporaries
+template <typename NodeT, typename L, typename R>
+void AccProduct(NodeT& n, const L& l, const R& r) {
+  if (!n.has_grad) {
+    n.grad.resize(l.rows(), r.cols());
+    n.grad.noalias() = l * r;
+    n.has_grad = true;
+  } else {
+    n.grad.noalias() += l * r;
+  }
+}
+
+// makes sure a node's gradient buffer exists (zeroed) before scattered updates
+template <typename NodeT>
+void EnsureGrad(NodeT& n, Index rows, Index cols) {
+  if (!n.has_grad) {
+    n.grad.setZero(rows, cols);
+    n.has_grad = true;
+  }
+}
+
+void Check(bool ok, const char* op, const std::string& what) {
+  if (!ok) throw std::invalid_argument(std::string("nn::Tape::") + op + ": " + what);
+}
+
+template <typename M>
+std::string Shape(const M& m) {
+  return std::to_string(m.rows()) + "x" + std::to_string(m.cols());
+}
+
+// a broadcast copy of x at rows x cols (x is rows x cols, 1 x 1, 1 x cols or rows x 1)
+template <typename T>
+Matrix<T> Expand(const Matrix<T>& x, Index rows, Index cols) {
+  if (x.rows() == rows && x.cols() == cols) return x;
+  if (x.size() == 1) return Matrix<T>::Constant(rows, cols, x(0, 0));
+  if (x.rows() == 1) return x.replicate(rows, 1);
+  return x.replicate(1, cols);
+}
+
+// sums a full-shape gradient down to a broadcast operand's shape
+template <typename T>
+Matrix<T> Reduce(const Matrix<T>& g, Index rows, Index cols) {
+  if (g.rows() == rows && g.cols() == cols) return g;
+  if (rows == 1 && cols == 1) return Matrix<T>::Constant(1, 1, g.sum());
+  if (rows == 1) return g.colwise().sum();
+  return g.rowwise().sum();
+}
+
+bool Broadcastable(Index r, Index c, Index rows, Index cols) {
+  return (r == rows || r == 1) && (c == cols || c == 1);
+}
+
+// softmax of each row over entries with non-zero mask (mask may be null); rows with no
+// valid entry become zero
+template <typename T>
+void RowSoftmax(const Matrix<T>& x, const Matrix<T>* mask, Matrix<T>& y) {
+  y.resize(x.rows(), x.cols());
+  for (Index i = 0; i < x.rows(); ++i) {
+    T mx = -std::numeric_limits<T>::infinity();
+    for (Index j = 0; j < x.cols(); ++j) {
+      if (!mask || (*mask)(i, j) != T(0)) mx = std::max(mx, x(i, j));
+    }
+    T sum = 0;
+    for (Index j = 0; j < x.cols(); ++j) {
+      const T e = (!mask || (*mask)(i, j) != T(0)) ? std::exp(x(i, j) - mx) : T(0);
+      y(i, j) = e;
+      sum += e;
+    }
+    if (sum > T(0)) y.row(i) /= sum;
+  }
+}
+
+}  // namespace
+
+template <typename T>
+void Tape<T>::Reset() {
+  count_ = 0;
+}
+
+template <typename T>
+typename Tape<T>::Node& Tape<T>::NewNode(Op op, int a, int b) {
+  if (count_ == static_cast<int>(nodes_.size())) nodes_.emplace_back();
+  Node& n = nodes_[count_++];
+  n.op = op;
+  n.a = a;
+  n.b = b;
+  n.c = n.d = -1;
+  n.flag = false;
+  n.has_grad = false;
+  n.param = nullptr;
+  n.needs_grad = Needs(a) || Needs(b);
+  return n;
+}
+
+template <typename T>
+const Matrix<T>& Tape<T>::Value(Var<T> v) const {
+  return Val(v.id);
+}
+
+template <typename T>
+const Matrix<T>& Tape<T>::Grad(Var<T> v) {
+  Node& n = nodes_[v.id];
+  if (n.has_grad) return n.grad;
+  const Mat& x = Val(v.id);
+  zero_grad_.setZero(x.rows(), x.cols());
+  return zero_grad_;
+}
+
+template <typename T>
+Var<T> Tape<T>::Constant(const Mat& value, bool requires_grad) {
+  Node& n = NewNode(Op::kConstant);
+  n.value = value;
+  n.needs_grad = requires_grad;
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Param(Parameter<T>& p, bool trainable) {
+  Node& n = NewNode(Op::kParam);
+  n.param = &p;
+  n.flag = trainable;
+  n.needs_grad = trainable;
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::MatMul(Var<T> a, Var<T> b) {
+  Node& n = NewNode(Op::kMatMul, a.id, b.id);
+  const Mat& A = Val(a.id);
+  const Mat& B = Val(b.id);
+  Check(A.cols() == B.rows(), "MatMul", Shape(A) + " * " + Shape(B));
+  n.value.resize(A.rows(), B.cols());
+  n.value.noalias() = A * B;
+  LogGemm(A.rows(), A.cols(), B.cols(), false, false);
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Linear(Var<T> x, Var<T> w, Var<T> b) {
+  Node& n = NewNode(Op::kLinear, x.id, w.id);
+  n.c = b.id;
+  n.needs_grad = n.needs_grad || Needs(b.id);
+  const Mat& X = Val(x.id);
+  const Mat& W = Val(w.id);
+  Check(X.cols() == W.rows(), "Linear", Shape(X) + " * " + Shape(W));
+  n.value.resize(X.rows(), W.cols());
+  n.value.noalias() = X * W;
+  LogGemm(X.rows(), X.cols(), W.cols(), false, false);
+  if (b.id >= 0) {
+    const Mat& B = Val(b.id);
+    Check(B.rows() == 1 && B.cols() == W.cols(), "Linear", "bias " + Shape(B));
+    n.value.rowwise() += B.row(0);
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::AddBias(Var<T> x, Var<T> b) {
+  Node& n = NewNode(Op::kAddBias, x.id, b.id);
+  const Mat& X = Val(x.id);
+  const Mat& B = Val(b.id);
+  Check(B.rows() == 1 && B.cols() == X.cols(), "AddBias", Shape(X) + " + " + Shape(B));
+  n.value = X;
+  n.value.rowwise() += B.row(0);
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Binary(Op op, Var<T> a, Var<T> b) {
+  Node& n = NewNode(op, a.id, b.id);
+  const Mat& A = Val(a.id);
+  const Mat& B = Val(b.id);
+  const Index rows = std::max(A.rows(), B.rows());
+  const Index cols = std::max(A.cols(), B.cols());
+  Check(Broadcastable(A.rows(), A.cols(), rows, cols) &&
+            Broadcastable(B.rows(), B.cols(), rows, cols),
+        "elementwise", Shape(A) + " vs " + Shape(B));
+  if (op == Op::kMin) {
+    Check(A.rows() == B.rows() && A.cols() == B.cols(), "Min", Shape(A) + " vs " + Shape(B));
+  }
+  auto compute = [&](const auto& x, const auto& y) {
+    switch (op) {
+      case Op::kAdd: n.value = x + y; break;
+      case Op::kSub: n.value = x - y; break;
+      case Op::kMul: n.value = x.cwiseProduct(y); break;
+      case Op::kDiv: n.value = x.cwiseQuotient(y); break;
+      case Op::kMin: n.value = x.cwiseMin(y); break;
+      default: break;
+    }
+  };
+  if (A.rows() == B.rows() && A.cols() == B.cols()) {
+    compute(A, B);
+  } else {
+    compute(Expand(A, rows, cols), Expand(B, rows, cols));
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Add(Var<T> a, Var<T> b) { return Binary(Op::kAdd, a, b); }
+template <typename T>
+Var<T> Tape<T>::Sub(Var<T> a, Var<T> b) { return Binary(Op::kSub, a, b); }
+template <typename T>
+Var<T> Tape<T>::Mul(Var<T> a, Var<T> b) { return Binary(Op::kMul, a, b); }
+template <typename T>
+Var<T> Tape<T>::Div(Var<T> a, Var<T> b) { return Binary(Op::kDiv, a, b); }
+template <typename T>
+Var<T> Tape<T>::Min(Var<T> a, Var<T> b) { return Binary(Op::kMin, a, b); }
+
+template <typename T>
+Var<T> Tape<T>::AddScalar(Var<T> a, T s) {
+  Node& n = NewNode(Op::kAddScalar, a.id);
+  n.value = Val(a.id).array() + s;
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::MulScalar(Var<T> a, T s) {
+  Node& n = NewNode(Op::kMulScalar, a.id);
+  n.f0 = s;
+  n.value = Val(a.id) * s;
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Clamp(Var<T> a, T lo, T hi) {
+  Node& n = NewNode(Op::kClamp, a.id);
+  n.f0 = lo;
+  n.f1 = hi;
+  n.value = Val(a.id).cwiseMax(lo).cwiseMin(hi);
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Unary(Op op, Var<T> a) {
+  Node& n = NewNode(op, a.id);
+  const auto x = Val(a.id).array();
+  n.value.resize(x.rows(), x.cols());
+  auto y = n.value.array();
+  switch (op) {
+    case Op::kRelu: y = x.max(T(0)); break;
+    case Op::kTanh: y = x.tanh(); break;
+    case Op::kSigmoid: y = T(1) / (T(1) + (-x).exp()); break;
+    case Op::kExp: y = x.exp(); break;
+    case Op::kLog: y = x.log(); break;
+    case Op::kSoftplus: y = x.max(T(0)) + (-x.abs()).exp().log1p(); break;
+    case Op::kSquare: y = x.square(); break;
+    default: break;
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Relu(Var<T> a) { return Unary(Op::kRelu, a); }
+template <typename T>
+Var<T> Tape<T>::Tanh(Var<T> a) { return Unary(Op::kTanh, a); }
+template <typename T>
+Var<T> Tape<T>::Sigmoid(Var<T> a) { return Unary(Op::kSigmoid, a); }
+template <typename T>
+Var<T> Tape<T>::Exp(Var<T> a) { return Unary(Op::kExp, a); }
+template <typename T>
+Var<T> Tape<T>::Log(Var<T> a) { return Unary(Op::kLog, a); }
+template <typename T>
+Var<T> Tape<T>::Softplus(Var<T> a) { return Unary(Op::kSoftplus, a); }
+template <typename T>
+Var<T> Tape<T>::Square(Var<T> a) { return Unary(Op::kSquare, a); }
+
+template <typename T>
+Var<T> Tape<T>::Sum(Var<T> a, int axis) {
+  Check(axis >= -1 && axis <= 1, "Sum", "axis " + std::to_string(axis));
+  Node& n = NewNode(Op::kSum, a.id);
+  n.i0 = axis;
+  n.f0 = T(1);
+  const Mat& A = Val(a.id);
+  if (axis == -1) {
+    n.value.resize(1, 1);
+    n.value(0, 0) = A.sum();
+  } else if (axis == 0) {
+    n.value = A.colwise().sum();
+  } else {
+    n.value = A.rowwise().sum();
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Mean(Var<T> a, int axis) {
+  const Mat& A = Val(a.id);
+  const Index count = axis == -1 ? A.size() : axis == 0 ? A.rows() : A.cols();
+  Var<T> s = Sum(a, axis);
+  Node& n = N(s);
+  n.op = Op::kMean;
+  n.f0 = T(1) / static_cast<T>(count);
+  n.value *= n.f0;
+  return s;
+}
+
+template <typename T>
+Var<T> Tape<T>::Concat(const std::vector<Var<T>>& parts, int axis) {
+  Check(!parts.empty(), "Concat", "no parts");
+  Check(axis == 0 || axis == 1, "Concat", "axis " + std::to_string(axis));
+  Node& n = NewNode(Op::kConcat);
+  n.i0 = axis;
+  n.inputs.clear();
+  Index rows = 0, cols = 0;
+  for (const Var<T>& p : parts) {
+    n.inputs.push_back(p.id);
+    n.needs_grad = n.needs_grad || Needs(p.id);
+    const Mat& P = Val(p.id);
+    if (axis == 1) {
+      Check(cols == 0 || P.rows() == rows, "Concat", "row count " + Shape(P));
+      rows = P.rows();
+      cols += P.cols();
+    } else {
+      Check(rows == 0 || P.cols() == cols, "Concat", "column count " + Shape(P));
+      cols = P.cols();
+      rows += P.rows();
+    }
+  }
+  n.value.resize(rows, cols);
+  Index off = 0;
+  for (int id : n.inputs) {
+    const Mat& P = Val(id);
+    if (axis == 1) {
+      n.value.middleCols(off, P.cols()) = P;
+      off += P.cols();
+    } else {
+      n.value.middleRows(off, P.rows()) = P;
+      off += P.rows();
+    }
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Slice(Var<T> a, int axis, Index start, Index length) {
+  Node& n = NewNode(Op::kSlice, a.id);
+  const Mat& A = Val(a.id);
+  const Index extent = axis == 0 ? A.rows() : A.cols();
+  Check((axis == 0 || axis == 1) && start >= 0 && length >= 0 && start + length <= extent,
+        "Slice", "axis " + std::to_string(axis) + " [" + std::to_string(start) + ", +" +
+                     std::to_string(length) + ") of " + Shape(A));
+  n.i0 = axis;
+  n.i1 = start;
+  if (axis == 1) {
+    n.value = A.middleCols(start, length);
+  } else {
+    n.value = A.middleRows(start, length);
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Reshape(Var<T> a, Index rows, Index cols) {
+  Node& n = NewNode(Op::kReshape, a.id);
+  const Mat& A = Val(a.id);
+  Check(rows * cols == A.size(), "Reshape", Shape(A) + " to " + std::to_string(rows) + "x" +
+                                                std::to_string(cols));
+  n.value = Eigen::Map<const Mat>(A.data(), rows, cols);
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Transpose(Var<T> a) {
+  Node& n = NewNode(Op::kTranspose, a.id);
+  n.value = Val(a.id).transpose();
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::MaskedSoftmax(Var<T> a, Var<T> mask) {
+  Node& n = NewNode(Op::kMaskedSoftmax, a.id);
+  n.c = mask.id;
+  const Mat& A = Val(a.id);
+  const Mat* M = nullptr;
+  if (mask.id >= 0) {
+    M = &Val(mask.id);
+    Check(M->rows() == A.rows() && M->cols() == A.cols(), "MaskedSoftmax",
+          "mask " + Shape(*M) + " for " + Shape(A));
+  }
+  RowSoftmax(A, M, n.value);
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::LogSoftmax(Var<T> a) {
+  Node& n = NewNode(Op::kLogSoftmax, a.id);
+  const Mat& A = Val(a.id);
+  RowSoftmax<T>(A, nullptr, n.aux);
+  n.value.resize(A.rows(), A.cols());
+  for (Index i = 0; i < A.rows(); ++i) {
+    const T mx = A.row(i).maxCoeff();
+    const T lse = mx + std::log((A.row(i).array() - mx).exp().sum());
+    n.value.row(i) = A.row(i).array() - lse;
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::GumbelSoftmax(Var<T> logits, const Mat& gumbel_noise, T temperature,
+                              bool hard) {
+  Node& n = NewNode(Op::kGumbelSoftmax, logits.id);
+  const Mat& L = Val(logits.id);
+  Check(gumbel_noise.rows() == L.rows() && gumbel_noise.cols() == L.cols(), "GumbelSoftmax",
+        "noise " + Shape(gumbel_noise) + " for " + Shape(L));
+  Check(temperature > T(0), "GumbelSoftmax", "temperature must be positive");
+  n.f0 = temperature;
+  n.flag = hard;
+  Mat z = (L + gumbel_noise) / temperature;
+  RowSoftmax<T>(z, nullptr, n.aux);
+  if (hard) {
+    n.value.setZero(L.rows(), L.cols());
+    for (Index i = 0; i < L.rows(); ++i) {
+      Index j;
+      n.aux.row(i).maxCoeff(&j);
+      n.value(i, j) = T(1);
+    }
+  } else {
+    n.value = n.aux;
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Gather(Var<T> a, const std::vector<int>& index) {
+  Node& n = NewNode(Op::kGather, a.id);
+  const Mat& A = Val(a.id);
+  n.index = index;
+  n.value.resize(static_cast<Index>(index.size()), A.cols());
+  for (size_t i = 0; i < index.size(); ++i) {
+    Check(index[i] >= 0 && index[i] < A.rows(), "Gather",
+          "index " + std::to_string(index[i]) + " of " + Shape(A));
+    n.value.row(i) = A.row(index[i]);
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_rows) {
+  Node& n = NewNode(Op::kScatterAdd, a.id);
+  const Mat& A = Val(a.id);
+  Check(static_cast<Index>(index.size()) == A.rows(), "ScatterAdd",
+        std::to_string(index.size()) + " indices for " + Shape(A));
+  n.index = index;
+  n.value.setZero(num_rows, A.cols());
+  for (size_t i = 0; i < index.size(); ++i) {
+    Check(index[i] >= 0 && index[i] < num_rows, "ScatterAdd",
+          "index " + std::to_string(index[i]) + " of " + std::to_string(num_rows));
+    n.value.row(index[i]) += A.row(i);
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_heads) {
+  Node& n = NewNode(Op::kAttention, q.id, k.id);
+  n.c = v.id;
+  n.d = mask.id;
+  n.i0 = num_heads;
+  n.needs_grad = n.needs_grad || Needs(v.id);
+  const Mat& Q = Val(q.id);
+  const Mat& K = Val(k.id);
+  const Mat& V = Val(v.id);
+  const Index batch = Q.rows(), embed = Q.cols();
+  Check(num_heads > 0 && embed % num_heads == 0, "Attention",
+        std::to_string(embed) + " not divisible into " + std::to_string(num_heads) + " heads");
+  Check(batch > 0 && K.rows() % batch == 0 && K.cols() == embed && V.rows() == K.rows() &&
+            V.cols() == embed,
+        "Attention", "q " + Shape(Q) + " k " + Shape(K) + " v " + Shape(V));
+  const Index ents = K.rows() / batch, dh = embed / num_heads;
+  const Mat* M = nullptr;
+  if (mask.id >= 0) {
+    M = &Val(mask.id);
+    Check(M->rows() == batch && M->cols() == ents, "Attention", "mask " + Shape(*M));
+  }
+  const T scale = T(1) / std::sqrt(static_cast<T>(dh));
+  n.aux.resize(batch, num_heads * ents);
+  n.value.setZero(batch, embed);
+  for (Index b = 0; b < batch; ++b) {
+    for (Index h = 0; h < num_heads; ++h) {
+      const auto qs = Q.row(b).segment(h * dh, dh);
+      T* w = n.aux.data() + b * n.aux.cols() + h * ents;
+      // scores, then a masked softmax over this sample's entities
+      T mx = -std::numeric_limits<T>::infinity();
+      for (Index e = 0; e < ents; ++e) {
+        if (M && (*M)(b, e) == T(0)) continue;
+        w[e] = scale * qs.dot(K.row(b * ents + e).segment(h * dh, dh));
+        mx = std::max(mx, w[e]);
+      }
+      T sum = 0;
+      for (Index e = 0; e < ents; ++e) {
+        w[e] = (M && (*M)(b, e) == T(0)) ? T(0) : std::exp(w[e] - mx);
+        sum += w[e];
+      }
+      if (sum <= T(0)) continue;
+      auto out = n.value.row(b).segment(h * dh, dh);
+      for (Index e = 0; e < ents; ++e) {
+        w[e] /= sum;
+        out += w[e] * V.row(b * ents + e).segment(h * dh, dh);
+      }
+    }
+  }
+  return Out(n);
+}
+
+template <typename T>
+const Matrix<T>& Tape<T>::AttentionWeights(Var<T> attention) const {
+  const Node& n = N(attention);
+  Check(n.op == Op::kAttention, "AttentionWeights", "not an Attention node");
+  return n.aux;
+}
+
+template <typename T>
+void Tape<T>::Backward(Var<T> loss) {
+  Check(Val(loss.id).size() == 1, "Backward", "loss must be 1x1, is " + Shape(Val(loss.id)));
+  Backward(loss, Mat::Ones(1, 1));
+}
+
+template <typename T>
+void Tape<T>::Backward(Var<T> out, const Mat& seed) {
+  Check(out.tape == this && out.id >= 0 && out.id < count_, "Backward", "foreign variable");
+  Check(seed.rows() == Val(out.id).rows() && seed.cols() == Val(out.id).cols(), "Backward",
+        "seed " + Shape(seed) + " for " + Shape(Val(out.id)));
+  for (int i = 0; i < count_; ++i) nodes_[i].has_grad = false;
+  Node& o = nodes_[out.id];
+  o.grad = seed;
+  o.has_grad = true;
+  for (int id = out.id; id >= 0; --id) {
+    if (nodes_[id].has_grad && nodes_[id].needs_grad) BackwardNode(id);
+  }
+}
+
+template <typename T>
+void Tape<T>::BackwardNode(int id) {
+  Node& n = nodes_[id];
+  const Mat& g = n.grad;
+  switch (n.op) {
+    case Op::kConstant:
+      break;
+    case Op::kParam:
+      if (n.flag) n.param->grad += g;
+      break;
+    case Op::kMatMul:
+    case Op::kLinear: {
+      const Mat& A = Val(n.a);
+      const Mat& B = Val(n.b);
+      if (Needs(n.b)) {
+        AccProduct(nodes_[n.b], A.transpose(), g);
+        LogGemm(A.cols(), A.rows(), g.cols(), true, false);
+      }
+      if (Needs(n.a)) {
+        AccProduct(nodes_[n.a], g, B.transpose());
+        LogGemm(g.rows(), g.cols(), B.rows(), false, true);
+      }
+      if (n.op == Op::kLinear && Needs(n.c)) Acc(nodes_[n.c], g.colwise().sum());
+      break;
+    }
+    case Op::kAddBias:
+      if (Needs(n.a)) Acc(nodes_[n.a], g);
+      if (Needs(n.b)) Acc(nodes_[n.b], g.colwise().sum());
+      break;
+    case Op::kAdd:
+    case Op::kSub:
+    case Op::kMul:
+    case Op::kDiv:
+    case Op::kMin: {
+      const Mat& A = Val(n.a);
+      const Mat& B = Val(n.b);
+      const bool same = A.rows() == B.rows() && A.cols() == B.cols();
+      if (same) {
+        switch (n.op) {
+          case Op::kAdd:
+            if (Needs(n.a)) Acc(nodes_[n.a], g);
+            if (Needs(n.b)) Acc(nodes_[n.b], g);
+            break;
+          case Op::kSub:
+            if (Needs(n.a)) Acc(nodes_[n.a], g);
+            if (Needs(n.b)) Acc(nodes_[n.b], -g);
+            break;
+          case Op::kMul:
+            if (Needs(n.a)) Acc(nodes_[n.a], g.cwiseProduct(B));
+            if (Needs(n.b)) Acc(nodes_[n.b], g.cwiseProduct(A));
+            break;
+          case Op::kDiv:
+            if (Needs(n.a)) Acc(nodes_[n.a], g.cwiseQuotient(B));
+            if (Needs(n.b)) {
+              Acc(nodes_[n.b], (-g.array() * A.array() / B.array().square()).matrix());
+            }
+            break;
+          case Op::kMin: {
+            const auto pick_a = (A.array() <= B.array()).template cast<T>();
+            if (Needs(n.a)) Acc(nodes_[n.a], (g.array() * pick_a).matrix());
+            if (Needs(n.b)) Acc(nodes_[n.b], (g.array() * (T(1) - pick_a)).matrix());
+            break;
+          }
+          default:
+            break;
+        }
+        break;
+      }
+      // broadcasting: work at full shape, then sum down to each operand's shape
+      const Mat Af = Expand(A, g.rows(), g.cols());
+      const Mat Bf = Expand(B, g.rows(), g.cols());
+      Mat ga, gb;
+      switch (n.op) {
+        case Op::kAdd: ga = g; gb = g; break;
+        case Op::kSub: ga = g; gb = -g; break;
+        case Op::kMul: ga = g.cwiseProduct(Bf); gb = g.cwiseProduct(Af); break;
+        case Op::kDiv:
+          ga = g.cwiseQuotient(Bf);
+          gb = (-g.array() * Af.array() / Bf.array().square()).matrix();
+          break;
+        default: break;
+      }
+      if (Needs(n.a)) Acc(nodes_[n.a], Reduce(ga, A.rows(), A.cols()));
+      if (Needs(n.b)) Acc(nodes_[n.b], Reduce(gb, B.rows(), B.cols()));
+      break;
+    }
+    case Op::kAddScalar:
+      Acc(nodes_[n.a], g);
+      break;
+    case Op::kMulScalar:
+      Acc(nodes_[n.a], g * n.f0);
+      break;
+    case Op::kClamp: {
+      const auto x = Val(n.a).array();
+      Acc(nodes_[n.a],
+          (g.array() * ((x >= n.f0) && (x <= n.f1)).template cast<T>()).matrix());
+      break;
+    }
+    case Op::kRelu:
+      Acc(nodes_[n.a], (g.array() * (n.value.array() > T(0)).template cast<T>()).matrix());
+      break;
+    case Op::kTanh:
+      Acc(nodes_[n.a], (g.array() * (T(1) - n.value.array().square())).matrix());
+      break;
+    case Op::kSigmoid:
+      Acc(nodes_[n.a], (g.array() * n.value.array() * (T(1) - n.value.array())).matrix());
+      break;
+    case Op::kExp:
+      Acc(nodes_[n.a], g.cwiseProduct(n.value));
+      break;
+    case Op::kLog:
+      Acc(nodes_[n.a], g.cwiseQuotient(Val(n.a)));
+      break;
+    case Op::kSoftplus:
+      Acc(nodes_[n.a], (g.array() / (T(1) + (-Val(n.a).array()).exp())).matrix());
+      break;
+    case Op::kSquare:
+      Acc(nodes_[n.a], (T(2) * g.array() * Val(n.a).array()).matrix());
+      break;
+    case Op::kSum:
+    case Op::kMean: {
+      const Mat& A = Val(n.a);
+      if (n.i0 == -1) {
+        Acc(nodes_[n.a], Mat::Constant(A.rows(), A.cols(), g(0, 0) * n.f0));
+      } else if (n.i0 == 0) {
+        Acc(nodes_[n.a], (g * n.f0).replicate(A.rows(), 1));
+      } else {
+        Acc(nodes_[n.a], (g * n.f0).replicate(1, A.cols()));
+      }
+      break;
+    }
+    case Op::kConcat: {
+      Index off = 0;
+      for (int in : n.inputs) {
+        const Mat& P = Val(in);
+        if (n.i0 == 1) {
+          if (Needs(in)) Acc(nodes_[in], g.middleCols(off, P.cols()));
+          off += P.cols();
+        } else {
+          if (Needs(in)) Acc(nodes_[in], g.middleRows(off, P.rows()));
+          off += P.rows();
+        }
+      }
+      break;
+    }
+    case Op::kSlice: {
+      const Mat& A = Val(n.a);
+      Node& in = nodes_[n.a];
+      EnsureGrad(in, A.rows(), A.cols());
+      if (n.i0 == 1) {
+        in.grad.middleCols(n.i1, g.cols()) += g;
+      } else {
+        in.grad.middleRows(n.i1, g.rows()) += g;
+      }
+      break;
+    }
+    case Op::kReshape: {
+      const Mat& A = Val(n.a);
+      Acc(nodes_[n.a], Eigen::Map<const Mat>(g.data(), A.rows(), A.cols()));
+      break;
+    }
+    case Op::kTranspose:
+      Acc(nodes_[n.a], g.transpose());
+      break;
+    case Op::kMaskedSoftmax: {
+      const Mat& Y = n.value;
+      const auto dot = (g.cwiseProduct(Y)).rowwise().sum();
+      Acc(nodes_[n.a], (Y.array() * (g.colwise() - dot).array()).matrix());
+      break;
+    }
+    case Op::kLogSoftmax: {
+      const auto total = g.rowwise().sum();
+      Acc(nodes_[n.a], (g.array() - n.aux.array().colwise() * total.array()).matrix());
+      break;
+    }
+    case Op::kGumbelSoftmax: {
+      // straight-through: the gradient of the soft sample, whatever the forward returned
+      const Mat& Y = n.aux;
+      const auto dot = (g.cwiseProduct(Y)).rowwise().sum();
+      Acc(nodes_[n.a], (Y.array() * (g.colwise() - dot).array() / n.f0).matrix());
+      break;
+    }
+    case Op::kGather: {
+      const Mat& A = Val(n.a);
+      Node& in = nodes_[n.a];
+      EnsureGrad(in, A.rows(), A.cols());
+      for (size_t i = 0; i < n.index.size(); ++i) in.grad.row(n.index[i]) += g.row(i);
+      break;
+    }
+    case Op::kScatterAdd: {
+      const Mat& A = Val(n.a);
+      Node& in = nodes_[n.a];
+      EnsureGrad(in, A.rows(), A.cols());
+      for (size_t i = 0; i < n.index.size(); ++i) in.grad.row(i) += g.row(n.index[i]);
+      break;
+    }
+    case Op::kAttention: {
+      const Mat& Q = Val(n.a);
+      const Mat& K = Val(n.b);
+      const Mat& V = Val(n.c);
+      const Index batch = Q.rows(), embed = Q.cols(), heads = n.i0;
+      const Index ents = K.rows() / batch, dh = embed / heads;
+      const T scale = T(1) / std::sqrt(static_cast<T>(dh));
+      const bool nq = Needs(n.a), nk = Needs(n.b), nv = Needs(n.c);
+      if (nq) EnsureGrad(nodes_[n.a], batch, embed);
+      if (nk) EnsureGrad(nodes_[n.b], K.rows(), embed);
+      if (nv) EnsureGrad(nodes_[n.c], V.rows(), embed);
+      Mat* gq = nq ? &nodes_[n.a].grad : nullptr;
+      Mat* gk = nk ? &nodes_[n.b].grad : nullptr;
+      Mat* gv = nv ? &nodes_[n.c].grad : nullptr;
+      std::vector<T> gs(static_cast<size_t>(ents));
+      for (Index b = 0; b < batch; ++b) {
+        for (Index h = 0; h < heads; ++h) {
+          const T* w = n.aux.data() + b * n.aux.cols() + h * ents;
+          const auto go = g.row(b).segment(h * dh, dh);
+          // gradient of the weights, then through the softmax to the scores
+          T wg = 0;
+          for (Index e = 0; e < ents; ++e) {
+            if (w[e] == T(0)) {
+              gs[e] = 0;
+              continue;
+            }
+            gs[e] = go.dot(V.row(b * ents + e).segment(h * dh, dh));
+            wg += w[e] * gs[e];
+            if (gv) gv->row(b * ents + e).segment(h * dh, dh) += w[e] * go;
+          }
+          for (Index e = 0; e < ents; ++e) {
+            if (w[e] == T(0)) continue;
+            const T s = scale * w[e] * (gs[e] - wg);
+            if (gq) gq->row(b).segment(h * dh, dh) += s * K.row(b * ents + e).segment(h * dh, dh);
+            if (gk) gk->row(b * ents + e).segment(h * dh, dh) += s * Q.row(b).segment(h * dh, dh);
+          }
+        }
+      }
+      break;
+    }
+  }
+}
+
+template class Tape<float>;
+template class Tape<double>;
+
+}  // namespace srics::nn

@@ -1,0 +1,186 @@
+// Reverse-mode automatic differentiation over whole-matrix operations.
+//
+// A Tape records each operation of a forward pass as one node holding its output; Backward
+// walks the nodes in reverse and accumulates gradients into the inputs and into the
+// Parameter::grad of every trainable parameter used. Reset() forgets the nodes but keeps their
+// buffers, so a training loop that builds the same graph each iteration stops allocating after
+// the first one. Single-threaded: a tape belongs to one thread.
+#ifndef SRICS_COMMON_NN_TAPE_H_
+#define SRICS_COMMON_NN_TAPE_H_
+
+#include <cstdint>
+#include <vector>
+
+#include "common/nn/tensor.h"
+
+namespace srics::nn {
+
+template <typename T>
+class Tape;
+
+// A handle to one node of a tape: cheap to copy, valid until the tape's next Reset().
+template <typename T>
+struct Var {
+  Tape<T>* tape = nullptr;
+  int id = -1;
+
+  // The node's forward value.
+  const Matrix<T>& value() const { return tape->Value(*this); }
+  // The node's gradient after Backward (zero matrix of the value's shape if none reached it).
+  const Matrix<T>& grad() const { return tape->Grad(*this); }
+  Eigen::Index rows() const { return value().rows(); }
+  Eigen::Index cols() const { return value().cols(); }
+};
+
+// Shape of one matrix product C(m x n) = op(A) op(B) with inner size k, as recorded for the
+// benchmark's "GEMM floor". transpose_a / transpose_b tell which operand was transposed.
+struct GemmShape {
+  Eigen::Index m, k, n;
+  bool transpose_a, transpose_b;
+};
+
+// The operations a node can hold.
+enum class Op : std::uint8_t {
+  kConstant, kParam, kMatMul, kLinear, kAddBias, kAdd, kSub, kMul, kDiv, kAddScalar,
+  kMulScalar, kRelu, kTanh, kSigmoid, kExp, kLog, kSoftplus, kSquare, kSum, kMean, kConcat,
+  kSlice, kReshape, kTranspose, kMaskedSoftmax, kLogSoftmax, kMin, kClamp, kGumbelSoftmax,
+  kGather, kScatterAdd, kAttention,
+};
+
+template <typename T>
+class Tape {
+ public:
+  using Mat = Matrix<T>;
+
+  Tape() = default;
+  Tape(const Tape&) = delete;
+  Tape& operator=(const Tape&) = delete;
+
+  // Forgets all nodes; their buffers are kept for reuse by the next forward pass.
+  void Reset();
+  // Number of nodes recorded since the last Reset.
+  int size() const { return count_; }
+
+  // Leaves.
+  // A constant input (copied into the tape); no gradient is computed for it unless
+  // requires_grad is true (used by gradient checks on inputs).
+  Var<T> Constant(const Mat& value, bool requires_grad = false);
+  // A parameter; when trainable, Backward adds its gradient into p.grad. A frozen parameter
+  // (trainable = false) still passes gradients through to other inputs (e.g. a critic used
+  // in the policy loss).
+  Var<T> Param(Parameter<T>& p, bool trainable = true);
+
+  // Linear algebra.
+  Var<T> MatMul(Var<T> a, Var<T> b);                 // a (m x k) * b (k x n)
+  Var<T> Linear(Var<T> x, Var<T> w, Var<T> b);       // x w + b, b is 1 x n (b.id < 0: none)
+  Var<T> AddBias(Var<T> x, Var<T> b);                // x + b broadcast over rows, b is 1 x n
+
+  // Elementwise arithmetic. Either operand may broadcast: shape 1 x 1, 1 x n or m x 1.
+  Var<T> Add(Var<T> a, Var<T> b);
+  Var<T> Sub(Var<T> a, Var<T> b);
+  Var<T> Mul(Var<T> a, Var<T> b);
+  Var<T> Div(Var<T> a, Var<T> b);
+  Var<T> AddScalar(Var<T> a, T s);
+  Var<T> MulScalar(Var<T> a, T s);
+  Var<T> Min(Var<T> a, Var<T> b);                    // same shapes; ties send grad to a
+  Var<T> Clamp(Var<T> a, T lo, T hi);                // zero gradient outside [lo, hi]
+
+  // Elementwise functions.
+  Var<T> Relu(Var<T> a);
+  Var<T> Tanh(Var<T> a);
+  Var<T> Sigmoid(Var<T> a);
+  Var<T> Exp(Var<T> a);
+  Var<T> Log(Var<T> a);
+  Var<T> Softplus(Var<T> a);                         // log(1 + e^a), overflow-safe
+  Var<T> Square(Var<T> a);
+
+  // Reductions. axis -1: all elements (1 x 1); 0: over rows (1 x n); 1: over columns (m x 1).
+  Var<T> Sum(Var<T> a, int axis = -1);
+  Var<T> Mean(Var<T> a, int axis = -1);
+
+  // Shapes.
+  Var<T> Concat(const std::vector<Var<T>>& parts, int axis = 1);  // 1: side by side
+  Var<T> Slice(Var<T> a, int axis, Eigen::Index start, Eigen::Index length);
+  Var<T> Reshape(Var<T> a, Eigen::Index rows, Eigen::Index cols);  // row-major order kept
+  Var<T> Transpose(Var<T> a);
+
+  // Softmax along each row over the entries whose mask is non-zero; masked entries are 0.
+  // mask must be a node of a's shape (usually a Constant); pass mask.id < 0 for no mask.
+  Var<T> MaskedSoftmax(Var<T> a, Var<T> mask);
+  Var<T> Softmax(Var<T> a) { return MaskedSoftmax(a, Var<T>{this, -1}); }
+  Var<T> LogSoftmax(Var<T> a);                       // along rows, no mask
+
+  // Gumbel-softmax along rows with the given Gumbel noise (same shape as logits) and
+  // temperature. hard = true returns the one-hot argmax in the forward pass while the
+  // gradient is that of the soft sample (straight-through estimator).
+  Var<T> GumbelSoftmax(Var<T> logits, const Mat& gumbel_noise, T temperature, bool hard);
+
+  // out.row(i) = a.row(index[i]); gradients scatter-add back.
+  Var<T> Gather(Var<T> a, const std::vector<int>& index);
+  // out (num_rows x n) with out.row(index[i]) += a.row(i); gradients gather back.
+  Var<T> ScatterAdd(Var<T> a, const std::vector<int>& index, Eigen::Index num_rows);
+
+  // Multi-head attention of one query per sample over that sample's entities.
+  // q: B x E; k, v: (B*N) x E with row b*N + n holding entity n of sample b; mask: B x N
+  // (non-zero = real entity, a Constant) or mask.id < 0 for none. E splits into num_heads heads
+  // of E / num_heads; scores are scaled by 1/sqrt(head size). Returns B x E: per head the
+  // softmax-weighted sum of the values. The weights are kept (AttentionWeights).
+  Var<T> Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_heads);
+  // The B x (num_heads*N) attention weights of an Attention node (row b, column h*N + n).
+  const Mat& AttentionWeights(Var<T> attention) const;
+
+  // Backpropagates from a 1 x 1 node with seed 1.
+  void Backward(Var<T> loss);
+  // Backpropagates from any node with an explicit seed gradient of its shape.
+  void Backward(Var<T> out, const Mat& seed);
+
+  // Access used by Var.
+  const Mat& Value(Var<T> v) const;
+  const Mat& Grad(Var<T> v);
+
+  // When set, every matrix product executed (forward and backward) appends its shape here.
+  void set_gemm_log(std::vector<GemmShape>* log) { gemm_log_ = log; }
+
+ private:
+  struct Node {
+    Op op = Op::kConstant;
+    bool needs_grad = false;
+    bool has_grad = false;
+    bool flag = false;           // op-specific: trainable, hard
+    int a = -1, b = -1, c = -1, d = -1;
+    Eigen::Index i0 = 0, i1 = 0;
+    T f0 = 0, f1 = 0;
+    std::vector<int> inputs;     // concat parts
+    std::vector<int> index;      // gather / scatter
+    Parameter<T>* param = nullptr;
+    Mat value, grad, aux;
+  };
+
+  Node& NewNode(Op op, int a = -1, int b = -1);
+  Var<T> Out(const Node& n) { return Var<T>{this, static_cast<int>(&n - nodes_.data())}; }
+  Node& N(Var<T> v) { return nodes_[v.id]; }
+  const Node& N(Var<T> v) const { return nodes_[v.id]; }
+  const Mat& Val(int id) const {
+    const Node& n = nodes_[id];
+    return n.op == Op::kParam ? n.param->value : n.value;
+  }
+  bool Needs(int id) const { return id >= 0 && nodes_[id].needs_grad; }
+  Var<T> Binary(Op op, Var<T> a, Var<T> b);
+  Var<T> Unary(Op op, Var<T> a);
+  void BackwardNode(int id);
+  void LogGemm(Eigen::Index m, Eigen::Index k, Eigen::Index n, bool ta, bool tb) {
+    if (gemm_log_) gemm_log_->push_back({m, k, n, ta, tb});
+  }
+
+  std::vector<Node> nodes_;
+  int count_ = 0;
+  std::vector<GemmShape>* gemm_log_ = nullptr;
+  Mat zero_grad_;
+};
+
+extern template class Tape<float>;
+extern template class Tape<double>;
+
+}  // namespace srics::nn
+
+#endif  // SRICS_COMMON_NN_TAPE_H_
