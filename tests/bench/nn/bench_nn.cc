@@ -1,0 +1,176 @@
+// ./tests/bench.sh nn: forward + backward of the SAC attention policy and one Q network
+// against the "GEMM floor" (the very matrix products the tape executed, as bare Eigen
+// products of the same shapes and storage order), and the single-observation action time.
+// One thread; medians over repeats. Last line: one JSON object.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "common/nn/tape.h"
+#include "common/rl/networks.h"
+
+namespace {
+
+using srics::nn::GemmShape;
+using srics::nn::Matrix;
+using srics::nn::Rng;
+using srics::nn::Tape;
+using srics::nn::Tensor;
+using Clock = std::chrono::steady_clock;
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+template <typename F>
+double MedianMs(int repeats, F&& f) {
+  f();  // warm-up: sizes the tape's buffers
+  std::vector<double> t;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = Clock::now();
+    f();
+    t.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  }
+  return Median(t);
+}
+
+srics::rl::AttentionNetworkConfig PaperConfig(int entities) {
+  // entity token [one-hot id (K = entities), x, y]; goal token [one-hot, goal xy, 1]
+  srics::rl::AttentionNetworkConfig c;
+  c.entity_dim = entities + 2;
+  c.goal_dim = entities + 3;
+  c.action_dim = 2;
+  c.embed_dim = 80;
+  c.num_heads = 5;
+  c.policy_hidden = {128, 128};
+  c.q_hidden = {128, 128, 128};
+  return c;
+}
+
+struct Case {
+  int batch, entities;
+  double policy_ms, q_ms, floor_ms;
+};
+
+// the recorded products as bare Eigen products on preallocated operands
+struct GemmFloor {
+  explicit GemmFloor(const std::vector<GemmShape>& shapes, Rng& rng) : shapes(shapes) {
+    for (const GemmShape& s : shapes) {
+      a.push_back(s.transpose_a ? Tensor::Random(s.k, s.m) : Tensor::Random(s.m, s.k));
+      b.push_back(s.transpose_b ? Tensor::Random(s.n, s.k) : Tensor::Random(s.k, s.n));
+      c.push_back(Tensor::Zero(s.m, s.n));
+    }
+  }
+  void Run() {
+    for (size_t i = 0; i < shapes.size(); ++i) {
+      if (shapes[i].transpose_a) {
+        c[i].noalias() = a[i].transpose() * b[i];
+      } else if (shapes[i].transpose_b) {
+        c[i].noalias() = a[i] * b[i].transpose();
+      } else {
+        c[i].noalias() = a[i] * b[i];
+      }
+    }
+  }
+  std::vector<GemmShape> shapes;
+  std::vector<Tensor> a, b, c;
+};
+
+Case RunCase(int batch, int entities, int repeats) {
+  Rng rng(1);
+  const auto config = PaperConfig(entities);
+  srics::rl::PolicyNetwork<float> policy("policy", config, rng);
+  srics::rl::QNetwork<float> q("q1", config, rng);
+  std::vector<Tensor> sets;
+  for (int b = 0; b < batch; ++b) sets.push_back(Tensor::Random(entities, config.entity_dim));
+  const auto data = srics::rl::PackEntities(sets, Tensor(Tensor::Random(batch, config.goal_dim)));
+  const Tensor eps = srics::nn::RandomNormal<float>(batch, 2, rng);
+  const Tensor actions = Tensor::Random(batch, 2);
+  const Tensor target = Tensor::Random(batch, 1);
+  Tape<float> tape;
+  auto policy_step = [&] {
+    tape.Reset();
+    auto out = policy.Forward(tape, data, eps);
+    tape.Backward(tape.Mean(tape.Add(tape.Sum(out.action, 1), out.log_prob)));
+  };
+  auto q_step = [&] {
+    tape.Reset();
+    auto value = q.Forward(tape, data, tape.Constant(actions));
+    tape.Backward(tape.Mean(tape.Square(tape.Sub(value, tape.Constant(target)))));
+  };
+  std::vector<GemmShape> shapes;
+  tape.set_gemm_log(&shapes);
+  policy_step();
+  q_step();
+  tape.set_gemm_log(nullptr);
+  GemmFloor floor(shapes, rng);
+  Case c{batch, entities, 0, 0, 0};
+  c.policy_ms = MedianMs(repeats, policy_step);
+  c.q_ms = MedianMs(repeats, q_step);
+  c.floor_ms = MedianMs(repeats, [&] { floor.Run(); });
+  return c;
+}
+
+double ActMicros(int entities) {
+  Rng rng(2);
+  const auto config = PaperConfig(entities);
+  srics::rl::PolicyNetwork<float> policy("policy", config, rng);
+  const Tensor ents = Tensor::Random(entities, config.entity_dim);
+  const Tensor goal = Tensor::Random(1, config.goal_dim);
+  float sink = 0;
+  const int calls = 2000;
+  const double ms = MedianMs(15, [&] {
+    for (int i = 0; i < calls; ++i) sink += policy.Act(ents, goal, false, rng)(0, 0);
+  });
+  if (sink == 12345.f) std::printf(" ");
+  return ms * 1000.0 / calls;
+}
+
+}  // namespace
+
+int main() {
+  Eigen::setNbThreads(1);
+  std::vector<Case> cases;
+  for (int batch : {2048, 256}) {
+    for (int entities : {4, 7}) {
+      cases.push_back(RunCase(batch, entities, batch >= 2048 ? 11 : 31));
+    }
+  }
+  const double act4 = ActMicros(4), act7 = ActMicros(7);
+
+  std::printf("nn benchmark: SAC attention networks (embed 80, 5 heads, policy [128,128], "
+              "Q [128,128,128]), forward+backward, 1 thread, medians\n");
+  std::printf("%6s %9s %11s %8s %14s %8s\n", "batch", "entities", "policy ms", "Q ms",
+              "GEMM floor ms", "ratio");
+  double total2048 = 0, floor2048 = 0;
+  std::string json = "{\"bench\":\"nn\"";
+  char buf[256];
+  for (const Case& c : cases) {
+    const double ratio = (c.policy_ms + c.q_ms) / c.floor_ms;
+    std::printf("%6d %9d %11.2f %8.2f %14.2f %7.2fx\n", c.batch, c.entities, c.policy_ms, c.q_ms,
+                c.floor_ms, ratio);
+    if (c.batch == 2048) {
+      total2048 += c.policy_ms + c.q_ms;
+      floor2048 += c.floor_ms;
+    }
+    std::snprintf(buf, sizeof(buf),
+                  ",\"policy_ms_b%d_n%d\":%.3f,\"q_ms_b%d_n%d\":%.3f,\"floor_ms_b%d_n%d\":%.3f",
+                  c.batch, c.entities, c.policy_ms, c.batch, c.entities, c.q_ms, c.batch,
+                  c.entities, c.floor_ms);
+    json += buf;
+  }
+  const double ratio = total2048 / floor2048;
+  std::printf("batch 2048 total: %.2f ms vs floor %.2f ms -> %.2fx (target <= 2x)\n", total2048,
+              floor2048, ratio);
+  std::printf("single-observation action: %.1f us (4 entities), %.1f us (7 entities); "
+              "target < 75 us (5%% of a 1.5 ms env step)\n",
+              act4, act7);
+  std::snprintf(buf, sizeof(buf), ",\"act_us_n4\":%.2f,\"act_us_n7\":%.2f,\"ratio\":%.3f}", act4,
+                act7, ratio);
+  json += buf;
+  std::printf("%s\n", json.c_str());
+  return 0;
+}

@@ -1,0 +1,139 @@
+// Flat weights and checkpoint files: exact round trips and one message per failure.
+#include "common/nn/serialize.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "common/nn/modules.h"
+
+namespace srics::nn {
+namespace {
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+void WriteAll(const std::string& path, const std::string& data) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  f.write(data.data(), static_cast<std::streamsize>(data.size()));
+}
+
+class SerializeTest : public ::testing::Test {
+ protected:
+  SerializeTest() : mlp_("net", 3, {5}, 2, rng_) { mlp_.Parameters(params_); }
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("srics_nn_serialize_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+    path_ = (dir_ / "ckpt.bin").string();
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  // Expects LoadParameters(path) to throw CheckpointError whose message contains `what`.
+  void ExpectFailure(const std::string& what, const ParameterList<float>& params) {
+    try {
+      LoadParameters(path_, params);
+      FAIL() << "no error, expected '" << what << "'";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path_), std::string::npos) << e.what();
+    }
+  }
+  Rng rng_{9};
+  Mlp<float> mlp_;
+  ParameterList<float> params_;
+  std::filesystem::path dir_;
+  std::string path_;
+};
+
+TEST_F(SerializeTest, FlattenLoadRoundTripIsExact) {
+  const auto flat = Flatten(params_);
+  EXPECT_EQ(static_cast<int64_t>(flat.size()), NumScalars(params_));
+  Rng other(10);
+  Mlp<float> copy("net", 3, {5}, 2, other);
+  ParameterList<float> copy_params;
+  copy.Parameters(copy_params);
+  EXPECT_EQ(SignatureHash(params_), SignatureHash(copy_params));
+  EXPECT_NE(params_[0]->value, copy_params[0]->value);
+  LoadFlat(copy_params, flat);
+  for (size_t i = 0; i < params_.size(); ++i) EXPECT_EQ(params_[i]->value, copy_params[i]->value);
+  EXPECT_THROW(LoadFlat(copy_params, std::span<const float>(flat).first(flat.size() - 1)),
+               std::invalid_argument);
+}
+
+TEST_F(SerializeTest, SignatureNamesShapes) {
+  EXPECT_EQ(SignatureString(params_), "net.0.w:3x5;net.0.b:1x5;net.1.w:5x2;net.1.b:1x2;");
+  Mlp<float> wider("net", 3, {6}, 2, rng_);
+  ParameterList<float> wp;
+  wider.Parameters(wp);
+  EXPECT_NE(SignatureHash(params_), SignatureHash(wp));
+}
+
+TEST_F(SerializeTest, CheckpointRoundTripIsExact) {
+  SaveParameters(path_, params_);
+  Rng other(10);
+  Mlp<float> copy("net", 3, {5}, 2, other);
+  ParameterList<float> cp;
+  copy.Parameters(cp);
+  LoadParameters(path_, cp);
+  for (size_t i = 0; i < params_.size(); ++i) EXPECT_EQ(params_[i]->value, cp[i]->value);
+  // several sections, e.g. weights and optimizer state
+  WriteCheckpoint(path_, {{"policy", SignatureString(params_), Flatten(params_)},
+                          {"policy.adam", "", {1.f, 2.f, 3.f}}});
+  const auto sections = ReadCheckpoint(path_);
+  ASSERT_EQ(sections.size(), 2u);
+  EXPECT_EQ(FindSection(sections, "policy.adam", path_).values, (std::vector<float>{1, 2, 3}));
+  LoadSection(FindSection(sections, "policy", path_), cp, path_);
+  EXPECT_THROW(FindSection(sections, "q1", path_), CheckpointError);
+}
+
+TEST_F(SerializeTest, MissingFile) { ExpectFailure("cannot open", params_); }
+
+TEST_F(SerializeTest, TruncatedFile) {
+  SaveParameters(path_, params_);
+  const std::string data = ReadAll(path_);
+  for (size_t keep : {size_t{4}, size_t{20}, data.size() / 2, data.size() - 3}) {
+    SCOPED_TRACE(keep);
+    WriteAll(path_, data.substr(0, keep));
+    ExpectFailure("truncated", params_);
+  }
+}
+
+TEST_F(SerializeTest, CorruptedPayload) {
+  SaveParameters(path_, params_);
+  std::string data = ReadAll(path_);
+  data[data.size() - 20] ^= 0x10;  // a bit inside the weights
+  WriteAll(path_, data);
+  ExpectFailure("checksum mismatch (corrupted)", params_);
+}
+
+TEST_F(SerializeTest, BadMagic) {
+  WriteAll(path_, "this is not a checkpoint, just some text of a decent length");
+  ExpectFailure("bad magic", params_);
+}
+
+TEST_F(SerializeTest, UnsupportedVersion) {
+  SaveParameters(path_, params_);
+  std::string data = ReadAll(path_);
+  data[8] = 99;  // the version field follows the 8-byte magic
+  WriteAll(path_, data);
+  ExpectFailure("unsupported format version 99", params_);
+}
+
+TEST_F(SerializeTest, ArchitectureMismatch) {
+  SaveParameters(path_, params_);
+  Mlp<float> wider("net", 3, {6}, 2, rng_);
+  ParameterList<float> wp;
+  wider.Parameters(wp);
+  ExpectFailure("architecture mismatch", wp);
+  try {
+    LoadParameters(path_, wp);
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("net.0.w:3x5"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace srics::nn
