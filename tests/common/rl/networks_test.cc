@@ -1,0 +1,211 @@
+// The SAC attention networks: gradients against finite differences (double), invariance to
+// entity order and padding, mixed entity counts in one batch, and the actor fast path.
+#include "common/rl/networks.h"
+
+#include <gtest/gtest.h>
+
+#include "common/nn/optim.h"
+#include "common/nn/serialize.h"
+#include "tests/common/nn/gradcheck.h"
+
+namespace srics::rl {
+namespace {
+
+using nn::Matrix;
+using nn::Parameter;
+using nn::ParameterList;
+using nn::Rng;
+using nn::Tape;
+using nn::Var;
+using MatD = Matrix<double>;
+
+constexpr double kTol = 1e-6;
+
+AttentionNetworkConfig SmallConfig() {
+  AttentionNetworkConfig c;
+  c.entity_dim = 5;
+  c.goal_dim = 6;
+  c.action_dim = 2;
+  c.embed_dim = 8;
+  c.num_heads = 2;
+  c.policy_hidden = {7, 6};
+  c.q_hidden = {6, 5, 4};
+  return c;
+}
+
+AttentionNetworkConfig PaperConfig(int entities) {
+  AttentionNetworkConfig c;
+  c.entity_dim = entities + 2;
+  c.goal_dim = entities + 3;
+  c.action_dim = 2;
+  c.embed_dim = 80;
+  c.num_heads = 5;
+  c.policy_hidden = {128, 128};
+  c.q_hidden = {128, 128, 128};
+  return c;
+}
+
+// non-zero biases so that every parameter matters in the checks
+template <typename T>
+void RandomizeBiases(const ParameterList<T>& params, Rng& rng) {
+  for (Parameter<T>* p : params) {
+    if (p->value.rows() == 1) p->value = nn::RandomNormal<T>(1, p->value.cols(), rng) * T(0.3);
+  }
+}
+
+class NetworksTest : public ::testing::Test {
+ protected:
+  NetworksTest() : policy_("policy", SmallConfig(), rng_), q_("q1", SmallConfig(), rng_) {
+    RandomizeBiases(policy_.Parameters(), rng_);
+    RandomizeBiases(q_.Parameters(), rng_);
+  }
+  // a batch of sets with 3, 5 and 4 entities
+  EntityBatch<double> MixedBatch() {
+    std::vector<MatD> sets;
+    for (int n : {3, 5, 4}) sets.push_back(nn::RandomNormal<double>(n, 5, rng_));
+    return PackEntities(sets, nn::RandomNormal<double>(3, 6, rng_));
+  }
+  Rng rng_{21};
+  PolicyNetwork<double> policy_;
+  QNetwork<double> q_;
+};
+
+TEST_F(NetworksTest, PolicyGradientsIncludingLogProb) {
+  const auto batch = MixedBatch();
+  const MatD eps = nn::RandomNormal<double>(3, 2, rng_);
+  Parameter<double> ents("entities", batch.entities.rows(), batch.entities.cols());
+  ents.value = batch.entities;
+  ParameterList<double> vars = policy_.Parameters();
+  vars.push_back(&ents);
+  EXPECT_LT(nn::testing::GradCheck(vars, [&](Tape<double>& t) {
+              auto out = policy_.Forward(t, t.Param(ents), t.Constant(batch.mask),
+                                         t.Constant(batch.goals), eps);
+              return t.Concat({out.action, out.log_prob}, 1);
+            }),
+            kTol);
+}
+
+TEST_F(NetworksTest, QGradientsReachParametersAndActions) {
+  const auto batch = MixedBatch();
+  Parameter<double> actions("actions", 3, 2);
+  actions.value = nn::RandomNormal<double>(3, 2, rng_).array().tanh().matrix();
+  ParameterList<double> vars = q_.Parameters();
+  vars.push_back(&actions);
+  EXPECT_LT(nn::testing::GradCheck(vars, [&](Tape<double>& t) {
+              return q_.Forward(t, batch, t.Param(actions));
+            }),
+            kTol);
+}
+
+TEST_F(NetworksTest, MixedEntityCountsMatchSeparateRunsAndOrderDoesNotMatter) {
+  std::vector<MatD> sets;
+  for (int n : {2, 6, 4}) sets.push_back(nn::RandomNormal<double>(n, 5, rng_));
+  const MatD goals = nn::RandomNormal<double>(3, 6, rng_);
+  const MatD actions = nn::RandomNormal<double>(3, 2, rng_);
+  Tape<double> t;
+  const auto batch = PackEntities(sets, goals);
+  const MatD mixed_a = policy_.Forward(t, batch, MatD::Zero(3, 2)).action.value();
+  const MatD mixed_q = q_.Forward(t, batch, t.Constant(actions)).value();
+  for (int b = 0; b < 3; ++b) {
+    // alone, and with its entities in reverse order
+    MatD reversed = sets[b].colwise().reverse();
+    for (const MatD& set : {sets[b], reversed}) {
+      const auto single = PackEntities<double>({set}, goals.row(b));
+      t.Reset();
+      const MatD a = policy_.Forward(t, single, MatD::Zero(1, 2)).action.value();
+      const MatD q = q_.Forward(t, single, t.Constant(actions.row(b))).value();
+      EXPECT_LT((a - mixed_a.row(b)).norm(), 1e-12);
+      EXPECT_LT(std::abs(q(0, 0) - mixed_q(b, 0)), 1e-12);
+    }
+  }
+}
+
+TEST_F(NetworksTest, ActMatchesTapeForwardDeterministicAndSampled) {
+  const MatD ents = nn::RandomNormal<double>(4, 5, rng_);
+  const MatD goal = nn::RandomNormal<double>(1, 6, rng_);
+  Tape<double> t;
+  const auto single = PackEntities<double>({ents}, goal);
+  auto mode = policy_.Forward(t, single, MatD::Zero(1, 2));
+  Rng rng(5);
+  const MatD act = policy_.Act(ents, goal, true, rng);
+  EXPECT_LT((act - mode.action.value()).norm(), 1e-12);
+  EXPECT_NEAR(policy_.last_log_prob(), mode.log_prob.value()(0, 0), 1e-9);
+  // sampled: Act draws its noise as standard normals from rng, in action order
+  Rng a(77), b(77);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  MatD eps(1, 2);
+  eps << normal(b), normal(b);
+  t.Reset();
+  auto sampled = policy_.Forward(t, single, eps);
+  const MatD act2 = policy_.Act(ents, goal, false, a);
+  EXPECT_LT((act2 - sampled.action.value()).norm(), 1e-12);
+  EXPECT_NEAR(policy_.last_log_prob(), sampled.log_prob.value()(0, 0), 1e-9);
+  EXPECT_GT((act2 - act).norm(), 1e-6);
+}
+
+TEST(NetworksConfigTest, PaperSizesAndSignature) {
+  Rng rng(1);
+  PolicyNetwork<float> policy("policy", PaperConfig(4), rng);
+  QNetwork<float> q("q1", PaperConfig(4), rng);
+  const std::string sig = nn::SignatureString(policy.Parameters());
+  EXPECT_NE(sig.find("policy.attention.goal.w:7x80;"), std::string::npos) << sig;
+  EXPECT_EQ(sig.find("policy.attention.goal.b"), std::string::npos) << "goal linear has no bias";
+  EXPECT_NE(sig.find("policy.mlp.0.w:160x128;"), std::string::npos) << sig;
+  EXPECT_NE(sig.find("policy.mlp.2.w:128x4;"), std::string::npos) << sig;
+  const std::string qsig = nn::SignatureString(q.Parameters());
+  EXPECT_NE(qsig.find("q1.mlp.0.w:162x128;"), std::string::npos) << qsig;
+  EXPECT_NE(qsig.find("q1.mlp.3.w:128x1;"), std::string::npos) << qsig;
+  // the networks accept any number of entities: 7 entities with the same weights
+  const nn::Tensor ents = nn::Tensor::Random(7, 6);
+  const nn::Tensor goal = nn::Tensor::Random(1, 7);
+  const nn::Tensor a = policy.Act(ents, goal, true, rng);
+  EXPECT_TRUE(a.allFinite());
+  EXPECT_LT(a.cwiseAbs().maxCoeff(), 1.f);
+}
+
+TEST(NetworksConfigTest, ValidationNamesTheField) {
+  AttentionNetworkConfig c = PaperConfig(4);
+  c.num_heads = 3;
+  try {
+    c.Validate();
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("num_heads"), std::string::npos);
+  }
+  c = PaperConfig(4);
+  c.embed_dim = 0;
+  Rng rng(1);
+  EXPECT_THROW(PolicyNetwork<float>("p", c, rng), std::invalid_argument);
+}
+
+TEST(NetworksTrainingTest, PolicyLearnsToPointAtTheGoal) {
+  // a sanity check that gradients flow end to end: the deterministic action learns to match
+  // the goal's xy (a function of the goal token only)
+  AttentionNetworkConfig c = SmallConfig();
+  c.entity_dim = 4;
+  c.goal_dim = 5;
+  Rng rng(3);
+  PolicyNetwork<float> policy("policy", c, rng);
+  auto params = policy.Parameters();
+  nn::Adam<float> adam(params, {.lr = 3e-3});
+  nn::Tape<float> t;
+  const int batch = 64;
+  float loss_value = 0;
+  for (int step = 0; step < 600; ++step) {
+    std::vector<nn::Tensor> sets;
+    for (int b = 0; b < batch; ++b) sets.push_back(nn::Tensor::Random(3, 4));
+    nn::Tensor goals = nn::Tensor::Random(batch, 5) * 0.8f;
+    const auto data = PackEntities(sets, goals);
+    t.Reset();
+    auto out = policy.Forward(t, data, nn::Tensor::Zero(batch, 2));
+    auto loss = t.Mean(t.Square(t.Sub(out.action, t.Constant(goals.leftCols(2)))));
+    nn::ZeroGrad(params);
+    t.Backward(loss);
+    adam.Step();
+    loss_value = loss.value()(0, 0);
+  }
+  EXPECT_LT(loss_value, 0.01f);
+}
+
+}  // namespace
+}  // namespace srics::rl
