@@ -1,9 +1,327 @@
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+#include <sstream>
+
 #include "common/config/sections.h"
 
 namespace srics::config {
+namespace {
+
+std::string Num(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+std::string ObjectKey(size_t i) { return "objects[" + std::to_string(i) + "]"; }
+
+EnvConfigProblem Problem(std::string key, std::string message) {
+  return EnvConfigProblem{std::move(key), std::move(message)};
+}
+
+// A box given as two 2-vectors must have low < high on both axes.
+EnvConfigProblem CheckBox(const std::string& low_key, const std::vector<double>& low,
+                          const std::vector<double>& high) {
+  if (low.size() != 2 || high.size() != 2) return Problem(low_key, "expected 2 numbers");
+  if (!(low[0] < high[0] && low[1] < high[1]))
+    return Problem(low_key, "must be below the matching *_high on both axes");
+  return {};
+}
+
+// Checks one set of entity numbers (1..n, no repeats, connections whole).
+EnvConfigProblem CheckObjectSet(const std::string& key, const std::vector<int>& set, int n,
+                                const std::vector<ConnectionConfig>& connections) {
+  if (set.empty()) return Problem(key, "an object set needs at least one object");
+  std::set<int> seen;
+  for (int e : set) {
+    if (e < 1 || e > n)
+      return Problem(key, "entity " + std::to_string(e) + " is not an object (objects are 1.." +
+                              std::to_string(n) + ")");
+    if (!seen.insert(e).second) return Problem(key, "entity " + std::to_string(e) + " repeated");
+  }
+  for (const auto& c : connections) {
+    if (seen.count(c.first) != seen.count(c.second))
+      return Problem(key, "objects " + std::to_string(c.first) + " and " +
+                              std::to_string(c.second) +
+                              " are connected: a set has both or neither");
+  }
+  return {};
+}
+
+}  // namespace
+
+EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
+  const std::vector<ObjectConfig> objects = EffectiveObjects(c);
+  const int n = static_cast<int>(objects.size());
+  if (n < 1 || n > 6) return Problem("objects", "expected 1 to 6 objects, got " + std::to_string(n));
+
+  // the inner faces of the walls bound every object's footprint
+  const TableConfig& t = c.table;
+  const double x_in = t.wall_x - t.wall_half_thickness;
+  const double y_in_low = t.wall_y_low + t.wall_half_thickness;
+  const double y_in_high = t.wall_y_high - t.wall_half_thickness;
+  if (!(x_in > 0 && y_in_low < y_in_high)) return Problem("table", "walls leave no room");
+
+  for (const auto& [key, low, high] :
+       {std::tuple{"table.object_low", t.object_low, t.object_high},
+        std::tuple{"hand.mocap_low", c.hand.mocap_low, c.hand.mocap_high},
+        std::tuple{"sampling.init_low", c.sampling.init_low, c.sampling.init_high},
+        std::tuple{"sampling.goal_low", c.sampling.goal_low, c.sampling.goal_high},
+        std::tuple{"sampling.subgoal_low", c.sampling.subgoal_low, c.sampling.subgoal_high}}) {
+    if (auto p = CheckBox(key, low, high); !p.ok()) return p;
+  }
+  if (c.hand.start.size() != 2) return Problem("hand.start", "expected 2 numbers");
+  if (c.hand.half_size.size() != 3) return Problem("hand.half_size", "expected 3 numbers");
+
+  // objects: positive physical quantities, sizes that fit between the walls
+  for (size_t i = 0; i < objects.size(); ++i) {
+    const ObjectConfig& o = objects[i];
+    const std::string key = ObjectKey(i);
+    if (!(o.mass > 0)) return Problem(key + ".mass", "must be positive, got " + Num(o.mass));
+    if (!(o.size > 0)) return Problem(key + ".size", "must be positive, got " + Num(o.size));
+    if (!(o.half_height > 0))
+      return Problem(key + ".half_height", "must be positive, got " + Num(o.half_height));
+    if (!(o.inertia > 0))
+      return Problem(key + ".inertia", "must be positive, got " + Num(o.inertia));
+    if (!o.rgb.empty() && o.rgb.size() != 3) return Problem(key + ".rgb", "expected 3 numbers");
+    const double r = BoundingRadius(o);
+    // the object's centre must have a non-empty box inside the sampling box and the walls
+    const double lo_x = std::max(c.sampling.init_low[0], -x_in + r);
+    const double hi_x = std::min(c.sampling.init_high[0], x_in - r);
+    const double lo_y = std::max(c.sampling.init_low[1], y_in_low + r);
+    const double hi_y = std::min(c.sampling.init_high[1], y_in_high - r);
+    if (!(lo_x < hi_x && lo_y < hi_y))
+      return Problem(key + ".size", "an object of bounding radius " + Num(r) +
+                                        " does not fit on the table between the walls");
+    if (!o.fixed_position.empty()) {
+      if (o.fixed_position.size() != 2)
+        return Problem(key + ".fixed_position", "expected 2 numbers (x, y)");
+      const double x = o.fixed_position[0], y = o.fixed_position[1];
+      if (std::abs(x) + r > x_in || y - r < y_in_low || y + r > y_in_high)
+        return Problem(key + ".fixed_position",
+                       "(" + Num(x) + ", " + Num(y) + ") puts the object through a wall");
+      const double dh = std::hypot(x - c.hand.start[0], y - c.hand.start[1]);
+      if (dh < r + c.hand.half_size[1])
+        return Problem(key + ".fixed_position", "overlaps the hand's start position");
+    }
+  }
+  // fixed objects must not overlap each other
+  for (size_t i = 0; i < objects.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      const auto& a = objects[i];
+      const auto& b = objects[j];
+      if (a.fixed_position.empty() || b.fixed_position.empty()) continue;
+      const double d = std::hypot(a.fixed_position[0] - b.fixed_position[0],
+                                  a.fixed_position[1] - b.fixed_position[1]);
+      if (d < BoundingRadius(a) + BoundingRadius(b))
+        return Problem(ObjectKey(i) + ".fixed_position",
+                       "overlapping fixed objects: entities " + std::to_string(j + 1) + " and " +
+                           std::to_string(i + 1) + " are " + Num(d) + " apart, need " +
+                           Num(BoundingRadius(a) + BoundingRadius(b)));
+    }
+  }
+
+  // connections: distinct existing objects, each object tied behind at most one other
+  std::set<int> seconds;
+  std::set<std::pair<int, int>> pairs;
+  for (size_t i = 0; i < c.connections.size(); ++i) {
+    const ConnectionConfig& k = c.connections[i];
+    const std::string key = "connections[" + std::to_string(i) + "]";
+    if (k.first < 1 || k.first > n || k.second < 1 || k.second > n)
+      return Problem(key, "objects are entities 1.." + std::to_string(n) + ", got " +
+                              std::to_string(k.first) + " and " + std::to_string(k.second));
+    if (k.first == k.second) return Problem(key, "an object cannot be tied to itself");
+    if (!pairs.insert({std::min(k.first, k.second), std::max(k.first, k.second)}).second)
+      return Problem(key, "the same pair is connected twice");
+    if (!seconds.insert(k.second).second)
+      return Problem(key, "entity " + std::to_string(k.second) +
+                              " is the second object of two connections");
+    // the first object's position must be known before the second's: first is never a
+    // later connection's second (this also rules out cycles)
+    for (size_t j = i + 1; j < c.connections.size(); ++j)
+      if (c.connections[j].second == k.first)
+        return Problem(key, "list the connection that places entity " +
+                                std::to_string(k.first) + " before this one");
+    if (!(k.length > 0)) return Problem(key + ".length", "must be positive");
+    if (k.length < c.sampling.init_min_object_distance)
+      return Problem(key + ".length", "must be at least sampling.init_min_object_distance (" +
+                                          Num(c.sampling.init_min_object_distance) + ")");
+    if (!objects[k.second - 1].fixed_position.empty())
+      return Problem(key, "entity " + std::to_string(k.second) +
+                              " is placed by its connection: it cannot have a fixed_position");
+    if (k.kind == ConnectionKind::kSpring && !(k.stiffness > 0))
+      return Problem(key + ".stiffness", "a spring needs a positive stiffness");
+  }
+
+  // object sets
+  for (const auto& [name, sets] : {std::pair{"object_sets", &c.object_sets},
+                                   std::pair{"eval_object_sets", &c.eval_object_sets}}) {
+    for (size_t i = 0; i < sets->size(); ++i) {
+      auto p = CheckObjectSet(std::string(name) + "[" + std::to_string(i) + "]", (*sets)[i], n,
+                              c.connections);
+      if (!p.ok()) return p;
+    }
+  }
+
+  // the objects must fit: discs of half the required spacing cannot overlap inside the
+  // sampling box grown by that spacing (densest packing of discs: pi / sqrt(12))
+  for (const auto& [name, low, high, spacing] :
+       {std::tuple{"sampling.init_min_object_distance", c.sampling.init_low, c.sampling.init_high,
+                   c.sampling.init_min_object_distance},
+        std::tuple{"sampling.goal_min_object_distance", c.sampling.goal_low, c.sampling.goal_high,
+                   c.sampling.goal_min_object_distance}}) {
+    double needed = 0;
+    double widest = 0;
+    for (const auto& o : objects) {
+      const double d = spacing + 2 * std::max(0.0, BoundingRadius(o) - c.sampling.reference_radius);
+      needed += std::numbers::pi * d * d / 4;
+      widest = std::max(widest, d);
+    }
+    const double room = std::numbers::pi / std::sqrt(12.0) * (high[0] - low[0] + widest) *
+                        (high[1] - low[1] + widest);
+    if (needed > room)
+      return Problem("objects", std::to_string(n) +
+                                    " objects do not fit on the table with " + name + " = " +
+                                    Num(spacing) + " (more objects than fit the table)");
+  }
+
+  if (c.physics.geom_solref.size() != 2) return Problem("physics.geom_solref", "expected 2 numbers");
+  if (c.physics.geom_solimp.size() != 3) return Problem("physics.geom_solimp", "expected 3 numbers");
+  if (t.center.size() != 2) return Problem("table.center", "expected 2 numbers");
+  if (t.friction.size() != 3) return Problem("table.friction", "expected 3 numbers");
+  return {};
+}
+
+namespace {
+
+void ParseObject(YamlSection s, ObjectConfig* o) {
+  s.ReadEnum<ObjectShape>("shape", &o->shape,
+                          {{"cylinder", ObjectShape::kCylinder}, {"box", ObjectShape::kBox}});
+  s.ReadDouble("size", &o->size, 1e-4, 1.0);
+  s.ReadDouble("half_height", &o->half_height, 1e-4, 1.0);
+  s.ReadDouble("mass", &o->mass, 1e-6, 1e3);
+  s.ReadDouble("inertia", &o->inertia, 1e-9, 1e9);
+  s.ReadBool("static", &o->is_static);
+  s.ReadDoubleList("fixed_position", &o->fixed_position, 2, -10, 10);
+  s.ReadDoubleList("rgb", &o->rgb, 3, 0, 1);
+  s.Finish();
+}
+
+void ParseConnection(YamlSection s, ConnectionConfig* k) {
+  std::vector<int> objects;
+  if (!s.Has("objects")) s.FailRule("objects", "missing: expected [first, second] entity numbers");
+  s.ReadIntList("objects", &objects, 1, 6);
+  if (objects.size() != 2) s.Fail("objects", "a list of 2 entity numbers in [1, 6]");
+  k->first = objects[0];
+  k->second = objects[1];
+  s.ReadEnum<ConnectionKind>("kind", &k->kind,
+                             {{"rope", ConnectionKind::kRope}, {"spring", ConnectionKind::kSpring}});
+  s.ReadDouble("length", &k->length, 1e-3, 1.0);
+  s.ReadDouble("stiffness", &k->stiffness, 0, 1e6);
+  s.ReadDouble("damping", &k->damping, 0, 1e6);
+  s.Finish();
+}
+
+void ParseObjectSets(YamlSection& s, const std::string& key, std::vector<std::vector<int>>* out) {
+  if (!s.Has(key)) return;
+  out->clear();
+  for (YamlSection item : s.ChildList(key)) {
+    std::vector<int> set;
+    if (!item.Has("present")) item.FailRule("present", "missing: expected a list of entity numbers");
+    item.ReadIntList("present", &set, 1, 6);
+    item.Finish();
+    out->push_back(std::move(set));
+  }
+}
+
+}  // namespace
 
 void ParseEnv(YamlSection s, EnvConfig* out) {
   s.ReadInt("num_pucks", &out->num_pucks, 1, 6);
+  if (s.Has("objects")) {
+    out->objects.clear();
+    for (YamlSection item : s.ChildList("objects")) {
+      ObjectConfig object;
+      ParseObject(item, &object);
+      out->objects.push_back(std::move(object));
+    }
+    if (out->objects.empty() || out->objects.size() > 6)
+      s.FailRule("objects", "expected 1 to 6 objects, got " + std::to_string(out->objects.size()));
+    if (s.Has("num_pucks") && out->num_pucks != static_cast<int>(out->objects.size()))
+      s.FailRule("num_pucks", "is " + std::to_string(out->num_pucks) + " but objects lists " +
+                                  std::to_string(out->objects.size()));
+    out->num_pucks = static_cast<int>(out->objects.size());
+  }
+  if (s.Has("connections")) {
+    out->connections.clear();
+    for (YamlSection item : s.ChildList("connections")) {
+      ConnectionConfig connection;
+      ParseConnection(item, &connection);
+      out->connections.push_back(connection);
+    }
+  }
+  ParseObjectSets(s, "object_sets", &out->object_sets);
+  ParseObjectSets(s, "eval_object_sets", &out->eval_object_sets);
+  s.ReadBool("velocities", &out->velocities);
+  s.ReadDouble("success_threshold", &out->success_threshold, 1e-6, 10);
+
+  YamlSection p = s.Child("physics");
+  p.ReadDouble("timestep", &out->physics.timestep, 1e-5, 0.1);
+  p.ReadInt("solver_iterations", &out->physics.solver_iterations, 1, 10000);
+  p.ReadInt("frame_skip", &out->physics.frame_skip, 1, 10000);
+  p.ReadDoubleList("geom_solref", &out->physics.geom_solref, 2, -1e6, 1e6);
+  p.ReadDoubleList("geom_solimp", &out->physics.geom_solimp, 3, 0, 1);
+  p.ReadDouble("geom_margin", &out->physics.geom_margin, 0, 0.1);
+  p.Finish();
+
+  YamlSection t = s.Child("table");
+  t.ReadDoubleList("center", &out->table.center, 2, -10, 10);
+  t.ReadDoubleList("friction", &out->table.friction, 3, 0, 10);
+  t.ReadDouble("wall_x", &out->table.wall_x, 0.01, 10);
+  t.ReadDouble("wall_y_low", &out->table.wall_y_low, -10, 10);
+  t.ReadDouble("wall_y_high", &out->table.wall_y_high, -10, 10);
+  t.ReadDouble("wall_half_thickness", &out->table.wall_half_thickness, 1e-4, 1);
+  t.ReadDouble("wall_half_height", &out->table.wall_half_height, 1e-3, 10);
+  t.ReadDoubleList("object_low", &out->table.object_low, 2, -10, 10);
+  t.ReadDoubleList("object_high", &out->table.object_high, 2, -10, 10);
+  t.Finish();
+
+  YamlSection h = s.Child("hand");
+  h.ReadDouble("action_scale", &out->hand.action_scale, 1e-4, 1);
+  h.ReadDouble("z", &out->hand.z, 0, 1);
+  h.ReadDoubleList("start", &out->hand.start, 2, -10, 10);
+  h.ReadDoubleList("mocap_low", &out->hand.mocap_low, 2, -10, 10);
+  h.ReadDoubleList("mocap_high", &out->hand.mocap_high, 2, -10, 10);
+  h.ReadDouble("weld_timeconst", &out->hand.weld_timeconst, 1e-4, 1);
+  h.ReadDouble("mass", &out->hand.mass, 1e-4, 1e3);
+  h.ReadDoubleList("half_size", &out->hand.half_size, 3, 1e-4, 1);
+  h.Finish();
+
+  YamlSection g = s.Child("sampling");
+  g.ReadDoubleList("init_low", &out->sampling.init_low, 2, -10, 10);
+  g.ReadDoubleList("init_high", &out->sampling.init_high, 2, -10, 10);
+  g.ReadDouble("init_min_object_distance", &out->sampling.init_min_object_distance, 0, 1);
+  g.ReadDouble("init_min_hand_distance", &out->sampling.init_min_hand_distance, 0, 1);
+  g.ReadDoubleList("goal_low", &out->sampling.goal_low, 2, -10, 10);
+  g.ReadDoubleList("goal_high", &out->sampling.goal_high, 2, -10, 10);
+  g.ReadDouble("goal_min_object_distance", &out->sampling.goal_min_object_distance, 0, 1);
+  g.ReadDouble("goal_min_hand_distance", &out->sampling.goal_min_hand_distance, 0, 1);
+  g.ReadDoubleList("subgoal_low", &out->sampling.subgoal_low, 2, -10, 10);
+  g.ReadDoubleList("subgoal_high", &out->sampling.subgoal_high, 2, -10, 10);
+  g.ReadDouble("reference_radius", &out->sampling.reference_radius, 1e-4, 1);
+  g.ReadBool("static_object_random_goal", &out->sampling.static_object_random_goal);
+  g.ReadBool("tied_goal_in_box", &out->sampling.tied_goal_in_box);
+  g.ReadInt("max_attempts", &out->sampling.max_attempts, 1, 100000000);
+  g.Finish();
+
+  // rules that involve several keys name the first offending key under env
+  if (EnvConfigProblem problem = CheckEnvConfig(*out); !problem.ok()) {
+    const std::string top = problem.key.substr(0, problem.key.find_first_of(".["));
+    s.FailRule(top, (problem.key != top ? "at " + problem.key + ": " : std::string()) +
+                        problem.message);
+  }
   s.Finish();
 }
 

@@ -1,0 +1,178 @@
+#include "actor/env/sampling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace srics::env {
+namespace {
+
+using config::EnvConfig;
+using config::ObjectConfig;
+
+// The connection that places entity `e` (it is its second object), or nullptr.
+const config::ConnectionConfig* PlacingConnection(const EnvConfig& c, int e) {
+  for (const auto& k : c.connections)
+    if (k.second == e) return &k;
+  return nullptr;
+}
+
+int IndexOf(std::span<const int> present, int e) {
+  for (size_t k = 0; k < present.size(); ++k)
+    if (present[k] == e) return static_cast<int>(k);
+  return -1;
+}
+
+bool Inside(const Vec2& p, const Vec2& lo, const Vec2& hi) {
+  return p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1];
+}
+
+double Distance(const Vec2& a, const Vec2& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+
+// True when every pair of objects and every object-hand distance obeys the spacing rules.
+bool SpacingHolds(const config::SamplingConfig& s, std::span<const Vec2> pos,
+                  std::span<const double> radius, const Vec2& hand, double object_base,
+                  double hand_base) {
+  for (size_t i = 0; i < pos.size(); ++i) {
+    const double hand_needed = hand_base + std::max(0.0, radius[i] - s.reference_radius);
+    if (Distance(pos[i], hand) < hand_needed) return false;
+    for (size_t j = 0; j < i; ++j)
+      if (Distance(pos[i], pos[j]) < RequiredDistance(s, object_base, radius[i], radius[j]))
+        return false;
+  }
+  return true;
+}
+
+std::string SetText(std::span<const int> present) {
+  std::string text = "[";
+  for (size_t k = 0; k < present.size(); ++k) text += (k ? ", " : "") + std::to_string(present[k]);
+  return text + "]";
+}
+
+}  // namespace
+
+std::vector<int> SampleObjectSet(const EnvConfig& config, bool eval, Rng& rng) {
+  const auto& sets =
+      (eval && !config.eval_object_sets.empty()) ? config.eval_object_sets : config.object_sets;
+  std::vector<int> chosen;
+  if (sets.empty()) {
+    const int n = static_cast<int>(config::EffectiveObjects(config).size());
+    for (int e = 1; e <= n; ++e) chosen.push_back(e);
+  } else {
+    chosen = sets[sets.size() == 1 ? 0 : UniformIndex(rng, sets.size())];
+    std::sort(chosen.begin(), chosen.end());
+  }
+  return chosen;
+}
+
+double RequiredDistance(const config::SamplingConfig& s, double base, double ra, double rb) {
+  return base + std::max(0.0, ra - s.reference_radius) + std::max(0.0, rb - s.reference_radius);
+}
+
+void ObjectBox(const EnvConfig& c, const std::vector<double>& low, const std::vector<double>& high,
+               double r, Vec2* lo, Vec2* hi) {
+  const auto& t = c.table;
+  (*lo)[0] = std::max(low[0], -t.wall_x + t.wall_half_thickness + r);
+  (*hi)[0] = std::min(high[0], t.wall_x - t.wall_half_thickness - r);
+  (*lo)[1] = std::max(low[1], t.wall_y_low + t.wall_half_thickness + r);
+  (*hi)[1] = std::min(high[1], t.wall_y_high - t.wall_half_thickness - r);
+}
+
+std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int> present,
+                                         Rng& rng) {
+  const std::vector<ObjectConfig> objects = config::EffectiveObjects(c);
+  const size_t n = present.size();
+  std::vector<double> radius(n);
+  std::vector<Vec2> lo(n), hi(n);
+  for (size_t k = 0; k < n; ++k) {
+    radius[k] = config::BoundingRadius(objects.at(present[k] - 1));
+    ObjectBox(c, c.sampling.init_low, c.sampling.init_high, radius[k], &lo[k], &hi[k]);
+  }
+  const Vec2 hand{c.hand.start[0], c.hand.start[1]};
+  std::vector<Vec2> pos(n);
+  for (int attempt = 0; attempt < c.sampling.max_attempts; ++attempt) {
+    // free and fixed objects first
+    for (size_t k = 0; k < n; ++k) {
+      const ObjectConfig& o = objects[present[k] - 1];
+      if (PlacingConnection(c, present[k]) != nullptr) continue;
+      if (!o.fixed_position.empty()) {
+        pos[k] = {o.fixed_position[0], o.fixed_position[1]};
+      } else {
+        pos[k] = {Uniform(rng, lo[k][0], hi[k][0]), Uniform(rng, lo[k][1], hi[k][1])};
+      }
+    }
+    // tied objects start within their link's length of the object they hang on
+    bool inside = true;
+    for (const auto& link : c.connections) {
+      const int k2 = IndexOf(present, link.second);
+      const int k1 = IndexOf(present, link.first);
+      if (k2 < 0 || k1 < 0) continue;
+      const double closest =
+          RequiredDistance(c.sampling, c.sampling.init_min_object_distance, radius[k1], radius[k2]);
+      const double r = Uniform(rng, std::min(closest, link.length), link.length);
+      const double phi = Uniform(rng, 0, 2 * std::numbers::pi);
+      pos[k2] = {pos[k1][0] + r * std::sin(phi), pos[k1][1] + r * std::cos(phi)};
+      inside = inside && Inside(pos[k2], lo[k2], hi[k2]);
+    }
+    if (inside && SpacingHolds(c.sampling, pos, radius, hand, c.sampling.init_min_object_distance,
+                               c.sampling.init_min_hand_distance))
+      return pos;
+  }
+  throw SamplingError("no initial placement of objects " + SetText(present) + " within " +
+                      std::to_string(c.sampling.max_attempts) +
+                      " attempts: the objects do not fit with the spacing rules");
+}
+
+std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
+                              std::span<const Vec2> initial, Rng& rng) {
+  const std::vector<ObjectConfig> objects = config::EffectiveObjects(c);
+  const size_t n = present.size();
+  if (initial.size() != n) throw std::invalid_argument("SampleGoals: one initial xy per object");
+  std::vector<double> radius(n);
+  std::vector<Vec2> lo(n), hi(n);
+  for (size_t k = 0; k < n; ++k) {
+    radius[k] = config::BoundingRadius(objects.at(present[k] - 1));
+    ObjectBox(c, c.sampling.goal_low, c.sampling.goal_high, radius[k], &lo[k], &hi[k]);
+  }
+  const Vec2 hand{c.hand.start[0], c.hand.start[1]};
+  std::vector<Vec2> goals(n + 1);
+  goals[0] = hand;
+  std::span<Vec2> objects_goals(goals.data() + 1, n);
+  for (int attempt = 0; attempt < c.sampling.max_attempts; ++attempt) {
+    for (size_t k = 0; k < n; ++k) {
+      const ObjectConfig& o = objects[present[k] - 1];
+      if (PlacingConnection(c, present[k]) != nullptr) continue;
+      if (o.is_static && !c.sampling.static_object_random_goal) {
+        objects_goals[k] = initial[k];
+      } else {
+        objects_goals[k] = {Uniform(rng, lo[k][0], hi[k][0]), Uniform(rng, lo[k][1], hi[k][1])};
+      }
+    }
+    // the tied object's goal is the link's length away, at one random angle per draw
+    const double phi = Uniform(rng, 0, 2 * std::numbers::pi);
+    bool inside = true;
+    for (const auto& link : c.connections) {
+      const int k2 = IndexOf(present, link.second);
+      const int k1 = IndexOf(present, link.first);
+      if (k2 < 0 || k1 < 0) continue;
+      objects_goals[k2] = {objects_goals[k1][0] + link.length * std::sin(phi),
+                           objects_goals[k1][1] + link.length * std::cos(phi)};
+      if (c.sampling.tied_goal_in_box) inside = inside && Inside(objects_goals[k2], lo[k2], hi[k2]);
+    }
+    if (inside && SpacingHolds(c.sampling, objects_goals, radius, hand,
+                               c.sampling.goal_min_object_distance,
+                               c.sampling.goal_min_hand_distance))
+      return goals;
+  }
+  throw SamplingError("no goal placement of objects " + SetText(present) + " within " +
+                      std::to_string(c.sampling.max_attempts) +
+                      " attempts: the objects do not fit with the spacing rules");
+}
+
+Vec2 SampleSubgoal(const config::SamplingConfig& s, Rng& rng) {
+  return {Uniform(rng, s.subgoal_low[0], s.subgoal_high[0]),
+          Uniform(rng, s.subgoal_low[1], s.subgoal_high[1])};
+}
+
+}  // namespace srics::env
