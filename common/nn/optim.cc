@@ -27,10 +27,13 @@ size_t Read(const std::vector<float>& in, size_t pos, Matrix<T>& m) {
   return pos + static_cast<size_t>(m.size());
 }
 
+// two header slots: the step count split in 24-bit halves so floats hold it exactly
 template <typename T>
 size_t StateSize(const ParameterList<T>& params, int slots) {
-  return 1 + slots * static_cast<size_t>(NumScalars(params));
+  return 2 + slots * static_cast<size_t>(NumScalars(params));
 }
+
+constexpr std::int64_t kHalf = std::int64_t{1} << 24;
 
 }  // namespace
 
@@ -63,7 +66,8 @@ template <typename T>
 std::vector<float> Adam<T>::ExportState() const {
   std::vector<float> out;
   out.reserve(StateSize(params_, 2));
-  out.push_back(static_cast<float>(steps_));
+  out.push_back(static_cast<float>(steps_ / kHalf));
+  out.push_back(static_cast<float>(steps_ % kHalf));
   for (const auto& m : m_) Append(out, m);
   for (const auto& v : v_) Append(out, v);
   return out;
@@ -75,8 +79,8 @@ void Adam<T>::ImportState(const std::vector<float>& state) {
     throw std::invalid_argument("nn::Adam::ImportState: " + std::to_string(state.size()) +
                                 " values, expected " + std::to_string(StateSize(params_, 2)));
   }
-  steps_ = static_cast<std::int64_t>(state[0]);
-  size_t pos = 1;
+  steps_ = static_cast<std::int64_t>(state[0]) * kHalf + static_cast<std::int64_t>(state[1]);
+  size_t pos = 2;
   for (auto& m : m_) pos = Read(state, pos, m);
   for (auto& v : v_) pos = Read(state, pos, v);
 }
@@ -100,7 +104,8 @@ void RmsProp<T>::Step() {
 template <typename T>
 std::vector<float> RmsProp<T>::ExportState() const {
   std::vector<float> out;
-  out.push_back(0.0f);  // keeps the layout of Adam: a header slot, then the moments
+  out.push_back(0.0f);  // keeps the layout of Adam: two header slots, then the moments
+  out.push_back(0.0f);
   for (const auto& v : v_) Append(out, v);
   return out;
 }
@@ -111,7 +116,7 @@ void RmsProp<T>::ImportState(const std::vector<float>& state) {
     throw std::invalid_argument("nn::RmsProp::ImportState: " + std::to_string(state.size()) +
                                 " values, expected " + std::to_string(StateSize(params_, 1)));
   }
-  size_t pos = 1;
+  size_t pos = 2;
   for (auto& v : v_) pos = Read(state, pos, v);
 }
 

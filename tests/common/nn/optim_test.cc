@@ -40,7 +40,7 @@ TEST(AdamTest, StateIsPerParameterAndRoundTrips) {
   adam.Step();
   adam.Step();
   const auto state = adam.ExportState();
-  EXPECT_EQ(state.size(), 1u + 2 * 7);
+  EXPECT_EQ(state.size(), 2u + 2 * 7);
   Parameter<float> a2("a", 2, 2), b2("b", 1, 3);
   a2.value = a.value;
   b2.value = b.value;
@@ -52,6 +52,7 @@ TEST(AdamTest, StateIsPerParameterAndRoundTrips) {
   restored.Step();
   EXPECT_EQ(a.value, a2.value);
   EXPECT_EQ(b.value, b2.value);
+  EXPECT_EQ(restored.steps(), 3);
   EXPECT_THROW(restored.ImportState(std::vector<float>(3)), std::invalid_argument);
 }
 
