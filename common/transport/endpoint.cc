@@ -1,0 +1,374 @@
+#include "common/transport/endpoint.h"
+
+#include <spdlog/spdlog.h>
+
+#include <type_traits>
+#include <utility>
+
+#include "common/logging/logging.h"
+#include "common/transport/convert.h"
+#include "common/transport/dds_util.h"
+#include "common/transport/validation.h"
+
+namespace srics::transport {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using internal::Check;
+
+// Deletes a QoS object at scope exit.
+struct QosHolder {
+  dds_qos_t* qos;
+  ~QosHolder() { dds_delete_qos(qos); }
+};
+
+std::string TopicName(TopicId id, const std::string& override_name) {
+  return override_name.empty() ? std::string(Spec(id).name) : override_name;
+}
+
+// Waits on a fresh waitset holding `entity` (with `status` enabled) and the shutdown guard
+// until ready() or the deadline; false on timeout or shutdown.
+template <typename Ready>
+bool WaitForStatus(int32_t participant, int32_t guard, const Shutdown& shutdown, int32_t entity,
+                   uint32_t status, std::chrono::milliseconds timeout, Ready ready) {
+  const auto deadline = Clock::now() + timeout;
+  Check(dds_set_status_mask(entity, status), "dds_set_status_mask");
+  const int32_t waitset = Check(dds_create_waitset(participant), "dds_create_waitset");
+  int32_t owned = waitset;
+  struct Cleanup {
+    int32_t* w;
+    ~Cleanup() { internal::DeleteEntity(w); }
+  } cleanup{&owned};
+  Check(dds_waitset_attach(waitset, entity, 0), "dds_waitset_attach");
+  Check(dds_waitset_attach(waitset, guard, 0), "dds_waitset_attach");
+  while (true) {
+    if (shutdown.requested()) return false;
+    if (ready()) return true;
+    const auto left = deadline - Clock::now();
+    if (left <= Clock::duration::zero()) return false;
+    Check(dds_waitset_wait(waitset, nullptr, 0, internal::ToDdsDuration(left)), "dds_waitset_wait");
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------- Topic
+
+template <typename T>
+Topic<T>::Topic(const Participant& participant, const std::string& name) : name_(name) {
+  topic_ = Check(dds_create_topic(participant.handle(), internal::CType<T>::Descriptor(),
+                                  name.c_str(), nullptr, nullptr),
+                 ("dds_create_topic " + name).c_str());
+}
+
+template <typename T>
+Topic<T>::~Topic() {
+  internal::DeleteEntity(&topic_);
+}
+
+template <typename T>
+Topic<T>::Topic(Topic&& other) noexcept
+    : topic_(std::exchange(other.topic_, 0)), name_(std::move(other.name_)) {}
+
+template <typename T>
+Topic<T>& Topic<T>::operator=(Topic&& other) noexcept {
+  if (this != &other) {
+    internal::DeleteEntity(&topic_);
+    topic_ = std::exchange(other.topic_, 0);
+    name_ = std::move(other.name_);
+  }
+  return *this;
+}
+
+// --------------------------------------------------------------------------------- Writer
+
+template <typename T>
+struct Writer<T>::Impl {
+  Impl(const Participant& p, WriterOptions o)
+      : options(std::move(o)),
+        topic(p, TopicName(TopicOf<T>::kId, options.topic_name)),
+        participant(p.handle()),
+        guard(p.guard()),
+        shutdown(&p.shutdown()),
+        run_id(p.run_id()) {
+    QosHolder qos{internal::CreateQos(Spec(TopicOf<T>::kId), internal::Side::kWriter, p.config())};
+    writer = Check(dds_create_writer(participant, topic.handle(), qos.qos, nullptr),
+                   ("dds_create_writer " + topic.name()).c_str());
+  }
+  ~Impl() { internal::DeleteEntity(&writer); }
+
+  // Stamps and validates as configured; returns what to send (msg itself or scratch).
+  const T& Prepare(const T& msg) {
+    const T* result = &msg;
+    if (options.stamp) {
+      bool differs = msg.contract_version != kContractVersion || msg.run_id != run_id;
+      uint32_t checksum = 0;
+      if constexpr (std::is_same_v<T, PolicyWeights>) {
+        checksum = ParameterChecksum(msg.parameters);
+        differs = differs || checksum != msg.checksum;
+      }
+      if (differs) {
+        scratch = msg;
+        scratch.contract_version = kContractVersion;
+        scratch.run_id = run_id;
+        if constexpr (std::is_same_v<T, PolicyWeights>) scratch.checksum = checksum;
+        result = &scratch;
+      }
+    }
+    if (options.validate) {
+      const Validation v = Validate(*result, "");
+      if (v.verdict == Verdict::kMalformed)
+        throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + v.reason);
+    }
+    return *result;
+  }
+
+  // One dds_write; kBackPressure when it timed out.
+  WriteResult Send(const T& msg) {
+    typename internal::CType<T>::type sample;
+    internal::ToC(msg, &sample);
+    const dds_return_t ret = dds_write(writer, &sample);
+    if (ret == DDS_RETCODE_TIMEOUT) return WriteResult::kBackPressure;
+    Check(ret, ("dds_write " + topic.name()).c_str());
+    return WriteResult::kSent;
+  }
+
+  WriterOptions options;
+  Topic<T> topic;
+  int32_t participant;
+  int32_t guard;
+  Shutdown* shutdown;
+  std::string run_id;
+  int32_t writer = 0;
+  T scratch;
+};
+
+template <typename T>
+Writer<T>::Writer(const Participant& participant, WriterOptions options)
+    : impl_(std::make_unique<Impl>(participant, std::move(options))) {}
+
+template <typename T>
+Writer<T>::~Writer() = default;
+template <typename T>
+Writer<T>::Writer(Writer&& other) noexcept = default;
+template <typename T>
+Writer<T>& Writer<T>::operator=(Writer&& other) noexcept = default;
+
+template <typename T>
+WriteResult Writer<T>::TryWrite(const T& msg) {
+  const WriteResult result = impl_->Send(impl_->Prepare(msg));
+  if (result == WriteResult::kBackPressure) ++back_pressure_;
+  return result;
+}
+
+template <typename T>
+WriteResult Writer<T>::Write(const T& msg) {
+  const T& prepared = impl_->Prepare(msg);
+  while (true) {
+    // each attempt blocks at most writer_max_blocking_ms inside DDS
+    if (impl_->shutdown->requested()) return WriteResult::kShutdown;
+    if (impl_->Send(prepared) == WriteResult::kSent) return WriteResult::kSent;
+    ++back_pressure_;
+  }
+}
+
+template <typename T>
+uint32_t Writer<T>::matched_readers() const {
+  dds_publication_matched_status_t status;
+  Check(dds_get_publication_matched_status(impl_->writer, &status),
+        "dds_get_publication_matched_status");
+  return status.current_count;
+}
+
+template <typename T>
+bool Writer<T>::WaitForReaders(uint32_t count, std::chrono::milliseconds timeout) {
+  return WaitForStatus(impl_->participant, impl_->guard, *impl_->shutdown, impl_->writer,
+                       DDS_PUBLICATION_MATCHED_STATUS, timeout,
+                       [&] { return matched_readers() >= count; });
+}
+
+template <typename T>
+bool Writer<T>::WaitForAcks(std::chrono::milliseconds timeout) {
+  const dds_return_t ret = dds_wait_for_acks(impl_->writer, DDS_MSECS(timeout.count()));
+  if (ret == DDS_RETCODE_TIMEOUT) return false;
+  Check(ret, "dds_wait_for_acks");
+  return true;
+}
+
+// --------------------------------------------------------------------------------- Reader
+
+template <typename T>
+struct Reader<T>::Impl {
+  Impl(const Participant& p, ReaderOptions o)
+      : options(std::move(o)),
+        topic(p, TopicName(TopicOf<T>::kId, options.topic_name)),
+        participant(p.handle()),
+        guard(p.guard()),
+        shutdown(&p.shutdown()),
+        run_id(options.all_runs ? std::string() : p.run_id()),
+        shared(p.counter_table()),
+        limiter(std::chrono::seconds(p.config().rejected_log_interval_s)) {
+    QosHolder qos{internal::CreateQos(Spec(TopicOf<T>::kId), internal::Side::kReader, p.config())};
+    reader = Check(dds_create_reader(participant, topic.handle(), qos.qos, nullptr),
+                   ("dds_create_reader " + topic.name()).c_str());
+    condition = Check(dds_create_readcondition(reader, DDS_ANY_STATE), "dds_create_readcondition");
+    waitset = Check(dds_create_waitset(participant), "dds_create_waitset");
+    Check(dds_waitset_attach(waitset, condition, 0), "dds_waitset_attach");
+    Check(dds_waitset_attach(waitset, guard, 0), "dds_waitset_attach");
+  }
+  ~Impl() {
+    internal::DeleteEntity(&waitset);
+    internal::DeleteEntity(&reader);  // also deletes the read condition
+  }
+
+  // Takes up to `max` samples now (no waiting); appends the valid ones to *out.
+  size_t TakeNow(std::vector<T>* out, size_t max) {
+    constexpr size_t kBatch = 16;
+    size_t appended = 0;
+    while (appended < max) {
+      void* samples[kBatch] = {};
+      dds_sample_info_t infos[kBatch];
+      const size_t want = std::min(kBatch, max - appended);
+      const int32_t n = Check(dds_take(reader, samples, infos, want, static_cast<uint32_t>(want)),
+                              "dds_take");
+      if (n == 0) break;
+      for (int32_t i = 0; i < n; ++i) {
+        // invalid_data samples only announce instance state changes (disposed, no writers)
+        if (!infos[i].valid_data) continue;
+        out->emplace_back();
+        internal::FromC(*static_cast<const typename internal::CType<T>::type*>(samples[i]),
+                        &out->back());
+        if (Accept(out->back())) ++appended; else out->pop_back();
+      }
+      dds_return_loan(reader, samples, n);
+      if (static_cast<size_t>(n) < want) break;
+    }
+    return appended;
+  }
+
+  // Validates one received sample, counts and (rate-limited) logs a rejection.
+  bool Accept(const T& msg) {
+    const Validation v = Validate(msg, run_id);
+    auto& row = shared->rows[static_cast<size_t>(TopicOf<T>::kId)];
+    switch (v.verdict) {
+      case Verdict::kAccept:
+        ++local.accepted;
+        row.accepted.fetch_add(1, std::memory_order_relaxed);
+        return true;
+      case Verdict::kOtherRun:
+        ++local.other_run;
+        row.other_run.fetch_add(1, std::memory_order_relaxed);
+        return false;
+      case Verdict::kMalformed: {
+        ++local.rejected;
+        row.rejected.fetch_add(1, std::memory_order_relaxed);
+        uint64_t suppressed = 0;
+        if (limiter.Allow(&suppressed))
+          spdlog::warn("transport: dropped a malformed {} sample: {} ({} rejected so far, {} "
+                       "warnings suppressed)", topic.name(), v.reason, local.rejected, suppressed);
+        return false;
+      }
+    }
+    return false;
+  }
+
+  // Waits until data may be available; false on timeout (shutdown is checked by the caller).
+  bool Wait(Clock::time_point deadline) {
+    const auto left = deadline - Clock::now();
+    if (left <= Clock::duration::zero()) return false;
+    Check(dds_waitset_wait(waitset, nullptr, 0, internal::ToDdsDuration(left)), "dds_waitset_wait");
+    return true;
+  }
+
+  ReaderOptions options;
+  Topic<T> topic;
+  int32_t participant;
+  int32_t guard;
+  Shutdown* shutdown;
+  std::string run_id;  // "" = every run
+  std::shared_ptr<CounterTable> shared;
+  logging::RateLimiter limiter;
+  SampleCounters local;
+  int32_t reader = 0;
+  int32_t condition = 0;
+  int32_t waitset = 0;
+  std::vector<T> batch;  // reused by Take
+};
+
+template <typename T>
+Reader<T>::Reader(const Participant& participant, ReaderOptions options)
+    : impl_(std::make_unique<Impl>(participant, std::move(options))) {}
+
+template <typename T>
+Reader<T>::~Reader() = default;
+template <typename T>
+Reader<T>::Reader(Reader&& other) noexcept = default;
+template <typename T>
+Reader<T>& Reader<T>::operator=(Reader&& other) noexcept = default;
+
+template <typename T>
+TakeStatus Reader<T>::Take(T* out, std::chrono::milliseconds timeout) {
+  const auto deadline = Clock::now() + timeout;
+  auto& batch = impl_->batch;
+  do {
+    if (impl_->shutdown->requested()) return TakeStatus::kShutdown;
+    batch.clear();
+    if (impl_->TakeNow(&batch, 1) == 1) {
+      *out = std::move(batch.front());
+      return TakeStatus::kSample;
+    }
+  } while (impl_->Wait(deadline));
+  return impl_->shutdown->requested() ? TakeStatus::kShutdown : TakeStatus::kTimeout;
+}
+
+template <typename T>
+size_t Reader<T>::TakeMany(std::vector<T>* out, size_t max, std::chrono::milliseconds timeout) {
+  const auto deadline = Clock::now() + timeout;
+  do {
+    if (impl_->shutdown->requested()) return 0;
+    if (size_t n = impl_->TakeNow(out, max); n > 0) return n;
+  } while (impl_->Wait(deadline));
+  return 0;
+}
+
+template <typename T>
+uint32_t Reader<T>::matched_writers() const {
+  dds_subscription_matched_status_t status;
+  Check(dds_get_subscription_matched_status(impl_->reader, &status),
+        "dds_get_subscription_matched_status");
+  return status.current_count;
+}
+
+template <typename T>
+uint32_t Reader<T>::alive_writers() const {
+  dds_liveliness_changed_status_t status;
+  Check(dds_get_liveliness_changed_status(impl_->reader, &status),
+        "dds_get_liveliness_changed_status");
+  return status.alive_count;
+}
+
+template <typename T>
+bool Reader<T>::WaitForWriters(uint32_t count, std::chrono::milliseconds timeout) {
+  return WaitForStatus(impl_->participant, impl_->guard, *impl_->shutdown, impl_->reader,
+                       DDS_SUBSCRIPTION_MATCHED_STATUS, timeout,
+                       [&] { return matched_writers() >= count; });
+}
+
+template <typename T>
+SampleCounters Reader<T>::counters() const {
+  return impl_->local;
+}
+
+#define SRICS_INSTANTIATE(T) \
+  template class Topic<T>;   \
+  template class Writer<T>;  \
+  template class Reader<T>;
+SRICS_INSTANTIATE(Episode)
+SRICS_INSTANTIATE(PolicyWeights)
+SRICS_INSTANTIATE(InteractionGraph)
+SRICS_INSTANTIATE(EvalResult)
+SRICS_INSTANTIATE(LearnerStats)
+SRICS_INSTANTIATE(NodeStatus)
+#undef SRICS_INSTANTIATE
+
+}  // namespace srics::transport

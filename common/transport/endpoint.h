@@ -1,0 +1,149 @@
+#pragma once
+// Typed topics, writers and readers for the six message structs of messages.h. Each owns its
+// DDS entities (deleted in the destructor) and is move-only. QoS comes from the table in
+// topics.h. The participant must outlive its endpoints.
+//
+//   Writer<Episode> writer(participant);
+//   if (writer.Write(episode) == WriteResult::kShutdown) return;   // retried back-pressure
+//
+//   Reader<Episode> reader(participant);
+//   Episode episode;
+//   switch (reader.Take(&episode, std::chrono::milliseconds(500))) {
+//     case TakeStatus::kSample: ...; case TakeStatus::kTimeout: ...; case TakeStatus::kShutdown: ...
+//   }
+//
+// Threading: one thread per endpoint at a time; different endpoints may be used from
+// different threads. Shutdown::Request() may come from any thread.
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/transport/messages.h"
+#include "common/transport/participant.h"
+#include "common/transport/topics.h"
+
+namespace srics::transport {
+
+// The topic of each message struct.
+template <typename T> struct TopicOf;
+template <> struct TopicOf<Episode> { static constexpr TopicId kId = TopicId::kEpisode; };
+template <> struct TopicOf<PolicyWeights> { static constexpr TopicId kId = TopicId::kPolicyWeights; };
+template <> struct TopicOf<InteractionGraph> { static constexpr TopicId kId = TopicId::kInteractionGraph; };
+template <> struct TopicOf<EvalResult> { static constexpr TopicId kId = TopicId::kEvalResult; };
+template <> struct TopicOf<LearnerStats> { static constexpr TopicId kId = TopicId::kLearnerStats; };
+template <> struct TopicOf<NodeStatus> { static constexpr TopicId kId = TopicId::kNodeStatus; };
+
+enum class WriteResult {
+  kSent,          // accepted by DDS (delivered reliably to matched readers)
+  kBackPressure,  // TryWrite only: readers are behind, nothing was sent; try again later
+  kShutdown,      // Write only: shutdown was requested before the sample was accepted
+};
+
+enum class TakeStatus {
+  kSample,    // *out holds a validated sample of this run
+  kTimeout,   // nothing valid arrived in time
+  kShutdown,  // shutdown was requested (checked before taking anything)
+};
+
+struct WriterOptions {
+  std::string topic_name;  // empty: the table's name (tests isolate themselves with others)
+  bool stamp = true;       // set contract_version, run_id (and the PolicyWeights checksum)
+  bool validate = true;    // throw InvalidMessage for what a reader would reject
+};
+
+struct ReaderOptions {
+  std::string topic_name;  // empty: the table's name
+  bool all_runs = false;   // monitors: accept samples of every run_id
+};
+
+// The DDS topic of T in one participant. Writers and readers create their own.
+template <typename T>
+class Topic {
+ public:
+  // Throws DdsError.
+  Topic(const Participant& participant, const std::string& name);
+  ~Topic();
+  Topic(Topic&& other) noexcept;
+  Topic& operator=(Topic&& other) noexcept;
+  Topic(const Topic&) = delete;
+  Topic& operator=(const Topic&) = delete;
+
+  int32_t handle() const { return topic_; }
+  const std::string& name() const { return name_; }
+
+ private:
+  int32_t topic_ = 0;
+  std::string name_;
+};
+
+template <typename T>
+class Writer {
+ public:
+  // Throws DdsError.
+  explicit Writer(const Participant& participant, WriterOptions options = {});
+  ~Writer();
+  Writer(Writer&& other) noexcept;
+  Writer& operator=(Writer&& other) noexcept;
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+
+  // One attempt: kSent, or kBackPressure when DDS blocked for writer_max_blocking_ms without
+  // room (DDS_RETCODE_TIMEOUT; nothing was sent). Throws InvalidMessage (see WriterOptions)
+  // and DdsError for any other failure.
+  [[nodiscard]] WriteResult TryWrite(const T& msg);
+  // Retries back-pressure until the sample is accepted (kSent) or shutdown is requested
+  // (kShutdown: not sent). Never returns kBackPressure.
+  [[nodiscard]] WriteResult Write(const T& msg);
+
+  // Readers currently matched (subscription side of the same topic and compatible QoS).
+  uint32_t matched_readers() const;
+  // Waits until at least `count` readers matched; false on timeout or shutdown.
+  bool WaitForReaders(uint32_t count, std::chrono::milliseconds timeout);
+  // Waits until every matched reader acknowledged everything written (e.g. before exiting:
+  // volatile data still in flight dies with the process); false on timeout.
+  bool WaitForAcks(std::chrono::milliseconds timeout);
+  // Attempts that ended in back-pressure so far.
+  uint64_t back_pressure_count() const { return back_pressure_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  uint64_t back_pressure_ = 0;
+};
+
+template <typename T>
+class Reader {
+ public:
+  // Throws DdsError.
+  explicit Reader(const Participant& participant, ReaderOptions options = {});
+  ~Reader();
+  Reader(Reader&& other) noexcept;
+  Reader& operator=(Reader&& other) noexcept;
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
+
+  // Waits up to `timeout` for a valid sample of this run. Malformed samples are dropped,
+  // counted and logged at a limited rate; other runs' samples are dropped and counted.
+  TakeStatus Take(T* out, std::chrono::milliseconds timeout);
+  // Waits up to `timeout` for the first valid sample, then appends every valid sample already
+  // available, up to `max` in all. Returns how many were appended (0: timeout or shutdown).
+  size_t TakeMany(std::vector<T>* out, size_t max, std::chrono::milliseconds timeout);
+
+  // Writers currently matched, and those alive (by their liveliness lease).
+  uint32_t matched_writers() const;
+  uint32_t alive_writers() const;
+  // Waits until at least `count` writers matched; false on timeout or shutdown.
+  bool WaitForWriters(uint32_t count, std::chrono::milliseconds timeout);
+
+  // What this reader did with the samples it took.
+  SampleCounters counters() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace srics::transport

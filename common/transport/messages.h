@@ -1,0 +1,155 @@
+#pragma once
+// Plain C++ mirrors of the IDL types in idl/srics.idl, one struct per topic. Algorithms and
+// process code use these; only common/transport converts them to and from the generated C
+// types, so this header has no DDS dependency. Field meanings and units: idl/README.md.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace srics::transport {
+
+// Must equal srics::CONTRACT_VERSION in idl/srics.idl (checked by a static_assert in the
+// transport library). Readers reject samples carrying any other value.
+inline constexpr uint32_t kContractVersion = 1;
+
+// Bounds of the IDL's bounded strings (characters, without the terminating NUL).
+inline constexpr size_t kRunIdMaxLength = 64;
+inline constexpr size_t kArchitectureMaxLength = 256;
+inline constexpr size_t kRoleMaxLength = 32;
+inline constexpr size_t kHostMaxLength = 128;
+inline constexpr size_t kDetailMaxLength = 256;
+
+// The enums carry the raw wire value, so a received out-of-range value stays representable
+// and validation (not a cast) rejects it.
+enum class EpisodeMode : int32_t { kExplore = 0, kTrain = 1, kEval = 2 };
+
+enum class NodeState : int32_t {
+  kStarting = 0,
+  kWaiting = 1,
+  kExploring = 2,
+  kTraining = 3,
+  kEvaluating = 4,
+  kStopping = 5,
+  kFailed = 6,
+};
+
+// Lowercase names ("explore", "training", ...) for logs; "invalid" for out-of-range values.
+const char* EpisodeModeName(EpisodeMode mode);
+const char* NodeStateName(NodeState state);
+
+// One whole episode from one actor (topic "srics/episode").
+struct Episode {
+  uint32_t contract_version = kContractVersion;
+  std::string run_id;
+  uint32_t actor_id = 0;
+  uint64_t episode_id = 0;          // per actor, counts up from 0 across restarts
+  EpisodeMode mode = EpisodeMode::kExplore;
+  uint64_t policy_version = 0;      // 0 = random actions
+  uint64_t graph_version = 0;       // 0 = no graph yet
+  uint16_t num_entities = 0;        // N
+  uint16_t entity_dim = 0;          // D floats per entity
+  uint16_t action_dim = 0;          // A
+  uint16_t num_steps = 0;           // T
+  std::vector<uint16_t> entity_kinds;  // N, 0 = arm
+  std::vector<float> states;        // (T+1) x N x D, row-major
+  std::vector<float> actions;       // T x A, row-major, each in [-1, 1]
+  int16_t subgoal_entity = -1;      // -1 = full goal / none
+  std::vector<float> goal;          // 2 (subgoal xy), 2N (full goal) or empty (explore)
+  uint64_t ancestor_mask = 0;       // bit j: entity j is in the subgoal's ancestor set
+
+  bool operator==(const Episode&) const = default;
+};
+
+// Latest policy parameters (topic "srics/policy_weights"), one instance per run.
+struct PolicyWeights {
+  uint32_t contract_version = kContractVersion;
+  std::string run_id;
+  uint64_t version = 0;        // 1, 2, ... per publication, across restarts
+  uint64_t update_count = 0;   // SAC updates done when these weights were taken
+  std::string architecture;    // signature that must match the actor's network
+  uint32_t checksum = 0;       // CRC-32 of the parameter bytes (see ParameterChecksum)
+  std::vector<float> parameters;
+
+  bool operator==(const PolicyWeights&) const = default;
+};
+
+// The learned interaction graph (topic "srics/interaction_graph"), one instance per run.
+struct InteractionGraph {
+  uint32_t contract_version = kContractVersion;
+  std::string run_id;
+  uint64_t version = 0;             // 1, 2, ... each time the thresholded graph changes
+  uint16_t num_entities = 0;        // N
+  std::vector<float> mean_weights;  // N x N, [i][j] = mean weight of edge i -> j
+  std::vector<uint8_t> adjacency;   // N x N, 1 where mean weight > threshold
+  int16_t action_entity = 0;        // entity the action node drives (the arm)
+  float threshold = 0;
+  std::vector<uint64_t> ancestor_masks;  // N: bit j = j on a path action -> i
+  std::vector<int16_t> depths;      // N: longest simple path from the action node, -1 = none
+  float held_out_loss = 0;
+  uint64_t training_updates = 0;
+  uint32_t episodes_used = 0;
+
+  bool operator==(const InteractionGraph&) const = default;
+};
+
+// One evaluation (topic "srics/eval_result"): means over its episodes.
+struct EvalResult {
+  uint32_t contract_version = kContractVersion;
+  std::string run_id;
+  uint32_t actor_id = 0;
+  uint64_t policy_version = 0;
+  uint64_t graph_version = 0;
+  uint64_t env_steps = 0;          // training env steps of the whole system when run
+  uint32_t episodes = 0;
+  float avg_distance = 0;          // arm and objects
+  float avg_object_distance = 0;   // objects only
+  float success_rate = 0;
+  std::vector<float> entity_distance;  // N
+  std::vector<float> subgoal_success;  // N, fractions in [0, 1]
+  float selectivity = 0;
+
+  bool operator==(const EvalResult&) const = default;
+};
+
+// Learner progress (topic "srics/learner_stats"), one instance per run.
+struct LearnerStats {
+  uint32_t contract_version = kContractVersion;
+  std::string run_id;
+  uint64_t updates = 0;
+  uint64_t transitions_inserted = 0;
+  uint64_t replay_size = 0;
+  uint64_t episodes_accepted = 0;
+  uint64_t episodes_rejected = 0;
+  uint64_t policy_version = 0;
+  float q_loss = 0;
+  float policy_loss = 0;
+  float alpha = 0;
+  float entropy = 0;
+  float updates_per_second = 0;
+  float inserts_per_second = 0;
+  float mean_reward = 0;
+
+  bool operator==(const LearnerStats&) const = default;
+};
+
+// Health of one process (topic "srics/node_status"), keyed by run, role and id.
+struct NodeStatus {
+  uint32_t contract_version = kContractVersion;
+  std::string run_id;
+  std::string role;               // actor, learner, graph, monitor, launcher
+  uint32_t node_id = 0;
+  std::string host;
+  int32_t pid = 0;
+  NodeState state = NodeState::kStarting;
+  uint64_t policy_version = 0;
+  uint64_t graph_version = 0;
+  uint64_t env_steps = 0;
+  uint64_t dropped_samples = 0;   // malformed samples rejected by this node
+  uint64_t uptime_ms = 0;
+  std::string detail;
+
+  bool operator==(const NodeStatus&) const = default;
+};
+
+}  // namespace srics::transport

@@ -1,0 +1,144 @@
+#include "common/transport/participant.h"
+
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <utility>
+
+#include "common/transport/dds_util.h"
+
+namespace srics::transport {
+
+DdsError::DdsError(const std::string& operation, int32_t retcode)
+    : std::runtime_error(operation + ": " + dds_strretcode(retcode) + " (" +
+                         std::to_string(retcode) + ")"),
+      retcode_(retcode) {}
+
+namespace internal {
+
+dds_qos_t* CreateQos(const TopicSpec& spec, Side side, const config::TransportConfig& config) {
+  dds_qos_t* qos = dds_create_qos();
+  // a blocked reliable write gives up after this and reports back-pressure
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE,
+                       DDS_MSECS(config.writer_max_blocking_ms));
+  dds_qset_durability(qos, spec.durability == Durability::kTransientLocal
+                               ? DDS_DURABILITY_TRANSIENT_LOCAL
+                               : DDS_DURABILITY_VOLATILE);
+  if (spec.history == HistoryKind::kKeepAllBounded) {
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+    // a reader that is full does not acknowledge: the writer blocks instead of data being lost
+    if (side == Side::kReader)
+      dds_qset_resource_limits(qos, config.episode_history_depth, DDS_LENGTH_UNLIMITED,
+                               DDS_LENGTH_UNLIMITED);
+  } else {
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, spec.depth);
+  }
+  if (spec.liveliness_lease && side == Side::kWriter)
+    dds_qset_liveliness(qos, DDS_LIVELINESS_AUTOMATIC,
+                        static_cast<dds_duration_t>(config.liveliness_lease_s * 1e9));
+  return qos;
+}
+
+}  // namespace internal
+
+namespace {
+
+// Domains this process created, shared by its participants: Cyclone allows one configuration
+// per domain id and process, and deleting the domain entity deletes its participants.
+struct DomainEntry {
+  int32_t handle = 0;
+  std::string xml;
+  int users = 0;
+};
+
+std::mutex& DomainMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+std::map<int, DomainEntry>& Domains() {
+  static auto* domains = new std::map<int, DomainEntry>();
+  return *domains;
+}
+
+}  // namespace
+
+Participant::Participant(const config::TransportConfig& config, Shutdown& shutdown)
+    : config_(config), shutdown_(&shutdown), counters_(std::make_shared<CounterTable>()) {
+  const std::string xml = CycloneConfigFor(config);
+  if (!xml.empty()) {
+    std::lock_guard<std::mutex> lock(DomainMutex());
+    DomainEntry& entry = Domains()[config.domain_id];
+    if (entry.users == 0) {
+      entry.handle = internal::Check(dds_create_domain(config.domain_id, xml.c_str()),
+                                     "dds_create_domain (check the Cyclone XML)");
+      entry.xml = xml;
+    } else if (entry.xml != xml) {
+      throw std::invalid_argument("transport: domain " + std::to_string(config.domain_id) +
+                                  " is already configured differently in this process");
+    }
+    ++entry.users;
+    holds_domain_ = true;
+  }
+  try {
+    participant_ = internal::Check(dds_create_participant(config.domain_id, nullptr, nullptr),
+                                   "dds_create_participant");
+    guard_ = internal::Check(dds_create_guardcondition(participant_), "dds_create_guardcondition");
+    shutdown_->Register(guard_);
+  } catch (...) {
+    Release();
+    throw;
+  }
+}
+
+Participant::~Participant() { Release(); }
+
+void Participant::Release() {
+  if (guard_ > 0) shutdown_->Unregister(guard_);
+  // deleting the participant deletes its topics, readers, writers, waitsets and guard
+  internal::DeleteEntity(&participant_);
+  guard_ = 0;
+  if (holds_domain_) {
+    std::lock_guard<std::mutex> lock(DomainMutex());
+    auto it = Domains().find(config_.domain_id);
+    if (it != Domains().end() && --it->second.users == 0) {
+      dds_delete(it->second.handle);
+      Domains().erase(it);
+    }
+    holds_domain_ = false;
+  }
+}
+
+Participant::Participant(Participant&& other) noexcept
+    : config_(std::move(other.config_)),
+      shutdown_(other.shutdown_),
+      participant_(std::exchange(other.participant_, 0)),
+      guard_(std::exchange(other.guard_, 0)),
+      holds_domain_(std::exchange(other.holds_domain_, false)),
+      counters_(std::move(other.counters_)) {}
+
+Participant& Participant::operator=(Participant&& other) noexcept {
+  if (this != &other) {
+    Release();
+    config_ = std::move(other.config_);
+    shutdown_ = other.shutdown_;
+    participant_ = std::exchange(other.participant_, 0);
+    guard_ = std::exchange(other.guard_, 0);
+    holds_domain_ = std::exchange(other.holds_domain_, false);
+    counters_ = std::move(other.counters_);
+  }
+  return *this;
+}
+
+SampleCounters Participant::counters(TopicId topic) const {
+  const auto& row = counters_->rows[static_cast<size_t>(topic)];
+  return {row.accepted.load(), row.rejected.load(), row.other_run.load()};
+}
+
+uint64_t Participant::total_rejected() const {
+  uint64_t total = 0;
+  for (const auto& row : counters_->rows) total += row.rejected.load();
+  return total;
+}
+
+}  // namespace srics::transport

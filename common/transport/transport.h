@@ -1,0 +1,11 @@
+#pragma once
+// Everything a process needs from the transport, without any DDS header:
+// Participant, Writer<T>, Reader<T>, Shutdown, the message structs and their validation.
+
+#include "common/transport/endpoint.h"
+#include "common/transport/errors.h"
+#include "common/transport/messages.h"
+#include "common/transport/participant.h"
+#include "common/transport/shutdown.h"
+#include "common/transport/topics.h"
+#include "common/transport/validation.h"

@@ -1,0 +1,206 @@
+#include "common/transport/validation.h"
+
+#include <array>
+#include <cmath>
+#include <cstring>
+
+namespace srics::transport {
+namespace {
+
+Validation Malformed(std::string reason) { return {Verdict::kMalformed, std::move(reason)}; }
+
+// Index of the first non-finite value, or -1.
+int64_t FirstNonFinite(const std::vector<float>& values) {
+  for (size_t i = 0; i < values.size(); ++i)
+    if (!std::isfinite(values[i])) return static_cast<int64_t>(i);
+  return -1;
+}
+
+// Checks shared by every topic; returns a malformed verdict or an empty reason.
+Validation CheckCommon(uint32_t contract_version, const std::string& msg_run_id) {
+  if (contract_version != kContractVersion)
+    return Malformed("contract_version " + std::to_string(contract_version) + ", expected " +
+                     std::to_string(kContractVersion));
+  if (msg_run_id.empty()) return Malformed("empty run_id");
+  if (msg_run_id.size() > kRunIdMaxLength) return Malformed("run_id longer than 64 characters");
+  return {};
+}
+
+Validation CheckRun(const std::string& msg_run_id, std::string_view run_id) {
+  if (!run_id.empty() && msg_run_id != run_id)
+    return {Verdict::kOtherRun, "run_id '" + msg_run_id + "' is not '" + std::string(run_id) + "'"};
+  return {};
+}
+
+std::string SizeMismatch(const char* field, size_t got, uint64_t expected, const char* layout) {
+  return std::string(field) + " has " + std::to_string(got) + " values, expected " +
+         std::to_string(expected) + " (" + layout + ")";
+}
+
+// Reason for the first non-finite value of `field`, or "".
+std::string NonFinite(const char* field, const std::vector<float>& values) {
+  const int64_t i = FirstNonFinite(values);
+  if (i < 0) return "";
+  return std::string(field) + "[" + std::to_string(i) + "] is not finite (" +
+         std::to_string(values[i]) + ")";
+}
+
+// True when every bit of `mask` is below bit n.
+bool MaskInside(uint64_t mask, uint32_t n) { return n >= 64 || (mask >> n) == 0; }
+
+}  // namespace
+
+const char* EpisodeModeName(EpisodeMode mode) {
+  switch (mode) {
+    case EpisodeMode::kExplore: return "explore";
+    case EpisodeMode::kTrain: return "train";
+    case EpisodeMode::kEval: return "eval";
+  }
+  return "invalid";
+}
+
+const char* NodeStateName(NodeState state) {
+  switch (state) {
+    case NodeState::kStarting: return "starting";
+    case NodeState::kWaiting: return "waiting";
+    case NodeState::kExploring: return "exploring";
+    case NodeState::kTraining: return "training";
+    case NodeState::kEvaluating: return "evaluating";
+    case NodeState::kStopping: return "stopping";
+    case NodeState::kFailed: return "failed";
+  }
+  return "invalid";
+}
+
+Validation Validate(const Episode& msg, std::string_view run_id) {
+  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
+  const uint32_t n = msg.num_entities, d = msg.entity_dim, a = msg.action_dim, t = msg.num_steps;
+  if (n < 1 || n > kMaxEntities) return Malformed("num_entities " + std::to_string(n) + " not in [1, 64]");
+  if (d < 1 || d > kMaxEntityDim) return Malformed("entity_dim " + std::to_string(d) + " not in [1, 1024]");
+  if (a < 1 || a > kMaxActionDim) return Malformed("action_dim " + std::to_string(a) + " not in [1, 256]");
+  if (t < 1 || t > kMaxSteps) return Malformed("num_steps " + std::to_string(t) + " not in [1, 10000]");
+  if (msg.mode != EpisodeMode::kExplore && msg.mode != EpisodeMode::kTrain &&
+      msg.mode != EpisodeMode::kEval)
+    return Malformed("mode " + std::to_string(static_cast<int32_t>(msg.mode)) + " is not an EpisodeMode");
+  if (msg.entity_kinds.size() != n) return Malformed(SizeMismatch("entity_kinds", msg.entity_kinds.size(), n, "N"));
+  const uint64_t states = uint64_t{t + 1} * n * d;
+  if (msg.states.size() != states)
+    return Malformed(SizeMismatch("states", msg.states.size(), states, "(T+1) x N x D"));
+  if (msg.actions.size() != uint64_t{t} * a)
+    return Malformed(SizeMismatch("actions", msg.actions.size(), uint64_t{t} * a, "T x A"));
+  if (msg.subgoal_entity < -1 || msg.subgoal_entity >= static_cast<int32_t>(n))
+    return Malformed("subgoal_entity " + std::to_string(msg.subgoal_entity) + " not in [-1, N)");
+  if (msg.subgoal_entity >= 0 && msg.goal.size() != 2)
+    return Malformed(SizeMismatch("goal", msg.goal.size(), 2, "xy of the subgoal entity"));
+  if (msg.subgoal_entity < 0 && !msg.goal.empty() && msg.goal.size() != 2ull * n)
+    return Malformed(SizeMismatch("goal", msg.goal.size(), 2ull * n, "2N for a full goal, or none"));
+  if (msg.mode != EpisodeMode::kExplore && msg.goal.empty())
+    return Malformed("a train or eval episode without goal");
+  if (!MaskInside(msg.ancestor_mask, n)) return Malformed("ancestor_mask has bits at or above N");
+  if (auto r = NonFinite("states", msg.states); !r.empty()) return Malformed(r);
+  if (auto r = NonFinite("actions", msg.actions); !r.empty()) return Malformed(r);
+  if (auto r = NonFinite("goal", msg.goal); !r.empty()) return Malformed(r);
+  for (size_t i = 0; i < msg.actions.size(); ++i)
+    if (std::fabs(msg.actions[i]) > 1.0f + 1e-6f)
+      return Malformed("actions[" + std::to_string(i) + "] = " + std::to_string(msg.actions[i]) +
+                       " outside [-1, 1]");
+  return CheckRun(msg.run_id, run_id);
+}
+
+Validation Validate(const PolicyWeights& msg, std::string_view run_id) {
+  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
+  if (msg.version < 1) return Malformed("version 0 (published weights start at 1)");
+  if (msg.architecture.empty() || msg.architecture.size() > kArchitectureMaxLength)
+    return Malformed("architecture empty or longer than 256 characters");
+  if (msg.parameters.empty() || msg.parameters.size() > kMaxParameters)
+    return Malformed("parameters: " + std::to_string(msg.parameters.size()) +
+                     " values, expected 1 to 64 Mi");
+  if (auto r = NonFinite("parameters", msg.parameters); !r.empty()) return Malformed(r);
+  if (const uint32_t crc = ParameterChecksum(msg.parameters); crc != msg.checksum)
+    return Malformed("checksum " + std::to_string(msg.checksum) + " does not match the parameters (" +
+                     std::to_string(crc) + ")");
+  return CheckRun(msg.run_id, run_id);
+}
+
+Validation Validate(const InteractionGraph& msg, std::string_view run_id) {
+  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
+  const uint32_t n = msg.num_entities;
+  if (msg.version < 1) return Malformed("version 0 (published graphs start at 1)");
+  if (n < 1 || n > kMaxEntities) return Malformed("num_entities " + std::to_string(n) + " not in [1, 64]");
+  if (msg.mean_weights.size() != n * n)
+    return Malformed(SizeMismatch("mean_weights", msg.mean_weights.size(), n * n, "N x N"));
+  if (msg.adjacency.size() != n * n)
+    return Malformed(SizeMismatch("adjacency", msg.adjacency.size(), n * n, "N x N"));
+  if (msg.ancestor_masks.size() != n)
+    return Malformed(SizeMismatch("ancestor_masks", msg.ancestor_masks.size(), n, "N"));
+  if (msg.depths.size() != n) return Malformed(SizeMismatch("depths", msg.depths.size(), n, "N"));
+  if (msg.action_entity < 0 || msg.action_entity >= static_cast<int32_t>(n))
+    return Malformed("action_entity " + std::to_string(msg.action_entity) + " not in [0, N)");
+  for (size_t i = 0; i < msg.adjacency.size(); ++i)
+    if (msg.adjacency[i] > 1) return Malformed("adjacency[" + std::to_string(i) + "] is neither 0 nor 1");
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!MaskInside(msg.ancestor_masks[i], n))
+      return Malformed("ancestor_masks[" + std::to_string(i) + "] has bits at or above N");
+    if (msg.depths[i] < -1 || msg.depths[i] >= static_cast<int32_t>(n))
+      return Malformed("depths[" + std::to_string(i) + "] = " + std::to_string(msg.depths[i]) +
+                       " not in [-1, N)");
+  }
+  if (auto r = NonFinite("mean_weights", msg.mean_weights); !r.empty()) return Malformed(r);
+  if (!std::isfinite(msg.threshold)) return Malformed("threshold is not finite");
+  if (!std::isfinite(msg.held_out_loss)) return Malformed("held_out_loss is not finite");
+  return CheckRun(msg.run_id, run_id);
+}
+
+Validation Validate(const EvalResult& msg, std::string_view run_id) {
+  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
+  const size_t n = msg.entity_distance.size();
+  if (n < 1 || n > kMaxEntities)
+    return Malformed("entity_distance has " + std::to_string(n) + " values, expected 1 to 64 (N)");
+  if (msg.subgoal_success.size() != n)
+    return Malformed(SizeMismatch("subgoal_success", msg.subgoal_success.size(), n, "N, as entity_distance"));
+  for (float v : {msg.avg_distance, msg.avg_object_distance, msg.success_rate, msg.selectivity})
+    if (!std::isfinite(v)) return Malformed("a mean (distance, success rate or selectivity) is not finite");
+  if (auto r = NonFinite("entity_distance", msg.entity_distance); !r.empty()) return Malformed(r);
+  if (auto r = NonFinite("subgoal_success", msg.subgoal_success); !r.empty()) return Malformed(r);
+  if (msg.success_rate < 0 || msg.success_rate > 1) return Malformed("success_rate outside [0, 1]");
+  for (size_t i = 0; i < n; ++i)
+    if (msg.subgoal_success[i] < 0 || msg.subgoal_success[i] > 1)
+      return Malformed("subgoal_success[" + std::to_string(i) + "] outside [0, 1]");
+  return CheckRun(msg.run_id, run_id);
+}
+
+Validation Validate(const LearnerStats& msg, std::string_view run_id) {
+  // the float fields are reports for people: NaN or Inf (a diverged learner) is shown as is
+  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
+  return CheckRun(msg.run_id, run_id);
+}
+
+Validation Validate(const NodeStatus& msg, std::string_view run_id) {
+  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
+  if (msg.role.empty() || msg.role.size() > kRoleMaxLength) return Malformed("role empty or longer than 32");
+  if (msg.host.size() > kHostMaxLength) return Malformed("host longer than 128 characters");
+  if (msg.detail.size() > kDetailMaxLength) return Malformed("detail longer than 256 characters");
+  if (static_cast<int32_t>(msg.state) < 0 || static_cast<int32_t>(msg.state) > 6)
+    return Malformed("state " + std::to_string(static_cast<int32_t>(msg.state)) + " is not a NodeState");
+  return CheckRun(msg.run_id, run_id);
+}
+
+uint32_t ParameterChecksum(const std::vector<float>& parameters) {
+  // table-driven CRC-32, reflected polynomial 0xEDB88320
+  static const std::array<uint32_t, 256> table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  const auto* bytes = reinterpret_cast<const uint8_t*>(parameters.data());
+  const size_t size = parameters.size() * sizeof(float);
+  uint32_t crc = 0xFFFFFFFFu;
+  for (size_t i = 0; i < size; ++i) crc = table[(crc ^ bytes[i]) & 0xFF] ^ (crc >> 8);
+  return crc ^ 0xFFFFFFFFu;
+}
+
+}  // namespace srics::transport

@@ -1,0 +1,51 @@
+#pragma once
+// Checks of received samples, pure functions on the plain structs (no DDS): a sample from the
+// network is untrusted until Validate() accepted it. Readers run these on every sample, count
+// what they drop and log it at a limited rate; writers run them before sending.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "common/transport/messages.h"
+
+namespace srics::transport {
+
+// Sane bounds beyond which a sample is treated as malformed (keeps a hostile or corrupt
+// sample from making a reader allocate or loop without limit).
+inline constexpr uint32_t kMaxEntities = 64;         // ancestor masks are 64-bit
+inline constexpr uint32_t kMaxSteps = 10000;
+inline constexpr uint32_t kMaxEntityDim = 1024;
+inline constexpr uint32_t kMaxActionDim = 256;
+inline constexpr uint64_t kMaxParameters = 64ull << 20;  // 64 Mi floats = 256 MiB
+
+enum class Verdict {
+  kAccept,     // well-formed and of this run
+  kOtherRun,   // well-formed but of another run (ignored, counted apart)
+  kMalformed,  // breaks the contract: dropped, counted, logged
+};
+
+struct Validation {
+  Verdict verdict = Verdict::kAccept;
+  std::string reason;  // empty when accepted; otherwise says what is wrong, for the log
+  bool ok() const { return verdict == Verdict::kAccept; }
+};
+
+// Each returns kMalformed with a reason for the first violation found, else kOtherRun when
+// `run_id` is not empty and differs from the sample's, else kAccept. The rules (also in
+// idl/README.md): contract_version == kContractVersion; run_id non-empty and within bounds;
+// sequence lengths match the declared layout; enums in range; every float finite; indices
+// and masks inside [0, N).
+Validation Validate(const Episode& msg, std::string_view run_id);
+Validation Validate(const PolicyWeights& msg, std::string_view run_id);
+Validation Validate(const InteractionGraph& msg, std::string_view run_id);
+Validation Validate(const EvalResult& msg, std::string_view run_id);
+Validation Validate(const LearnerStats& msg, std::string_view run_id);
+Validation Validate(const NodeStatus& msg, std::string_view run_id);
+
+// CRC-32 (IEEE 802.3, as zlib's crc32) of the parameters' bytes in memory order (IEEE-754
+// little-endian floats on every supported host): the PolicyWeights checksum.
+uint32_t ParameterChecksum(const std::vector<float>& parameters);
+
+}  // namespace srics::transport

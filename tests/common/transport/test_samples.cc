@@ -1,0 +1,141 @@
+#include "tests/common/transport/test_samples.h"
+
+#include <cmath>
+#include <limits>
+
+#include "common/transport/validation.h"
+
+namespace srics::transport::testing {
+namespace {
+
+// A value in [-1, 1) that depends on seed and index (splitmix-style hash).
+float Value(uint64_t seed, uint64_t i) {
+  uint64_t z = seed * 0x9E3779B97F4A7C15ull + i + 1;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return static_cast<float>(static_cast<double>(z >> 11) / 4503599627370496.0 - 1.0);
+}
+
+}  // namespace
+
+Episode MakeEpisode(const std::string& run_id, uint64_t seed, uint16_t steps, uint16_t entities) {
+  Episode e;
+  e.run_id = run_id;
+  e.actor_id = static_cast<uint32_t>(seed % 7 + 1);
+  e.episode_id = seed;
+  e.mode = EpisodeMode::kTrain;
+  e.policy_version = 1000 + seed;
+  e.graph_version = 3;
+  e.num_entities = entities;
+  e.entity_dim = 6;  // id one-hot (4) and xy
+  e.action_dim = 3;
+  e.num_steps = steps;
+  for (uint16_t i = 0; i < entities; ++i) e.entity_kinds.push_back(i);
+  e.states.resize(size_t{steps + 1u} * entities * e.entity_dim);
+  for (size_t i = 0; i < e.states.size(); ++i) e.states[i] = 5 * Value(seed, i);
+  e.actions.resize(size_t{steps} * e.action_dim);
+  for (size_t i = 0; i < e.actions.size(); ++i) e.actions[i] = Value(seed + 1, i);
+  e.subgoal_entity = static_cast<int16_t>(seed % entities);
+  e.goal = {Value(seed, 99), Value(seed, 100)};
+  e.ancestor_mask = (1ull << e.subgoal_entity) | 1ull;
+  return e;
+}
+
+PolicyWeights MakePolicyWeights(const std::string& run_id, uint64_t seed, size_t count) {
+  PolicyWeights w;
+  w.run_id = run_id;
+  w.version = seed + 1;
+  w.update_count = 500 * (seed + 1);
+  w.architecture = "attention-sac/v1 entities=5 dim=6 hidden=256x3 seed=" + std::to_string(seed);
+  w.parameters.resize(count);
+  for (size_t i = 0; i < count; ++i) w.parameters[i] = Value(seed, i) * 3;
+  // values whose bits a lossy path would change
+  if (count > 4) {
+    w.parameters[0] = -0.0f;
+    w.parameters[1] = std::numeric_limits<float>::denorm_min();
+    w.parameters[2] = std::numeric_limits<float>::max();
+    w.parameters[3] = std::numeric_limits<float>::lowest();
+  }
+  w.checksum = ParameterChecksum(w.parameters);
+  return w;
+}
+
+InteractionGraph MakeInteractionGraph(const std::string& run_id, uint64_t seed) {
+  InteractionGraph g;
+  const uint16_t n = 5;
+  g.run_id = run_id;
+  g.version = seed + 1;
+  g.num_entities = n;
+  g.threshold = 0.25f;
+  for (int i = 0; i < n * n; ++i) {
+    g.mean_weights.push_back(std::fabs(Value(seed, i)));
+    g.adjacency.push_back(g.mean_weights.back() > g.threshold ? 1 : 0);
+  }
+  g.action_entity = 0;
+  for (int i = 0; i < n; ++i) {
+    g.ancestor_masks.push_back((1ull << i) - 1);
+    g.depths.push_back(static_cast<int16_t>(i == n - 1 ? -1 : i));
+  }
+  g.held_out_loss = 0.0123f + static_cast<float>(seed);
+  g.training_updates = 20000 + seed;
+  g.episodes_used = 1234;
+  return g;
+}
+
+EvalResult MakeEvalResult(const std::string& run_id, uint64_t seed) {
+  EvalResult r;
+  r.run_id = run_id;
+  r.actor_id = 2;
+  r.policy_version = 40 + seed;
+  r.graph_version = 2;
+  r.env_steps = 123456789ull + seed;
+  r.episodes = 50;
+  r.avg_distance = 0.125f;
+  r.avg_object_distance = 0.0625f;
+  r.success_rate = 0.75f;
+  for (int i = 0; i < 5; ++i) {
+    r.entity_distance.push_back(std::fabs(Value(seed, i)));
+    r.subgoal_success.push_back((Value(seed, i + 10) + 1) / 2);
+  }
+  r.selectivity = 0.5f;
+  return r;
+}
+
+LearnerStats MakeLearnerStats(const std::string& run_id, uint64_t seed) {
+  LearnerStats s;
+  s.run_id = run_id;
+  s.updates = 1000 + seed;
+  s.transitions_inserted = 20000 + seed;
+  s.replay_size = 19000 + seed;
+  s.episodes_accepted = 1000;
+  s.episodes_rejected = 3;
+  s.policy_version = 10;
+  s.q_loss = 0.5f;
+  s.policy_loss = -1.25f;
+  s.alpha = 0.01f;
+  s.entropy = -2.0f;
+  s.updates_per_second = 250.5f;
+  s.inserts_per_second = 1000.25f;
+  s.mean_reward = -0.375f;
+  return s;
+}
+
+NodeStatus MakeNodeStatus(const std::string& run_id, uint64_t seed) {
+  NodeStatus s;
+  s.run_id = run_id;
+  s.role = "actor";
+  s.node_id = static_cast<uint32_t>(seed);
+  s.host = "host-" + std::to_string(seed);
+  s.pid = 4242;
+  s.state = NodeState::kTraining;
+  s.policy_version = 7;
+  s.graph_version = 1;
+  s.env_steps = 99999;
+  s.dropped_samples = 2;
+  s.uptime_ms = 3600000;
+  s.detail = "episode 12 of subgoal 3";
+  return s;
+}
+
+}  // namespace srics::transport::testing

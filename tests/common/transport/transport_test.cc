@@ -1,0 +1,375 @@
+// The transport over real DDS on loopback, between this process and transport_peer.
+// Each test process uses its own domain id and run id (from its pid), so tests running in
+// parallel never see each other.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+#include "common/transport/endpoint.h"
+#include "common/transport/errors.h"
+#include "common/transport/validation.h"
+#include "tests/common/transport/peer_process.h"
+#include "tests/common/transport/test_samples.h"
+
+namespace srics::transport {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::PeerProcess;
+
+ReaderOptions OnTopic(const std::string& name) {
+  ReaderOptions options;
+  options.topic_name = name;
+  return options;
+}
+
+WriterOptions WriteTo(const std::string& name) {
+  WriterOptions options;
+  options.topic_name = name;
+  return options;
+}
+
+class TransportTest : public ::testing::Test {
+ protected:
+  TransportTest() {
+    // domains 20..219 keep every RTPS port below 65536 with 64 participants per host
+    config_.domain_id = 20 + static_cast<int>(getpid() % 200);
+    config_.run_id = "test-" + std::to_string(getpid());
+  }
+
+  std::vector<std::string> PeerArgs(const std::string& mode, std::vector<std::string> rest = {}) {
+    std::vector<std::string> args = {mode, std::to_string(config_.domain_id), config_.run_id};
+    args.insert(args.end(), rest.begin(), rest.end());
+    return args;
+  }
+
+  config::TransportConfig config_;
+};
+
+// ------------------------------------------------------------- every type, both directions
+
+// Receives the peer's sample of `topic` and compares it field by field with the expected one.
+template <typename T>
+void ExpectFromPeer(const config::TransportConfig& config, const std::string& topic, const T& expected,
+                    const std::vector<std::string>& args) {
+  Participant participant(config);
+  Reader<T> reader(participant);
+  PeerProcess peer(SRICS_TRANSPORT_PEER, args);
+  T got;
+  ASSERT_EQ(reader.Take(&got, 20s), TakeStatus::kSample) << topic;
+  EXPECT_TRUE(got == expected) << topic << " changed on the way";
+  EXPECT_EQ(peer.Wait(20s), 0) << topic;
+}
+
+// Sends `msg` to a peer that compares it with its own copy (exit 0 when equal).
+template <typename T>
+void ExpectPeerReceives(const config::TransportConfig& config, const T& msg,
+                        const std::vector<std::string>& args) {
+  Participant participant(config);
+  Writer<T> writer(participant);
+  PeerProcess peer(SRICS_TRANSPORT_PEER, args);
+  ASSERT_EQ(peer.ReadLine(20s), "ready");
+  ASSERT_TRUE(writer.WaitForReaders(1, 20s));
+  ASSERT_EQ(writer.Write(msg), WriteResult::kSent);
+  ASSERT_TRUE(writer.WaitForAcks(20s));
+  EXPECT_EQ(peer.ReadLine(20s), "equal");
+  EXPECT_EQ(peer.Wait(20s), 0);
+}
+
+TEST_F(TransportTest, EveryTypeRoundTripsBetweenProcesses) {
+  const std::string& run = config_.run_id;
+  ExpectFromPeer(config_, "episode", testing::MakeEpisode(run, 3), PeerArgs("write", {"episode", "3"}));
+  ExpectFromPeer(config_, "policy_weights", testing::MakePolicyWeights(run, 4),
+                 PeerArgs("write", {"policy_weights", "4"}));
+  ExpectFromPeer(config_, "interaction_graph", testing::MakeInteractionGraph(run, 5),
+                 PeerArgs("write", {"interaction_graph", "5"}));
+  ExpectFromPeer(config_, "eval_result", testing::MakeEvalResult(run, 6),
+                 PeerArgs("write", {"eval_result", "6"}));
+  ExpectFromPeer(config_, "learner_stats", testing::MakeLearnerStats(run, 7),
+                 PeerArgs("write", {"learner_stats", "7"}));
+  ExpectFromPeer(config_, "node_status", testing::MakeNodeStatus(run, 8),
+                 PeerArgs("write", {"node_status", "8"}));
+}
+
+TEST_F(TransportTest, EveryTypeRoundTripsToAnotherProcess) {
+  const std::string& run = config_.run_id;
+  ExpectPeerReceives(config_, testing::MakeEpisode(run, 13), PeerArgs("read", {"episode", "13"}));
+  ExpectPeerReceives(config_, testing::MakePolicyWeights(run, 14), PeerArgs("read", {"policy_weights", "14"}));
+  ExpectPeerReceives(config_, testing::MakeInteractionGraph(run, 15),
+                     PeerArgs("read", {"interaction_graph", "15"}));
+  ExpectPeerReceives(config_, testing::MakeEvalResult(run, 16), PeerArgs("read", {"eval_result", "16"}));
+  ExpectPeerReceives(config_, testing::MakeLearnerStats(run, 17), PeerArgs("read", {"learner_stats", "17"}));
+  ExpectPeerReceives(config_, testing::MakeNodeStatus(run, 18), PeerArgs("read", {"node_status", "18"}));
+}
+
+// The same struct equality the round trips rely on, spelled out for one type, so a broken
+// operator== cannot hide a broken conversion.
+TEST_F(TransportTest, EpisodeFieldsSurviveOneByOne) {
+  Participant participant(config_);
+  Reader<Episode> reader(participant);
+  PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("write", {"episode", "21"}));
+  Episode got;
+  ASSERT_EQ(reader.Take(&got, 20s), TakeStatus::kSample);
+  const Episode want = testing::MakeEpisode(config_.run_id, 21);
+  EXPECT_EQ(got.contract_version, kContractVersion);
+  EXPECT_EQ(got.run_id, want.run_id);
+  EXPECT_EQ(got.actor_id, want.actor_id);
+  EXPECT_EQ(got.episode_id, 21u);
+  EXPECT_EQ(got.mode, EpisodeMode::kTrain);
+  EXPECT_EQ(got.policy_version, want.policy_version);
+  EXPECT_EQ(got.graph_version, want.graph_version);
+  EXPECT_EQ(got.num_entities, 5);
+  EXPECT_EQ(got.entity_dim, want.entity_dim);
+  EXPECT_EQ(got.action_dim, want.action_dim);
+  EXPECT_EQ(got.num_steps, 20);
+  EXPECT_EQ(got.entity_kinds, want.entity_kinds);
+  EXPECT_EQ(got.states, want.states);
+  EXPECT_EQ(got.actions, want.actions);
+  EXPECT_EQ(got.subgoal_entity, want.subgoal_entity);
+  EXPECT_EQ(got.goal, want.goal);
+  EXPECT_EQ(got.ancestor_mask, want.ancestor_mask);
+  EXPECT_EQ(peer.Wait(20s), 0);
+}
+
+// ------------------------------------------------------------------------ transient-local
+
+TEST_F(TransportTest, LateReaderGetsLatestGraphAndWeights) {
+  PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("latest"));
+  ASSERT_EQ(peer.ReadLine(20s), "published");
+  // created after the peer published versions 1 and 2
+  Participant participant(config_);
+  Reader<InteractionGraph> graphs(participant);
+  Reader<PolicyWeights> weights(participant);
+  InteractionGraph graph;
+  PolicyWeights weight;
+  ASSERT_EQ(graphs.Take(&graph, 20s), TakeStatus::kSample);
+  ASSERT_EQ(weights.Take(&weight, 20s), TakeStatus::kSample);
+  EXPECT_TRUE(graph == testing::MakeInteractionGraph(config_.run_id, 1));
+  EXPECT_TRUE(weight == testing::MakePolicyWeights(config_.run_id, 1));
+  EXPECT_EQ(graph.version, 2u);
+  EXPECT_EQ(weight.version, 2u);
+  // keep-last 1: version 1 is not delivered after version 2
+  EXPECT_EQ(graphs.Take(&graph, 200ms), TakeStatus::kTimeout);
+  EXPECT_EQ(weights.Take(&weight, 1ms), TakeStatus::kTimeout);
+  kill(peer.pid(), SIGTERM);
+  EXPECT_EQ(peer.Wait(10s), 0);
+}
+
+// ------------------------------------------------------------------------------ big sample
+
+TEST_F(TransportTest, FiveMegabyteWeightsArriveBitIdentical) {
+  constexpr size_t kCount = 5 * 1024 * 1024 / sizeof(float);
+  Participant participant(config_);
+  Reader<PolicyWeights> reader(participant);
+  PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("big", {std::to_string(kCount)}));
+  PolicyWeights got;
+  ASSERT_EQ(reader.Take(&got, 30s), TakeStatus::kSample);
+  const PolicyWeights want = testing::MakePolicyWeights(config_.run_id, 5, kCount);
+  ASSERT_EQ(got.parameters.size(), kCount);
+  EXPECT_EQ(std::memcmp(got.parameters.data(), want.parameters.data(), kCount * sizeof(float)), 0);
+  EXPECT_EQ(got.checksum, want.checksum);
+  EXPECT_TRUE(std::signbit(got.parameters[0]));  // -0.0 kept its sign
+  EXPECT_EQ(peer.Wait(30s), 0);
+}
+
+// ------------------------------------------------------------------- flow control, no loss
+
+TEST_F(TransportTest, TenThousandEpisodesToSlowReaderNoneLostNoneDuplicated) {
+  constexpr uint64_t kCount = 10000;
+  config_.episode_history_depth = 32;  // a small reader queue, so the writer must wait
+  Participant participant(config_);
+  Reader<Episode> reader(participant);
+  // 5 ms blocking: the peer's writes time out and retry while this reader dawdles
+  PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("episodes", {std::to_string(kCount), "5"}));
+  std::vector<uint32_t> seen(kCount, 0);
+  uint64_t received = 0, out_of_order = 0, next = 0;
+  std::vector<Episode> batch;
+  while (received < kCount) {
+    batch.clear();
+    const size_t n = reader.TakeMany(&batch, 8, 20s);
+    ASSERT_GT(n, 0u) << "stalled after " << received << " episodes";
+    for (const Episode& e : batch) {
+      ASSERT_LT(e.episode_id, kCount);
+      ++seen[e.episode_id];
+      if (e.episode_id != next) ++out_of_order;
+      next = e.episode_id + 1;
+      ++received;
+    }
+    // the deliberately slow consumer: 20 ms pause every 500 episodes
+    if (received % 500 < n) std::this_thread::sleep_for(20ms);
+  }
+  for (uint64_t id = 0; id < kCount; ++id) ASSERT_EQ(seen[id], 1u) << "episode " << id;
+  EXPECT_EQ(out_of_order, 0u);
+  const auto line = peer.ReadLine(60s);
+  ASSERT_TRUE(line.has_value());
+  EXPECT_EQ(peer.Wait(20s), 0);
+  // the writer did meet back-pressure (and retried it), so the test exercised that path
+  EXPECT_NE(*line, "backpressure 0") << *line;
+  EXPECT_EQ(reader.counters().accepted, kCount);
+}
+
+// -------------------------------------------------------------------------- untrusted input
+
+TEST_F(TransportTest, MalformedEpisodesAreCountedAndSkipped) {
+  Participant participant(config_);
+  Reader<Episode> reader(participant);
+  PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("malformed"));
+  Episode got;
+  ASSERT_EQ(reader.Take(&got, 20s), TakeStatus::kSample);
+  EXPECT_EQ(got.episode_id, 7u);  // only the good one gets through
+  EXPECT_EQ(reader.Take(&got, 100ms), TakeStatus::kTimeout);
+  const SampleCounters c = reader.counters();
+  EXPECT_EQ(c.accepted, 1u);
+  EXPECT_EQ(c.rejected, 4u);  // short states, NaN, long actions, old contract
+  EXPECT_EQ(c.other_run, 1u);
+  EXPECT_EQ(participant.counters(TopicId::kEpisode).rejected, 4u);
+  EXPECT_EQ(participant.total_rejected(), 4u);
+  EXPECT_EQ(peer.Wait(20s), 0);
+}
+
+TEST_F(TransportTest, WriterRefusesMalformedOutgoingSamples) {
+  Participant participant(config_);
+  Writer<Episode> writer(participant);
+  Episode bad = testing::MakeEpisode(config_.run_id, 1);
+  bad.actions.pop_back();
+  EXPECT_THROW((void)writer.TryWrite(bad), InvalidMessage);
+  Episode long_run = testing::MakeEpisode(config_.run_id, 1);
+  WriterOptions raw_options;
+  raw_options.stamp = false;
+  raw_options.validate = false;
+  Writer<Episode> raw(participant, raw_options);
+  long_run.run_id = std::string(65, 'x');
+  EXPECT_THROW((void)raw.TryWrite(long_run), InvalidMessage);  // beyond the IDL bound
+}
+
+// ------------------------------------------------------------------------------- shutdown
+
+TEST_F(TransportTest, BlockedProcessExitsWithinOneSecondOfSigint) {
+  PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("block"));
+  ASSERT_EQ(peer.ReadLine(20s), "ready");
+  std::this_thread::sleep_for(100ms);  // let it enter the take
+  const auto start = std::chrono::steady_clock::now();
+  kill(peer.pid(), SIGINT);
+  const auto code = peer.Wait(5s);
+  const auto elapsed = std::chrono::steady_clock::now() - start;
+  ASSERT_TRUE(code.has_value()) << "still running 5 s after SIGINT";
+  EXPECT_EQ(*code, 0);
+  EXPECT_LT(elapsed, 1s);
+  EXPECT_EQ(peer.ReadLine(1s), "shutdown");
+}
+
+TEST_F(TransportTest, ShutdownRequestWakesBlockedTakeAndWriteAtOnce) {
+  Shutdown shutdown;
+  config_.episode_history_depth = 1;
+  config_.writer_max_blocking_ms = 50;
+  Participant participant(config_, shutdown);
+  Reader<Episode> reader(participant, OnTopic("srics/test/wake"));
+  Participant other(config_, shutdown);
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(200ms);
+    shutdown.Request();
+  });
+  const auto start = std::chrono::steady_clock::now();
+  Episode unused;
+  EXPECT_EQ(reader.Take(&unused, 30s), TakeStatus::kShutdown);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, 1s);
+  stopper.join();
+  // every later call returns at once as well
+  EXPECT_EQ(reader.Take(&unused, 30s), TakeStatus::kShutdown);
+  std::vector<Episode> many;
+  EXPECT_EQ(reader.TakeMany(&many, 10, 30s), 0u);
+  Writer<Episode> writer(other, WriteTo("srics/test/wake"));
+  EXPECT_EQ(writer.Write(testing::MakeEpisode(config_.run_id, 1)), WriteResult::kShutdown);
+  EXPECT_FALSE(writer.WaitForReaders(1, 30s));
+}
+
+TEST_F(TransportTest, TakeTimesOutWithoutData) {
+  Participant participant(config_);
+  Reader<EvalResult> reader(participant);
+  const auto start = std::chrono::steady_clock::now();
+  EvalResult unused;
+  EXPECT_EQ(reader.Take(&unused, 150ms), TakeStatus::kTimeout);
+  const auto elapsed = std::chrono::steady_clock::now() - start;
+  EXPECT_GE(elapsed, 140ms);
+  EXPECT_LT(elapsed, 1s);
+}
+
+// ----------------------------------------------------------------- back-pressure, in-process
+
+TEST_F(TransportTest, FullReaderSurfacesAsBackPressureNotSuccess) {
+  config_.episode_history_depth = 4;
+  config_.writer_max_blocking_ms = 20;
+  Participant participant(config_);
+  Participant sender(config_);
+  Reader<Episode> reader(participant, OnTopic("srics/test/full"));
+  Writer<Episode> writer(sender, WriteTo("srics/test/full"));
+  ASSERT_TRUE(writer.WaitForReaders(1, 10s));
+  Episode e = testing::MakeEpisode(config_.run_id, 0);
+  int sent = 0, refused = 0;
+  for (int i = 0; i < 400 && refused == 0; ++i) {
+    e.episode_id = i;
+    (writer.TryWrite(e) == WriteResult::kSent ? sent : refused)++;
+  }
+  EXPECT_GE(refused, 1) << "a reader that never takes must eventually stop the writer";
+  EXPECT_EQ(writer.back_pressure_count(), static_cast<uint64_t>(refused));
+  // what was reported sent arrives; the refused one does not
+  std::vector<Episode> got;
+  while (reader.TakeMany(&got, 1000, 500ms) > 0) {
+  }
+  EXPECT_EQ(got.size(), static_cast<size_t>(sent));
+  for (size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i].episode_id, i);
+}
+
+// ---------------------------------------------------------------------- other runs, profiles
+
+TEST_F(TransportTest, SamplesOfOtherRunsAreIgnored) {
+  Participant mine(config_);
+  config::TransportConfig other_config = config_;
+  other_config.run_id = config_.run_id + "-b";
+  Participant theirs(other_config);
+  Reader<LearnerStats> reader(mine);
+  ReaderOptions all_runs;
+  all_runs.all_runs = true;
+  Reader<LearnerStats> monitor(mine, all_runs);
+  Writer<LearnerStats> writer(theirs);
+  ASSERT_TRUE(writer.WaitForReaders(2, 10s));
+  ASSERT_EQ(writer.Write(testing::MakeLearnerStats(other_config.run_id, 1)), WriteResult::kSent);
+  LearnerStats got;
+  ASSERT_EQ(monitor.Take(&got, 10s), TakeStatus::kSample);
+  EXPECT_EQ(got.run_id, other_config.run_id);
+  EXPECT_EQ(reader.Take(&got, 300ms), TakeStatus::kTimeout);
+  EXPECT_EQ(reader.counters().other_run, 1u);
+  EXPECT_EQ(reader.counters().rejected, 0u);
+}
+
+TEST_F(TransportTest, UnicastProfileWithLocalPeerWorks) {
+  config_.profile = config::CycloneProfile::kUnicast;
+  config_.peers = "127.0.0.1";
+  config_.network_interface = "lo";
+  Participant a(config_);
+  Participant b(config_);
+  Writer<NodeStatus> writer(a);
+  Reader<NodeStatus> reader(b);
+  ASSERT_TRUE(writer.WaitForReaders(1, 10s));
+  ASSERT_EQ(writer.Write(testing::MakeNodeStatus(config_.run_id, 3)), WriteResult::kSent);
+  NodeStatus got;
+  ASSERT_EQ(reader.Take(&got, 10s), TakeStatus::kSample);
+  EXPECT_TRUE(got == testing::MakeNodeStatus(config_.run_id, 3));
+  EXPECT_EQ(reader.alive_writers(), 1u);
+}
+
+TEST_F(TransportTest, DomainConfiguredTwiceDifferentlyIsRefused) {
+  Participant a(config_);
+  config::TransportConfig other = config_;
+  other.max_participants_per_host = 10;
+  EXPECT_THROW(Participant b(other), std::invalid_argument);
+  Participant same(config_);  // the same configuration shares the domain
+}
+
+}  // namespace
+}  // namespace srics::transport

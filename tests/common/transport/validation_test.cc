@@ -1,0 +1,255 @@
+// Validation of received samples and the Cyclone XML of each profile: pure functions, no DDS.
+
+#include "common/transport/validation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "common/transport/participant.h"
+#include "tests/common/transport/test_samples.h"
+
+namespace srics::transport {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// The verdict and that the reason mentions `word`.
+void ExpectMalformed(const Validation& v, const std::string& word) {
+  EXPECT_EQ(v.verdict, Verdict::kMalformed);
+  EXPECT_NE(v.reason.find(word), std::string::npos) << "reason: " << v.reason;
+}
+
+TEST(ValidationTest, GoodSamplesOfEveryTypeAreAccepted) {
+  const std::string run = "r1";
+  EXPECT_TRUE(Validate(testing::MakeEpisode(run, 1), run).ok());
+  EXPECT_TRUE(Validate(testing::MakePolicyWeights(run, 1), run).ok());
+  EXPECT_TRUE(Validate(testing::MakeInteractionGraph(run, 1), run).ok());
+  EXPECT_TRUE(Validate(testing::MakeEvalResult(run, 1), run).ok());
+  EXPECT_TRUE(Validate(testing::MakeLearnerStats(run, 1), run).ok());
+  EXPECT_TRUE(Validate(testing::MakeNodeStatus(run, 1), run).ok());
+  // an empty expected run id accepts every run (monitors)
+  EXPECT_TRUE(Validate(testing::MakeEpisode("other", 1), "").ok());
+}
+
+TEST(ValidationTest, OtherRunIsNotMalformed) {
+  const Validation v = Validate(testing::MakeEpisode("run-b", 1), "run-a");
+  EXPECT_EQ(v.verdict, Verdict::kOtherRun);
+  EXPECT_EQ(Validate(testing::MakeNodeStatus("run-b", 1), "run-a").verdict, Verdict::kOtherRun);
+}
+
+TEST(ValidationTest, EpisodeLayoutIsChecked) {
+  const Episode good = testing::MakeEpisode("r", 2);
+  Episode e = good;
+  e.states.pop_back();
+  ExpectMalformed(Validate(e, "r"), "states");
+  e = good;
+  e.actions.push_back(0);
+  ExpectMalformed(Validate(e, "r"), "actions");
+  e = good;
+  e.entity_kinds.pop_back();
+  ExpectMalformed(Validate(e, "r"), "entity_kinds");
+  e = good;
+  e.goal = {1, 2, 3};
+  ExpectMalformed(Validate(e, "r"), "goal");
+  e = good;  // a full goal is 2N values
+  e.subgoal_entity = -1;
+  e.goal.assign(2 * e.num_entities, 0.5f);
+  EXPECT_TRUE(Validate(e, "r").ok());
+  e.goal.pop_back();
+  ExpectMalformed(Validate(e, "r"), "goal");
+  e = good;
+  e.subgoal_entity = 5;
+  ExpectMalformed(Validate(e, "r"), "subgoal_entity");
+  e = good;
+  e.ancestor_mask = 1ull << 5;
+  ExpectMalformed(Validate(e, "r"), "ancestor_mask");
+  e = good;
+  e.mode = static_cast<EpisodeMode>(7);
+  ExpectMalformed(Validate(e, "r"), "mode");
+  e = good;
+  e.mode = EpisodeMode::kExplore;
+  e.goal.clear();
+  e.subgoal_entity = -1;
+  EXPECT_TRUE(Validate(e, "r").ok());
+  e.mode = EpisodeMode::kTrain;
+  ExpectMalformed(Validate(e, "r"), "goal");
+}
+
+TEST(ValidationTest, EpisodeBoundsKeepHugeDeclarationsOut) {
+  Episode e = testing::MakeEpisode("r", 2);
+  e.num_entities = 65;
+  ExpectMalformed(Validate(e, "r"), "num_entities");
+  e = testing::MakeEpisode("r", 2);
+  e.num_steps = 10001;
+  ExpectMalformed(Validate(e, "r"), "num_steps");
+  e = testing::MakeEpisode("r", 2);
+  e.num_steps = 0;
+  ExpectMalformed(Validate(e, "r"), "num_steps");
+  // the largest declared layout is within bounds and checked against the real length
+  e = testing::MakeEpisode("r", 2);
+  e.num_entities = 64;
+  e.num_steps = 10000;
+  ExpectMalformed(Validate(e, "r"), "entity_kinds");
+}
+
+TEST(ValidationTest, EveryFloatMustBeFinite) {
+  const Episode good = testing::MakeEpisode("r", 3);
+  Episode e = good;
+  e.states.back() = kNaN;
+  ExpectMalformed(Validate(e, "r"), "states[");
+  e = good;
+  e.actions[0] = kInf;
+  ExpectMalformed(Validate(e, "r"), "actions[0]");
+  e = good;
+  e.goal[1] = -kInf;
+  ExpectMalformed(Validate(e, "r"), "goal[1]");
+  e = good;
+  e.actions[2] = 1.5f;
+  ExpectMalformed(Validate(e, "r"), "outside [-1, 1]");
+
+  PolicyWeights w = testing::MakePolicyWeights("r", 1);
+  w.parameters[10] = kNaN;
+  w.checksum = ParameterChecksum(w.parameters);
+  ExpectMalformed(Validate(w, "r"), "parameters[10]");
+
+  InteractionGraph g = testing::MakeInteractionGraph("r", 1);
+  g.mean_weights[3] = kNaN;
+  ExpectMalformed(Validate(g, "r"), "mean_weights[3]");
+  g = testing::MakeInteractionGraph("r", 1);
+  g.threshold = kInf;
+  ExpectMalformed(Validate(g, "r"), "threshold");
+
+  EvalResult r = testing::MakeEvalResult("r", 1);
+  r.entity_distance[2] = kNaN;
+  ExpectMalformed(Validate(r, "r"), "entity_distance[2]");
+
+  // learner stats are reports: a diverged loss is shown, not dropped
+  LearnerStats s = testing::MakeLearnerStats("r", 1);
+  s.q_loss = kNaN;
+  EXPECT_TRUE(Validate(s, "r").ok());
+}
+
+TEST(ValidationTest, ContractVersionAndRunIdAreChecked) {
+  Episode e = testing::MakeEpisode("r", 1);
+  e.contract_version = 2;
+  ExpectMalformed(Validate(e, "r"), "contract_version");
+  e = testing::MakeEpisode("", 1);
+  ExpectMalformed(Validate(e, ""), "run_id");
+  NodeStatus n = testing::MakeNodeStatus("r", 1);
+  n.contract_version = 0;
+  ExpectMalformed(Validate(n, "r"), "contract_version");
+}
+
+TEST(ValidationTest, WeightsChecksumAndVersion) {
+  PolicyWeights w = testing::MakePolicyWeights("r", 1);
+  w.parameters[5] += 1;
+  ExpectMalformed(Validate(w, "r"), "checksum");
+  w = testing::MakePolicyWeights("r", 1);
+  w.version = 0;
+  ExpectMalformed(Validate(w, "r"), "version");
+  w = testing::MakePolicyWeights("r", 1);
+  w.parameters.clear();
+  w.checksum = ParameterChecksum(w.parameters);
+  ExpectMalformed(Validate(w, "r"), "parameters");
+}
+
+TEST(ValidationTest, ChecksumIsZlibCrc32OfTheBytes) {
+  // reference values from Python: zlib.crc32(struct.pack('<3f', 1.0, -2.5, 3.25))
+  EXPECT_EQ(ParameterChecksum({}), 0u);
+  EXPECT_EQ(ParameterChecksum({1.0f}), 0xACA16A6Au);
+  EXPECT_EQ(ParameterChecksum({1.0f, -2.5f, 3.25f}), 0x4E863144u);
+}
+
+TEST(ValidationTest, GraphStructureIsChecked) {
+  const InteractionGraph good = testing::MakeInteractionGraph("r", 1);
+  InteractionGraph g = good;
+  g.adjacency.pop_back();
+  ExpectMalformed(Validate(g, "r"), "adjacency");
+  g = good;
+  g.adjacency[0] = 2;
+  ExpectMalformed(Validate(g, "r"), "adjacency[0]");
+  g = good;
+  g.depths[1] = 5;
+  ExpectMalformed(Validate(g, "r"), "depths[1]");
+  g = good;
+  g.ancestor_masks[4] = 1ull << 6;
+  ExpectMalformed(Validate(g, "r"), "ancestor_masks[4]");
+  g = good;
+  g.action_entity = -1;
+  ExpectMalformed(Validate(g, "r"), "action_entity");
+}
+
+TEST(ValidationTest, EvalAndStatusRanges) {
+  EvalResult r = testing::MakeEvalResult("r", 1);
+  r.subgoal_success.pop_back();
+  ExpectMalformed(Validate(r, "r"), "subgoal_success");
+  r = testing::MakeEvalResult("r", 1);
+  r.success_rate = 1.5f;
+  ExpectMalformed(Validate(r, "r"), "success_rate");
+  NodeStatus n = testing::MakeNodeStatus("r", 1);
+  n.state = static_cast<NodeState>(9);
+  ExpectMalformed(Validate(n, "r"), "state");
+  n = testing::MakeNodeStatus("r", 1);
+  n.role.clear();
+  ExpectMalformed(Validate(n, "r"), "role");
+}
+
+// ------------------------------------------------------------------------------ Cyclone XML
+
+TEST(CycloneConfigTest, LoopbackRaisesParticipantIndexAndDisablesMulticast) {
+  config::TransportConfig c;
+  c.max_participants_per_host = 99;
+  const std::string xml = CycloneConfigFor(c);
+  EXPECT_NE(xml.find("<MaxAutoParticipantIndex>99</MaxAutoParticipantIndex>"), std::string::npos);
+  EXPECT_NE(xml.find("<AllowMulticast>false</AllowMulticast>"), std::string::npos);
+  EXPECT_NE(xml.find("<MaxMessageSize>65500B</MaxMessageSize>"), std::string::npos);
+  EXPECT_NE(xml.find("<Peer address=\"127.0.0.1\"/>"), std::string::npos);
+  EXPECT_EQ(xml.find("${SRICS_DDS_MAX_PARTICIPANTS"), std::string::npos);
+  // knobs not in the config stay for Cyclone to expand (environment or default)
+  EXPECT_NE(xml.find("${SRICS_DDS_WHC_HIGH:-8MB}"), std::string::npos);
+}
+
+TEST(CycloneConfigTest, UnicastListsEveryPeerAndTheInterface) {
+  config::TransportConfig c;
+  c.profile = config::CycloneProfile::kUnicast;
+  c.peers = "10.0.0.1, 10.0.0.2,host-c";
+  c.network_interface = "eth1";
+  const std::string xml = CycloneConfigFor(c);
+  EXPECT_NE(xml.find("<Peer address=\"10.0.0.1\"/>"), std::string::npos);
+  EXPECT_NE(xml.find("<Peer address=\"10.0.0.2\"/>"), std::string::npos);
+  EXPECT_NE(xml.find("<Peer address=\"host-c\"/>"), std::string::npos);
+  EXPECT_NE(xml.find("name=\"eth1\" autodetermine=\"false\""), std::string::npos);
+  EXPECT_EQ(xml.find("<Peer address=\"${SRICS_DDS_PEER"), std::string::npos);
+  c.peers = "a\"/><Evil";
+  EXPECT_THROW(CycloneConfigFor(c), std::invalid_argument);
+}
+
+TEST(CycloneConfigTest, LanLetsCycloneChooseWithoutInterface) {
+  config::TransportConfig c;
+  c.profile = config::CycloneProfile::kLan;
+  const std::string xml = CycloneConfigFor(c);
+  EXPECT_NE(xml.find("<AllowMulticast>true</AllowMulticast>"), std::string::npos);
+  EXPECT_NE(xml.find("name=\"\" autodetermine=\"true\""), std::string::npos);
+}
+
+TEST(CycloneConfigTest, FileEnvironmentAndPortRange) {
+  config::TransportConfig c;
+  c.profile = config::CycloneProfile::kEnvironment;
+  EXPECT_EQ(CycloneConfigFor(c), "");
+  c.profile = config::CycloneProfile::kFile;
+  c.cyclone_xml = std::string(SRICS_SOURCE_DIR) + "/deploy/cyclonedds/loopback.xml";
+  EXPECT_EQ(CycloneConfigFor(c), "file://" + c.cyclone_xml);
+  c.cyclone_xml = "/nonexistent/cyclone.xml";
+  EXPECT_THROW(CycloneConfigFor(c), std::invalid_argument);
+  c.profile = config::CycloneProfile::kLoopback;
+  c.domain_id = 232;  // 7400 + 250 * 232 + 11 + 2 * 64 > 65535
+  EXPECT_THROW(CycloneConfigFor(c), std::invalid_argument);
+  c.domain_id = 230;
+  EXPECT_NO_THROW(CycloneConfigFor(c));
+}
+
+}  // namespace
+}  // namespace srics::transport
