@@ -15,10 +15,20 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadDouble("kl_weight", &out->kl_weight, 0, 1e6);
   s.ReadDouble("gumbel_temperature", &out->gumbel_temperature, 1e-3, 100);
   s.ReadDouble("threshold", &out->threshold, 0, 1);
+  s.ReadBool("hard_edges", &out->hard_edges);
   s.ReadInt("max_updates", &out->max_updates, 1, 1 << 30);
+  s.ReadInt("min_updates", &out->min_updates, 0, 1 << 30);
   s.ReadInt("eval_every_updates", &out->eval_every_updates, 1, 1 << 30);
   s.ReadInt("stable_evaluations", &out->stable_evaluations, 1, 1 << 20);
+  s.ReadInt("eval_chunk_episodes", &out->eval_chunk_episodes, 1, 1 << 20);
   s.ReadBool("refine_after_publish", &out->refine_after_publish);
+  if (out->refine_after_publish)
+    s.FailRule("refine_after_publish", "is not implemented: the service publishes one graph per data set");
+  if (out->min_updates > out->max_updates)
+    s.FailRule("min_updates", "must not exceed max_updates (" + std::to_string(out->max_updates) + ")");
+  const int held_out = static_cast<int>(out->episodes * out->held_out_fraction + 0.5);
+  if (held_out < 1 || out->episodes - held_out < 1)
+    s.FailRule("held_out_fraction", "must leave at least one training and one held-out episode");
   if (out->window > out->episode_steps)
     s.FailRule("window", "must not exceed episode_steps (" + std::to_string(out->episode_steps) + ")");
   s.Finish();

@@ -18,9 +18,13 @@ struct GraphConfig {
   double kl_weight = 1e-5;
   double gumbel_temperature = 0.5;
   double threshold = 0.06;         // keep edges with mean weight above this
+  bool hard_edges = true;          // straight-through (hard) Gumbel-softmax edge samples
   int max_updates = 20000;
+  int min_updates = 2000;          // no stop on a stable graph before this many updates
   int eval_every_updates = 500;    // held-out loss and thresholded graph
   int stable_evaluations = 4;      // stop once the graph is unchanged this many times
+  int eval_chunk_episodes = 100;   // episodes per forward pass when averaging edge weights
+  // continuing to learn after the first publication is not implemented: must stay false
   bool refine_after_publish = false;
 };
 

@@ -1,0 +1,166 @@
+#include "graph_service/dataset.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace srics::graph {
+
+GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds,
+                           int action_dim, int episode_steps)
+    : layout_(layout), kinds_(std::move(entity_kinds)), action_dim_(action_dim),
+      steps_(episode_steps) {
+  if (layout_.num_entities < 1 || static_cast<int>(kinds_.size()) != layout_.num_entities)
+    throw std::invalid_argument("GraphDataset: entity kinds do not match the layout");
+  for (uint16_t k : kinds_)
+    if (k >= layout_.num_kinds)
+      throw std::invalid_argument("GraphDataset: entity kind outside the one-hot width");
+  if (action_dim_ < 1 || steps_ < 1)
+    throw std::invalid_argument("GraphDataset: action_dim and episode_steps must be positive");
+}
+
+GraphDataset GraphDataset::ShapedLike(const rl::Episode& episode) {
+  return GraphDataset(episode.layout, episode.entity_kinds, episode.action_dim,
+                      episode.num_steps);
+}
+
+std::string GraphDataset::Add(const rl::Episode& episode) {
+  if (episode.mode != rl::EpisodeMode::kExplore) return "not an explore episode";
+  if (!(episode.layout == layout_)) return "entity layout differs from the data set's";
+  if (episode.entity_kinds != kinds_) return "entity kinds differ from the data set's";
+  if (episode.action_dim != action_dim_) return "action size differs from the data set's";
+  if (episode.num_steps != steps_)
+    return "episode has " + std::to_string(episode.num_steps) + " steps, expected " +
+           std::to_string(steps_);
+  if (std::string problem = rl::ValidateEpisode(episode); !problem.empty()) return problem;
+  // keep xy only; the kind one-hot is rebuilt from entity_kinds
+  const int n = layout_.num_entities;
+  std::vector<float> xy(static_cast<size_t>(steps_ + 1) * n * 2);
+  for (int t = 0; t <= steps_; ++t) {
+    const float* s = episode.state(t);
+    for (int e = 0; e < n; ++e) {
+      xy[(static_cast<size_t>(t) * n + e) * 2] = layout_.x(s, e);
+      xy[(static_cast<size_t>(t) * n + e) * 2 + 1] = layout_.y(s, e);
+    }
+  }
+  positions_.push_back(std::move(xy));
+  actions_.emplace_back(episode.actions.begin(),
+                        episode.actions.begin() + static_cast<size_t>(steps_) * action_dim_);
+  return "";
+}
+
+void GraphDataset::Split(double held_out_fraction, uint64_t seed) {
+  std::vector<int> order(size());
+  std::iota(order.begin(), order.end(), 0);
+  nn::Rng rng(seed);
+  // Fisher-Yates with our own draws so the split is the same on every platform
+  for (int i = size() - 1; i > 0; --i) {
+    const int j = static_cast<int>(rng() % static_cast<uint64_t>(i + 1));
+    std::swap(order[i], order[j]);
+  }
+  const int held = static_cast<int>(std::lround(held_out_fraction * size()));
+  if (held < 1 || held >= size())
+    throw std::logic_error("GraphDataset::Split: " + std::to_string(size()) +
+                           " episodes leave an empty training or held-out set");
+  train_.assign(order.begin(), order.end() - held);
+  held_out_.assign(order.end() - held, order.end());
+  std::sort(train_.begin(), train_.end());
+  std::sort(held_out_.begin(), held_out_.end());
+}
+
+template <typename T>
+void GraphDataset::SampleWindows(int batch, int window, nn::Rng& rng,
+                                 WindowBatch<T>* out) const {
+  if (train_.empty()) throw std::logic_error("GraphDataset: Split before sampling");
+  if (window < 1 || window > steps_) throw std::invalid_argument("window outside the episode");
+  std::vector<int> episodes(batch), starts(batch);
+  const uint64_t num_starts = static_cast<uint64_t>(steps_ - window + 1);
+  for (int b = 0; b < batch; ++b) {
+    episodes[b] = train_[rng() % train_.size()];
+    starts[b] = static_cast<int>(rng() % num_starts);
+  }
+  Fill(episodes, starts, window, out);
+}
+
+template <typename T>
+void GraphDataset::EpisodeBatch(const std::vector<int>& episodes, WindowBatch<T>* out) const {
+  Fill(episodes, std::vector<int>(episodes.size(), 0), steps_, out);
+}
+
+template <typename T>
+void GraphDataset::Fill(const std::vector<int>& episodes, const std::vector<int>& starts,
+                        int window, WindowBatch<T>* out) const {
+  const int batch = static_cast<int>(episodes.size());
+  const int n = num_entities(), k = num_kinds(), a = action_dim_;
+  out->batch = batch;
+  out->num_entities = n;
+  out->inputs.resize(window);
+  out->deltas.resize(window);
+  for (int t = 0; t < window; ++t) {
+    nn::Matrix<T>& x = out->inputs[t];
+    nn::Matrix<T>& d = out->deltas[t];
+    x.setZero(static_cast<Eigen::Index>(batch) * n, input_dim());
+    d.resize(static_cast<Eigen::Index>(batch) * n, 2);
+    for (int b = 0; b < batch; ++b) {
+      const int ep = episodes[b], step = starts[b] + t;
+      const float* act = action(ep, step);
+      for (int e = 0; e < n; ++e) {
+        const Eigen::Index row = static_cast<Eigen::Index>(b) * n + e;
+        const float* now = position(ep, step, e);
+        const float* next = position(ep, step + 1, e);
+        x(row, 0) = now[0];
+        x(row, 1) = now[1];
+        x(row, 2 + kinds_[e]) = T(1);
+        for (int i = 0; i < a; ++i) x(row, 2 + k + i) = act[i];
+        d(row, 0) = T(next[0]) - T(now[0]);
+        d(row, 1) = T(next[1]) - T(now[1]);
+      }
+    }
+  }
+}
+
+template void GraphDataset::SampleWindows<float>(int, int, nn::Rng&, WindowBatch<float>*) const;
+template void GraphDataset::SampleWindows<double>(int, int, nn::Rng&,
+                                                  WindowBatch<double>*) const;
+template void GraphDataset::EpisodeBatch<float>(const std::vector<int>&,
+                                                WindowBatch<float>*) const;
+template void GraphDataset::EpisodeBatch<double>(const std::vector<int>&,
+                                                 WindowBatch<double>*) const;
+
+std::vector<double> ActionCorrelations(const GraphDataset& data) {
+  const int n = data.num_entities(), a = data.action_dim();
+  std::vector<double> score(n, 0.0);
+  for (int e = 0; e < n; ++e) {
+    for (int i = 0; i < a; ++i) {
+      double best = 0;
+      for (int axis = 0; axis < 2; ++axis) {
+        // one pass of sums for the Pearson correlation of action i and the axis change
+        double su = 0, sv = 0, suu = 0, svv = 0, suv = 0, count = 0;
+        for (int ep = 0; ep < data.size(); ++ep) {
+          for (int t = 0; t < data.episode_steps(); ++t) {
+            const double u = data.action(ep, t)[i];
+            const double v = data.position(ep, t + 1, e)[axis] - data.position(ep, t, e)[axis];
+            su += u; sv += v; suu += u * u; svv += v * v; suv += u * v; count += 1;
+          }
+        }
+        if (count < 2) continue;
+        const double cov = suv / count - su / count * sv / count;
+        const double var_u = suu / count - su / count * su / count;
+        const double var_v = svv / count - sv / count * sv / count;
+        // an entity that never moves has no correlation
+        if (var_u <= 1e-18 || var_v <= 1e-18) continue;
+        best = std::max(best, std::abs(cov) / std::sqrt(var_u * var_v));
+      }
+      score[e] += best / a;
+    }
+  }
+  return score;
+}
+
+int SelectActionEntity(const GraphDataset& data) {
+  const std::vector<double> score = ActionCorrelations(data);
+  return static_cast<int>(std::max_element(score.begin(), score.end()) - score.begin());
+}
+
+}  // namespace srics::graph

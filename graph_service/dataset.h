@@ -1,0 +1,98 @@
+#pragma once
+// The graph service's data: whole random-action episodes reduced to what the dynamics model
+// needs (entity xy and actions), a deterministic train / held-out split, and batches of
+// training windows (srics-method.md section 2).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/nn/tensor.h"
+#include "common/rl/episode.h"
+
+namespace srics::graph {
+
+// A batch of windows ready for the model: per transition t of the window, the node inputs
+// and the position changes to predict. Row b * N + n is entity n of window b.
+template <typename T>
+struct WindowBatch {
+  int batch = 0;                          // B windows
+  int num_entities = 0;                   // N
+  std::vector<nn::Matrix<T>> inputs;      // per t: (B*N) x F, F = 2 + K + A: [x, y, kind, a]
+  std::vector<nn::Matrix<T>> deltas;      // per t: (B*N) x 2, xy(t+1) - xy(t)
+  int steps() const { return static_cast<int>(inputs.size()); }
+};
+
+// Episodes of one entity layout, stored as xy per entity and step plus actions.
+//
+// Not thread-safe; the service owns it on one thread.
+class GraphDataset {
+ public:
+  // All episodes must have this layout (N, K, velocities), these entity kinds, action size
+  // and number of steps; others are refused by Add.
+  GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds,
+               int action_dim, int episode_steps);
+
+  // Makes a dataset shaped like `episode` (which is not added).
+  static GraphDataset ShapedLike(const rl::Episode& episode);
+
+  // Adds an episode; returns an empty string when accepted, else why it was refused (wrong
+  // mode or shape, inconsistent sizes, non-finite values). Never throws on bad input.
+  std::string Add(const rl::Episode& episode);
+
+  // Fixes the split: the last round(fraction * size) episodes of a seeded shuffle are held
+  // out. Call once all episodes are in; throws std::logic_error if a side would be empty.
+  void Split(double held_out_fraction, uint64_t seed);
+
+  int size() const { return static_cast<int>(actions_.size()); }
+  int num_entities() const { return layout_.num_entities; }
+  int num_kinds() const { return layout_.num_kinds; }
+  int action_dim() const { return action_dim_; }
+  int episode_steps() const { return steps_; }
+  // input features per node: x, y, kind one-hot, action
+  int input_dim() const { return 2 + layout_.num_kinds + action_dim_; }
+  const std::vector<uint16_t>& entity_kinds() const { return kinds_; }
+  const std::vector<int>& train_episodes() const { return train_; }
+  const std::vector<int>& held_out_episodes() const { return held_out_; }
+
+  // xy of `entity` at step t of episode e (t in 0..T).
+  const float* position(int episode, int t, int entity) const {
+    return positions_[episode].data() + (static_cast<size_t>(t) * num_entities() + entity) * 2;
+  }
+  // action taken at step t of episode e (t in 0..T-1).
+  const float* action(int episode, int t) const {
+    return actions_[episode].data() + static_cast<size_t>(t) * action_dim_;
+  }
+
+  // Fills `out` with `batch` windows of `window` transitions drawn uniformly (episode, start)
+  // from the training split.
+  template <typename T>
+  void SampleWindows(int batch, int window, nn::Rng& rng, WindowBatch<T>* out) const;
+
+  // Fills `out` with whole episodes (all T transitions) of the given ids.
+  template <typename T>
+  void EpisodeBatch(const std::vector<int>& episodes, WindowBatch<T>* out) const;
+
+ private:
+  template <typename T>
+  void Fill(const std::vector<int>& episodes, const std::vector<int>& starts, int window,
+            WindowBatch<T>* out) const;
+
+  rl::EntityLayout layout_;
+  std::vector<uint16_t> kinds_;
+  int action_dim_;
+  int steps_;
+  std::vector<std::vector<float>> positions_;  // per episode (T+1) x N x 2
+  std::vector<std::vector<float>> actions_;    // per episode T x A
+  std::vector<int> train_, held_out_;
+};
+
+// How strongly each entity's motion follows the action: the mean over action components of
+// the largest absolute Pearson correlation between that component and the entity's x or y
+// change, over every transition of the data set. Size N.
+std::vector<double> ActionCorrelations(const GraphDataset& data);
+
+// The entity the action node attaches to: the one with the largest ActionCorrelations.
+int SelectActionEntity(const GraphDataset& data);
+
+}  // namespace srics::graph

@@ -1,0 +1,135 @@
+#include "graph_service/gnn_model.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace srics::graph {
+
+template <typename T>
+GnnModel<T>::GnnModel(const GnnOptions& o, nn::Rng& rng)
+    : options_(o),
+      act_("gnn.act", o.input_dim, {o.mlp_hidden}, o.hidden_dim, rng),
+      edge_send_("gnn.edge_send", o.hidden_dim, 2 * o.mlp_hidden, false, rng),
+      edge_recv_("gnn.edge_recv", o.hidden_dim, 2 * o.mlp_hidden, true, rng),
+      eff_out_("gnn.eff_out", o.mlp_hidden, o.hidden_dim, true, rng),
+      pres_out_("gnn.pres_out", o.mlp_hidden, 2, true, rng),
+      gru_("gnn.gru", 2 * o.hidden_dim, o.hidden_dim, rng),
+      pred_("gnn.pred", o.hidden_dim, {o.mlp_hidden}, 2, rng) {
+  if (o.num_entities < 2) throw std::invalid_argument("GnnModel: needs at least 2 entities");
+  if (o.input_dim < 3 || o.hidden_dim < 1 || o.mlp_hidden < 1)
+    throw std::invalid_argument("GnnModel: bad sizes");
+  if (!(o.edge_prior > 0 && o.edge_prior < 1) || !(o.temperature > 0))
+    throw std::invalid_argument("GnnModel: edge_prior must be in (0, 1), temperature > 0");
+  log_prior_.resize(1, 2);
+  log_prior_ << T(std::log(o.edge_prior)), T(std::log(1 - o.edge_prior));
+}
+
+template <typename T>
+void GnnModel<T>::BuildEdges(int batch) {
+  if (edges_batch_ == batch) return;
+  const int n = options_.num_entities;
+  senders_.clear();
+  receivers_.clear();
+  senders_.reserve(static_cast<size_t>(batch) * n * (n - 1));
+  receivers_.reserve(senders_.capacity());
+  for (int b = 0; b < batch; ++b)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        if (i == j) continue;
+        senders_.push_back(b * n + i);
+        receivers_.push_back(b * n + j);
+      }
+  edges_batch_ = batch;
+}
+
+template <typename T>
+const std::vector<int>& GnnModel<T>::senders(int batch) {
+  BuildEdges(batch);
+  return senders_;
+}
+
+template <typename T>
+const std::vector<int>& GnnModel<T>::receivers(int batch) {
+  BuildEdges(batch);
+  return receivers_;
+}
+
+template <typename T>
+int GnnModel<T>::edge_receiver_entity(int e) const {
+  const int n = options_.num_entities;
+  return (e / (n - 1)) % n;
+}
+
+template <typename T>
+int GnnModel<T>::edge_sender_entity(int e) const {
+  const int n = options_.num_entities;
+  const int j = edge_receiver_entity(e), k = e % (n - 1);
+  return k < j ? k : k + 1;
+}
+
+template <typename T>
+typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h, nn::Var<T> x,
+                                                int batch, const Mat& gumbel) {
+  BuildEdges(batch);
+  const int m = options_.mlp_hidden;
+  // first edge layer per node, then onto edges: relu(h_i W_s + h_j W_r + b)
+  nn::Var<T> send = edge_send_.Forward(tape, h);
+  nn::Var<T> recv = edge_recv_.Forward(tape, h);
+  nn::Var<T> pre = tape.Relu(tape.Add(tape.Gather(send, senders_), tape.Gather(recv, receivers_)));
+  nn::Var<T> effect = eff_out_.Forward(tape, tape.Slice(pre, 1, 0, m));
+  nn::Var<T> logits = pres_out_.Forward(tape, tape.Slice(pre, 1, m, m));
+  // class 0 of the (straight-through) Gumbel-softmax sample is the edge
+  nn::Var<T> sample = tape.GumbelSoftmax(logits, gumbel, T(options_.temperature), options_.hard);
+  nn::Var<T> weight = tape.Slice(sample, 1, 0, 1);
+  nn::Var<T> message = tape.Mul(effect, weight);
+  const Eigen::Index rows = static_cast<Eigen::Index>(batch) * options_.num_entities;
+  nn::Var<T> interaction = tape.ScatterAdd(message, receivers_, rows);
+  nn::Var<T> own = act_.Forward(tape, x);
+  nn::Var<T> next = gru_.Forward(tape, tape.Concat({interaction, own}, 1), h);
+  return Step{next, pred_.Forward(tape, next), logits, weight};
+}
+
+template <typename T>
+typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
+                                                   const WindowBatch<T>& batch, nn::Rng& rng) {
+  const int b = batch.batch, n = options_.num_entities;
+  if (batch.num_entities != n) throw std::invalid_argument("WindowLoss: entity count mismatch");
+  const Eigen::Index rows = static_cast<Eigen::Index>(b) * n;
+  const Eigen::Index edges = rows * (n - 1);
+  nn::Var<T> h = tape.Constant(Mat::Zero(rows, options_.hidden_dim));
+  nn::Var<T> log_prior = tape.Constant(log_prior_);
+  nn::Var<T> total{&tape, -1};
+  Loss out;
+  for (int t = 0; t < batch.steps(); ++t) {
+    const Mat noise = nn::RandomGumbel<T>(edges, 2, rng);
+    Step step = Forward(tape, h, tape.Constant(batch.inputs[t]), b, noise);
+    h = step.hidden;
+    nn::Var<T> mse = tape.Mean(tape.Square(tape.Sub(step.delta, tape.Constant(batch.deltas[t]))));
+    // KL of the edge posterior to the Bernoulli prior, summed over edges, per receiver
+    nn::Var<T> log_q = tape.LogSoftmax(step.edge_logits);
+    nn::Var<T> kl = tape.MulScalar(
+        tape.Sum(tape.Mul(tape.Exp(log_q), tape.Sub(log_q, log_prior))), T(1.0 / rows));
+    nn::Var<T> term = tape.Add(mse, tape.MulScalar(kl, T(options_.kl_weight)));
+    total = total.id < 0 ? term : tape.Add(total, term);
+    out.mse += static_cast<double>(mse.value()(0, 0));
+    out.kl += static_cast<double>(kl.value()(0, 0));
+  }
+  out.total = total;
+  return out;
+}
+
+template <typename T>
+void GnnModel<T>::Parameters(nn::ParameterList<T>& list) {
+  act_.Parameters(list);
+  edge_send_.Parameters(list);
+  edge_recv_.Parameters(list);
+  eff_out_.Parameters(list);
+  pres_out_.Parameters(list);
+  gru_.Parameters(list);
+  pred_.Parameters(list);
+}
+
+template class GnnModel<float>;
+template class GnnModel<double>;
+
+}  // namespace srics::graph

@@ -1,0 +1,97 @@
+#pragma once
+// The recurrent GNN dynamics model of SRICS (srics-method.md section 2). For every entity j
+// at step t, with hidden states h(t) and node input x_j = [x, y, kind one-hot, action]:
+//   w_ij      = [softmax(d_pres([h_i, h_j]))]_0 sampled by (straight-through) Gumbel-softmax
+//   h_int_j   = sum_{i != j} w_ij d_eff([h_i, h_j])
+//   h_act_j   = d_act(x_j)
+//   h_j(t+1)  = GRU([h_int_j, h_act_j], h_j(t))
+//   Δxy_j     = d_pred(h_j(t+1))
+// w_ij is "entity i acts on entity j". The first layer of d_eff and d_pres on [h_i, h_j] is
+// computed per node (h_i W_s + h_j W_r, the same linear map) before gathering onto edges, so
+// the per-edge work is one hidden layer and the two output layers.
+// The reference's batch norm in the MLPs is left out (its inputs are GRU states in [-1, 1]).
+
+#include <memory>
+#include <vector>
+
+#include "common/nn/modules.h"
+#include "common/nn/tape.h"
+#include "graph_service/dataset.h"
+
+namespace srics::graph {
+
+// Sizes and loss settings of the model.
+struct GnnOptions {
+  int num_entities = 0;       // N
+  int input_dim = 0;          // F = 2 + K + A
+  int hidden_dim = 20;        // per-entity recurrent state
+  int mlp_hidden = 100;       // hidden width of every d_* MLP
+  double edge_prior = 0.05;   // Bernoulli prior of an edge (KL target)
+  double kl_weight = 1e-5;
+  double temperature = 0.5;   // Gumbel-softmax temperature
+  bool hard = true;           // straight-through hard samples (the reference); false = soft
+};
+
+// The model; T is float for training and double for gradient checks.
+template <typename T>
+class GnnModel {
+ public:
+  using Mat = nn::Matrix<T>;
+
+  GnnModel(const GnnOptions& options, nn::Rng& rng);
+
+  // One step of the recurrence for `batch` samples on a tape.
+  struct Step {
+    nn::Var<T> hidden;        // (B*N) x H, h(t+1)
+    nn::Var<T> delta;         // (B*N) x 2, predicted xy change
+    nn::Var<T> edge_logits;   // E x 2, E = B*N*(N-1), edge order of receivers()/senders()
+    nn::Var<T> edge_weight;   // E x 1, the (sampled) weight used
+  };
+  // h: (B*N) x H, x: (B*N) x F; gumbel: E x 2 standard Gumbel noise (all zero: the
+  // deterministic argmax / softmax of the logits).
+  Step Forward(nn::Tape<T>& tape, nn::Var<T> h, nn::Var<T> x, int batch, const Mat& gumbel);
+
+  // Loss of a window batch with teacher forcing (inputs are the true states), summed over
+  // the window's transitions as in the reference: sum_t [MSE_t + kl_weight * KL_t], where
+  // MSE_t is the mean squared error of the position change over all entities and axes and
+  // KL_t = sum over edges of KL(q_ij || prior) / (N * B). Gumbel noise is drawn from rng.
+  struct Loss {
+    nn::Var<T> total;
+    double mse = 0;  // sum over steps of MSE_t
+    double kl = 0;   // sum over steps of KL_t
+  };
+  Loss WindowLoss(nn::Tape<T>& tape, const WindowBatch<T>& batch, nn::Rng& rng);
+
+  // Edges of a batch of `batch` samples: edge e goes from senders()[e] to receivers()[e]
+  // (rows b*N + n); for receiver row r the N-1 edges are e = r*(N-1) + k, senders in
+  // increasing entity order skipping the receiver.
+  const std::vector<int>& senders(int batch);
+  const std::vector<int>& receivers(int batch);
+  // Entity index (within its sample) of edge e's sender and receiver.
+  int edge_sender_entity(int e) const;
+  int edge_receiver_entity(int e) const;
+
+  const GnnOptions& options() const { return options_; }
+  // Parameters in a fixed order (the flat layout).
+  void Parameters(nn::ParameterList<T>& list);
+
+ private:
+  void BuildEdges(int batch);
+
+  GnnOptions options_;
+  nn::Mlp<T> act_;            // d_act: F -> M -> H
+  nn::Linear<T> edge_send_;   // first layer of [d_eff | d_pres], sender half (no bias)
+  nn::Linear<T> edge_recv_;   // receiver half with the bias
+  nn::Linear<T> eff_out_;     // M -> H
+  nn::Linear<T> pres_out_;    // M -> 2 (class 0 = edge)
+  nn::GruCell<T> gru_;        // [h_int, h_act] -> H
+  nn::Mlp<T> pred_;           // d_pred: H -> M -> 2
+  int edges_batch_ = -1;
+  std::vector<int> senders_, receivers_;
+  Mat log_prior_;             // 1 x 2: log p, log (1 - p)
+};
+
+extern template class GnnModel<float>;
+extern template class GnnModel<double>;
+
+}  // namespace srics::graph

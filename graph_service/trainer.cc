@@ -1,0 +1,106 @@
+#include "graph_service/trainer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace srics::graph {
+
+GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset& data) {
+  GnnOptions o;
+  o.num_entities = data.num_entities();
+  o.input_dim = data.input_dim();
+  o.hidden_dim = config.hidden_dim;
+  o.mlp_hidden = config.mlp_hidden;
+  o.edge_prior = config.edge_prior;
+  o.kl_weight = config.kl_weight;
+  o.temperature = config.gumbel_temperature;
+  o.hard = config.hard_edges;
+  return o;
+}
+
+namespace {
+
+// The model is built before the optimizer can list its parameters.
+nn::Rng& Seeded(nn::Rng& rng) { return rng; }
+
+}  // namespace
+
+GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& data,
+                       uint64_t seed)
+    : config_(config), data_(data), rng_(seed),
+      model_(MakeGnnOptions(config, data), Seeded(rng_)),
+      params_([this] {
+        nn::ParameterList<float> list;
+        model_.Parameters(list);
+        return list;
+      }()),
+      optimizer_(params_, {.lr = config.learning_rate}) {}
+
+double GnnTrainer::Update() {
+  data_.SampleWindows(config_.batch_windows, config_.window, rng_, &batch_);
+  tape_.Reset();
+  GnnModel<float>::Loss loss = model_.WindowLoss(tape_, batch_, rng_);
+  optimizer_.ZeroGrad();
+  tape_.Backward(loss.total);
+  optimizer_.Step();
+  ++updates_;
+  last_mse_ = loss.mse / batch_.steps();
+  last_kl_ = loss.kl / batch_.steps();
+  return static_cast<double>(loss.total.value()(0, 0));
+}
+
+EdgeStatistics GnnTrainer::Evaluate() {
+  const int n = data_.num_entities();
+  EdgeStatistics stats;
+  stats.num_entities = n;
+  std::vector<double> sum(static_cast<size_t>(n) * n, 0.0);
+  double count = 0, mse = 0, zero_mse = 0, transitions = 0;
+  // the same noise at every evaluation, so that successive graphs differ by training only
+  nn::Rng noise_rng(0x5eed);
+  nn::Tape<float> tape;
+  WindowBatch<float> batch;
+  for (const std::vector<int>* split : {&data_.train_episodes(), &data_.held_out_episodes()}) {
+    const bool held_out = split == &data_.held_out_episodes();
+    for (size_t first = 0; first < split->size();
+         first += static_cast<size_t>(config_.eval_chunk_episodes)) {
+      const size_t last = std::min(split->size(), first + config_.eval_chunk_episodes);
+      const std::vector<int> chunk(split->begin() + first, split->begin() + last);
+      data_.EpisodeBatch(chunk, &batch);
+      const int b = batch.batch;
+      const Eigen::Index rows = static_cast<Eigen::Index>(b) * n;
+      nn::Matrix<float> h = nn::Matrix<float>::Zero(rows, config_.hidden_dim);
+      for (int t = 0; t < batch.steps(); ++t) {
+        // one step per tape pass: the state is carried over as a constant
+        tape.Reset();
+        const nn::Matrix<float> noise = nn::RandomGumbel<float>(rows * (n - 1), 2, noise_rng);
+        auto step = model_.Forward(tape, tape.Constant(h), tape.Constant(batch.inputs[t]), b,
+                                   noise);
+        h = step.hidden.value();
+        const nn::Matrix<float>& logits = step.edge_logits.value();
+        for (Eigen::Index e = 0; e < logits.rows(); ++e) {
+          // probability of class 0 (edge) of the 2-way softmax
+          const double p = 1.0 / (1.0 + std::exp(static_cast<double>(logits(e, 1)) -
+                                                 static_cast<double>(logits(e, 0))));
+          const int local = static_cast<int>(e % (static_cast<Eigen::Index>(n) * (n - 1)));
+          sum[static_cast<size_t>(model_.edge_sender_entity(local)) * n +
+              model_.edge_receiver_entity(local)] += p;
+        }
+        count += b;
+        if (held_out) {
+          const nn::Matrix<float>& target = batch.deltas[t];
+          // per transition: mean over the entities and axes of one window
+          mse += (step.delta.value() - target).squaredNorm() / (2.0 * n);
+          zero_mse += target.squaredNorm() / (2.0 * n);
+          transitions += b;
+        }
+      }
+    }
+  }
+  stats.mean_weight.resize(sum.size());
+  for (size_t i = 0; i < sum.size(); ++i) stats.mean_weight[i] = count > 0 ? sum[i] / count : 0;
+  stats.held_out_mse = transitions > 0 ? mse / transitions : 0;
+  stats.held_out_zero_mse = transitions > 0 ? zero_mse / transitions : 0;
+  return stats;
+}
+
+}  // namespace srics::graph

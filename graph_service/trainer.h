@@ -1,0 +1,64 @@
+#pragma once
+// Training of the GNN on a data set (RMSprop on windows with teacher forcing) and its
+// evaluation: held-out loss and the mean edge weights over the whole data set.
+
+#include <cstdint>
+#include <vector>
+
+#include "common/config/graph_config.h"
+#include "common/nn/optim.h"
+#include "graph_service/dataset.h"
+#include "graph_service/gnn_model.h"
+
+namespace srics::graph {
+
+// What an evaluation pass measured.
+struct EdgeStatistics {
+  int num_entities = 0;
+  // mean_weight[i * N + j]: mean probability of the edge "i acts on j" over every step of
+  // every episode of the data set (diagonal 0)
+  std::vector<double> mean_weight;
+  // mean squared error of the position change per transition on the held-out episodes
+  double held_out_mse = 0;
+  // the same with a predicted change of zero (how much there is to predict)
+  double held_out_zero_mse = 0;
+};
+
+// Options of the model from the service config and a data set's shape.
+GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset& data);
+
+// Owns the model and optimizer; single-threaded.
+class GnnTrainer {
+ public:
+  // `data` must outlive the trainer and be split already.
+  GnnTrainer(const config::GraphConfig& config, const GraphDataset& data, uint64_t seed);
+
+  // One RMSprop update on a fresh batch of windows; returns the batch's loss
+  // (sum over the window of MSE + kl_weight * KL).
+  double Update();
+
+  // Runs the model over whole episodes (all of them, in chunks) and returns the mean edge
+  // weights and held-out error. Does not change the parameters.
+  EdgeStatistics Evaluate();
+
+  int64_t updates() const { return updates_; }
+  double last_mse() const { return last_mse_; }  // per transition, last batch
+  double last_kl() const { return last_kl_; }    // per transition, last batch
+  GnnModel<float>& model() { return model_; }
+  // Logs the shapes of every matrix product of later updates (benchmark).
+  void set_gemm_log(std::vector<nn::GemmShape>* log) { tape_.set_gemm_log(log); }
+
+ private:
+  config::GraphConfig config_;
+  const GraphDataset& data_;
+  nn::Rng rng_;
+  GnnModel<float> model_;
+  nn::ParameterList<float> params_;
+  nn::RmsProp<float> optimizer_;
+  nn::Tape<float> tape_;
+  WindowBatch<float> batch_;
+  int64_t updates_ = 0;
+  double last_mse_ = 0, last_kl_ = 0;
+};
+
+}  // namespace srics::graph

@@ -1,0 +1,131 @@
+#include "graph_service/gnn_model.h"
+
+#include <gtest/gtest.h>
+
+#include "common/nn/optim.h"
+#include "graph_service/trainer.h"
+#include "tests/common/nn/gradcheck.h"
+#include "tests/graph_service/toy_world.h"
+
+namespace srics::graph {
+namespace {
+
+using testing::ToyWorld;
+
+GraphDataset ToyData(int episodes, int steps) {
+  ToyWorld world({.num_pucks = 2, .steps = steps});
+  GraphDataset data = GraphDataset::ShapedLike(world.RandomEpisode(0));
+  for (int e = 0; e < episodes; ++e) EXPECT_EQ(data.Add(world.RandomEpisode(100 + e)), "");
+  data.Split(0.25, 1);
+  return data;
+}
+
+TEST(GnnModelTest, EdgeIndexingIsConsistent) {
+  nn::Rng rng(1);
+  GnnModel<float> model({.num_entities = 4, .input_dim = 8, .hidden_dim = 3, .mlp_hidden = 5},
+                        rng);
+  const auto& s = model.senders(2);
+  const auto& r = model.receivers(2);
+  ASSERT_EQ(s.size(), 2u * 4 * 3);
+  for (size_t e = 0; e < s.size(); ++e) {
+    EXPECT_NE(s[e], r[e]);
+    EXPECT_EQ(s[e] / 4, r[e] / 4);  // same sample
+    EXPECT_EQ(model.edge_sender_entity(static_cast<int>(e)), s[e] % 4);
+    EXPECT_EQ(model.edge_receiver_entity(static_cast<int>(e)), r[e] % 4);
+  }
+}
+
+TEST(GnnModelTest, HardSamplesAreZeroOrOne) {
+  GraphDataset data = ToyData(4, 6);
+  nn::Rng rng(2);
+  WindowBatch<float> batch;
+  data.SampleWindows(3, 4, rng, &batch);
+  GnnModel<float> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 6,
+                         .mlp_hidden = 8, .hard = true}, rng);
+  nn::Tape<float> tape;
+  auto h = tape.Constant(nn::Tensor::Zero(9, 6));
+  auto step = model.Forward(tape, h, tape.Constant(batch.inputs[0]), 3,
+                            nn::RandomGumbel<float>(18, 2, rng));
+  for (Eigen::Index e = 0; e < step.edge_weight.rows(); ++e) {
+    const float w = step.edge_weight.value()(e, 0);
+    EXPECT_TRUE(w == 0.f || w == 1.f) << w;
+  }
+  EXPECT_EQ(step.delta.rows(), 9);
+  EXPECT_EQ(step.delta.cols(), 2);
+}
+
+// Gradients of the whole model (soft edge samples, KL included) against central differences.
+TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
+  GraphDataset data = ToyData(4, 6);
+  nn::Rng rng(3);
+  WindowBatch<double> batch;
+  data.SampleWindows(2, 3, rng, &batch);
+  GnnModel<double> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 3,
+                          .mlp_hidden = 4, .kl_weight = 0.1, .hard = false}, rng);
+  nn::ParameterList<double> params;
+  model.Parameters(params);
+  ASSERT_GT(params.size(), 10u);
+  // non-zero biases: with h(0) = 0 and zero biases every edge pre-activation would sit on the
+  // relu kink, where finite differences are meaningless
+  for (nn::Parameter<double>* p : params) p->value += 0.3 * nn::RandomNormal<double>(p->value.rows(), p->value.cols(), rng);
+  const double err = nn::testing::GradCheck(params, [&](nn::Tape<double>& tape) {
+    nn::Rng noise(11);  // the same Gumbel noise in every evaluation
+    return model.WindowLoss(tape, batch, noise).total;
+  });
+  EXPECT_LT(err, 1e-6);
+}
+
+TEST(GnnModelTest, LossGoesDownOnAFixedBatch) {
+  GraphDataset data = ToyData(8, 20);
+  nn::Rng rng(4);
+  WindowBatch<float> batch;
+  data.SampleWindows(20, 10, rng, &batch);
+  GnnModel<float> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 10,
+                         .mlp_hidden = 32}, rng);
+  nn::ParameterList<float> params;
+  model.Parameters(params);
+  nn::RmsProp<float> opt(params, {.lr = 1e-3});
+  nn::Tape<float> tape;
+  auto loss_now = [&] {
+    nn::Rng noise(5);
+    tape.Reset();
+    return model.WindowLoss(tape, batch, noise);
+  };
+  const double before = loss_now().mse;
+  for (int i = 0; i < 150; ++i) {
+    tape.Reset();
+    auto loss = model.WindowLoss(tape, batch, rng);
+    opt.ZeroGrad();
+    tape.Backward(loss.total);
+    opt.Step();
+  }
+  const double after = loss_now().mse;
+  EXPECT_LT(after, 0.2 * before) << before << " -> " << after;
+}
+
+TEST(GnnTrainerTest, EvaluationAveragesEdgeProbabilities) {
+  GraphDataset data = ToyData(8, 10);
+  config::GraphConfig config;
+  config.hidden_dim = 6;
+  config.mlp_hidden = 12;
+  config.batch_windows = 4;
+  config.window = 5;
+  config.eval_chunk_episodes = 3;  // chunks of different sizes
+  GnnTrainer trainer(config, data, 9);
+  const EdgeStatistics a = trainer.Evaluate();
+  const EdgeStatistics b = trainer.Evaluate();
+  ASSERT_EQ(a.mean_weight.size(), 9u);
+  EXPECT_EQ(a.mean_weight, b.mean_weight);  // evaluation is deterministic
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(a.mean_weight[i * 3 + i], 0.0);
+    for (int j = 0; j < 3; ++j)
+      if (i != j) EXPECT_TRUE(a.mean_weight[i * 3 + j] > 0 && a.mean_weight[i * 3 + j] < 1);
+  }
+  EXPECT_GT(a.held_out_zero_mse, 0);
+  trainer.Update();
+  EXPECT_EQ(trainer.updates(), 1);
+  EXPECT_NE(trainer.Evaluate().mean_weight, a.mean_weight);
+}
+
+}  // namespace
+}  // namespace srics::graph

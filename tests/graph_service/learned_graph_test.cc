@@ -1,0 +1,170 @@
+#include "graph_service/learned_graph.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace srics::graph {
+namespace {
+
+// The relational-4 graph as mean weights: arm -> 2, 3, 4; 2 <-> 3; static puck 1 untouched.
+std::vector<double> RelationalWeights() {
+  const int n = 5;
+  std::vector<double> w(n * n, 0.02);
+  auto set = [&](int i, int j, double v) { w[i * n + j] = v; };
+  for (int i = 0; i < n; ++i) set(i, i, 0.7);  // the diagonal is ignored
+  set(0, 2, 0.31);
+  set(0, 3, 0.25);
+  set(0, 4, 0.4);
+  set(2, 3, 0.12);
+  set(3, 2, 0.0601);
+  set(0, 1, 0.06);   // exactly the threshold: not kept (strictly greater)
+  set(4, 1, 0.059);
+  return w;
+}
+
+TEST(AggregateGraphTest, ThresholdsHandMadeWeights) {
+  const LearnedGraph g = AggregateGraph(5, RelationalWeights(), 0.06, 0);
+  EXPECT_EQ(rl::DescribeGraph(g.graph), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(g.mean_weights[i * 5 + i], 0.0);
+  // ancestor sets and depths of rl::ComputeSubgoalStructure
+  EXPECT_EQ(g.structure.depth, (std::vector<int>{1, -1, 3, 3, 2}));
+  EXPECT_FALSE(g.structure.has_subgoal(1));
+  EXPECT_TRUE(g.structure.is_ancestor(0, 2));
+  EXPECT_TRUE(g.structure.is_ancestor(3, 2));
+  EXPECT_TRUE(g.structure.is_ancestor(2, 3));
+  EXPECT_FALSE(g.structure.is_ancestor(4, 2));
+  EXPECT_EQ(g.structure.ancestor_mask[4], 1u);
+}
+
+TEST(AggregateGraphTest, ActionEntityAndThresholdMatter) {
+  const LearnedGraph g = AggregateGraph(5, RelationalWeights(), 0.2, 2);
+  EXPECT_EQ(rl::DescribeGraph(g.graph), "action->2, 0->2, 0->3, 0->4");
+  // arm unreachable from the action: only 2 has a subgoal
+  EXPECT_EQ(g.structure.depth, (std::vector<int>{-1, -1, 1, -1, -1}));
+}
+
+TEST(AggregateGraphTest, RejectsMalformedInput) {
+  EXPECT_THROW(AggregateGraph(5, std::vector<double>(24, 0.0), 0.06, 0), std::invalid_argument);
+  EXPECT_THROW(AggregateGraph(5, RelationalWeights(), 0.06, 5), std::invalid_argument);
+  EXPECT_THROW(AggregateGraph(1, {0.0}, 0.06, 0), std::invalid_argument);
+  std::vector<double> w = RelationalWeights();
+  w[1] = std::nan("");
+  EXPECT_THROW(AggregateGraph(5, w, 0.06, 0), std::invalid_argument);
+}
+
+LearnedGraph Example() {
+  LearnedGraph g = AggregateGraph(5, RelationalWeights(), 0.06, 0);
+  g.version = 7;
+  g.held_out_loss = 1.25e-5;
+  g.updates = 6000;
+  g.episodes = 1000;
+  g.entity_kinds = {0, 1, 2, 3, 4};
+  g.action_correlation = {0.99, 0.0, 0.1, 0.1, 0.12};
+  return g;
+}
+
+TEST(GraphFileTest, RoundTripKeepsEverything) {
+  const std::string dir = ::testing::TempDir() + "/graph_file_test";
+  std::filesystem::create_directories(dir);
+  const LearnedGraph g = Example();
+  SaveGraph(g, dir + "/graph.json");
+  const LearnedGraph back = LoadGraph(dir + "/graph.json");
+  EXPECT_EQ(back.version, 7u);
+  EXPECT_TRUE(SameStructure(back.graph, g.graph));
+  EXPECT_EQ(back.mean_weights, g.mean_weights);  // bit-exact doubles
+  EXPECT_EQ(back.structure.depth, g.structure.depth);
+  EXPECT_EQ(back.structure.ancestor_mask, g.structure.ancestor_mask);
+  EXPECT_EQ(back.held_out_loss, g.held_out_loss);
+  EXPECT_EQ(back.updates, 6000);
+  EXPECT_EQ(back.episodes, 1000);
+  EXPECT_EQ(back.entity_kinds, g.entity_kinds);
+  EXPECT_EQ(back.action_correlation, g.action_correlation);
+  EXPECT_EQ(back.threshold, 0.06);
+  EXPECT_EQ(GraphToJson(back), GraphToJson(g));
+}
+
+// Re-signs edited text so that the check behind the checksum is exercised.
+std::string Resign(std::string text) {
+  const std::string marker = ",\n  \"checksum\": \"";
+  const size_t at = text.rfind(marker);
+  // FNV-1a 64 of every byte before the checksum, as the file format defines it
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (size_t i = 0; i < at; ++i) {
+    h ^= static_cast<unsigned char>(text[i]);
+    h *= 0x100000001b3ull;
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return text.substr(0, at) + marker + hex + "\"\n}\n";
+}
+
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+void ExpectRejected(const std::string& text, const std::string& reason) {
+  try {
+    GraphFromJson(text);
+    ADD_FAILURE() << "accepted a file that should fail with: " << reason;
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+  }
+}
+
+TEST(GraphFileTest, RejectsCorruptedFiles) {
+  const std::string good = GraphToJson(Example());
+  ASSERT_NO_THROW(GraphFromJson(good));
+  // truncation and bit flips
+  ExpectRejected(good.substr(0, good.size() / 2), "checksum");
+  ExpectRejected(good.substr(0, good.size() - 3), "JSON syntax");
+  std::string flipped = good;
+  flipped[good.find("0.31")] = '9';
+  ExpectRejected(flipped, "checksum mismatch");
+  // well-formed and re-signed, but inconsistent
+  ExpectRejected(Resign(Replace(good, "\"format_version\": 1", "\"format_version\": 2")),
+                 "unsupported format version");
+  ExpectRejected(Resign(Replace(good, "\"num_entities\": 5", "\"num_entities\": 4")),
+                 "differs from num_entities");
+  ExpectRejected(Resign(Replace(good, "[0, 0, 1, 1, 1]", "[0, 1, 1, 1, 1]")),
+                 "adjacency does not match");
+  ExpectRejected(Resign(Replace(good, "0.31", "1.31")), "outside [0, 1]");
+  ExpectRejected(Resign(Replace(good, "\"depths\": [1, -1, 3, 3, 2]",
+                                "\"depths\": [1, -1, 2, 3, 2]")), "depths do not follow");
+  ExpectRejected(Resign(Replace(good, "\"action_entity\": 0", "\"action_entity\": 9")),
+                 "action_entity out of range");
+  ExpectRejected(Resign(Replace(good, "srics-interaction-graph", "something-else")),
+                 "format");
+  ExpectRejected("", "checksum");
+  EXPECT_THROW(LoadGraph("/nonexistent/graph.json"), std::runtime_error);
+}
+
+TEST(GraphFileTest, PicturesNameEdgesAndWeights) {
+  const LearnedGraph g = Example();
+  const std::string dot = GraphDot(g);
+  EXPECT_NE(dot.find("action -> e0"), std::string::npos);
+  EXPECT_NE(dot.find("e0 -> e2 [label=\"0.310\"]"), std::string::npos);
+  EXPECT_EQ(dot.find("e0 -> e1"), std::string::npos);  // at the threshold: not drawn
+  const std::string heat = HeatMapDot(g);
+  EXPECT_NE(heat.find("<b>0.310</b>"), std::string::npos);
+  EXPECT_NE(heat.find("0.060"), std::string::npos);
+  const std::string dir = ::testing::TempDir() + "/graph_pictures_test";
+  std::filesystem::create_directories(dir);
+  const std::string missing = SaveGraphWithPictures(g, dir + "/graph");
+  EXPECT_TRUE(std::filesystem::exists(dir + "/graph.json"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/graph.dot"));
+  if (missing.empty()) {
+    EXPECT_GT(std::filesystem::file_size(dir + "/graph.png"), 1000u);
+    EXPECT_GT(std::filesystem::file_size(dir + "/graph_weights.png"), 1000u);
+  }
+}
+
+}  // namespace
+}  // namespace srics::graph

@@ -1,0 +1,144 @@
+#include "graph_service/service.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tests/graph_service/toy_world.h"
+
+namespace srics::graph {
+namespace {
+
+using testing::RecordingSink;
+using testing::ToySource;
+using testing::ToyWorld;
+
+config::GraphConfig TinyConfig() {
+  config::GraphConfig c;
+  c.episodes = 20;
+  c.episode_steps = 10;
+  c.window = 5;
+  c.batch_windows = 4;
+  c.hidden_dim = 4;
+  c.mlp_hidden = 8;
+  c.max_updates = 30;
+  c.min_updates = 0;
+  c.eval_every_updates = 10;
+  c.stable_evaluations = 100;
+  return c;
+}
+
+std::string FreshDir(const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/" + name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+// Feeds a fixed list of episodes, then closes; counts polls.
+class ListSource : public EpisodeSource {
+ public:
+  explicit ListSource(std::vector<rl::Episode> episodes) : episodes_(std::move(episodes)) {}
+  bool Poll(std::chrono::milliseconds, std::vector<rl::Episode>* out) override {
+    ++polls;
+    out->insert(out->end(), episodes_.begin(), episodes_.end());
+    episodes_.clear();
+    return false;
+  }
+  int polls = 0;
+
+ private:
+  std::vector<rl::Episode> episodes_;
+};
+
+TEST(GraphServiceTest, TrainsPublishesSavesAndRepublishesAfterRestart) {
+  const std::string dir = FreshDir("service_restart");
+  ToyWorld world({.num_pucks = 2, .static_pucks = {2}, .steps = 10});
+  std::vector<rl::Episode> episodes;
+  for (int i = 0; i < 25; ++i) episodes.push_back(world.RandomEpisode(i));
+  // untrusted input: wrong mode is skipped, broken episodes are counted as dropped
+  episodes[3].mode = rl::EpisodeMode::kTrain;
+  episodes[4].states.pop_back();
+  episodes[5].actions[0] = std::nanf("");
+  ListSource source(episodes);
+  RecordingSink sink;
+  std::vector<Progress> seen;
+  GraphService service(TinyConfig(), {.state_dir = dir, .seed = 3, .render_pictures = false},
+                       &source, &sink, [&](const Progress& p) { seen.push_back(p); });
+  std::atomic<bool> stop{false};
+  ASSERT_EQ(service.Run(stop), 0);
+  ASSERT_EQ(sink.graphs.size(), 1u);
+  const LearnedGraph& g = sink.graphs[0];
+  EXPECT_EQ(g.version, 1u);
+  EXPECT_EQ(g.updates, 30);
+  EXPECT_EQ(g.episodes, 20);
+  EXPECT_EQ(g.num_entities(), 3);
+  EXPECT_EQ(g.graph.action_entity, 0);
+  EXPECT_EQ(service.progress().dropped, 2);
+  EXPECT_EQ(service.progress().phase, Progress::Phase::kPublished);
+  // progress went through collecting and training with held-out losses
+  bool trained = false;
+  for (const Progress& p : seen) trained |= p.phase == Progress::Phase::kTraining && p.held_out_loss > 0;
+  EXPECT_TRUE(trained);
+  ASSERT_TRUE(std::filesystem::exists(dir + "/graph.json"));
+
+  // restart: the saved graph is re-published, nothing is collected or trained
+  ListSource unused({});
+  RecordingSink sink2;
+  GraphService restarted(TinyConfig(), {.state_dir = dir, .seed = 3}, &unused, &sink2, {});
+  ASSERT_EQ(restarted.Run(stop), 0);
+  EXPECT_EQ(unused.polls, 0);
+  ASSERT_EQ(sink2.graphs.size(), 1u);
+  EXPECT_EQ(sink2.graphs[0].version, 1u);
+  EXPECT_EQ(sink2.graphs[0].mean_weights, g.mean_weights);
+  EXPECT_TRUE(SameStructure(sink2.graphs[0].graph, g.graph));
+}
+
+TEST(GraphServiceTest, CorruptedSavedGraphIsSetAsideAndLearnedAgain) {
+  const std::string dir = FreshDir("service_corrupted");
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream out(dir + "/graph.json");
+    out << "{\"format\": \"srics-interaction-graph\", \"num_ent";
+  }
+  ToySource source({.num_pucks = 2, .steps = 10}, 20, 7);
+  RecordingSink sink;
+  GraphService service(TinyConfig(), {.state_dir = dir, .seed = 1, .render_pictures = false},
+                       &source, &sink, {});
+  std::atomic<bool> stop{false};
+  ASSERT_EQ(service.Run(stop), 0);
+  EXPECT_EQ(sink.graphs.size(), 1u);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/graph.json.rejected"));
+  EXPECT_NO_THROW(LoadGraph(dir + "/graph.json"));
+}
+
+TEST(GraphServiceTest, StopsWithoutPublishingWhenTheSourceCloses) {
+  ToyWorld world({.num_pucks = 2, .steps = 10});
+  ListSource source({world.RandomEpisode(1), world.RandomEpisode(2)});
+  RecordingSink sink;
+  GraphService service(TinyConfig(), {}, &source, &sink, {});
+  std::atomic<bool> stop{false};
+  EXPECT_EQ(service.Run(stop), 1);
+  EXPECT_TRUE(sink.graphs.empty());
+  EXPECT_EQ(service.progress().episodes, 2);
+}
+
+TEST(GraphServiceTest, StableGraphEndsTrainingBeforeMaxUpdates) {
+  config::GraphConfig c = TinyConfig();
+  c.max_updates = 1000;
+  c.stable_evaluations = 2;
+  c.eval_every_updates = 5;
+  c.min_updates = 10;
+  ToySource source({.num_pucks = 2, .steps = 10}, 20, 3);
+  RecordingSink sink;
+  GraphService service(c, {.seed = 2}, &source, &sink, {});
+  std::atomic<bool> stop{false};
+  ASSERT_EQ(service.Run(stop), 0);
+  ASSERT_EQ(sink.graphs.size(), 1u);
+  // the graph of a tiny model hardly changes within a few updates
+  EXPECT_LT(sink.graphs[0].updates, 1000);
+  EXPECT_GE(sink.graphs[0].updates, 15);
+}
+
+}  // namespace
+}  // namespace srics::graph
