@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "common/rl/goal_token.h"
 #include "common/rl/rewards.h"
 
 namespace srics::learner {
@@ -53,7 +54,7 @@ void Relabeler::Sample(const ReplayBuffer& replay, int size, TrainingBatch* batc
   batch->size = size;
   batch->max_entities = n_max;
   batch->entity_dim = d;
-  batch->goal_dim = full_goal() ? 2 * n_max : k + 3;
+  batch->goal_dim = full_goal() ? 2 * n_max : rl::SubgoalTokenSize(k);
   batch->action_dim = a_dim;
   batch->entities.assign(static_cast<size_t>(size) * n_max * d, 0.0f);
   batch->next_entities.assign(batch->entities.size(), 0.0f);
@@ -116,10 +117,7 @@ void Relabeler::Sample(const ReplayBuffer& replay, int size, TrainingBatch* batc
     if (full_goal()) {
       std::copy(goal.begin(), goal.end(), g);
     } else {
-      g[e.entity_kinds[entity]] = 1.0f;  // identifier of the subgoal entity
-      g[k] = goal[0];
-      g[k + 1] = goal[1];
-      g[k + 2] = 1.0f;
+      rl::WriteSubgoalToken(k, e.entity_kinds[entity], goal[0], goal[1], g);
     }
   }
 }

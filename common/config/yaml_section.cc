@@ -35,8 +35,10 @@ std::string Join(const std::string& path, const std::string& key) {
   return path.empty() ? key : path + "." + key;
 }
 
+// Merges `top` into `base`; when `file` is given, records it as the origin of every key of
+// `top` (a base file's own origins were recorded when it was loaded, so it passes none).
 void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
-               const std::string& file, OriginMap* origins) {
+               const std::string* file, OriginMap* origins) {
   for (auto it = top.begin(); it != top.end(); ++it) {
     const std::string key = it->first.as<std::string>();
     const std::string key_path = Join(path, key);
@@ -45,13 +47,14 @@ void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
       MergeInto(existing, it->second, key_path, file, origins);
     } else {
       base[key] = YAML::Clone(it->second);
+      if (!file) continue;
       // every key below this one now comes from `file`
       for (auto o = origins->begin(); o != origins->end();) {
         if (o->first.rfind(key_path + ".", 0) == 0) o = origins->erase(o); else ++o;
       }
       std::function<void(const YAML::Node&, const std::string&)> mark =
           [&](const YAML::Node& n, const std::string& p) {
-            (*origins)[p] = file;
+            (*origins)[p] = *file;
             if (n.IsMap())
               for (auto c = n.begin(); c != n.end(); ++c) mark(c->second, Join(p, c->first.as<std::string>()));
           };
@@ -74,13 +77,28 @@ YAML::Node LoadMergedYamlImpl(const std::filesystem::path& file, OriginMap* orig
   if (!top.IsMap()) throw ConfigError(file.string() + ": expected a mapping at the top level");
   YAML::Node merged(YAML::NodeType::Map);
   if (top["extends"]) {
-    const YAML::Node base_name = top["extends"];
-    if (!base_name.IsScalar())
-      throw ConfigError(file.string() + ": extends: expected a file name relative to this file");
-    merged.reset(LoadMergedYamlImpl(file.parent_path() / base_name.Scalar(), origins, depth + 1));
+    // one base file or a list of them, merged in order (later ones win)
+    const YAML::Node bases = top["extends"];
+    std::vector<std::string> names;
+    if (bases.IsScalar()) {
+      names.push_back(bases.Scalar());
+    } else if (bases.IsSequence()) {
+      for (const auto& b : bases) {
+        if (!b.IsScalar()) names.clear();
+        if (!b.IsScalar()) break;
+        names.push_back(b.Scalar());
+      }
+    }
+    if (names.empty())
+      throw ConfigError(file.string() + ": extends: expected a file name (or a list of them) relative to this file");
+    for (const auto& name : names) {
+      YAML::Node base = LoadMergedYamlImpl(file.parent_path() / name, origins, depth + 1);
+      MergeInto(merged, base, "", nullptr, origins);
+    }
     top.remove("extends");
   }
-  MergeInto(merged, top, "", file.string(), origins);
+  const std::string file_name = file.string();
+  MergeInto(merged, top, "", &file_name, origins);
   return merged;
 }
 
@@ -304,7 +322,8 @@ void ApplyOverride(YAML::Node* root, const std::string& assignment, OriginMap* o
     mapping[parts[i]] = nested;
     nested.reset(mapping);
   }
-  MergeInto(*root, nested, "", "command line", origins);
+  const std::string command_line = "command line";
+  MergeInto(*root, nested, "", &command_line, origins);
 }
 
 }  // namespace srics::config

@@ -1,0 +1,87 @@
+#include "learner/learner.h"
+
+namespace srics::learner {
+
+AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method) {
+  const int objects = static_cast<int>(config::EffectiveObjects(env).size());
+  const int kinds = 1 + objects;
+  AgentShape shape;
+  shape.entity_dim = kinds + (env.velocities ? 4 : 2);
+  shape.goal_dim = method == config::Method::kSacHer ? 2 * (1 + objects) : kinds + 3;
+  shape.action_dim = 2;
+  return shape;
+}
+
+Learner::Learner(const config::Config& config)
+    : config_(config),
+      shape_(AgentShapeFor(config.env, config.run.method)),
+      replay_(config.learner.replay_capacity),
+      relabeler_(config.run.method, config.agent.reward, config.learner.relabel,
+                 GoalRegion{config.env.sampling.subgoal_low[0], config.env.sampling.subgoal_high[0],
+                            config.env.sampling.subgoal_low[1], config.env.sampling.subgoal_high[1]},
+                 config.run.seed * 7919 + 1),
+      agent_(shape_, config.agent, config.run.seed * 104729 + 2),
+      limiter_(config.learner.updates_per_step, config.learner.warmup_steps,
+               config.learner.rate_error_buffer) {}
+
+std::string Learner::Ingest(rl::Episode episode) {
+  std::string problem = rl::ValidateEpisode(episode);
+  if (problem.empty() && episode.layout.entity_dim() != shape_.entity_dim)
+    problem = "entity tokens of " + std::to_string(episode.layout.entity_dim()) +
+              " floats, the networks take " + std::to_string(shape_.entity_dim);
+  if (problem.empty() && relabeler_.full_goal() && episode.mode == rl::EpisodeMode::kTrain &&
+      episode.goal.size() != static_cast<size_t>(2 * episode.layout.num_entities))
+    problem = "SAC+HER training episodes need a full goal";
+  if (problem.empty() && episode.mode == rl::EpisodeMode::kEval) problem = "evaluation episodes are not training data";
+  if (!problem.empty()) {
+    ++rejected_;
+    return problem;
+  }
+  counters_.transitions_inserted += episode.num_steps;
+  ++counters_.episodes_accepted;
+  replay_.Insert(std::move(episode));
+  return "";
+}
+
+void Learner::SetGraph(const rl::SubgoalStructure& structure) { relabeler_.SetSubgoalStructure(structure); }
+
+bool Learner::CanUpdate() const {
+  return !replay_.empty() && limiter_.CanUpdate(counters_.transitions_inserted, counters_.updates);
+}
+
+uint64_t Learner::UpdatesAllowed() const {
+  return replay_.empty() ? 0 : limiter_.UpdatesAllowed(counters_.transitions_inserted, counters_.updates);
+}
+
+bool Learner::CanInsert(uint64_t more) const {
+  return limiter_.CanInsert(counters_.transitions_inserted, counters_.updates, more);
+}
+
+UpdateStats Learner::Update() {
+  relabeler_.Sample(replay_, config_.agent.sac.batch_size, &batch_);
+  UpdateStats stats = agent_.Update(batch_);
+  ++counters_.updates;
+  return stats;
+}
+
+bool Learner::PublishDue() const {
+  return !published_once_ ||
+         counters_.updates >= published_at_update_ + config_.learner.publish_every_updates;
+}
+
+std::vector<float> Learner::TakePolicyWeights() {
+  published_once_ = true;
+  published_at_update_ = counters_.updates;
+  ++counters_.policy_version;
+  return agent_.PolicyWeights();
+}
+
+void Learner::SaveCheckpoint(const std::string& path) { agent_.SaveCheckpoint(path, counters_); }
+
+void Learner::LoadCheckpoint(const std::string& path) {
+  counters_ = agent_.LoadCheckpoint(path);
+  // the replay is not saved: the limiter's warm-up restarts from the restored insert count
+  published_at_update_ = counters_.updates;
+}
+
+}  // namespace srics::learner

@@ -1,0 +1,73 @@
+#pragma once
+// The learning core shared by the learner process and the in-process trainer: validates and
+// stores episodes, tracks the interaction graph, keeps the update-to-data ratio, runs SAC
+// updates and checkpoints everything. No DDS, no YAML: it takes plain structs.
+
+#include <cstdint>
+#include <string>
+
+#include "common/config/config.h"
+#include "common/rl/episode.h"
+#include "common/rl/graph.h"
+#include "learner/rate_limiter.h"
+#include "learner/relabeler.h"
+#include "learner/replay_buffer.h"
+#include "learner/sac.h"
+
+namespace srics::learner {
+
+// The network sizes a run needs, from its environment and method: entity tokens of
+// K + 2 (+ 2 with velocities) floats for K = 1 + catalogue objects, goal tokens of K + 3
+// (subgoals) or 2N (SAC+HER's full goal), actions of 2.
+AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method);
+
+class Learner {
+ public:
+  // Everything it needs comes from `config` (method, agent, learner, env sampling region).
+  explicit Learner(const config::Config& config);
+
+  // Validates and stores a training or exploration episode. Returns "" when accepted, else
+  // why it was rejected (the replay is unchanged then and the rejection is counted).
+  std::string Ingest(rl::Episode episode);
+
+  // Uses a new interaction graph for rewards and subgoal choice.
+  void SetGraph(const rl::SubgoalStructure& structure);
+
+  // True when the rate limiter allows one more update now.
+  bool CanUpdate() const;
+  // One SAC update on a freshly relabeled batch. Precondition: CanUpdate().
+  UpdateStats Update();
+  // Updates the limiter allows right now.
+  uint64_t UpdatesAllowed() const;
+  // True when `more` transitions may be inserted without running ahead of the learner.
+  bool CanInsert(uint64_t more) const;
+
+  // Publishing: the flat policy weights with a new version number.
+  std::vector<float> TakePolicyWeights();
+  bool PublishDue() const;
+
+  void SaveCheckpoint(const std::string& path);
+  // Restores networks, optimizers, temperature and counters; the replay starts empty.
+  void LoadCheckpoint(const std::string& path);
+
+  const LearnerCounters& counters() const { return counters_; }
+  uint64_t episodes_rejected() const { return rejected_; }
+  const ReplayBuffer& replay() const { return replay_; }
+  SacAgent& agent() { return agent_; }
+  const AgentShape& shape() const { return shape_; }
+
+ private:
+  config::Config config_;
+  AgentShape shape_;
+  ReplayBuffer replay_;
+  Relabeler relabeler_;
+  SacAgent agent_;
+  RateLimiter limiter_;
+  TrainingBatch batch_;
+  LearnerCounters counters_;
+  uint64_t rejected_ = 0;
+  uint64_t published_at_update_ = 0;
+  bool published_once_ = false;
+};
+
+}  // namespace srics::learner

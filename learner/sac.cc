@@ -1,0 +1,222 @@
+#include "learner/sac.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "common/nn/serialize.h"
+
+namespace srics::learner {
+namespace {
+
+nn::ParameterList<float> Join(std::initializer_list<nn::ParameterList<float>> lists) {
+  nn::ParameterList<float> all;
+  for (const auto& l : lists) all.insert(all.end(), l.begin(), l.end());
+  return all;
+}
+
+// Counters travel in a float section bit for bit (two 32-bit halves per counter).
+std::vector<float> PackCounters(const LearnerCounters& c) {
+  std::vector<float> out;
+  for (uint64_t v : {c.updates, c.transitions_inserted, c.episodes_accepted, c.policy_version}) {
+    const uint32_t halves[2] = {static_cast<uint32_t>(v), static_cast<uint32_t>(v >> 32)};
+    for (uint32_t h : halves) {
+      float f;
+      std::memcpy(&f, &h, sizeof f);
+      out.push_back(f);
+    }
+  }
+  return out;
+}
+
+LearnerCounters UnpackCounters(const std::vector<float>& values, const std::string& path) {
+  if (values.size() != 8) throw nn::CheckpointError(path + ": section 'counters' has the wrong size");
+  uint64_t v[4];
+  for (int i = 0; i < 4; ++i) {
+    uint32_t lo, hi;
+    std::memcpy(&lo, &values[2 * i], sizeof lo);
+    std::memcpy(&hi, &values[2 * i + 1], sizeof hi);
+    v[i] = (static_cast<uint64_t>(hi) << 32) | lo;
+  }
+  return {v[0], v[1], v[2], v[3]};
+}
+
+}  // namespace
+
+rl::AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape,
+                                             const config::AgentConfig& agent) {
+  rl::AttentionNetworkConfig c;
+  c.entity_dim = shape.entity_dim;
+  c.goal_dim = shape.goal_dim;
+  c.action_dim = shape.action_dim;
+  c.embed_dim = agent.network.embed_dim;
+  c.num_heads = agent.network.heads;
+  c.policy_hidden = agent.network.policy_hidden;
+  c.q_hidden = agent.network.q_hidden;
+  c.log_std_min = agent.network.log_std_min;
+  c.log_std_max = agent.network.log_std_max;
+  c.Validate();
+  return c;
+}
+
+SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed)
+    : shape_(shape),
+      config_(config),
+      net_config_(MakeNetworkConfig(shape, config)),
+      rng_(seed),
+      policy_("policy", net_config_, rng_),
+      q1_("q1", net_config_, rng_),
+      q2_("q2", net_config_, rng_),
+      q1_target_("q1_target", net_config_, rng_),
+      q2_target_("q2_target", net_config_, rng_),
+      log_alpha_("log_alpha", 1, 1) {
+  nn::SoftUpdate(q1_target_.Parameters(), q1_.Parameters(), 1.0);
+  nn::SoftUpdate(q2_target_.Parameters(), q2_.Parameters(), 1.0);
+  log_alpha_.value(0, 0) = static_cast<float>(std::log(config.sac.initial_alpha));
+  policy_optimizer_ = std::make_unique<nn::Adam<float>>(policy_.Parameters(),
+                                                        nn::Adam<float>::Options{config.sac.policy_lr});
+  q_optimizer_ = std::make_unique<nn::Adam<float>>(Join({q1_.Parameters(), q2_.Parameters()}),
+                                                   nn::Adam<float>::Options{config.sac.q_lr});
+  alpha_optimizer_ = std::make_unique<nn::Adam<float>>(nn::ParameterList<float>{&log_alpha_},
+                                                       nn::Adam<float>::Options{config.sac.alpha_lr});
+}
+
+double SacAgent::alpha() const { return std::exp(static_cast<double>(log_alpha_.value(0, 0))); }
+
+void SacAgent::LoadBatch(const TrainingBatch& b) {
+  const int rows = b.size * b.max_entities;
+  entities_ = Eigen::Map<const nn::Tensor>(b.entities.data(), rows, b.entity_dim);
+  next_entities_ = Eigen::Map<const nn::Tensor>(b.next_entities.data(), rows, b.entity_dim);
+  mask_ = Eigen::Map<const nn::Tensor>(b.mask.data(), b.size, b.max_entities);
+  goals_ = Eigen::Map<const nn::Tensor>(b.goal.data(), b.size, b.goal_dim);
+  actions_ = Eigen::Map<const nn::Tensor>(b.action.data(), b.size, b.action_dim);
+  rewards_ = Eigen::Map<const nn::Tensor>(b.reward.data(), b.size, 1);
+}
+
+UpdateStats SacAgent::Update(const TrainingBatch& batch) {
+  LoadBatch(batch);
+  const auto& sac = config_.sac;
+  const int size = batch.size;
+  const float alpha = static_cast<float>(this->alpha());
+  UpdateStats stats;
+  stats.alpha = alpha;
+  stats.mean_reward = rewards_.mean();
+
+  // bellman targets: y = scale * r + discount * (min target Q(s', a') - alpha log pi(a'|s'));
+  // episodes end by time limit only, so every transition bootstraps
+  nn::Tensor targets;
+  {
+    tape_.Reset();
+    auto ent = tape_.Constant(next_entities_);
+    auto mask = tape_.Constant(mask_);
+    auto goals = tape_.Constant(goals_);
+    auto next = policy_.Forward(tape_, ent, mask, goals,
+                                nn::RandomNormal<float>(size, shape_.action_dim, rng_), false);
+    auto t1 = q1_target_.Forward(tape_, ent, mask, goals, next.action, false);
+    auto t2 = q2_target_.Forward(tape_, ent, mask, goals, next.action, false);
+    targets = static_cast<float>(sac.reward_scale) * rewards_.array() +
+              static_cast<float>(sac.discount) *
+                  (t1.value().array().min(t2.value().array()) - alpha * next.log_prob.value().array());
+  }
+
+  // critics
+  {
+    tape_.Reset();
+    auto ent = tape_.Constant(entities_);
+    auto mask = tape_.Constant(mask_);
+    auto goals = tape_.Constant(goals_);
+    auto actions = tape_.Constant(actions_);
+    auto y = tape_.Constant(targets);
+    auto q1 = q1_.Forward(tape_, ent, mask, goals, actions);
+    auto q2 = q2_.Forward(tape_, ent, mask, goals, actions);
+    auto loss = tape_.Add(tape_.Mean(tape_.Square(tape_.Sub(q1, y))),
+                          tape_.Mean(tape_.Square(tape_.Sub(q2, y))));
+    q_optimizer_->ZeroGrad();
+    tape_.Backward(loss);
+    if (sac.grad_clip_norm > 0) nn::ClipGradNorm(q_optimizer_->parameters(), sac.grad_clip_norm);
+    q_optimizer_->Step();
+    stats.q_loss = loss.value()(0, 0);
+    stats.mean_q = q1.value().mean();
+  }
+
+  // policy: minimise alpha log pi - min Q over reparameterised actions (critics frozen)
+  double mean_log_prob;
+  {
+    tape_.Reset();
+    auto ent = tape_.Constant(entities_);
+    auto mask = tape_.Constant(mask_);
+    auto goals = tape_.Constant(goals_);
+    auto pi = policy_.Forward(tape_, ent, mask, goals,
+                              nn::RandomNormal<float>(size, shape_.action_dim, rng_));
+    auto q1 = q1_.Forward(tape_, ent, mask, goals, pi.action, false);
+    auto q2 = q2_.Forward(tape_, ent, mask, goals, pi.action, false);
+    auto loss = tape_.Mean(tape_.Sub(tape_.MulScalar(pi.log_prob, alpha), tape_.Min(q1, q2)));
+    policy_optimizer_->ZeroGrad();
+    tape_.Backward(loss);
+    if (sac.grad_clip_norm > 0) nn::ClipGradNorm(policy_optimizer_->parameters(), sac.grad_clip_norm);
+    policy_optimizer_->Step();
+    stats.policy_loss = loss.value()(0, 0);
+    mean_log_prob = pi.log_prob.value().mean();
+    stats.entropy = -mean_log_prob;
+  }
+
+  // temperature: loss = -log_alpha * (log pi + target entropy), gradient by hand
+  if (sac.auto_entropy) {
+    log_alpha_.grad(0, 0) = static_cast<float>(-(mean_log_prob + sac.target_entropy));
+    alpha_optimizer_->Step();
+  }
+
+  nn::SoftUpdate(q1_target_.Parameters(), q1_.Parameters(), sac.tau);
+  nn::SoftUpdate(q2_target_.Parameters(), q2_.Parameters(), sac.tau);
+  return stats;
+}
+
+std::vector<float> SacAgent::PolicyWeights() { return nn::Flatten(policy_.Parameters()); }
+
+std::string SacAgent::PolicySignature() {
+  return "attention-policy/" + std::to_string(nn::SignatureHash(policy_.Parameters()));
+}
+
+void SacAgent::SaveCheckpoint(const std::string& path, const LearnerCounters& counters) {
+  auto section = [](const std::string& name, nn::ParameterList<float> params) {
+    return nn::CheckpointSection{name, nn::SignatureString(params), nn::Flatten(params)};
+  };
+  std::vector<nn::CheckpointSection> sections = {
+      section("policy", policy_.Parameters()),
+      section("q1", q1_.Parameters()),
+      section("q2", q2_.Parameters()),
+      section("q1_target", q1_target_.Parameters()),
+      section("q2_target", q2_target_.Parameters()),
+      section("log_alpha", {&log_alpha_}),
+      {"policy.adam", "", policy_optimizer_->ExportState()},
+      {"q.adam", "", q_optimizer_->ExportState()},
+      {"alpha.adam", "", alpha_optimizer_->ExportState()},
+      {"counters", "", PackCounters(counters)},
+  };
+  nn::WriteCheckpoint(path, sections);
+}
+
+LearnerCounters SacAgent::LoadCheckpoint(const std::string& path) {
+  const auto sections = nn::ReadCheckpoint(path);
+  // check every part before changing anything, so a bad file leaves the agent as it was
+  const std::pair<const char*, nn::ParameterList<float>> parts[] = {
+      {"policy", policy_.Parameters()},       {"q1", q1_.Parameters()},
+      {"q2", q2_.Parameters()},               {"q1_target", q1_target_.Parameters()},
+      {"q2_target", q2_target_.Parameters()}, {"log_alpha", {&log_alpha_}}};
+  for (const auto& [name, params] : parts) {
+    const auto& s = nn::FindSection(sections, name, path);
+    if (s.signature != nn::SignatureString(params))
+      throw nn::CheckpointError(path + ": section '" + name + "': architecture mismatch");
+  }
+  const LearnerCounters counters = UnpackCounters(nn::FindSection(sections, "counters", path).values, path);
+  for (const auto& [name, params] : parts) nn::LoadSection(nn::FindSection(sections, name, path), params, path);
+  try {
+    policy_optimizer_->ImportState(nn::FindSection(sections, "policy.adam", path).values);
+    q_optimizer_->ImportState(nn::FindSection(sections, "q.adam", path).values);
+    alpha_optimizer_->ImportState(nn::FindSection(sections, "alpha.adam", path).values);
+  } catch (const std::invalid_argument& e) {
+    throw nn::CheckpointError(path + ": optimizer state: " + e.what());
+  }
+  return counters;
+}
+
+}  // namespace srics::learner

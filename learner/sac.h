@@ -1,0 +1,87 @@
+#pragma once
+// Soft actor-critic on the goal-conditioned attention networks: twin Q functions with
+// target copies, automatic entropy tuning, every hyperparameter from config::AgentConfig.
+// One Update() is one gradient step of the critics, the policy and the temperature, then a
+// soft target update (srics-method.md section 3).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/config/agent_config.h"
+#include "common/nn/optim.h"
+#include "common/nn/tape.h"
+#include "common/rl/networks.h"
+#include "learner/relabeler.h"
+
+namespace srics::learner {
+
+// Sizes the networks need from the environment and method.
+struct AgentShape {
+  int entity_dim = 0;
+  int goal_dim = 0;
+  int action_dim = 2;
+};
+
+// The network configuration for a shape and the agent config (one place for the mapping).
+rl::AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape,
+                                             const config::AgentConfig& agent);
+
+struct UpdateStats {
+  double q_loss = 0;       // mean squared Bellman error, both critics summed
+  double policy_loss = 0;
+  double alpha = 0;
+  double entropy = 0;      // -mean log pi
+  double mean_q = 0;
+  double mean_reward = 0;
+};
+
+// Counters kept in checkpoints with the networks.
+struct LearnerCounters {
+  uint64_t updates = 0;
+  uint64_t transitions_inserted = 0;
+  uint64_t episodes_accepted = 0;
+  uint64_t policy_version = 0;
+  bool operator==(const LearnerCounters&) const = default;
+};
+
+class SacAgent {
+ public:
+  SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed);
+
+  // One SAC update on a relabeled batch.
+  UpdateStats Update(const TrainingBatch& batch);
+
+  // The policy's parameters as one flat vector and its architecture signature: what
+  // PolicyWeights carries to actors.
+  std::vector<float> PolicyWeights();
+  std::string PolicySignature();
+
+  // Checkpoint: every network, target network, optimizer state, the temperature and the
+  // counters. Written atomically; Load throws nn::CheckpointError naming what is wrong.
+  void SaveCheckpoint(const std::string& path, const LearnerCounters& counters);
+  LearnerCounters LoadCheckpoint(const std::string& path);
+
+  double alpha() const;
+  rl::PolicyNetwork<float>& policy() { return policy_; }
+  rl::QNetwork<float>& q1() { return q1_; }
+  const AgentShape& shape() const { return shape_; }
+
+ private:
+  void LoadBatch(const TrainingBatch& batch);
+
+  AgentShape shape_;
+  config::AgentConfig config_;
+  rl::AttentionNetworkConfig net_config_;
+  nn::Rng rng_;
+  rl::PolicyNetwork<float> policy_;
+  rl::QNetwork<float> q1_, q2_, q1_target_, q2_target_;
+  nn::Parameter<float> log_alpha_;
+  std::unique_ptr<nn::Adam<float>> policy_optimizer_, q_optimizer_, alpha_optimizer_;
+  nn::Tape<float> tape_;
+  // the current batch as matrices
+  nn::Tensor entities_, next_entities_, mask_, goals_, actions_, rewards_;
+};
+
+}  // namespace srics::learner
