@@ -92,10 +92,16 @@ struct Writer<T>::Impl {
         shutdown(&p.shutdown()),
         run_id(p.run_id()) {
     QosHolder qos{internal::CreateQos(Spec(TopicOf<T>::kId), internal::Side::kWriter, p.config())};
-    writer = Check(dds_create_writer(participant, topic.handle(), qos.qos, nullptr),
-                   ("dds_create_writer " + topic.name()).c_str());
+    // Cyclone takes the batching mode from the domain when the writer is created
+    if (options.batch) dds_write_set_batch(true);
+    writer = dds_create_writer(participant, topic.handle(), qos.qos, nullptr);
+    if (options.batch) dds_write_set_batch(false);
+    Check(writer, ("dds_create_writer " + topic.name()).c_str());
   }
-  ~Impl() { internal::DeleteEntity(&writer); }
+  ~Impl() {
+    if (options.batch && writer > 0) dds_write_flush(writer);
+    internal::DeleteEntity(&writer);
+  }
 
   // Stamps and validates as configured; returns what to send (msg itself or scratch).
   const T& Prepare(const T& msg) {
@@ -116,7 +122,11 @@ struct Writer<T>::Impl {
       }
     }
     if (options.validate) {
-      const Validation v = Validate(*result, "");
+      Validation v;
+      if constexpr (std::is_same_v<T, PolicyWeights>)
+        v = Validate(*result, "", /*verify_checksum=*/!options.stamp);  // stamped just now
+      else
+        v = Validate(*result, "");
       if (v.verdict == Verdict::kMalformed)
         throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + v.reason);
     }
@@ -173,6 +183,11 @@ WriteResult Writer<T>::Write(const T& msg) {
 }
 
 template <typename T>
+void Writer<T>::Flush() {
+  if (impl_->options.batch) dds_write_flush(impl_->writer);
+}
+
+template <typename T>
 uint32_t Writer<T>::matched_readers() const {
   dds_publication_matched_status_t status;
   Check(dds_get_publication_matched_status(impl_->writer, &status),
@@ -189,6 +204,7 @@ bool Writer<T>::WaitForReaders(uint32_t count, std::chrono::milliseconds timeout
 
 template <typename T>
 bool Writer<T>::WaitForAcks(std::chrono::milliseconds timeout) {
+  Flush();
   const dds_return_t ret = dds_wait_for_acks(impl_->writer, DDS_MSECS(timeout.count()));
   if (ret == DDS_RETCODE_TIMEOUT) return false;
   Check(ret, "dds_wait_for_acks");

@@ -52,6 +52,10 @@ struct WriterOptions {
   std::string topic_name;  // empty: the table's name (tests isolate themselves with others)
   bool stamp = true;       // set contract_version, run_id (and the PolicyWeights checksum)
   bool validate = true;    // throw InvalidMessage for what a reader would reject
+  // Packs consecutive samples into shared datagrams (Cyclone write batching) for bulk
+  // producers: a written sample may wait in this process until Flush(), a full datagram or
+  // the writer's destruction. Leave off for writers that publish now and then.
+  bool batch = false;
 };
 
 struct ReaderOptions {
@@ -97,6 +101,9 @@ class Writer {
   // Retries back-pressure until the sample is accepted (kSent) or shutdown is requested
   // (kShutdown: not sent). Never returns kBackPressure.
   [[nodiscard]] WriteResult Write(const T& msg);
+
+  // Sends what a batching writer holds back (no effect without WriterOptions::batch).
+  void Flush();
 
   // Readers currently matched (subscription side of the same topic and compatible QoS).
   uint32_t matched_readers() const;

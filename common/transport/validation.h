@@ -38,7 +38,8 @@ struct Validation {
 // sequence lengths match the declared layout; enums in range; every float finite; indices
 // and masks inside [0, N).
 Validation Validate(const Episode& msg, std::string_view run_id);
-Validation Validate(const PolicyWeights& msg, std::string_view run_id);
+// `verify_checksum` false skips the CRC (for a writer that has just computed it).
+Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool verify_checksum = true);
 Validation Validate(const InteractionGraph& msg, std::string_view run_id);
 Validation Validate(const EvalResult& msg, std::string_view run_id);
 Validation Validate(const LearnerStats& msg, std::string_view run_id);

@@ -1,0 +1,265 @@
+// ./tests/bench.sh transport: samples/s and MB/s from one writer process to one reader process
+// on loopback through srics_transport, for a 20-step 5-entity Episode and a 5 MB
+// PolicyWeights, and ddsperf (Cyclone's own tool, same XML profile) at the same payload sizes.
+// Prints a table, then one JSON line: {"bench":"transport", ..., "ratio": ours/ddsperf}.
+//
+//   bench_transport [--repeats N] [--episodes N] [--weights N] [--ddsperf-seconds S]
+//   bench_transport --reader KIND COUNT DOMAIN RUN_ID     (the child process)
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+#include "common/transport/transport.h"
+#include "tests/common/transport/peer_process.h"
+#include "tests/common/transport/test_samples.h"
+
+namespace {
+
+using namespace srics::transport;
+using Clock = std::chrono::steady_clock;
+using std::chrono::seconds;
+
+constexpr size_t kWeightBytes = 5 * 1024 * 1024;
+
+struct Options {
+  int repeats = 3;
+  uint64_t episodes = 60000;
+  uint64_t weights = 60;
+  int ddsperf_seconds = 4;
+};
+
+// One measured run: samples over the reader's first-to-last receive interval.
+struct Figure {
+  double samples_per_s = 0;
+  double mb_per_s = 0;
+  double delivered = 0;      // samples the reader got (weights: latest wins, some are skipped)
+  double written_per_s = 0;  // the writer's own pace
+};
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
+
+// Approximate CDR size of an episode (header, scalars, strings, sequences).
+size_t EpisodeBytes(const Episode& e) {
+  return 96 + e.run_id.size() + 2 * e.entity_kinds.size() +
+         4 * (e.states.size() + e.actions.size() + e.goal.size());
+}
+
+// ------------------------------------------------------------------- the reader process
+
+template <typename T>
+int RunReader(const Participant& participant, uint64_t count, size_t bytes_per_sample) {
+  Reader<T> reader(participant);
+  std::cout << "ready" << std::endl;
+  std::vector<T> batch;
+  uint64_t received = 0;
+  Clock::time_point first, last;
+  bool done = false;
+  while (!done) {
+    batch.clear();
+    const size_t n = reader.TakeMany(&batch, 64, seconds(30));
+    if (n == 0) return 4;
+    if (received == 0) first = Clock::now();
+    received += n;
+    last = Clock::now();
+    // weights are keep-last 1 (latest wins): stop at the last version, count what arrived
+    if constexpr (std::is_same_v<T, PolicyWeights>) done = batch.back().version == count;
+    else done = received >= count;
+  }
+  // the first sample's arrival starts the clock, so it does not count
+  const double s = std::chrono::duration<double>(last - first).count();
+  std::cout << "result " << (received - 1) / s << " " << (received - 1) * bytes_per_sample / s / 1e6
+            << " " << received << std::endl;
+  return 0;
+}
+
+int ReaderMain(const std::string& kind, uint64_t count, int domain, const std::string& run) {
+  srics::config::TransportConfig config;
+  config.domain_id = domain;
+  config.run_id = run;
+  config.episode_history_depth = 1024;
+  Participant participant(config);
+  if (kind == "episode")
+    return RunReader<Episode>(participant, count,
+                              EpisodeBytes(testing::MakeEpisode(run, 0)));
+  return RunReader<PolicyWeights>(participant, count, kWeightBytes);
+}
+
+// ------------------------------------------------------------------- the writer process
+
+std::string Self() {
+  char path[4096];
+  const ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
+  return n > 0 ? std::string(path, n) : "bench_transport";
+}
+
+template <typename T>
+std::optional<Figure> RunOnce(const std::string& kind, T sample, uint64_t count, int domain,
+                              bool batch) {
+  srics::config::TransportConfig config;
+  config.domain_id = domain;
+  config.run_id = "bench-" + std::to_string(getpid());
+  Participant participant(config);
+  WriterOptions options;
+  options.batch = batch;
+  Writer<T> writer(participant, options);
+  testing::PeerProcess reader(Self(), {"--reader", kind, std::to_string(count),
+                                       std::to_string(domain), config.run_id});
+  if (reader.ReadLine(seconds(20)) != "ready" || !writer.WaitForReaders(1, seconds(20))) return {};
+  const auto start = Clock::now();
+  for (uint64_t i = 0; i < count; ++i) {
+    if constexpr (std::is_same_v<T, PolicyWeights>) sample.version = i + 1;
+    if (writer.Write(sample) != WriteResult::kSent) return {};
+  }
+  const double write_s = std::chrono::duration<double>(Clock::now() - start).count();
+  (void)writer.WaitForAcks(seconds(60));
+  const auto line = reader.ReadLine(seconds(60));
+  if (!line || line->rfind("result ", 0) != 0) return {};
+  std::istringstream in(line->substr(7));
+  Figure f;
+  in >> f.samples_per_s >> f.mb_per_s >> f.delivered;
+  f.written_per_s = count / write_s;
+  reader.Wait(seconds(10));
+  return f;
+}
+
+// ----------------------------------------------------------------------------- ddsperf
+
+// Runs ddsperf sub and pub (reliable, keep-all) with `bytes` payload; the median of the
+// subscriber's full one-second rates.
+std::optional<Figure> RunDdsperf(size_t bytes, int domain, int duration_s, const std::string& xml) {
+  setenv("CYCLONEDDS_URI", ("file://" + xml).c_str(), 1);
+  const std::string d = std::to_string(domain);
+  testing::PeerProcess sub("/usr/bin/ddsperf",
+                           {"-i", d, "-D", std::to_string(duration_s + 1), "-k", "all", "sub"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  testing::PeerProcess pub("/usr/bin/ddsperf", {"-i", d, "-D", std::to_string(duration_s), "-k",
+                                                "all", "pub", "size", std::to_string(bytes)});
+  // "... size S total N lost L delta D lost L rate R kS/s B Mb/s (...)"
+  const std::regex rate(R"(size \d+ total \d+ lost \d+ delta \d+ lost \d+ rate ([0-9.]+) kS/s ([0-9.]+) Mb/s)");
+  std::vector<double> rates, mbits;
+  while (auto line = sub.ReadLine(seconds(duration_s + 10))) {
+    std::smatch m;
+    if (std::regex_search(*line, m, rate)) {
+      rates.push_back(std::stod(m[1]) * 1e3);
+      mbits.push_back(std::stod(m[2]));
+    }
+  }
+  pub.Wait(seconds(10));
+  sub.Wait(seconds(10));
+  unsetenv("CYCLONEDDS_URI");
+  // drop the first and last seconds (start-up, partial second)
+  if (rates.size() >= 3) {
+    rates = std::vector<double>(rates.begin() + 1, rates.end() - 1);
+    mbits = std::vector<double>(mbits.begin() + 1, mbits.end() - 1);
+  }
+  if (rates.empty()) return {};
+  return Figure{Median(rates), Median(mbits) / 8};
+}
+
+// ------------------------------------------------------------------------------- main
+
+struct Row {
+  std::string name;
+  size_t bytes;
+  std::vector<double> ours, ours_mb, ddsperf, ddsperf_mb;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.size() == 5 && args[0] == "--reader") {
+    try {
+      return ReaderMain(args[1], std::stoull(args[2]), std::stoi(args[3]), args[4]);
+    } catch (const std::exception& e) {
+      std::cerr << "reader: " << e.what() << "\n";
+      return 6;
+    }
+  }
+  Options o;
+  for (size_t i = 0; i + 1 < args.size(); i += 2) {
+    if (args[i] == "--repeats") o.repeats = std::stoi(args[i + 1]);
+    else if (args[i] == "--episodes") o.episodes = std::stoull(args[i + 1]);
+    else if (args[i] == "--weights") o.weights = std::stoull(args[i + 1]);
+    else if (args[i] == "--ddsperf-seconds") o.ddsperf_seconds = std::stoi(args[i + 1]);
+    else {
+      std::cerr << "unknown option " << args[i] << "\n";
+      return 2;
+    }
+  }
+  const std::string xml = std::string(SRICS_SOURCE_DIR) + "/deploy/cyclonedds/loopback.xml";
+  const Episode episode = testing::MakeEpisode("bench-" + std::to_string(getpid()), 0);
+  const PolicyWeights weights =
+      testing::MakePolicyWeights("bench-" + std::to_string(getpid()), 1, kWeightBytes / sizeof(float));
+  // ddsperf batches its writes, so the batched episode writer is the comparable figure
+  constexpr int kRows = 3;
+  Row rows[kRows] = {{"episode, batched writer", EpisodeBytes(episode), {}, {}, {}, {}},
+                     {"episode, unbatched writer", EpisodeBytes(episode), {}, {}, {}, {}},
+                     {"policy weights 5 MiB", kWeightBytes + 360, {}, {}, {}, {}}};
+  int domain = 20 + static_cast<int>(getpid() % 150);
+  for (int r = 0; r < o.repeats; ++r) {
+    for (int k = 0; k < kRows; ++k) {
+      std::optional<Figure> f = k < 2 ? RunOnce("episode", episode, o.episodes, domain++, k == 0)
+                                      : RunOnce("weights", weights, o.weights, domain++, false);
+      if (f) std::fprintf(stderr, "%s: writer %.0f/s, reader %.0f/s, %.0f delivered\n", rows[k].name.c_str(), f->written_per_s, f->samples_per_s, f->delivered);
+      if (f) {
+        rows[k].ours.push_back(f->samples_per_s);
+        rows[k].ours_mb.push_back(f->mb_per_s);
+      } else {
+        std::cerr << "run " << r << " of " << rows[k].name << " failed\n";
+      }
+      if (k == 1) {  // same payload size as row 0: one ddsperf run serves both
+        rows[1].ddsperf = rows[0].ddsperf;
+        rows[1].ddsperf_mb = rows[0].ddsperf_mb;
+        continue;
+      }
+      std::optional<Figure> p = RunDdsperf(rows[k].bytes, domain++, o.ddsperf_seconds, xml);
+      if (p) {
+        rows[k].ddsperf.push_back(p->samples_per_s);
+        rows[k].ddsperf_mb.push_back(p->mb_per_s);
+      } else {
+        std::cerr << "ddsperf run " << r << " at " << rows[k].bytes << " B failed\n";
+      }
+    }
+  }
+  std::printf("transport benchmark: one writer process -> one reader process, loopback, reliable "
+              "keep-all, medians of %d runs\n", o.repeats);
+  std::printf("%-32s %10s %14s %10s %14s %10s %7s\n", "payload", "bytes", "ours samples/s",
+              "ours MB/s", "ddsperf smp/s", "ddsp MB/s", "ratio");
+  double ratio[kRows];
+  for (int k = 0; k < kRows; ++k) {
+    const double ours = Median(rows[k].ours), ref = Median(rows[k].ddsperf);
+    ratio[k] = ref > 0 ? ours / ref : 0;
+    std::printf("%-32s %10zu %14.0f %10.1f %14.0f %10.1f %7.2f\n", rows[k].name.c_str(), rows[k].bytes,
+                ours, Median(rows[k].ours_mb), ref, Median(rows[k].ddsperf_mb), ratio[k]);
+  }
+  std::printf("{\"bench\":\"transport\",\"episode_bytes\":%zu,\"episodes_per_s\":%.0f,"
+              "\"episode_mb_per_s\":%.1f,\"episodes_per_s_unbatched\":%.0f,"
+              "\"ddsperf_episode_size_samples_per_s\":%.0f,\"ddsperf_episode_size_mb_per_s\":%.1f,"
+              "\"unbatched_ratio\":%.3f,"
+              "\"weights_bytes\":%zu,\"weights_per_s\":%.1f,\"weights_mb_per_s\":%.1f,"
+              "\"ddsperf_weights_size_samples_per_s\":%.1f,\"weights_ratio\":%.3f,"
+              "\"repeats\":%d,\"ratio\":%.3f}\n",
+              rows[0].bytes, Median(rows[0].ours), Median(rows[0].ours_mb), Median(rows[1].ours),
+              Median(rows[0].ddsperf), Median(rows[0].ddsperf_mb), ratio[1],
+              rows[2].bytes, Median(rows[2].ours), Median(rows[2].ours_mb), Median(rows[2].ddsperf),
+              ratio[2], o.repeats, ratio[0]);
+  return 0;
+}

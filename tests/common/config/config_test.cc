@@ -1,0 +1,270 @@
+// The config library: typed parsing, defaults, and errors that name file, line, key and
+// what was expected; `extends:` merging and "a.b=value" overrides.
+
+#include "common/config/config.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace srics::config {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh folder of YAML files for one test, removed afterwards.
+class ConfigFiles : public ::testing::Test {
+ protected:
+  ConfigFiles() {
+    dir_ = fs::temp_directory_path() /
+           ("srics-config-test-" + std::to_string(getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  ~ConfigFiles() override { fs::remove_all(dir_); }
+
+  std::string Write(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / name;
+    fs::create_directories(path.parent_path());
+    std::ofstream(path) << text;
+    return path.string();
+  }
+
+  fs::path dir_;
+};
+
+// The ConfigError message of `load`, or "" when it did not throw.
+template <typename F>
+std::string ErrorOf(F load) {
+  try {
+    load();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_F(ConfigFiles, EmptyFileGivesTheDefaults) {
+  const Config c = LoadConfig(Write("empty.yaml", ""));
+  EXPECT_EQ(c.transport.domain_id, TransportConfig{}.domain_id);
+  EXPECT_EQ(c.transport.profile, CycloneProfile::kLoopback);
+  EXPECT_EQ(c.run.seed, RunConfig{}.seed);
+  EXPECT_EQ(c.run.method, Method::kSrics);
+}
+
+TEST_F(ConfigFiles, ValuesAreParsedIntoTypedFields) {
+  const std::string file = Write("run.yaml",
+                                 "run:\n"
+                                 "  name: exp\n"
+                                 "  seed: 12345678901\n"
+                                 "  method: smorl\n"
+                                 "  log_to_file: false\n"
+                                 "transport:\n"
+                                 "  domain_id: 7\n"
+                                 "  run_id: abc\n"
+                                 "  profile: unicast\n"
+                                 "  peers: 10.0.0.1,10.0.0.2\n"
+                                 "  liveliness_lease_s: 1.5\n");
+  const Config c = LoadConfig(file);
+  EXPECT_EQ(c.run.name, "exp");
+  EXPECT_EQ(c.run.seed, 12345678901ull);
+  EXPECT_EQ(c.run.method, Method::kSmorl);
+  EXPECT_FALSE(c.run.log_to_file);
+  EXPECT_EQ(c.transport.domain_id, 7);
+  EXPECT_EQ(c.transport.run_id, "abc");
+  EXPECT_EQ(c.transport.profile, CycloneProfile::kUnicast);
+  EXPECT_EQ(c.transport.peers, "10.0.0.1,10.0.0.2");
+  EXPECT_DOUBLE_EQ(c.transport.liveliness_lease_s, 1.5);
+  EXPECT_EQ(c.source_file, file);
+  EXPECT_NE(c.effective_yaml.find("domain_id: 7"), std::string::npos);
+}
+
+// ------------------------------------------------------------------ the three error kinds
+
+TEST_F(ConfigFiles, TypoedKeyNamesFileLineKeyAndSuggestion) {
+  const std::string file = Write("typo.yaml",
+                                 "transport:\n"
+                                 "  domain_id: 3\n"
+                                 "  domian_id: 4\n");
+  const std::string message = ErrorOf([&] { LoadConfig(file); });
+  EXPECT_NE(message.find(file + ":3"), std::string::npos) << message;
+  EXPECT_NE(message.find("transport.domian_id"), std::string::npos) << message;
+  EXPECT_NE(message.find("unknown key"), std::string::npos) << message;
+  EXPECT_NE(message.find("did you mean 'domain_id'"), std::string::npos) << message;
+}
+
+TEST_F(ConfigFiles, TypoedSectionIsAnErrorToo) {
+  const std::string file = Write("typo.yaml", "trasport:\n  domain_id: 3\n");
+  const std::string message = ErrorOf([&] { LoadConfig(file); });
+  EXPECT_NE(message.find(file + ":1"), std::string::npos) << message;
+  EXPECT_NE(message.find("trasport: unknown key (did you mean 'transport'?)"), std::string::npos)
+      << message;
+}
+
+TEST_F(ConfigFiles, FarFetchedKeyGetsNoSuggestion) {
+  const std::string message =
+      ErrorOf([&] { LoadConfig(Write("far.yaml", "transport:\n  completely_else: 1\n")); });
+  EXPECT_NE(message.find("transport.completely_else: unknown key"), std::string::npos) << message;
+  EXPECT_EQ(message.find("did you mean"), std::string::npos) << message;
+}
+
+TEST_F(ConfigFiles, WrongTypeNamesFileLineKeyExpectationAndValue) {
+  const std::string file = Write("type.yaml",
+                                 "run:\n"
+                                 "  name: x\n"
+                                 "transport:\n"
+                                 "  domain_id: seven\n");
+  const std::string message = ErrorOf([&] { LoadConfig(file); });
+  EXPECT_EQ(message, file + ":4: transport.domain_id: expected an integer in [0, 232], got 'seven'");
+}
+
+TEST_F(ConfigFiles, OutOfRangeNamesFileLineKeyAndRange) {
+  const std::string file = Write("range.yaml", "transport:\n  liveliness_lease_s: 0.001\n");
+  const std::string message = ErrorOf([&] { LoadConfig(file); });
+  EXPECT_EQ(message,
+            file + ":2: transport.liveliness_lease_s: expected a number in [0.05, 3600], got '0.001'");
+}
+
+TEST_F(ConfigFiles, OtherTypeErrors) {
+  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("a.yaml", "transport:\n  profile: wifi\n")); })
+                .find("transport.profile: expected one of 'loopback' 'lan' 'unicast' 'file' "
+                      "'environment', got 'wifi'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("b.yaml", "run:\n  log_to_file: maybe\n")); })
+                .find("run.log_to_file: expected true or false, got 'maybe'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("c.yaml", "run:\n  seed: -3\n")); })
+                .find("run.seed: expected a non-negative integer, got '-3'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("d.yaml", "transport: [1, 2]\n")); })
+                .find("transport: expected a mapping, got a list"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("e.yaml", "run:\n  name: [a]\n")); })
+                .find("run.name: expected a non-empty string, got a list"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("f.yaml", "transport:\n  domain_id: 1.5\n")); })
+                .find("got '1.5'"),
+            std::string::npos);
+}
+
+TEST_F(ConfigFiles, CrossFieldRulesNameTheKey) {
+  const std::string file = Write("rule.yaml", "transport:\n  profile: unicast\n");
+  const std::string message = ErrorOf([&] { LoadConfig(file); });
+  EXPECT_NE(message.find(file), std::string::npos) << message;
+  EXPECT_NE(message.find("transport.peers: profile 'unicast' needs peers"), std::string::npos)
+      << message;
+}
+
+TEST_F(ConfigFiles, InvalidYamlAndMissingFile) {
+  const std::string file = Write("bad.yaml", "transport:\n  domain_id: [1\n");
+  const std::string message = ErrorOf([&] { LoadConfig(file); });
+  EXPECT_NE(message.find(file + ":"), std::string::npos) << message;
+  EXPECT_NE(message.find("not valid YAML"), std::string::npos) << message;
+  EXPECT_NE(ErrorOf([&] { LoadConfig((dir_ / "nope.yaml").string()); }).find("no such config file"),
+            std::string::npos);
+}
+
+// ------------------------------------------------------------------------------- extends
+
+TEST_F(ConfigFiles, ExtendsMergesKeyByKeyAndTheExtendingFileWins) {
+  Write("base/base.yaml",
+        "run:\n"
+        "  name: base\n"
+        "  seed: 5\n"
+        "transport:\n"
+        "  domain_id: 10\n"
+        "  run_id: base-run\n");
+  const std::string top = Write("top.yaml",
+                                "extends: base/base.yaml\n"
+                                "transport:\n"
+                                "  domain_id: 11\n");
+  const Config c = LoadConfig(top);
+  EXPECT_EQ(c.transport.domain_id, 11);          // overridden
+  EXPECT_EQ(c.transport.run_id, "base-run");     // kept from the base (same mapping)
+  EXPECT_EQ(c.run.name, "base");                 // kept from the base (other mapping)
+  EXPECT_EQ(c.run.seed, 5u);
+}
+
+TEST_F(ConfigFiles, ExtendsChainsAndErrorsNameTheFileTheKeyCameFrom) {
+  const std::string base = Write("base.yaml",
+                                 "run:\n"
+                                 "  name: base\n"
+                                 "transport:\n"
+                                 "  max_participants_per_host: 5000\n");
+  Write("middle.yaml", "extends: base.yaml\nrun:\n  seed: 9\n");
+  const std::string top = Write("top.yaml", "extends: middle.yaml\ntransport:\n  domain_id: 3\n");
+  const std::string message = ErrorOf([&] { LoadConfig(top); });
+  // the bad value lives on line 4 of base.yaml, not in top.yaml
+  EXPECT_EQ(message, base + ":4: transport.max_participants_per_host: expected an integer in "
+                            "[1, 1000], got '5000'");
+}
+
+TEST_F(ConfigFiles, UnknownKeyInBaseFileNamesTheBase) {
+  const std::string base = Write("base.yaml", "transport:\n  domain: 3\n");
+  const std::string top = Write("top.yaml", "extends: base.yaml\ntransport:\n  domain_id: 4\n");
+  const std::string message = ErrorOf([&] { LoadConfig(top); });
+  EXPECT_NE(message.find(base + ":2: transport.domain: unknown key"), std::string::npos) << message;
+}
+
+TEST_F(ConfigFiles, ExtendsCycleAndBadExtends) {
+  Write("a.yaml", "extends: b.yaml\n");
+  const std::string b = Write("b.yaml", "extends: a.yaml\n");
+  EXPECT_NE(ErrorOf([&] { LoadConfig(b); }).find("deeper than 8"), std::string::npos);
+  const std::string bad = Write("c.yaml", "extends: [x]\n");
+  EXPECT_NE(ErrorOf([&] { LoadConfig(bad); }).find("extends: expected a file name"),
+            std::string::npos);
+  const std::string missing = Write("d.yaml", "extends: missing.yaml\n");
+  EXPECT_NE(ErrorOf([&] { LoadConfig(missing); }).find("missing.yaml: no such config file"),
+            std::string::npos);
+}
+
+// ----------------------------------------------------------------------------- overrides
+
+TEST_F(ConfigFiles, OverridesApplyOnTopOfFiles) {
+  const std::string file = Write("run.yaml", "transport:\n  domain_id: 3\n  run_id: a\n");
+  const Config c = LoadConfig(file, {"transport.domain_id=9", "run.seed=77", "run.method=sac_her"});
+  EXPECT_EQ(c.transport.domain_id, 9);
+  EXPECT_EQ(c.transport.run_id, "a");  // a sibling of an overridden key survives
+  EXPECT_EQ(c.run.seed, 77u);
+  EXPECT_EQ(c.run.method, Method::kSacHer);
+}
+
+TEST_F(ConfigFiles, OverrideErrorsNameTheCommandLine) {
+  const std::string file = Write("run.yaml", "transport:\n  domain_id: 3\n");
+  const std::string message = ErrorOf([&] { LoadConfig(file, {"transport.domain_id=500"}); });
+  EXPECT_EQ(message, "command line: transport.domain_id: expected an integer in [0, 232], got '500'");
+  const std::string typo = ErrorOf([&] { LoadConfig(file, {"transport.domainid=5"}); });
+  EXPECT_NE(typo.find("command line: transport.domainid: unknown key (did you mean 'domain_id'?)"),
+            std::string::npos)
+      << typo;
+  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"no-equals-sign"}); }).find("expected key.path=value"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"transport..domain_id=1"}); }).find("empty key"),
+            std::string::npos);
+}
+
+TEST_F(ConfigFiles, OverrideReplacesAWholeMappingWithAScalarOnlyWhenAsked) {
+  const std::string file = Write("run.yaml", "transport:\n  domain_id: 3\n");
+  const std::string message = ErrorOf([&] { LoadConfig(file, {"transport=5"}); });
+  EXPECT_NE(message.find("transport: expected a mapping"), std::string::npos) << message;
+}
+
+// ------------------------------------------------------------------------- ParseConfig
+
+TEST(ParseConfigTest, TextUsesTheGivenNameInErrors) {
+  const std::string message = [] {
+    try {
+      ParseConfig("transport:\n  domain_id: -1\n", "received.yaml");
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  }();
+  EXPECT_EQ(message, "received.yaml:2: transport.domain_id: expected an integer in [0, 232], got '-1'");
+  EXPECT_EQ(ParseConfig("transport:\n  domain_id: 4\n", "x").transport.domain_id, 4);
+}
+
+}  // namespace
+}  // namespace srics::config
