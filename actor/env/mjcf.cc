@@ -55,7 +55,7 @@ std::string GenerateRearrangeMjcf(const config::EnvConfig& c) {
   std::ostringstream x;
   x.precision(17);
   x << "<mujoco model=\"rearrange\">\n"
-    << "  <compiler angle=\"radian\" inertiafromgeom=\"true\"/>\n"
+    << "  <compiler angle=\"radian\" inertiafromgeom=\"auto\"/>\n"
     << "  <option timestep=\"" << c.physics.timestep << "\" integrator=\"Euler\" iterations=\""
     << c.physics.solver_iterations << "\"/>\n"
     << "  <size njmax=\"500\" nconmax=\"200\"/>\n"
@@ -129,7 +129,8 @@ std::string GenerateRearrangeMjcf(const config::EnvConfig& c) {
     x << "  <tendon>\n";
     for (const auto& k : c.connections) {
       if (k.kind == ConnectionKind::kRope) {
-        x << "    <spatial limited=\"true\" range=\"0 " << k.length << "\" width=\"0.005\">\n";
+        x << "    <spatial limited=\"true\" range=\"0 " << k.length << "\" solreflimit=\""
+          << k.limit_timeconst << " 1\" width=\"0.005\">\n";
       } else {
         x << "    <spatial stiffness=\"" << k.stiffness << "\" damping=\"" << k.damping
           << "\" springlength=\"" << k.length << "\" width=\"0.005\">\n";

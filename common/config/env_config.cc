@@ -219,6 +219,7 @@ void ParseConnection(YamlSection s, ConnectionConfig* k) {
   s.ReadEnum<ConnectionKind>("kind", &k->kind,
                              {{"rope", ConnectionKind::kRope}, {"spring", ConnectionKind::kSpring}});
   s.ReadDouble("length", &k->length, 1e-3, 1.0);
+  s.ReadDouble("limit_timeconst", &k->limit_timeconst, 1e-4, 1);
   s.ReadDouble("stiffness", &k->stiffness, 0, 1e6);
   s.ReadDouble("damping", &k->damping, 0, 1e6);
   s.Finish();

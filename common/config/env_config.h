@@ -42,6 +42,9 @@ struct ConnectionConfig {
   int second = 3;
   ConnectionKind kind = ConnectionKind::kRope;
   double length = 0.13;     // rope length or spring rest length; goal rule uses it too
+  // time constant of the rope's soft length limit (MuJoCo solreflimit, damping ratio 1);
+  // MuJoCo's default 0.02 lets a hard pull stretch the rope by ~1 cm, 0.005 by a few mm
+  double limit_timeconst = 0.005;
   double stiffness = 20.0;  // N/m, spring only
   double damping = 1.0;     // N s/m, spring only
 };
@@ -78,7 +81,9 @@ struct HandConfig {
   std::vector<double> mocap_low = {-0.245, 0.40};
   std::vector<double> mocap_high = {0.245, 0.75};
   double weld_timeconst = 0.01;  // weld solref (time constant, damping ratio 1)
-  double mass = 1.0;             // kg of the welded hand body
+  // kg of the welded hand body. The weld's force scales with this mass: at 1 kg the hand
+  // squeezes a puck 3.5 cm into a wall; at 0.1 kg contacts win (< 5 mm) and pushing works
+  double mass = 0.1;
   // collision footprint: a box (half sizes x, y, z) centred on the hand point
   std::vector<double> half_size = {0.02, 0.02, 0.015};
 };

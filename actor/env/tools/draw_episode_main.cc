@@ -81,15 +81,13 @@ int main(int argc, char** argv) {
         action = {env::Uniform(rng, -1, 1), env::Uniform(rng, -1, 1)};
       } else {
         // the first movable object away from its goal, else the hand home
-        action = env::ReachAction(pos[0], trace.goals[0], cfg.env.hand.action_scale);
+        const auto home = env::ReachAction(pos[0], trace.goals[0], cfg.env.hand.action_scale);
+        action = {0.3 * home[0], 0.3 * home[1]};
         for (size_t k = 1; k < pos.size(); ++k) {
           const auto& o = objects[trace.present[k - 1] - 1];
           const double d = std::hypot(pos[k][0] - trace.goals[k][0], pos[k][1] - trace.goals[k][1]);
-          if (o.is_static || d < 0.02) continue;
-          env::PushGeometry g;
-          g.object_radius = config::BoundingRadius(o);
-          g.hand_half_width = std::max(cfg.env.hand.half_size[0], cfg.env.hand.half_size[1]);
-          g.action_scale = cfg.env.hand.action_scale;
+          const env::PushGeometry g = env::MakePushGeometry(cfg.env, trace.present[k - 1]);
+          if (o.is_static || d < 2 * g.done_tolerance) continue;
           action = env::PushAction(pos[0], pos[k], trace.goals[k], g);
           break;
         }

@@ -1,0 +1,148 @@
+// The samplers obey their spacing, box and connection rules over many draws, and are pure
+// functions of their random generator.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "actor/env/sampling.h"
+#include "common/config/config.h"
+
+namespace srics::env {
+namespace {
+
+using config::EnvConfig;
+
+EnvConfig Preset(const std::string& name) {
+  return config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/" + name + ".yaml")
+      .env;
+}
+
+double Dist(const Vec2& a, const Vec2& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+
+// Runs 1000 draws of initial positions and goals of `c` and checks every rule.
+void CheckThousandDraws(const EnvConfig& c) {
+  const auto objects = config::EffectiveObjects(c);
+  const Vec2 hand{c.hand.start[0], c.hand.start[1]};
+  Rng rng(12345);
+  for (int draw = 0; draw < 1000; ++draw) {
+    const std::vector<int> present = SampleObjectSet(c, false, rng);
+    const auto init = SampleInitialPositions(c, present, rng);
+    const auto goals = SampleGoals(c, present, init, rng);
+    ASSERT_EQ(init.size(), present.size());
+    ASSERT_EQ(goals.size(), present.size() + 1);
+    EXPECT_EQ(goals[0], hand);  // the hand's goal is its start
+    for (size_t i = 0; i < present.size(); ++i) {
+      const double ri = config::BoundingRadius(objects[present[i] - 1]);
+      const double extra_i = std::max(0.0, ri - c.sampling.reference_radius);
+      // inside the sampling boxes
+      EXPECT_GE(init[i][0], c.sampling.init_low[0]);
+      EXPECT_LE(init[i][0], c.sampling.init_high[0]);
+      EXPECT_GE(init[i][1], c.sampling.init_low[1]);
+      EXPECT_LE(init[i][1], c.sampling.init_high[1]);
+      EXPECT_GE(goals[i + 1][0], c.sampling.goal_low[0]);
+      EXPECT_LE(goals[i + 1][0], c.sampling.goal_high[0]);
+      EXPECT_GE(goals[i + 1][1], c.sampling.goal_low[1]);
+      EXPECT_LE(goals[i + 1][1], c.sampling.goal_high[1]);
+      // away from the hand
+      EXPECT_GE(Dist(init[i], hand), c.sampling.init_min_hand_distance + extra_i);
+      EXPECT_GE(Dist(goals[i + 1], goals[0]), c.sampling.goal_min_hand_distance + extra_i);
+      // apart from each other
+      for (size_t j = 0; j < i; ++j) {
+        const double rj = config::BoundingRadius(objects[present[j] - 1]);
+        EXPECT_GE(Dist(init[i], init[j]),
+                  RequiredDistance(c.sampling, c.sampling.init_min_object_distance, ri, rj));
+        EXPECT_GE(Dist(goals[i + 1], goals[j + 1]),
+                  RequiredDistance(c.sampling, c.sampling.goal_min_object_distance, ri, rj));
+        EXPECT_GE(Dist(init[i], init[j]), ri + rj);  // never overlapping
+      }
+    }
+    // connections: start within the link, goals exactly one link apart
+    for (const auto& link : c.connections) {
+      int a = -1, b = -1;
+      for (size_t k = 0; k < present.size(); ++k) {
+        if (present[k] == link.first) a = static_cast<int>(k);
+        if (present[k] == link.second) b = static_cast<int>(k);
+      }
+      ASSERT_GE(a, 0);
+      ASSERT_GE(b, 0);
+      EXPECT_LE(Dist(init[a], init[b]), link.length + 1e-12);
+      EXPECT_NEAR(Dist(goals[a + 1], goals[b + 1]), link.length, 1e-12);
+    }
+    if (::testing::Test::HasFailure()) FAIL() << "draw " << draw;
+  }
+}
+
+TEST(SamplingTest, Rearrange4SpacingOverThousandDraws) { CheckThousandDraws(Preset("rearrange-4")); }
+
+TEST(SamplingTest, Relational4RopeRuleOverThousandDraws) {
+  CheckThousandDraws(Preset("relational-4"));
+}
+
+TEST(SamplingTest, DifferentObjectsOverThousandDraws) { CheckThousandDraws(Preset("different-6")); }
+
+TEST(SamplingTest, CombinationsOverThousandDraws) {
+  CheckThousandDraws(Preset("rearrange-4-combinations"));
+}
+
+TEST(SamplingTest, ObjectSetsDrawOnlyTheirSplit) {
+  const EnvConfig c = Preset("rearrange-4-combinations");
+  Rng rng(7);
+  std::set<std::vector<int>> seen;
+  for (int i = 0; i < 300; ++i) {
+    const auto set = SampleObjectSet(c, false, rng);
+    EXPECT_NE(set, (std::vector<int>{2, 3, 4}));  // the held-out one never trains
+    seen.insert(set);
+  }
+  EXPECT_EQ(seen.size(), 3u);  // every training combination comes up
+  for (int i = 0; i < 10; ++i)
+    EXPECT_EQ(SampleObjectSet(c, true, rng), (std::vector<int>{2, 3, 4}));
+  // no sets: every object
+  EXPECT_EQ(SampleObjectSet(Preset("rearrange-3"), false, rng), (std::vector<int>{1, 2, 3}));
+}
+
+TEST(SamplingTest, SubgoalsCoverTheirBoxOnly) {
+  const config::SamplingConfig s;
+  Rng rng(3);
+  double min_x = 1, max_x = -1, min_y = 1, max_y = -1;
+  for (int i = 0; i < 1000; ++i) {
+    const Vec2 g = SampleSubgoal(s, rng);
+    min_x = std::min(min_x, g[0]), max_x = std::max(max_x, g[0]);
+    min_y = std::min(min_y, g[1]), max_y = std::max(max_y, g[1]);
+  }
+  EXPECT_GE(min_x, -0.2);
+  EXPECT_LE(max_x, 0.2);
+  EXPECT_GE(min_y, 0.45);
+  EXPECT_LE(max_y, 0.7);
+  EXPECT_LT(min_x, -0.19);  // and fills it
+  EXPECT_GT(max_x, 0.19);
+  EXPECT_LT(min_y, 0.46);
+  EXPECT_GT(max_y, 0.69);
+}
+
+TEST(SamplingTest, SameGeneratorStateSameSamples) {
+  const EnvConfig c = Preset("relational-4");
+  Rng a(99), b(99);
+  const std::vector<int> present{1, 2, 3, 4};
+  const auto ia = SampleInitialPositions(c, present, a);
+  const auto ib = SampleInitialPositions(c, present, b);
+  EXPECT_EQ(ia, ib);
+  EXPECT_EQ(SampleGoals(c, present, ia, a), SampleGoals(c, present, ib, b));
+  // and the uniform helper is exactly the documented 53-bit construction
+  Rng r(1), s(1);
+  EXPECT_EQ(Uniform(r, 0, 1), static_cast<double>(s() >> 11) * 0x1.0p-53);
+}
+
+TEST(SamplingTest, StaticObjectGoalCanStayAtItsStart) {
+  EnvConfig c = Preset("relational-4");
+  c.sampling.static_object_random_goal = false;
+  Rng rng(5);
+  const std::vector<int> present{1, 2, 3, 4};
+  const auto init = SampleInitialPositions(c, present, rng);
+  const auto goals = SampleGoals(c, present, init, rng);
+  EXPECT_EQ(goals[1], init[0]);
+}
+
+}  // namespace
+}  // namespace srics::env
