@@ -52,13 +52,20 @@ void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
       for (auto o = origins->begin(); o != origins->end();) {
         if (o->first.rfind(key_path + ".", 0) == 0) o = origins->erase(o); else ++o;
       }
-      std::function<void(const YAML::Node&, const std::string&)> mark =
-          [&](const YAML::Node& n, const std::string& p) {
-            (*origins)[p] = *file;
+      // YAML::Clone drops positions, so the line of each key is taken here from the original
+      const bool has_lines = *file != "command line";
+      auto line_of = [&](const YAML::Node& n) { return has_lines ? n.Mark().line + 1 : 0; };
+      std::function<void(const YAML::Node&, const std::string&, int)> mark =
+          [&](const YAML::Node& n, const std::string& p, int line) {
+            (*origins)[p] = Origin{*file, line};
             if (n.IsMap())
-              for (auto c = n.begin(); c != n.end(); ++c) mark(c->second, Join(p, c->first.as<std::string>()));
+              for (auto c = n.begin(); c != n.end(); ++c)
+                mark(c->second, Join(p, c->first.as<std::string>()), line_of(c->first));
+            if (n.IsSequence())
+              for (size_t i = 0; i < n.size(); ++i)
+                mark(n[i], p + "[" + std::to_string(i) + "]", line_of(n[i]));
           };
-      mark(it->second, key_path);
+      mark(it->second, key_path, line_of(it->first));
     }
   }
 }
@@ -119,25 +126,34 @@ YamlSection::YamlSection(YAML::Node node, std::string path,
 std::string YamlSection::KeyPath(const std::string& key) const { return Join(path_, key); }
 
 std::string YamlSection::Where(const std::string& key) const {
-  std::string file = default_file_;
-  if (origins_) {
-    // the deepest recorded prefix of this key path names the file it came from
-    std::string p = key.empty() ? path_ : KeyPath(key);
+  if (origins_ && !origins_->empty()) {
+    // merged files: the deepest recorded prefix of this key path names the file it came
+    // from; its line is known only for the key itself (merged nodes have no positions)
+    const std::string full = key.empty() ? path_ : KeyPath(key);
+    std::string p = full;
     while (true) {
       auto it = origins_->find(p);
       if (it != origins_->end()) {
-        file = it->second;
-        break;
+        const Origin& origin = it->second;
+        if (p == full && origin.line > 0) return origin.file + ":" + std::to_string(origin.line);
+        return origin.file;
       }
       size_t dot = p.rfind('.');
       if (dot == std::string::npos) break;
       p = p.substr(0, dot);
     }
+    return default_file_;
   }
-  YAML::Node value = (!key.empty() && node_.IsMap()) ? YAML::Node(node_[key]) : node_;
-  if (value.IsDefined() && value.Mark().line >= 0 && file != "command line")
-    return file + ":" + std::to_string(value.Mark().line + 1);
-  return file;
+  // one parsed text: the nodes still carry their positions; prefer the key's own line
+  if (!key.empty() && node_.IsMap()) {
+    for (auto it = node_.begin(); it != node_.end(); ++it)
+      if (it->first.IsScalar() && it->first.Scalar() == key && it->first.Mark().line >= 0)
+        return default_file_ + ":" + std::to_string(it->first.Mark().line + 1);
+    return default_file_;
+  }
+  if (node_.IsDefined() && node_.Mark().line >= 0)
+    return default_file_ + ":" + std::to_string(node_.Mark().line + 1);
+  return default_file_;
 }
 
 bool YamlSection::Has(const std::string& key) const {

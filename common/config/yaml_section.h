@@ -21,8 +21,16 @@
 
 namespace srics::config {
 
-// Where each key path came from (file name, "command line", ...), filled when files are merged.
-using OriginMap = std::map<std::string, std::string>;
+// Where a key path came from: the file (or "command line") and the 1-based line of the key
+// in it (0 = unknown). Recorded while files are merged, because merged nodes are copies that
+// no longer carry their position.
+struct Origin {
+  std::string file;
+  int line = 0;
+};
+
+// Origins by key path ("transport.domain_id", "actors.list[0].name"), filled when merging.
+using OriginMap = std::map<std::string, Origin>;
 
 class YamlSection {
  public:

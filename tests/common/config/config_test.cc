@@ -212,12 +212,22 @@ TEST_F(ConfigFiles, ExtendsCycleAndBadExtends) {
   Write("a.yaml", "extends: b.yaml\n");
   const std::string b = Write("b.yaml", "extends: a.yaml\n");
   EXPECT_NE(ErrorOf([&] { LoadConfig(b); }).find("deeper than 8"), std::string::npos);
-  const std::string bad = Write("c.yaml", "extends: [x]\n");
+  const std::string bad = Write("c.yaml", "extends: {a: 1}\n");
   EXPECT_NE(ErrorOf([&] { LoadConfig(bad); }).find("extends: expected a file name"),
             std::string::npos);
   const std::string missing = Write("d.yaml", "extends: missing.yaml\n");
   EXPECT_NE(ErrorOf([&] { LoadConfig(missing); }).find("missing.yaml: no such config file"),
             std::string::npos);
+}
+
+TEST_F(ConfigFiles, ExtendsListMergesInOrderLaterWins) {
+  Write("a.yaml", "transport:\n  domain_id: 1\n  run_id: from-a\n");
+  Write("b.yaml", "transport:\n  domain_id: 2\n");
+  const std::string top = Write("top.yaml", "extends: [a.yaml, b.yaml]\nrun:\n  seed: 3\n");
+  const Config c = LoadConfig(top);
+  EXPECT_EQ(c.transport.domain_id, 2);
+  EXPECT_EQ(c.transport.run_id, "from-a");
+  EXPECT_EQ(c.run.seed, 3u);
 }
 
 // ----------------------------------------------------------------------------- overrides
