@@ -52,7 +52,8 @@ void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
       for (auto o = origins->begin(); o != origins->end();) {
         if (o->first.rfind(key_path + ".", 0) == 0) o = origins->erase(o); else ++o;
       }
-      // YAML::Clone drops positions, so the line of each key is taken here from the original
+      // YAML::Clone drops positions, so the line of each value is taken here from the
+      // original (as for a parsed text: a mapping or list starts at its first item)
       const bool has_lines = *file != "command line";
       auto line_of = [&](const YAML::Node& n) { return has_lines ? n.Mark().line + 1 : 0; };
       std::function<void(const YAML::Node&, const std::string&, int)> mark =
@@ -60,12 +61,12 @@ void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
             (*origins)[p] = Origin{*file, line};
             if (n.IsMap())
               for (auto c = n.begin(); c != n.end(); ++c)
-                mark(c->second, Join(p, c->first.as<std::string>()), line_of(c->first));
+                mark(c->second, Join(p, c->first.as<std::string>()), line_of(c->second));
             if (n.IsSequence())
               for (size_t i = 0; i < n.size(); ++i)
                 mark(n[i], p + "[" + std::to_string(i) + "]", line_of(n[i]));
           };
-      mark(it->second, key_path, line_of(it->first));
+      mark(it->second, key_path, line_of(it->second));
     }
   }
 }
@@ -144,15 +145,11 @@ std::string YamlSection::Where(const std::string& key) const {
     }
     return default_file_;
   }
-  // one parsed text: the nodes still carry their positions; prefer the key's own line
-  if (!key.empty() && node_.IsMap()) {
-    for (auto it = node_.begin(); it != node_.end(); ++it)
-      if (it->first.IsScalar() && it->first.Scalar() == key && it->first.Mark().line >= 0)
-        return default_file_ + ":" + std::to_string(it->first.Mark().line + 1);
-    return default_file_;
-  }
-  if (node_.IsDefined() && node_.Mark().line >= 0)
-    return default_file_ + ":" + std::to_string(node_.Mark().line + 1);
+  // one parsed text: the nodes still carry their positions
+  const YAML::Node& const_node = node_;
+  YAML::Node value = (!key.empty() && node_.IsMap()) ? YAML::Node(const_node[key]) : node_;
+  if (value.IsDefined() && value.Mark().line >= 0)
+    return default_file_ + ":" + std::to_string(value.Mark().line + 1);
   return default_file_;
 }
 

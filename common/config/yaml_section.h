@@ -21,7 +21,7 @@
 
 namespace srics::config {
 
-// Where a key path came from: the file (or "command line") and the 1-based line of the key
+// Where a key path came from: the file (or "command line") and the 1-based line of its value
 // in it (0 = unknown). Recorded while files are merged, because merged nodes are copies that
 // no longer carry their position.
 struct Origin {

@@ -250,6 +250,9 @@ int main(int argc, char** argv) {
     std::printf("%-32s %10zu %14.0f %10.1f %14.0f %10.1f %7.2f\n", rows[k].name.c_str(), rows[k].bytes,
                 ours, Median(rows[k].ours_mb), ref, Median(rows[k].ddsperf_mb), ratio[k]);
   }
+  std::printf("ddsperf batches its writes: compare it with the batched row (\"ratio\"). Weights are\n"
+              "keep-last 1 (latest wins): their rate counts the distinct samples the reader got while\n"
+              "the writer published as fast as it could; ddsperf's is keep-all.\n");
   std::printf("{\"bench\":\"transport\",\"episode_bytes\":%zu,\"episodes_per_s\":%.0f,"
               "\"episode_mb_per_s\":%.1f,\"episodes_per_s_unbatched\":%.0f,"
               "\"ddsperf_episode_size_samples_per_s\":%.0f,\"ddsperf_episode_size_mb_per_s\":%.1f,"
