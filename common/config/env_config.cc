@@ -196,7 +196,7 @@ EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
 
 namespace {
 
-void ParseObject(YamlSection s, ObjectConfig* o) {
+void ParseObject(YamlSection& s, ObjectConfig* o) {
   s.ReadEnum<ObjectShape>("shape", &o->shape,
                           {{"cylinder", ObjectShape::kCylinder}, {"box", ObjectShape::kBox}});
   s.ReadDouble("size", &o->size, 1e-4, 1.0);
@@ -209,7 +209,7 @@ void ParseObject(YamlSection s, ObjectConfig* o) {
   s.Finish();
 }
 
-void ParseConnection(YamlSection s, ConnectionConfig* k) {
+void ParseConnection(YamlSection& s, ConnectionConfig* k) {
   std::vector<int> objects;
   if (!s.Has("objects")) s.FailRule("objects", "missing: expected [first, second] entity numbers");
   s.ReadIntList("objects", &objects, 1, 6);
@@ -241,9 +241,12 @@ void ParseObjectSets(YamlSection& s, const std::string& key, std::vector<std::ve
 
 void ParseEnv(YamlSection s, EnvConfig* out) {
   s.ReadInt("num_pucks", &out->num_pucks, 1, 6);
+  // the items are kept so that a broken rule can name the item's own line
+  std::vector<YamlSection> object_items, connection_items;
   if (s.Has("objects")) {
     out->objects.clear();
-    for (YamlSection item : s.ChildList("objects")) {
+    object_items = s.ChildList("objects");
+    for (YamlSection& item : object_items) {
       ObjectConfig object;
       ParseObject(item, &object);
       out->objects.push_back(std::move(object));
@@ -257,7 +260,8 @@ void ParseEnv(YamlSection s, EnvConfig* out) {
   }
   if (s.Has("connections")) {
     out->connections.clear();
-    for (YamlSection item : s.ChildList("connections")) {
+    connection_items = s.ChildList("connections");
+    for (YamlSection& item : connection_items) {
       ConnectionConfig connection;
       ParseConnection(item, &connection);
       out->connections.push_back(connection);
@@ -317,8 +321,18 @@ void ParseEnv(YamlSection s, EnvConfig* out) {
   g.ReadInt("max_attempts", &out->sampling.max_attempts, 1, 100000000);
   g.Finish();
 
-  // rules that involve several keys name the first offending key under env
+  // rules that involve several keys name the offending key under env: an item of objects or
+  // connections by its own line, anything else by its top-level key
   if (EnvConfigProblem problem = CheckEnvConfig(*out); !problem.ok()) {
+    for (auto& [name, items] : {std::pair{std::string("objects["), &object_items},
+                                std::pair{std::string("connections["), &connection_items}}) {
+      if (problem.key.rfind(name, 0) != 0) continue;
+      const size_t close = problem.key.find(']');
+      const size_t index = std::stoul(problem.key.substr(name.size(), close - name.size()));
+      if (index >= items->size()) break;
+      const std::string sub = close + 1 < problem.key.size() ? problem.key.substr(close + 2) : "";
+      (*items)[index].FailRule(sub.empty() ? "objects" : sub, problem.message);
+    }
     const std::string top = problem.key.substr(0, problem.key.find_first_of(".["));
     s.FailRule(top, (problem.key != top ? "at " + problem.key + ": " : std::string()) +
                         problem.message);

@@ -127,8 +127,10 @@ TEST(EnvConfigTest, OverlappingFixedObjectsFail) {
   const std::string e = ErrorOf(
       "env:\n  objects:\n    - {static: true, fixed_position: [0.0, 0.6]}\n"
       "    - {static: true, fixed_position: [0.05, 0.6]}\n");
-  EXPECT_NE(e.find("test.yaml:3"), std::string::npos) << e;
-  EXPECT_NE(e.find("overlapping fixed objects: entities 1 and 2"), std::string::npos) << e;
+  EXPECT_NE(e.find("test.yaml:4: env.objects[1].fixed_position: overlapping fixed objects: "
+                   "entities 1 and 2"),
+            std::string::npos)
+      << e;
 }
 
 TEST(EnvConfigTest, MoreObjectsThanFitTheTableFail) {
@@ -159,8 +161,9 @@ TEST(EnvConfigTest, CrowdedTableFailsInTheEnvironmentToo) {
 
 TEST(EnvConfigTest, ConnectionAndObjectSetRules) {
   std::string e = ErrorOf("env:\n  num_pucks: 3\n  connections:\n    - {objects: [2, 5]}\n");
-  EXPECT_NE(e.find("connections[0]"), std::string::npos) << e;
-  EXPECT_NE(e.find("objects are entities 1..3"), std::string::npos) << e;
+  EXPECT_NE(e.find("test.yaml:4: env.connections[0].objects: objects are entities 1..3"),
+            std::string::npos)
+      << e;
   e = ErrorOf("env:\n  connections:\n    - {objects: [2, 2]}\n");
   EXPECT_NE(e.find("tied to itself"), std::string::npos) << e;
   e = ErrorOf("env:\n  connections:\n    - {objects: [2, 3], kind: chain}\n");
