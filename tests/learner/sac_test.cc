@@ -1,0 +1,153 @@
+#include "learner/sac.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "common/nn/serialize.h"
+
+namespace srics::learner {
+namespace {
+
+// A small agent: two entities of 4 floats, goal tokens of 5, 2 actions.
+config::AgentConfig SmallConfig() {
+  config::AgentConfig c;
+  c.network.embed_dim = 16;
+  c.network.heads = 2;
+  c.network.policy_hidden = {32, 32};
+  c.network.q_hidden = {32, 32};
+  c.sac.batch_size = 64;
+  return c;
+}
+
+const AgentShape kShape{4, 5, 2};
+
+// A batch of random states and goals; actions uniform in [-1, 1]; reward from `reward(a)`.
+TrainingBatch RandomBatch(std::mt19937_64& rng, int size, double (*reward)(const float*)) {
+  TrainingBatch b;
+  b.size = size;
+  b.max_entities = 2;
+  b.entity_dim = 4;
+  b.goal_dim = 5;
+  b.action_dim = 2;
+  std::uniform_real_distribution<float> u(-1, 1);
+  for (int i = 0; i < size * 2 * 4; ++i) {
+    b.entities.push_back(u(rng));
+    b.next_entities.push_back(u(rng));
+  }
+  b.mask.assign(size * 2, 1.0f);
+  for (int i = 0; i < size * 5; ++i) b.goal.push_back(u(rng));
+  for (int i = 0; i < size; ++i) {
+    const float a[2] = {u(rng), u(rng)};
+    b.action.insert(b.action.end(), a, a + 2);
+    b.reward.push_back(static_cast<float>(reward(a)));
+  }
+  b.subgoal_entity.assign(size, 0);
+  return b;
+}
+
+TEST(SacTest, CriticsConvergeToTheDiscountedReturnOfAConstantReward) {
+  // r = -1 forever, no entropy bonus: Q = -1 / (1 - 0.9) = -10
+  config::AgentConfig c = SmallConfig();
+  c.sac.discount = 0.9;
+  c.sac.auto_entropy = false;
+  c.sac.initial_alpha = 1e-8;
+  SacAgent agent(kShape, c, 1);
+  std::mt19937_64 rng(2);
+  UpdateStats stats;
+  for (int i = 0; i < 1500; ++i)
+    stats = agent.Update(RandomBatch(rng, 64, [](const float*) { return -1.0; }));
+  EXPECT_NEAR(stats.mean_q, -10.0, 0.5);
+  EXPECT_LT(stats.q_loss, 0.05);
+}
+
+TEST(SacTest, PolicyMovesToTheBestActionOfTheCritic) {
+  // a one-step problem (discount 0): the best action is (0.5, -0.3)
+  config::AgentConfig c = SmallConfig();
+  c.sac.discount = 0.0;
+  SacAgent agent(kShape, c, 3);
+  std::mt19937_64 rng(4);
+  auto reward = [](const float* a) {
+    return -4.0 * ((a[0] - 0.5) * (a[0] - 0.5) + (a[1] + 0.3) * (a[1] + 0.3));
+  };
+  for (int i = 0; i < 2000; ++i) agent.Update(RandomBatch(rng, 64, reward));
+  nn::Rng act_rng(5);
+  double error = 0;
+  const int trials = 20;
+  for (int i = 0; i < trials; ++i) {
+    TrainingBatch probe = RandomBatch(rng, 1, reward);
+    nn::Tensor entities = Eigen::Map<nn::Tensor>(probe.entities.data(), 2, 4);
+    nn::Tensor goal = Eigen::Map<nn::Tensor>(probe.goal.data(), 1, 5);
+    const nn::Tensor& a = agent.policy().Act(entities, goal, true, act_rng);
+    error += std::hypot(a(0, 0) - 0.5, a(0, 1) + 0.3);
+  }
+  EXPECT_LT(error / trials, 0.1);
+  // the temperature fell: the policy's entropy went towards the target
+  EXPECT_LT(agent.alpha(), 0.5);
+}
+
+TEST(SacTest, CheckpointRoundTripRestoresNetworksOptimizersAndCounters) {
+  const std::string path = ::testing::TempDir() + "/sac_round_trip.srics";
+  SacAgent a(kShape, SmallConfig(), 10);
+  std::mt19937_64 rng(11);
+  for (int i = 0; i < 30; ++i) a.Update(RandomBatch(rng, 64, [](const float* x) { return double(x[0]); }));
+  const LearnerCounters counters{30, 12345678901ull, 77, 5};
+  a.SaveCheckpoint(path, counters);
+
+  SacAgent b(kShape, SmallConfig(), 99);  // different initialisation
+  EXPECT_NE(a.PolicyWeights(), b.PolicyWeights());
+  EXPECT_EQ(b.LoadCheckpoint(path), counters);
+  EXPECT_EQ(a.PolicyWeights(), b.PolicyWeights());
+  EXPECT_EQ(nn::Flatten(a.q1().Parameters()), nn::Flatten(b.q1().Parameters()));
+  EXPECT_EQ(a.alpha(), b.alpha());
+  // everything, optimizer moments included, is restored: saving again gives the same sections
+  const std::string again = ::testing::TempDir() + "/sac_round_trip_again.srics";
+  b.SaveCheckpoint(again, counters);
+  const auto first = nn::ReadCheckpoint(path);
+  const auto second = nn::ReadCheckpoint(again);
+  ASSERT_EQ(first.size(), second.size());
+  for (size_t i = 0; i < first.size(); ++i) {
+    EXPECT_EQ(first[i].name, second[i].name);
+    EXPECT_EQ(first[i].values, second[i].values) << first[i].name;
+  }
+}
+
+TEST(SacTest, ABadCheckpointIsRefusedAndChangesNothing) {
+  const std::string path = ::testing::TempDir() + "/sac_bad.srics";
+  SacAgent a(kShape, SmallConfig(), 20);
+  a.SaveCheckpoint(path, {});
+  // flip one byte in the middle: the checksum catches it
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(2000);
+    char c;
+    f.read(&c, 1);
+    f.seekp(2000);
+    c ^= 0x5a;
+    f.write(&c, 1);
+  }
+  SacAgent b(kShape, SmallConfig(), 21);
+  const auto before = b.PolicyWeights();
+  try {
+    b.LoadCheckpoint(path);
+    FAIL() << "a corrupted checkpoint was accepted";
+  } catch (const nn::CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("checksum"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(b.PolicyWeights(), before);
+  // another architecture: refused by name
+  config::AgentConfig wider = SmallConfig();
+  wider.network.policy_hidden = {48, 32};
+  SacAgent c(kShape, wider, 22);
+  a.SaveCheckpoint(path, {});
+  try {
+    c.LoadCheckpoint(path);
+    FAIL() << "a checkpoint of another architecture was accepted";
+  } catch (const nn::CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("architecture mismatch"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace srics::learner
