@@ -9,7 +9,7 @@ packages=(
   libmujoco-dev
   libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libpng-dev gnuplot-nox graphviz
+  libpng-dev gnuplot-nox graphviz libqhull-dev
   iproute2 procps
 )
 

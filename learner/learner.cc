@@ -1,20 +1,12 @@
 #include "learner/learner.h"
 
-namespace srics::learner {
+#include "common/rl/agent_shape.h"
 
-AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method) {
-  const int objects = static_cast<int>(config::EffectiveObjects(env).size());
-  const int kinds = 1 + objects;
-  AgentShape shape;
-  shape.entity_dim = kinds + (env.velocities ? 4 : 2);
-  shape.goal_dim = method == config::Method::kSacHer ? 2 * (1 + objects) : kinds + 3;
-  shape.action_dim = 2;
-  return shape;
-}
+namespace srics::learner {
 
 Learner::Learner(const config::Config& config)
     : config_(config),
-      shape_(AgentShapeFor(config.env, config.run.method)),
+      shape_(rl::AgentShapeFor(config.env, config.run.method)),
       replay_(config.learner.replay_capacity),
       relabeler_(config.run.method, config.agent.reward, config.learner.relabel,
                  GoalRegion{config.env.sampling.subgoal_low[0], config.env.sampling.subgoal_high[0],
@@ -40,21 +32,35 @@ std::string Learner::Ingest(rl::Episode episode) {
   counters_.transitions_inserted += episode.num_steps;
   ++counters_.episodes_accepted;
   replay_.Insert(std::move(episode));
+  if (Blocked() && config_.learner.updates_per_step > 0) {
+    const double paid = static_cast<double>(config_.learner.warmup_steps) +
+                        static_cast<double>(counters_.updates) / config_.learner.updates_per_step;
+    const double offset = static_cast<double>(counters_.transitions_inserted) - paid;
+    limiter_offset_ = offset > 0 ? static_cast<uint64_t>(offset) : 0;
+  }
   return "";
 }
 
-void Learner::SetGraph(const rl::SubgoalStructure& structure) { relabeler_.SetSubgoalStructure(structure); }
+void Learner::SetGraph(const rl::SubgoalStructure& structure) {
+  relabeler_.SetSubgoalStructure(structure);
+  has_graph_ = true;
+}
+
+bool Learner::Blocked() const {
+  return replay_.empty() || replay_.transitions() < config_.learner.warmup_steps ||
+         (rl::UsesGraph(config_.run.method) && !has_graph_);
+}
 
 bool Learner::CanUpdate() const {
-  return !replay_.empty() && limiter_.CanUpdate(counters_.transitions_inserted, counters_.updates);
+  return !Blocked() && limiter_.CanUpdate(LimiterInserted(), counters_.updates);
 }
 
 uint64_t Learner::UpdatesAllowed() const {
-  return replay_.empty() ? 0 : limiter_.UpdatesAllowed(counters_.transitions_inserted, counters_.updates);
+  return Blocked() ? 0 : limiter_.UpdatesAllowed(LimiterInserted(), counters_.updates);
 }
 
 bool Learner::CanInsert(uint64_t more) const {
-  return limiter_.CanInsert(counters_.transitions_inserted, counters_.updates, more);
+  return limiter_.CanInsert(LimiterInserted(), counters_.updates, more);
 }
 
 UpdateStats Learner::Update() {

@@ -16,11 +16,6 @@
 
 namespace srics::learner {
 
-// The network sizes a run needs, from its environment and method: entity tokens of
-// K + 2 (+ 2 with velocities) floats for K = 1 + catalogue objects, goal tokens of K + 3
-// (subgoals) or 2N (SAC+HER's full goal), actions of 2.
-AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method);
-
 class Learner {
  public:
   // Everything it needs comes from `config` (method, agent, learner, env sampling region).
@@ -30,8 +25,10 @@ class Learner {
   // why it was rejected (the replay is unchanged then and the rejection is counted).
   std::string Ingest(rl::Episode episode);
 
-  // Uses a new interaction graph for rewards and subgoal choice.
+  // Uses a new interaction graph for rewards and subgoal choice. Methods that use the graph
+  // do no updates before the first one arrives.
   void SetGraph(const rl::SubgoalStructure& structure);
+  bool has_graph() const { return has_graph_; }
 
   // True when the rate limiter allows one more update now.
   bool CanUpdate() const;
@@ -66,6 +63,14 @@ class Learner {
   TrainingBatch batch_;
   LearnerCounters counters_;
   uint64_t rejected_ = 0;
+  bool has_graph_ = false;
+  // Updates are blocked until there is a graph (if the method needs one) and the replay
+  // holds warmup_steps transitions (also after a restart, when it starts empty). While
+  // blocked, the limiter's count of inserted transitions is shifted so that no allowance of
+  // updates piles up; when unblocked, updates follow the ratio from there.
+  bool Blocked() const;
+  uint64_t LimiterInserted() const { return counters_.transitions_inserted - limiter_offset_; }
+  uint64_t limiter_offset_ = 0;
   uint64_t published_at_update_ = 0;
   bool published_once_ = false;
 };

@@ -42,26 +42,10 @@ LearnerCounters UnpackCounters(const std::vector<float>& values, const std::stri
 
 }  // namespace
 
-rl::AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape,
-                                             const config::AgentConfig& agent) {
-  rl::AttentionNetworkConfig c;
-  c.entity_dim = shape.entity_dim;
-  c.goal_dim = shape.goal_dim;
-  c.action_dim = shape.action_dim;
-  c.embed_dim = agent.network.embed_dim;
-  c.num_heads = agent.network.heads;
-  c.policy_hidden = agent.network.policy_hidden;
-  c.q_hidden = agent.network.q_hidden;
-  c.log_std_min = agent.network.log_std_min;
-  c.log_std_max = agent.network.log_std_max;
-  c.Validate();
-  return c;
-}
-
 SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed)
     : shape_(shape),
       config_(config),
-      net_config_(MakeNetworkConfig(shape, config)),
+      net_config_(rl::MakeNetworkConfig(shape, config)),
       rng_(seed),
       policy_("policy", net_config_, rng_),
       q1_("q1", net_config_, rng_),
@@ -172,9 +156,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
 
 std::vector<float> SacAgent::PolicyWeights() { return nn::Flatten(policy_.Parameters()); }
 
-std::string SacAgent::PolicySignature() {
-  return "attention-policy/" + std::to_string(nn::SignatureHash(policy_.Parameters()));
-}
+std::string SacAgent::PolicySignature() { return rl::PolicySignature(policy_); }
 
 void SacAgent::SaveCheckpoint(const std::string& path, const LearnerCounters& counters) {
   auto section = [](const std::string& name, nn::ParameterList<float> params) {

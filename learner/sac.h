@@ -12,21 +12,13 @@
 #include "common/config/agent_config.h"
 #include "common/nn/optim.h"
 #include "common/nn/tape.h"
+#include "common/rl/agent_shape.h"
 #include "common/rl/networks.h"
 #include "learner/relabeler.h"
 
 namespace srics::learner {
 
-// Sizes the networks need from the environment and method.
-struct AgentShape {
-  int entity_dim = 0;
-  int goal_dim = 0;
-  int action_dim = 2;
-};
-
-// The network configuration for a shape and the agent config (one place for the mapping).
-rl::AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape,
-                                             const config::AgentConfig& agent);
+using rl::AgentShape;
 
 struct UpdateStats {
   double q_loss = 0;       // mean squared Bellman error, both critics summed

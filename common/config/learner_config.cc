@@ -8,6 +8,8 @@ void ParseLearner(YamlSection s, LearnerConfig* out) {
   s.ReadUint64("replay_capacity", &out->replay_capacity);
   if (out->replay_capacity == 0) s.Fail("replay_capacity", "a positive number of transitions");
   s.ReadUint64("warmup_steps", &out->warmup_steps);
+  if (out->warmup_steps > out->replay_capacity)
+    s.FailRule("warmup_steps", "must not exceed replay_capacity (" + std::to_string(out->replay_capacity) + ")");
   s.ReadDouble("updates_per_step", &out->updates_per_step, 0, 1e4);
   s.ReadDouble("rate_error_buffer", &out->rate_error_buffer, 1, 1e9);
   s.ReadInt("publish_every_updates", &out->publish_every_updates, 1, 1 << 30);

@@ -10,6 +10,7 @@
 #include "actor/env/rearrange_env.h"
 #include "actor/ground_truth.h"
 #include "actor/rollout.h"
+#include "common/rl/agent_shape.h"
 #include "learner/learner.h"
 
 namespace srics::trainer {
@@ -49,9 +50,7 @@ TrainResult TrainInProcess(const config::Config& config, const TrainerOptions& o
   learner::Learner learner(config);
 
   const config::Method method = config.run.method;
-  const bool uses_graph = method == config::Method::kSrics ||
-                          method == config::Method::kSricsNoSelectivity ||
-                          method == config::Method::kSricsNoSelectivityNoOrder;
+  const bool uses_graph = rl::UsesGraph(method);
   const rl::InteractionGraph graph = options.graph ? *options.graph : actor::GroundTruthGraph(config.env);
   const int num_entities = graph.num_entities;
   // SMORL and SAC+HER know no graph: every entity is a subgoal with no ancestors
