@@ -9,8 +9,10 @@ template <typename T>
 GnnModel<T>::GnnModel(const GnnOptions& o, nn::Rng& rng)
     : options_(o),
       act_("gnn.act", o.input_dim, {o.mlp_hidden}, o.hidden_dim, rng),
-      edge_send_("gnn.edge_send", o.hidden_dim, 2 * o.mlp_hidden, false, rng),
-      edge_recv_("gnn.edge_recv", o.hidden_dim, 2 * o.mlp_hidden, true, rng),
+      edge_send_("gnn.edge_send", o.hidden_dim + (o.edge_node_inputs ? o.input_dim : 0),
+                 2 * o.mlp_hidden, false, rng),
+      edge_recv_("gnn.edge_recv", o.hidden_dim + (o.edge_node_inputs ? o.input_dim : 0),
+                 2 * o.mlp_hidden, true, rng),
       eff_out_("gnn.eff_out", o.mlp_hidden, o.hidden_dim, true, rng),
       pres_out_("gnn.pres_out", o.mlp_hidden, 2, true, rng),
       gru_("gnn.gru", 2 * o.hidden_dim, o.hidden_dim, rng),
@@ -73,20 +75,23 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
   BuildEdges(batch);
   const int m = options_.mlp_hidden;
   // first edge layer per node, then onto edges: relu(h_i W_s + h_j W_r + b)
-  nn::Var<T> send = edge_send_.Forward(tape, h);
-  nn::Var<T> recv = edge_recv_.Forward(tape, h);
+  nn::Var<T> node = options_.edge_node_inputs ? tape.Concat({h, x}, 1) : h;
+  nn::Var<T> send = edge_send_.Forward(tape, node);
+  nn::Var<T> recv = edge_recv_.Forward(tape, node);
   nn::Var<T> pre = tape.Relu(tape.Add(tape.Gather(send, senders_), tape.Gather(recv, receivers_)));
   nn::Var<T> effect = eff_out_.Forward(tape, tape.Slice(pre, 1, 0, m));
   nn::Var<T> logits = pres_out_.Forward(tape, tape.Slice(pre, 1, m, m));
   // class 0 of the (straight-through) Gumbel-softmax sample is the edge
   nn::Var<T> sample = tape.GumbelSoftmax(logits, gumbel, T(options_.temperature), options_.hard);
   nn::Var<T> weight = tape.Slice(sample, 1, 0, 1);
-  nn::Var<T> message = tape.Mul(effect, weight);
+  nn::Var<T> message = open_edges_ ? effect : tape.Mul(effect, weight);
   const Eigen::Index rows = static_cast<Eigen::Index>(batch) * options_.num_entities;
   nn::Var<T> interaction = tape.ScatterAdd(message, receivers_, rows);
   nn::Var<T> own = act_.Forward(tape, x);
   nn::Var<T> next = gru_.Forward(tape, tape.Concat({interaction, own}, 1), h);
-  return Step{next, pred_.Forward(tape, next), logits, weight};
+  nn::Var<T> delta = pred_.Forward(tape, next);
+  if (options_.delta_scale != 1) delta = tape.MulScalar(delta, T(options_.delta_scale));
+  return Step{next, delta, logits, weight};
 }
 
 template <typename T>
@@ -99,12 +104,24 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
   nn::Var<T> h = tape.Constant(Mat::Zero(rows, options_.hidden_dim));
   nn::Var<T> log_prior = tape.Constant(log_prior_);
   nn::Var<T> total{&tape, -1};
+  nn::Var<T> row_weight{&tape, -1};
+  if (!entity_weights_.empty()) {
+    if (static_cast<int>(entity_weights_.size()) != n)
+      throw std::invalid_argument("WindowLoss: entity weights do not match N");
+    if (row_weights_.rows() != rows) {
+      row_weights_.resize(rows, 1);
+      for (Eigen::Index r = 0; r < rows; ++r) row_weights_(r, 0) = T(entity_weights_[r % n]);
+    }
+    row_weight = tape.Constant(row_weights_);
+  }
   Loss out;
   for (int t = 0; t < batch.steps(); ++t) {
     const Mat noise = nn::RandomGumbel<T>(edges, 2, rng);
     Step step = Forward(tape, h, tape.Constant(batch.inputs[t]), b, noise);
     h = step.hidden;
-    nn::Var<T> mse = tape.Mean(tape.Square(tape.Sub(step.delta, tape.Constant(batch.deltas[t]))));
+    nn::Var<T> sq = tape.Square(tape.Sub(step.delta, tape.Constant(batch.deltas[t])));
+    if (!entity_weights_.empty()) sq = tape.Mul(sq, row_weight);
+    nn::Var<T> mse = tape.Mean(sq);
     // KL of the edge posterior to the Bernoulli prior, summed over edges, per receiver
     nn::Var<T> log_q = tape.LogSoftmax(step.edge_logits);
     nn::Var<T> kl = tape.MulScalar(

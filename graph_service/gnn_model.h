@@ -3,9 +3,11 @@
 // at step t, with hidden states h(t) and node input x_j = [x, y, kind one-hot, action]:
 //   w_ij      = [softmax(d_pres([h_i, h_j]))]_0 sampled by (straight-through) Gumbel-softmax
 //   h_int_j   = sum_{i != j} w_ij d_eff([h_i, h_j])
+// (with edge_node_inputs the edge MLPs see [h_i, x_i, h_j, x_j]: the current positions and
+// action reach the interaction without the one-step lag of the hidden states)
 //   h_act_j   = d_act(x_j)
 //   h_j(t+1)  = GRU([h_int_j, h_act_j], h_j(t))
-//   Δxy_j     = d_pred(h_j(t+1))
+//   Δxy_j     = delta_scale * d_pred(h_j(t+1))
 // w_ij is "entity i acts on entity j". The first layer of d_eff and d_pres on [h_i, h_j] is
 // computed per node (h_i W_s + h_j W_r, the same linear map) before gathering onto edges, so
 // the per-edge work is one hidden layer and the two output layers.
@@ -26,6 +28,8 @@ struct GnnOptions {
   int input_dim = 0;          // F = 2 + K + A
   int hidden_dim = 20;        // per-entity recurrent state
   int mlp_hidden = 100;       // hidden width of every d_* MLP
+  bool edge_node_inputs = false;  // edge MLPs also see x_i, x_j (not in the reference)
+  double delta_scale = 1;     // Δxy = delta_scale * d_pred(h): output units in metres
   double edge_prior = 0.05;   // Bernoulli prior of an edge (KL target)
   double kl_weight = 1e-5;
   double temperature = 0.5;   // Gumbel-softmax temperature
@@ -72,6 +76,12 @@ class GnnModel {
   int edge_receiver_entity(int e) const;
 
   const GnnOptions& options() const { return options_; }
+  // Per-entity weights of the squared error (size N; empty = all 1).
+  void set_entity_loss_weights(std::vector<double> w) { entity_weights_ = std::move(w); }
+  // Changes the weight of the KL term (annealing).
+  void set_kl_weight(double w) { options_.kl_weight = w; }
+  // With open edges every message has weight 1 (warm-up); the logits are still computed.
+  void set_open_edges(bool open) { open_edges_ = open; }
   // Parameters in a fixed order (the flat layout).
   void Parameters(nn::ParameterList<T>& list);
 
@@ -86,6 +96,9 @@ class GnnModel {
   nn::Linear<T> pres_out_;    // M -> 2 (class 0 = edge)
   nn::GruCell<T> gru_;        // [h_int, h_act] -> H
   nn::Mlp<T> pred_;           // d_pred: H -> M -> 2
+  bool open_edges_ = false;
+  std::vector<double> entity_weights_;
+  Mat row_weights_;           // (B*N) x 1 built from entity_weights_
   int edges_batch_ = -1;
   std::vector<int> senders_, receivers_;
   Mat log_prior_;             // 1 x 2: log p, log (1 - p)

@@ -166,6 +166,8 @@ bool GraphService::Train(const std::atomic<bool>& stop) {
     progress_.train_loss = trainer_->last_mse();
     progress_.held_out_loss = stats.held_out_mse;
     progress_.held_out_zero_loss = stats.held_out_zero_mse;
+    progress_.entity_loss = stats.held_out_entity_mse;
+    progress_.entity_zero_loss = stats.held_out_entity_zero_mse;
     progress_.stable_evaluations = stable;
     progress_.graph = rl::DescribeGraph(current_->graph);
     progress_.mean_weights = stats.mean_weight;

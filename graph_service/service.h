@@ -57,6 +57,8 @@ struct Progress {
   double train_loss = 0;       // MSE per transition of the last batch
   double held_out_loss = -1;   // at the last evaluation (-1: none yet)
   double held_out_zero_loss = -1;  // held-out MSE of predicting no motion
+  // per entity held-out MSE and its no-motion baseline (which entities are predicted well)
+  std::vector<double> entity_loss, entity_zero_loss;
   int stable_evaluations = 0;  // consecutive evaluations with an unchanged graph
   std::string graph;           // current thresholded graph (rl::DescribeGraph)
   std::vector<double> mean_weights;  // current mean weights (N x N)

@@ -11,11 +11,20 @@ GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset&
   o.input_dim = data.input_dim();
   o.hidden_dim = config.hidden_dim;
   o.mlp_hidden = config.mlp_hidden;
+  o.delta_scale = config.delta_scale;
+  o.edge_node_inputs = config.edge_node_inputs;
   o.edge_prior = config.edge_prior;
   o.kl_weight = config.kl_weight;
   o.temperature = config.gumbel_temperature;
   o.hard = config.hard_edges;
   return o;
+}
+
+double KlWeightAt(const config::GraphConfig& c, int64_t update) {
+  if (update < c.warmup_updates) return 0.0;
+  if (c.kl_ramp_updates <= 0) return c.kl_weight;
+  const double f = static_cast<double>(update - c.warmup_updates + 1) / c.kl_ramp_updates;
+  return c.kl_weight * std::min(1.0, f);
 }
 
 namespace {
@@ -34,9 +43,36 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
         model_.Parameters(list);
         return list;
       }()),
-      optimizer_(params_, {.lr = config.learning_rate}) {}
+      optimizer_(params_, {.lr = config.learning_rate}) {
+  if (config.normalize_per_entity) {
+    // 1 / variance of each entity's position change over the training episodes
+    const int n = data.num_entities();
+    std::vector<double> sq(n, 0.0);
+    double count = 0;
+    for (int ep : data.train_episodes()) {
+      for (int t = 0; t < data.episode_steps(); ++t) {
+        for (int e = 0; e < n; ++e) {
+          for (int a = 0; a < 2; ++a) {
+            const double d = data.position(ep, t + 1, e)[a] - data.position(ep, t, e)[a];
+            sq[e] += d * d / 2;
+          }
+        }
+        count += 1;
+      }
+    }
+    // entities that (almost) never move get the weight of one with 1% of the largest variance
+    double largest = 0;
+    for (int e = 0; e < n; ++e) largest = std::max(largest, count > 0 ? sq[e] / count : 0.0);
+    const double floor = std::max(1e-12, 0.01 * largest);
+    std::vector<double> w(n);
+    for (int e = 0; e < n; ++e) w[e] = 1.0 / std::max(floor, count > 0 ? sq[e] / count : 0.0);
+    model_.set_entity_loss_weights(w);
+  }
+}
 
 double GnnTrainer::Update() {
+  model_.set_kl_weight(KlWeightAt(config_, updates_));
+  model_.set_open_edges(updates_ < config_.warmup_updates);
   data_.SampleWindows(config_.batch_windows, config_.window, rng_, &batch_);
   tape_.Reset();
   GnnModel<float>::Loss loss = model_.WindowLoss(tape_, batch_, rng_);
@@ -55,6 +91,7 @@ EdgeStatistics GnnTrainer::Evaluate() {
   stats.num_entities = n;
   std::vector<double> sum(static_cast<size_t>(n) * n, 0.0);
   double count = 0, mse = 0, zero_mse = 0, transitions = 0;
+  std::vector<double> entity_mse(n, 0.0), entity_zero(n, 0.0);
   // the same noise at every evaluation, so that successive graphs differ by training only
   nn::Rng noise_rng(0x5eed);
   nn::Tape<float> tape;
@@ -92,6 +129,10 @@ EdgeStatistics GnnTrainer::Evaluate() {
           mse += (step.delta.value() - target).squaredNorm() / (2.0 * n);
           zero_mse += target.squaredNorm() / (2.0 * n);
           transitions += b;
+          for (Eigen::Index r = 0; r < target.rows(); ++r) {
+            entity_mse[r % n] += (step.delta.value().row(r) - target.row(r)).squaredNorm() / 2;
+            entity_zero[r % n] += target.row(r).squaredNorm() / 2;
+          }
         }
       }
     }
@@ -100,6 +141,10 @@ EdgeStatistics GnnTrainer::Evaluate() {
   for (size_t i = 0; i < sum.size(); ++i) stats.mean_weight[i] = count > 0 ? sum[i] / count : 0;
   stats.held_out_mse = transitions > 0 ? mse / transitions : 0;
   stats.held_out_zero_mse = transitions > 0 ? zero_mse / transitions : 0;
+  for (int e = 0; e < n; ++e) {
+    stats.held_out_entity_mse.push_back(transitions > 0 ? entity_mse[e] / transitions : 0);
+    stats.held_out_entity_zero_mse.push_back(transitions > 0 ? entity_zero[e] / transitions : 0);
+  }
   return stats;
 }
 

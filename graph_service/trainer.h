@@ -22,10 +22,17 @@ struct EdgeStatistics {
   double held_out_mse = 0;
   // the same with a predicted change of zero (how much there is to predict)
   double held_out_zero_mse = 0;
+  // per entity: held-out mean squared error of its position change (per axis), and the same
+  // for a predicted change of zero
+  std::vector<double> held_out_entity_mse, held_out_entity_zero_mse;
 };
 
 // Options of the model from the service config and a data set's shape.
 GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset& data);
+
+// Weight of the KL term at a given update: 0 during the warm-up (open edges), then a linear
+// ramp to config.kl_weight.
+double KlWeightAt(const config::GraphConfig& config, int64_t update);
 
 // Owns the model and optimizer; single-threaded.
 class GnnTrainer {

@@ -11,8 +11,13 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadInt("window", &out->window, 2, 100000);
   s.ReadInt("batch_windows", &out->batch_windows, 1, 1 << 20);
   s.ReadDouble("learning_rate", &out->learning_rate, 0, 1);
+  s.ReadDouble("delta_scale", &out->delta_scale, 1e-6, 1e6);
+  s.ReadBool("edge_node_inputs", &out->edge_node_inputs);
+  s.ReadBool("normalize_per_entity", &out->normalize_per_entity);
   s.ReadDouble("edge_prior", &out->edge_prior, 1e-6, 1 - 1e-6);
   s.ReadDouble("kl_weight", &out->kl_weight, 0, 1e6);
+  s.ReadInt("warmup_updates", &out->warmup_updates, 0, 1 << 30);
+  s.ReadInt("kl_ramp_updates", &out->kl_ramp_updates, 0, 1 << 30);
   s.ReadDouble("gumbel_temperature", &out->gumbel_temperature, 1e-3, 100);
   s.ReadDouble("threshold", &out->threshold, 0, 1);
   s.ReadBool("hard_edges", &out->hard_edges);

@@ -14,8 +14,24 @@ struct GraphConfig {
   int window = 20;                 // training windows of this many steps
   int batch_windows = 100;
   double learning_rate = 5e-4;     // RMSprop
+  // the network predicts the position change in units of this many metres (a fixed output
+  // scale; the loss stays in metres as in the reference). 0.1 = the hand's largest step.
+  double delta_scale = 0.1;
+  // edge networks see the current node inputs [x, y, kind, action] of both ends besides the
+  // hidden states (false: hidden states only, as in the reference code)
+  bool edge_node_inputs = true;
+  // the squared error of each entity is divided by the variance of its position change in
+  // the data (the sigma^2 of the paper's ELBO, per entity, floored at 1% of the largest
+  // entity's), so rarely moving objects count as much as the arm; false: the reference's
+  // plain mean squared error
+  bool normalize_per_entity = true;
   double edge_prior = 0.05;        // Bernoulli prior of an edge
   double kl_weight = 1e-5;
+  // for this many updates every edge is open (weight 1) and the KL term is off, so that the
+  // effect networks learn the dynamics before the gates decide; then the gates are sampled
+  // and the KL weight grows linearly to kl_weight over kl_ramp_updates
+  int warmup_updates = 1000;
+  int kl_ramp_updates = 500;
   double gumbel_temperature = 0.5;
   double threshold = 0.06;         // keep edges with mean weight above this
   bool hard_edges = true;          // straight-through (hard) Gumbel-softmax edge samples

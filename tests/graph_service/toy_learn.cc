@@ -23,6 +23,10 @@ int main(int argc, char** argv) {
   cfg.episodes = argc > 4 ? std::atoi(argv[4]) : 1000;
   cfg.eval_every_updates = argc > 5 ? std::atoi(argv[5]) : 250;
   cfg.min_updates = cfg.max_updates;
+  if (const char* v = std::getenv("WARMUP")) cfg.warmup_updates = std::atoi(v);
+  if (const char* v = std::getenv("KL_RAMP")) cfg.kl_ramp_updates = std::atoi(v);
+  if (const char* v = std::getenv("LR")) cfg.learning_rate = std::atof(v);
+  if (const char* v = std::getenv("KL")) cfg.kl_weight = std::atof(v);
   graph::testing::ToySource source(world, cfg.episodes, seed * 100000);
   graph::testing::RecordingSink sink;
   graph::ServiceOptions options;
@@ -39,6 +43,8 @@ int main(int argc, char** argv) {
       for (int j = 0; j < n; ++j) std::printf(" %.3f", p.mean_weights[i * n + j]);
       std::printf(" |");
     }
+    std::printf("\n    entity mse/zero:");
+    for (int i = 0; i < n; ++i) std::printf(" %.2g/%.2g", p.entity_loss[i], p.entity_zero_loss[i]);
     std::printf("\n");
     std::fflush(stdout);
   });
