@@ -1,0 +1,57 @@
+#pragma once
+// `srics run`: one training run on this machine. Starts srics-graph, srics-learner and N
+// srics-actor processes over loopback DDS (or whatever profile the config names), shows one
+// live progress display, restarts crashed processes, stops everything on Ctrl-C or when the
+// run is done, and leaves the run folder complete.
+//
+// When the run is done (the first that holds):
+//   - the learner exits with code 0 (it owns the budget), or
+//   - the system reached run.total_env_steps (EnvSteps: the learner's inserted transitions or
+//     the latest evaluation's env_steps) and an evaluation at or beyond the budget arrived
+//     (at once when actors.evaluators is 0), or final_eval_grace_s passed without one, or
+//   - run.max_wall_minutes (if > 0) passed.
+// Then every child gets SIGINT (the learner checkpoints), SIGKILL after stop_timeout_s.
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "deploy/launcher/supervisor.h"
+
+namespace srics::launcher {
+
+enum class DisplayMode {
+  kAuto,   // live when stdout is a terminal, else plain
+  kLive,   // the refreshing full-screen display
+  kPlain,  // a progress line every 10 s (for logs and pipes)
+  kNone,   // nothing but the final summary
+};
+
+struct LaunchOptions {
+  std::string config_file;
+  std::vector<std::string> overrides;  // --set key.path=value
+  int actors = -1;                     // --actors N (-1: actors.count of the config)
+  std::string run_dir;                 // --run-dir ("" = <output_dir>/<name>-<timestamp>)
+  std::string bin_dir;                 // --bin-dir ("" = next to this executable / build tree)
+  DisplayMode display = DisplayMode::kAuto;
+  double stop_timeout_s = 15;          // SIGINT -> SIGKILL
+  double final_eval_grace_s = 180;     // wait this long for a final evaluation at the budget
+  BackoffPolicy backoff;               // restarts of crashed processes
+  int max_restarts_service = 5;        // learner and graph service (actors: no limit)
+};
+
+// Exit codes of `srics run`.
+inline constexpr int kExitDone = 0;         // the run finished (budget, learner, wall time)
+inline constexpr int kExitFailed = 1;       // a role failed for good, or no child could start
+inline constexpr int kExitUsage = 2;        // bad arguments or config
+inline constexpr int kExitInterrupted = 130;  // stopped by SIGINT/SIGTERM
+
+// Parses the arguments after `srics run`. Throws std::invalid_argument.
+LaunchOptions ParseRunArgs(const std::vector<std::string>& args);
+extern const char* const kRunUsage;
+
+// Runs to the end; returns one of the exit codes above. Config errors throw ConfigError
+// before anything is started.
+int Run(const LaunchOptions& options);
+
+}  // namespace srics::launcher

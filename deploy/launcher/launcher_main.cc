@@ -1,0 +1,41 @@
+// srics: the launcher. `srics run CONFIG ...` runs a whole training run on this machine (see
+// launcher.h and `srics run --help`).
+
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "common/config/config_error.h"
+#include "common/transport/shutdown.h"
+#include "deploy/launcher/launcher.h"
+
+int main(int argc, char** argv) {
+  namespace launcher = srics::launcher;
+  srics::transport::Shutdown::InstallSignalHandlers();
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "-h" || args[0] == "--help" ||
+      (args[0] == "run" && args.size() > 1 && (args[1] == "-h" || args[1] == "--help"))) {
+    std::cout << launcher::kRunUsage;
+    return args.empty() ? launcher::kExitUsage : 0;
+  }
+  if (args[0] != "run") {
+    std::cerr << "srics: unknown command '" << args[0] << "'\n" << launcher::kRunUsage;
+    return launcher::kExitUsage;
+  }
+  launcher::LaunchOptions options;
+  try {
+    options = launcher::ParseRunArgs({args.begin() + 1, args.end()});
+  } catch (const std::exception& e) {
+    std::cerr << "srics run: " << e.what() << "\n" << launcher::kRunUsage;
+    return launcher::kExitUsage;
+  }
+  try {
+    return launcher::Run(options);
+  } catch (const srics::config::ConfigError& e) {
+    std::cerr << "srics run: " << e.what() << "\n";
+    return launcher::kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "srics run: " << e.what() << "\n";
+    return launcher::kExitFailed;
+  }
+}

@@ -1,0 +1,206 @@
+#include "deploy/launcher/run_folder.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace srics::launcher {
+namespace fs = std::filesystem;
+namespace {
+
+std::string Timestamp() {
+  const std::time_t t = std::time(nullptr);
+  std::tm local{};
+  localtime_r(&t, &local);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y%m%d-%H%M%S", &local);
+  return buffer;
+}
+
+bool IsExecutable(const fs::path& path) {
+  std::error_code error;
+  return fs::is_regular_file(path, error) && access(path.c_str(), X_OK) == 0;
+}
+
+// Splits one CSV line (fields of eval.csv may be quoted).
+std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
+      else if (c == '"') quoted = false;
+      else fields.back() += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+std::vector<double> SplitList(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ';'))
+    if (!item.empty()) values.push_back(std::strtod(item.c_str(), nullptr));
+  return values;
+}
+
+std::string Quote(const std::string& text) {  // for gnuplot single-quoted strings
+  std::string out;
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out;
+}
+
+}  // namespace
+
+std::string PrepareRunFolder(const config::Config& config, const std::string& requested) {
+  fs::path dir;
+  if (!requested.empty()) {
+    dir = requested;
+  } else {
+    const fs::path base = fs::path(config.run.output_dir) / (config.run.name + "-" + Timestamp());
+    dir = base;
+    for (int k = 2; fs::exists(dir); ++k) dir = base.string() + "-" + std::to_string(k);
+  }
+  std::error_code error;
+  fs::create_directories(dir / "logs", error);
+  if (error) throw std::runtime_error("cannot create run folder " + (dir / "logs").string() + ": " + error.message());
+  const fs::path config_path = dir / "config.yaml";
+  std::ofstream out(config_path);
+  out << "# effective configuration of this run (written by srics run from " << config.source_file << ")\n"
+      << config.effective_yaml << "\n";
+  if (!out) throw std::runtime_error("cannot write " + config_path.string());
+  return fs::absolute(dir).lexically_normal().string();
+}
+
+std::string ExecutableDir() {
+  std::error_code error;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  if (error) return ".";
+  return exe.parent_path().string();
+}
+
+std::string FindProgram(const std::string& program, const std::string& build_subdir, const std::string& bin_dir) {
+  std::vector<fs::path> candidates;
+  if (!bin_dir.empty()) {
+    candidates.push_back(fs::path(bin_dir) / program);
+    candidates.push_back(fs::path(bin_dir) / build_subdir / program);
+  } else {
+    const fs::path here = ExecutableDir();
+    candidates.push_back(here / program);
+    // build/deploy/launcher/srics -> build/<subdir>/<program>
+    candidates.push_back(here.parent_path().parent_path() / build_subdir / program);
+  }
+  std::string looked;
+  for (const fs::path& candidate : candidates) {
+    if (IsExecutable(candidate)) return fs::absolute(candidate).lexically_normal().string();
+    looked += (looked.empty() ? "" : ", ") + candidate.lexically_normal().string();
+  }
+  throw std::runtime_error("cannot find the program " + program + " (looked at " + looked +
+                           "); build it first (tests/build.sh) or pass --bin-dir");
+}
+
+bool PlotEvalCurves(const std::string& dir, const std::string& title, std::string* error) {
+  std::ifstream in(dir + "/eval.csv");
+  if (!in) {
+    *error = "no eval.csv";
+    return false;
+  }
+  struct Point {
+    double steps, distance, object_distance;
+    std::vector<double> success;
+  };
+  std::vector<Point> points;
+  bool have_passive = false;
+  double passive_distance = 0, passive_object = 0;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    const std::vector<std::string> f = SplitCsv(line);
+    if (f.size() < 13) continue;
+    const double version = std::strtod(f[3].c_str(), nullptr);
+    const double steps = std::strtod(f[5].c_str(), nullptr);
+    const double distance = std::strtod(f[7].c_str(), nullptr);
+    const double object = std::strtod(f[8].c_str(), nullptr);
+    if (version == 0) {
+      if (!have_passive) passive_distance = distance, passive_object = object, have_passive = true;
+      continue;
+    }
+    points.push_back({steps, distance, object, SplitList(f[12])});
+  }
+  if (points.empty()) {
+    *error = "no evaluation of a trained policy in eval.csv";
+    return false;
+  }
+  std::stable_sort(points.begin(), points.end(), [](const Point& a, const Point& b) { return a.steps < b.steps; });
+  size_t entities = 0;
+  for (const Point& p : points) entities = std::max(entities, p.success.size());
+  {
+    std::ofstream data(dir + "/curve.dat");
+    data << "# env_steps avg_distance avg_object_distance subgoal_success_0..N-1\n";
+    for (const Point& p : points) {
+      data << p.steps << ' ' << p.distance << ' ' << p.object_distance;
+      for (size_t i = 0; i < entities; ++i) data << ' ' << (i < p.success.size() ? p.success[i] : 0.0);
+      data << '\n';
+    }
+  }
+  const std::string script_path = dir + "/curve.gnuplot";
+  {
+    std::ofstream script(script_path);
+    script << "set terminal pngcairo size 900,540 font 'sans,10'\n"
+           << "set output '" << Quote(dir) << "/curve.png'\n"
+           << "set title '" << Quote(title) << "' noenhanced\n"
+           << "set xlabel 'environment steps'\nset ylabel 'final distance to goal (m)'\n"
+           << "set key outside right top\nset grid\nset yrange [0:*]\n";
+    std::string plot = "plot '" + Quote(dir) + "/curve.dat' using 1:3 with linespoints lw 2 title 'avg object distance', "
+                       "'' using 1:2 with linespoints lw 2 title 'avg distance (arm incl.)'";
+    if (have_passive) {
+      char buffer[256];
+      std::snprintf(buffer, sizeof buffer,
+                    ", %.9g with lines dt 2 lw 2 title 'passive: avg object distance', %.9g with lines dt 3 lw 2 "
+                    "title 'passive: avg distance'",
+                    passive_object, passive_distance);
+      plot += buffer;
+    }
+    script << plot << "\n";
+    if (entities > 0) {
+      script << "set output '" << Quote(dir) << "/subgoal_success.png'\n"
+             << "set title 'per-subgoal success: " << Quote(title) << "' noenhanced\n"
+             << "set ylabel 'success rate'\nset yrange [0:1.05]\nplot ";
+      for (size_t i = 0; i < entities; ++i)
+        script << (i ? ", " : "") << "'" << Quote(dir) << "/curve.dat' using 1:" << 4 + i
+               << " with linespoints lw 2 title 'entity " << i << "'";
+      script << "\n";
+    }
+  }
+  const std::string command = "gnuplot '" + script_path + "' 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) {
+    *error = "cannot run gnuplot";
+    return false;
+  }
+  char buffer[512];
+  std::string output;
+  while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
+  const int status = pclose(pipe);
+  if (status != 0) {
+    *error = "gnuplot failed (status " + std::to_string(status) + "): " + output;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace srics::launcher

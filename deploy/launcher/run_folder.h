@@ -1,0 +1,32 @@
+#pragma once
+// The run folder and the files the launcher itself writes into it.
+
+#include <string>
+#include <vector>
+
+#include "common/config/config.h"
+
+namespace srics::launcher {
+
+// `requested` if not empty (created if missing; an existing folder is reused, so a stopped
+// run can be continued from its checkpoint), else <run.output_dir>/<run.name>-<YYYYmmdd-HHMMSS>
+// (with -2, -3, ... if that exists). Creates the folder and its logs/ and writes config.yaml
+// (the effective configuration). Returns the folder's path. Throws std::runtime_error.
+std::string PrepareRunFolder(const config::Config& config, const std::string& requested);
+
+// Where the role programs are: `bin_dir` if given (the program in it, or in its build-tree
+// subfolder), else next to the running executable (installed side by side) or in the build
+// tree relative to it (build/deploy/launcher/srics -> build/<subdir>/<program>). Throws
+// std::runtime_error listing the places it looked.
+std::string FindProgram(const std::string& program, const std::string& build_subdir, const std::string& bin_dir);
+
+// The directory of the running executable (/proc/self/exe).
+std::string ExecutableDir();
+
+// Draws <dir>/curve.png (avg object distance and avg distance vs env steps, the passive
+// policy's values as horizontal lines) and <dir>/subgoal_success.png from <dir>/eval.csv
+// with gnuplot. Also writes <dir>/curve.dat (the plotted points). Returns false with a
+// reason in *error when there is nothing to plot, gnuplot is missing or fails.
+bool PlotEvalCurves(const std::string& dir, const std::string& title, std::string* error);
+
+}  // namespace srics::launcher

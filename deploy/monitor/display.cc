@@ -1,0 +1,265 @@
+#include "deploy/monitor/display.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdarg>
+#include <cstdio>
+
+namespace srics::monitor {
+namespace {
+
+std::string Format(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string Format(const char* format, ...) {
+  char buffer[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buffer, sizeof buffer, format, args);
+  va_end(args);
+  return buffer;
+}
+
+// 1234567 -> "1,234,567"
+std::string Thousands(uint64_t value) {
+  std::string digits = std::to_string(value);
+  std::string out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+std::string Seconds(Clock::duration d) {
+  return Format("%.1fs", std::chrono::duration<double>(d).count());
+}
+
+std::string HoursMinutesSeconds(double seconds) {
+  const auto s = static_cast<int64_t>(seconds);
+  return Format("%02" PRId64 ":%02" PRId64 ":%02" PRId64, s / 3600, s / 60 % 60, s % 60);
+}
+
+std::string ProgressBar(uint64_t done, uint64_t total, int width) {
+  const double fraction = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
+  const int filled = static_cast<int>(fraction * width + 0.5);
+  return "[" + std::string(filled, '#') + std::string(width - filled, '.') + "] " +
+         Format("%.0f%%", 100.0 * fraction);
+}
+
+// "-46%" for how much `value` is below `baseline`
+std::string Relative(double value, double baseline) {
+  if (baseline <= 0) return "";
+  return Format("%+.0f%%", 100.0 * (value - baseline) / baseline);
+}
+
+// "e0 1.00  e1 0.80" for a per-entity vector
+std::string PerEntity(const std::vector<float>& values, const char* format) {
+  std::string out;
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (i) out += "  ";
+    out += "e" + std::to_string(i) + " " + Format(format, values[i]);
+  }
+  return out.empty() ? "-" : out;
+}
+
+bool Shown(const std::string& run_id, const RenderOptions& options) {
+  return options.run_id.empty() || options.run_id == run_id;
+}
+
+void RenderLearner(const RunView& run, Clock::time_point now, std::string* out) {
+  if (!run.learner) {
+    *out += "learner   no stats yet\n";
+  } else {
+    const transport::LearnerStats& s = *run.learner;
+    *out += Format("learner   updates %s (%.1f/s)  inserts %.1f/s  replay %s  episodes %s ok / %s bad  "
+                   "policy v%" PRIu64 "  (%s ago)\n",
+                   Thousands(s.updates).c_str(), s.updates_per_second, s.inserts_per_second,
+                   Thousands(s.replay_size).c_str(), Thousands(s.episodes_accepted).c_str(),
+                   Thousands(s.episodes_rejected).c_str(), s.policy_version,
+                   Seconds(now - run.learner_received).c_str());
+    *out += Format("          q_loss %.4g  policy_loss %.4g  alpha %.4g  entropy %.3g  mean reward %.4g\n",
+                   s.q_loss, s.policy_loss, s.alpha, s.entropy, s.mean_reward);
+  }
+  if (run.weights) {
+    const WeightsInfo& w = *run.weights;
+    *out += Format("weights   v%" PRIu64 " (%s updates, %s parameters = %.1f MB)  %s ago\n", w.version,
+                   Thousands(w.update_count).c_str(), Thousands(w.num_parameters).c_str(),
+                   static_cast<double>(w.num_parameters) * 4.0 / 1e6, Seconds(now - w.received).c_str());
+  }
+}
+
+void RenderGraph(const RunView& run, Clock::time_point now, std::string* out) {
+  if (!run.graph) {
+    *out += "graph     none yet\n";
+    return;
+  }
+  const transport::InteractionGraph& g = *run.graph;
+  const size_t n = g.num_entities;
+  std::string edges;
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < n; ++j) {
+      const size_t k = i * n + j;
+      if (i == j || k >= g.adjacency.size() || !g.adjacency[k]) continue;
+      if (!edges.empty()) edges += ", ";
+      edges += Format("%zu->%zu", i, j);
+      if (k < g.mean_weights.size()) edges += Format(" %.2f", g.mean_weights[k]);
+    }
+  *out += Format("graph     v%" PRIu64 ": %zu entities, %zu edges (%s), action -> e%d, threshold %.2f, "
+                 "held-out loss %.4g, %u episodes  (%s ago)\n",
+                 g.version, n, EdgeCount(g), edges.empty() ? "none" : edges.c_str(), g.action_entity,
+                 g.threshold, g.held_out_loss, g.episodes_used, Seconds(now - run.graph_received).c_str());
+  std::string depths;
+  for (size_t i = 0; i < g.depths.size(); ++i) {
+    if (i) depths += "  ";
+    depths += "e" + std::to_string(i) + " " + (g.depths[i] < 0 ? std::string("-") : std::to_string(g.depths[i]));
+  }
+  *out += "          depth: " + (depths.empty() ? std::string("-") : depths) +
+          "   (- = not controllable)\n";
+}
+
+void RenderEval(const RunView& run, size_t history_rows, std::string* out) {
+  const transport::EvalResult* latest = LatestEval(run);
+  if (!latest) {
+    *out += "eval      no evaluation of a trained policy yet";
+  } else {
+    const transport::EvalResult& e = *latest;
+    *out += Format("eval      policy v%" PRIu64 " at %s env steps (actor %u, %u episodes): object distance "
+                   "%.4f  distance %.4f  success %.2f  selectivity %.3g\n",
+                   e.policy_version, Thousands(e.env_steps).c_str(), e.actor_id, e.episodes,
+                   e.avg_object_distance, e.avg_distance, e.success_rate, e.selectivity);
+    *out += "          subgoal success: " + PerEntity(e.subgoal_success, "%.2f") + "\n";
+    *out += "          entity distance: " + PerEntity(e.entity_distance, "%.3f") + "\n";
+  }
+  if (run.passive) {
+    const transport::EvalResult& p = *run.passive;
+    std::string line = Format("%spassive   object distance %.4f  distance %.4f  success %.2f",
+                              latest ? "" : "\n", p.avg_object_distance, p.avg_distance, p.success_rate);
+    if (latest)
+      line += "   -> trained: object distance " + Relative(latest->avg_object_distance, p.avg_object_distance) +
+              ", distance " + Relative(latest->avg_distance, p.avg_distance);
+    *out += line + "\n";
+  } else {
+    *out += latest ? "passive   no baseline yet\n" : "; no passive baseline yet\n";
+  }
+  if (run.evals.size() > 1 && history_rows > 0) {
+    *out += "history   env steps    policy  obj.dist  distance  success\n";
+    const size_t first = run.evals.size() > history_rows ? run.evals.size() - history_rows : 0;
+    for (size_t i = first; i < run.evals.size(); ++i) {
+      const transport::EvalResult& e = run.evals[i];
+      *out += Format("          %11s  v%-5" PRIu64 " %8.4f  %8.4f  %7.2f\n", Thousands(e.env_steps).c_str(),
+                     e.policy_version, e.avg_object_distance, e.avg_distance, e.success_rate);
+    }
+  }
+}
+
+void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderOptions& options,
+                 bool show_run, std::string* out) {
+  size_t alive = 0, lost = 0, exited = 0, shown = 0;
+  std::string rows;
+  for (const auto& [key, node] : state.nodes) {
+    if (!Shown(key.run_id, options)) continue;
+    ++shown;
+    const NodeHealth health = HealthOf(state, node, now);
+    (health == NodeHealth::kAlive ? alive : health == NodeHealth::kLost ? lost : exited)++;
+    const transport::NodeStatus& s = node.status;
+    std::string row = show_run ? Format("  %-12.12s", key.run_id.c_str()) : std::string("  ");
+    row += Format("%-8.8s %3u %-14.14s %7d %-10.10s %-6s %6" PRIu64 " %5" PRIu64 " %11s %7" PRIu64
+                  " %9s %6s  %s\n",
+                  s.role.c_str(), s.node_id, s.host.c_str(), s.pid, transport::NodeStateName(s.state),
+                  NodeHealthName(health), s.policy_version, s.graph_version, Thousands(s.env_steps).c_str(),
+                  s.dropped_samples, HoursMinutesSeconds(static_cast<double>(s.uptime_ms) / 1000.0).c_str(),
+                  Seconds(now - node.last_seen).c_str(), s.detail.c_str());
+    rows += row;
+  }
+  *out += Format("nodes     %zu alive, %zu lost, %zu exited   (NodeStatus writers alive: %u, dropped "
+                 "malformed samples here: %" PRIu64 ")\n",
+                 alive, lost, exited, state.status_writers_alive, state.dropped_samples);
+  if (shown == 0) {
+    *out += "  none seen yet\n";
+    return;
+  }
+  *out += (show_run ? Format("  %-12s", "RUN") : std::string("  ")) +
+          Format("%-8s %3s %-14s %7s %-10s %-6s %6s %5s %11s %7s %9s %6s  %s\n", "ROLE", "ID", "HOST", "PID",
+                 "STATE", "HEALTH", "POLICY", "GRAPH", "ENV STEPS", "DROPPED", "UPTIME", "LAST", "DETAIL");
+  *out += rows;
+}
+
+void RenderProcesses(const RenderOptions& options, std::string* out) {
+  if (options.processes.empty()) return;
+  *out += "processes\n";
+  *out += Format("  %-12s %7s %-24s %8s  %s\n", "NAME", "PID", "STATE", "RESTARTS", "LAST EXIT");
+  for (const ProcessRow& p : options.processes)
+    *out += Format("  %-12.12s %7s %-24.24s %8u  %s\n", p.name.c_str(), p.pid ? std::to_string(p.pid).c_str() : "-",
+                   p.state.c_str(), p.restarts, p.last_exit.empty() ? "-" : p.last_exit.c_str());
+}
+
+}  // namespace
+
+std::string Render(const MonitorState& state, Clock::time_point now, const RenderOptions& options) {
+  std::string out = options.title;
+  if (options.elapsed_s >= 0) {
+    out += "   elapsed " + HoursMinutesSeconds(options.elapsed_s);
+    if (options.max_wall_minutes > 0) out += " / " + HoursMinutesSeconds(options.max_wall_minutes * 60.0);
+  }
+  out += "\n";
+  // runs known from any topic, in name order
+  std::vector<std::string> run_ids;
+  for (const auto& [id, run] : state.runs)
+    if (Shown(id, options)) run_ids.push_back(id);
+  for (const auto& [key, node] : state.nodes)
+    if (Shown(key.run_id, options) && std::find(run_ids.begin(), run_ids.end(), key.run_id) == run_ids.end())
+      run_ids.push_back(key.run_id);
+  std::sort(run_ids.begin(), run_ids.end());
+  if (run_ids.empty()) out += "\nnothing received yet (same domain id, run id and Cyclone profile?)\n";
+  static const RunView kEmpty;
+  for (const std::string& id : run_ids) {
+    auto it = state.runs.find(id);
+    const RunView& run = it == state.runs.end() ? kEmpty : it->second;
+    const uint64_t steps = EnvSteps(run);
+    out += "\nrun " + id + "   env steps " + Thousands(steps);
+    if (options.total_env_steps > 0)
+      out += " / " + Thousands(options.total_env_steps) + " " + ProgressBar(steps, options.total_env_steps, 30);
+    out += "\n";
+    RenderLearner(run, now, &out);
+    RenderGraph(run, now, &out);
+    RenderEval(run, options.history_rows, &out);
+  }
+  out += "\n";
+  RenderNodes(state, now, options, run_ids.size() > 1, &out);
+  if (!options.processes.empty()) {
+    out += "\n";
+    RenderProcesses(options, &out);
+  }
+  if (!options.events.empty()) {
+    out += "\nevents\n";
+    for (const std::string& event : options.events) out += "  " + event + "\n";
+  }
+  return out;
+}
+
+std::string RenderOneLine(const MonitorState& state, Clock::time_point now, const std::string& run_id,
+                          uint64_t total_env_steps) {
+  static const RunView kEmpty;
+  auto it = state.runs.find(run_id);
+  const RunView& run = it == state.runs.end() ? kEmpty : it->second;
+  std::string out = "steps " + Thousands(EnvSteps(run));
+  if (total_env_steps) out += "/" + Thousands(total_env_steps);
+  out += "  updates " + Thousands(run.learner ? run.learner->updates : 0);
+  if (const transport::EvalResult* e = LatestEval(run)) {
+    out += Format("  eval v%" PRIu64 " obj.dist %.4f", e->policy_version, e->avg_object_distance);
+    if (run.passive) out += " (passive " + Format("%.4f", run.passive->avg_object_distance) + ")";
+  } else {
+    out += "  eval -";
+  }
+  out += run.graph ? Format("  graph v%" PRIu64 " %zu edges", run.graph->version, EdgeCount(*run.graph))
+                   : std::string("  graph -");
+  size_t alive = 0, gone = 0;
+  for (const auto& [key, node] : state.nodes) {
+    if (key.run_id != run_id) continue;
+    (HealthOf(state, node, now) == NodeHealth::kAlive ? alive : gone)++;
+  }
+  out += Format("  nodes %zu alive", alive);
+  if (gone) out += Format(", %zu gone", gone);
+  return out;
+}
+
+}  // namespace srics::monitor

@@ -1,0 +1,102 @@
+#include "deploy/monitor/monitor.h"
+
+#include <spdlog/spdlog.h>
+
+namespace srics::monitor {
+
+namespace tr = srics::transport;
+
+struct Monitor::Readers {
+  tr::Reader<tr::NodeStatus> nodes;
+  tr::Reader<tr::LearnerStats> learner;
+  tr::Reader<tr::EvalResult> evals;
+  tr::Reader<tr::InteractionGraph> graph;
+  std::optional<tr::Reader<tr::PolicyWeights>> weights;
+
+  Readers(const tr::Participant& participant, const tr::ReaderOptions& options, bool with_weights)
+      : nodes(participant, options),
+        learner(participant, options),
+        evals(participant, options),
+        graph(participant, options) {
+    if (with_weights) weights.emplace(participant, options);
+  }
+};
+
+Monitor::Monitor(tr::Participant& participant, MonitorOptions options)
+    : participant_(participant), options_(std::move(options)) {
+  tr::ReaderOptions reader_options;
+  reader_options.all_runs = options_.all_runs;
+  readers_ = std::make_unique<Readers>(participant_, reader_options, options_.weights);
+  if (!options_.csv_dir.empty()) csv_.emplace(options_.csv_dir);
+  state_.lost_after = LostAfter(participant_.config());
+}
+
+Monitor::~Monitor() = default;
+
+size_t Monitor::Poll(std::chrono::milliseconds timeout) {
+  constexpr size_t kMaxPerTopic = 10000;  // bounded work per poll even under a flood
+  constexpr std::chrono::milliseconds kNoWait(0);
+  size_t taken = 0;
+  const double wall = WallTimeNow();
+
+  tr::NodeStatus status;
+  std::chrono::milliseconds wait = timeout;
+  for (size_t i = 0; i < kMaxPerTopic && readers_->nodes.Take(&status, wait) == tr::TakeStatus::kSample; ++i) {
+    wait = kNoWait;
+    Apply(&state_, status, Clock::now());
+    if (csv_ && options_.csv_node_statuses) csv_->Append(status, wall);
+    ++taken;
+  }
+  tr::LearnerStats stats;
+  for (size_t i = 0; i < kMaxPerTopic && readers_->learner.Take(&stats, kNoWait) == tr::TakeStatus::kSample; ++i) {
+    Apply(&state_, stats, Clock::now());
+    if (csv_) csv_->Append(stats, wall);
+    ++taken;
+  }
+  tr::EvalResult result;
+  for (size_t i = 0; i < kMaxPerTopic && readers_->evals.Take(&result, kNoWait) == tr::TakeStatus::kSample; ++i) {
+    Apply(&state_, result, Clock::now());
+    if (csv_) csv_->Append(result, wall);
+    ++taken;
+  }
+  tr::InteractionGraph graph;
+  for (size_t i = 0; i < kMaxPerTopic && readers_->graph.Take(&graph, kNoWait) == tr::TakeStatus::kSample; ++i) {
+    Apply(&state_, graph, Clock::now());
+    ++taken;
+  }
+  if (readers_->weights) {
+    tr::PolicyWeights weights;
+    for (size_t i = 0; i < kMaxPerTopic && readers_->weights->Take(&weights, kNoWait) == tr::TakeStatus::kSample;
+         ++i) {
+      Apply(&state_, weights, Clock::now());
+      ++taken;
+    }
+    // the parameters are not needed here: give the megabytes back
+    weights.parameters = std::vector<float>();
+  }
+
+  state_.dropped_samples = participant_.total_rejected();
+  state_.status_writers_alive = readers_->nodes.alive_writers();
+  const Clock::time_point now = Clock::now();
+  for (const NodeKey& key : NewlyGone(state_, now, &known_gone_)) {
+    const NodeEntry& node = state_.nodes.at(key);
+    const NodeHealth health = known_gone_.at(key);
+    std::string line = key.role + " " + std::to_string(key.node_id) + " (" + node.status.host + ", pid " +
+                       std::to_string(node.status.pid) + ", run " + key.run_id + ") " + NodeHealthName(health) +
+                       ": no status for " +
+                       std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(now - node.last_seen).count()) +
+                       " ms";
+    if (health == NodeHealth::kLost) spdlog::warn("{}", line); else spdlog::info("{}", line);
+    node_events_.push_back(std::move(line));
+    if (csv_) csv_->Append(node.status, wall, health == NodeHealth::kLost ? "lost" : "exited");
+  }
+  return taken;
+}
+
+std::vector<std::string> Monitor::TakeNodeEvents() {
+  std::vector<std::string> events;
+  events.swap(node_events_);
+  return events;
+}
+
+}  // namespace srics::monitor

@@ -1,0 +1,64 @@
+#pragma once
+// A monitor attached to a domain: readers of NodeStatus, LearnerStats, EvalResult,
+// InteractionGraph and (optionally) PolicyWeights fold every sample into a MonitorState and,
+// when asked, into CSV files. Used by srics-monitor and by the launcher's progress display.
+//
+//   transport::Participant participant(config.transport);
+//   Monitor monitor(participant, {.csv_dir = "runs/x"});
+//   while (!participant.shutdown_requested()) {
+//     monitor.Poll(std::chrono::milliseconds(250));
+//     std::cout << Render(monitor.state(), Clock::now(), {});
+//   }
+//
+// Threading: one thread calls Poll and reads state().
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "common/transport/transport.h"
+#include "deploy/monitor/csv_sink.h"
+#include "deploy/monitor/monitor_state.h"
+
+namespace srics::monitor {
+
+struct MonitorOptions {
+  bool all_runs = false;     // accept samples of every run id (else only the participant's)
+  bool weights = true;       // subscribe to PolicyWeights (5 MB per publication over the wire)
+  std::string csv_dir;       // append eval.csv, learner.csv, nodes.csv here ("" = no CSV)
+  bool csv_node_statuses = true;  // every NodeStatus as a row (else only lost/exited events)
+};
+
+class Monitor {
+ public:
+  // Creates the readers. Throws transport::DdsError, std::runtime_error (CSV files).
+  Monitor(transport::Participant& participant, MonitorOptions options);
+  ~Monitor();
+  Monitor(const Monitor&) = delete;
+  Monitor& operator=(const Monitor&) = delete;
+
+  // Waits up to `timeout` for a node status, then takes everything available on every topic,
+  // folds it into the state (and the CSV files) and checks nodes that went quiet. Returns the
+  // number of samples taken.
+  size_t Poll(std::chrono::milliseconds timeout);
+
+  const MonitorState& state() const { return state_; }
+  MonitorState& mutable_state() { return state_; }
+
+  // Nodes that went quiet in the last Poll, as "actor 1 (host) LOST" lines, and forgets them.
+  std::vector<std::string> TakeNodeEvents();
+
+ private:
+  struct Readers;
+  transport::Participant& participant_;
+  MonitorOptions options_;
+  std::unique_ptr<Readers> readers_;
+  std::optional<CsvSink> csv_;
+  MonitorState state_;
+  std::map<NodeKey, NodeHealth> known_gone_;
+  std::vector<std::string> node_events_;
+};
+
+}  // namespace srics::monitor

@@ -1,0 +1,109 @@
+#include "deploy/monitor/monitor_state.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace srics::monitor {
+
+const char* NodeHealthName(NodeHealth health) {
+  switch (health) {
+    case NodeHealth::kAlive: return "alive";
+    case NodeHealth::kExited: return "exited";
+    case NodeHealth::kLost: return "LOST";
+  }
+  return "invalid";
+}
+
+std::chrono::milliseconds LostAfter(const config::TransportConfig& transport) {
+  const double seconds = transport.liveliness_lease_s + 2.0 * transport.status_period_s;
+  return std::chrono::milliseconds(static_cast<int64_t>(std::ceil(seconds * 1000.0)));
+}
+
+void Apply(MonitorState* state, const transport::NodeStatus& status, Clock::time_point now) {
+  NodeKey key{status.run_id, status.role, status.node_id};
+  auto [it, inserted] = state->nodes.try_emplace(std::move(key));
+  NodeEntry& node = it->second;
+  if (inserted) node.first_seen = now;
+  node.status = status;
+  node.last_seen = now;
+  ++node.statuses;
+}
+
+void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::time_point now) {
+  RunView& run = state->runs[stats.run_id];
+  run.learner = stats;
+  run.learner_received = now;
+}
+
+void Apply(MonitorState* state, const transport::EvalResult& result, Clock::time_point /*now*/) {
+  RunView& run = state->runs[result.run_id];
+  if (result.policy_version == 0) {
+    // the passive policy is evaluated once per evaluating actor; the first one is the baseline
+    if (!run.passive) run.passive = result;
+    return;
+  }
+  run.evals.push_back(result);
+  if (run.evals.size() > state->max_evals_kept)
+    run.evals.erase(run.evals.begin(),
+                    run.evals.begin() + static_cast<ptrdiff_t>(run.evals.size() - state->max_evals_kept));
+}
+
+void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock::time_point now) {
+  RunView& run = state->runs[graph.run_id];
+  run.graph = graph;
+  run.graph_received = now;
+}
+
+void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::time_point now) {
+  RunView& run = state->runs[weights.run_id];
+  WeightsInfo info;
+  info.version = weights.version;
+  info.update_count = weights.update_count;
+  info.architecture = weights.architecture;
+  info.num_parameters = weights.parameters.size();
+  info.received = now;
+  run.weights = std::move(info);
+}
+
+NodeHealth HealthOf(const MonitorState& state, const NodeEntry& node, Clock::time_point now) {
+  if (now - node.last_seen <= state.lost_after) return NodeHealth::kAlive;
+  return node.status.state == transport::NodeState::kStopping ? NodeHealth::kExited
+                                                              : NodeHealth::kLost;
+}
+
+std::vector<NodeKey> NewlyGone(const MonitorState& state, Clock::time_point now,
+                               std::map<NodeKey, NodeHealth>* known_gone) {
+  std::vector<NodeKey> gone;
+  for (const auto& [key, node] : state.nodes) {
+    const NodeHealth health = HealthOf(state, node, now);
+    auto it = known_gone->find(key);
+    if (health == NodeHealth::kAlive) {
+      if (it != known_gone->end()) known_gone->erase(it);
+    } else if (it == known_gone->end() || it->second != health) {
+      (*known_gone)[key] = health;
+      gone.push_back(key);
+    }
+  }
+  return gone;
+}
+
+uint64_t EnvSteps(const RunView& run) {
+  uint64_t steps = run.learner ? run.learner->transitions_inserted : 0;
+  if (!run.evals.empty()) steps = std::max(steps, run.evals.back().env_steps);
+  return steps;
+}
+
+const transport::EvalResult* LatestEval(const RunView& run) {
+  return run.evals.empty() ? nullptr : &run.evals.back();
+}
+
+size_t EdgeCount(const transport::InteractionGraph& graph) {
+  const size_t n = graph.num_entities;
+  size_t edges = 0;
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < n; ++j)
+      if (i != j && i * n + j < graph.adjacency.size() && graph.adjacency[i * n + j]) ++edges;
+  return edges;
+}
+
+}  // namespace srics::monitor

@@ -1,0 +1,109 @@
+#pragma once
+// What a monitor knows about the runs on a domain, built only from received samples. Plain
+// data and pure functions: the display and the CSV files are computed from it, and tests
+// build it by hand without DDS.
+//
+//   MonitorState state;
+//   state.lost_after = LostAfter(config.transport);
+//   Apply(&state, node_status, Clock::now());
+//   std::string text = Render(state, Clock::now(), {});   // display.h
+
+#include <chrono>
+#include <compare>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/config/transport_config.h"
+#include "common/transport/messages.h"
+
+namespace srics::monitor {
+
+using Clock = std::chrono::steady_clock;
+
+// A node is one process of a run: NodeStatus is keyed by (run_id, role, node_id).
+struct NodeKey {
+  std::string run_id;
+  std::string role;
+  uint32_t node_id = 0;
+  auto operator<=>(const NodeKey&) const = default;
+};
+
+// How a node looks from here.
+enum class NodeHealth {
+  kAlive,   // a status arrived within lost_after
+  kExited,  // its last status said "stopping", then it went quiet: a clean exit
+  kLost,    // went quiet without saying goodbye: crashed, killed or cut off
+};
+const char* NodeHealthName(NodeHealth health);
+
+struct NodeEntry {
+  transport::NodeStatus status;  // the latest one
+  Clock::time_point first_seen;
+  Clock::time_point last_seen;
+  uint64_t statuses = 0;         // samples received
+};
+
+// The latest policy weights, without their parameters (megabytes the monitor has no use for).
+struct WeightsInfo {
+  uint64_t version = 0;
+  uint64_t update_count = 0;
+  std::string architecture;
+  size_t num_parameters = 0;
+  Clock::time_point received;
+};
+
+// Everything about one run id.
+struct RunView {
+  std::optional<transport::LearnerStats> learner;
+  Clock::time_point learner_received;
+  std::optional<transport::EvalResult> passive;  // the first EvalResult with policy_version 0
+  std::vector<transport::EvalResult> evals;      // policy_version > 0, oldest first (bounded)
+  std::optional<transport::InteractionGraph> graph;
+  Clock::time_point graph_received;
+  std::optional<WeightsInfo> weights;
+};
+
+struct MonitorState {
+  std::map<NodeKey, NodeEntry> nodes;
+  std::map<std::string, RunView> runs;
+  // A node that sent nothing for this long is no longer alive (see LostAfter).
+  std::chrono::milliseconds lost_after{5000};
+  size_t max_evals_kept = 1000;  // per run, oldest dropped first
+  uint64_t dropped_samples = 0;  // malformed samples the monitor's readers rejected
+  uint32_t status_writers_alive = 0;  // NodeStatus writers alive by their liveliness lease
+};
+
+// When a silent node counts as gone: its liveliness lease plus two status periods (a live
+// node sends a status every period, so this is never reached while it is alive).
+std::chrono::milliseconds LostAfter(const config::TransportConfig& transport);
+
+// Folding samples into the state. `now` is the arrival time.
+void Apply(MonitorState* state, const transport::NodeStatus& status, Clock::time_point now);
+void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::time_point now);
+void Apply(MonitorState* state, const transport::EvalResult& result, Clock::time_point now);
+void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock::time_point now);
+// Keeps the version and size only.
+void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::time_point now);
+
+NodeHealth HealthOf(const MonitorState& state, const NodeEntry& node, Clock::time_point now);
+
+// Nodes whose health changed to kLost or kExited since `*known_gone`, which is updated (for
+// logging and for the "lost" rows of nodes.csv). Nodes that come back are removed from it.
+std::vector<NodeKey> NewlyGone(const MonitorState& state, Clock::time_point now,
+                               std::map<NodeKey, NodeHealth>* known_gone);
+
+// Environment steps of a run as the system reports them: the larger of the learner's inserted
+// transitions and the latest evaluation's env_steps (0 when neither arrived).
+uint64_t EnvSteps(const RunView& run);
+
+// The newest evaluation of a trained policy, or null.
+const transport::EvalResult* LatestEval(const RunView& run);
+
+// Edges of a graph (adjacency entries that are 1, the diagonal excluded).
+size_t EdgeCount(const transport::InteractionGraph& graph);
+
+}  // namespace srics::monitor
