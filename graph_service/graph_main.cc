@@ -1,0 +1,183 @@
+// srics-graph CONFIG [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]
+// The graph service process: collects explore episodes over DDS, trains the recurrent GNN,
+// publishes the interaction graph (versioned, transient-local), saves it to DIR/graph.json
+// and re-publishes the saved graph on restart without retraining.
+
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <iostream>
+#include <mutex>
+#include <thread>
+
+#include "common/config/command_line.h"
+#include "common/config/config.h"
+#include "common/logging/logging.h"
+#include "common/transport/rl_convert.h"
+#include "common/transport/status_publisher.h"
+#include "common/transport/transport.h"
+#include "graph_service/service.h"
+
+namespace srics {
+namespace {
+
+namespace tr = transport;
+
+// Explore episodes from DDS. A thread keeps taking samples all the time, also while the GNN
+// trains: the Episode topic is reliable keep-all, so a reader that stops taking would hold
+// every actor back. Training episodes are for the learner and are skipped; explore episodes
+// beyond what the service can still use are dropped here (and counted).
+class DdsEpisodeSource : public graph::EpisodeSource {
+ public:
+  DdsEpisodeSource(const tr::Participant& participant, bool velocities, size_t max_pending)
+      : participant_(participant), velocities_(velocities), max_pending_(max_pending), reader_(participant),
+        taker_([this] { TakeLoop(); }) {}
+  ~DdsEpisodeSource() override {
+    running_ = false;
+    taker_.join();
+  }
+
+  bool Poll(std::chrono::milliseconds timeout, std::vector<rl::Episode>* out) override {
+    std::unique_lock lock(mutex_);
+    arrived_.wait_for(lock, timeout, [&] { return !pending_.empty() || participant_.shutdown_requested(); });
+    for (auto& e : pending_) out->push_back(std::move(e));
+    pending_.clear();
+    return !participant_.shutdown_requested();
+  }
+  uint64_t rejected() const { return rejected_; }
+  uint64_t surplus() const { return surplus_; }
+
+ private:
+  void TakeLoop() {
+    std::vector<tr::Episode> messages;
+    while (running_ && !participant_.shutdown_requested()) {
+      messages.clear();
+      reader_.TakeMany(&messages, 256, std::chrono::milliseconds(100));
+      std::lock_guard lock(mutex_);
+      for (const auto& m : messages) {
+        if (m.mode != tr::EpisodeMode::kExplore) continue;
+        if (pending_.size() >= max_pending_) {
+          ++surplus_;
+          continue;
+        }
+        try {
+          pending_.push_back(tr::FromMessage(m, velocities_));
+        } catch (const std::invalid_argument& e) {
+          ++rejected_;
+          spdlog::warn("episode from actor {} refused: {}", m.actor_id, e.what());
+        }
+      }
+      if (!pending_.empty()) arrived_.notify_one();
+    }
+    arrived_.notify_all();
+  }
+
+  const tr::Participant& participant_;
+  bool velocities_;
+  size_t max_pending_;
+  tr::Reader<tr::Episode> reader_;
+  std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::vector<rl::Episode> pending_;
+  std::atomic<uint64_t> rejected_{0}, surplus_{0};
+  std::atomic<bool> running_{true};
+  std::thread taker_;  // last: starts once everything it uses exists
+};
+
+class DdsGraphSink : public graph::GraphSink {
+ public:
+  explicit DdsGraphSink(const tr::Participant& participant) : writer_(participant) {}
+  void Publish(const graph::LearnedGraph& g) override {
+    tr::InteractionGraph m = tr::ToMessage(g.graph, g.structure, g.mean_weights, static_cast<float>(g.threshold), g.version,
+                                           static_cast<float>(g.held_out_loss), g.updates, g.episodes);
+    if (writer_.Write(m) != tr::WriteResult::kSent) throw std::runtime_error("shutting down");
+    spdlog::info("published graph v{}: {}", g.version, rl::DescribeGraph(g.graph));
+  }
+
+ private:
+  tr::Writer<tr::InteractionGraph> writer_;
+};
+
+rl::NodePhase PhaseOf(graph::Progress::Phase phase) {
+  switch (phase) {
+    case graph::Progress::Phase::kLoading: return rl::NodePhase::kStarting;
+    case graph::Progress::Phase::kCollecting: return rl::NodePhase::kWaiting;
+    case graph::Progress::Phase::kTraining: return rl::NodePhase::kTraining;
+    case graph::Progress::Phase::kPublished: return rl::NodePhase::kWaiting;
+    case graph::Progress::Phase::kStopped: return rl::NodePhase::kStopping;
+  }
+  return rl::NodePhase::kFailed;
+}
+
+}  // namespace
+}  // namespace srics
+
+int main(int argc, char** argv) {
+  using namespace srics;
+  transport::Shutdown::InstallSignalHandlers();
+  const std::string usage = "srics-graph CONFIG [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]";
+  config::CommandLine cl;
+  config::Config config;
+  try {
+    cl = config::ParseCommandLine(argc, argv, usage);
+    config = config::LoadConfig(cl.config_path, cl.overrides);
+  } catch (const config::ConfigError& e) {
+    std::cerr << "srics-graph: " << e.what() << "\n";
+    return 2;
+  }
+  logging::LogOptions log;
+  log.level = cl.log_level.empty() ? config.run.log_level : cl.log_level;
+  if (!cl.run_dir.empty() && config.run.log_to_file) log.file = cl.run_dir + "/logs/graph.log";
+  try {
+    logging::SetUpLogger("graph", log);
+  } catch (const std::exception& e) {
+    std::cerr << "srics-graph: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    transport::Participant participant(config.transport);
+    DdsEpisodeSource source(participant, config.env.velocities, static_cast<size_t>(config.graph.episodes));
+    DdsGraphSink sink(participant);
+    transport::StatusPublisher status(participant, "graph", 0);
+    auto last_status = std::chrono::steady_clock::now() - std::chrono::hours(1);
+    graph::Progress last;
+    auto report = [&](const graph::Progress& p, bool force) {
+      const double since = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_status).count();
+      if (!force && since < config.transport.status_period_s) return;
+      last_status = std::chrono::steady_clock::now();
+      rl::NodeReport r;
+      r.phase = PhaseOf(p.phase);
+      r.graph_version = p.published_version;
+      r.steps = static_cast<uint64_t>(p.updates);
+      r.dropped = static_cast<uint64_t>(p.dropped) + source.rejected();
+      r.detail = std::string(graph::PhaseName(p.phase)) + ": " + std::to_string(p.episodes) + "/" +
+                 std::to_string(p.target_episodes) + " episodes, " + std::to_string(p.updates) + " updates" +
+                 (p.held_out_loss >= 0 ? ", held-out " + std::to_string(p.held_out_loss) : "") +
+                 (p.graph.empty() ? "" : ", " + p.graph);
+      status.Publish(r);
+    };
+    graph::ServiceOptions options;
+    options.state_dir = cl.run_dir;
+    options.seed = config.run.seed;
+    graph::GraphService service(config.graph, options, &source, &sink,
+                                [&](const graph::Progress& p) { last = p; report(p, false); });
+    spdlog::info("graph service started: domain {}, run id '{}', {} explore episodes wanted",
+                 config.transport.domain_id, config.transport.run_id, config.graph.episodes);
+    const auto& stop = transport::Shutdown::Process().flag();
+    const int code = service.Run(stop);
+    // keep the graph available (transient-local lives in this process) until asked to stop;
+    // the source's thread keeps draining the episode topic meanwhile
+    while (!stop && code == 0) {
+      report(service.progress(), false);
+      std::vector<rl::Episode> unused;
+      source.Poll(std::chrono::milliseconds(500), &unused);
+    }
+    report(service.progress(), true);
+    spdlog::info("graph service stopped");
+    return 0;
+  } catch (const std::exception& e) {
+    spdlog::critical("graph service failed: {}", e.what());
+    return 1;
+  }
+}
