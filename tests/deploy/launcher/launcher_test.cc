@@ -1,0 +1,163 @@
+// `srics run` driving stand-in roles: fake_child linked under the names srics-graph,
+// srics-learner and srics-actor (behaviour chosen by FAKE_* environment variables, which the
+// launcher's children inherit). The launcher's own DDS participant runs on a test domain.
+
+#include "deploy/launcher/launcher.h"
+
+#include <errno.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "deploy/launcher/child_process.h"
+
+namespace srics::launcher {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::milliseconds;
+using ::testing::HasSubstr;
+
+std::string Read(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// pids a stand-in printed ("start <pid>") in its output file
+std::vector<pid_t> StartedPids(const fs::path& output_file) {
+  std::vector<pid_t> pids;
+  std::ifstream in(output_file);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("start ", 0) == 0) pids.push_back(std::atoi(line.c_str() + 6));
+  return pids;
+}
+
+bool ProcessExists(pid_t pid) { return kill(pid, 0) == 0 || errno != ESRCH; }
+
+class LauncherTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("srics_launcher_test_" + std::to_string(getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "bin");
+    for (const char* name : {"srics-graph", "srics-learner", "srics-actor"})
+      fs::create_symlink(FAKE_CHILD, root_ / "bin" / name);
+    run_dir_ = root_ / "run";
+  }
+  void TearDown() override {
+    for (const char* var : {"FAKE_GRAPH", "FAKE_LEARNER", "FAKE_ACTOR", "FAKE_ACTOR_0"}) unsetenv(var);
+    fs::remove_all(root_);
+  }
+
+  ChildProcess StartLauncher(std::vector<std::string> extra = {}) {
+    std::vector<std::string> argv = {
+        SRICS_LAUNCHER, "run", std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+        "--actors", "2", "--bin-dir", (root_ / "bin").string(), "--run-dir", run_dir_.string(),
+        "--display", "plain", "--stop-timeout", "5",
+        "--set", "transport.domain_id=" + std::to_string(150 + getpid() % 50),
+        "--set", "transport.run_id=launcher-test-" + std::to_string(getpid())};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return ChildProcess::Spawn(argv, {.output_file = (root_ / "launcher.out").string(),
+                                      .own_process_group = true, .parent_death_signal = SIGKILL});
+  }
+
+  // every role's pid over all incarnations
+  std::vector<pid_t> RolePids() const {
+    std::vector<pid_t> pids;
+    for (const char* name : {"graph", "learner", "actor-0", "actor-1"})
+      for (pid_t pid : StartedPids(run_dir_ / "logs" / (std::string(name) + ".out"))) pids.push_back(pid);
+    return pids;
+  }
+
+  fs::path root_;
+  fs::path run_dir_;
+};
+
+TEST(ParseRunArgsTest, ActorsBecomeAnOverrideAndBadValuesAreRejected) {
+  LaunchOptions options = ParseRunArgs({"cfg.yaml", "--actors", "3", "--set", "run.seed=4", "--display", "none"});
+  EXPECT_EQ(options.config_file, "cfg.yaml");
+  EXPECT_EQ(options.actors, 3);
+  EXPECT_EQ(options.overrides, (std::vector<std::string>{"run.seed=4", "actors.count=3"}));
+  EXPECT_EQ(options.display, DisplayMode::kNone);
+  EXPECT_THROW(ParseRunArgs({}), std::invalid_argument);
+  EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--actors", "0"}), std::invalid_argument);
+  EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--actors"}), std::invalid_argument);
+  EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--display", "fancy"}), std::invalid_argument);
+  EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--frobnicate"}), std::invalid_argument);
+}
+
+TEST_F(LauncherTest, RunEndsWhenTheLearnerFinishesAndACrashedActorIsRestarted) {
+  setenv("FAKE_LEARNER", "exit0-after:4000", 1);
+  setenv("FAKE_ACTOR_0", ("crash-once:" + (root_ / "marker").string() + ":3").c_str(), 1);
+  ChildProcess launcher = StartLauncher();
+  const auto exit = launcher.WaitFor(milliseconds(60000));
+  ASSERT_TRUE(exit.has_value()) << Read(root_ / "launcher.out");
+  EXPECT_EQ(exit->Describe(), "exit code 0") << Read(root_ / "launcher.out");
+
+  // the run folder
+  EXPECT_THAT(Read(run_dir_ / "config.yaml"), HasSubstr("count: 2"));
+  for (const char* file : {"eval.csv", "learner.csv", "nodes.csv", "summary.txt", "logs/launcher.log"})
+    EXPECT_TRUE(fs::exists(run_dir_ / file)) << file;
+  const std::string log = Read(run_dir_ / "logs/launcher.log");
+  EXPECT_THAT(log, HasSubstr("actor-0 ended: exit code 3; restart 1 in 1.0s"));
+  EXPECT_THAT(log, HasSubstr("actor-0 restarted"));
+  EXPECT_THAT(log, HasSubstr("stopping: the learner finished its budget"));
+  EXPECT_EQ(StartedPids(run_dir_ / "logs/actor-0.out").size(), 2u);
+  EXPECT_EQ(StartedPids(run_dir_ / "logs/actor-1.out").size(), 1u);
+  // children got the effective config and the run folder
+  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("run finished: the learner finished its budget; restarts 1"));
+  for (pid_t pid : RolePids()) EXPECT_FALSE(ProcessExists(pid)) << pid;
+}
+
+TEST_F(LauncherTest, SigintStopsEveryChildAndExits130) {
+  ChildProcess launcher = StartLauncher();
+  // wait until all four roles run
+  const auto deadline = std::chrono::steady_clock::now() + milliseconds(20000);
+  while (RolePids().size() < 4 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(milliseconds(50));
+  const std::vector<pid_t> pids = RolePids();
+  ASSERT_EQ(pids.size(), 4u) << Read(root_ / "launcher.out");
+  std::this_thread::sleep_for(milliseconds(200));
+
+  launcher.Signal(SIGINT);
+  const auto start = std::chrono::steady_clock::now();
+  const auto exit = launcher.WaitFor(milliseconds(15000));
+  ASSERT_TRUE(exit.has_value());
+  EXPECT_LT(std::chrono::steady_clock::now() - start, milliseconds(5000));
+  EXPECT_EQ(exit->Describe(), "exit code 130") << Read(root_ / "launcher.out");
+  for (pid_t pid : pids) EXPECT_FALSE(ProcessExists(pid)) << pid;
+  const std::string log = Read(run_dir_ / "logs/launcher.log");
+  for (const char* name : {"graph", "learner", "actor-0", "actor-1"})
+    EXPECT_THAT(log, HasSubstr(std::string(name) + " stopped: exit code 0"));
+  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("run interrupted"));
+}
+
+TEST_F(LauncherTest, BadConfigExitsWithCode2BeforeStartingAnything) {
+  ChildProcess launcher = StartLauncher({"--set", "run.total_env_steps=lots"});
+  const auto exit = launcher.WaitFor(milliseconds(20000));
+  ASSERT_TRUE(exit.has_value());
+  EXPECT_EQ(exit->Describe(), "exit code 2");
+  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("run.total_env_steps"));
+  EXPECT_FALSE(fs::exists(run_dir_));
+}
+
+TEST_F(LauncherTest, MissingRoleProgramIsNamed) {
+  fs::remove(root_ / "bin" / "srics-learner");
+  ChildProcess launcher = StartLauncher();
+  const auto exit = launcher.WaitFor(milliseconds(20000));
+  ASSERT_TRUE(exit.has_value());
+  EXPECT_EQ(exit->Describe(), "exit code 1");
+  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("cannot find the program srics-learner"));
+}
+
+}  // namespace
+}  // namespace srics::launcher

@@ -1,0 +1,164 @@
+#include "deploy/monitor/display.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "tests/deploy/monitor/test_states.h"
+
+namespace srics::monitor {
+namespace {
+
+using std::chrono::milliseconds;
+using ::testing::HasSubstr;
+using ::testing::Not;
+using testing::Eval;
+using testing::Graph;
+using testing::Node;
+using transport::NodeState;
+
+// The line of `text` that contains `needle` ("" if none).
+std::string LineWith(const std::string& text, const std::string& needle) {
+  size_t at = text.find(needle);
+  if (at == std::string::npos) return "";
+  const size_t begin = text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at) + 1;
+  const size_t end = text.find('\n', at);
+  return text.substr(begin, end - begin);
+}
+
+class DisplayTest : public ::testing::Test {
+ protected:
+  DisplayTest() {
+    state_.lost_after = milliseconds(3000);
+    transport::LearnerStats stats;
+    stats.run_id = "r1";
+    stats.updates = 123456;
+    stats.transitions_inserted = 50000;
+    stats.replay_size = 48000;
+    stats.episodes_accepted = 2400;
+    stats.episodes_rejected = 3;
+    stats.policy_version = 42;
+    stats.q_loss = 0.25f;
+    stats.alpha = 0.05f;
+    stats.updates_per_second = 80.5f;
+    Apply(&state_, stats, t0_);
+    Apply(&state_, Graph(), t0_);
+    Apply(&state_, Eval(0, 0, 0.20f), t0_);
+    Apply(&state_, Eval(30, 40000, 0.15f), t0_);
+    Apply(&state_, Eval(42, 50000, 0.10f), t0_);
+    Apply(&state_, Node("graph", 0, NodeState::kTraining), t0_ + milliseconds(4500));
+    Apply(&state_, Node("learner", 0, NodeState::kTraining), t0_ + milliseconds(4000));
+    Apply(&state_, Node("actor", 0, NodeState::kTraining), t0_ + milliseconds(4000));
+    Apply(&state_, Node("actor", 1, NodeState::kStopping), t0_);
+    Apply(&state_, Node("actor", 2, NodeState::kTraining), t0_);  // crashed: quiet, no goodbye
+  }
+  const Clock::time_point t0_{};
+  const Clock::time_point now_ = t0_ + milliseconds(5000);
+  MonitorState state_;
+};
+
+TEST_F(DisplayTest, EmptyStateSaysNothingArrived) {
+  const std::string text = Render(MonitorState{}, now_, {});
+  EXPECT_THAT(text, HasSubstr("nothing received yet"));
+  EXPECT_THAT(text, HasSubstr("none seen yet"));
+}
+
+TEST_F(DisplayTest, ShowsProgressAgainstTheBudget) {
+  RenderOptions options;
+  options.total_env_steps = 100000;
+  const std::string text = Render(state_, now_, options);
+  EXPECT_THAT(LineWith(text, "run r1"), HasSubstr("env steps 50,000 / 100,000"));
+  EXPECT_THAT(LineWith(text, "run r1"), HasSubstr("50%"));
+}
+
+TEST_F(DisplayTest, ShowsLearnerStats) {
+  const std::string line = LineWith(Render(state_, now_, {}), "learner   updates");
+  EXPECT_THAT(line, HasSubstr("123,456 (80.5/s)"));
+  EXPECT_THAT(line, HasSubstr("2,400 ok / 3 bad"));
+  EXPECT_THAT(line, HasSubstr("policy v42"));
+  EXPECT_THAT(line, HasSubstr("(5.0s ago)"));
+}
+
+TEST_F(DisplayTest, ShowsGraphEdgesAndDepths) {
+  const std::string text = Render(state_, now_, {});
+  const std::string graph = LineWith(text, "graph     v3");
+  EXPECT_THAT(graph, HasSubstr("3 entities, 2 edges (0->1 0.93, 1->2 0.71)"));
+  EXPECT_THAT(graph, HasSubstr("threshold 0.50"));
+  EXPECT_THAT(LineWith(text, "depth:"), HasSubstr("e0 0  e1 1  e2 -"));
+}
+
+TEST_F(DisplayTest, ShowsLatestEvaluationAgainstThePassivePolicy) {
+  const std::string text = Render(state_, now_, {});
+  EXPECT_THAT(LineWith(text, "eval      policy"), HasSubstr("v42 at 50,000 env steps"));
+  EXPECT_THAT(LineWith(text, "eval      policy"), HasSubstr("object distance 0.1000"));
+  EXPECT_THAT(LineWith(text, "subgoal success"), HasSubstr("e0 1.00  e1 0.80  e2 0.25"));
+  // 0.10 vs passive 0.20: half the distance
+  EXPECT_THAT(LineWith(text, "passive"), HasSubstr("object distance -50%"));
+  // history lists both trained evaluations, oldest first
+  const size_t first = text.find("v30");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_LT(first, text.rfind("v42"));
+}
+
+TEST_F(DisplayTest, WithoutEvaluationSaysSo) {
+  MonitorState state;
+  Apply(&state, Node("actor", 0, NodeState::kExploring), t0_);
+  const std::string text = Render(state, t0_, {});
+  EXPECT_THAT(text, HasSubstr("no evaluation of a trained policy yet; no passive baseline yet"));
+  EXPECT_THAT(text, HasSubstr("graph     none yet"));
+  EXPECT_THAT(text, HasSubstr("learner   no stats yet"));
+}
+
+TEST_F(DisplayTest, NodeHealthPerRow) {
+  const std::string text = Render(state_, now_, {});
+  EXPECT_THAT(text, HasSubstr("nodes     3 alive, 1 lost, 1 exited"));
+  EXPECT_THAT(LineWith(text, "host-learner"), HasSubstr("alive"));
+  // actor 2 went quiet while training: lost; actor 1 said stopping: exited
+  EXPECT_THAT(LineWith(text, "1002"), HasSubstr("LOST"));
+  EXPECT_THAT(LineWith(text, "1001"), HasSubstr("exited"));
+  EXPECT_THAT(LineWith(text, "1001"), HasSubstr("stopping"));
+  EXPECT_THAT(LineWith(text, "1002"), HasSubstr("00:01:01"));  // uptime
+}
+
+TEST_F(DisplayTest, RunFilterHidesOtherRuns) {
+  Apply(&state_, Node("actor", 9, NodeState::kTraining, "other-run"), now_);
+  Apply(&state_, Eval(1, 10, 0.3f, "other-run"), now_);
+  RenderOptions only_r1;
+  only_r1.run_id = "r1";
+  const std::string filtered = Render(state_, now_, only_r1);
+  EXPECT_THAT(filtered, Not(HasSubstr("other-run")));
+  EXPECT_THAT(filtered, Not(HasSubstr("1009")));
+  const std::string all = Render(state_, now_, {});
+  EXPECT_THAT(all, HasSubstr("run other-run"));
+  EXPECT_THAT(LineWith(all, "1009"), HasSubstr("other-run"));  // run column with several runs
+}
+
+TEST_F(DisplayTest, ShowsLauncherProcessesAndEvents) {
+  RenderOptions options;
+  options.elapsed_s = 3725;
+  options.max_wall_minutes = 30;
+  options.processes = {{"learner", 4242, "running", 0, ""}, {"actor-1", 0, "restarting in 2.0s", 3, "signal 9 (Killed)"}};
+  options.events = {"[00:01:00] actor-1 ended: signal 9 (Killed); restart 3 in 2.0s"};
+  const std::string text = Render(state_, now_, options);
+  EXPECT_THAT(LineWith(text, "srics-monitor"), HasSubstr("elapsed 01:02:05 / 00:30:00"));
+  EXPECT_THAT(LineWith(text, "actor-1 "), HasSubstr("restarting in 2.0s"));
+  EXPECT_THAT(LineWith(text, "actor-1 "), HasSubstr("signal 9 (Killed)"));
+  EXPECT_THAT(LineWith(text, "4242"), HasSubstr("running"));
+  EXPECT_THAT(text, HasSubstr("events\n  [00:01:00] actor-1 ended"));
+}
+
+TEST_F(DisplayTest, OneLineSummary) {
+  const std::string line = RenderOneLine(state_, now_, "r1", 100000);
+  EXPECT_EQ(line.find('\n'), std::string::npos);
+  EXPECT_THAT(line, HasSubstr("steps 50,000/100,000"));
+  EXPECT_THAT(line, HasSubstr("updates 123,456"));
+  EXPECT_THAT(line, HasSubstr("eval v42 obj.dist 0.1000 (passive 0.2000)"));
+  EXPECT_THAT(line, HasSubstr("graph v3 2 edges"));
+  EXPECT_THAT(line, HasSubstr("nodes 3 alive, 2 gone"));
+}
+
+TEST_F(DisplayTest, RenderingIsPure) {
+  EXPECT_EQ(Render(state_, now_, {}), Render(state_, now_, {}));
+}
+
+}  // namespace
+}  // namespace srics::monitor

@@ -1,0 +1,134 @@
+#include "deploy/monitor/monitor_state.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/deploy/monitor/test_states.h"
+
+namespace srics::monitor {
+namespace {
+
+using std::chrono::milliseconds;
+using testing::Eval;
+using testing::Graph;
+using testing::Node;
+using transport::NodeState;
+
+TEST(MonitorStateTest, LostAfterIsLeasePlusTwoStatusPeriods) {
+  config::TransportConfig transport;
+  transport.liveliness_lease_s = 2.0;
+  transport.status_period_s = 0.5;
+  EXPECT_EQ(LostAfter(transport), milliseconds(3000));
+}
+
+TEST(MonitorStateTest, NodeStatusIsKeyedByRunRoleAndId) {
+  MonitorState state;
+  const Clock::time_point t0{};
+  Apply(&state, Node("actor", 0, NodeState::kExploring), t0);
+  Apply(&state, Node("actor", 0, NodeState::kTraining), t0 + milliseconds(100));
+  Apply(&state, Node("actor", 1, NodeState::kTraining), t0);
+  Apply(&state, Node("actor", 0, NodeState::kTraining, "r2"), t0);
+  ASSERT_EQ(state.nodes.size(), 3u);
+  const NodeEntry& a0 = state.nodes.at({"r1", "actor", 0});
+  EXPECT_EQ(a0.status.state, NodeState::kTraining);
+  EXPECT_EQ(a0.statuses, 2u);
+  EXPECT_EQ(a0.first_seen, t0);
+  EXPECT_EQ(a0.last_seen, t0 + milliseconds(100));
+}
+
+TEST(MonitorStateTest, QuietNodeIsLostUnlessItSaidStopping) {
+  MonitorState state;
+  state.lost_after = milliseconds(1000);
+  const Clock::time_point t0{};
+  Apply(&state, Node("actor", 0, NodeState::kTraining), t0);
+  Apply(&state, Node("learner", 0, NodeState::kStopping), t0);
+  const NodeEntry& actor = state.nodes.at({"r1", "actor", 0});
+  const NodeEntry& learner = state.nodes.at({"r1", "learner", 0});
+  EXPECT_EQ(HealthOf(state, actor, t0 + milliseconds(1000)), NodeHealth::kAlive);
+  EXPECT_EQ(HealthOf(state, actor, t0 + milliseconds(1001)), NodeHealth::kLost);
+  EXPECT_EQ(HealthOf(state, learner, t0 + milliseconds(999)), NodeHealth::kAlive);
+  EXPECT_EQ(HealthOf(state, learner, t0 + milliseconds(1500)), NodeHealth::kExited);
+}
+
+TEST(MonitorStateTest, NewlyGoneReportsEachTransitionOnceAndForgetsNodesThatCameBack) {
+  MonitorState state;
+  state.lost_after = milliseconds(1000);
+  const Clock::time_point t0{};
+  Apply(&state, Node("actor", 0, NodeState::kTraining), t0);
+  Apply(&state, Node("actor", 1, NodeState::kTraining), t0 + milliseconds(1500));
+  std::map<NodeKey, NodeHealth> gone;
+  std::vector<NodeKey> first = NewlyGone(state, t0 + milliseconds(2000), &gone);
+  ASSERT_EQ(first.size(), 1u);
+  EXPECT_EQ(first[0].node_id, 0u);
+  EXPECT_TRUE(NewlyGone(state, t0 + milliseconds(2100), &gone).empty());
+  // actor 0 restarts and reports again: alive, forgotten; it may be reported again later
+  Apply(&state, Node("actor", 0, NodeState::kExploring), t0 + milliseconds(2200));
+  EXPECT_TRUE(NewlyGone(state, t0 + milliseconds(2300), &gone).empty());
+  EXPECT_TRUE(gone.empty());
+  // later both went quiet: actor 0 is reported a second time, actor 1 for the first time
+  EXPECT_EQ(NewlyGone(state, t0 + milliseconds(3300), &gone).size(), 2u);
+  EXPECT_EQ(gone.size(), 2u);
+}
+
+TEST(MonitorStateTest, PassiveBaselineIsTheFirstVersionZeroEvaluation) {
+  MonitorState state;
+  Apply(&state, Eval(0, 0, 0.20f), {});
+  Apply(&state, Eval(0, 0, 0.30f), {});  // another evaluator's passive run: not the baseline
+  Apply(&state, Eval(5, 5000, 0.15f), {});
+  Apply(&state, Eval(9, 10000, 0.10f), {});
+  const RunView& run = state.runs.at("r1");
+  ASSERT_TRUE(run.passive.has_value());
+  EXPECT_FLOAT_EQ(run.passive->avg_object_distance, 0.20f);
+  ASSERT_EQ(run.evals.size(), 2u);
+  EXPECT_EQ(LatestEval(run)->policy_version, 9u);
+  EXPECT_EQ(EnvSteps(run), 10000u);
+}
+
+TEST(MonitorStateTest, EvaluationHistoryIsBounded) {
+  MonitorState state;
+  state.max_evals_kept = 3;
+  for (uint64_t v = 1; v <= 10; ++v) Apply(&state, Eval(v, v * 100, 0.1f), {});
+  const RunView& run = state.runs.at("r1");
+  ASSERT_EQ(run.evals.size(), 3u);
+  EXPECT_EQ(run.evals.front().policy_version, 8u);
+  EXPECT_EQ(run.evals.back().policy_version, 10u);
+}
+
+TEST(MonitorStateTest, EnvStepsIsTheLargerOfLearnerAndEvaluation) {
+  MonitorState state;
+  EXPECT_EQ(EnvSteps(RunView{}), 0u);
+  transport::LearnerStats stats;
+  stats.run_id = "r1";
+  stats.transitions_inserted = 7000;
+  Apply(&state, stats, {});
+  EXPECT_EQ(EnvSteps(state.runs.at("r1")), 7000u);
+  Apply(&state, Eval(3, 5000, 0.1f), {});
+  EXPECT_EQ(EnvSteps(state.runs.at("r1")), 7000u);
+  Apply(&state, Eval(4, 9000, 0.1f), {});
+  EXPECT_EQ(EnvSteps(state.runs.at("r1")), 9000u);
+}
+
+TEST(MonitorStateTest, WeightsKeepVersionAndSizeOnly) {
+  MonitorState state;
+  transport::PolicyWeights weights;
+  weights.run_id = "r1";
+  weights.version = 12;
+  weights.update_count = 600;
+  weights.architecture = "sac-attention";
+  weights.parameters.assign(1000, 0.5f);
+  Apply(&state, weights, {});
+  const WeightsInfo& info = *state.runs.at("r1").weights;
+  EXPECT_EQ(info.version, 12u);
+  EXPECT_EQ(info.update_count, 600u);
+  EXPECT_EQ(info.num_parameters, 1000u);
+  EXPECT_EQ(info.architecture, "sac-attention");
+}
+
+TEST(MonitorStateTest, EdgeCountIgnoresTheDiagonalAndShortAdjacency) {
+  EXPECT_EQ(EdgeCount(Graph()), 2u);
+  transport::InteractionGraph truncated = Graph();
+  truncated.adjacency.resize(2);  // malformed: must not read past the end
+  EXPECT_EQ(EdgeCount(truncated), 1u);
+}
+
+}  // namespace
+}  // namespace srics::monitor

@@ -1,0 +1,59 @@
+#pragma once
+// Hand-built samples for the monitor tests.
+
+#include "common/transport/messages.h"
+
+namespace srics::monitor::testing {
+
+inline transport::NodeStatus Node(const std::string& role, uint32_t id, transport::NodeState state,
+                                  const std::string& run_id = "r1") {
+  transport::NodeStatus s;
+  s.run_id = run_id;
+  s.role = role;
+  s.node_id = id;
+  s.host = "host-" + role;
+  s.pid = 1000 + static_cast<int>(id);
+  s.state = state;
+  s.policy_version = 7;
+  s.graph_version = 1;
+  s.env_steps = 12345;
+  s.uptime_ms = 61000;
+  return s;
+}
+
+inline transport::EvalResult Eval(uint64_t policy_version, uint64_t env_steps, float object_distance,
+                                  const std::string& run_id = "r1") {
+  transport::EvalResult e;
+  e.run_id = run_id;
+  e.actor_id = 0;
+  e.policy_version = policy_version;
+  e.graph_version = 1;
+  e.env_steps = env_steps;
+  e.episodes = 20;
+  e.avg_distance = object_distance + 0.01f;
+  e.avg_object_distance = object_distance;
+  e.success_rate = 0.5f;
+  e.entity_distance = {0.01f, 0.1f, 0.2f};
+  e.subgoal_success = {1.0f, 0.8f, 0.25f};
+  e.selectivity = 0.75f;
+  return e;
+}
+
+inline transport::InteractionGraph Graph(const std::string& run_id = "r1") {
+  transport::InteractionGraph g;
+  g.run_id = run_id;
+  g.version = 3;
+  g.num_entities = 3;
+  // 0 -> 1, 1 -> 2 (and a self weight that must not count as an edge)
+  g.mean_weights = {0.9f, 0.93f, 0.1f, 0.0f, 0.8f, 0.71f, 0.0f, 0.05f, 0.6f};
+  g.adjacency = {1, 1, 0, 0, 1, 1, 0, 0, 1};
+  g.action_entity = 0;
+  g.threshold = 0.5f;
+  g.ancestor_masks = {1, 3, 7};
+  g.depths = {0, 1, -1};
+  g.held_out_loss = 0.0123f;
+  g.episodes_used = 400;
+  return g;
+}
+
+}  // namespace srics::monitor::testing
