@@ -37,7 +37,8 @@ const char* const kRunUsage =
     "                  this program belongs to)\n"
     "  --display M     live (refreshing screen), plain (a line every 10 s), none, auto (live on a terminal)\n"
     "  --stop-timeout S      seconds between SIGINT and SIGKILL when stopping (default 15)\n"
-    "  --final-eval-grace S  at the budget, wait this long for a final evaluation (default 180)\n"
+    "  --final-eval-grace S  once the learner finished, wait this long for the actors' final\n"
+    "                        evaluation and exit before stopping them (default 180)\n"
     "exit codes: 0 run finished, 1 a role failed for good, 2 bad arguments/config, 130 interrupted\n";
 
 namespace {
@@ -184,7 +185,8 @@ int Run(const LaunchOptions& options) {
 
   int exit_code = kExitDone;
   std::string reason;
-  std::optional<SteadyClock::time_point> budget_reached;
+  std::optional<SteadyClock::time_point> learner_done;   // the learner exited with 0
+  std::optional<SteadyClock::time_point> actors_down_at;  // no actor running or restarting
   auto next_draw = start;
   auto next_line = start + std::chrono::seconds(10);
   while (reason.empty()) {
@@ -198,46 +200,37 @@ int Run(const LaunchOptions& options) {
     for (size_t i : supervisor.Tick()) {
       const ChildStatus& s = supervisor.status(i);
       if (i == learner && s.phase == ChildPhase::kFinished) {
-        reason = "the learner finished its budget";
+        learner_done = SteadyClock::now();
+        event("the learner finished its budget; waiting for the actors' final evaluation");
       } else if ((i == learner || i == graph) && s.phase == ChildPhase::kFailed) {
         reason = s.name + " failed for good (" + (s.last_exit ? s.last_exit->Describe() : "?") + ")";
         exit_code = kExitFailed;
       }
     }
     if (!reason.empty()) break;
-    bool any_actor = false;
+    bool actors_down = true, actor_failed = false;
     for (size_t i : actors) {
       const ChildPhase phase = supervisor.status(i).phase;
-      any_actor |= phase == ChildPhase::kRunning || phase == ChildPhase::kWaitingToRestart;
+      actors_down &= phase != ChildPhase::kRunning && phase != ChildPhase::kWaitingToRestart;
+      actor_failed |= phase == ChildPhase::kFailed;
     }
-    if (!actors.empty() && !any_actor) {
-      reason = "every actor ended";
-      exit_code = kExitFailed;
-      for (size_t i : actors)
-        if (supervisor.status(i).phase != ChildPhase::kFailed) exit_code = kExitDone;  // some exited with 0
-      break;
-    }
-
     const auto now = SteadyClock::now();
     const double elapsed = std::chrono::duration<double>(now - start).count();
-    auto run_it = monitor.state().runs.find(config.transport.run_id);
-    if (run_it != monitor.state().runs.end()) {
-      const mon::RunView& run = run_it->second;
-      if (!budget_reached && mon::EnvSteps(run) >= config.run.total_env_steps) {
-        budget_reached = now;
-        event("budget of " + std::to_string(config.run.total_env_steps) + " env steps reached" +
-              (config.actors.evaluators > 0 ? "; waiting for the final evaluation" : ""));
-      }
-      if (budget_reached) {
-        const transport::EvalResult* last = mon::LatestEval(run);
-        if (config.actors.evaluators == 0 || (last && last->env_steps >= config.run.total_env_steps))
-          reason = "budget reached and evaluated";
-        else if (std::chrono::duration<double>(now - *budget_reached).count() >= options.final_eval_grace_s)
-          reason = "budget reached (no final evaluation within " + std::to_string(static_cast<int>(options.final_eval_grace_s)) + " s)";
-      }
+    const auto grace = std::chrono::duration<double>(options.final_eval_grace_s);
+    if (actors_down && !actors_down_at) actors_down_at = now;
+    if (learner_done && actors_down) {
+      reason = actor_failed ? "the budget is done, but actors failed" : "the budget is done";
+      exit_code = actor_failed ? kExitFailed : kExitDone;
+    } else if (learner_done && now - *learner_done >= grace) {
+      reason = "the budget is done (actors did not finish within the grace period)";
+    } else if (!learner_done && !actors.empty() && actors_down && now - *actors_down_at >= grace) {
+      reason = "every actor ended but the learner did not finish";
+      exit_code = kExitFailed;
+    } else if (config.run.max_wall_minutes > 0 && elapsed >= config.run.max_wall_minutes * 60.0) {
+      char text[96];
+      std::snprintf(text, sizeof text, "wall-clock limit of %g minutes reached", config.run.max_wall_minutes);
+      reason = text;
     }
-    if (config.run.max_wall_minutes > 0 && elapsed >= config.run.max_wall_minutes * 60.0)
-      reason = "wall-clock limit of " + std::to_string(config.run.max_wall_minutes) + " minutes reached";
 
     if (display == DisplayMode::kLive && now >= next_draw) {
       next_draw = now + std::chrono::seconds(1);

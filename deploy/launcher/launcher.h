@@ -4,13 +4,15 @@
 // live progress display, restarts crashed processes, stops everything on Ctrl-C or when the
 // run is done, and leaves the run folder complete.
 //
-// When the run is done (the first that holds):
-//   - the learner exits with code 0 (it owns the budget), or
-//   - the system reached run.total_env_steps (EnvSteps: the learner's inserted transitions or
-//     the latest evaluation's env_steps) and an evaluation at or beyond the budget arrived
-//     (at once when actors.evaluators is 0), or final_eval_grace_s passed without one, or
-//   - run.max_wall_minutes (if > 0) passed.
-// Then every child gets SIGINT (the learner checkpoints), SIGKILL after stop_timeout_s.
+// When the run is done: the learner owns the budget (run.total_env_steps). When it has
+// trained on all of it, it publishes its final weights and stats (budget done) and exits with
+// code 0; the actors see the budget done in LearnerStats, the evaluating ones run a last
+// evaluation, and they exit with 0. The launcher then stops the graph service (SIGINT) and
+// finishes the run folder. If the actors are not done within final_eval_grace_s after the
+// learner, they are stopped. run.max_wall_minutes (if > 0) stops everything when it passes
+// (the learner checkpoints on SIGINT). Crashed processes (a signal or a non-zero exit) are
+// restarted with backoff; the learner and the graph service at most max_restarts_service
+// times (the learner resumes from its checkpoint, the graph service from graph.json).
 
 #include <chrono>
 #include <string>
@@ -35,7 +37,7 @@ struct LaunchOptions {
   std::string bin_dir;                 // --bin-dir ("" = next to this executable / build tree)
   DisplayMode display = DisplayMode::kAuto;
   double stop_timeout_s = 15;          // SIGINT -> SIGKILL
-  double final_eval_grace_s = 180;     // wait this long for a final evaluation at the budget
+  double final_eval_grace_s = 180;     // after the learner finished: wait for the actors
   BackoffPolicy backoff;               // restarts of crashed processes
   int max_restarts_service = 5;        // learner and graph service (actors: no limit)
 };

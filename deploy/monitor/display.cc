@@ -215,9 +215,9 @@ std::string Render(const MonitorState& state, Clock::time_point now, const Rende
     auto it = state.runs.find(id);
     const RunView& run = it == state.runs.end() ? kEmpty : it->second;
     const uint64_t steps = EnvSteps(run);
+    const uint64_t budget = BudgetEnvSteps(run) > 0 ? BudgetEnvSteps(run) : options.total_env_steps;
     out += "\nrun " + id + "   env steps " + Thousands(steps);
-    if (options.total_env_steps > 0)
-      out += " / " + Thousands(options.total_env_steps) + " " + ProgressBar(steps, options.total_env_steps, 30);
+    if (budget > 0) out += " / " + Thousands(budget) + " " + ProgressBar(steps, budget, 30);
     out += "\n";
     RenderLearner(run, now, &out);
     RenderGraph(run, now, &out);
@@ -242,6 +242,7 @@ std::string RenderOneLine(const MonitorState& state, Clock::time_point now, cons
   auto it = state.runs.find(run_id);
   const RunView& run = it == state.runs.end() ? kEmpty : it->second;
   std::string out = "steps " + Thousands(EnvSteps(run));
+  if (BudgetEnvSteps(run) > 0) total_env_steps = BudgetEnvSteps(run);
   if (total_env_steps) out += "/" + Thousands(total_env_steps);
   out += "  updates " + Thousands(run.learner ? run.learner->updates : 0);
   if (const transport::EvalResult* e = LatestEval(run)) {

@@ -87,8 +87,28 @@ std::vector<NodeKey> NewlyGone(const MonitorState& state, Clock::time_point now,
   return gone;
 }
 
+namespace {
+
+// Contract fields added in a later version of messages.h are read when they exist, so this
+// library builds against either.
+template <typename Stats>
+uint64_t TrainingSteps(const Stats& stats) {
+  if constexpr (requires { stats.training_env_steps; }) return stats.training_env_steps;
+  else return stats.transitions_inserted;
+}
+
+template <typename Stats>
+uint64_t Budget(const Stats& stats) {
+  if constexpr (requires { stats.budget_env_steps; }) return stats.budget_env_steps;
+  else return 0;
+}
+
+}  // namespace
+
+uint64_t BudgetEnvSteps(const RunView& run) { return run.learner ? Budget(*run.learner) : 0; }
+
 uint64_t EnvSteps(const RunView& run) {
-  uint64_t steps = run.learner ? run.learner->transitions_inserted : 0;
+  uint64_t steps = run.learner ? TrainingSteps(*run.learner) : 0;
   if (!run.evals.empty()) steps = std::max(steps, run.evals.back().env_steps);
   return steps;
 }

@@ -96,9 +96,13 @@ NodeHealth HealthOf(const MonitorState& state, const NodeEntry& node, Clock::tim
 std::vector<NodeKey> NewlyGone(const MonitorState& state, Clock::time_point now,
                                std::map<NodeKey, NodeHealth>* known_gone);
 
-// Environment steps of a run as the system reports them: the larger of the learner's inserted
-// transitions and the latest evaluation's env_steps (0 when neither arrived).
+// Environment steps of a run as the system reports them: the larger of the learner's count
+// against the budget (LearnerStats.training_env_steps where the contract has it, else
+// transitions_inserted) and the latest evaluation's env_steps (0 when neither arrived).
 uint64_t EnvSteps(const RunView& run);
+
+// The budget the learner announces (LearnerStats.budget_env_steps), 0 when unknown.
+uint64_t BudgetEnvSteps(const RunView& run);
 
 // The newest evaluation of a trained policy, or null.
 const transport::EvalResult* LatestEval(const RunView& run);

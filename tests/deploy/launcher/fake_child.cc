@@ -1,9 +1,9 @@
 // A stand-in child for the launcher tests. Prints "start <pid>" first, then behaves as told:
 //
 //   fake_child run                      runs until SIGINT/SIGTERM, then exits 0
-//   fake_child crash-once MARKER HOW    first start (MARKER missing): creates MARKER and dies
-//                                       (HOW: a number = exit code, "kill" = SIGKILL itself);
-//                                       later starts: like run
+//   fake_child crash-once MARKER HOW [MS]  first start (MARKER missing): creates MARKER and
+//                                       dies (HOW: a number = exit code, "kill" = SIGKILL
+//                                       itself); later starts: like run (or exit0-after MS)
 //   fake_child fail CODE                exits with CODE at once
 //   fake_child exit0-after MS           exits 0 after MS milliseconds (or 0 on SIGINT)
 //   fake_child stubborn                 ignores SIGINT and SIGTERM, runs until SIGKILL
@@ -72,15 +72,18 @@ int main(int argc, char** argv) {
     RunUntilSignal();
     return 0;
   }
-  if (mode[0] == "crash-once" && mode.size() == 3) {
+  if (mode[0] == "crash-once" && (mode.size() == 3 || mode.size() == 4)) {
     if (!std::ifstream(mode[1])) {
       std::ofstream(mode[1]) << "crashed\n";
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
       if (mode[2] == "kill") raise(SIGKILL);
       return std::atoi(mode[2].c_str());
     }
-    RunUntilSignal();
-    return 0;
+    if (mode.size() == 3) {
+      RunUntilSignal();
+      return 0;
+    }
+    mode = {"exit0-after", mode[3]};
   }
   if (mode[0] == "fail" && mode.size() == 2) return std::atoi(mode[1].c_str());
   if (mode[0] == "exit0-after" && mode.size() == 2) {

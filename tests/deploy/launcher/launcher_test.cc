@@ -95,9 +95,12 @@ TEST(ParseRunArgsTest, ActorsBecomeAnOverrideAndBadValuesAreRejected) {
   EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--frobnicate"}), std::invalid_argument);
 }
 
-TEST_F(LauncherTest, RunEndsWhenTheLearnerFinishesAndACrashedActorIsRestarted) {
-  setenv("FAKE_LEARNER", "exit0-after:4000", 1);
-  setenv("FAKE_ACTOR_0", ("crash-once:" + (root_ / "marker").string() + ":3").c_str(), 1);
+TEST_F(LauncherTest, RunEndsWhenLearnerAndActorsFinishAndACrashedActorIsRestarted) {
+  // the lead's protocol: the learner exits 0 at the budget, then the actors (after a last
+  // evaluation); actor 0 crashes once on the way
+  setenv("FAKE_LEARNER", "exit0-after:3000", 1);
+  setenv("FAKE_ACTOR", "exit0-after:4000", 1);
+  setenv("FAKE_ACTOR_0", ("crash-once:" + (root_ / "marker").string() + ":3:4000").c_str(), 1);
   ChildProcess launcher = StartLauncher();
   const auto exit = launcher.WaitFor(milliseconds(60000));
   ASSERT_TRUE(exit.has_value()) << Read(root_ / "launcher.out");
@@ -110,11 +113,25 @@ TEST_F(LauncherTest, RunEndsWhenTheLearnerFinishesAndACrashedActorIsRestarted) {
   const std::string log = Read(run_dir_ / "logs/launcher.log");
   EXPECT_THAT(log, HasSubstr("actor-0 ended: exit code 3; restart 1 in 1.0s"));
   EXPECT_THAT(log, HasSubstr("actor-0 restarted"));
-  EXPECT_THAT(log, HasSubstr("stopping: the learner finished its budget"));
+  EXPECT_THAT(log, HasSubstr("the learner finished its budget; waiting for the actors"));
+  EXPECT_THAT(log, HasSubstr("stopping: the budget is done"));
+  EXPECT_THAT(log, HasSubstr("graph stopped: exit code 0"));  // the service runs until told
   EXPECT_EQ(StartedPids(run_dir_ / "logs/actor-0.out").size(), 2u);
   EXPECT_EQ(StartedPids(run_dir_ / "logs/actor-1.out").size(), 1u);
   // children got the effective config and the run folder
-  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("run finished: the learner finished its budget; restarts 1"));
+  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("run finished: the budget is done; restarts 1"));
+  for (pid_t pid : RolePids()) EXPECT_FALSE(ProcessExists(pid)) << pid;
+}
+
+TEST_F(LauncherTest, ActorsThatDoNotFinishAreStoppedAfterTheGracePeriod) {
+  setenv("FAKE_LEARNER", "exit0-after:1000", 1);
+  ChildProcess launcher = StartLauncher({"--final-eval-grace", "1"});
+  const auto exit = launcher.WaitFor(milliseconds(30000));
+  ASSERT_TRUE(exit.has_value());
+  EXPECT_EQ(exit->Describe(), "exit code 0") << Read(root_ / "launcher.out");
+  const std::string log = Read(run_dir_ / "logs/launcher.log");
+  EXPECT_THAT(log, HasSubstr("stopping: the budget is done (actors did not finish within the grace period)"));
+  EXPECT_THAT(log, HasSubstr("actor-1 stopped: exit code 0"));
   for (pid_t pid : RolePids()) EXPECT_FALSE(ProcessExists(pid)) << pid;
 }
 

@@ -32,7 +32,7 @@ class DisplayTest : public ::testing::Test {
     transport::LearnerStats stats;
     stats.run_id = "r1";
     stats.updates = 123456;
-    stats.transitions_inserted = 50000;
+    testing::SetTrainingSteps(&stats, 50000);
     stats.replay_size = 48000;
     stats.episodes_accepted = 2400;
     stats.episodes_rejected = 3;

@@ -11,6 +11,7 @@ using std::chrono::milliseconds;
 using testing::Eval;
 using testing::Graph;
 using testing::Node;
+using testing::SetTrainingSteps;
 using transport::NodeState;
 
 TEST(MonitorStateTest, LostAfterIsLeasePlusTwoStatusPeriods) {
@@ -98,7 +99,7 @@ TEST(MonitorStateTest, EnvStepsIsTheLargerOfLearnerAndEvaluation) {
   EXPECT_EQ(EnvSteps(RunView{}), 0u);
   transport::LearnerStats stats;
   stats.run_id = "r1";
-  stats.transitions_inserted = 7000;
+  SetTrainingSteps(&stats, 7000);
   Apply(&state, stats, {});
   EXPECT_EQ(EnvSteps(state.runs.at("r1")), 7000u);
   Apply(&state, Eval(3, 5000, 0.1f), {});

@@ -56,4 +56,16 @@ inline transport::InteractionGraph Graph(const std::string& run_id = "r1") {
   return g;
 }
 
+// The learner's count against the budget: training_env_steps where the contract has it (a
+// template, so the tests build against either version of messages.h).
+template <typename Stats>
+void SetTrainingSteps(Stats* stats, uint64_t steps) {
+  if constexpr (requires { stats->training_env_steps; }) {
+    stats->training_env_steps = steps;
+    stats->transitions_inserted = steps + 2000;  // exploration counts here, not in the budget
+  } else {
+    stats->transitions_inserted = steps;
+  }
+}
+
 }  // namespace srics::monitor::testing
