@@ -30,6 +30,7 @@ std::string Learner::Ingest(rl::Episode episode) {
     return problem;
   }
   counters_.transitions_inserted += episode.num_steps;
+  if (!rl::UsesGraph(config_.run.method) || has_graph_) counters_.training_env_steps += episode.num_steps;
   ++counters_.episodes_accepted;
   replay_.Insert(std::move(episode));
   if (Blocked() && config_.learner.updates_per_step > 0) {

@@ -43,11 +43,16 @@ class Learner {
   std::vector<float> TakePolicyWeights();
   bool PublishDue() const;
 
+  // Raises the next policy version by `count` (after a restart from a checkpoint).
+  void SkipPolicyVersions(uint64_t count) { counters_.policy_version += count; }
+
   void SaveCheckpoint(const std::string& path);
   // Restores networks, optimizers, temperature and counters; the replay starts empty.
   void LoadCheckpoint(const std::string& path);
 
   const LearnerCounters& counters() const { return counters_; }
+  // True once the run's budget of training env steps is in (run.total_env_steps).
+  bool BudgetReached() const { return counters_.training_env_steps >= config_.run.total_env_steps; }
   uint64_t episodes_rejected() const { return rejected_; }
   const ReplayBuffer& replay() const { return replay_; }
   SacAgent& agent() { return agent_; }

@@ -17,7 +17,8 @@ nn::ParameterList<float> Join(std::initializer_list<nn::ParameterList<float>> li
 // Counters travel in a float section bit for bit (two 32-bit halves per counter).
 std::vector<float> PackCounters(const LearnerCounters& c) {
   std::vector<float> out;
-  for (uint64_t v : {c.updates, c.transitions_inserted, c.episodes_accepted, c.policy_version}) {
+  for (uint64_t v : {c.updates, c.transitions_inserted, c.episodes_accepted, c.policy_version,
+                     c.training_env_steps}) {
     const uint32_t halves[2] = {static_cast<uint32_t>(v), static_cast<uint32_t>(v >> 32)};
     for (uint32_t h : halves) {
       float f;
@@ -29,15 +30,17 @@ std::vector<float> PackCounters(const LearnerCounters& c) {
 }
 
 LearnerCounters UnpackCounters(const std::vector<float>& values, const std::string& path) {
-  if (values.size() != 8) throw nn::CheckpointError(path + ": section 'counters' has the wrong size");
-  uint64_t v[4];
-  for (int i = 0; i < 4; ++i) {
+  constexpr int kCounters = 5;
+  if (values.size() != 2 * kCounters)
+    throw nn::CheckpointError(path + ": section 'counters' has the wrong size");
+  uint64_t v[kCounters];
+  for (int i = 0; i < kCounters; ++i) {
     uint32_t lo, hi;
     std::memcpy(&lo, &values[2 * i], sizeof lo);
     std::memcpy(&hi, &values[2 * i + 1], sizeof hi);
     v[i] = (static_cast<uint64_t>(hi) << 32) | lo;
   }
-  return {v[0], v[1], v[2], v[3]};
+  return {v[0], v[1], v[2], v[3], v[4]};
 }
 
 }  // namespace

@@ -35,6 +35,8 @@ struct LearnerCounters {
   uint64_t transitions_inserted = 0;
   uint64_t episodes_accepted = 0;
   uint64_t policy_version = 0;
+  // env steps counted against the run's budget (for graph methods: from the graph's arrival)
+  uint64_t training_env_steps = 0;
   bool operator==(const LearnerCounters&) const = default;
 };
 

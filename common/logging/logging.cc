@@ -25,7 +25,9 @@ std::shared_ptr<spdlog::logger> SetUpLogger(const std::string& name, const LogOp
   auto logger = std::make_shared<spdlog::logger>(name, sinks.begin(), sinks.end());
   logger->set_level(level);
   logger->set_pattern("%Y-%m-%d %H:%M:%S.%e [%n] %^%l%$ %v");
+  // warnings at once; everything else within a second, so logs can be followed live
   logger->flush_on(spdlog::level::warn);
+  spdlog::flush_every(std::chrono::seconds(1));
   spdlog::register_logger(logger);
   spdlog::set_default_logger(logger);
   return logger;

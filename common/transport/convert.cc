@@ -191,6 +191,8 @@ void ToC(const LearnerStats& in, srics_LearnerStats* out) {
   PutString(in.run_id, out->run_id, "run_id");
   out->updates = in.updates;
   out->transitions_inserted = in.transitions_inserted;
+  out->training_env_steps = in.training_env_steps;
+  out->budget_env_steps = in.budget_env_steps;
   out->replay_size = in.replay_size;
   out->episodes_accepted = in.episodes_accepted;
   out->episodes_rejected = in.episodes_rejected;
@@ -209,6 +211,8 @@ void FromC(const srics_LearnerStats& in, LearnerStats* out) {
   out->run_id = GetString(in.run_id);
   out->updates = in.updates;
   out->transitions_inserted = in.transitions_inserted;
+  out->training_env_steps = in.training_env_steps;
+  out->budget_env_steps = in.budget_env_steps;
   out->replay_size = in.replay_size;
   out->episodes_accepted = in.episodes_accepted;
   out->episodes_rejected = in.episodes_rejected;

@@ -118,6 +118,8 @@ struct LearnerStats {
   std::string run_id;
   uint64_t updates = 0;
   uint64_t transitions_inserted = 0;
+  uint64_t training_env_steps = 0;  // env steps counted against the run's budget
+  uint64_t budget_env_steps = 0;    // the budget; training_env_steps >= it: the run is done
   uint64_t replay_size = 0;
   uint64_t episodes_accepted = 0;
   uint64_t episodes_rejected = 0;

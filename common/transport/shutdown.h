@@ -36,6 +36,8 @@ class Shutdown {
 
   // True once Request() ran or (for Process()) a signal arrived.
   bool requested() const { return requested_.load(std::memory_order_acquire); }
+  // The flag itself, for loops that poll a std::atomic<bool> (set once, never cleared).
+  const std::atomic<bool>& flag() const { return requested_; }
 
   // Internal, for Participant: guard conditions (DDS entity handles) to trigger on Request().
   // Registering after a request triggers the guard immediately.

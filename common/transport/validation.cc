@@ -143,9 +143,10 @@ Validation Validate(const InteractionGraph& msg, std::string_view run_id) {
   for (uint32_t i = 0; i < n; ++i) {
     if (!MaskInside(msg.ancestor_masks[i], n))
       return Malformed("ancestor_masks[" + std::to_string(i) + "] has bits at or above N");
-    if (msg.depths[i] < -1 || msg.depths[i] >= static_cast<int32_t>(n))
+    // a longest simple path from the action node has at most N edges
+    if (msg.depths[i] < -1 || msg.depths[i] > static_cast<int32_t>(n))
       return Malformed("depths[" + std::to_string(i) + "] = " + std::to_string(msg.depths[i]) +
-                       " not in [-1, N)");
+                       " not in [-1, N]");
   }
   if (auto r = NonFinite("mean_weights", msg.mean_weights); !r.empty()) return Malformed(r);
   if (!std::isfinite(msg.threshold)) return Malformed("threshold is not finite");

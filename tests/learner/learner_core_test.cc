@@ -79,7 +79,7 @@ TEST(LearnerCoreTest, RestartFromCheckpointKeepsCountersAndRefillsBeforeUpdating
   EXPECT_FALSE(second.CanUpdate()) << "empty replay after a restart";
   for (int i = 0; i < 5; ++i) second.Ingest(MakeEpisode(3, 20, 100 + i, 1));
   // the episode that completed the refill pays for 10 updates, plus the buffer of 4: not the
-  // 0.5 * (500 - 100) - 154 = 46 a limiter counting from zero would allow
+  // 0.5 * (500 - 100) + 4 - 154 = 50 that a limiter counting from zero would allow
   EXPECT_EQ(second.UpdatesAllowed(), 14u) << "no burst of updates after the refill";
   // weight versions keep increasing across the restart
   second.TakePolicyWeights();

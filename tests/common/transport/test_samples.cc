@@ -107,6 +107,8 @@ LearnerStats MakeLearnerStats(const std::string& run_id, uint64_t seed) {
   s.run_id = run_id;
   s.updates = 1000 + seed;
   s.transitions_inserted = 20000 + seed;
+  s.training_env_steps = 15000 + seed;
+  s.budget_env_steps = 600000;
   s.replay_size = 19000 + seed;
   s.episodes_accepted = 1000;
   s.episodes_rejected = 3;

@@ -172,8 +172,11 @@ TEST(ValidationTest, GraphStructureIsChecked) {
   g.adjacency[0] = 2;
   ExpectMalformed(Validate(g, "r"), "adjacency[0]");
   g = good;
-  g.depths[1] = 5;
+  g.depths[1] = 6;  // N = 5: a simple path has at most 5 edges
   ExpectMalformed(Validate(g, "r"), "depths[1]");
+  g = good;
+  g.depths[1] = 5;
+  EXPECT_TRUE(Validate(g, "r").ok()) << "depth N is a valid longest path";
   g = good;
   g.ancestor_masks[4] = 1ull << 6;
   ExpectMalformed(Validate(g, "r"), "ancestor_masks[4]");

@@ -1,0 +1,32 @@
+#pragma once
+// Publishes a process's NodeStatus (keyed by run, role and id; transient-local, with a
+// liveliness lease so monitors notice a dead process). Fills host, pid and uptime, and adds
+// the participant's rejected-sample count to the node's own.
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "common/rl/updates.h"
+#include "common/transport/endpoint.h"
+#include "common/transport/messages.h"
+#include "common/transport/participant.h"
+
+namespace srics::transport {
+
+class StatusPublisher {
+ public:
+  StatusPublisher(const Participant& participant, std::string role, uint32_t node_id);
+  // Publishes now (does not block on back-pressure for long: status is best kept fresh).
+  void Publish(const rl::NodeReport& report);
+
+ private:
+  const Participant* participant_;
+  Writer<NodeStatus> writer_;
+  NodeStatus status_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+NodeState ToNodeState(rl::NodePhase phase);
+
+}  // namespace srics::transport

@@ -1,0 +1,150 @@
+#pragma once
+// Runs the real role processes (srics-graph, srics-learner, srics-actor) on loopback DDS for
+// integration tests, and watches the system through the public topics like a monitor.
+// Each System gets its own run folder, domain id and run id, so tests never see each other.
+
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/config/config.h"
+#include "deploy/launcher/child_process.h"
+#include "common/transport/transport.h"
+
+namespace srics::testing {
+
+using namespace std::chrono_literals;
+namespace tr = transport;
+
+inline std::string BinaryDir() { return SRICS_BINARY_DIR; }
+inline std::string SourceDir() { return SRICS_SOURCE_DIR; }
+
+class System {
+ public:
+  // `name` makes the run folder and run id unique; extra overrides apply to every process.
+  explicit System(const std::string& name, std::vector<std::string> overrides = {}) {
+    static int counter = 0;
+    const int index = counter++;
+    run_id_ = name + "-" + std::to_string(getpid()) + "-" + std::to_string(index);
+    domain_ = 120 + static_cast<int>((getpid() * 7 + index) % 100);
+    run_dir_ = ::testing::TempDir() + "/srics-system/" + run_id_;
+    std::filesystem::remove_all(run_dir_);
+    std::filesystem::create_directories(run_dir_);
+    config_path_ = SourceDir() + "/tests/integration/system-test.yaml";
+    overrides_ = std::move(overrides);
+    overrides_.push_back("transport.domain_id=" + std::to_string(domain_));
+    overrides_.push_back("transport.run_id=" + run_id_);
+    config_ = config::LoadConfig(config_path_, overrides_);
+    participant_ = std::make_unique<tr::Participant>(config_.transport, shutdown_);
+    weights_ = std::make_unique<tr::Reader<tr::PolicyWeights>>(*participant_);
+    graphs_ = std::make_unique<tr::Reader<tr::InteractionGraph>>(*participant_);
+    stats_ = std::make_unique<tr::Reader<tr::LearnerStats>>(*participant_);
+    evals_ = std::make_unique<tr::Reader<tr::EvalResult>>(*participant_);
+    status_ = std::make_unique<tr::Reader<tr::NodeStatus>>(*participant_);
+  }
+  ~System() {
+    for (auto& [name, child] : children_) {
+      if (child.running()) {
+        child.Signal(SIGINT);
+        if (!child.WaitFor(3s)) child.Kill();
+      }
+    }
+  }
+
+  // Starts a role process ("graph", "learner", "actor-K").
+  void Start(const std::string& name) {
+    std::vector<std::string> argv;
+    if (name == "graph") argv = {BinaryDir() + "/graph_service/srics-graph"};
+    else if (name == "learner") argv = {BinaryDir() + "/learner/srics-learner"};
+    else argv = {BinaryDir() + "/actor/srics-actor", "--id", name.substr(6)};
+    argv.push_back(config_path_);
+    for (const auto& o : overrides_) {
+      argv.push_back("--set");
+      argv.push_back(o);
+    }
+    argv.push_back("--run-dir");
+    argv.push_back(run_dir_);
+    launcher::SpawnOptions options;
+    options.output_file = run_dir_ + "/" + name + ".out";
+    children_[name] = launcher::ChildProcess::Spawn(argv, options);
+  }
+  void StartAll(int actors) {
+    Start("graph");
+    Start("learner");
+    for (int i = 0; i < actors; ++i) Start("actor-" + std::to_string(i));
+  }
+  launcher::ChildProcess& child(const std::string& name) { return children_.at(name); }
+
+  // Reads every topic's news into the latest_* fields; call often.
+  void Poll() {
+    tr::PolicyWeights w;
+    while (weights_->Take(&w, 0ms) == tr::TakeStatus::kSample) {
+      weight_versions.push_back(w.version);
+      latest_weights = w.version;
+    }
+    tr::InteractionGraph g;
+    while (graphs_->Take(&g, 0ms) == tr::TakeStatus::kSample) {
+      graph = g;
+      ++graphs_received;
+    }
+    tr::LearnerStats s;
+    while (stats_->Take(&s, 0ms) == tr::TakeStatus::kSample) stats = s;
+    tr::EvalResult e;
+    while (evals_->Take(&e, 0ms) == tr::TakeStatus::kSample) evals.push_back(e);
+    tr::NodeStatus n;
+    while (status_->Take(&n, 0ms) == tr::TakeStatus::kSample) nodes[n.role + "-" + std::to_string(n.node_id)] = n;
+  }
+  // Polls until `done` holds or `timeout` passes; returns whether it held.
+  bool WaitUntil(const std::function<bool()>& done, std::chrono::seconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      Poll();
+      if (done()) return true;
+      std::this_thread::sleep_for(50ms);
+    }
+    Poll();
+    return done();
+  }
+  // The tail of a process's output, for failure messages.
+  std::string Output(const std::string& name) const {
+    std::ifstream in(run_dir_ + "/" + name + ".out");
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    return text.size() > 3000 ? text.substr(text.size() - 3000) : text;
+  }
+
+  const config::Config& config() const { return config_; }
+  const std::string& run_dir() const { return run_dir_; }
+  tr::Participant& participant() { return *participant_; }
+
+  // what the system published, as seen by this monitor
+  std::vector<uint64_t> weight_versions;
+  uint64_t latest_weights = 0;
+  std::optional<tr::InteractionGraph> graph;
+  int graphs_received = 0;
+  std::optional<tr::LearnerStats> stats;
+  std::vector<tr::EvalResult> evals;
+  std::map<std::string, tr::NodeStatus> nodes;
+
+ private:
+  std::string run_id_, run_dir_, config_path_;
+  int domain_;
+  std::vector<std::string> overrides_;
+  config::Config config_;
+  tr::Shutdown shutdown_;
+  std::unique_ptr<tr::Participant> participant_;
+  std::unique_ptr<tr::Reader<tr::PolicyWeights>> weights_;
+  std::unique_ptr<tr::Reader<tr::InteractionGraph>> graphs_;
+  std::unique_ptr<tr::Reader<tr::LearnerStats>> stats_;
+  std::unique_ptr<tr::Reader<tr::EvalResult>> evals_;
+  std::unique_ptr<tr::Reader<tr::NodeStatus>> status_;
+  std::map<std::string, launcher::ChildProcess> children_;
+};
+
+}  // namespace srics::testing
