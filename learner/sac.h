@@ -58,6 +58,8 @@ class SacAgent {
   LearnerCounters LoadCheckpoint(const std::string& path);
 
   double alpha() const;
+  // Logs the shape of every matrix product of the following updates (benchmarks).
+  void set_gemm_log(std::vector<nn::GemmShape>* log) { tape_.set_gemm_log(log); }
   rl::PolicyNetwork<float>& policy() { return policy_; }
   rl::QNetwork<float>& q1() { return q1_; }
   const AgentShape& shape() const { return shape_; }

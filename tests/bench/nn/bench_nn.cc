@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/nn/tape.h"
+#include "tests/bench/bench_util.h"
 #include "common/rl/networks.h"
 
 namespace {
@@ -19,23 +20,8 @@ using srics::nn::Rng;
 using srics::nn::Tape;
 using srics::nn::Tensor;
 using Clock = std::chrono::steady_clock;
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-template <typename F>
-double MedianMs(int repeats, F&& f) {
-  f();  // warm-up: sizes the tape's buffers
-  std::vector<double> t;
-  for (int r = 0; r < repeats; ++r) {
-    const auto start = Clock::now();
-    f();
-    t.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-  }
-  return Median(t);
-}
+using srics::bench::GemmFloor;
+using srics::bench::MedianMs;
 
 srics::rl::AttentionNetworkConfig PaperConfig(int entities) {
   // entity token [one-hot id (K = entities), x, y]; goal token [one-hot, goal xy, 1]
@@ -53,30 +39,6 @@ srics::rl::AttentionNetworkConfig PaperConfig(int entities) {
 struct Case {
   int batch, entities;
   double policy_ms, q_ms, floor_ms;
-};
-
-// the recorded products as bare Eigen products on preallocated operands
-struct GemmFloor {
-  explicit GemmFloor(const std::vector<GemmShape>& shapes, Rng& rng) : shapes(shapes) {
-    for (const GemmShape& s : shapes) {
-      a.push_back(s.transpose_a ? Tensor::Random(s.k, s.m) : Tensor::Random(s.m, s.k));
-      b.push_back(s.transpose_b ? Tensor::Random(s.n, s.k) : Tensor::Random(s.k, s.n));
-      c.push_back(Tensor::Zero(s.m, s.n));
-    }
-  }
-  void Run() {
-    for (size_t i = 0; i < shapes.size(); ++i) {
-      if (shapes[i].transpose_a) {
-        c[i].noalias() = a[i].transpose() * b[i];
-      } else if (shapes[i].transpose_b) {
-        c[i].noalias() = a[i] * b[i].transpose();
-      } else {
-        c[i].noalias() = a[i] * b[i];
-      }
-    }
-  }
-  std::vector<GemmShape> shapes;
-  std::vector<Tensor> a, b, c;
 };
 
 Case RunCase(int batch, int entities, int repeats) {
@@ -106,7 +68,7 @@ Case RunCase(int batch, int entities, int repeats) {
   policy_step();
   q_step();
   tape.set_gemm_log(nullptr);
-  GemmFloor floor(shapes, rng);
+  GemmFloor floor(shapes);
   Case c{batch, entities, 0, 0, 0};
   c.policy_ms = MedianMs(repeats, policy_step);
   c.q_ms = MedianMs(repeats, q_step);
