@@ -136,7 +136,11 @@ int Run(const LaunchOptions& options) {
 
   const auto start = SteadyClock::now();
   std::deque<std::string> events;
-  auto event = [&](const std::string& text) {
+  auto note = [&](const std::string& text) {  // on the display only
+    events.push_back("[" + Clock(std::chrono::duration<double>(SteadyClock::now() - start).count()) + "] " + text);
+    if (events.size() > 8) events.pop_front();
+  };
+  auto event = [&](const std::string& text) {  // logged and on the display
     spdlog::info("{}", text);
     events.push_back("[" + Clock(std::chrono::duration<double>(SteadyClock::now() - start).count()) + "] " + text);
     if (events.size() > 8) events.pop_front();
@@ -196,7 +200,7 @@ int Run(const LaunchOptions& options) {
       break;
     }
     monitor.Poll(std::chrono::milliseconds(200));
-    for (const std::string& text : monitor.TakeNodeEvents()) event(text);
+    for (const std::string& text : monitor.TakeNodeEvents()) note(text);  // the monitor logged it
     for (size_t i : supervisor.Tick()) {
       const ChildStatus& s = supervisor.status(i);
       if (i == learner && s.phase == ChildPhase::kFinished) {

@@ -153,13 +153,16 @@ void RenderEval(const RunView& run, size_t history_rows, std::string* out) {
 
 void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderOptions& options,
                  bool show_run, std::string* out) {
-  size_t alive = 0, lost = 0, exited = 0, shown = 0;
+  size_t alive = 0, quiet = 0, lost = 0, exited = 0, shown = 0;
   std::string rows;
   for (const auto& [key, node] : state.nodes) {
     if (!Shown(key.run_id, options)) continue;
     ++shown;
     const NodeHealth health = HealthOf(state, node, now);
-    (health == NodeHealth::kAlive ? alive : health == NodeHealth::kLost ? lost : exited)++;
+    (health == NodeHealth::kAlive   ? alive
+     : health == NodeHealth::kQuiet ? quiet
+     : health == NodeHealth::kLost  ? lost
+                                    : exited)++;
     const transport::NodeStatus& s = node.status;
     std::string row = show_run ? Format("  %-12.12s", key.run_id.c_str()) : std::string("  ");
     row += Format("%-8.8s %3u %-14.14s %7d %-10.10s %-6s %6" PRIu64 " %5" PRIu64 " %11s %7" PRIu64
@@ -170,9 +173,10 @@ void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderO
                   Seconds(now - node.last_seen).c_str(), s.detail.c_str());
     rows += row;
   }
-  *out += Format("nodes     %zu alive, %zu lost, %zu exited   (NodeStatus writers alive: %u, dropped "
-                 "malformed samples here: %" PRIu64 ")\n",
-                 alive, lost, exited, state.status_writers_alive, state.dropped_samples);
+  *out += Format("nodes     %zu alive, %zu lost, %zu exited", alive, lost, exited);
+  if (quiet) *out += Format(", %zu quiet (busy: no status lately, DDS liveliness fine)", quiet);
+  *out += Format("   (NodeStatus writers alive: %u, dropped malformed samples here: %" PRIu64 ")\n",
+                 state.status_writers_alive, state.dropped_samples);
   if (shown == 0) {
     *out += "  none seen yet\n";
     return;
@@ -256,7 +260,8 @@ std::string RenderOneLine(const MonitorState& state, Clock::time_point now, cons
   size_t alive = 0, gone = 0;
   for (const auto& [key, node] : state.nodes) {
     if (key.run_id != run_id) continue;
-    (HealthOf(state, node, now) == NodeHealth::kAlive ? alive : gone)++;
+    const NodeHealth health = HealthOf(state, node, now);
+    (health == NodeHealth::kAlive || health == NodeHealth::kQuiet ? alive : gone)++;
   }
   out += Format("  nodes %zu alive", alive);
   if (gone) out += Format(", %zu gone", gone);

@@ -77,6 +77,7 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
 
   state_.dropped_samples = participant_.total_rejected();
   state_.status_writers_alive = readers_->nodes.alive_writers();
+  state_.liveliness_known = true;
   const Clock::time_point now = Clock::now();
   for (const NodeKey& key : NewlyGone(state_, now, &known_gone_)) {
     const NodeEntry& node = state_.nodes.at(key);

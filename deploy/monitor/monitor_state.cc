@@ -8,6 +8,7 @@ namespace srics::monitor {
 const char* NodeHealthName(NodeHealth health) {
   switch (health) {
     case NodeHealth::kAlive: return "alive";
+    case NodeHealth::kQuiet: return "quiet";
     case NodeHealth::kExited: return "exited";
     case NodeHealth::kLost: return "LOST";
   }
@@ -67,8 +68,13 @@ void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::
 
 NodeHealth HealthOf(const MonitorState& state, const NodeEntry& node, Clock::time_point now) {
   if (now - node.last_seen <= state.lost_after) return NodeHealth::kAlive;
-  return node.status.state == transport::NodeState::kStopping ? NodeHealth::kExited
-                                                              : NodeHealth::kLost;
+  if (node.status.state == transport::NodeState::kStopping) return NodeHealth::kExited;
+  if (state.liveliness_known) {
+    size_t expected = 0;  // nodes whose writer should still be there
+    for (const auto& [key, other] : state.nodes) expected += other.status.state != transport::NodeState::kStopping;
+    if (state.status_writers_alive >= expected) return NodeHealth::kQuiet;
+  }
+  return NodeHealth::kLost;
 }
 
 std::vector<NodeKey> NewlyGone(const MonitorState& state, Clock::time_point now,
@@ -77,7 +83,7 @@ std::vector<NodeKey> NewlyGone(const MonitorState& state, Clock::time_point now,
   for (const auto& [key, node] : state.nodes) {
     const NodeHealth health = HealthOf(state, node, now);
     auto it = known_gone->find(key);
-    if (health == NodeHealth::kAlive) {
+    if (health == NodeHealth::kAlive || health == NodeHealth::kQuiet) {
       if (it != known_gone->end()) known_gone->erase(it);
     } else if (it == known_gone->end() || it->second != health) {
       (*known_gone)[key] = health;

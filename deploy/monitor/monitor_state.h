@@ -35,6 +35,8 @@ struct NodeKey {
 // How a node looks from here.
 enum class NodeHealth {
   kAlive,   // a status arrived within lost_after
+  kQuiet,   // no status for lost_after, but DDS liveliness says every status writer is alive:
+            // a busy process (or a status thread starved of CPU), not a dead one
   kExited,  // its last status said "stopping", then it went quiet: a clean exit
   kLost,    // went quiet without saying goodbye: crashed, killed or cut off
 };
@@ -75,6 +77,7 @@ struct MonitorState {
   size_t max_evals_kept = 1000;  // per run, oldest dropped first
   uint64_t dropped_samples = 0;  // malformed samples the monitor's readers rejected
   uint32_t status_writers_alive = 0;  // NodeStatus writers alive by their liveliness lease
+  bool liveliness_known = false;      // status_writers_alive is filled in (by Monitor)
 };
 
 // When a silent node counts as gone: its liveliness lease plus two status periods (a live
@@ -89,6 +92,9 @@ void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock:
 // Keeps the version and size only.
 void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::time_point now);
 
+// kAlive within lost_after of its last status; then kExited if that status said "stopping",
+// kQuiet if liveliness is known and at least as many status writers are alive as there are
+// nodes that did not say goodbye, else kLost.
 NodeHealth HealthOf(const MonitorState& state, const NodeEntry& node, Clock::time_point now);
 
 // Nodes whose health changed to kLost or kExited since `*known_gone`, which is updated (for

@@ -97,8 +97,11 @@ for host in a b c; do
   ip -n "$ns_br" link set "$tag${host}br" master br0
   ip -n "$ns_br" link set "$tag${host}br" up
 done
-ip netns exec "$ns_b" ping -c 1 -W 2 "$addr_a" >/dev/null || { echo "three_hosts.sh: B cannot reach A" >&2; exit 1; }
-ip netns exec "$ns_c" ping -c 1 -W 2 "$addr_a" >/dev/null || { echo "three_hosts.sh: C cannot reach A" >&2; exit 1; }
+if command -v ping >/dev/null; then  # (ping is optional: DDS discovery below is the real test)
+  for ns in "$ns_b" "$ns_c"; do
+    ip netns exec "$ns" ping -c 1 -W 2 "$addr_a" >/dev/null || { echo "three_hosts.sh: $ns cannot reach A" >&2; exit 1; }
+  done
+fi
 echo "hosts: A $addr_a (graph, learner)  B $addr_b (actor 0)  C $addr_c (actor 1, monitor)"
 
 # --- the same configuration everywhere: unicast discovery between the three addresses ---

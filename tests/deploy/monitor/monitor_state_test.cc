@@ -50,6 +50,25 @@ TEST(MonitorStateTest, QuietNodeIsLostUnlessItSaidStopping) {
   EXPECT_EQ(HealthOf(state, learner, t0 + milliseconds(1500)), NodeHealth::kExited);
 }
 
+TEST(MonitorStateTest, QuietNodeWithLiveWritersIsBusyNotLost) {
+  MonitorState state;
+  state.lost_after = milliseconds(1000);
+  const Clock::time_point t0{};
+  Apply(&state, Node("graph", 0, NodeState::kTraining), t0);
+  Apply(&state, Node("actor", 0, NodeState::kTraining), t0 + milliseconds(1500));
+  Apply(&state, Node("actor", 1, NodeState::kStopping), t0);  // said goodbye: its writer is gone
+  const NodeEntry& graph = state.nodes.at({"r1", "graph", 0});
+  const Clock::time_point now = t0 + milliseconds(2000);
+  state.liveliness_known = true;
+  state.status_writers_alive = 2;  // graph and actor 0: the graph is only busy
+  EXPECT_EQ(HealthOf(state, graph, now), NodeHealth::kQuiet);
+  state.status_writers_alive = 1;  // one writer lost its liveliness: the quiet one is lost
+  EXPECT_EQ(HealthOf(state, graph, now), NodeHealth::kLost);
+  state.liveliness_known = false;  // without liveliness, quiet means lost
+  state.status_writers_alive = 2;
+  EXPECT_EQ(HealthOf(state, graph, now), NodeHealth::kLost);
+}
+
 TEST(MonitorStateTest, NewlyGoneReportsEachTransitionOnceAndForgetsNodesThatCameBack) {
   MonitorState state;
   state.lost_after = milliseconds(1000);
