@@ -28,6 +28,7 @@ struct ActorLoop::State {
   // learner progress when this actor started training: rate limiting counts from there
   std::optional<rl::LearnerProgress> baseline;
   bool passive_evaluated = false;
+  uint64_t evaluated_version = 0;  // policy version of the last evaluation
   uint64_t next_eval_steps = 0;
   Clock::time_point last_status;
 };
@@ -136,6 +137,7 @@ int ActorLoop::Run(const std::atomic<bool>& stop) {
     }
     if (stop) return;
     ++counters_.evaluations;
+    if (!passive) s.evaluated_version = s.policy_version;
     link_->PublishEval(report);
     spdlog::info("evaluation ({}) at {} env steps: avg_object_distance {:.4f}, avg_distance {:.4f}, success {:.2f}",
                  passive ? "passive" : "policy v" + std::to_string(s.policy_version), report.env_steps,
@@ -162,7 +164,7 @@ int ActorLoop::Run(const std::atomic<bool>& stop) {
       if (evaluator && training && !stop) {
         std::this_thread::sleep_for(std::chrono::milliseconds(300));
         poll_updates();
-        evaluate(false);
+        if (s.policy_version != s.evaluated_version) evaluate(false);
       }
       status(rl::NodePhase::kStopping, "budget done", true);
       return 0;

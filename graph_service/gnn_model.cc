@@ -22,8 +22,28 @@ GnnModel<T>::GnnModel(const GnnOptions& o, nn::Rng& rng)
     throw std::invalid_argument("GnnModel: bad sizes");
   if (!(o.edge_prior > 0 && o.edge_prior < 1) || !(o.temperature > 0))
     throw std::invalid_argument("GnnModel: edge_prior must be in (0, 1), temperature > 0");
+  if (o.edge_relative_scale > 0)
+    edge_rel_ = std::make_unique<nn::Linear<T>>("gnn.edge_rel", 2, 2 * o.mlp_hidden, false, rng);
   log_prior_.resize(1, 2);
   log_prior_ << T(std::log(o.edge_prior)), T(std::log(1 - o.edge_prior));
+}
+
+template <typename T>
+void GnnModel<T>::set_input_normalization(std::vector<double> mean, std::vector<double> inv_std) {
+  if (mean.empty() && inv_std.empty()) {
+    input_mean_.resize(0, 0);
+    input_inv_std_.resize(0, 0);
+    return;
+  }
+  if (static_cast<int>(mean.size()) != options_.input_dim ||
+      static_cast<int>(inv_std.size()) != options_.input_dim)
+    throw std::invalid_argument("GnnModel: input normalization must have input_dim entries");
+  input_mean_.resize(1, options_.input_dim);
+  input_inv_std_.resize(1, options_.input_dim);
+  for (int f = 0; f < options_.input_dim; ++f) {
+    input_mean_(0, f) = T(mean[f]);
+    input_inv_std_(0, f) = T(inv_std[f]);
+  }
 }
 
 template <typename T>
@@ -74,11 +94,22 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
                                                 int batch, const Mat& gumbel) {
   BuildEdges(batch);
   const int m = options_.mlp_hidden;
+  nn::Var<T> raw = x;
+  if (input_mean_.size() > 0)
+    x = tape.Mul(tape.Sub(x, tape.Constant(input_mean_)), tape.Constant(input_inv_std_));
   // first edge layer per node, then onto edges: relu(h_i W_s + h_j W_r + b)
   nn::Var<T> node = options_.edge_node_inputs ? tape.Concat({h, x}, 1) : h;
   nn::Var<T> send = edge_send_.Forward(tape, node);
   nn::Var<T> recv = edge_recv_.Forward(tape, node);
-  nn::Var<T> pre = tape.Relu(tape.Add(tape.Gather(send, senders_), tape.Gather(recv, receivers_)));
+  nn::Var<T> first = tape.Add(tape.Gather(send, senders_), tape.Gather(recv, receivers_));
+  if (edge_rel_) {
+    // (xy_i - xy_j) / scale per edge, through its own slice of the first layer
+    nn::Var<T> xy = tape.Slice(raw, 1, 0, 2);
+    nn::Var<T> rel = tape.MulScalar(tape.Sub(tape.Gather(xy, senders_), tape.Gather(xy, receivers_)),
+                                    T(1.0 / options_.edge_relative_scale));
+    first = tape.Add(first, edge_rel_->Forward(tape, rel));
+  }
+  nn::Var<T> pre = tape.Relu(first);
   nn::Var<T> effect = eff_out_.Forward(tape, tape.Slice(pre, 1, 0, m));
   nn::Var<T> logits = pres_out_.Forward(tape, tape.Slice(pre, 1, m, m));
   // class 0 of the (straight-through) Gumbel-softmax sample is the edge
@@ -140,6 +171,7 @@ void GnnModel<T>::Parameters(nn::ParameterList<T>& list) {
   act_.Parameters(list);
   edge_send_.Parameters(list);
   edge_recv_.Parameters(list);
+  if (edge_rel_) edge_rel_->Parameters(list);
   eff_out_.Parameters(list);
   pres_out_.Parameters(list);
   gru_.Parameters(list);

@@ -8,6 +8,8 @@
 //   h_act_j   = d_act(x_j)
 //   h_j(t+1)  = GRU([h_int_j, h_act_j], h_j(t))
 //   Δxy_j     = delta_scale * d_pred(h_j(t+1))
+// With edge_relative_scale > 0 the first edge layer also gets (xy_i - xy_j) / scale (contact
+// and rope effects depend on where the entities are relative to each other).
 // w_ij is "entity i acts on entity j". The first layer of d_eff and d_pres on [h_i, h_j] is
 // computed per node (h_i W_s + h_j W_r, the same linear map) before gathering onto edges, so
 // the per-edge work is one hidden layer and the two output layers.
@@ -29,6 +31,9 @@ struct GnnOptions {
   int hidden_dim = 20;        // per-entity recurrent state
   int mlp_hidden = 100;       // hidden width of every d_* MLP
   bool edge_node_inputs = false;  // edge MLPs also see x_i, x_j (not in the reference)
+  // > 0: the edge MLPs also see the relative position (xy_i - xy_j) / edge_relative_scale of
+  // the raw (unstandardised) inputs (not in the recurrent reference model)
+  double edge_relative_scale = 0;
   double delta_scale = 1;     // Δxy = delta_scale * d_pred(h): output units in metres
   double edge_prior = 0.05;   // Bernoulli prior of an edge (KL target)
   double kl_weight = 1e-5;
@@ -80,6 +85,9 @@ class GnnModel {
   void set_entity_loss_weights(std::vector<double> w) { entity_weights_ = std::move(w); }
   // Changes the weight of the KL term (annealing).
   void set_kl_weight(double w) { options_.kl_weight = w; }
+  // Standardisation of the node inputs: every network sees (x - mean) * inv_std (size F
+  // each; empty = raw inputs). Relative edge positions use the raw xy.
+  void set_input_normalization(std::vector<double> mean, std::vector<double> inv_std);
   // With open edges every message has weight 1 (warm-up); the logits are still computed.
   void set_open_edges(bool open) { open_edges_ = open; }
   // Parameters in a fixed order (the flat layout).
@@ -92,12 +100,14 @@ class GnnModel {
   nn::Mlp<T> act_;            // d_act: F -> M -> H
   nn::Linear<T> edge_send_;   // first layer of [d_eff | d_pres], sender half (no bias)
   nn::Linear<T> edge_recv_;   // receiver half with the bias
+  std::unique_ptr<nn::Linear<T>> edge_rel_;  // relative position -> first layer (no bias)
   nn::Linear<T> eff_out_;     // M -> H
   nn::Linear<T> pres_out_;    // M -> 2 (class 0 = edge)
   nn::GruCell<T> gru_;        // [h_int, h_act] -> H
   nn::Mlp<T> pred_;           // d_pred: H -> M -> 2
   bool open_edges_ = false;
   std::vector<double> entity_weights_;
+  Mat input_mean_, input_inv_std_;  // 1 x F each (empty: no standardisation)
   Mat row_weights_;           // (B*N) x 1 built from entity_weights_
   int edges_batch_ = -1;
   std::vector<int> senders_, receivers_;

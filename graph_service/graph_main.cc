@@ -139,13 +139,17 @@ int main(int argc, char** argv) {
     transport::Participant participant(config.transport);
     DdsEpisodeSource source(participant, config.env.velocities, static_cast<size_t>(config.graph.episodes));
     DdsGraphSink sink(participant);
+    // NodeStatus from a heartbeat thread: GNN training blocks the service's own thread for
+    // seconds at a time, and monitors must not take a busy service for a dead one
     transport::StatusPublisher status(participant, "graph", 0);
-    auto last_status = std::chrono::steady_clock::now() - std::chrono::hours(1);
+    std::mutex progress_mutex;
     graph::Progress last;
-    auto report = [&](const graph::Progress& p, bool force) {
-      const double since = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_status).count();
-      if (!force && since < config.transport.status_period_s) return;
-      last_status = std::chrono::steady_clock::now();
+    auto report = [&]() {
+      graph::Progress p;
+      {
+        std::lock_guard lock(progress_mutex);
+        p = last;
+      }
       rl::NodeReport r;
       r.phase = PhaseOf(p.phase);
       r.graph_version = p.published_version;
@@ -157,23 +161,39 @@ int main(int argc, char** argv) {
                  (p.graph.empty() ? "" : ", " + p.graph);
       status.Publish(r);
     };
+    const auto& stop = transport::Shutdown::Process().flag();
+    // a jthread: asked to stop and joined on every way out of this scope, exceptions included
+    std::jthread heartbeat([&](std::stop_token token) {
+      const auto period = std::chrono::duration<double>(config.transport.status_period_s);
+      while (!token.stop_requested() && !stop) {
+        report();
+        std::this_thread::sleep_for(std::chrono::duration_cast<std::chrono::milliseconds>(period));
+      }
+    });
     graph::ServiceOptions options;
     options.state_dir = cl.run_dir;
     options.seed = config.run.seed;
-    graph::GraphService service(config.graph, options, &source, &sink,
-                                [&](const graph::Progress& p) { last = p; report(p, false); });
+    graph::GraphService service(config.graph, options, &source, &sink, [&](const graph::Progress& p) {
+      std::lock_guard lock(progress_mutex);
+      last = p;
+    });
     spdlog::info("graph service started: domain {}, run id '{}', {} explore episodes wanted",
                  config.transport.domain_id, config.transport.run_id, config.graph.episodes);
-    const auto& stop = transport::Shutdown::Process().flag();
     const int code = service.Run(stop);
     // keep the graph available (transient-local lives in this process) until asked to stop;
     // the source's thread keeps draining the episode topic meanwhile
     while (!stop && code == 0) {
-      report(service.progress(), false);
       std::vector<rl::Episode> unused;
       source.Poll(std::chrono::milliseconds(500), &unused);
     }
-    report(service.progress(), true);
+    heartbeat.request_stop();
+    heartbeat.join();
+    {
+      std::lock_guard lock(progress_mutex);
+      last = service.progress();
+      last.phase = graph::Progress::Phase::kStopped;
+    }
+    report();
     spdlog::info("graph service stopped");
     return 0;
   } catch (const std::exception& e) {

@@ -13,6 +13,7 @@ GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset&
   o.mlp_hidden = config.mlp_hidden;
   o.delta_scale = config.delta_scale;
   o.edge_node_inputs = config.edge_node_inputs;
+  o.edge_relative_scale = config.edge_relative_scale;
   o.edge_prior = config.edge_prior;
   o.kl_weight = config.kl_weight;
   o.temperature = config.gumbel_temperature;
@@ -43,7 +44,33 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
         model_.Parameters(list);
         return list;
       }()),
-      optimizer_(params_, {.lr = config.learning_rate}) {
+      optimizer_(params_, {.lr = config.learning_rate}),
+      adam_(params_, {.lr = config.learning_rate}) {
+  if (config.standardize_inputs) {
+    // mean of x and of y over every entity and step of the training episodes, and one
+    // standard deviation pooled over both axes (distances stay isotropic)
+    double sum[2] = {0, 0}, sq[2] = {0, 0}, count = 0;
+    for (int ep : data.train_episodes())
+      for (int t = 0; t <= data.episode_steps(); ++t)
+        for (int e = 0; e < data.num_entities(); ++e) {
+          for (int a = 0; a < 2; ++a) {
+            const double v = data.position(ep, t, e)[a];
+            sum[a] += v;
+            sq[a] += v * v;
+          }
+          count += 1;
+        }
+    std::vector<double> mean(data.input_dim(), 0.0), inv_std(data.input_dim(), 1.0);
+    if (count > 0) {
+      double var = 0;
+      for (int a = 0; a < 2; ++a) {
+        mean[a] = sum[a] / count;
+        var += (sq[a] / count - mean[a] * mean[a]) / 2;
+      }
+      inv_std[0] = inv_std[1] = 1.0 / std::sqrt(std::max(var, 1e-12));
+    }
+    model_.set_input_normalization(mean, inv_std);
+  }
   if (config.normalize_per_entity) {
     // 1 / variance of each entity's position change over the training episodes
     const int n = data.num_entities();
@@ -78,7 +105,8 @@ double GnnTrainer::Update() {
   GnnModel<float>::Loss loss = model_.WindowLoss(tape_, batch_, rng_);
   optimizer_.ZeroGrad();
   tape_.Backward(loss.total);
-  optimizer_.Step();
+  if (config_.use_adam) adam_.Step();
+  else optimizer_.Step();
   ++updates_;
   last_mse_ = loss.mse / batch_.steps();
   last_kl_ = loss.kl / batch_.steps();

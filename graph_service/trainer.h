@@ -62,6 +62,7 @@ class GnnTrainer {
   GnnModel<float> model_;
   nn::ParameterList<float> params_;
   nn::RmsProp<float> optimizer_;
+  nn::Adam<float> adam_;
   nn::Tape<float> tape_;
   WindowBatch<float> batch_;
   int64_t updates_ = 0;

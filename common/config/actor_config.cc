@@ -10,7 +10,6 @@ void ParseActors(YamlSection s, ActorConfig* out) {
   s.ReadInt("evaluators", &out->evaluators, 0, 1024);
   s.ReadUint64("eval_every_env_steps", &out->eval_every_env_steps);
   s.ReadInt("eval_episodes", &out->eval_episodes, 1, 100000);
-  s.ReadBool("keep_exploring_until_graph", &out->keep_exploring_until_graph);
   if (out->evaluators > out->count && out->count > 0)
     s.FailRule("evaluators", "cannot exceed count (" + std::to_string(out->count) + ")");
   s.Finish();

@@ -13,7 +13,6 @@ struct ActorConfig {
   int evaluators = 1;                  // actors 0..evaluators-1 also evaluate
   uint64_t eval_every_env_steps = 10000;  // per evaluating actor
   int eval_episodes = 10;              // episodes per evaluation
-  bool keep_exploring_until_graph = true;
 };
 
 }  // namespace srics::config

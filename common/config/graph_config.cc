@@ -14,6 +14,9 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadDouble("delta_scale", &out->delta_scale, 1e-6, 1e6);
   s.ReadBool("edge_node_inputs", &out->edge_node_inputs);
   s.ReadBool("normalize_per_entity", &out->normalize_per_entity);
+  s.ReadBool("standardize_inputs", &out->standardize_inputs);
+  s.ReadDouble("edge_relative_scale", &out->edge_relative_scale, 0, 1e3);
+  s.ReadBool("use_adam", &out->use_adam);
   s.ReadDouble("edge_prior", &out->edge_prior, 1e-6, 1 - 1e-6);
   s.ReadDouble("kl_weight", &out->kl_weight, 0, 1e6);
   s.ReadInt("warmup_updates", &out->warmup_updates, 0, 1 << 30);

@@ -25,6 +25,12 @@ struct GraphConfig {
   // entity's), so rarely moving objects count as much as the arm; false: the reference's
   // plain mean squared error
   bool normalize_per_entity = true;
+  // standardise the node inputs' x, y (mean and std of positions in the data) before the
+  // networks see them
+  bool standardize_inputs = true;
+  // > 0: the edge networks also see (xy_i - xy_j) / edge_relative_scale (metres); 0: off
+  double edge_relative_scale = 0.05;
+  bool use_adam = false;           // Adam instead of RMSprop (same learning_rate)
   double edge_prior = 0.05;        // Bernoulli prior of an edge
   double kl_weight = 1e-5;
   // for this many updates every edge is open (weight 1) and the KL term is off, so that the

@@ -18,7 +18,6 @@ struct LearnerConfig {
   double rate_error_buffer = 500;     // updates the learner may run ahead of (or behind) the ratio
   int publish_every_updates = 100;    // PolicyWeights period
   int checkpoint_every_updates = 5000;
-  int threads = 1;                    // Eigen threads for updates
   RelabelConfig relabel;
 };
 
