@@ -1,0 +1,169 @@
+// Development tool (not a test): random-action episodes of a real environment, cached in a
+// file so that training variants can be compared on the same data, motion statistics, and
+// a GraphService run with progress.
+//   graph_probe ENV.yaml EPISODES SEED [--stats-only] [--set graph.key=value ...]
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "actor/env/rearrange_env.h"
+#include "actor/rollout.h"
+#include "common/config/config.h"
+#include "graph_service/service.h"
+#include "tests/graph_service/toy_world.h"
+
+using namespace srics;
+
+namespace {
+
+template <typename V>
+void WriteVec(std::ofstream& f, const std::vector<V>& v) {
+  const uint64_t n = v.size();
+  f.write(reinterpret_cast<const char*>(&n), sizeof n);
+  f.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(n * sizeof(V)));
+}
+template <typename V>
+void ReadVec(std::ifstream& f, std::vector<V>* v) {
+  uint64_t n = 0;
+  f.read(reinterpret_cast<char*>(&n), sizeof n);
+  v->resize(n);
+  f.read(reinterpret_cast<char*>(v->data()), static_cast<std::streamsize>(n * sizeof(V)));
+}
+
+class VectorSource : public graph::EpisodeSource {
+ public:
+  explicit VectorSource(std::vector<rl::Episode> e) : episodes_(std::move(e)) {}
+  bool Poll(std::chrono::milliseconds, std::vector<rl::Episode>* out) override {
+    if (next_ >= episodes_.size()) return false;
+    for (int i = 0; i < 100 && next_ < episodes_.size(); ++i) out->push_back(episodes_[next_++]);
+    return true;
+  }
+
+ private:
+  std::vector<rl::Episode> episodes_;
+  size_t next_ = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 4) {
+    std::fprintf(stderr, "usage: graph_probe ENV.yaml EPISODES SEED [--stats-only] [--set k=v]\n");
+    return 2;
+  }
+  const std::string env_file = argv[1];
+  const int count = std::atoi(argv[2]);
+  const uint64_t seed = std::strtoull(argv[3], nullptr, 10);
+  bool stats_only = false;
+  std::vector<std::string> overrides;
+  for (int i = 4; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--stats-only") stats_only = true;
+    else if (a == "--set" && i + 1 < argc) overrides.push_back(argv[++i]);
+  }
+  config::Config cfg = config::LoadConfig(env_file, overrides);
+  cfg.graph.episodes = count;
+  const std::string cache = "/tmp/graph_probe_" + std::filesystem::path(env_file).stem().string() +
+                            "_" + std::to_string(count) + "_" + std::to_string(seed) + ".bin";
+  std::vector<rl::Episode> episodes;
+  if (std::ifstream f{cache, std::ios::binary}) {
+    uint64_t n = 0;
+    f.read(reinterpret_cast<char*>(&n), sizeof n);
+    episodes.resize(n);
+    for (auto& e : episodes) {
+      f.read(reinterpret_cast<char*>(&e.layout), sizeof e.layout);
+      f.read(reinterpret_cast<char*>(&e.num_steps), sizeof e.num_steps);
+      f.read(reinterpret_cast<char*>(&e.action_dim), sizeof e.action_dim);
+      ReadVec(f, &e.entity_kinds);
+      ReadVec(f, &e.states);
+      ReadVec(f, &e.actions);
+    }
+    std::printf("loaded %zu episodes from %s\n", episodes.size(), cache.c_str());
+  } else {
+    env::RearrangeEnv env(cfg.env);
+    nn::Rng rng(seed);
+    for (uint64_t i = 0; static_cast<int>(episodes.size()) < count; ++i) {
+      auto e = actor::RunExploreEpisode(env, cfg.graph.episode_steps, seed * 1000003 + i, rng);
+      if (e) episodes.push_back(std::move(*e));
+    }
+    std::ofstream o(cache, std::ios::binary);
+    const uint64_t n = episodes.size();
+    o.write(reinterpret_cast<const char*>(&n), sizeof n);
+    for (const auto& e : episodes) {
+      o.write(reinterpret_cast<const char*>(&e.layout), sizeof e.layout);
+      o.write(reinterpret_cast<const char*>(&e.num_steps), sizeof e.num_steps);
+      o.write(reinterpret_cast<const char*>(&e.action_dim), sizeof e.action_dim);
+      WriteVec(o, e.entity_kinds);
+      WriteVec(o, e.states);
+      WriteVec(o, e.actions);
+    }
+    std::printf("collected %zu episodes into %s\n", episodes.size(), cache.c_str());
+  }
+  // motion statistics: fraction of transitions in which each entity moves > 1 mm, and the
+  // fraction of 20-step windows with some non-arm motion
+  const rl::EntityLayout& l = episodes[0].layout;
+  const int n = l.num_entities, steps = episodes[0].num_steps;
+  std::vector<double> moved(n, 0), sq(n, 0);
+  double transitions = 0, windows = 0, windows_moving = 0;
+  for (const auto& e : episodes) {
+    std::vector<int> any(steps, 0);
+    for (int t = 0; t < steps; ++t) {
+      for (int j = 0; j < n; ++j) {
+        const double dx = l.x(e.state(t + 1), j) - l.x(e.state(t), j);
+        const double dy = l.y(e.state(t + 1), j) - l.y(e.state(t), j);
+        const double d = std::sqrt(dx * dx + dy * dy);
+        if (d > 1e-3) {
+          moved[j] += 1;
+          if (j > 0) any[t] = 1;
+        }
+        sq[j] += d * d;
+      }
+      transitions += 1;
+    }
+    for (int s = 0; s + 20 <= steps; ++s) {
+      int m = 0;
+      for (int t = s; t < s + 20; ++t) m |= any[t];
+      windows += 1;
+      windows_moving += m;
+    }
+  }
+  std::printf("fraction of transitions with motion > 1 mm (rms step):");
+  for (int j = 0; j < n; ++j)
+    std::printf(" %d: %.4f (%.4f m)", j, moved[j] / transitions, std::sqrt(sq[j] / transitions));
+  std::printf("\nfraction of 20-step windows with some puck motion: %.3f\n",
+              windows_moving / windows);
+  if (stats_only) return 0;
+
+  VectorSource source(std::move(episodes));
+  graph::testing::RecordingSink sink;
+  graph::ServiceOptions options;
+  options.seed = seed;
+  options.render_pictures = false;
+  options.state_dir = "/tmp/graph_probe_out_" + std::to_string(seed);
+  std::filesystem::remove_all(options.state_dir);
+  graph::GraphService service(cfg.graph, options, &source, &sink, [](const graph::Progress& p) {
+    if (p.phase != graph::Progress::Phase::kTraining) return;
+    std::printf("%7.1fs upd %6lld train %.3g held %.3g (zero %.3g)  %s\n   ", p.elapsed_seconds,
+                static_cast<long long>(p.updates), p.train_loss, p.held_out_loss,
+                p.held_out_zero_loss, p.graph.c_str());
+    const int n = static_cast<int>(std::sqrt(p.mean_weights.size()) + 0.5);
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) std::printf(" %.3f", p.mean_weights[i * n + j]);
+      std::printf(" |");
+    }
+    std::printf("\n    entity mse/zero:");
+    for (int i = 0; i < n; ++i) std::printf(" %.2g/%.2g", p.entity_loss[i], p.entity_zero_loss[i]);
+    std::printf("\n");
+    std::fflush(stdout);
+  });
+  std::atomic<bool> stop{false};
+  const int rc = service.Run(stop);
+  if (!sink.graphs.empty())
+    std::printf("FINAL %s\n", rl::DescribeGraph(sink.graphs[0].graph).c_str());
+  return rc;
+}
