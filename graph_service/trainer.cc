@@ -87,12 +87,18 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
         count += 1;
       }
     }
-    // entities that (almost) never move get the weight of one with 1% of the largest variance
+    // an entity whose variance is below 1% of the largest counts as static: it keeps the
+    // weight of the largest (its sub-millimetre residuals and the model's noise on them are
+    // not amplified; amplified, their straight-through gradients held edges into a static
+    // puck open)
     double largest = 0;
     for (int e = 0; e < n; ++e) largest = std::max(largest, count > 0 ? sq[e] / count : 0.0);
-    const double floor = std::max(1e-12, 0.01 * largest);
+    largest = std::max(largest, 1e-12);
     std::vector<double> w(n);
-    for (int e = 0; e < n; ++e) w[e] = 1.0 / std::max(floor, count > 0 ? sq[e] / count : 0.0);
+    for (int e = 0; e < n; ++e) {
+      const double var = count > 0 ? sq[e] / count : 0.0;
+      w[e] = 1.0 / (var < 0.01 * largest ? largest : var);
+    }
     model_.set_entity_loss_weights(w);
   }
 }
