@@ -160,7 +160,11 @@ bool GraphService::Train(const std::atomic<bool>& stop) {
     graph.episodes = data_->size();
     graph.action_correlation = correlation;
     graph.entity_kinds.assign(data_->entity_kinds().begin(), data_->entity_kinds().end());
-    stable = current_ && SameStructure(current_->graph, graph.graph) ? stable + 1 : 0;
+    // graphs of the warm-up and the KL ramp (edges open or not yet pruned) never count as
+    // stable: only evaluations after the full KL weight is reached are compared
+    const bool gated =
+        trainer_->updates() > static_cast<int64_t>(config_.warmup_updates) + config_.kl_ramp_updates;
+    stable = gated && current_ && SameStructure(current_->graph, graph.graph) ? stable + 1 : 0;
     current_ = std::move(graph);
     progress_.updates = trainer_->updates();
     progress_.train_loss = trainer_->last_mse();

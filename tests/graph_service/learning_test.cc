@@ -52,10 +52,9 @@ TEST(GraphLearningTest, RecoversArmFreePuckStaticPuck) {
   env.objects[1].is_static = true;  // entity 2
   config::GraphConfig c;            // the defaults, with a smaller budget
   c.episodes = 600;
-  c.max_updates = 2500;
-  c.min_updates = 2000;
-  c.eval_every_updates = 500;
-  c.stable_evaluations = 1;
+  c.max_updates = 3000;
+  c.min_updates = 3000;
+  c.eval_every_updates = 1000;
   EnvSource source(env, c.episodes, c.episode_steps, 7);
   RecordingSink sink;
   GraphService service(c, {.seed = 1, .render_pictures = false}, &source, &sink, {});

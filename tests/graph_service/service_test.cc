@@ -129,6 +129,8 @@ TEST(GraphServiceTest, StableGraphEndsTrainingBeforeMaxUpdates) {
   c.stable_evaluations = 2;
   c.eval_every_updates = 5;
   c.min_updates = 10;
+  c.warmup_updates = 0;  // graphs of the warm-up and the KL ramp never count as stable
+  c.kl_ramp_updates = 0;
   ToySource source({.num_pucks = 2, .steps = 10}, 20, 3);
   RecordingSink sink;
   GraphService service(c, {.seed = 2}, &source, &sink, {});
