@@ -73,7 +73,9 @@ class DdsLearnerLink : public learner::LearnerLink {
     m.update_count = w.update_count;
     m.architecture = w.architecture;
     m.parameters = w.parameters;
-    if (weights_.Write(m) != tr::WriteResult::kSent) spdlog::warn("weights v{} not sent: shutting down", w.version);
+    // on the way out (shutdown requested) one plain attempt still goes out if there is room
+    if (weights_.Write(m) != tr::WriteResult::kSent && weights_.TryWrite(m) != tr::WriteResult::kSent)
+      spdlog::info("weights v{} not sent: shutting down", w.version);
   }
 
   void PublishStats(const learner::LearnerReport& r) override {

@@ -53,6 +53,10 @@ TrainResult TrainInProcess(const config::Config& config, const TrainerOptions& o
   const bool uses_graph = rl::UsesGraph(method);
   const rl::InteractionGraph graph = options.graph ? *options.graph : actor::GroundTruthGraph(config.env);
   const int num_entities = graph.num_entities;
+  const int env_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
+  if (num_entities != env_entities)
+    throw std::invalid_argument("the graph has " + std::to_string(num_entities) + " entities, the environment " +
+                                std::to_string(env_entities));
   // SMORL and SAC+HER know no graph: every entity is a subgoal with no ancestors
   const rl::SubgoalStructure structure =
       uses_graph ? rl::ComputeSubgoalStructure(graph) : rl::AllEntitiesStructure(num_entities);

@@ -1,4 +1,4 @@
-// srics-train CONFIG [--set key.path=value ...] [--out DIR]
+// srics-train CONFIG [--set key.path=value ...] [--out DIR] [--graph graph.json]
 // Trains one method in one process (environment, policy and learner together) and leaves a
 // run folder with curve.csv, curve.png, the effective config and a checkpoint.
 
@@ -8,16 +8,19 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/config/config.h"
+#include "graph_service/learned_graph.h"
 #include "learner/trainer/in_process_trainer.h"
 
 namespace {
 
 int Usage() {
-  std::cerr << "usage: srics-train CONFIG [--set key.path=value ...] [--out DIR]\n";
+  std::cerr << "usage: srics-train CONFIG [--set key.path=value ...] [--out DIR] [--graph graph.json]\n"
+               "  --graph: a graph file of the graph service (default: the preset's ground-truth graph)\n";
   return 2;
 }
 
@@ -36,10 +39,12 @@ int main(int argc, char** argv) {
   std::string config_path = argv[1];
   std::vector<std::string> overrides;
   std::string out;
+  std::string graph_path;
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--set" && i + 1 < argc) overrides.push_back(argv[++i]);
     else if (arg == "--out" && i + 1 < argc) out = argv[++i];
+    else if (arg == "--graph" && i + 1 < argc) graph_path = argv[++i];
     else return Usage();
   }
   config::Config config;
@@ -57,6 +62,17 @@ int main(int argc, char** argv) {
 
   trainer::TrainerOptions options;
   options.run_dir = out;
+  std::optional<graph::LearnedGraph> learned;
+  if (!graph_path.empty()) {
+    try {
+      learned = graph::LoadGraph(graph_path);
+    } catch (const std::exception& e) {
+      std::cerr << "srics-train: " << e.what() << "\n";
+      return 2;
+    }
+    options.graph = &learned->graph;
+    std::cerr << "srics-train: graph from " << graph_path << ": " << rl::DescribeGraph(learned->graph) << "\n";
+  }
   options.on_progress = [](const trainer::Progress& p) {
     std::fprintf(stderr, "steps %llu/%llu (%.0f/s)  updates %llu (%.1f/s)  alpha %.3f  q_loss %.4f",
                  (unsigned long long)p.env_steps, (unsigned long long)p.total_env_steps,

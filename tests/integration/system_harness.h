@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <memory>
@@ -111,6 +112,13 @@ class System {
     }
     Poll();
     return done();
+  }
+  // Resident memory of a running child in MB (from /proc), -1 if unknown.
+  double ResidentMb(const std::string& name) {
+    std::ifstream status("/proc/" + std::to_string(child(name).pid()) + "/status");
+    for (std::string line; std::getline(status, line);)
+      if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+    return -1;
   }
   // The tail of a process's output, for failure messages.
   std::string Output(const std::string& name) const {

@@ -25,6 +25,13 @@ TEST(SystemTest, GraphServiceLearnerAndTwoActorsLearnAndFinish) {
   EXPECT_GE(system.graph->version, 1u);
   EXPECT_TRUE(std::filesystem::exists(system.run_dir() + "/graph.json"));
   ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 0; }, 60s)) << system.Output("learner");
+  // an actor process stays small: MuJoCo, one policy network, one episode at a time
+  for (const char* actor : {"actor-0", "actor-1"}) {
+    const double mb = system.ResidentMb(actor);
+    EXPECT_GT(mb, 0) << actor;
+    EXPECT_LT(mb, 150) << actor << " resident memory";
+    RecordProperty(std::string(actor) + "_rss_mb", std::to_string(mb));
+  }
   // the run ends by itself: the learner reaches its budget, actors finish after a last evaluation
   for (const char* name : {"learner", "actor-0", "actor-1"}) {
     std::optional<launcher::ExitStatus> status;

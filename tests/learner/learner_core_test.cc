@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "tests/learner/test_episodes.h"
 
 namespace srics::learner {
@@ -84,6 +86,36 @@ TEST(LearnerCoreTest, RestartFromCheckpointKeepsCountersAndRefillsBeforeUpdating
   // weight versions keep increasing across the restart
   second.TakePolicyWeights();
   EXPECT_EQ(second.counters().policy_version, first.counters().policy_version + 1);
+}
+
+}  // namespace
+}  // namespace srics::learner
+
+namespace srics::learner {
+namespace {
+
+long ResidentKb() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  return -1;
+}
+
+TEST(LearnerMemoryTest, FullReplayOf250kTransitionsAndPaperBatchStayUnder1GB) {
+  // Rearrange 4 (5 entities), paper networks and batch 2048, a full 250k-transition replay
+  config::Config c;
+  c.env.num_pucks = 4;
+  c.run.method = config::Method::kSrics;
+  Learner learner(c);
+  learner.SetGraph(rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(5)));
+  for (int i = 0; i < 12600; ++i) ASSERT_EQ(learner.Ingest(testing::MakeEpisode(5, 20, i, i % 5)), "");
+  EXPECT_EQ(learner.replay().transitions(), 250000u);
+  ASSERT_TRUE(learner.CanUpdate());
+  learner.Update();  // sizes every buffer of a batch-2048 update
+  const double mb = ResidentKb() / 1024.0;
+  RecordProperty("learner_rss_mb", std::to_string(mb));
+  std::printf("learner with a full replay after a batch-2048 update: %.0f MB resident\n", mb);
+  EXPECT_LT(mb, 1024);
 }
 
 }  // namespace
