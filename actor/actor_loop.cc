@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cmath>
 #include <thread>
 
 #include "actor/env/rearrange_env.h"
@@ -170,6 +172,17 @@ int ActorLoop::Run(const std::atomic<bool>& stop) {
       return 0;
     }
     if (stop) break;
+
+    // the graph service needs graph.episodes random episodes from all actors together: beyond
+    // this actor's share (with a margin for restarts and losses) it idles until the graph
+    // arrives, leaving the CPU to the GNN and the replay to useful data
+    const uint64_t explore_share = static_cast<uint64_t>(
+        std::ceil(1.2 * c.graph.episodes / std::max(1, c.actors.count)));
+    if (!training && !s.have_graph && counters_.episodes >= explore_share) {
+      status(rl::NodePhase::kWaiting, "waiting for the graph (exploration share done)", false);
+      if (auto p = link_->PollLearner(std::chrono::milliseconds(200))) s.learner = p;
+      continue;
+    }
 
     std::optional<rl::Episode> episode;
     const uint64_t seed = c.run.seed * 1000003ull + actor_id_ * 100000007ull + next_episode_id_ + 7;
