@@ -174,14 +174,19 @@ int ActorLoop::Run(const std::atomic<bool>& stop) {
     if (stop) break;
 
     // the graph service needs graph.episodes random episodes from all actors together: beyond
-    // this actor's share (with a margin for restarts and losses) it idles until the graph
-    // arrives, leaving the CPU to the GNN and the replay to useful data
+    // this actor's share (with a margin) it slows down to one episode a second until the
+    // graph arrives, leaving the CPU to the GNN and the replay to useful data (it does not
+    // stop: episodes sent before the service was listening are lost, and it may need more)
     const uint64_t explore_share = static_cast<uint64_t>(
         std::ceil(1.2 * c.graph.episodes / std::max(1, c.actors.count)));
     if (!training && !s.have_graph && counters_.episodes >= explore_share) {
       status(rl::NodePhase::kWaiting, "waiting for the graph (exploration share done)", false);
-      if (auto p = link_->PollLearner(std::chrono::milliseconds(200))) s.learner = p;
-      continue;
+      const auto until = Clock::now() + std::chrono::seconds(1);
+      while (!stop && Clock::now() < until && !s.have_graph) {
+        if (auto p = link_->PollLearner(std::chrono::milliseconds(100))) s.learner = p;
+        poll_updates();
+      }
+      if (stop || s.have_graph) continue;
     }
 
     std::optional<rl::Episode> episode;

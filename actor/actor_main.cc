@@ -31,7 +31,11 @@ class DdsActorLink : public actor::ActorLink {
         stats_(participant),
         episodes_(participant),
         evals_(participant),
-        status_(participant, "actor", actor_id) {}
+        status_(participant, "actor", actor_id) {
+    // the learner and the graph service: episodes written before they listen are lost
+    // (volatile), so give discovery a moment; go on without them after that
+    episodes_.WaitForReaders(2, std::chrono::seconds(3));
+  }
 
   std::optional<rl::WeightsUpdate> PollWeights() override {
     tr::PolicyWeights message;
