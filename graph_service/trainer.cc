@@ -87,10 +87,9 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
         count += 1;
       }
     }
-    // an entity whose variance is below 1% of the largest counts as static: it keeps the
-    // weight of the largest (its sub-millimetre residuals and the model's noise on them are
-    // not amplified; amplified, their straight-through gradients held edges into a static
-    // puck open)
+    // an entity whose variance is below 1% of the largest counts as static and keeps the
+    // weight of the largest (not amplified by 1 / its near-zero variance). Neither this nor
+    // weight 0 closes the edge arm -> static puck (see README, Status)
     double largest = 0;
     for (int e = 0; e < n; ++e) largest = std::max(largest, count > 0 ? sq[e] / count : 0.0);
     largest = std::max(largest, 1e-12);

@@ -50,8 +50,8 @@ struct GraphConfig {
   double threshold = 0.06;         // keep edges with mean weight above this
   bool hard_edges = true;          // straight-through (hard) Gumbel-softmax edge samples
   // paper 100k, reference code 300k updates: far beyond 15 minutes of one core here
-  int max_updates = 3500;
-  int min_updates = 3000;          // no stop on a stable graph before this many updates
+  int max_updates = 5000;
+  int min_updates = 4000;          // no stop on a stable graph before this many updates
   int eval_every_updates = 500;    // held-out loss and thresholded graph
   int stable_evaluations = 2;      // stop once the graph is unchanged this many times
   int eval_chunk_episodes = 100;   // episodes per forward pass when averaging edge weights
