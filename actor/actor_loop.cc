@@ -65,18 +65,8 @@ int ActorLoop::Run(const std::atomic<bool>& stop) {
   const int num_entities = 1 + static_cast<int>(config::EffectiveObjects(c.env).size());
   const config::Method method = c.run.method;
 
-  TrainOptions train;
-  train.steps = c.actors.train_episode_steps;
-  train.full_goal = method == config::Method::kSacHer;
-  train.sampling = c.env.sampling;
-  EvalOptions eval;
-  eval.attempt_steps = c.actors.eval_attempt_steps;
-  eval.full_goal = train.full_goal;
-  eval.threshold = c.env.success_threshold;
-  eval.epsilon = c.agent.reward.epsilon;
-  eval.order = (method == config::Method::kSrics || method == config::Method::kSricsNoSelectivity)
-                   ? rl::SubgoalOrder::kDepth
-                   : rl::SubgoalOrder::kRandom;
+  const TrainOptions train = TrainOptionsFor(c);
+  const EvalOptions eval = EvalOptionsFor(c);
 
   auto status = [&](rl::NodePhase phase, const std::string& detail, bool force) {
     if (!force && std::chrono::duration<double>(Clock::now() - s.last_status).count() < c.transport.status_period_s)
@@ -131,9 +121,8 @@ int ActorLoop::Run(const std::atomic<bool>& stop) {
     report.graph_version = s.graph_version;
     report.env_steps = s.learner ? s.learner->training_env_steps : 0;
     for (int i = 0; i < c.actors.eval_episodes && !stop; ++i) {
-      // the same goals at every evaluation (and for the passive baseline)
-      const uint64_t seed = c.run.seed * 1000003ull + 500000ull + i;
-      auto m = RunEvaluationEpisode(*s.env, passive ? nullptr : s.policy.get(), s.structure, eval, seed);
+      auto m = RunEvaluationEpisode(*s.env, passive ? nullptr : s.policy.get(), s.structure, eval,
+                                    EvalSeed(c.run.seed, i));
       if (m) report.summary.Add(*m, eval.threshold);
       else ++counters_.unstable_episodes;
     }

@@ -62,6 +62,27 @@ nn::Tensor FullGoalToken(const env::Environment& env) {
 
 }  // namespace
 
+TrainOptions TrainOptionsFor(const config::Config& config) {
+  TrainOptions train;
+  train.steps = config.actors.train_episode_steps;
+  train.full_goal = config.run.method == config::Method::kSacHer;
+  train.sampling = config.env.sampling;
+  return train;
+}
+
+EvalOptions EvalOptionsFor(const config::Config& config) {
+  const config::Method method = config.run.method;
+  EvalOptions eval;
+  eval.attempt_steps = config.actors.eval_attempt_steps;
+  eval.full_goal = method == config::Method::kSacHer;
+  eval.threshold = config.env.success_threshold;
+  eval.epsilon = config.agent.reward.epsilon;
+  eval.order = (method == config::Method::kSrics || method == config::Method::kSricsNoSelectivity)
+                   ? rl::SubgoalOrder::kDepth
+                   : rl::SubgoalOrder::kRandom;
+  return eval;
+}
+
 rl::EntityLayout LayoutOf(const env::Environment& env) {
   const env::EntityLayout& l = env.layout();
   return {l.num_entities, l.num_kinds, l.velocities};

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "actor/env/environment.h"
+#include "common/config/config.h"
 #include "common/config/env_config.h"
 #include "common/nn/tensor.h"
 #include "common/rl/episode.h"
@@ -46,6 +47,15 @@ struct EvalOptions {
   double threshold = 0.05;    // a subgoal counts as solved below this distance
   double epsilon = 1e-5;      // for the selectivity measure
 };
+
+// The options a run's config implies (episode lengths, full goal for SAC+HER, subgoal order
+// by method: depth for SRICS and its selectivity ablation, random otherwise).
+TrainOptions TrainOptionsFor(const config::Config& config);
+EvalOptions EvalOptionsFor(const config::Config& config);
+
+// Seed of evaluation episode i: the same goals at every evaluation of a run, for the policy
+// and for the passive baseline alike.
+inline uint64_t EvalSeed(uint64_t run_seed, int episode) { return run_seed * 1000003ull + 500000ull + episode; }
 
 // One evaluation episode on the environment's own goals (Reset(seed, kEval)). `policy` null
 // is the passive baseline (it never moves). Deterministic policy (its mean action). Returns

@@ -22,16 +22,12 @@ double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
 
-// Evaluation goals are the same at every evaluation (and for the passive baseline): seeds
-// depend only on the run seed and the episode index.
-uint64_t EvalSeed(uint64_t run_seed, int episode) { return run_seed * 1000003ull + 500000ull + episode; }
-
 rl::EvaluationSummary Evaluate(env::Environment& env, rl::PolicyNetwork<float>* policy,
                                const rl::SubgoalStructure& structure, const actor::EvalOptions& options,
                                const config::Config& config, uint64_t* unstable) {
   rl::EvaluationSummary summary;
   for (int i = 0; i < config.actors.eval_episodes; ++i) {
-    auto metrics = actor::RunEvaluationEpisode(env, policy, structure, options, EvalSeed(config.run.seed, i));
+    auto metrics = actor::RunEvaluationEpisode(env, policy, structure, options, actor::EvalSeed(config.run.seed, i));
     if (!metrics) {
       ++*unstable;
       continue;
@@ -62,18 +58,8 @@ TrainResult TrainInProcess(const config::Config& config, const TrainerOptions& o
       uses_graph ? rl::ComputeSubgoalStructure(graph) : rl::AllEntitiesStructure(num_entities);
   learner.SetGraph(structure);
 
-  actor::TrainOptions train;
-  train.steps = config.actors.train_episode_steps;
-  train.full_goal = method == config::Method::kSacHer;
-  train.sampling = config.env.sampling;
-  actor::EvalOptions eval;
-  eval.attempt_steps = config.actors.eval_attempt_steps;
-  eval.full_goal = train.full_goal;
-  eval.threshold = config.env.success_threshold;
-  eval.epsilon = config.agent.reward.epsilon;
-  eval.order = (method == config::Method::kSrics || method == config::Method::kSricsNoSelectivity)
-                   ? rl::SubgoalOrder::kDepth
-                   : rl::SubgoalOrder::kRandom;
+  const actor::TrainOptions train = actor::TrainOptionsFor(config);
+  const actor::EvalOptions eval = actor::EvalOptionsFor(config);
 
   result.passive = Evaluate(*env, nullptr, structure, eval, config, &result.unstable_episodes);
 
