@@ -8,9 +8,8 @@
 #include <iostream>
 
 #include "actor/actor_loop.h"
-#include "common/config/command_line.h"
-#include "common/config/config.h"
-#include "common/logging/logging.h"
+#include "common/process/role_startup.h"
+#include "common/transport/graph_feed.h"
 #include "common/transport/rl_convert.h"
 #include "common/transport/status_publisher.h"
 #include "common/transport/transport.h"
@@ -49,22 +48,7 @@ class DdsActorLink : public actor::ActorLink {
     return newest;
   }
 
-  std::optional<rl::GraphUpdate> PollGraph() override {
-    tr::InteractionGraph message;
-    std::optional<rl::GraphUpdate> newest;
-    while (graphs_.Take(&message, std::chrono::milliseconds(0)) == tr::TakeStatus::kSample) {
-      if (message.version <= graph_version_) continue;
-      try {
-        tr::ReceivedGraph g = tr::FromMessage(message);
-        graph_version_ = g.version;
-        newest = rl::GraphUpdate{g.version, std::move(g.graph), std::move(g.structure)};
-      } catch (const std::invalid_argument& e) {
-        ++rejected_;
-        spdlog::warn("graph v{} refused: {}", message.version, e.what());
-      }
-    }
-    return newest;
-  }
+  std::optional<rl::GraphUpdate> PollGraph() override { return graphs_.PollNewest(); }
 
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds wait) override {
     tr::LearnerStats message;
@@ -101,7 +85,7 @@ class DdsActorLink : public actor::ActorLink {
 
   void PublishStatus(const rl::NodeReport& report) override {
     rl::NodeReport r = report;
-    r.dropped += rejected_;
+    r.dropped += graphs_.rejected();
     status_.Publish(r);
   }
 
@@ -109,14 +93,12 @@ class DdsActorLink : public actor::ActorLink {
   const tr::Participant& participant_;
   bool velocities_;
   tr::Reader<tr::PolicyWeights> weights_;
-  tr::Reader<tr::InteractionGraph> graphs_;
+  tr::GraphFeed graphs_;
   tr::Reader<tr::LearnerStats> stats_;
   tr::Writer<tr::Episode> episodes_;
   tr::Writer<tr::EvalResult> evals_;
   tr::StatusPublisher status_;
   uint64_t weights_version_ = 0;
-  uint64_t graph_version_ = 0;
-  uint64_t rejected_ = 0;
   std::optional<rl::LearnerProgress> progress_;
 };
 
@@ -135,29 +117,16 @@ uint64_t NextGeneration(const std::string& path) {
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  const std::string usage = "srics-actor CONFIG --id K [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]";
-  config::CommandLine cl;
-  config::Config config;
-  try {
-    cl = config::ParseCommandLine(argc, argv, usage);
-    if (!cl.id) throw config::ConfigError("--id K is required\nusage: " + usage);
-    config = config::LoadConfig(cl.config_path, cl.overrides);
-  } catch (const config::ConfigError& e) {
-    std::cerr << "srics-actor: " << e.what() << "\n";
-    return 2;
-  }
+  process::Role role;
+  if (const int code = process::StartRole(
+          argc, argv, "srics-actor",
+          "srics-actor CONFIG --id K [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]", "actor",
+          /*needs_id=*/true, &role))
+    return code;
+  const config::CommandLine& cl = role.command_line;
+  const config::Config& config = role.config;
   const uint32_t id = static_cast<uint32_t>(*cl.id);
-  const std::string name = "actor-" + std::to_string(id);
-  logging::LogOptions log;
-  log.level = cl.log_level.empty() ? config.run.log_level : cl.log_level;
-  if (!cl.run_dir.empty() && config.run.log_to_file) log.file = cl.run_dir + "/logs/" + name + ".log";
-  try {
-    logging::SetUpLogger(name, log);
-  } catch (const std::exception& e) {
-    std::cerr << "srics-actor: " << e.what() << "\n";
-    return 2;
-  }
-
+  const std::string& name = role.name;
   uint64_t first_id = 0;
   if (!cl.run_dir.empty()) {
     std::filesystem::create_directories(cl.run_dir + "/state");

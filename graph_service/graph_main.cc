@@ -11,9 +11,7 @@
 #include <mutex>
 #include <thread>
 
-#include "common/config/command_line.h"
-#include "common/config/config.h"
-#include "common/logging/logging.h"
+#include "common/process/role_startup.h"
 #include "common/transport/rl_convert.h"
 #include "common/transport/status_publisher.h"
 #include "common/transport/transport.h"
@@ -116,25 +114,14 @@ rl::NodePhase PhaseOf(graph::Progress::Phase phase) {
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  const std::string usage = "srics-graph CONFIG [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]";
-  config::CommandLine cl;
-  config::Config config;
-  try {
-    cl = config::ParseCommandLine(argc, argv, usage);
-    config = config::LoadConfig(cl.config_path, cl.overrides);
-  } catch (const config::ConfigError& e) {
-    std::cerr << "srics-graph: " << e.what() << "\n";
-    return 2;
-  }
-  logging::LogOptions log;
-  log.level = cl.log_level.empty() ? config.run.log_level : cl.log_level;
-  if (!cl.run_dir.empty() && config.run.log_to_file) log.file = cl.run_dir + "/logs/graph.log";
-  try {
-    logging::SetUpLogger("graph", log);
-  } catch (const std::exception& e) {
-    std::cerr << "srics-graph: " << e.what() << "\n";
-    return 2;
-  }
+  process::Role role;
+  if (const int code = process::StartRole(
+          argc, argv, "srics-graph",
+          "srics-graph CONFIG [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]", "graph",
+          /*needs_id=*/false, &role))
+    return code;
+  const config::CommandLine& cl = role.command_line;
+  const config::Config& config = role.config;
   try {
     transport::Participant participant(config.transport);
     DdsEpisodeSource source(participant, config.env.velocities, static_cast<size_t>(config.graph.episodes));

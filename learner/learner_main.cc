@@ -6,10 +6,10 @@
 
 #include <iostream>
 
-#include "common/config/command_line.h"
-#include "common/config/config.h"
 #include "common/logging/logging.h"
+#include "common/process/role_startup.h"
 #include "common/nn/serialize.h"
+#include "common/transport/graph_feed.h"
 #include "common/transport/rl_convert.h"
 #include "common/transport/status_publisher.h"
 #include "common/transport/transport.h"
@@ -50,22 +50,7 @@ class DdsLearnerLink : public learner::LearnerLink {
     return added;
   }
 
-  std::optional<rl::GraphUpdate> PollGraph() override {
-    tr::InteractionGraph message;
-    std::optional<rl::GraphUpdate> newest;
-    while (graphs_.Take(&message, std::chrono::milliseconds(0)) == tr::TakeStatus::kSample) {
-      if (message.version <= graph_version_) continue;
-      try {
-        tr::ReceivedGraph g = tr::FromMessage(message);
-        graph_version_ = g.version;
-        newest = rl::GraphUpdate{g.version, std::move(g.graph), std::move(g.structure)};
-      } catch (const std::invalid_argument& e) {
-        ++rejected_;
-        spdlog::warn("graph v{} refused: {}", message.version, e.what());
-      }
-    }
-    return newest;
-  }
+  std::optional<rl::GraphUpdate> PollGraph() override { return graphs_.PollNewest(); }
 
   void PublishWeights(const rl::WeightsUpdate& w) override {
     tr::PolicyWeights m;
@@ -100,7 +85,7 @@ class DdsLearnerLink : public learner::LearnerLink {
 
   void PublishStatus(const rl::NodeReport& report) override {
     rl::NodeReport r = report;
-    r.dropped += rejected_;
+    r.dropped += rejected_ + graphs_.rejected();
     status_.Publish(r);
   }
 
@@ -108,13 +93,12 @@ class DdsLearnerLink : public learner::LearnerLink {
   bool velocities_;
   uint64_t budget_;
   tr::Reader<tr::Episode> episodes_;
-  tr::Reader<tr::InteractionGraph> graphs_;
+  tr::GraphFeed graphs_;
   tr::Writer<tr::PolicyWeights> weights_;
   tr::Writer<tr::LearnerStats> stats_;
   tr::StatusPublisher status_;
   logging::RateLimiter limiter_;
   std::vector<tr::Episode> messages_;
-  uint64_t graph_version_ = 0;
   uint64_t rejected_ = 0;
 };
 
@@ -124,25 +108,14 @@ class DdsLearnerLink : public learner::LearnerLink {
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  const std::string usage = "srics-learner CONFIG [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]";
-  config::CommandLine cl;
-  config::Config config;
-  try {
-    cl = config::ParseCommandLine(argc, argv, usage);
-    config = config::LoadConfig(cl.config_path, cl.overrides);
-  } catch (const config::ConfigError& e) {
-    std::cerr << "srics-learner: " << e.what() << "\n";
-    return 2;
-  }
-  logging::LogOptions log;
-  log.level = cl.log_level.empty() ? config.run.log_level : cl.log_level;
-  if (!cl.run_dir.empty() && config.run.log_to_file) log.file = cl.run_dir + "/logs/learner.log";
-  try {
-    logging::SetUpLogger("learner", log);
-  } catch (const std::exception& e) {
-    std::cerr << "srics-learner: " << e.what() << "\n";
-    return 2;
-  }
+  process::Role role;
+  if (const int code = process::StartRole(
+          argc, argv, "srics-learner",
+          "srics-learner CONFIG [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]", "learner",
+          /*needs_id=*/false, &role))
+    return code;
+  const config::CommandLine& cl = role.command_line;
+  const config::Config& config = role.config;
   try {
     transport::Participant participant(config.transport);
     DdsLearnerLink link(participant, config.env.velocities, config.run.total_env_steps);

@@ -172,3 +172,40 @@ TEST(SystemTest, MalformedEpisodesFromAForeignParticipantAreDroppedAndCounted) {
 
 }  // namespace
 }  // namespace srics::testing
+
+namespace srics::testing {
+namespace {
+
+TEST(RoleProcessTest, BadConfigOrCommandLineExitsWith2AndSaysWhat) {
+  const std::string dir = ::testing::TempDir() + "/role-bad-config";
+  std::filesystem::create_directories(dir);
+  const std::string config = SourceDir() + "/tests/integration/system-test.yaml";
+  struct Case {
+    std::vector<std::string> argv;
+    std::string expected;
+  };
+  const std::vector<Case> cases = {
+      {{BinaryDir() + "/learner/srics-learner", config, "--set", "learner.warmup_step=5"},
+       "learner.warmup_step: unknown key (did you mean 'warmup_steps'?)"},
+      {{BinaryDir() + "/graph_service/srics-graph", config, "--set", "graph.threshold=2"},
+       "graph.threshold: expected a number in [0, 1], got '2'"},
+      {{BinaryDir() + "/actor/srics-actor", config}, "--id K is required"},
+      {{BinaryDir() + "/actor/srics-actor", config, "--id", "x1"}, "--id: expected a non-negative integer"},
+  };
+  for (const Case& c : cases) {
+    launcher::SpawnOptions options;
+    options.output_file = dir + "/out.txt";
+    std::filesystem::remove(options.output_file);
+    auto child = launcher::ChildProcess::Spawn(c.argv, options);
+    auto status = child.WaitFor(10s);
+    ASSERT_TRUE(status.has_value()) << c.argv[0];
+    EXPECT_FALSE(status->signaled);
+    EXPECT_EQ(status->code, 2) << c.argv[0];
+    std::ifstream in(options.output_file);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    EXPECT_NE(text.find(c.expected), std::string::npos) << text;
+  }
+}
+
+}  // namespace
+}  // namespace srics::testing
