@@ -22,10 +22,8 @@ namespace tr = transport;
 // The actor's DDS side: newest weights/graph/learner stats, episodes and evaluations out.
 class DdsActorLink : public actor::ActorLink {
  public:
-  DdsActorLink(const tr::Participant& participant, uint32_t actor_id, bool velocities)
-      : participant_(participant),
-        velocities_(velocities),
-        weights_(participant),
+  DdsActorLink(const tr::Participant& participant, uint32_t actor_id)
+      : weights_(participant),
         graphs_(participant),
         stats_(participant),
         episodes_(participant),
@@ -90,8 +88,6 @@ class DdsActorLink : public actor::ActorLink {
   }
 
  private:
-  const tr::Participant& participant_;
-  bool velocities_;
   tr::Reader<tr::PolicyWeights> weights_;
   tr::GraphFeed graphs_;
   tr::Reader<tr::LearnerStats> stats_;
@@ -134,7 +130,7 @@ int main(int argc, char** argv) {
   }
   try {
     transport::Participant participant(config.transport);
-    DdsActorLink link(participant, id, config.env.velocities);
+    DdsActorLink link(participant, id);
     actor::ActorLoop loop(config, id, &link, first_id);
     spdlog::info("{} started: {} ({}), domain {}, run id '{}', first episode id {}", name,
                  config::MethodName(config.run.method), config.source_file, config.transport.domain_id,
