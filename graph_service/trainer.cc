@@ -18,6 +18,7 @@ GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset&
   o.kl_weight = config.kl_weight;
   o.temperature = config.gumbel_temperature;
   o.hard = config.hard_edges;
+  o.gate_logit_decay = config.gate_logit_decay;
   return o;
 }
 
@@ -105,6 +106,15 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
 double GnnTrainer::Update() {
   model_.set_kl_weight(KlWeightAt(config_, updates_));
   model_.set_open_edges(updates_ < config_.warmup_updates);
+  if (config_.use_adam && config_.restart_adam_after_warmup && config_.warmup_updates > 0 &&
+      updates_ == config_.warmup_updates) {
+    // the gates start: a fresh optimiser state. The gate parameters had no gradient during
+    // the warm-up, so with the global step count Adam's bias correction would make their
+    // first steps 3-6 times the learning rate, and the second moments of that burst would
+    // slow the KL's later closing for ~1 / (1 - beta2) updates
+    adam_ = nn::Adam<float>(params_, {.lr = config_.learning_rate,
+                                      .beta2 = config_.adam_beta2_after_warmup});
+  }
   data_.SampleWindows(config_.batch_windows, config_.window, rng_, &batch_);
   tape_.Reset();
   GnnModel<float>::Loss loss = model_.WindowLoss(tape_, batch_, rng_);

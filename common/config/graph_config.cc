@@ -23,6 +23,9 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadInt("kl_ramp_updates", &out->kl_ramp_updates, 0, 1 << 30);
   s.ReadDouble("gumbel_temperature", &out->gumbel_temperature, 1e-3, 100);
   s.ReadDouble("threshold", &out->threshold, 0, 1);
+  s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
+  s.ReadBool("restart_adam_after_warmup", &out->restart_adam_after_warmup);
+  s.ReadDouble("adam_beta2_after_warmup", &out->adam_beta2_after_warmup, 0, 1 - 1e-9);
   s.ReadBool("hard_edges", &out->hard_edges);
   s.ReadInt("max_updates", &out->max_updates, 1, 1 << 30);
   s.ReadInt("min_updates", &out->min_updates, 0, 1 << 30);

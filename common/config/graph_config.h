@@ -48,10 +48,21 @@ struct GraphConfig {
   int kl_ramp_updates = 500;
   double gumbel_temperature = 0.5;
   double threshold = 0.06;         // keep edges with mean weight above this
+  // loss += gate_logit_decay * sum over edges of (logit_0 - logit_1)^2 / (N * B) (not in
+  // the reference). With Adam (scale free) the margins of useful edges otherwise grow
+  // without bound (20-50 after 4000 updates), dragging along edges that share their features
+  // (arm -> static puck), whose KL gradient p (1 - p) (...) is then ~0: they never close.
+  // Unused edges then settle at p ~ 0.02 instead of the prior 0.01 (1e-5; 3e-5 would put
+  // them at ~0.05, next to the threshold).
+  double gate_logit_decay = 1e-5;
+  // a fresh Adam state when the gates start (end of the warm-up), with this beta2 (0.99, the
+  // decay of the reference's RMSprop); see GnnTrainer::Update. Not in the reference.
+  bool restart_adam_after_warmup = true;
+  double adam_beta2_after_warmup = 0.99;
   bool hard_edges = true;          // straight-through (hard) Gumbel-softmax edge samples
   // paper 100k, reference code 300k updates: far beyond 15 minutes of one core here
   int max_updates = 5000;
-  int min_updates = 4000;          // no stop on a stable graph before this many updates
+  int min_updates = 4500;          // no stop on a stable graph before this many updates
   int eval_every_updates = 500;    // held-out loss and thresholded graph
   int stable_evaluations = 2;      // stop once the graph is unchanged this many times
   int eval_chunk_episodes = 100;   // episodes per forward pass when averaging edge weights
