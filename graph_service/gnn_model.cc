@@ -159,12 +159,13 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
         tape.Sum(tape.Mul(tape.Exp(log_q), tape.Sub(log_q, log_prior))), T(1.0 / rows));
     nn::Var<T> term = tape.Add(mse, tape.MulScalar(kl, T(options_.kl_weight)));
     if (options_.gate_logit_decay > 0) {
-      // a quadratic pull of every gate's logit margin towards 0, summed over edges per
-      // receiver like the KL: with Adam (scale free) the margins of useful edges otherwise
-      // grow without bound, dragging along edges that share their features, and the KL
-      // gradient p (1 - p) (...) of a saturated gate is ~0, so it can never close
-      nn::Var<T> margin = tape.Sub(tape.Slice(step.edge_logits, 1, 0, 1),
-                                   tape.Slice(step.edge_logits, 1, 1, 1));
+      // a quadratic pull of every open gate's logit margin (> 0) towards 0, summed over
+      // edges per receiver like the KL: with Adam (scale free) the margins of useful edges
+      // otherwise grow without bound, dragging along edges that share their features, and
+      // the KL gradient p (1 - p) (...) of a saturated gate is ~0, so it can never close.
+      // Closed gates (margin < 0) are left to the KL (they settle at the prior).
+      nn::Var<T> margin = tape.Relu(tape.Sub(tape.Slice(step.edge_logits, 1, 0, 1),
+                                             tape.Slice(step.edge_logits, 1, 1, 1)));
       term = tape.Add(term, tape.MulScalar(tape.Sum(tape.Square(margin)),
                                            T(options_.gate_logit_decay / rows)));
     }

@@ -39,7 +39,7 @@ struct GnnOptions {
   double kl_weight = 1e-5;
   double temperature = 0.5;   // Gumbel-softmax temperature
   bool hard = true;           // straight-through hard samples (the reference); false = soft
-  // > 0: loss += gate_logit_decay * sum over edges of (logit_0 - logit_1)^2 / (N * B)
+  // > 0: loss += gate_logit_decay * sum over edges of max(0, logit_0 - logit_1)^2 / (N * B)
   double gate_logit_decay = 0;
 };
 

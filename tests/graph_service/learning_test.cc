@@ -49,7 +49,7 @@ class RecordingSink : public GraphSink {
   std::vector<LearnedGraph> graphs;
 };
 
-TEST(GraphLearningTest, DISABLED_RecoversArmFreePuckStaticPuck) {
+TEST(GraphLearningTest, RecoversArmFreePuckStaticPuck) {
   config::EnvConfig env;
   env.objects.resize(2);
   env.objects[1].is_static = true;  // entity 2
