@@ -19,7 +19,11 @@ function(srics_add_test)
   target_compile_definitions(${T_NAME} PRIVATE
     SRICS_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     SRICS_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  # gtest_discover_tests writes properties unquoted, so a label list would keep only its
+  # first label: join them into one ("integration-slow"), which `ctest -L slow` and
+  # `ctest -L integration` both match (labels are regular expressions there)
+  string(JOIN "-" joined_labels ${T_LABELS})
   gtest_discover_tests(${T_NAME}
     DISCOVERY_TIMEOUT 60
-    PROPERTIES LABELS "${T_LABELS}" TIMEOUT ${T_TIMEOUT})
+    PROPERTIES LABELS "${joined_labels}" TIMEOUT ${T_TIMEOUT})
 endfunction()
