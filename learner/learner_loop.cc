@@ -75,9 +75,15 @@ int LearnerLoop::Run(const std::atomic<bool>& stop) {
       if (!problem.empty()) spdlog::warn("episode rejected: {}", problem);
     }
     if (auto g = link_->PollGraph()) {
-      learner_.SetGraph(g->structure);
-      graph_version_ = g->version;
-      spdlog::info("graph v{}: {}", g->version, rl::DescribeGraph(g->graph));
+      const int entities = 1 + static_cast<int>(config::EffectiveObjects(config_.env).size());
+      if (g->graph.num_entities != entities) {
+        spdlog::warn("graph v{} has {} entities, this run's environment {}: ignored", g->version,
+                     g->graph.num_entities, entities);
+      } else {
+        learner_.SetGraph(g->structure);
+        graph_version_ = g->version;
+        spdlog::info("graph v{}: {}", g->version, rl::DescribeGraph(g->graph));
+      }
     }
     for (int i = 0; i < options_.max_updates_per_poll && learner_.CanUpdate() && !stop; ++i)
       last_update_ = learner_.Update();
