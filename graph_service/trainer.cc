@@ -108,10 +108,11 @@ double GnnTrainer::Update() {
   model_.set_open_edges(updates_ < config_.warmup_updates);
   if (config_.use_adam && config_.restart_adam_after_warmup && config_.warmup_updates > 0 &&
       updates_ == config_.warmup_updates) {
-    // the gates start: a fresh optimiser state. The gate parameters had no gradient during
-    // the warm-up, so with the global step count Adam's bias correction would make their
-    // first steps 3-6 times the learning rate, and the second moments of that burst would
-    // slow the KL's later closing for ~1 / (1 - beta2) updates
+    // the gates start: a fresh optimiser state. The gate parameters had no loss or KL
+    // gradient during the warm-up (only gate_logit_decay's), so with the global step count
+    // Adam's bias correction would make their first steps 3-6 times the learning rate, and
+    // the second moments of that burst would slow the KL's later closing for
+    // ~1 / (1 - beta2) updates
     adam_ = nn::Adam<float>(params_, {.lr = config_.learning_rate,
                                       .beta2 = config_.adam_beta2_after_warmup});
   }
