@@ -50,14 +50,11 @@ class DdsActorLink : public actor::ActorLink {
 
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds wait) override {
     tr::LearnerStats message;
-    bool got = false;
     for (auto timeout = wait; stats_.Take(&message, timeout) == tr::TakeStatus::kSample;
          timeout = std::chrono::milliseconds(0)) {
       progress_ = rl::LearnerProgress{message.updates, message.transitions_inserted, message.policy_version,
                                       message.training_env_steps, message.budget_env_steps, message.replay_size};
-      got = true;
     }
-    (void)got;
     return progress_;
   }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "graph_service/trainer.h"
+#include "tests/bench/bench_util.h"
 #include "tests/graph_service/toy_world.h"
 
 namespace {
@@ -19,30 +20,6 @@ using srics::nn::Tensor;
 using Clock = std::chrono::steady_clock;
 
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
-
-// the recorded products as bare Eigen products on preallocated operands
-struct GemmFloor {
-  explicit GemmFloor(const std::vector<GemmShape>& shapes) : shapes(shapes) {
-    for (const GemmShape& s : shapes) {
-      a.push_back(s.transpose_a ? Tensor::Random(s.k, s.m) : Tensor::Random(s.m, s.k));
-      b.push_back(s.transpose_b ? Tensor::Random(s.n, s.k) : Tensor::Random(s.k, s.n));
-      c.push_back(Tensor::Zero(s.m, s.n));
-    }
-  }
-  void Run() {
-    for (size_t i = 0; i < shapes.size(); ++i) {
-      if (shapes[i].transpose_a) {
-        c[i].noalias() = a[i].transpose() * b[i];
-      } else if (shapes[i].transpose_b) {
-        c[i].noalias() = a[i] * b[i].transpose();
-      } else {
-        c[i].noalias() = a[i] * b[i];
-      }
-    }
-  }
-  std::vector<GemmShape> shapes;
-  std::vector<Tensor> a, b, c;
-};
 
 template <typename F>
 double BestOf(int repeats, F&& f) {
@@ -73,11 +50,10 @@ int main() {
   trainer.set_gemm_log(&shapes);
   trainer.Update();
   trainer.set_gemm_log(nullptr);
-  double flops = 0;
-  for (const GemmShape& s : shapes) flops += 2.0 * s.m * s.k * s.n;
   const int repeats = 10;
   const double update_ms = BestOf(repeats, [&] { trainer.Update(); });
-  GemmFloor floor(shapes);
+  srics::bench::GemmFloor floor(shapes);
+  const double flops = floor.Flops();
   floor.Run();
   const double floor_ms = BestOf(repeats, [&] { floor.Run(); });
   const double eval_ms = BestOf(1, [&] { trainer.Evaluate(); });
