@@ -7,10 +7,14 @@ packages=(
   build-essential cmake ccache pkg-config
   cyclonedds-dev cyclonedds-tools
   libmujoco-dev
+  # libmujoco-dev's CMake config asks for OpenGL but the package does not depend on its
+  # development files (a minimal Debian 12 root lacks them: tests/fresh-debian.sh)
+  libgl-dev libglx-dev libopengl-dev
   libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox graphviz libqhull-dev
   iproute2 procps
+  python3  # the bench and acceptance scripts summarise with it
 )
 
 missing=()

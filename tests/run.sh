@@ -10,4 +10,8 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${SRICS_BUILD_DIR:-$root/build}
 "$root/tests/build.sh"
 cd "$build"
-ctest --output-on-failure --timeout 600 -j "${SRICS_TEST_JOBS:-2}" "$@"
+t0=$SECONDS
+rc=0
+ctest --output-on-failure --timeout 600 -j "${SRICS_TEST_JOBS:-2}" "$@" || rc=$?
+[ -n "${SRICS_PHASE_TIMES:-}" ] && echo "tests seconds: $((SECONDS - t0)) (ctest exit $rc)" >>"$SRICS_PHASE_TIMES"
+exit $rc
