@@ -33,7 +33,8 @@ std::string GraphDataset::Add(const rl::Episode& episode) {
   if (episode.num_steps != steps_)
     return "episode has " + std::to_string(episode.num_steps) + " steps, expected " +
            std::to_string(steps_);
-  if (std::string problem = rl::ValidateEpisode(episode); !problem.empty()) return problem;
+  if (std::string problem = rl::ValidateEpisode(episode, rl::LimitsOfLayout(layout_, action_dim_)); !problem.empty())
+    return problem;
   // keep xy only; the kind one-hot is rebuilt from entity_kinds
   const int n = layout_.num_entities;
   std::vector<float> xy(static_cast<size_t>(steps_ + 1) * n * 2);

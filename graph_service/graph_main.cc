@@ -12,90 +12,13 @@
 #include <thread>
 
 #include "common/process/role_startup.h"
-#include "common/transport/rl_convert.h"
-#include "common/transport/status_publisher.h"
+#include "common/rl/agent_shape.h"
+#include "common/transport/dds_links.h"
 #include "common/transport/transport.h"
 #include "graph_service/service.h"
 
 namespace srics {
 namespace {
-
-namespace tr = transport;
-
-// Explore episodes from DDS. A thread keeps taking samples all the time, also while the GNN
-// trains: the Episode topic is reliable keep-all, so a reader that stops taking would hold
-// every actor back. Training episodes are for the learner and are skipped; explore episodes
-// beyond what the service can still use are dropped here (and counted).
-class DdsEpisodeSource : public graph::EpisodeSource {
- public:
-  DdsEpisodeSource(const tr::Participant& participant, bool velocities, size_t max_pending)
-      : participant_(participant), velocities_(velocities), max_pending_(max_pending), reader_(participant),
-        taker_([this] { TakeLoop(); }) {}
-  ~DdsEpisodeSource() override {
-    running_ = false;
-    taker_.join();
-  }
-
-  bool Poll(std::chrono::milliseconds timeout, std::vector<rl::Episode>* out) override {
-    std::unique_lock lock(mutex_);
-    arrived_.wait_for(lock, timeout, [&] { return !pending_.empty() || participant_.shutdown_requested(); });
-    for (auto& e : pending_) out->push_back(std::move(e));
-    pending_.clear();
-    return !participant_.shutdown_requested();
-  }
-  uint64_t rejected() const { return rejected_; }
-  uint64_t surplus() const { return surplus_; }
-
- private:
-  void TakeLoop() {
-    std::vector<tr::Episode> messages;
-    while (running_ && !participant_.shutdown_requested()) {
-      messages.clear();
-      reader_.TakeMany(&messages, 256, std::chrono::milliseconds(100));
-      std::lock_guard lock(mutex_);
-      for (const auto& m : messages) {
-        if (m.mode != tr::EpisodeMode::kExplore) continue;
-        if (pending_.size() >= max_pending_) {
-          ++surplus_;
-          continue;
-        }
-        try {
-          pending_.push_back(tr::FromMessage(m, velocities_));
-        } catch (const std::invalid_argument& e) {
-          ++rejected_;
-          spdlog::warn("episode from actor {} refused: {}", m.actor_id, e.what());
-        }
-      }
-      if (!pending_.empty()) arrived_.notify_one();
-    }
-    arrived_.notify_all();
-  }
-
-  const tr::Participant& participant_;
-  bool velocities_;
-  size_t max_pending_;
-  tr::Reader<tr::Episode> reader_;
-  std::mutex mutex_;
-  std::condition_variable arrived_;
-  std::vector<rl::Episode> pending_;
-  std::atomic<uint64_t> rejected_{0}, surplus_{0};
-  std::atomic<bool> running_{true};
-  std::thread taker_;  // last: starts once everything it uses exists
-};
-
-class DdsGraphSink : public graph::GraphSink {
- public:
-  explicit DdsGraphSink(const tr::Participant& participant) : writer_(participant) {}
-  void Publish(const graph::LearnedGraph& g) override {
-    tr::InteractionGraph m = tr::ToMessage(g.graph, g.structure, g.mean_weights, static_cast<float>(g.threshold), g.version,
-                                           static_cast<float>(g.held_out_loss), g.updates, g.episodes);
-    if (writer_.Write(m) != tr::WriteResult::kSent) throw std::runtime_error("shutting down");
-    spdlog::info("published graph v{}: {}", g.version, rl::DescribeGraph(g.graph));
-  }
-
- private:
-  tr::Writer<tr::InteractionGraph> writer_;
-};
 
 rl::NodePhase PhaseOf(graph::Progress::Phase phase) {
   switch (phase) {
@@ -124,8 +47,9 @@ int main(int argc, char** argv) {
   const config::Config& config = role.config;
   try {
     transport::Participant participant(config.transport);
-    DdsEpisodeSource source(participant, config.env.velocities, static_cast<size_t>(config.graph.episodes));
-    DdsGraphSink sink(participant);
+    transport::DdsEpisodeSource source(participant, rl::EpisodeLimitsFor(config.env),
+                                       static_cast<size_t>(config.graph.episodes));
+    transport::DdsGraphSink sink(participant);
     // NodeStatus from a heartbeat thread: GNN training blocks the service's own thread for
     // seconds at a time, and monitors must not take a busy service for a dead one
     transport::StatusPublisher status(participant, "graph", 0);

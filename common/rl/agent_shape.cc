@@ -1,5 +1,7 @@
 #include "common/rl/agent_shape.h"
 
+#include <algorithm>
+
 #include "common/nn/serialize.h"
 
 namespace srics::rl {
@@ -12,6 +14,25 @@ AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method) {
   shape.goal_dim = method == config::Method::kSacHer ? 2 * (1 + objects) : kinds + 3;
   shape.action_dim = 2;
   return shape;
+}
+
+EpisodeLimits EpisodeLimitsFor(const config::EnvConfig& env) {
+  const int objects = static_cast<int>(config::EffectiveObjects(env).size());
+  // entity counts of the sets episodes draw from (as SampleObjectSet): no sets = every object
+  std::vector<int> counts;
+  auto add = [&](const std::vector<std::vector<int>>& sets) {
+    if (sets.empty()) counts.push_back(1 + objects);
+    for (const auto& set : sets) counts.push_back(1 + static_cast<int>(set.size()));
+  };
+  add(env.object_sets);
+  add(env.eval_object_sets.empty() ? env.object_sets : env.eval_object_sets);
+  EpisodeLimits limits;
+  limits.min_entities = *std::min_element(counts.begin(), counts.end());
+  limits.max_entities = *std::max_element(counts.begin(), counts.end());
+  limits.num_kinds = 1 + objects;
+  limits.velocities = env.velocities;
+  limits.action_dim = AgentShapeFor(env, config::Method::kSrics).action_dim;  // every method's
+  return limits;
 }
 
 AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::AgentConfig& agent) {

@@ -8,6 +8,7 @@
 #include "common/config/agent_config.h"
 #include "common/config/env_config.h"
 #include "common/config/run_config.h"
+#include "common/rl/episode.h"
 #include "common/rl/networks.h"
 
 namespace srics::rl {
@@ -22,6 +23,10 @@ struct AgentShape {
 // Entity tokens of K + 2 (+ 2 with velocities) floats for K = 1 + catalogue objects, goal
 // tokens of K + 3 (subgoals) or 2N (SAC+HER's full goal), actions of 2.
 AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method);
+
+// What this environment's episodes look like: the entity count ranges over the object sets
+// (training and evaluation), the kinds, velocities and action size are the run's.
+EpisodeLimits EpisodeLimitsFor(const config::EnvConfig& env);
 
 // The network configuration for a shape and the agent config.
 AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::AgentConfig& agent);

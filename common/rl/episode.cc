@@ -1,46 +1,128 @@
 #include "common/rl/episode.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace srics::rl {
 namespace {
 
-bool AllFinite(const std::vector<float>& values) {
-  for (float v : values)
-    if (!std::isfinite(v)) return false;
-  return true;
+std::string Str(double v) { return std::to_string(v); }
+
+// "" when lo <= value <= hi, else "`field` <value> outside [lo, hi]".
+std::string OutOfRange(const char* field, long long value, long long lo, long long hi) {
+  if (value >= lo && value <= hi) return "";
+  return std::string(field) + " " + std::to_string(value) + " outside [" + std::to_string(lo) + ", " +
+         std::to_string(hi) + "]";
+}
+
+std::string SizeMismatch(const char* field, size_t got, size_t expected, const char* layout) {
+  return std::string(field) + " has " + std::to_string(got) + " values, expected " +
+         std::to_string(expected) + " (" + layout + ")";
+}
+
+// "" when every value is finite and |value| <= bound, else names the first offender.
+// `field` and `index` say where it sits ("states[3]: entity 1 x").
+template <typename Where>
+std::string CheckBounded(float value, float bound, Where where) {
+  if (std::isfinite(value) && std::fabs(value) <= bound) return "";
+  return where() + " = " + Str(value) + (std::isfinite(value) ? " outside [-" + Str(bound) + ", " + Str(bound) + "]"
+                                                              : " is not finite");
+}
+
+std::string CheckLayout(const Episode& e, const EpisodeLimits& limits) {
+  const EntityLayout& l = e.layout;
+  // the run's limits, never wider than the contract's
+  if (auto r = OutOfRange("num_entities", l.num_entities, std::max(1, limits.min_entities),
+                          std::min(kMaxEntities, limits.max_entities));
+      !r.empty())
+    return r;
+  if (limits.num_kinds > 0 && l.num_kinds != limits.num_kinds)
+    return "num_kinds " + std::to_string(l.num_kinds) + ", this run has " + std::to_string(limits.num_kinds) +
+           " (entity_dim " + std::to_string(l.entity_dim()) + ")";
+  if (auto r = OutOfRange("num_kinds", l.num_kinds, 1, kMaxEntities); !r.empty()) return r;
+  if (l.velocities != limits.velocities)
+    return std::string("velocities ") + (l.velocities ? "present" : "absent") + ", this run has them " +
+           (limits.velocities ? "present" : "absent");
+  if (limits.action_dim > 0 && e.action_dim != limits.action_dim)
+    return "action_dim " + std::to_string(e.action_dim) + ", this run has " + std::to_string(limits.action_dim);
+  if (auto r = OutOfRange("action_dim", e.action_dim, 1, kMaxActionDim); !r.empty()) return r;
+  if (auto r = OutOfRange("num_steps", e.num_steps, 1, std::min(kMaxEpisodeSteps, limits.max_steps)); !r.empty())
+    return r;
+  if (auto r = OutOfRange("mode", static_cast<int>(e.mode), 0, 2); !r.empty()) return r;
+  return "";
+}
+
+std::string CheckSizes(const Episode& e) {
+  const EntityLayout& l = e.layout;
+  const size_t n = static_cast<size_t>(l.num_entities);
+  if (e.entity_kinds.size() != n) return SizeMismatch("entity_kinds", e.entity_kinds.size(), n, "N");
+  for (size_t i = 0; i < n; ++i)
+    if (e.entity_kinds[i] >= l.num_kinds)
+      return "entity_kinds[" + std::to_string(i) + "] = " + std::to_string(e.entity_kinds[i]) +
+             " not below num_kinds " + std::to_string(l.num_kinds);
+  const size_t states = static_cast<size_t>(e.num_steps + 1) * l.state_size();
+  if (e.states.size() != states) return SizeMismatch("states", e.states.size(), states, "(T+1) x N x D");
+  const size_t actions = static_cast<size_t>(e.num_steps) * e.action_dim;
+  if (e.actions.size() != actions) return SizeMismatch("actions", e.actions.size(), actions, "T x A");
+  if (e.subgoal_entity < -1 || e.subgoal_entity >= l.num_entities)
+    return "subgoal_entity " + std::to_string(e.subgoal_entity) + " outside [-1, N)";
+  if (e.subgoal_entity >= 0 && e.goal.size() != 2) return SizeMismatch("goal", e.goal.size(), 2, "xy of the subgoal entity");
+  if (e.subgoal_entity < 0 && !e.goal.empty() && e.goal.size() != 2 * n)
+    return SizeMismatch("goal", e.goal.size(), 2 * n, "2N for a full goal, or none");
+  if (e.mode != EpisodeMode::kExplore && e.goal.empty()) return "goal missing from a train or eval episode";
+  if (n < 64 && (e.ancestor_mask >> n) != 0) return "ancestor_mask names entities at or above N";
+  return "";
+}
+
+// Every state token: the one-hot of its entity's kind, then bounded positions and velocities.
+std::string CheckStates(const Episode& e, const EpisodeLimits& limits) {
+  const EntityLayout& l = e.layout;
+  const int d = l.entity_dim();
+  for (size_t i = 0; i < e.states.size(); ++i) {
+    const int column = static_cast<int>(i % d);
+    const int entity = static_cast<int>(i / d) % l.num_entities;
+    const float v = e.states[i];
+    auto where = [&] {
+      return "states[" + std::to_string(i) + "] (step " + std::to_string(i / l.state_size()) + ", entity " +
+             std::to_string(entity) + ", column " + std::to_string(column) + ")";
+    };
+    if (column < l.num_kinds) {
+      const float want = column == e.entity_kinds[entity] ? 1.0f : 0.0f;
+      if (v != want) return where() + " = " + Str(v) + ": the identifier one-hot of kind " +
+                            std::to_string(e.entity_kinds[entity]) + " needs " + Str(want);
+    } else {
+      const float bound = column < l.num_kinds + 2 ? limits.max_abs_position : limits.max_abs_velocity;
+      if (auto r = CheckBounded(v, bound, where); !r.empty()) return r;
+    }
+  }
+  return "";
+}
+
+std::string CheckValues(const std::vector<float>& values, const char* field, float bound) {
+  for (size_t i = 0; i < values.size(); ++i)
+    if (auto r = CheckBounded(values[i], bound, [&] { return std::string(field) + "[" + std::to_string(i) + "]"; });
+        !r.empty())
+      return r;
+  return "";
 }
 
 }  // namespace
 
-std::string ValidateEpisode(const Episode& e) {
-  const EntityLayout& l = e.layout;
-  if (l.num_entities < 1 || l.num_entities > 64) return "num_entities outside [1, 64]";
-  if (l.num_kinds < 1 || l.num_kinds > 64) return "num_kinds outside [1, 64]";
-  if (e.num_steps < 1 || e.num_steps > 100000) return "num_steps outside [1, 100000]";
-  if (e.action_dim < 1 || e.action_dim > 64) return "action_dim outside [1, 64]";
-  if (e.entity_kinds.size() != static_cast<size_t>(l.num_entities))
-    return "entity_kinds has " + std::to_string(e.entity_kinds.size()) + " entries for " +
-           std::to_string(l.num_entities) + " entities";
-  for (uint16_t kind : e.entity_kinds)
-    if (kind >= l.num_kinds) return "entity kind " + std::to_string(kind) + " >= num_kinds";
-  const size_t states = static_cast<size_t>(e.num_steps + 1) * l.state_size();
-  if (e.states.size() != states)
-    return "states has " + std::to_string(e.states.size()) + " floats, expected " + std::to_string(states);
-  const size_t actions = static_cast<size_t>(e.num_steps) * e.action_dim;
-  if (e.actions.size() != actions)
-    return "actions has " + std::to_string(e.actions.size()) + " floats, expected " + std::to_string(actions);
-  if (e.subgoal_entity < -1 || e.subgoal_entity >= l.num_entities) return "subgoal entity out of range";
-  if (e.subgoal_entity >= 0 && e.goal.size() != 2) return "a subgoal needs a goal of 2 floats";
-  if (e.subgoal_entity < 0 && !e.goal.empty() && e.goal.size() != 2u * l.num_entities)
-    return "a full goal needs 2N floats";
-  if (l.num_entities < 64 && (e.ancestor_mask >> l.num_entities) != 0) return "ancestor mask names missing entities";
-  if (!AllFinite(e.states)) return "states contain NaN or infinity";
-  if (!AllFinite(e.actions)) return "actions contain NaN or infinity";
-  if (!AllFinite(e.goal)) return "goal contains NaN or infinity";
-  for (float a : e.actions)
-    if (a < -1.0f || a > 1.0f) return "an action lies outside [-1, 1]";
-  return "";
+EpisodeLimits LimitsOfLayout(const EntityLayout& layout, int action_dim) {
+  EpisodeLimits limits;
+  limits.min_entities = limits.max_entities = layout.num_entities;
+  limits.num_kinds = layout.num_kinds;
+  limits.velocities = layout.velocities;
+  limits.action_dim = action_dim;
+  return limits;
+}
+
+std::string ValidateEpisode(const Episode& e, const EpisodeLimits& limits) {
+  if (auto r = CheckLayout(e, limits); !r.empty()) return r;
+  if (auto r = CheckSizes(e); !r.empty()) return r;
+  if (auto r = CheckStates(e, limits); !r.empty()) return r;
+  if (auto r = CheckValues(e.actions, "actions", limits.max_abs_action); !r.empty()) return r;
+  return CheckValues(e.goal, "goal", limits.max_abs_position);
 }
 
 }  // namespace srics::rl

@@ -10,7 +10,9 @@
 
 namespace srics::rl {
 
-enum class EpisodeMode { kExplore, kTrain, kEval };
+// The values match the wire's EpisodeMode (idl/srics.idl); a received value outside them
+// stays representable and ValidateEpisode refuses it.
+enum class EpisodeMode : int32_t { kExplore = 0, kTrain = 1, kEval = 2 };
 
 struct Episode {
   EntityLayout layout;
@@ -30,11 +32,40 @@ struct Episode {
 
   const float* state(int t) const { return states.data() + static_cast<size_t>(t) * layout.state_size(); }
   const float* action(int t) const { return actions.data() + static_cast<size_t>(t) * action_dim; }
+  bool operator==(const Episode&) const = default;
 };
 
-// Empty when the episode is internally consistent (sizes match the layout, values finite,
-// the subgoal entity exists); otherwise what is wrong. The learner and the graph service
-// call it on everything that came from the network.
-std::string ValidateEpisode(const Episode& episode);
+// Bounds that hold for every run: the wire contract's (idl/srics.idl has 16-bit counts and
+// 64-bit ancestor masks) and sanity bounds on values. A state 1e30 m away is finite but
+// poisons the networks, so magnitudes are bounded too.
+inline constexpr int kMaxEntities = 64;          // ancestor masks are 64-bit
+inline constexpr int kMaxEpisodeSteps = 10000;   // T, on the wire and in memory
+inline constexpr int kMaxActionDim = 64;
+inline constexpr float kMaxAbsPosition = 10.0f;  // m: |x|, |y| of states and goals (the table is < 1 m)
+inline constexpr float kMaxAbsVelocity = 100.0f; // m/s: |vx|, |vy| (the hand moves at ~1 m/s)
+
+// What a valid episode of one run looks like. The defaults accept every layout the contract
+// allows (a value of 0 below means "any"); EpisodeLimitsFor (agent_shape.h) narrows them to
+// the run's environment.
+struct EpisodeLimits {
+  int min_entities = 1;            // N, the arm plus the objects present: the environment may
+  int max_entities = kMaxEntities; // present fewer objects than its catalogue
+  int num_kinds = 0;               // K, the identifier one-hot; 0: any in [1, kMaxEntities]
+  bool velocities = false;         // states carry vx, vy after x, y (the wire cannot say)
+  int action_dim = 0;              // A; 0: any in [1, kMaxActionDim]
+  int max_steps = kMaxEpisodeSteps;
+  float max_abs_position = kMaxAbsPosition;
+  float max_abs_velocity = kMaxAbsVelocity;
+  float max_abs_action = 1.0f;
+};
+
+// Limits that accept exactly one layout and action size (e.g. a data set's own).
+EpisodeLimits LimitsOfLayout(const EntityLayout& layout, int action_dim);
+
+// Empty when the episode is whole and fits `limits`: layout and sizes, entity kinds and their
+// one-hot identifiers in the states, subgoal and goal, ancestor mask, mode, every value finite
+// and bounded, actions in range. Otherwise what is wrong, naming the field. The learner and
+// the graph service call it on everything that came from another process.
+std::string ValidateEpisode(const Episode& episode, const EpisodeLimits& limits);
 
 }  // namespace srics::rl

@@ -1,262 +1,154 @@
 #include "common/transport/convert.h"
 
 #include <cstring>
+#include <limits>
 #include <string>
 #include <type_traits>
 
 #include "common/transport/errors.h"
+#include "common/transport/field_list.h"
 
 namespace srics::transport::internal {
 
 static_assert(srics_CONTRACT_VERSION == kContractVersion,
               "kContractVersion (messages.h) must equal CONTRACT_VERSION (idl/srics.idl)");
-static_assert(srics_EPISODE_EXPLORE == static_cast<int>(EpisodeMode::kExplore) &&
-              srics_EPISODE_TRAIN == static_cast<int>(EpisodeMode::kTrain) &&
-              srics_EPISODE_EVAL == static_cast<int>(EpisodeMode::kEval));
+static_assert(srics_EPISODE_EXPLORE == static_cast<int>(rl::EpisodeMode::kExplore) &&
+              srics_EPISODE_TRAIN == static_cast<int>(rl::EpisodeMode::kTrain) &&
+              srics_EPISODE_EVAL == static_cast<int>(rl::EpisodeMode::kEval));
 static_assert(srics_NODE_STARTING == static_cast<int>(NodeState::kStarting) &&
               srics_NODE_FAILED == static_cast<int>(NodeState::kFailed));
+// the IDL's counts are unsigned short and its ancestor masks 64-bit
+static_assert(rl::kMaxEpisodeSteps <= std::numeric_limits<uint16_t>::max() && rl::kMaxEntities <= 64 &&
+              rl::kMaxActionDim <= std::numeric_limits<uint16_t>::max());
 
 namespace {
 
-// Copies a string into a bounded IDL string (char[bound + 1]).
-template <size_t N>
-void PutString(const std::string& in, char (&out)[N], const char* field) {
-  if (in.size() >= N)
-    throw InvalidMessage(std::string(field) + ": " + std::to_string(in.size()) +
-                         " characters, the IDL allows " + std::to_string(N - 1));
-  std::memcpy(out, in.data(), in.size());
-  out[in.size()] = '\0';
-}
+template <typename T> using Mutable = std::remove_const_t<T>;
 
-// Reads a bounded IDL string; never reads past the array even without a terminating NUL.
-template <size_t N>
-std::string GetString(const char (&in)[N]) {
-  return std::string(in, strnlen(in, N));
-}
-
-// Points a DDS sequence at a vector's storage (DDS only reads it while writing).
-template <typename Seq, typename V>
-void Borrow(const std::vector<V>& in, Seq* out) {
-  using Element = std::remove_pointer_t<decltype(out->_buffer)>;
-  static_assert(sizeof(Element) == sizeof(V));
-  out->_buffer = reinterpret_cast<Element*>(const_cast<V*>(in.data()));
-  out->_length = out->_maximum = static_cast<uint32_t>(in.size());
-  out->_release = false;
-}
-
-template <typename Seq, typename V>
-void Copy(const Seq& in, std::vector<V>* out) {
-  static_assert(sizeof(*in._buffer) == sizeof(V));
-  if (in._length == 0 || in._buffer == nullptr) {
-    out->clear();
-    return;
+// Message -> C: strings copied into their bounded arrays, sequences borrowed (DDS only reads
+// them while writing), scalars cast.
+struct ToCOp {
+  template <size_t N>
+  void operator()(const std::string& in, char (&out)[N], const char* field) const {
+    if (in.size() >= N)
+      throw InvalidMessage(std::string(field) + ": " + std::to_string(in.size()) +
+                           " characters, the IDL allows " + std::to_string(N - 1));
+    std::memcpy(out, in.data(), in.size());
+    out[in.size()] = '\0';
   }
-  const auto* first = reinterpret_cast<const V*>(in._buffer);
-  out->assign(first, first + in._length);
+  template <typename V, typename Seq>
+    requires requires(Seq s) { s._buffer; }
+  void operator()(const std::vector<V>& in, Seq& out, const char*) const {
+    using Element = std::remove_pointer_t<decltype(out._buffer)>;
+    static_assert(sizeof(Element) == sizeof(V));
+    out._buffer = reinterpret_cast<Element*>(const_cast<V*>(in.data()));
+    out._length = out._maximum = static_cast<uint32_t>(in.size());
+    out._release = false;
+  }
+  template <typename A, typename B>
+  void operator()(const A& in, B& out, const char*) const { out = static_cast<B>(in); }
+};
+
+// C -> message: everything copied once, strings never read past their array.
+struct FromCOp {
+  template <size_t N>
+  void operator()(std::string& out, const char (&in)[N], const char*) const { out.assign(in, strnlen(in, N)); }
+  template <typename V, typename Seq>
+    requires requires(Seq s) { s._buffer; }
+  void operator()(std::vector<V>& out, const Seq& in, const char*) const {
+    static_assert(sizeof(*in._buffer) == sizeof(V));
+    if (in._length == 0 || in._buffer == nullptr) {
+      out.clear();
+      return;
+    }
+    const auto* first = reinterpret_cast<const V*>(in._buffer);
+    out.assign(first, first + in._length);
+  }
+  template <typename A, typename B>
+  void operator()(A& out, const B& in, const char*) const { out = static_cast<A>(in); }
+};
+
+// Each type's fields, used in both directions: op(message field, C field, name). M and C carry
+// the constness of the direction (const M for ToC, const C for FromC).
+template <typename C, typename Wanted>
+concept Is = std::is_same_v<Mutable<C>, Wanted>;
+
+template <typename Op, typename M, Is<srics_Episode> C>
+void Fields(const Op& op, M& m, C& c) {
+  // the envelope and entity_dim are not rl::Episode fields: ToC and FromC handle them
+  SRICS_FIELDS(op, m, c, actor_id, episode_id, mode, policy_version, graph_version, action_dim, num_steps,
+               entity_kinds, states, actions, subgoal_entity, goal, ancestor_mask);
+  op(m.layout.num_entities, c.num_entities, "num_entities");
 }
+
+template <typename Op, typename M, Is<srics_PolicyWeights> C>
+void Fields(const Op& op, M& m, C& c) {
+  SRICS_FIELDS(op, m, c, contract_version, run_id, version, update_count, architecture, checksum, parameters);
+}
+
+template <typename Op, typename M, Is<srics_InteractionGraph> C>
+void Fields(const Op& op, M& m, C& c) {
+  SRICS_FIELDS(op, m, c, contract_version, run_id, version, num_entities, mean_weights, adjacency, action_entity,
+               threshold, ancestor_masks, depths, held_out_loss, training_updates, episodes_used);
+}
+
+template <typename Op, typename M, Is<srics_EvalResult> C>
+void Fields(const Op& op, M& m, C& c) {
+  SRICS_FIELDS(op, m, c, contract_version, run_id, actor_id, policy_version, graph_version, env_steps, episodes,
+               avg_distance, avg_object_distance, success_rate, entity_distance, subgoal_success, selectivity);
+}
+
+template <typename Op, typename M, Is<srics_LearnerStats> C>
+void Fields(const Op& op, M& m, C& c) {
+  SRICS_FIELDS(op, m, c, contract_version, run_id, updates, transitions_inserted, training_env_steps,
+               budget_env_steps, replay_size, episodes_accepted, episodes_rejected, policy_version, q_loss,
+               policy_loss, alpha, entropy, updates_per_second, inserts_per_second, mean_reward);
+}
+
+template <typename Op, typename M, Is<srics_NodeStatus> C>
+void Fields(const Op& op, M& m, C& c) {
+  SRICS_FIELDS(op, m, c, contract_version, run_id, role, node_id, host, pid, state, policy_version, graph_version,
+               env_steps, dropped_samples, uptime_ms, detail);
+}
+
+// The part of entity_dim after the identifier one-hot: x, y (, vx, vy).
+int PerEntityExtra(bool velocities) { return velocities ? 4 : 2; }
 
 }  // namespace
 
-void ToC(const Episode& in, srics_Episode* out) {
+template <typename T>
+void ToC(const T& in, typename CType<T>::type* out) {
   std::memset(out, 0, sizeof(*out));
-  out->contract_version = in.contract_version;
-  PutString(in.run_id, out->run_id, "run_id");
-  out->actor_id = in.actor_id;
-  out->episode_id = in.episode_id;
-  out->mode = static_cast<srics_EpisodeMode>(in.mode);
-  out->policy_version = in.policy_version;
-  out->graph_version = in.graph_version;
-  out->num_entities = in.num_entities;
-  out->entity_dim = in.entity_dim;
-  out->action_dim = in.action_dim;
-  out->num_steps = in.num_steps;
-  Borrow(in.entity_kinds, &out->entity_kinds);
-  Borrow(in.states, &out->states);
-  Borrow(in.actions, &out->actions);
-  out->subgoal_entity = in.subgoal_entity;
-  Borrow(in.goal, &out->goal);
-  out->ancestor_mask = in.ancestor_mask;
+  Fields(ToCOp{}, in, *out);
 }
 
-void FromC(const srics_Episode& in, Episode* out) {
-  out->contract_version = in.contract_version;
-  out->run_id = GetString(in.run_id);
-  out->actor_id = in.actor_id;
-  out->episode_id = in.episode_id;
-  out->mode = static_cast<EpisodeMode>(in.mode);
-  out->policy_version = in.policy_version;
-  out->graph_version = in.graph_version;
-  out->num_entities = in.num_entities;
-  out->entity_dim = in.entity_dim;
-  out->action_dim = in.action_dim;
-  out->num_steps = in.num_steps;
-  Copy(in.entity_kinds, &out->entity_kinds);
-  Copy(in.states, &out->states);
-  Copy(in.actions, &out->actions);
-  out->subgoal_entity = in.subgoal_entity;
-  Copy(in.goal, &out->goal);
-  out->ancestor_mask = in.ancestor_mask;
+template <typename T>
+void FromC(const typename CType<T>::type& in, T* out) {
+  Fields(FromCOp{}, *out, in);
 }
 
-void ToC(const PolicyWeights& in, srics_PolicyWeights* out) {
+#define SRICS_INSTANTIATE(T)                                       \
+  template void ToC<T>(const T& in, typename CType<T>::type* out); \
+  template void FromC<T>(const typename CType<T>::type& in, T* out);
+SRICS_FOR_EACH_MESSAGE(SRICS_INSTANTIATE)
+#undef SRICS_INSTANTIATE
+
+void ToC(const rl::Episode& in, const Envelope& envelope, srics_Episode* out) {
   std::memset(out, 0, sizeof(*out));
-  out->contract_version = in.contract_version;
-  PutString(in.run_id, out->run_id, "run_id");
-  out->version = in.version;
-  out->update_count = in.update_count;
-  PutString(in.architecture, out->architecture, "architecture");
-  out->checksum = in.checksum;
-  Borrow(in.parameters, &out->parameters);
+  const ToCOp op;
+  Fields(op, in, *out);
+  op(envelope.contract_version, out->contract_version, "contract_version");
+  op(envelope.run_id, out->run_id, "run_id");
+  op(in.layout.entity_dim(), out->entity_dim, "entity_dim");
 }
 
-void FromC(const srics_PolicyWeights& in, PolicyWeights* out) {
-  out->contract_version = in.contract_version;
-  out->run_id = GetString(in.run_id);
-  out->version = in.version;
-  out->update_count = in.update_count;
-  out->architecture = GetString(in.architecture);
-  out->checksum = in.checksum;
-  Copy(in.parameters, &out->parameters);
+void FromC(const srics_Episode& in, bool velocities, rl::Episode* out) {
+  Fields(FromCOp{}, *out, in);
+  // a num_kinds below 1 is left for rl::ValidateEpisode to refuse
+  out->layout.num_kinds = static_cast<int>(in.entity_dim) - PerEntityExtra(velocities);
+  out->layout.velocities = velocities;
 }
 
-void ToC(const InteractionGraph& in, srics_InteractionGraph* out) {
-  std::memset(out, 0, sizeof(*out));
-  out->contract_version = in.contract_version;
-  PutString(in.run_id, out->run_id, "run_id");
-  out->version = in.version;
-  out->num_entities = in.num_entities;
-  Borrow(in.mean_weights, &out->mean_weights);
-  Borrow(in.adjacency, &out->adjacency);
-  out->action_entity = in.action_entity;
-  out->threshold = in.threshold;
-  Borrow(in.ancestor_masks, &out->ancestor_masks);
-  Borrow(in.depths, &out->depths);
-  out->held_out_loss = in.held_out_loss;
-  out->training_updates = in.training_updates;
-  out->episodes_used = in.episodes_used;
-}
-
-void FromC(const srics_InteractionGraph& in, InteractionGraph* out) {
-  out->contract_version = in.contract_version;
-  out->run_id = GetString(in.run_id);
-  out->version = in.version;
-  out->num_entities = in.num_entities;
-  Copy(in.mean_weights, &out->mean_weights);
-  Copy(in.adjacency, &out->adjacency);
-  out->action_entity = in.action_entity;
-  out->threshold = in.threshold;
-  Copy(in.ancestor_masks, &out->ancestor_masks);
-  Copy(in.depths, &out->depths);
-  out->held_out_loss = in.held_out_loss;
-  out->training_updates = in.training_updates;
-  out->episodes_used = in.episodes_used;
-}
-
-void ToC(const EvalResult& in, srics_EvalResult* out) {
-  std::memset(out, 0, sizeof(*out));
-  out->contract_version = in.contract_version;
-  PutString(in.run_id, out->run_id, "run_id");
-  out->actor_id = in.actor_id;
-  out->policy_version = in.policy_version;
-  out->graph_version = in.graph_version;
-  out->env_steps = in.env_steps;
-  out->episodes = in.episodes;
-  out->avg_distance = in.avg_distance;
-  out->avg_object_distance = in.avg_object_distance;
-  out->success_rate = in.success_rate;
-  Borrow(in.entity_distance, &out->entity_distance);
-  Borrow(in.subgoal_success, &out->subgoal_success);
-  out->selectivity = in.selectivity;
-}
-
-void FromC(const srics_EvalResult& in, EvalResult* out) {
-  out->contract_version = in.contract_version;
-  out->run_id = GetString(in.run_id);
-  out->actor_id = in.actor_id;
-  out->policy_version = in.policy_version;
-  out->graph_version = in.graph_version;
-  out->env_steps = in.env_steps;
-  out->episodes = in.episodes;
-  out->avg_distance = in.avg_distance;
-  out->avg_object_distance = in.avg_object_distance;
-  out->success_rate = in.success_rate;
-  Copy(in.entity_distance, &out->entity_distance);
-  Copy(in.subgoal_success, &out->subgoal_success);
-  out->selectivity = in.selectivity;
-}
-
-void ToC(const LearnerStats& in, srics_LearnerStats* out) {
-  std::memset(out, 0, sizeof(*out));
-  out->contract_version = in.contract_version;
-  PutString(in.run_id, out->run_id, "run_id");
-  out->updates = in.updates;
-  out->transitions_inserted = in.transitions_inserted;
-  out->training_env_steps = in.training_env_steps;
-  out->budget_env_steps = in.budget_env_steps;
-  out->replay_size = in.replay_size;
-  out->episodes_accepted = in.episodes_accepted;
-  out->episodes_rejected = in.episodes_rejected;
-  out->policy_version = in.policy_version;
-  out->q_loss = in.q_loss;
-  out->policy_loss = in.policy_loss;
-  out->alpha = in.alpha;
-  out->entropy = in.entropy;
-  out->updates_per_second = in.updates_per_second;
-  out->inserts_per_second = in.inserts_per_second;
-  out->mean_reward = in.mean_reward;
-}
-
-void FromC(const srics_LearnerStats& in, LearnerStats* out) {
-  out->contract_version = in.contract_version;
-  out->run_id = GetString(in.run_id);
-  out->updates = in.updates;
-  out->transitions_inserted = in.transitions_inserted;
-  out->training_env_steps = in.training_env_steps;
-  out->budget_env_steps = in.budget_env_steps;
-  out->replay_size = in.replay_size;
-  out->episodes_accepted = in.episodes_accepted;
-  out->episodes_rejected = in.episodes_rejected;
-  out->policy_version = in.policy_version;
-  out->q_loss = in.q_loss;
-  out->policy_loss = in.policy_loss;
-  out->alpha = in.alpha;
-  out->entropy = in.entropy;
-  out->updates_per_second = in.updates_per_second;
-  out->inserts_per_second = in.inserts_per_second;
-  out->mean_reward = in.mean_reward;
-}
-
-void ToC(const NodeStatus& in, srics_NodeStatus* out) {
-  std::memset(out, 0, sizeof(*out));
-  out->contract_version = in.contract_version;
-  PutString(in.run_id, out->run_id, "run_id");
-  PutString(in.role, out->role, "role");
-  out->node_id = in.node_id;
-  PutString(in.host, out->host, "host");
-  out->pid = in.pid;
-  out->state = static_cast<srics_NodeState>(in.state);
-  out->policy_version = in.policy_version;
-  out->graph_version = in.graph_version;
-  out->env_steps = in.env_steps;
-  out->dropped_samples = in.dropped_samples;
-  out->uptime_ms = in.uptime_ms;
-  PutString(in.detail, out->detail, "detail");
-}
-
-void FromC(const srics_NodeStatus& in, NodeStatus* out) {
-  out->contract_version = in.contract_version;
-  out->run_id = GetString(in.run_id);
-  out->role = GetString(in.role);
-  out->node_id = in.node_id;
-  out->host = GetString(in.host);
-  out->pid = in.pid;
-  out->state = static_cast<NodeState>(in.state);
-  out->policy_version = in.policy_version;
-  out->graph_version = in.graph_version;
-  out->env_steps = in.env_steps;
-  out->dropped_samples = in.dropped_samples;
-  out->uptime_ms = in.uptime_ms;
-  out->detail = GetString(in.detail);
-}
+std::string RunIdOf(const srics_Episode& in) { return std::string(in.run_id, strnlen(in.run_id, sizeof in.run_id)); }
 
 }  // namespace srics::transport::internal

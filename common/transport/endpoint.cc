@@ -105,11 +105,25 @@ struct Writer<T>::Impl {
 
   // Stamps and validates as configured; returns what to send (msg itself or scratch).
   const T& Prepare(const T& msg) {
-    const T* result = &msg;
+    if constexpr (std::is_same_v<T, rl::Episode>) {
+      // the envelope is stamped on the C sample (Send); the episode is checked on its own terms
+      if (options.validate)
+        if (auto problem = rl::ValidateEpisode(msg, rl::LimitsOfLayout(msg.layout, msg.action_dim)); !problem.empty())
+          throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + problem);
+      return msg;
+    } else {
+      return PrepareMessage(msg);
+    }
+  }
+
+  // a member template: an explicit instantiation for rl::Episode must not compile it
+  template <typename M>
+  const M& PrepareMessage(const M& msg) {
+    const M* result = &msg;
     if (options.stamp) {
       bool differs = msg.contract_version != kContractVersion || msg.run_id != run_id;
       uint32_t checksum = 0;
-      if constexpr (std::is_same_v<T, PolicyWeights>) {
+      if constexpr (std::is_same_v<M, PolicyWeights>) {
         checksum = ParameterChecksum(msg.parameters);
         differs = differs || checksum != msg.checksum;
       }
@@ -117,13 +131,13 @@ struct Writer<T>::Impl {
         scratch = msg;
         scratch.contract_version = kContractVersion;
         scratch.run_id = run_id;
-        if constexpr (std::is_same_v<T, PolicyWeights>) scratch.checksum = checksum;
+        if constexpr (std::is_same_v<M, PolicyWeights>) scratch.checksum = checksum;
         result = &scratch;
       }
     }
     if (options.validate) {
       Validation v;
-      if constexpr (std::is_same_v<T, PolicyWeights>)
+      if constexpr (std::is_same_v<M, PolicyWeights>)
         v = Validate(*result, "", /*verify_checksum=*/!options.stamp);  // stamped just now
       else
         v = Validate(*result, "");
@@ -136,7 +150,10 @@ struct Writer<T>::Impl {
   // One dds_write; kBackPressure when it timed out.
   WriteResult Send(const T& msg) {
     typename internal::CType<T>::type sample;
-    internal::ToC(msg, &sample);
+    if constexpr (std::is_same_v<T, rl::Episode>)
+      internal::ToC(msg, envelope, &sample);
+    else
+      internal::ToC(msg, &sample);
     const dds_return_t ret = dds_write(writer, &sample);
     if (ret == DDS_RETCODE_TIMEOUT) return WriteResult::kBackPressure;
     Check(ret, ("dds_write " + topic.name()).c_str());
@@ -151,6 +168,7 @@ struct Writer<T>::Impl {
   std::string run_id;
   int32_t writer = 0;
   T scratch;
+  internal::Envelope envelope{options.episode_contract_version, run_id};
 };
 
 template <typename T>
@@ -252,9 +270,8 @@ struct Reader<T>::Impl {
         // invalid_data samples only announce instance state changes (disposed, no writers)
         if (!infos[i].valid_data) continue;
         out->emplace_back();
-        internal::FromC(*static_cast<const typename internal::CType<T>::type*>(samples[i]),
-                        &out->back());
-        if (Accept(out->back())) ++appended; else out->pop_back();
+        const auto& sample = *static_cast<const typename internal::CType<T>::type*>(samples[i]);
+        if (Accept(Receive(sample, &out->back()))) ++appended; else out->pop_back();
       }
       dds_return_loan(reader, samples, n);
       if (static_cast<size_t>(n) < want) break;
@@ -262,9 +279,23 @@ struct Reader<T>::Impl {
     return appended;
   }
 
-  // Validates one received sample, counts and (rate-limited) logs a rejection.
-  bool Accept(const T& msg) {
-    const Validation v = Validate(msg, run_id);
+  // Converts and validates one received sample into *out.
+  Validation Receive(const typename internal::CType<T>::type& sample, T* out) {
+    if constexpr (std::is_same_v<T, rl::Episode>) {
+      // the envelope first: an episode of another run or contract is never copied
+      if (auto v = ValidateEnvelope(sample.contract_version, internal::RunIdOf(sample), run_id); !v.ok()) return v;
+      internal::FromC(sample, options.episode_limits.velocities, out);
+      if (auto problem = rl::ValidateEpisode(*out, options.episode_limits); !problem.empty())
+        return {Verdict::kMalformed, std::move(problem)};
+      return {};
+    } else {
+      internal::FromC(sample, out);
+      return Validate(*out, run_id);
+    }
+  }
+
+  // Counts a verdict and (rate-limited) logs a rejection; true for an accepted sample.
+  bool Accept(const Validation& v) {
     auto& row = shared->rows[static_cast<size_t>(TopicOf<T>::kId)];
     switch (v.verdict) {
       case Verdict::kAccept:
@@ -379,12 +410,8 @@ SampleCounters Reader<T>::counters() const {
   template class Topic<T>;   \
   template class Writer<T>;  \
   template class Reader<T>;
-SRICS_INSTANTIATE(Episode)
-SRICS_INSTANTIATE(PolicyWeights)
-SRICS_INSTANTIATE(InteractionGraph)
-SRICS_INSTANTIATE(EvalResult)
-SRICS_INSTANTIATE(LearnerStats)
-SRICS_INSTANTIATE(NodeStatus)
+SRICS_INSTANTIATE(rl::Episode)
+SRICS_FOR_EACH_MESSAGE(SRICS_INSTANTIATE)
 #undef SRICS_INSTANTIATE
 
 }  // namespace srics::transport

@@ -1,13 +1,14 @@
 #pragma once
-// Typed topics, writers and readers for the six message structs of messages.h. Each owns its
-// DDS entities (deleted in the destructor) and is move-only. QoS comes from the table in
-// topics.h. The participant must outlive its endpoints.
+// Typed topics, writers and readers for the five message structs of messages.h and for
+// rl::Episode (the episode topic has no struct of its own). Each owns its DDS entities
+// (deleted in the destructor) and is move-only. QoS comes from the table in topics.h. The
+// participant must outlive its endpoints.
 //
-//   Writer<Episode> writer(participant);
+//   Writer<rl::Episode> writer(participant);
 //   if (writer.Write(episode) == WriteResult::kShutdown) return;   // retried back-pressure
 //
-//   Reader<Episode> reader(participant);
-//   Episode episode;
+//   Reader<rl::Episode> reader(participant, {.episode_limits = rl::EpisodeLimitsFor(env)});
+//   rl::Episode episode;
 //   switch (reader.Take(&episode, std::chrono::milliseconds(500))) {
 //     case TakeStatus::kSample: ...; case TakeStatus::kTimeout: ...; case TakeStatus::kShutdown: ...
 //   }
@@ -21,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "common/rl/episode.h"
 #include "common/transport/messages.h"
 #include "common/transport/participant.h"
 #include "common/transport/topics.h"
@@ -29,7 +31,7 @@ namespace srics::transport {
 
 // The topic of each message struct.
 template <typename T> struct TopicOf;
-template <> struct TopicOf<Episode> { static constexpr TopicId kId = TopicId::kEpisode; };
+template <> struct TopicOf<rl::Episode> { static constexpr TopicId kId = TopicId::kEpisode; };
 template <> struct TopicOf<PolicyWeights> { static constexpr TopicId kId = TopicId::kPolicyWeights; };
 template <> struct TopicOf<InteractionGraph> { static constexpr TopicId kId = TopicId::kInteractionGraph; };
 template <> struct TopicOf<EvalResult> { static constexpr TopicId kId = TopicId::kEvalResult; };
@@ -56,11 +58,17 @@ struct WriterOptions {
   // producers: a written sample may wait in this process until Flush(), a full datagram or
   // the writer's destruction. Leave off for writers that publish now and then.
   bool batch = false;
+  // rl::Episode carries no envelope: an episode writer stamps this contract version and the
+  // participant's run id. Tests set another version to check that readers refuse it.
+  uint32_t episode_contract_version = kContractVersion;
 };
 
 struct ReaderOptions {
   std::string topic_name;  // empty: the table's name
   bool all_runs = false;   // monitors: accept samples of every run_id
+  // Reader<rl::Episode> only: what this run's episodes look like (also says whether states
+  // carry velocities, which the wire cannot). Episodes outside them are counted as rejected.
+  rl::EpisodeLimits episode_limits;
 };
 
 // The DDS topic of T in one participant. Writers and readers create their own.

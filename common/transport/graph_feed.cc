@@ -12,9 +12,8 @@ std::optional<rl::GraphUpdate> GraphFeed::PollNewest() {
   while (reader_.Take(&message, std::chrono::milliseconds(0)) == TakeStatus::kSample) {
     if (message.version <= version_) continue;
     try {
-      ReceivedGraph g = FromMessage(message);
-      version_ = g.version;
-      newest = rl::GraphUpdate{g.version, std::move(g.graph), std::move(g.structure)};
+      newest = FromMessage(message);
+      version_ = newest->version;
     } catch (const std::invalid_argument& e) {
       ++rejected_;
       spdlog::warn("graph v{} refused: {}", message.version, e.what());

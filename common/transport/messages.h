@@ -1,5 +1,6 @@
 #pragma once
-// Plain C++ mirrors of the IDL types in idl/srics.idl, one struct per topic. Algorithms and
+// Plain C++ mirrors of the IDL types in idl/srics.idl, one struct per topic but Episode
+// (rl::Episode, common/rl/episode.h, is the only episode shape). Algorithms and
 // process code use these; only common/transport converts them to and from the generated C
 // types, so this header has no DDS dependency. Field meanings and units: idl/README.md.
 
@@ -20,10 +21,9 @@ inline constexpr size_t kRoleMaxLength = 32;
 inline constexpr size_t kHostMaxLength = 128;
 inline constexpr size_t kDetailMaxLength = 256;
 
-// The enums carry the raw wire value, so a received out-of-range value stays representable
-// and validation (not a cast) rejects it.
-enum class EpisodeMode : int32_t { kExplore = 0, kTrain = 1, kEval = 2 };
-
+// The enum carries the raw wire value, so a received out-of-range value stays representable
+// and validation (not a cast) rejects it. (Episodes have no struct here: the wire type converts
+// straight to and from rl::Episode, whose EpisodeMode carries the wire values.)
 enum class NodeState : int32_t {
   kStarting = 0,
   kWaiting = 1,
@@ -34,32 +34,8 @@ enum class NodeState : int32_t {
   kFailed = 6,
 };
 
-// Lowercase names ("explore", "training", ...) for logs; "invalid" for out-of-range values.
-const char* EpisodeModeName(EpisodeMode mode);
+// Lowercase names ("starting", "training", ...) for logs; "invalid" for out-of-range values.
 const char* NodeStateName(NodeState state);
-
-// One whole episode from one actor (topic "srics/episode").
-struct Episode {
-  uint32_t contract_version = kContractVersion;
-  std::string run_id;
-  uint32_t actor_id = 0;
-  uint64_t episode_id = 0;          // per actor, counts up from 0 across restarts
-  EpisodeMode mode = EpisodeMode::kExplore;
-  uint64_t policy_version = 0;      // 0 = random actions
-  uint64_t graph_version = 0;       // 0 = no graph yet
-  uint16_t num_entities = 0;        // N
-  uint16_t entity_dim = 0;          // D floats per entity
-  uint16_t action_dim = 0;          // A
-  uint16_t num_steps = 0;           // T
-  std::vector<uint16_t> entity_kinds;  // N, 0 = arm
-  std::vector<float> states;        // (T+1) x N x D, row-major
-  std::vector<float> actions;       // T x A, row-major, each in [-1, 1]
-  int16_t subgoal_entity = -1;      // -1 = full goal / none
-  std::vector<float> goal;          // 2 (subgoal xy), 2N (full goal) or empty (explore)
-  uint64_t ancestor_mask = 0;       // bit j: entity j is in the subgoal's ancestor set
-
-  bool operator==(const Episode&) const = default;
-};
 
 // Latest policy parameters (topic "srics/policy_weights"), one instance per run.
 struct PolicyWeights {

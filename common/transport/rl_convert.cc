@@ -1,92 +1,169 @@
 #include "common/transport/rl_convert.h"
 
+#include <algorithm>
 #include <stdexcept>
+
+#include "common/transport/field_list.h"
 
 namespace srics::transport {
 
-Episode ToMessage(const rl::Episode& e) {
-  Episode m;
-  m.actor_id = e.actor_id;
-  m.episode_id = e.episode_id;
-  m.mode = e.mode == rl::EpisodeMode::kExplore ? EpisodeMode::kExplore
-           : e.mode == rl::EpisodeMode::kTrain ? EpisodeMode::kTrain
-                                               : EpisodeMode::kEval;
-  m.policy_version = e.policy_version;
-  m.graph_version = e.graph_version;
-  m.num_entities = static_cast<uint16_t>(e.layout.num_entities);
-  m.entity_dim = static_cast<uint16_t>(e.layout.entity_dim());
-  m.action_dim = static_cast<uint16_t>(e.action_dim);
-  m.num_steps = static_cast<uint16_t>(e.num_steps);
-  m.entity_kinds = e.entity_kinds;
-  m.states = e.states;
-  m.actions = e.actions;
-  m.subgoal_entity = static_cast<int16_t>(e.subgoal_entity);
-  m.goal = e.goal;
-  m.ancestor_mask = e.ancestor_mask;
+namespace {
+
+// op(message field, rl field, name): the lists below serve both directions.
+struct ToMessageOp {
+  template <typename M, typename R>
+  void operator()(M& message, const R& value, const char*) const {
+    if constexpr (requires { message.assign(value.begin(), value.end()); })
+      message.assign(value.begin(), value.end());  // vectors of another element type
+    else
+      message = static_cast<M>(value);
+  }
+};
+
+struct FromMessageOp {
+  template <typename M, typename R>
+  void operator()(const M& message, R& value, const char*) const {
+    if constexpr (requires { value.assign(message.begin(), message.end()); })
+      value.assign(message.begin(), message.end());
+    else
+      value = static_cast<R>(message);
+  }
+};
+
+// The parameters are converted apart (moved where they can be).
+template <typename Op, typename M, typename R>
+void WeightsFields(const Op& op, M& m, R& w) {
+  SRICS_FIELDS(op, m, w, version, update_count, architecture);
+}
+
+// The structure is converted apart (recomputed from the adjacency on the way in).
+template <typename Op, typename M, typename R>
+void GraphFields(const Op& op, M& m, R& g) {
+  SRICS_FIELDS(op, m, g, version, mean_weights, threshold, held_out_loss, training_updates, episodes_used);
+  SRICS_FIELDS(op, m, g.graph, num_entities, adjacency, action_entity);
+}
+
+template <typename Op, typename M, typename R>
+void EvalFields(const Op& op, M& m, R& r) {
+  SRICS_FIELDS(op, m, r, actor_id, policy_version, graph_version, env_steps);
+  SRICS_FIELDS(op, m, r.summary, episodes, avg_distance, avg_object_distance, success_rate, entity_distance,
+               subgoal_success);
+}
+
+template <typename Op, typename M, typename R>
+void LearnerFields(const Op& op, M& m, R& r) {
+  SRICS_FIELDS(op, m, r, updates, transitions_inserted, training_env_steps, budget_env_steps, replay_size,
+               episodes_accepted, episodes_rejected, policy_version, q_loss, policy_loss, alpha, entropy,
+               updates_per_second, inserts_per_second, mean_reward);
+}
+
+template <typename Op, typename M, typename R>
+void NodeFields(const Op& op, M& m, R& r) {
+  SRICS_FIELDS(op, m, r, policy_version, graph_version);
+  op(m.env_steps, r.steps, "steps");
+  op(m.dropped_samples, r.dropped, "dropped");
+}
+
+}  // namespace
+
+PolicyWeights ToMessage(const rl::WeightsUpdate& w) {
+  PolicyWeights m;
+  WeightsFields(ToMessageOp{}, m, w);
+  m.parameters = w.parameters;
   return m;
 }
 
-rl::Episode FromMessage(const Episode& m, bool velocities) {
-  rl::Episode e;
-  const int extra = velocities ? 4 : 2;
-  if (m.entity_dim <= extra)
-    throw std::invalid_argument("entity_dim " + std::to_string(m.entity_dim) + " leaves no room for identifiers");
-  e.layout = {m.num_entities, m.entity_dim - extra, velocities};
-  e.entity_kinds = m.entity_kinds;
-  e.num_steps = m.num_steps;
-  e.action_dim = m.action_dim;
-  e.states = m.states;
-  e.actions = m.actions;
-  e.subgoal_entity = m.subgoal_entity;
-  e.goal = m.goal;
-  e.ancestor_mask = m.ancestor_mask;
-  e.mode = m.mode == EpisodeMode::kExplore ? rl::EpisodeMode::kExplore
-           : m.mode == EpisodeMode::kTrain ? rl::EpisodeMode::kTrain
-                                           : rl::EpisodeMode::kEval;
-  e.actor_id = m.actor_id;
-  e.episode_id = m.episode_id;
-  e.policy_version = m.policy_version;
-  e.graph_version = m.graph_version;
-  return e;
+rl::WeightsUpdate FromMessage(PolicyWeights m) {
+  rl::WeightsUpdate w;
+  WeightsFields(FromMessageOp{}, m, w);
+  w.parameters = std::move(m.parameters);  // megabytes: moved, not copied
+  return w;
 }
 
-InteractionGraph ToMessage(const rl::InteractionGraph& graph, const rl::SubgoalStructure& structure,
-                           const std::vector<double>& mean_weights, float threshold, uint64_t version,
-                           float held_out_loss, uint64_t training_updates, uint32_t episodes_used) {
+InteractionGraph ToMessage(const rl::GraphUpdate& g) {
   InteractionGraph m;
-  m.version = version;
-  m.num_entities = static_cast<uint16_t>(graph.num_entities);
-  m.mean_weights.assign(mean_weights.begin(), mean_weights.end());
-  m.adjacency = graph.adjacency;
-  m.action_entity = static_cast<int16_t>(graph.action_entity);
-  m.threshold = threshold;
-  m.ancestor_masks = structure.ancestor_mask;
-  for (int d : structure.depth) m.depths.push_back(static_cast<int16_t>(d));
-  m.held_out_loss = held_out_loss;
-  m.training_updates = training_updates;
-  m.episodes_used = episodes_used;
+  GraphFields(ToMessageOp{}, m, g);
+  m.ancestor_masks = g.structure.ancestor_mask;
+  m.depths.assign(g.structure.depth.begin(), g.structure.depth.end());
   return m;
 }
 
-ReceivedGraph FromMessage(const InteractionGraph& m) {
-  ReceivedGraph r;
-  r.version = m.version;
-  r.graph.num_entities = m.num_entities;
-  r.graph.adjacency = m.adjacency;
-  r.graph.action_entity = m.action_entity;
-  const std::string problem = rl::ValidateGraph(r.graph);
+rl::GraphUpdate FromMessage(const InteractionGraph& m) {
+  rl::GraphUpdate g;
+  GraphFields(FromMessageOp{}, m, g);
+  const std::string problem = rl::ValidateGraph(g.graph);
   if (!problem.empty()) throw std::invalid_argument("interaction graph: " + problem);
-  r.structure = rl::ComputeSubgoalStructure(r.graph);
-  if (m.ancestor_masks != r.structure.ancestor_mask)
+  g.structure = rl::ComputeSubgoalStructure(g.graph);
+  if (m.ancestor_masks != g.structure.ancestor_mask)
     throw std::invalid_argument("interaction graph: ancestor sets disagree with the adjacency");
-  for (size_t i = 0; i < m.depths.size() && i < r.structure.depth.size(); ++i)
-    if (m.depths[i] != r.structure.depth[i])
-      throw std::invalid_argument("interaction graph: depths disagree with the adjacency");
-  if (m.depths.size() != r.structure.depth.size())
-    throw std::invalid_argument("interaction graph: depths has the wrong size");
-  r.mean_weights = m.mean_weights;
-  r.held_out_loss = m.held_out_loss;
+  if (!std::equal(m.depths.begin(), m.depths.end(), g.structure.depth.begin(), g.structure.depth.end()))
+    throw std::invalid_argument("interaction graph: depths disagree with the adjacency");
+  return g;
+}
+
+EvalResult ToMessage(const rl::EvalReport& r) {
+  EvalResult m;
+  EvalFields(ToMessageOp{}, m, r);
+  m.selectivity = static_cast<float>(r.summary.selectivity_episodes ? r.summary.selectivity : 0.0);
+  return m;
+}
+
+rl::EvalReport FromMessage(const EvalResult& m) {
+  rl::EvalReport r;
+  EvalFields(FromMessageOp{}, m, r);
+  r.summary.selectivity = m.selectivity;
+  r.summary.selectivity_episodes = r.summary.episodes;
   return r;
+}
+
+LearnerStats ToMessage(const rl::LearnerReport& r) {
+  LearnerStats m;
+  LearnerFields(ToMessageOp{}, m, r);
+  return m;
+}
+
+rl::LearnerReport FromMessage(const LearnerStats& m) {
+  rl::LearnerReport r;
+  LearnerFields(FromMessageOp{}, m, r);
+  return r;
+}
+
+NodeStatus ToMessage(const rl::NodeReport& r, const std::string& role, uint32_t node_id) {
+  NodeStatus m;
+  NodeFields(ToMessageOp{}, m, r);
+  m.role = role;
+  m.node_id = node_id;
+  m.state = ToNodeState(r.phase);
+  m.detail = r.detail.substr(0, kDetailMaxLength);
+  return m;
+}
+
+rl::NodeReport FromMessage(const NodeStatus& m) {
+  rl::NodeReport r;
+  NodeFields(FromMessageOp{}, m, r);
+  r.phase = ToNodePhase(m.state);
+  r.detail = m.detail;
+  return r;
+}
+
+NodeState ToNodeState(rl::NodePhase phase) {
+  switch (phase) {
+    case rl::NodePhase::kStarting: return NodeState::kStarting;
+    case rl::NodePhase::kWaiting: return NodeState::kWaiting;
+    case rl::NodePhase::kExploring: return NodeState::kExploring;
+    case rl::NodePhase::kTraining: return NodeState::kTraining;
+    case rl::NodePhase::kEvaluating: return NodeState::kEvaluating;
+    case rl::NodePhase::kStopping: return NodeState::kStopping;
+    case rl::NodePhase::kFailed: return NodeState::kFailed;
+  }
+  return NodeState::kFailed;
+}
+
+rl::NodePhase ToNodePhase(NodeState state) {
+  for (rl::NodePhase phase : {rl::NodePhase::kStarting, rl::NodePhase::kWaiting, rl::NodePhase::kExploring,
+                              rl::NodePhase::kTraining, rl::NodePhase::kEvaluating, rl::NodePhase::kStopping})
+    if (ToNodeState(phase) == state) return phase;
+  return rl::NodePhase::kFailed;
 }
 
 }  // namespace srics::transport

@@ -1,39 +1,41 @@
 #pragma once
-// Conversions between the wire messages (messages.h) and the algorithms' plain types
-// (common/rl). Messages reaching these functions were validated by the Reader (sizes,
-// finiteness); what the wire cannot say (whether states carry velocities) comes from config.
+// Conversions between the wire messages of messages.h and the algorithms' plain types
+// (common/rl/updates.h). Episodes have no message struct: rl::Episode goes to and from the wire
+// directly (convert.h). Messages reaching FromMessage were validated by the Reader (sizes,
+// finiteness); the in-process run uses ToMessage to feed the monitor the same structs.
 
+#include <cstdint>
 #include <string>
-#include <vector>
 
-#include "common/rl/episode.h"
-#include "common/rl/graph.h"
+#include "common/rl/updates.h"
 #include "common/transport/messages.h"
 
 namespace srics::transport {
 
-Episode ToMessage(const rl::Episode& episode);
+// contract_version and run_id are left for the writer to stamp.
+PolicyWeights ToMessage(const rl::WeightsUpdate& weights);
+rl::WeightsUpdate FromMessage(PolicyWeights message);  // pass an rvalue to move the parameters
 
-// Throws std::invalid_argument when the message does not fit the layout (entity_dim too
-// small for the velocity flag).
-rl::Episode FromMessage(const Episode& message, bool velocities);
-
-// A graph as the algorithms use it.
-struct ReceivedGraph {
-  uint64_t version = 0;
-  rl::InteractionGraph graph;
-  rl::SubgoalStructure structure;  // recomputed from the adjacency, never trusted from the wire
-  std::vector<float> mean_weights;
-  float held_out_loss = 0;
-};
-
-InteractionGraph ToMessage(const rl::InteractionGraph& graph, const rl::SubgoalStructure& structure,
-                           const std::vector<double>& mean_weights, float threshold, uint64_t version,
-                           float held_out_loss, uint64_t training_updates, uint32_t episodes_used);
-
+// graph.structure is written as the ancestor masks and depths of the message.
+InteractionGraph ToMessage(const rl::GraphUpdate& graph);
 // Rebuilds the graph and recomputes ancestor sets and depths; throws std::invalid_argument
 // when the message's own ancestor masks or depths disagree with its adjacency (a peer with a
 // different algorithm or a corrupted sample).
-ReceivedGraph FromMessage(const InteractionGraph& message);
+rl::GraphUpdate FromMessage(const InteractionGraph& message);
+
+EvalResult ToMessage(const rl::EvalReport& report);
+// The wire has no count of episodes with a defined selectivity: every episode is taken.
+rl::EvalReport FromMessage(const EvalResult& message);
+
+LearnerStats ToMessage(const rl::LearnerReport& report);
+rl::LearnerReport FromMessage(const LearnerStats& message);
+
+// host, pid and uptime are the publishing process's (StatusPublisher fills them); the detail
+// is cut to the IDL's bound.
+NodeStatus ToMessage(const rl::NodeReport& report, const std::string& role, uint32_t node_id);
+rl::NodeReport FromMessage(const NodeStatus& message);
+
+NodeState ToNodeState(rl::NodePhase phase);
+rl::NodePhase ToNodePhase(NodeState state);  // kFailed for an out-of-range state
 
 }  // namespace srics::transport

@@ -27,6 +27,4 @@ class StatusPublisher {
   std::chrono::steady_clock::time_point start_;
 };
 
-NodeState ToNodeState(rl::NodePhase phase);
-
 }  // namespace srics::transport

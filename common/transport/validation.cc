@@ -51,15 +51,6 @@ bool MaskInside(uint64_t mask, uint32_t n) { return n >= 64 || (mask >> n) == 0;
 
 }  // namespace
 
-const char* EpisodeModeName(EpisodeMode mode) {
-  switch (mode) {
-    case EpisodeMode::kExplore: return "explore";
-    case EpisodeMode::kTrain: return "train";
-    case EpisodeMode::kEval: return "eval";
-  }
-  return "invalid";
-}
-
 const char* NodeStateName(NodeState state) {
   switch (state) {
     case NodeState::kStarting: return "starting";
@@ -73,39 +64,9 @@ const char* NodeStateName(NodeState state) {
   return "invalid";
 }
 
-Validation Validate(const Episode& msg, std::string_view run_id) {
-  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
-  const uint32_t n = msg.num_entities, d = msg.entity_dim, a = msg.action_dim, t = msg.num_steps;
-  if (n < 1 || n > kMaxEntities) return Malformed("num_entities " + std::to_string(n) + " not in [1, 64]");
-  if (d < 1 || d > kMaxEntityDim) return Malformed("entity_dim " + std::to_string(d) + " not in [1, 1024]");
-  if (a < 1 || a > kMaxActionDim) return Malformed("action_dim " + std::to_string(a) + " not in [1, 256]");
-  if (t < 1 || t > kMaxSteps) return Malformed("num_steps " + std::to_string(t) + " not in [1, 10000]");
-  if (msg.mode != EpisodeMode::kExplore && msg.mode != EpisodeMode::kTrain &&
-      msg.mode != EpisodeMode::kEval)
-    return Malformed("mode " + std::to_string(static_cast<int32_t>(msg.mode)) + " is not an EpisodeMode");
-  if (msg.entity_kinds.size() != n) return Malformed(SizeMismatch("entity_kinds", msg.entity_kinds.size(), n, "N"));
-  const uint64_t states = uint64_t{t + 1} * n * d;
-  if (msg.states.size() != states)
-    return Malformed(SizeMismatch("states", msg.states.size(), states, "(T+1) x N x D"));
-  if (msg.actions.size() != uint64_t{t} * a)
-    return Malformed(SizeMismatch("actions", msg.actions.size(), uint64_t{t} * a, "T x A"));
-  if (msg.subgoal_entity < -1 || msg.subgoal_entity >= static_cast<int32_t>(n))
-    return Malformed("subgoal_entity " + std::to_string(msg.subgoal_entity) + " not in [-1, N)");
-  if (msg.subgoal_entity >= 0 && msg.goal.size() != 2)
-    return Malformed(SizeMismatch("goal", msg.goal.size(), 2, "xy of the subgoal entity"));
-  if (msg.subgoal_entity < 0 && !msg.goal.empty() && msg.goal.size() != 2ull * n)
-    return Malformed(SizeMismatch("goal", msg.goal.size(), 2ull * n, "2N for a full goal, or none"));
-  if (msg.mode != EpisodeMode::kExplore && msg.goal.empty())
-    return Malformed("a train or eval episode without goal");
-  if (!MaskInside(msg.ancestor_mask, n)) return Malformed("ancestor_mask has bits at or above N");
-  if (auto r = NonFinite("states", msg.states); !r.empty()) return Malformed(r);
-  if (auto r = NonFinite("actions", msg.actions); !r.empty()) return Malformed(r);
-  if (auto r = NonFinite("goal", msg.goal); !r.empty()) return Malformed(r);
-  for (size_t i = 0; i < msg.actions.size(); ++i)
-    if (std::fabs(msg.actions[i]) > 1.0f + 1e-6f)
-      return Malformed("actions[" + std::to_string(i) + "] = " + std::to_string(msg.actions[i]) +
-                       " outside [-1, 1]");
-  return CheckRun(msg.run_id, run_id);
+Validation ValidateEnvelope(uint32_t contract_version, const std::string& msg_run_id, std::string_view run_id) {
+  if (auto v = CheckCommon(contract_version, msg_run_id); !v.ok()) return v;
+  return CheckRun(msg_run_id, run_id);
 }
 
 Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool verify_checksum) {

@@ -8,16 +8,14 @@
 #include <string_view>
 #include <vector>
 
+#include "common/rl/episode.h"
 #include "common/transport/messages.h"
 
 namespace srics::transport {
 
 // Sane bounds beyond which a sample is treated as malformed (keeps a hostile or corrupt
-// sample from making a reader allocate or loop without limit).
-inline constexpr uint32_t kMaxEntities = 64;         // ancestor masks are 64-bit
-inline constexpr uint32_t kMaxSteps = 10000;
-inline constexpr uint32_t kMaxEntityDim = 1024;
-inline constexpr uint32_t kMaxActionDim = 256;
+// sample from making a reader allocate or loop without limit). Episodes: rl::EpisodeLimits.
+inline constexpr uint32_t kMaxEntities = rl::kMaxEntities;  // ancestor masks are 64-bit
 inline constexpr uint64_t kMaxParameters = 64ull << 20;  // 64 Mi floats = 256 MiB
 
 enum class Verdict {
@@ -32,12 +30,15 @@ struct Validation {
   bool ok() const { return verdict == Verdict::kAccept; }
 };
 
+// The envelope of every sample: kMalformed unless contract_version == kContractVersion and
+// msg_run_id is non-empty and within bounds; kOtherRun when `run_id` is not empty and differs.
+// Episode readers run it on the received C sample, before copying anything.
+Validation ValidateEnvelope(uint32_t contract_version, const std::string& msg_run_id, std::string_view run_id);
+
 // Each returns kMalformed with a reason for the first violation found, else kOtherRun when
 // `run_id` is not empty and differs from the sample's, else kAccept. The rules (also in
-// idl/README.md): contract_version == kContractVersion; run_id non-empty and within bounds;
-// sequence lengths match the declared layout; enums in range; every float finite; indices
-// and masks inside [0, N).
-Validation Validate(const Episode& msg, std::string_view run_id);
+// idl/README.md): the envelope above; sequence lengths match the declared layout; enums in
+// range; every float finite; indices and masks inside [0, N). Episodes: rl::ValidateEpisode.
 // `verify_checksum` false skips the CRC (for a writer that has just computed it).
 Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool verify_checksum = true);
 Validation Validate(const InteractionGraph& msg, std::string_view run_id);

@@ -147,10 +147,9 @@ TEST(SystemTest, MalformedEpisodesFromAForeignParticipantAreDroppedAndCounted) {
   // a participant of our own, writing what the contract forbids (validation switched off)
   tr::WriterOptions raw;
   raw.validate = false;
-  tr::Writer<tr::Episode> foreign(system.participant(), raw);
-  tr::Episode bad;
-  bad.num_entities = 3;
-  bad.entity_dim = 5;
+  tr::Writer<rl::Episode> foreign(system.participant(), raw);
+  rl::Episode bad;
+  bad.layout = {3, 3, false};  // 5 floats per entity
   bad.action_dim = 2;
   bad.num_steps = 20;
   bad.entity_kinds = {0, 1, 2};

@@ -19,7 +19,7 @@
 #include "actor/env/rearrange_env.h"
 #include "actor/rollout.h"
 #include "common/config/config.h"
-#include "common/transport/rl_convert.h"
+#include "common/rl/agent_shape.h"
 #include "common/transport/transport.h"
 #include "deploy/launcher/child_process.h"
 #include "tests/bench/bench_util.h"
@@ -45,18 +45,18 @@ int WriterMain(int domain, const std::string& run_id, uint64_t count, uint32_t a
   config::Config config = BenchConfig(domain, run_id);
   auto env = env::MakeRearrangeEnv(config.env);
   nn::Rng rng(actor_id);
-  std::vector<tr::Episode> recorded;
+  std::vector<rl::Episode> recorded;
   for (int i = 0; recorded.size() < 16; ++i)
     if (auto e = actor::RunExploreEpisode(*env, 20, 100 * actor_id + i, rng)) {
       e->actor_id = actor_id;
-      recorded.push_back(tr::ToMessage(*e));
+      recorded.push_back(std::move(*e));
     }
   tr::Shutdown shutdown;
   tr::Participant participant(config.transport, shutdown);
-  tr::Writer<tr::Episode> writer(participant);
+  tr::Writer<rl::Episode> writer(participant);
   if (!writer.WaitForReaders(1, 20s)) return 3;
   for (uint64_t i = 0; i < count; ++i) {
-    tr::Episode& e = recorded[i % recorded.size()];
+    rl::Episode& e = recorded[i % recorded.size()];
     e.episode_id = i;
     if (writer.Write(e) != tr::WriteResult::kSent) return 4;
   }
@@ -118,10 +118,12 @@ double BareTransport(int writers, uint64_t per_writer, int domain) {
   config::Config config = BenchConfig(domain, run_id);
   tr::Shutdown shutdown;
   tr::Participant participant(config.transport, shutdown);
-  tr::Reader<tr::Episode> reader(participant);
+  tr::ReaderOptions options;
+  options.episode_limits = rl::EpisodeLimitsFor(config.env);
+  tr::Reader<rl::Episode> reader(participant, options);
   auto children = StartWriters(writers, domain, run_id, per_writer);
   const uint64_t total_episodes = writers * per_writer;
-  std::vector<tr::Episode> batch;
+  std::vector<rl::Episode> batch;
   uint64_t received = 0;
   Clock::time_point first;
   const auto deadline = Clock::now() + 120s;

@@ -56,8 +56,8 @@ double Median(std::vector<double> v) {
 }
 
 // Approximate CDR size of an episode (header, scalars, strings, sequences).
-size_t EpisodeBytes(const Episode& e) {
-  return 96 + e.run_id.size() + 2 * e.entity_kinds.size() +
+size_t EpisodeBytes(const srics::rl::Episode& e) {
+  return 96 + 20 /* run id */ + 2 * e.entity_kinds.size() +
          4 * (e.states.size() + e.actions.size() + e.goal.size());
 }
 
@@ -65,7 +65,7 @@ size_t EpisodeBytes(const Episode& e) {
 
 template <typename T>
 int RunReader(const Participant& participant, uint64_t count, size_t bytes_per_sample) {
-  Reader<T> reader(participant);
+  Reader<T> reader(participant, testing::SampleEpisodeReader());
   std::cout << "ready" << std::endl;
   std::vector<T> batch;
   uint64_t received = 0;
@@ -96,8 +96,7 @@ int ReaderMain(const std::string& kind, uint64_t count, int domain, const std::s
   config.episode_history_depth = 1024;
   Participant participant(config);
   if (kind == "episode")
-    return RunReader<Episode>(participant, count,
-                              EpisodeBytes(testing::MakeEpisode(run, 0)));
+    return RunReader<srics::rl::Episode>(participant, count, EpisodeBytes(testing::MakeEpisode(0)));
   return RunReader<PolicyWeights>(participant, count, kWeightBytes);
 }
 
@@ -205,7 +204,7 @@ int main(int argc, char** argv) {
     }
   }
   const std::string xml = std::string(SRICS_SOURCE_DIR) + "/deploy/cyclonedds/loopback.xml";
-  const Episode episode = testing::MakeEpisode("bench-" + std::to_string(getpid()), 0);
+  const srics::rl::Episode episode = testing::MakeEpisode(0);
   const PolicyWeights weights =
       testing::MakePolicyWeights("bench-" + std::to_string(getpid()), 1, kWeightBytes / sizeof(float));
   // ddsperf batches its writes, so the batched episode writer is the comparable figure

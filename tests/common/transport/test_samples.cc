@@ -1,5 +1,7 @@
 #include "tests/common/transport/test_samples.h"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <limits>
 
@@ -19,27 +21,54 @@ float Value(uint64_t seed, uint64_t i) {
 
 }  // namespace
 
-Episode MakeEpisode(const std::string& run_id, uint64_t seed, uint16_t steps, uint16_t entities) {
-  Episode e;
-  e.run_id = run_id;
+config::TransportConfig IsolatedTransportConfig(const std::string& prefix) {
+  config::TransportConfig config;
+  // domains 20..219 keep every RTPS port below 65536 with 64 participants per host
+  config.domain_id = 20 + static_cast<int>(getpid() % 200);
+  config.run_id = prefix + "-" + std::to_string(getpid());
+  return config;
+}
+
+rl::Episode MakeEpisode(uint64_t seed, int steps, int entities) {
+  rl::Episode e;
+  e.layout = {entities, kSampleKinds, false};
   e.actor_id = static_cast<uint32_t>(seed % 7 + 1);
   e.episode_id = seed;
-  e.mode = EpisodeMode::kTrain;
+  e.mode = rl::EpisodeMode::kTrain;
   e.policy_version = 1000 + seed;
   e.graph_version = 3;
-  e.num_entities = entities;
-  e.entity_dim = 6;  // id one-hot (4) and xy
   e.action_dim = 3;
   e.num_steps = steps;
-  for (uint16_t i = 0; i < entities; ++i) e.entity_kinds.push_back(i);
-  e.states.resize(size_t{steps + 1u} * entities * e.entity_dim);
-  for (size_t i = 0; i < e.states.size(); ++i) e.states[i] = 5 * Value(seed, i);
-  e.actions.resize(size_t{steps} * e.action_dim);
+  for (int i = 0; i < entities; ++i) e.entity_kinds.push_back(static_cast<uint16_t>((i + seed) % kSampleKinds));
+  const int d = e.layout.entity_dim();
+  e.states.resize(static_cast<size_t>(steps + 1) * entities * d);
+  for (size_t i = 0; i < e.states.size(); ++i) {
+    const int column = static_cast<int>(i % d), entity = static_cast<int>(i / d) % entities;
+    e.states[i] = column < kSampleKinds ? (column == e.entity_kinds[entity] ? 1.0f : 0.0f)  // identifier
+                                        : 0.5f * Value(seed, i);                           // xy in m
+  }
+  e.actions.resize(static_cast<size_t>(steps) * e.action_dim);
   for (size_t i = 0; i < e.actions.size(); ++i) e.actions[i] = Value(seed + 1, i);
-  e.subgoal_entity = static_cast<int16_t>(seed % entities);
+  e.subgoal_entity = static_cast<int>(seed % entities);
   e.goal = {Value(seed, 99), Value(seed, 100)};
   e.ancestor_mask = (1ull << e.subgoal_entity) | 1ull;
   return e;
+}
+
+rl::EpisodeLimits SampleEpisodeLimits() {
+  rl::EpisodeLimits limits;
+  limits.max_entities = kSampleKinds;
+  limits.num_kinds = kSampleKinds;
+  limits.velocities = false;
+  limits.action_dim = 3;
+  return limits;
+}
+
+ReaderOptions SampleEpisodeReader(const std::string& topic_name) {
+  ReaderOptions options;
+  options.topic_name = topic_name;
+  options.episode_limits = SampleEpisodeLimits();
+  return options;
 }
 
 PolicyWeights MakePolicyWeights(const std::string& run_id, uint64_t seed, size_t count) {

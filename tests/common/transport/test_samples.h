@@ -5,13 +5,26 @@
 #include <cstdint>
 #include <string>
 
+#include "common/rl/episode.h"
+#include "common/transport/endpoint.h"
 #include "common/transport/messages.h"
 
 namespace srics::transport::testing {
 
+// A domain and run id of this test process alone (from its pid), so tests running in
+// parallel never see each other: run id "<prefix>-<pid>".
+config::TransportConfig IsolatedTransportConfig(const std::string& prefix);
+
+// A whole train episode (`entities` of kSampleKinds kinds, 3 actions) within
+// SampleEpisodeLimits(); `seed` varies ids and values.
+inline constexpr int kSampleKinds = 8;
+rl::Episode MakeEpisode(uint64_t seed, int steps = 20, int entities = 5);
+// Episodes of up to kSampleKinds entities laid out as MakeEpisode's, no velocities.
+rl::EpisodeLimits SampleEpisodeLimits();
+// What a reader of such episodes is given.
+ReaderOptions SampleEpisodeReader(const std::string& topic_name = "");
+
 // A valid sample of run `run_id`; `seed` varies every field (ids, sizes and values).
-Episode MakeEpisode(const std::string& run_id, uint64_t seed, uint16_t steps = 20,
-                    uint16_t entities = 5);
 PolicyWeights MakePolicyWeights(const std::string& run_id, uint64_t seed, size_t count = 1000);
 InteractionGraph MakeInteractionGraph(const std::string& run_id, uint64_t seed);
 EvalResult MakeEvalResult(const std::string& run_id, uint64_t seed);

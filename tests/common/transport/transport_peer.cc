@@ -48,7 +48,7 @@ int WriteOne(const Participant& participant, const T& msg) {
 
 template <typename T>
 int ReadOne(const Participant& participant, const T& expected) {
-  Reader<T> reader(participant);
+  Reader<T> reader(participant, SampleEpisodeReader());
   Say("ready");
   T got;
   if (reader.Take(&got, kMatchTimeout) != TakeStatus::kSample) return 4;
@@ -62,7 +62,7 @@ int ReadOne(const Participant& participant, const T& expected) {
 
 int WriteTopic(const Participant& p, const std::string& topic, uint64_t seed) {
   const std::string& run = p.run_id();
-  if (topic == "episode") return WriteOne(p, MakeEpisode(run, seed));
+  if (topic == "episode") return WriteOne(p, MakeEpisode(seed));
   if (topic == "policy_weights") return WriteOne(p, MakePolicyWeights(run, seed));
   if (topic == "interaction_graph") return WriteOne(p, MakeInteractionGraph(run, seed));
   if (topic == "eval_result") return WriteOne(p, MakeEvalResult(run, seed));
@@ -73,7 +73,7 @@ int WriteTopic(const Participant& p, const std::string& topic, uint64_t seed) {
 
 int ReadTopic(const Participant& p, const std::string& topic, uint64_t seed) {
   const std::string& run = p.run_id();
-  if (topic == "episode") return ReadOne(p, MakeEpisode(run, seed));
+  if (topic == "episode") return ReadOne(p, MakeEpisode(seed));
   if (topic == "policy_weights") return ReadOne(p, MakePolicyWeights(run, seed));
   if (topic == "interaction_graph") return ReadOne(p, MakeInteractionGraph(run, seed));
   if (topic == "eval_result") return ReadOne(p, MakeEvalResult(run, seed));
@@ -86,9 +86,9 @@ int ReadTopic(const Participant& p, const std::string& topic, uint64_t seed) {
 int BlockUntilShutdown(const Participant& participant, milliseconds limit) {
   ReaderOptions options;
   options.topic_name = "srics/test/never_written";
-  Reader<Episode> reader(participant, options);
+  Reader<srics::rl::Episode> reader(participant, options);
   Say("ready");
-  Episode unused;
+  srics::rl::Episode unused;
   const TakeStatus status = reader.Take(&unused, limit);
   if (status != TakeStatus::kShutdown) return 5;
   Say("shutdown");
@@ -107,9 +107,9 @@ int Latest(const Participant& p) {
 }
 
 int Episodes(const Participant& p, uint64_t count) {
-  Writer<Episode> writer(p);
+  Writer<srics::rl::Episode> writer(p);
   if (!writer.WaitForReaders(1, kMatchTimeout)) return 4;
-  Episode episode = MakeEpisode(p.run_id(), 0);
+  srics::rl::Episode episode = MakeEpisode(0);
   for (uint64_t id = 0; id < count; ++id) {
     episode.episode_id = id;
     if (writer.Write(episode) != WriteResult::kSent) return 5;
@@ -119,25 +119,37 @@ int Episodes(const Participant& p, uint64_t count) {
   return 0;
 }
 
+// Episodes the readers must refuse, then a good one (episode_id 7). Raw writers: no checks,
+// and one stamps an old contract version; another run's episode comes from a second
+// participant.
 int Malformed(const Participant& p) {
+  using srics::rl::Episode;
   WriterOptions options;
-  options.stamp = false;
   options.validate = false;
   Writer<Episode> raw(p, options);
-  if (!raw.WaitForReaders(1, kMatchTimeout)) return 4;
-  const Episode good = MakeEpisode(p.run_id(), 7);
+  options.episode_contract_version = kContractVersion - 1;
+  Writer<Episode> old_contract(p, options);
+  srics::config::TransportConfig other_config = p.config();
+  other_config.run_id = p.run_id() + "-other";
+  Participant other(other_config);
+  options.episode_contract_version = kContractVersion;
+  Writer<Episode> other_run(other, options);
+  for (Writer<Episode>* w : {&raw, &old_contract, &other_run})
+    if (!w->WaitForReaders(1, kMatchTimeout)) return 4;
+  const Episode good = MakeEpisode(7);
   Episode short_states = good;
   short_states.states.pop_back();
   Episode nan_state = good;
   nan_state.states[10] = std::numeric_limits<float>::quiet_NaN();
   Episode bad_actions = good;
   bad_actions.actions.push_back(0.5f);
-  Episode old_contract = good;
-  old_contract.contract_version = 0;
-  Episode other_run = good;
-  other_run.run_id = p.run_id() + "-other";
-  for (const Episode* e : std::initializer_list<const Episode*>{&short_states, &nan_state, &bad_actions, &old_contract, &other_run, &good})
+  Episode far_away = good;  // finite but 1 km away: would poison the networks
+  far_away.states[8] = 1000.0f;
+  for (const Episode* e : {&short_states, &nan_state, &bad_actions, &far_away})
     if (raw.Write(*e) != WriteResult::kSent) return 5;
+  if (old_contract.Write(good) != WriteResult::kSent || !old_contract.WaitForAcks(kMatchTimeout)) return 5;
+  if (other_run.Write(good) != WriteResult::kSent || !other_run.WaitForAcks(kMatchTimeout)) return 5;
+  if (raw.Write(good) != WriteResult::kSent) return 5;
   return raw.WaitForAcks(kMatchTimeout) ? 0 : 4;
 }
 

@@ -22,12 +22,6 @@ namespace {
 using namespace std::chrono_literals;
 using testing::PeerProcess;
 
-ReaderOptions OnTopic(const std::string& name) {
-  ReaderOptions options;
-  options.topic_name = name;
-  return options;
-}
-
 WriterOptions WriteTo(const std::string& name) {
   WriterOptions options;
   options.topic_name = name;
@@ -36,19 +30,13 @@ WriterOptions WriteTo(const std::string& name) {
 
 class TransportTest : public ::testing::Test {
  protected:
-  TransportTest() {
-    // domains 20..219 keep every RTPS port below 65536 with 64 participants per host
-    config_.domain_id = 20 + static_cast<int>(getpid() % 200);
-    config_.run_id = "test-" + std::to_string(getpid());
-  }
-
   std::vector<std::string> PeerArgs(const std::string& mode, std::vector<std::string> rest = {}) {
     std::vector<std::string> args = {mode, std::to_string(config_.domain_id), config_.run_id};
     args.insert(args.end(), rest.begin(), rest.end());
     return args;
   }
 
-  config::TransportConfig config_;
+  config::TransportConfig config_ = testing::IsolatedTransportConfig("test");
 };
 
 // ------------------------------------------------------------- every type, both directions
@@ -58,7 +46,7 @@ template <typename T>
 void ExpectFromPeer(const config::TransportConfig& config, const std::string& topic, const T& expected,
                     const std::vector<std::string>& args) {
   Participant participant(config);
-  Reader<T> reader(participant);
+  Reader<T> reader(participant, testing::SampleEpisodeReader());
   PeerProcess peer(SRICS_TRANSPORT_PEER, args);
   T got;
   ASSERT_EQ(reader.Take(&got, 20s), TakeStatus::kSample) << topic;
@@ -83,7 +71,7 @@ void ExpectPeerReceives(const config::TransportConfig& config, const T& msg,
 
 TEST_F(TransportTest, EveryTypeRoundTripsBetweenProcesses) {
   const std::string& run = config_.run_id;
-  ExpectFromPeer(config_, "episode", testing::MakeEpisode(run, 3), PeerArgs("write", {"episode", "3"}));
+  ExpectFromPeer(config_, "episode", testing::MakeEpisode(3), PeerArgs("write", {"episode", "3"}));
   ExpectFromPeer(config_, "policy_weights", testing::MakePolicyWeights(run, 4),
                  PeerArgs("write", {"policy_weights", "4"}));
   ExpectFromPeer(config_, "interaction_graph", testing::MakeInteractionGraph(run, 5),
@@ -98,7 +86,7 @@ TEST_F(TransportTest, EveryTypeRoundTripsBetweenProcesses) {
 
 TEST_F(TransportTest, EveryTypeRoundTripsToAnotherProcess) {
   const std::string& run = config_.run_id;
-  ExpectPeerReceives(config_, testing::MakeEpisode(run, 13), PeerArgs("read", {"episode", "13"}));
+  ExpectPeerReceives(config_, testing::MakeEpisode(13), PeerArgs("read", {"episode", "13"}));
   ExpectPeerReceives(config_, testing::MakePolicyWeights(run, 14), PeerArgs("read", {"policy_weights", "14"}));
   ExpectPeerReceives(config_, testing::MakeInteractionGraph(run, 15),
                      PeerArgs("read", {"interaction_graph", "15"}));
@@ -111,20 +99,19 @@ TEST_F(TransportTest, EveryTypeRoundTripsToAnotherProcess) {
 // operator== cannot hide a broken conversion.
 TEST_F(TransportTest, EpisodeFieldsSurviveOneByOne) {
   Participant participant(config_);
-  Reader<Episode> reader(participant);
+  Reader<rl::Episode> reader(participant, testing::SampleEpisodeReader());
   PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("write", {"episode", "21"}));
-  Episode got;
+  rl::Episode got;
   ASSERT_EQ(reader.Take(&got, 20s), TakeStatus::kSample);
-  const Episode want = testing::MakeEpisode(config_.run_id, 21);
-  EXPECT_EQ(got.contract_version, kContractVersion);
-  EXPECT_EQ(got.run_id, want.run_id);
+  const rl::Episode want = testing::MakeEpisode(21);
   EXPECT_EQ(got.actor_id, want.actor_id);
   EXPECT_EQ(got.episode_id, 21u);
-  EXPECT_EQ(got.mode, EpisodeMode::kTrain);
+  EXPECT_EQ(got.mode, rl::EpisodeMode::kTrain);
   EXPECT_EQ(got.policy_version, want.policy_version);
   EXPECT_EQ(got.graph_version, want.graph_version);
-  EXPECT_EQ(got.num_entities, 5);
-  EXPECT_EQ(got.entity_dim, want.entity_dim);
+  EXPECT_EQ(got.layout.num_entities, 5);
+  EXPECT_EQ(got.layout.num_kinds, testing::kSampleKinds);
+  EXPECT_FALSE(got.layout.velocities);
   EXPECT_EQ(got.action_dim, want.action_dim);
   EXPECT_EQ(got.num_steps, 20);
   EXPECT_EQ(got.entity_kinds, want.entity_kinds);
@@ -183,17 +170,17 @@ TEST_F(TransportTest, TenThousandEpisodesToSlowReaderNoneLostNoneDuplicated) {
   constexpr uint64_t kCount = 10000;
   config_.episode_history_depth = 32;  // a small reader queue, so the writer must wait
   Participant participant(config_);
-  Reader<Episode> reader(participant);
+  Reader<rl::Episode> reader(participant, testing::SampleEpisodeReader());
   // 5 ms blocking: the peer's writes time out and retry while this reader dawdles
   PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("episodes", {std::to_string(kCount), "5"}));
   std::vector<uint32_t> seen(kCount, 0);
   uint64_t received = 0, out_of_order = 0, next = 0;
-  std::vector<Episode> batch;
+  std::vector<rl::Episode> batch;
   while (received < kCount) {
     batch.clear();
     const size_t n = reader.TakeMany(&batch, 8, 20s);
     ASSERT_GT(n, 0u) << "stalled after " << received << " episodes";
-    for (const Episode& e : batch) {
+    for (const rl::Episode& e : batch) {
       ASSERT_LT(e.episode_id, kCount);
       ++seen[e.episode_id];
       if (e.episode_id != next) ++out_of_order;
@@ -217,32 +204,35 @@ TEST_F(TransportTest, TenThousandEpisodesToSlowReaderNoneLostNoneDuplicated) {
 
 TEST_F(TransportTest, MalformedEpisodesAreCountedAndSkipped) {
   Participant participant(config_);
-  Reader<Episode> reader(participant);
+  Reader<rl::Episode> reader(participant, testing::SampleEpisodeReader());
   PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("malformed"));
-  Episode got;
+  rl::Episode got;
   ASSERT_EQ(reader.Take(&got, 20s), TakeStatus::kSample);
   EXPECT_EQ(got.episode_id, 7u);  // only the good one gets through
   EXPECT_EQ(reader.Take(&got, 100ms), TakeStatus::kTimeout);
   const SampleCounters c = reader.counters();
   EXPECT_EQ(c.accepted, 1u);
-  EXPECT_EQ(c.rejected, 4u);  // short states, NaN, long actions, old contract
+  EXPECT_EQ(c.rejected, 5u);  // short states, NaN, long actions, 1 km away, old contract
   EXPECT_EQ(c.other_run, 1u);
-  EXPECT_EQ(participant.counters(TopicId::kEpisode).rejected, 4u);
-  EXPECT_EQ(participant.total_rejected(), 4u);
+  EXPECT_EQ(participant.counters(TopicId::kEpisode).rejected, 5u);
+  EXPECT_EQ(participant.total_rejected(), 5u);
   EXPECT_EQ(peer.Wait(20s), 0);
 }
 
 TEST_F(TransportTest, WriterRefusesMalformedOutgoingSamples) {
   Participant participant(config_);
-  Writer<Episode> writer(participant);
-  Episode bad = testing::MakeEpisode(config_.run_id, 1);
+  Writer<rl::Episode> writer(participant);
+  rl::Episode bad = testing::MakeEpisode(1);
   bad.actions.pop_back();
   EXPECT_THROW((void)writer.TryWrite(bad), InvalidMessage);
-  Episode long_run = testing::MakeEpisode(config_.run_id, 1);
+  bad = testing::MakeEpisode(1);
+  bad.states[9] = 1e30f;  // finite, far beyond any table
+  EXPECT_THROW((void)writer.TryWrite(bad), InvalidMessage);
+  NodeStatus long_run = testing::MakeNodeStatus(config_.run_id, 1);
   WriterOptions raw_options;
   raw_options.stamp = false;
   raw_options.validate = false;
-  Writer<Episode> raw(participant, raw_options);
+  Writer<NodeStatus> raw(participant, raw_options);
   long_run.run_id = std::string(65, 'x');
   EXPECT_THROW((void)raw.TryWrite(long_run), InvalidMessage);  // beyond the IDL bound
 }
@@ -268,23 +258,23 @@ TEST_F(TransportTest, ShutdownRequestWakesBlockedTakeAndWriteAtOnce) {
   config_.episode_history_depth = 1;
   config_.writer_max_blocking_ms = 50;
   Participant participant(config_, shutdown);
-  Reader<Episode> reader(participant, OnTopic("srics/test/wake"));
+  Reader<rl::Episode> reader(participant, testing::SampleEpisodeReader("srics/test/wake"));
   Participant other(config_, shutdown);
   std::thread stopper([&] {
     std::this_thread::sleep_for(200ms);
     shutdown.Request();
   });
   const auto start = std::chrono::steady_clock::now();
-  Episode unused;
+  rl::Episode unused;
   EXPECT_EQ(reader.Take(&unused, 30s), TakeStatus::kShutdown);
   EXPECT_LT(std::chrono::steady_clock::now() - start, 1s);
   stopper.join();
   // every later call returns at once as well
   EXPECT_EQ(reader.Take(&unused, 30s), TakeStatus::kShutdown);
-  std::vector<Episode> many;
+  std::vector<rl::Episode> many;
   EXPECT_EQ(reader.TakeMany(&many, 10, 30s), 0u);
-  Writer<Episode> writer(other, WriteTo("srics/test/wake"));
-  EXPECT_EQ(writer.Write(testing::MakeEpisode(config_.run_id, 1)), WriteResult::kShutdown);
+  Writer<rl::Episode> writer(other, WriteTo("srics/test/wake"));
+  EXPECT_EQ(writer.Write(testing::MakeEpisode(1)), WriteResult::kShutdown);
   EXPECT_FALSE(writer.WaitForReaders(1, 30s));
 }
 
@@ -306,10 +296,10 @@ TEST_F(TransportTest, FullReaderSurfacesAsBackPressureNotSuccess) {
   config_.writer_max_blocking_ms = 20;
   Participant participant(config_);
   Participant sender(config_);
-  Reader<Episode> reader(participant, OnTopic("srics/test/full"));
-  Writer<Episode> writer(sender, WriteTo("srics/test/full"));
+  Reader<rl::Episode> reader(participant, testing::SampleEpisodeReader("srics/test/full"));
+  Writer<rl::Episode> writer(sender, WriteTo("srics/test/full"));
   ASSERT_TRUE(writer.WaitForReaders(1, 10s));
-  Episode e = testing::MakeEpisode(config_.run_id, 0);
+  rl::Episode e = testing::MakeEpisode(0);
   int sent = 0, refused = 0;
   for (int i = 0; i < 400 && refused == 0; ++i) {
     e.episode_id = i;
@@ -318,7 +308,7 @@ TEST_F(TransportTest, FullReaderSurfacesAsBackPressureNotSuccess) {
   EXPECT_GE(refused, 1) << "a reader that never takes must eventually stop the writer";
   EXPECT_EQ(writer.back_pressure_count(), static_cast<uint64_t>(refused));
   // what was reported sent arrives; the refused one does not
-  std::vector<Episode> got;
+  std::vector<rl::Episode> got;
   while (reader.TakeMany(&got, 1000, 500ms) > 0) {
   }
   EXPECT_EQ(got.size(), static_cast<size_t>(sent));

@@ -24,92 +24,35 @@ void ExpectMalformed(const Validation& v, const std::string& word) {
 
 TEST(ValidationTest, GoodSamplesOfEveryTypeAreAccepted) {
   const std::string run = "r1";
-  EXPECT_TRUE(Validate(testing::MakeEpisode(run, 1), run).ok());
   EXPECT_TRUE(Validate(testing::MakePolicyWeights(run, 1), run).ok());
   EXPECT_TRUE(Validate(testing::MakeInteractionGraph(run, 1), run).ok());
   EXPECT_TRUE(Validate(testing::MakeEvalResult(run, 1), run).ok());
   EXPECT_TRUE(Validate(testing::MakeLearnerStats(run, 1), run).ok());
   EXPECT_TRUE(Validate(testing::MakeNodeStatus(run, 1), run).ok());
   // an empty expected run id accepts every run (monitors)
-  EXPECT_TRUE(Validate(testing::MakeEpisode("other", 1), "").ok());
+  EXPECT_TRUE(Validate(testing::MakeEvalResult("other", 1), "").ok());
 }
 
 TEST(ValidationTest, OtherRunIsNotMalformed) {
-  const Validation v = Validate(testing::MakeEpisode("run-b", 1), "run-a");
+  const Validation v = Validate(testing::MakeEvalResult("run-b", 1), "run-a");
   EXPECT_EQ(v.verdict, Verdict::kOtherRun);
   EXPECT_EQ(Validate(testing::MakeNodeStatus("run-b", 1), "run-a").verdict, Verdict::kOtherRun);
 }
 
-TEST(ValidationTest, EpisodeLayoutIsChecked) {
-  const Episode good = testing::MakeEpisode("r", 2);
-  Episode e = good;
-  e.states.pop_back();
-  ExpectMalformed(Validate(e, "r"), "states");
-  e = good;
-  e.actions.push_back(0);
-  ExpectMalformed(Validate(e, "r"), "actions");
-  e = good;
-  e.entity_kinds.pop_back();
-  ExpectMalformed(Validate(e, "r"), "entity_kinds");
-  e = good;
-  e.goal = {1, 2, 3};
-  ExpectMalformed(Validate(e, "r"), "goal");
-  e = good;  // a full goal is 2N values
-  e.subgoal_entity = -1;
-  e.goal.assign(2 * e.num_entities, 0.5f);
-  EXPECT_TRUE(Validate(e, "r").ok());
-  e.goal.pop_back();
-  ExpectMalformed(Validate(e, "r"), "goal");
-  e = good;
-  e.subgoal_entity = 5;
-  ExpectMalformed(Validate(e, "r"), "subgoal_entity");
-  e = good;
-  e.ancestor_mask = 1ull << 5;
-  ExpectMalformed(Validate(e, "r"), "ancestor_mask");
-  e = good;
-  e.mode = static_cast<EpisodeMode>(7);
-  ExpectMalformed(Validate(e, "r"), "mode");
-  e = good;
-  e.mode = EpisodeMode::kExplore;
-  e.goal.clear();
-  e.subgoal_entity = -1;
-  EXPECT_TRUE(Validate(e, "r").ok());
-  e.mode = EpisodeMode::kTrain;
-  ExpectMalformed(Validate(e, "r"), "goal");
-}
-
-TEST(ValidationTest, EpisodeBoundsKeepHugeDeclarationsOut) {
-  Episode e = testing::MakeEpisode("r", 2);
-  e.num_entities = 65;
-  ExpectMalformed(Validate(e, "r"), "num_entities");
-  e = testing::MakeEpisode("r", 2);
-  e.num_steps = 10001;
-  ExpectMalformed(Validate(e, "r"), "num_steps");
-  e = testing::MakeEpisode("r", 2);
-  e.num_steps = 0;
-  ExpectMalformed(Validate(e, "r"), "num_steps");
-  // the largest declared layout is within bounds and checked against the real length
-  e = testing::MakeEpisode("r", 2);
-  e.num_entities = 64;
-  e.num_steps = 10000;
-  ExpectMalformed(Validate(e, "r"), "entity_kinds");
+// Episodes carry no struct of their own: their envelope is checked on the received C sample
+// (this function), the rest by rl::ValidateEpisode (tests/common/rl/episode_test.cc).
+TEST(ValidationTest, EnvelopeOfEverySample) {
+  EXPECT_TRUE(ValidateEnvelope(kContractVersion, "r", "r").ok());
+  EXPECT_TRUE(ValidateEnvelope(kContractVersion, "r", "").ok());
+  ExpectMalformed(ValidateEnvelope(kContractVersion - 1, "r", "r"), "contract_version");
+  ExpectMalformed(ValidateEnvelope(kContractVersion + 1, "r", "r"), "contract_version");
+  ExpectMalformed(ValidateEnvelope(kContractVersion, "", ""), "run_id");
+  EXPECT_TRUE(ValidateEnvelope(kContractVersion, std::string(64, 'x'), "").ok());
+  ExpectMalformed(ValidateEnvelope(kContractVersion, std::string(65, 'x'), ""), "run_id");
+  EXPECT_EQ(ValidateEnvelope(kContractVersion, "run-b", "run-a").verdict, Verdict::kOtherRun);
 }
 
 TEST(ValidationTest, EveryFloatMustBeFinite) {
-  const Episode good = testing::MakeEpisode("r", 3);
-  Episode e = good;
-  e.states.back() = kNaN;
-  ExpectMalformed(Validate(e, "r"), "states[");
-  e = good;
-  e.actions[0] = kInf;
-  ExpectMalformed(Validate(e, "r"), "actions[0]");
-  e = good;
-  e.goal[1] = -kInf;
-  ExpectMalformed(Validate(e, "r"), "goal[1]");
-  e = good;
-  e.actions[2] = 1.5f;
-  ExpectMalformed(Validate(e, "r"), "outside [-1, 1]");
-
   PolicyWeights w = testing::MakePolicyWeights("r", 1);
   w.parameters[10] = kNaN;
   w.checksum = ParameterChecksum(w.parameters);
@@ -133,10 +76,10 @@ TEST(ValidationTest, EveryFloatMustBeFinite) {
 }
 
 TEST(ValidationTest, ContractVersionAndRunIdAreChecked) {
-  Episode e = testing::MakeEpisode("r", 1);
+  EvalResult e = testing::MakeEvalResult("r", 1);
   e.contract_version = 2;
   ExpectMalformed(Validate(e, "r"), "contract_version");
-  e = testing::MakeEpisode("", 1);
+  e = testing::MakeEvalResult("", 1);
   ExpectMalformed(Validate(e, ""), "run_id");
   NodeStatus n = testing::MakeNodeStatus("r", 1);
   n.contract_version = 0;

@@ -1,0 +1,176 @@
+#include "common/transport/dds_links.h"
+
+#include <spdlog/spdlog.h>
+
+#include <stdexcept>
+
+#include "common/transport/rl_convert.h"
+
+namespace srics::transport {
+namespace {
+
+ReaderOptions EpisodeReaderOptions(const rl::EpisodeLimits& limits) {
+  ReaderOptions options;
+  options.episode_limits = limits;
+  return options;
+}
+
+WriterOptions CheckedByLink() {
+  WriterOptions options;
+  options.validate = false;  // the link checked the episode against the run's limits already
+  return options;
+}
+
+std::chrono::milliseconds LogInterval(const Participant& participant) {
+  return std::chrono::seconds(participant.config().rejected_log_interval_s);
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------ actor link
+
+DdsActorLink::DdsActorLink(const Participant& participant, uint32_t actor_id, const rl::EpisodeLimits& limits,
+                           std::chrono::milliseconds wait_for_readers)
+    : limits_(limits),
+      weights_(participant),
+      graphs_(participant),
+      stats_(participant),
+      episodes_(participant, CheckedByLink()),
+      evals_(participant),
+      status_(participant, "actor", actor_id),
+      limiter_(LogInterval(participant)) {
+  // the learner and the graph service; go on without them after that
+  episodes_.WaitForReaders(2, wait_for_readers);
+}
+
+std::optional<rl::WeightsUpdate> DdsActorLink::PollWeights() {
+  PolicyWeights message;
+  std::optional<rl::WeightsUpdate> newest;
+  while (weights_.Take(&message, std::chrono::milliseconds(0)) == TakeStatus::kSample) {
+    if (message.version <= weights_version_) continue;
+    weights_version_ = message.version;
+    newest = FromMessage(std::move(message));
+  }
+  return newest;
+}
+
+std::optional<rl::GraphUpdate> DdsActorLink::PollGraph() { return graphs_.PollNewest(); }
+
+std::optional<rl::LearnerProgress> DdsActorLink::PollLearner(std::chrono::milliseconds wait) {
+  LearnerStats message;
+  for (auto timeout = wait; stats_.Take(&message, timeout) == TakeStatus::kSample;
+       timeout = std::chrono::milliseconds(0))
+    progress_ = FromMessage(message).progress();
+  return progress_;
+}
+
+bool DdsActorLink::PublishEpisode(const rl::Episode& episode) {
+  if (auto problem = rl::ValidateEpisode(episode, limits_); !problem.empty()) {
+    ++episodes_refused_;
+    uint64_t suppressed = 0;
+    if (limiter_.Allow(&suppressed))
+      spdlog::warn("own episode {} not sent: {} ({} refused so far, {} warnings suppressed)", episode.episode_id,
+                   problem, episodes_refused_, suppressed);
+    return true;
+  }
+  return episodes_.Write(episode) == WriteResult::kSent;
+}
+
+void DdsActorLink::PublishEval(const rl::EvalReport& report) {
+  if (evals_.Write(ToMessage(report)) != WriteResult::kSent) spdlog::warn("evaluation not sent: shutting down");
+}
+
+void DdsActorLink::PublishStatus(const rl::NodeReport& report) {
+  rl::NodeReport r = report;
+  r.dropped += rejected();  // the participant adds what its readers refused
+  status_.Publish(r);
+}
+
+// ---------------------------------------------------------------------------- learner link
+
+DdsLearnerLink::DdsLearnerLink(const Participant& participant, const rl::EpisodeLimits& limits)
+    : episodes_(participant, EpisodeReaderOptions(limits)),
+      graphs_(participant),
+      weights_(participant),
+      stats_(participant),
+      status_(participant, "learner", 0) {}
+
+size_t DdsLearnerLink::TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds wait) {
+  return episodes_.TakeMany(out, max, wait);
+}
+
+std::optional<rl::GraphUpdate> DdsLearnerLink::PollGraph() { return graphs_.PollNewest(); }
+
+void DdsLearnerLink::PublishWeights(const rl::WeightsUpdate& weights) {
+  const PolicyWeights m = ToMessage(weights);
+  if (weights_.Write(m) != WriteResult::kSent && weights_.TryWrite(m) != WriteResult::kSent)
+    spdlog::info("weights v{} not sent: shutting down", weights.version);
+}
+
+void DdsLearnerLink::PublishStats(const rl::LearnerReport& report) {
+  LearnerStats m = ToMessage(report);
+  m.episodes_rejected += rejected();
+  (void)stats_.TryWrite(m);  // stats lost to back-pressure are replaced by the next
+}
+
+void DdsLearnerLink::PublishStatus(const rl::NodeReport& report) {
+  rl::NodeReport r = report;
+  r.dropped += graphs_.rejected();  // the participant adds what its readers refused
+  status_.Publish(r);
+}
+
+// -------------------------------------------------------------------------- episode source
+
+DdsEpisodeSource::DdsEpisodeSource(const Participant& participant, const rl::EpisodeLimits& limits,
+                                   size_t max_pending)
+    : participant_(participant),
+      max_pending_(max_pending),
+      reader_(participant, EpisodeReaderOptions(limits)),
+      taker_([this] { TakeLoop(); }) {}
+
+DdsEpisodeSource::~DdsEpisodeSource() {
+  running_ = false;
+  taker_.join();
+}
+
+bool DdsEpisodeSource::Poll(std::chrono::milliseconds timeout, std::vector<rl::Episode>* out) {
+  std::unique_lock lock(mutex_);
+  arrived_.wait_for(lock, timeout, [&] { return !pending_.empty() || participant_.shutdown_requested(); });
+  for (auto& e : pending_) out->push_back(std::move(e));
+  pending_.clear();
+  return !participant_.shutdown_requested();
+}
+
+void DdsEpisodeSource::TakeLoop() {
+  std::vector<rl::Episode> taken;
+  while (running_ && !participant_.shutdown_requested()) {
+    taken.clear();
+    reader_.TakeMany(&taken, 256, std::chrono::milliseconds(100));
+    rejected_ = reader_.counters().rejected;
+    std::lock_guard lock(mutex_);
+    for (auto& e : taken) {
+      if (e.mode != rl::EpisodeMode::kExplore) continue;
+      if (pending_.size() >= max_pending_) {
+        ++surplus_;
+        continue;
+      }
+      pending_.push_back(std::move(e));
+    }
+    if (!pending_.empty()) arrived_.notify_one();
+  }
+  arrived_.notify_all();
+}
+
+// ----------------------------------------------------------------------------- graph sink
+
+DdsGraphSink::DdsGraphSink(const Participant& participant)
+    : writer_(participant), status_(participant, "graph", 0) {}
+
+void DdsGraphSink::Publish(const rl::GraphUpdate& graph) {
+  if (writer_.Write(ToMessage(graph)) != WriteResult::kSent) throw std::runtime_error("shutting down");
+  spdlog::info("published graph v{}: {}", graph.version, rl::DescribeGraph(graph.graph));
+}
+
+void DdsGraphSink::PublishStatus(const rl::NodeReport& report) { status_.Publish(report); }
+
+}  // namespace srics::transport

@@ -1,0 +1,131 @@
+#pragma once
+// The links of common/links/links.h over DDS: what a role process hands its loop. Each owns
+// its readers and writers (the participant must outlive it); none holds any algorithm.
+// Episodes are checked against the run's rl::EpisodeLimits on arrival; what is refused is
+// counted (rejected()) and logged at a limited rate, never handed on.
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "common/links/links.h"
+#include "common/logging/logging.h"
+#include "common/rl/episode.h"
+#include "common/transport/endpoint.h"
+#include "common/transport/graph_feed.h"
+#include "common/transport/messages.h"
+#include "common/transport/participant.h"
+#include "common/transport/status_publisher.h"
+
+namespace srics::transport {
+
+// An actor's side: the newest weights, graph and learner stats in; episodes, evaluations and
+// status out.
+class DdsActorLink final : public links::ActorLink {
+ public:
+  // Waits up to `wait_for_readers` for the learner and the graph service to match the episode
+  // writer: episodes are volatile, so what is written before they listen is lost.
+  DdsActorLink(const Participant& participant, uint32_t actor_id, const rl::EpisodeLimits& limits,
+               std::chrono::milliseconds wait_for_readers = std::chrono::seconds(3));
+
+  std::optional<rl::WeightsUpdate> PollWeights() override;
+  std::optional<rl::GraphUpdate> PollGraph() override;
+  std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds wait) override;
+  // An episode outside the run's limits is not sent: it is logged and counted (rejected())
+  // and true is returned (the loop goes on). False only when shutdown stopped the write.
+  bool PublishEpisode(const rl::Episode& episode) override;
+  void PublishEval(const rl::EvalReport& report) override;
+  void PublishStatus(const rl::NodeReport& report) override;
+
+  // Own episodes refused before sending plus graphs refused on arrival.
+  uint64_t rejected() const { return episodes_refused_ + graphs_.rejected(); }
+
+ private:
+  rl::EpisodeLimits limits_;
+  Reader<PolicyWeights> weights_;
+  GraphFeed graphs_;
+  Reader<LearnerStats> stats_;
+  Writer<rl::Episode> episodes_;
+  Writer<EvalResult> evals_;
+  StatusPublisher status_;
+  logging::RateLimiter limiter_;
+  uint64_t weights_version_ = 0;
+  uint64_t episodes_refused_ = 0;
+  std::optional<rl::LearnerProgress> progress_;
+};
+
+// The learner's side: episodes and graphs in; weights, stats and status out.
+class DdsLearnerLink final : public links::LearnerLink {
+ public:
+  DdsLearnerLink(const Participant& participant, const rl::EpisodeLimits& limits);
+
+  size_t TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds wait) override;
+  std::optional<rl::GraphUpdate> PollGraph() override;
+  // Retries back-pressure; on the way out (shutdown) one plain attempt still goes out.
+  void PublishWeights(const rl::WeightsUpdate& weights) override;
+  // episodes_rejected also counts the episodes this link refused.
+  void PublishStats(const rl::LearnerReport& report) override;
+  void PublishStatus(const rl::NodeReport& report) override;
+
+  // Episodes refused on arrival (malformed, outside the run's limits).
+  uint64_t rejected() const { return episodes_.counters().rejected; }
+
+ private:
+  Reader<rl::Episode> episodes_;
+  GraphFeed graphs_;
+  Writer<PolicyWeights> weights_;
+  Writer<LearnerStats> stats_;
+  StatusPublisher status_;
+};
+
+// The graph service's explore episodes. A thread keeps taking samples all the time, also
+// while the GNN trains: the Episode topic is reliable keep-all, so a reader that stops taking
+// would hold every actor back. Training episodes are for the learner and are skipped; explore
+// episodes beyond `max_pending` not yet polled are dropped (counted in surplus()).
+class DdsEpisodeSource final : public links::EpisodeSource {
+ public:
+  DdsEpisodeSource(const Participant& participant, const rl::EpisodeLimits& limits, size_t max_pending);
+  ~DdsEpisodeSource() override;
+  DdsEpisodeSource(const DdsEpisodeSource&) = delete;
+  DdsEpisodeSource& operator=(const DdsEpisodeSource&) = delete;
+
+  // False once shutdown was requested.
+  bool Poll(std::chrono::milliseconds timeout, std::vector<rl::Episode>* out) override;
+  uint64_t rejected() const { return rejected_; }
+  uint64_t surplus() const { return surplus_; }
+
+ private:
+  void TakeLoop();
+
+  const Participant& participant_;
+  size_t max_pending_;
+  Reader<rl::Episode> reader_;  // used by the taker thread only
+  std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::vector<rl::Episode> pending_;
+  std::atomic<uint64_t> rejected_{0}, surplus_{0};
+  std::atomic<bool> running_{true};
+  std::thread taker_;  // last: starts once everything it uses exists
+};
+
+// The graph service's output: the InteractionGraph topic and its NodeStatus. Publish and
+// PublishStatus use different writers, so they may be called from different threads (the
+// service reports status from a heartbeat while the GNN trains).
+class DdsGraphSink final : public links::GraphSink {
+ public:
+  explicit DdsGraphSink(const Participant& participant);
+  // Throws std::runtime_error when shutdown stopped the write.
+  void Publish(const rl::GraphUpdate& graph) override;
+  void PublishStatus(const rl::NodeReport& report) override;
+
+ private:
+  Writer<InteractionGraph> writer_;
+  StatusPublisher status_;
+};
+
+}  // namespace srics::transport
