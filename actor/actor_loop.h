@@ -1,9 +1,13 @@
 #pragma once
-// The actor process's loop without DDS: explore at random until a graph (for methods that
-// use one) and first weights exist, then run training episodes on independently
-// controllable subgoals with the latest weights (taken between episodes), waiting when the
-// learner is too far behind; designated actors evaluate on a schedule. The main supplies an
-// ActorLink over DDS; tests may supply another.
+// The actor's loop, with no transport in it: explore at random until a graph (for methods that
+// use one) and first weights exist, then run training episodes on independently controllable
+// subgoals with the latest weights (taken between episodes), holding back when the learner is
+// too far behind; designated actors evaluate on a schedule. It talks to the rest of the
+// system only through a links::ActorLink: DDS in the srics-actor process, the in-memory bus
+// in `srics run --in-process`.
+//
+//   ActorLoop loop(ActorOptionsFor(config, id, first_episode_id), &link);
+//   loop.Run(stop);                       // or, to drive it by hand: while (loop.Step() != kDone)
 
 #include <atomic>
 #include <chrono>
@@ -12,27 +16,41 @@
 #include <optional>
 #include <string>
 
+#include "actor/rollout.h"
 #include "common/config/config.h"
-#include "common/rl/episode.h"
-#include "common/rl/updates.h"
+#include "common/links/links.h"
+#include "common/rl/networks.h"
 
 namespace srics::actor {
 
-// The actor's connection to the system. Only called from the thread running ActorLoop::Run.
-class ActorLink {
- public:
-  virtual ~ActorLink() = default;
-  // The newest weights not returned before, if any (non-blocking).
-  virtual std::optional<rl::WeightsUpdate> PollWeights() = 0;
-  // The newest graph not returned before, if any (non-blocking).
-  virtual std::optional<rl::GraphUpdate> PollGraph() = 0;
-  // The newest learner progress, waiting at most `wait` for news; empty if none ever came.
-  virtual std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds wait) = 0;
-  // Publishes a whole episode; false when the process is shutting down (not sent).
-  virtual bool PublishEpisode(const rl::Episode& episode) = 0;
-  virtual void PublishEval(const rl::EvalReport& report) = 0;
-  virtual void PublishStatus(const rl::NodeReport& report) = 0;
+// Everything an actor needs, built from the run's config by ActorOptionsFor (the one place).
+struct ActorOptions {
+  uint32_t actor_id = 0;
+  uint64_t first_episode_id = 0;     // a restarted actor continues its episode numbering
+  uint64_t run_seed = 1;
+  config::EnvConfig env;             // the environment this actor steps
+  rl::AttentionNetworkConfig policy; // its policy network (the learner's signature must match)
+  bool uses_graph = true;            // false: every entity is a subgoal, no graph is awaited
+  TrainOptions train;
+  EvalOptions eval;
+  int explore_episode_steps = 50;
+  // explore episodes this actor contributes before it waits for the graph (its share of the
+  // graph service's data set, with a margin)
+  uint64_t explore_share = 0;
+  // past its share, still one explore episode this often while the graph has not come
+  // (episodes sent before the graph service listened are lost over DDS); 0 = never
+  double explore_while_waiting_s = 1.0;
+  bool evaluator = false;            // runs the evaluations of the run
+  int eval_episodes = 20;
+  uint64_t eval_every_env_steps = 5000;
+  // rate limit: no more than rate_error_buffer updates' worth of data ahead of the learner
+  double updates_per_step = 1;
+  double rate_error_buffer = 0;
+  uint64_t learner_warmup_steps = 0; // while the learner refills its replay, never wait
+  double status_period_s = 1;
 };
+
+ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, uint64_t first_episode_id = 0);
 
 struct ActorCounters {
   uint64_t env_steps = 0;
@@ -41,29 +59,45 @@ struct ActorCounters {
   uint64_t weights_rejected = 0;   // wrong architecture or size
   uint64_t graphs_rejected = 0;    // graph does not fit this environment
   uint64_t evaluations = 0;
-  uint64_t waits = 0;              // times the rate limiter held the actor back
+  uint64_t waits = 0;              // steps the rate limiter held the actor back
+};
+
+// What one Step did.
+enum class StepResult {
+  kWorked,  // ran an episode or an evaluation
+  kIdle,    // waits for something (the graph, the learner): step again after new input
+  kDone,    // the run's budget is done (after a final evaluation on an evaluator)
 };
 
 class ActorLoop {
  public:
-  // `first_episode_id` lets a restarted actor continue its episode numbering.
-  ActorLoop(const config::Config& config, uint32_t actor_id, ActorLink* link,
-            uint64_t first_episode_id = 0);
+  ActorLoop(ActorOptions options, links::ActorLink* link);
   ~ActorLoop();
 
-  // Runs until `stop` or until the learner reports the run's budget done (after a final
-  // evaluation on evaluating actors). Returns 0 on a clean end.
+  // One unit of work: takes what the link has (weights, graph, learner progress), then runs
+  // at most one episode or one evaluation. Never blocks on the link.
+  StepResult Step();
+
+  // Steps until `stop` or kDone; waits on the link when idle. Returns 0 on a clean end.
   int Run(const std::atomic<bool>& stop);
 
   const ActorCounters& counters() const { return counters_; }
   uint64_t next_episode_id() const { return next_episode_id_; }
+  uint64_t policy_version() const;
+  uint64_t graph_version() const;
 
  private:
   struct State;
+  void PollUpdates();
+  bool Training() const;
+  bool RateLimited();
+  void Evaluate(bool passive);
+  void RunEpisode(bool training);
+  void Status(rl::NodePhase phase, const std::string& detail, bool force);
+
   std::unique_ptr<State> state_;
-  config::Config config_;
-  uint32_t actor_id_;
-  ActorLink* link_;
+  ActorOptions options_;
+  links::ActorLink* link_;
   uint64_t next_episode_id_;
   ActorCounters counters_;
 };

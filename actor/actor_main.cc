@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
   try {
     transport::Participant participant(config.transport);
     transport::DdsActorLink link(participant, id, rl::EpisodeLimitsFor(config.env));
-    actor::ActorLoop loop(config, id, &link, first_id);
+    actor::ActorLoop loop(actor::ActorOptionsFor(config, id, first_id), &link);
     spdlog::info("{} started: {} ({}), domain {}, run id '{}', first episode id {}", name,
                  config::MethodName(config.run.method), config.source_file, config.transport.domain_id,
                  config.transport.run_id, first_id);

@@ -6,6 +6,7 @@
 #include "actor/env/sampling.h"
 #include "common/rl/goal_token.h"
 #include "common/rl/rewards.h"
+#include "common/rl/seeds.h"
 
 namespace srics::actor {
 namespace {
@@ -204,6 +205,18 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
   out.success = m.success;
   out.selectivity = selectivity_steps ? selectivity_sum / selectivity_steps : -1.0;
   return out;
+}
+
+rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
+                                     const rl::SubgoalStructure& structure, const EvalOptions& options,
+                                     int episodes, uint64_t run_seed, uint64_t* unstable) {
+  rl::EvaluationSummary summary;
+  for (int i = 0; i < episodes; ++i) {
+    const auto metrics = RunEvaluationEpisode(env, policy, structure, options, rl::EvalEpisodeSeed(run_seed, i));
+    if (metrics) summary.Add(*metrics, options.threshold);
+    else ++*unstable;
+  }
+  return summary;
 }
 
 }  // namespace srics::actor

@@ -53,10 +53,6 @@ struct EvalOptions {
 TrainOptions TrainOptionsFor(const config::Config& config);
 EvalOptions EvalOptionsFor(const config::Config& config);
 
-// Seed of evaluation episode i: the same goals at every evaluation of a run, for the policy
-// and for the passive baseline alike.
-inline uint64_t EvalSeed(uint64_t run_seed, int episode) { return run_seed * 1000003ull + 500000ull + episode; }
-
 // One evaluation episode on the environment's own goals (Reset(seed, kEval)). `policy` null
 // is the passive baseline (it never moves). Deterministic policy (its mean action). Returns
 // the final-step metrics; empty if the physics became unstable.
@@ -64,5 +60,13 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                                                        rl::PolicyNetwork<float>* policy,
                                                        const rl::SubgoalStructure& structure,
                                                        const EvalOptions& options, uint64_t seed);
+
+// The evaluation protocol of every mode (actors, the in-process run, `srics eval`): `episodes`
+// evaluation episodes with the run's evaluation seeds (rl::EvalEpisodeSeed: the same goals
+// at every evaluation, for the policy and the passive baseline alike). Unstable episodes are
+// left out of the summary and counted in *unstable.
+rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
+                                     const rl::SubgoalStructure& structure, const EvalOptions& options,
+                                     int episodes, uint64_t run_seed, uint64_t* unstable);
 
 }  // namespace srics::actor

@@ -1,12 +1,5 @@
 # Small helpers so that each folder's CMakeLists.txt stays a few lines.
 
-# Adds a subdirectory only once it has a CMakeLists.txt (folders are filled one issue at a time).
-function(srics_add_subdirectory_if_present dir)
-  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${dir}/CMakeLists.txt)
-    add_subdirectory(${dir})
-  endif()
-endfunction()
-
 # srics_add_test(NAME name SOURCES a.cc b.cc LIBS lib... [LABELS slow ...] [TIMEOUT s])
 # One GoogleTest executable; each TEST becomes its own ctest entry carrying LABELS.
 function(srics_add_test)

@@ -2,6 +2,7 @@
 option(SRICS_NATIVE "Compile for this host's vector instructions (-march=native); the networks are ~6x slower without" ON)
 option(SRICS_BUILD_TESTS "Build the test suite" ON)
 option(SRICS_BUILD_BENCHMARKS "Build the benchmarks" ON)
+option(SRICS_BUILD_DEV_TOOLS "Build the development tools (graph_probe, toy_learn)" OFF)
 option(SRICS_WARNINGS_AS_ERRORS "Treat compiler warnings as errors" OFF)
 
 if(NOT CMAKE_BUILD_TYPE AND NOT CMAKE_CONFIGURATION_TYPES)

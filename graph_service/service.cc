@@ -39,18 +39,100 @@ void GraphService::Report() {
   if (on_progress_) on_progress_(progress_);
 }
 
-int GraphService::Run(const std::atomic<bool>& stop) {
-  start_ = std::chrono::steady_clock::now();
-  progress_.phase = Progress::Phase::kLoading;
-  Report();
-  if (LoadSaved()) return 0;
-  if (!Collect(stop) || !Train(stop)) {
-    progress_.phase = Progress::Phase::kStopped;
-    Report();
-    return 1;
+rl::GraphUpdate ToGraphUpdate(const LearnedGraph& g) {
+  rl::GraphUpdate u;
+  u.version = g.version;
+  u.graph = g.graph;
+  u.structure = g.structure;
+  u.mean_weights = g.mean_weights;
+  u.threshold = g.threshold;
+  u.held_out_loss = g.held_out_loss;
+  u.training_updates = static_cast<uint64_t>(g.updates);
+  u.episodes_used = static_cast<uint32_t>(g.episodes);
+  return u;
+}
+
+namespace {
+
+rl::NodePhase NodePhaseOf(Progress::Phase phase) {
+  switch (phase) {
+    case Progress::Phase::kLoading: return rl::NodePhase::kStarting;
+    case Progress::Phase::kCollecting: return rl::NodePhase::kWaiting;
+    case Progress::Phase::kTraining: return rl::NodePhase::kTraining;
+    case Progress::Phase::kPublished: return rl::NodePhase::kWaiting;
+    case Progress::Phase::kStopped: return rl::NodePhase::kStopping;
   }
-  Finish();
-  return 0;
+  return rl::NodePhase::kFailed;
+}
+
+}  // namespace
+
+void GraphService::PublishStatus(bool force) {
+  const auto now = std::chrono::steady_clock::now();
+  if (!force && std::chrono::duration<double>(now - last_status_).count() < options_.status_period_s) return;
+  last_status_ = now;
+  const Progress& p = progress_;
+  rl::NodeReport r;
+  r.phase = NodePhaseOf(p.phase);
+  r.graph_version = p.published_version;
+  r.steps = static_cast<uint64_t>(p.updates);
+  r.dropped = static_cast<uint64_t>(p.dropped);
+  r.detail = std::string(PhaseName(p.phase)) + ": " + std::to_string(p.episodes) + "/" +
+             std::to_string(p.target_episodes) + " episodes, " + std::to_string(p.updates) + " updates" +
+             (p.held_out_loss >= 0 ? ", held-out " + std::to_string(p.held_out_loss) : "") +
+             (p.graph.empty() ? "" : ", " + p.graph);
+  sink_->PublishStatus(r);
+}
+
+StepResult GraphService::Step(std::chrono::milliseconds wait) {
+  if (!started_) {
+    started_ = true;
+    start_ = std::chrono::steady_clock::now();
+    progress_.phase = Progress::Phase::kLoading;
+    Report();
+    PublishStatus(true);
+    if (LoadSaved()) return StepResult::kWorked;
+    progress_.phase = Progress::Phase::kCollecting;
+    Report();
+  }
+  StepResult result = StepResult::kWorked;
+  switch (progress_.phase) {
+    case Progress::Phase::kLoading:
+    case Progress::Phase::kCollecting:
+      result = CollectStep(wait);
+      break;
+    case Progress::Phase::kTraining:
+      TrainStep();
+      break;
+    case Progress::Phase::kPublished: {
+      // keep the episode topic flowing: what arrives now is not needed
+      std::vector<rl::Episode> unused;
+      source_closed_ |= !source_->Poll(wait, &unused);
+      result = StepResult::kIdle;
+      break;
+    }
+    case Progress::Phase::kStopped:
+      result = StepResult::kDone;
+      break;
+  }
+  PublishStatus(false);
+  return result;
+}
+
+int GraphService::Run(const std::atomic<bool>& stop) {
+  while (!stop.load()) {
+    const StepResult result = Step(options_.poll_timeout);
+    if (progress_.phase == Progress::Phase::kPublished) return 0;
+    if (result == StepResult::kDone) return 1;
+  }
+  Stop();
+  return 1;
+}
+
+void GraphService::Stop() {
+  progress_.phase = Progress::Phase::kStopped;
+  Report();
+  PublishStatus(true);
 }
 
 bool GraphService::LoadSaved() {
@@ -60,7 +142,7 @@ bool GraphService::LoadSaved() {
     LearnedGraph saved = LoadGraph(path);
     spdlog::info("graph service: re-publishing saved graph version {} ({}) from {}",
                  saved.version, rl::DescribeGraph(saved.graph), path);
-    sink_->Publish(saved);
+    sink_->Publish(ToGraphUpdate(saved));
     progress_.phase = Progress::Phase::kPublished;
     progress_.published_version = saved.version;
     progress_.graph = rl::DescribeGraph(saved.graph);
@@ -82,103 +164,102 @@ bool GraphService::LoadSaved() {
   }
 }
 
-bool GraphService::Collect(const std::atomic<bool>& stop) {
-  progress_.phase = Progress::Phase::kCollecting;
-  Report();
+StepResult GraphService::CollectStep(std::chrono::milliseconds wait) {
   std::vector<rl::Episode> batch;
-  auto last_report = std::chrono::steady_clock::now();
-  while (!stop.load()) {
-    batch.clear();
-    const bool open = source_->Poll(options_.poll_timeout, &batch);
-    for (const rl::Episode& episode : batch) {
-      if (progress_.episodes >= config_.episodes) break;
-      std::string problem;
-      if (episode.mode != rl::EpisodeMode::kExplore) continue;  // other modes are not ours
-      if (episode.num_steps != config_.episode_steps) {
-        problem = "episode has " + std::to_string(episode.num_steps) + " steps, expected " +
-                  std::to_string(config_.episode_steps);
-      } else if (!data_) {
-        // the first valid episode fixes the data set's layout
-        problem = rl::ValidateEpisode(episode);
-        if (problem.empty()) {
-          try {
-            data_ = std::make_unique<GraphDataset>(GraphDataset::ShapedLike(episode));
-            if (data_->num_entities() < 2) {
-              data_.reset();
-              problem = "fewer than 2 entities";
-            }
-          } catch (const std::exception& e) {
-            problem = e.what();
-          }
+  const bool open = source_->Poll(wait, &batch);
+  for (const rl::Episode& episode : batch) {
+    if (progress_.episodes >= config_.episodes) break;
+    if (episode.mode != rl::EpisodeMode::kExplore) continue;  // other modes are not ours
+    std::string problem = rl::ValidateEpisode(episode, options_.limits);
+    if (problem.empty() && episode.num_steps != config_.episode_steps)
+      problem = "episode has " + std::to_string(episode.num_steps) + " steps, expected " +
+                std::to_string(config_.episode_steps);
+    if (problem.empty() && !data_) {
+      // the first valid episode fixes the data set's layout (within the run's limits)
+      try {
+        data_ = std::make_unique<GraphDataset>(GraphDataset::ShapedLike(episode));
+        if (data_->num_entities() < 2) {
+          data_.reset();
+          problem = "fewer than 2 entities";
         }
-      }
-      if (problem.empty() && data_) problem = data_->Add(episode);
-      if (problem.empty()) {
-        ++progress_.episodes;
-      } else {
-        ++progress_.dropped;
-        progress_.last_drop_reason = problem;
+      } catch (const std::exception& e) {
+        problem = e.what();
       }
     }
-    const auto now = std::chrono::steady_clock::now();
-    if (progress_.episodes >= config_.episodes) {
-      Report();
-      return true;
-    }
-    if (now - last_report > std::chrono::seconds(1)) {
-      Report();
-      last_report = now;
-    }
-    if (!open) {
-      spdlog::warn("graph service: episode source closed after {} of {} episodes",
-                   progress_.episodes, config_.episodes);
-      return false;
+    if (problem.empty() && data_) problem = data_->Add(episode);
+    if (problem.empty()) {
+      ++progress_.episodes;
+    } else {
+      ++progress_.dropped;
+      progress_.last_drop_reason = problem;
     }
   }
-  return false;
+  if (progress_.episodes >= config_.episodes) {
+    StartTraining();
+    return StepResult::kWorked;
+  }
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_report_ > std::chrono::seconds(1)) {
+    Report();
+    last_report_ = now;
+  }
+  if (!open) {
+    spdlog::warn("graph service: episode source closed after {} of {} episodes", progress_.episodes,
+                 config_.episodes);
+    progress_.phase = Progress::Phase::kStopped;
+    Report();
+    return StepResult::kDone;
+  }
+  return batch.empty() ? StepResult::kIdle : StepResult::kWorked;
 }
 
-bool GraphService::Train(const std::atomic<bool>& stop) {
+void GraphService::StartTraining() {
   progress_.phase = Progress::Phase::kTraining;
   data_->Split(config_.held_out_fraction, options_.seed);
   trainer_ = std::make_unique<GnnTrainer>(config_, *data_, options_.seed);
-  const int action_entity = SelectActionEntity(*data_);
-  const std::vector<double> correlation = ActionCorrelations(*data_);
-  int stable = 0;
-  while (trainer_->updates() < config_.max_updates) {
-    for (int i = 0; i < config_.eval_every_updates && trainer_->updates() < config_.max_updates;
-         ++i) {
-      if (stop.load()) return false;
-      trainer_->Update();
-    }
-    // evaluation: held-out loss and the thresholded graph of the mean weights
-    const EdgeStatistics stats = trainer_->Evaluate();
-    LearnedGraph graph = AggregateGraph(data_->num_entities(), stats.mean_weight,
-                                        config_.threshold, action_entity);
-    graph.held_out_loss = stats.held_out_mse;
-    graph.updates = trainer_->updates();
-    graph.episodes = data_->size();
-    graph.action_correlation = correlation;
-    graph.entity_kinds.assign(data_->entity_kinds().begin(), data_->entity_kinds().end());
-    // graphs of the warm-up and the KL ramp (edges open or not yet pruned) never count as
-    // stable: only evaluations after the full KL weight is reached are compared
-    const bool gated =
-        trainer_->updates() > static_cast<int64_t>(config_.warmup_updates) + config_.kl_ramp_updates;
-    stable = gated && current_ && SameStructure(current_->graph, graph.graph) ? stable + 1 : 0;
-    current_ = std::move(graph);
-    progress_.updates = trainer_->updates();
-    progress_.train_loss = trainer_->last_mse();
-    progress_.held_out_loss = stats.held_out_mse;
-    progress_.held_out_zero_loss = stats.held_out_zero_mse;
-    progress_.entity_loss = stats.held_out_entity_mse;
-    progress_.entity_zero_loss = stats.held_out_entity_zero_mse;
-    progress_.stable_evaluations = stable;
-    progress_.graph = rl::DescribeGraph(current_->graph);
-    progress_.mean_weights = stats.mean_weight;
-    Report();
-    if (stable >= config_.stable_evaluations && trainer_->updates() >= config_.min_updates) break;
+  action_entity_ = SelectActionEntity(*data_);
+  action_correlation_ = ActionCorrelations(*data_);
+  stable_ = 0;
+  Report();
+}
+
+void GraphService::TrainStep() {
+  for (int i = 0; i < options_.updates_per_step && trainer_->updates() < config_.max_updates; ++i) {
+    trainer_->Update();
+    if (trainer_->updates() % config_.eval_every_updates == 0) break;  // evaluate at the boundary
   }
-  return true;
+  const bool at_eval = trainer_->updates() % config_.eval_every_updates == 0 ||
+                       trainer_->updates() >= config_.max_updates;
+  if (!at_eval) return;
+  EvaluateGraph();
+  const bool stable = stable_ >= config_.stable_evaluations && trainer_->updates() >= config_.min_updates;
+  if (stable || trainer_->updates() >= config_.max_updates) Finish();
+}
+
+void GraphService::EvaluateGraph() {
+  // held-out loss and the thresholded graph of the mean weights
+  const EdgeStatistics stats = trainer_->Evaluate();
+  LearnedGraph graph = AggregateGraph(data_->num_entities(), stats.mean_weight, config_.threshold, action_entity_);
+  graph.held_out_loss = stats.held_out_mse;
+  graph.updates = trainer_->updates();
+  graph.episodes = data_->size();
+  graph.action_correlation = action_correlation_;
+  graph.entity_kinds.assign(data_->entity_kinds().begin(), data_->entity_kinds().end());
+  // graphs of the warm-up and the KL ramp (edges open or not yet pruned) never count as
+  // stable: only evaluations after the full KL weight is reached are compared
+  const bool gated = trainer_->updates() > static_cast<int64_t>(config_.warmup_updates) + config_.kl_ramp_updates;
+  stable_ = gated && current_ && SameStructure(current_->graph, graph.graph) ? stable_ + 1 : 0;
+  current_ = std::move(graph);
+  progress_.updates = trainer_->updates();
+  progress_.train_loss = trainer_->last_mse();
+  progress_.held_out_loss = stats.held_out_mse;
+  progress_.held_out_zero_loss = stats.held_out_zero_mse;
+  progress_.entity_loss = stats.held_out_entity_mse;
+  progress_.entity_zero_loss = stats.held_out_entity_zero_mse;
+  progress_.stable_evaluations = stable_;
+  progress_.graph = rl::DescribeGraph(current_->graph);
+  progress_.mean_weights = stats.mean_weight;
+  Report();
 }
 
 void GraphService::Finish() {
@@ -198,11 +279,12 @@ void GraphService::Finish() {
       spdlog::error("graph service: saving the graph failed: {}", e.what());
     }
   }
-  sink_->Publish(graph);
+  sink_->Publish(ToGraphUpdate(graph));
   progress_.phase = Progress::Phase::kPublished;
   progress_.published_version = graph.version;
   published_ = std::move(graph);
   Report();
+  PublishStatus(true);
 }
 
 }  // namespace srics::graph

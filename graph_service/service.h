@@ -1,11 +1,13 @@
 #pragma once
 // The graph service's loop, without any transport: it pulls explore episodes from an
 // EpisodeSource, trains the GNN until the thresholded graph is stable, publishes the
-// versioned graph to a GraphSink, saves it, and on restart re-publishes the saved graph
-// without retraining. A thin main supplies a DDS source and sink and a stop flag.
+// versioned graph (and its NodeStatus) to a GraphSink, saves it, and on restart re-publishes
+// the saved graph without retraining. The srics-graph main supplies DDS links; the
+// in-process run the in-memory bus.
 //
 //   GraphService service(config, options, &source, &sink, [](const Progress& p) { ... });
-//   int code = service.Run(stop_flag);   // returns when done, stopped, or the source closes
+//   int code = service.Run(stop_flag);   // returns when published, stopped, or the source closes
+//   // or step it: while (service.Step() != StepResult::kDone) ...
 
 #include <atomic>
 #include <chrono>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "common/config/graph_config.h"
+#include "common/links/links.h"
 #include "common/rl/episode.h"
 #include "graph_service/dataset.h"
 #include "graph_service/learned_graph.h"
@@ -24,26 +27,8 @@
 
 namespace srics::graph {
 
-// Where explore episodes come from (DDS Episode samples, or an environment in process).
-// Threading: only called from the thread running GraphService::Run.
-class EpisodeSource {
- public:
-  virtual ~EpisodeSource() = default;
-  // Appends the episodes available now, waiting at most `timeout` for the first one.
-  // Returns false once the source is closed and will never deliver again.
-  // Episodes are untrusted: the service validates each one and counts what it drops.
-  virtual bool Poll(std::chrono::milliseconds timeout, std::vector<rl::Episode>* out) = 0;
-};
-
-// Where learned graphs go (the InteractionGraph topic, transient-local, keep-last 1).
-// Threading: only called from the thread running GraphService::Run.
-class GraphSink {
- public:
-  virtual ~GraphSink() = default;
-  // Publishes `graph`; versions increase across publications of one state directory.
-  // May throw; the service logs and retries on the next publication attempt.
-  virtual void Publish(const LearnedGraph& graph) = 0;
-};
+using links::EpisodeSource;
+using links::GraphSink;
 
 // What the service is doing, for progress displays and NodeStatus.
 struct Progress {
@@ -75,6 +60,19 @@ struct ServiceOptions {
   uint64_t seed = 1;            // data split, initial weights, batches, Gumbel noise
   bool render_pictures = true;  // graph.png and graph_weights.png via graphviz
   std::chrono::milliseconds poll_timeout{200};
+  rl::EpisodeLimits limits;     // what an episode of this run looks like (default: any layout)
+  int updates_per_step = 10;    // GNN updates per Step (each Step stays well under a second)
+  double status_period_s = 1;   // NodeStatus to the sink this often
+};
+
+// Converts the graph service's product to what the sink publishes.
+rl::GraphUpdate ToGraphUpdate(const LearnedGraph& graph);
+
+enum class StepResult {
+  kWorked,  // took episodes, trained, or published
+  kIdle,    // waits for episodes, or has published and only drains the source
+  kDone,    // Run's end: the graph is published (Step keeps draining after that), or the
+            // source closed before
 };
 
 class GraphService {
@@ -85,10 +83,17 @@ class GraphService {
   GraphService(const config::GraphConfig& config, const ServiceOptions& options,
                EpisodeSource* source, GraphSink* sink, ProgressCallback on_progress);
 
-  // Runs the whole service: load-and-republish, or collect, train, publish, save. Checks
-  // `stop` between updates and polls. Returns 0 when a graph was published, 1 when stopped
-  // or the source closed before that.
+  // One unit of work: the first Step loads and re-publishes a saved graph if there is one;
+  // then each Step collects the episodes the source has (waiting at most `wait`), or does
+  // updates_per_step GNN updates (an evaluation at every eval_every_updates), or publishes.
+  // After the publication Steps drain the source (the Episode topic must keep flowing) and
+  // return kIdle; kDone only when the source closed before a graph was published.
+  StepResult Step(std::chrono::milliseconds wait = std::chrono::milliseconds(0));
+
+  // Steps until a graph is published (returns 0), `stop`, or the source closes (returns 1).
   int Run(const std::atomic<bool>& stop);
+  // Says goodbye: the phase becomes kStopped and a last NodeStatus ("stopping") goes out.
+  void Stop();
 
   // The published graph, if any.
   const std::optional<LearnedGraph>& published() const { return published_; }
@@ -98,10 +103,13 @@ class GraphService {
 
  private:
   bool LoadSaved();
-  bool Collect(const std::atomic<bool>& stop);
-  bool Train(const std::atomic<bool>& stop);
+  StepResult CollectStep(std::chrono::milliseconds wait);
+  void StartTraining();
+  void TrainStep();
+  void EvaluateGraph();
   void Finish();
   void Report();
+  void PublishStatus(bool force);
 
   config::GraphConfig config_;
   ServiceOptions options_;
@@ -114,7 +122,13 @@ class GraphService {
   std::optional<LearnedGraph> current_;    // last evaluated graph
   std::optional<LearnedGraph> published_;
   uint64_t next_version_ = 1;
+  bool started_ = false;
+  bool source_closed_ = false;
+  int stable_ = 0;
+  int action_entity_ = 0;
+  std::vector<double> action_correlation_;
   std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_report_, last_status_;
 };
 
 }  // namespace srics::graph

@@ -1,23 +1,35 @@
 #include "learner/learner.h"
 
 #include "common/rl/agent_shape.h"
+#include "common/rl/seeds.h"
 
 namespace srics::learner {
 
-Learner::Learner(const config::Config& config)
-    : config_(config),
-      shape_(rl::AgentShapeFor(config.env, config.run.method)),
-      replay_(config.learner.replay_capacity),
-      relabeler_(config.run.method, config.agent.reward, config.learner.relabel,
-                 GoalRegion{config.env.sampling.subgoal_low[0], config.env.sampling.subgoal_high[0],
-                            config.env.sampling.subgoal_low[1], config.env.sampling.subgoal_high[1]},
-                 config.run.seed * 7919 + 1),
-      agent_(shape_, config.agent, config.run.seed * 104729 + 2),
-      limiter_(config.learner.updates_per_step, config.learner.warmup_steps,
-               config.learner.rate_error_buffer) {}
+LearnerOptions LearnerOptionsFor(const config::Config& config) {
+  LearnerOptions o;
+  o.method = config.run.method;
+  o.agent = config.agent;
+  o.learner = config.learner;
+  o.shape = rl::AgentShapeFor(config.env, config.run.method);
+  o.limits = rl::EpisodeLimitsFor(config.env);
+  const auto& sampling = config.env.sampling;
+  o.goal_region = {sampling.subgoal_low[0], sampling.subgoal_high[0], sampling.subgoal_low[1], sampling.subgoal_high[1]};
+  o.run_seed = config.run.seed;
+  o.total_env_steps = config.run.total_env_steps;
+  return o;
+}
+
+Learner::Learner(const LearnerOptions& options)
+    : options_(options),
+      shape_(options.shape),
+      replay_(options.learner.replay_capacity),
+      relabeler_(options.method, options.agent.reward, options.learner.relabel, options.goal_region,
+                 rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerReplay)),
+      agent_(shape_, options.agent, rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent)),
+      limiter_(options.learner.updates_per_step, options.learner.warmup_steps, options.learner.rate_error_buffer) {}
 
 std::string Learner::Ingest(rl::Episode episode) {
-  std::string problem = rl::ValidateEpisode(episode);
+  std::string problem = rl::ValidateEpisode(episode, options_.limits);
   if (problem.empty() && episode.layout.entity_dim() != shape_.entity_dim)
     problem = "entity tokens of " + std::to_string(episode.layout.entity_dim()) +
               " floats, the networks take " + std::to_string(shape_.entity_dim);
@@ -29,13 +41,17 @@ std::string Learner::Ingest(rl::Episode episode) {
     ++rejected_;
     return problem;
   }
+  if (BudgetReached()) {
+    ++beyond_budget_;
+    return "";
+  }
   counters_.transitions_inserted += episode.num_steps;
-  if (!rl::UsesGraph(config_.run.method) || has_graph_) counters_.training_env_steps += episode.num_steps;
+  if (!rl::UsesGraph(options_.method) || has_graph_) counters_.training_env_steps += episode.num_steps;
   ++counters_.episodes_accepted;
   replay_.Insert(std::move(episode));
-  if (Blocked() && config_.learner.updates_per_step > 0) {
-    const double paid = static_cast<double>(config_.learner.warmup_steps) +
-                        static_cast<double>(counters_.updates) / config_.learner.updates_per_step;
+  if (Blocked() && options_.learner.updates_per_step > 0) {
+    const double paid = static_cast<double>(options_.learner.warmup_steps) +
+                        static_cast<double>(counters_.updates) / options_.learner.updates_per_step;
     const double offset = static_cast<double>(counters_.transitions_inserted) - paid;
     limiter_offset_ = offset > 0 ? static_cast<uint64_t>(offset) : 0;
   }
@@ -48,8 +64,8 @@ void Learner::SetGraph(const rl::SubgoalStructure& structure) {
 }
 
 bool Learner::Blocked() const {
-  return replay_.empty() || replay_.transitions() < config_.learner.warmup_steps ||
-         (rl::UsesGraph(config_.run.method) && !has_graph_);
+  return replay_.empty() || replay_.transitions() < options_.learner.warmup_steps ||
+         (rl::UsesGraph(options_.method) && !has_graph_);
 }
 
 bool Learner::CanUpdate() const {
@@ -60,12 +76,8 @@ uint64_t Learner::UpdatesAllowed() const {
   return Blocked() ? 0 : limiter_.UpdatesAllowed(LimiterInserted(), counters_.updates);
 }
 
-bool Learner::CanInsert(uint64_t more) const {
-  return limiter_.CanInsert(LimiterInserted(), counters_.updates, more);
-}
-
 UpdateStats Learner::Update() {
-  relabeler_.Sample(replay_, config_.agent.sac.batch_size, &batch_);
+  relabeler_.Sample(replay_, options_.agent.sac.batch_size, &batch_);
   UpdateStats stats = agent_.Update(batch_);
   ++counters_.updates;
   return stats;
@@ -73,7 +85,7 @@ UpdateStats Learner::Update() {
 
 bool Learner::PublishDue() const {
   return !published_once_ ||
-         counters_.updates >= published_at_update_ + config_.learner.publish_every_updates;
+         counters_.updates >= published_at_update_ + options_.learner.publish_every_updates;
 }
 
 std::vector<float> Learner::TakePolicyWeights() {

@@ -9,20 +9,36 @@
 #include "common/config/config.h"
 #include "common/rl/episode.h"
 #include "common/rl/graph.h"
-#include "learner/rate_limiter.h"
+#include "common/rl/rate_limiter.h"
 #include "learner/relabeler.h"
 #include "learner/replay_buffer.h"
 #include "learner/sac.h"
 
 namespace srics::learner {
 
+// What the learning core needs, built from a run's config by LearnerOptionsFor.
+struct LearnerOptions {
+  config::Method method = config::Method::kSrics;
+  config::AgentConfig agent;
+  config::LearnerConfig learner;
+  AgentShape shape;                // network sizes (rl::AgentShapeFor)
+  rl::EpisodeLimits limits;        // what an episode of this run looks like (rl::EpisodeLimitsFor)
+  GoalRegion goal_region;          // where relabeled goals are sampled
+  uint64_t run_seed = 1;
+  uint64_t total_env_steps = 0;    // the run's budget of training env steps
+};
+
+LearnerOptions LearnerOptionsFor(const config::Config& config);
+
 class Learner {
  public:
-  // Everything it needs comes from `config` (method, agent, learner, env sampling region).
-  explicit Learner(const config::Config& config);
+  explicit Learner(const LearnerOptions& options);
 
   // Validates and stores a training or exploration episode. Returns "" when accepted, else
   // why it was rejected (the replay is unchanged then and the rejection is counted).
+  // Once the run's budget is in (BudgetReached), further episodes are not stored: the learner
+  // trains on the budget's data, and actors still running until they hear of the end are
+  // counted in episodes_beyond_budget() (not rejected).
   std::string Ingest(rl::Episode episode);
 
   // Uses a new interaction graph for rewards and subgoal choice. Methods that use the graph
@@ -36,8 +52,6 @@ class Learner {
   UpdateStats Update();
   // Updates the limiter allows right now.
   uint64_t UpdatesAllowed() const;
-  // True when `more` transitions may be inserted without running ahead of the learner.
-  bool CanInsert(uint64_t more) const;
 
   // Publishing: the flat policy weights with a new version number.
   std::vector<float> TakePolicyWeights();
@@ -52,22 +66,24 @@ class Learner {
 
   const LearnerCounters& counters() const { return counters_; }
   // True once the run's budget of training env steps is in (run.total_env_steps).
-  bool BudgetReached() const { return counters_.training_env_steps >= config_.run.total_env_steps; }
+  bool BudgetReached() const { return counters_.training_env_steps >= options_.total_env_steps; }
   uint64_t episodes_rejected() const { return rejected_; }
+  uint64_t episodes_beyond_budget() const { return beyond_budget_; }
   const ReplayBuffer& replay() const { return replay_; }
   SacAgent& agent() { return agent_; }
   const AgentShape& shape() const { return shape_; }
 
  private:
-  config::Config config_;
+  LearnerOptions options_;
   AgentShape shape_;
   ReplayBuffer replay_;
   Relabeler relabeler_;
   SacAgent agent_;
-  RateLimiter limiter_;
+  rl::RateLimiter limiter_;
   TrainingBatch batch_;
   LearnerCounters counters_;
   uint64_t rejected_ = 0;
+  uint64_t beyond_budget_ = 0;
   bool has_graph_ = false;
   // Updates are blocked until there is a graph (if the method needs one) and the replay
   // holds warmup_steps transitions (also after a restart, when it starts empty). While

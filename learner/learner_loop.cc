@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <thread>
 
@@ -9,8 +10,17 @@ namespace srics::learner {
 
 using Clock = std::chrono::steady_clock;
 
-LearnerLoop::LearnerLoop(const config::Config& config, LearnerLink* link, LearnerLoopOptions options)
-    : config_(config), link_(link), options_(std::move(options)), learner_(config) {}
+LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::string checkpoint_path) {
+  LearnerLoopOptions o;
+  o.learner = LearnerOptionsFor(config);
+  o.num_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
+  o.checkpoint_path = std::move(checkpoint_path);
+  o.report_period_s = config.transport.status_period_s;
+  return o;
+}
+
+LearnerLoop::LearnerLoop(LearnerLoopOptions options, links::LearnerLink* link)
+    : options_(std::move(options)), link_(link), learner_(options_.learner) {}
 
 void LearnerLoop::Publish() {
   rl::WeightsUpdate w;
@@ -23,87 +33,122 @@ void LearnerLoop::Publish() {
 
 void LearnerLoop::Report(bool force) {
   const double dt = std::chrono::duration<double>(Clock::now() - last_report_).count();
-  if (!force && dt < config_.transport.status_period_s) return;
-  LearnerReport r;
-  r.counters = learner_.counters();
+  if (!force && options_.report_period_s > 0 && dt < options_.report_period_s) return;
+  const LearnerCounters& c = learner_.counters();
+  rl::LearnerReport r;
+  r.updates = c.updates;
+  r.transitions_inserted = c.transitions_inserted;
+  r.budget_env_steps = options_.learner.total_env_steps;
+  // the budget shows as done only once the learner has trained on it and published its final
+  // weights: actors then run their last evaluation with those weights, not earlier ones
+  r.training_env_steps = finished_ || r.budget_env_steps == 0
+                             ? c.training_env_steps
+                             : std::min<uint64_t>(c.training_env_steps, r.budget_env_steps - 1);
   r.replay_size = learner_.replay().transitions();
+  r.episodes_accepted = c.episodes_accepted;
   r.episodes_rejected = learner_.episodes_rejected();
-  r.last_update = last_update_;
+  r.policy_version = c.policy_version;
+  r.q_loss = last_update_.q_loss;
+  r.policy_loss = last_update_.policy_loss;
+  r.alpha = last_update_.alpha;
+  r.entropy = last_update_.entropy;
+  r.mean_reward = last_update_.mean_reward;
   if (dt > 0) {
-    r.updates_per_second = (r.counters.updates - updates_at_report_) / dt;
-    r.inserts_per_second = (r.counters.transitions_inserted - inserted_at_report_) / dt;
+    r.updates_per_second = (c.updates - updates_at_report_) / dt;
+    r.inserts_per_second = (c.transitions_inserted - inserted_at_report_) / dt;
   }
   link_->PublishStats(r);
   rl::NodeReport status;
-  status.phase = learner_.CanUpdate() || r.counters.updates > 0 ? rl::NodePhase::kTraining : rl::NodePhase::kWaiting;
-  status.policy_version = r.counters.policy_version;
+  status.phase = learner_.CanUpdate() || c.updates > 0 ? rl::NodePhase::kTraining : rl::NodePhase::kWaiting;
+  status.policy_version = c.policy_version;
   status.graph_version = graph_version_;
-  status.steps = r.counters.updates;
-  status.dropped = r.episodes_rejected;
-  status.detail = "replay " + std::to_string(r.replay_size) + ", inserted " +
-                  std::to_string(r.counters.transitions_inserted) +
-                  (learner_.has_graph() || !rl::UsesGraph(config_.run.method) ? "" : ", waiting for the graph");
+  status.steps = c.updates;
+  status.dropped = r.episodes_rejected + graphs_rejected_;
+  status.detail = "replay " + std::to_string(r.replay_size) + ", inserted " + std::to_string(c.transitions_inserted) +
+                  (learner_.has_graph() || !rl::UsesGraph(options_.learner.method) ? "" : ", waiting for the graph");
   link_->PublishStatus(status);
   last_report_ = Clock::now();
-  updates_at_report_ = r.counters.updates;
-  inserted_at_report_ = r.counters.transitions_inserted;
+  updates_at_report_ = c.updates;
+  inserted_at_report_ = c.transitions_inserted;
 }
 
-int LearnerLoop::Run(const std::atomic<bool>& stop) {
-  if (!options_.checkpoint_path.empty() && std::filesystem::exists(options_.checkpoint_path)) {
-    learner_.LoadCheckpoint(options_.checkpoint_path);
+void LearnerLoop::Start() {
+  started_ = true;
+  const std::string& path = options_.checkpoint_path;
+  if (!path.empty() && std::filesystem::exists(path)) {
+    learner_.LoadCheckpoint(path);
     // weights published after that checkpoint carried higher versions than it records: skip
     // past every version that can have been used, so versions keep increasing for actors
-    learner_.SkipPolicyVersions(config_.learner.checkpoint_every_updates / config_.learner.publish_every_updates + 2);
-    spdlog::info("resumed from {}: {} updates, {} transitions inserted, policy v{}", options_.checkpoint_path,
-                 learner_.counters().updates, learner_.counters().transitions_inserted,
-                 learner_.counters().policy_version);
+    const auto& l = options_.learner.learner;
+    learner_.SkipPolicyVersions(l.checkpoint_every_updates / l.publish_every_updates + 2);
+    spdlog::info("resumed from {}: {} updates, {} transitions inserted, policy v{}", path, learner_.counters().updates,
+                 learner_.counters().transitions_inserted, learner_.counters().policy_version);
   }
+  checkpointed_at_ = learner_.counters().updates;
   // actors start training once weights exist: publish the initial ones at once
   Publish();
   last_report_ = Clock::now();
   Report(true);
-  uint64_t checkpointed_at = learner_.counters().updates;
-  std::vector<rl::Episode> episodes;
-  bool done = false;
-  while (!stop && !done) {
-    episodes.clear();
-    const bool work = learner_.CanUpdate();
-    link_->TakeEpisodes(&episodes, 64, work ? std::chrono::milliseconds(0) : std::chrono::milliseconds(50));
-    for (auto& e : episodes) {
-      const std::string problem = learner_.Ingest(std::move(e));
-      if (!problem.empty()) spdlog::warn("episode rejected: {}", problem);
-    }
-    if (auto g = link_->PollGraph()) {
-      const int entities = 1 + static_cast<int>(config::EffectiveObjects(config_.env).size());
-      if (g->graph.num_entities != entities) {
-        spdlog::warn("graph v{} has {} entities, this run's environment {}: ignored", g->version,
-                     g->graph.num_entities, entities);
-      } else {
-        learner_.SetGraph(g->structure);
-        graph_version_ = g->version;
-        spdlog::info("graph v{}: {}", g->version, rl::DescribeGraph(g->graph));
-      }
-    }
-    for (int i = 0; i < options_.max_updates_per_poll && learner_.CanUpdate() && !stop; ++i)
-      last_update_ = learner_.Update();
-    if (learner_.counters().updates > 0 && learner_.PublishDue()) Publish();
-    if (!options_.checkpoint_path.empty() &&
-        learner_.counters().updates >= checkpointed_at + config_.learner.checkpoint_every_updates) {
-      learner_.SaveCheckpoint(options_.checkpoint_path);
-      checkpointed_at = learner_.counters().updates;
-    }
-    Report(false);
-    done = learner_.BudgetReached() && !learner_.CanUpdate();
+}
+
+void LearnerLoop::FollowGraph() {
+  auto g = link_->PollGraph();
+  if (!g) return;
+  if (const std::string problem = rl::GraphMismatch(g->graph, options_.num_entities); !problem.empty()) {
+    ++graphs_rejected_;
+    spdlog::warn("graph v{} ignored: {}", g->version, problem);
+    return;
   }
+  learner_.SetGraph(g->structure);
+  graph_version_ = g->version;
+  spdlog::info("graph v{}: {}", g->version, rl::DescribeGraph(g->graph));
+}
+
+StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
+  if (finished_) return StepResult::kDone;
+  if (!started_) Start();
+  episodes_.clear();
+  const bool work = learner_.CanUpdate();
+  link_->TakeEpisodes(&episodes_, 64, work ? std::chrono::milliseconds(0) : wait);
+  for (auto& e : episodes_) {
+    const std::string problem = learner_.Ingest(std::move(e));
+    if (!problem.empty()) spdlog::warn("episode rejected: {}", problem);
+  }
+  FollowGraph();
+  int updates = 0;
+  for (; updates < options_.max_updates_per_step && learner_.CanUpdate(); ++updates) last_update_ = learner_.Update();
+  if (learner_.counters().updates > 0 && learner_.PublishDue()) Publish();
+  if (!options_.checkpoint_path.empty() &&
+      learner_.counters().updates >= checkpointed_at_ + options_.learner.learner.checkpoint_every_updates) {
+    learner_.SaveCheckpoint(options_.checkpoint_path);
+    checkpointed_at_ = learner_.counters().updates;
+  }
+  Report(false);
+  if (learner_.BudgetReached() && !learner_.CanUpdate()) {
+    Finish();
+    spdlog::info("learner done: {} updates, {} transitions, policy v{}", learner_.counters().updates,
+                 learner_.counters().transitions_inserted, learner_.counters().policy_version);
+    return StepResult::kDone;
+  }
+  return updates > 0 || !episodes_.empty() ? StepResult::kWorked : StepResult::kIdle;
+}
+
+void LearnerLoop::Finish() {
+  if (finished_) return;
+  finished_ = true;
   // final weights first, then the stats that tell actors the budget is done
   Publish();
   if (!options_.checkpoint_path.empty()) learner_.SaveCheckpoint(options_.checkpoint_path);
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  if (options_.final_weights_grace.count() > 0) std::this_thread::sleep_for(options_.final_weights_grace);
   Report(true);
-  spdlog::info("learner {}: {} updates, {} transitions, policy v{}", done ? "done" : "stopped",
-               learner_.counters().updates, learner_.counters().transitions_inserted,
-               learner_.counters().policy_version);
+}
+
+int LearnerLoop::Run(const std::atomic<bool>& stop) {
+  while (!stop)
+    if (Step(std::chrono::milliseconds(50)) == StepResult::kDone) return 0;
+  Finish();
+  spdlog::info("learner stopped: {} updates, {} transitions, policy v{}", learner_.counters().updates,
+               learner_.counters().transitions_inserted, learner_.counters().policy_version);
   return 0;
 }
 

@@ -1,8 +1,12 @@
 #pragma once
-// The learner process's loop without DDS: ingest whole episodes, follow the graph, update at
-// the configured ratio, publish weights every K updates and stats periodically, checkpoint,
-// and stop once the run's budget of environment steps is in and trained on. The main
-// supplies a LearnerLink over DDS.
+// The learner's loop, with no transport in it: ingest whole episodes, follow the graph,
+// update at the configured ratio, publish weights every K updates and stats, checkpoint, and
+// stop once the run's budget of environment steps is in and trained on. It talks to the rest
+// of the system only through a links::LearnerLink: DDS in the srics-learner process, the
+// in-memory bus in `srics run --in-process`.
+//
+//   LearnerLoop loop(LearnerLoopOptionsFor(config, run_dir + "/checkpoint.srics"), &link);
+//   loop.Run(stop);                       // or: while (loop.Step() != StepResult::kDone)
 
 #include <atomic>
 #include <chrono>
@@ -11,58 +15,66 @@
 #include <vector>
 
 #include "common/config/config.h"
-#include "common/rl/episode.h"
-#include "common/rl/updates.h"
+#include "common/links/links.h"
 #include "learner/learner.h"
 
 namespace srics::learner {
 
-struct LearnerReport {
-  LearnerCounters counters;
-  uint64_t replay_size = 0;
-  uint64_t episodes_rejected = 0;
-  UpdateStats last_update;
-  double updates_per_second = 0;
-  double inserts_per_second = 0;  // transitions
-};
-
-// Only called from the thread running LearnerLoop::Run.
-class LearnerLink {
- public:
-  virtual ~LearnerLink() = default;
-  // Appends up to `max` episodes, waiting at most `wait` for the first. Returns how many.
-  virtual size_t TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds wait) = 0;
-  // The newest graph not returned before, if any.
-  virtual std::optional<rl::GraphUpdate> PollGraph() = 0;
-  virtual void PublishWeights(const rl::WeightsUpdate& weights) = 0;
-  virtual void PublishStats(const LearnerReport& report) = 0;
-  virtual void PublishStatus(const rl::NodeReport& report) = 0;
-};
-
 struct LearnerLoopOptions {
-  std::string checkpoint_path;  // empty: no checkpoints; loaded at start if the file exists
-  int max_updates_per_poll = 8; // updates between two polls of the network (responsiveness)
+  LearnerOptions learner;
+  int num_entities = 0;          // of the run's environment: graphs of another size are refused
+  std::string checkpoint_path;   // empty: no checkpoints; loaded at start if the file exists
+  int max_updates_per_step = 8;  // updates between two looks at the link (responsiveness)
+  // stats and status this often; 0: after every step (the in-process run, so that actors see
+  // exact progress and the run is deterministic)
+  double report_period_s = 1;
+  // after the final weights, wait this long before the budget-done stats (DDS delivers the
+  // two topics independently: actors should have the final weights when they see the end)
+  std::chrono::milliseconds final_weights_grace{300};
 };
+
+LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::string checkpoint_path);
+
+enum class StepResult { kWorked, kIdle, kDone };
 
 class LearnerLoop {
  public:
-  LearnerLoop(const config::Config& config, LearnerLink* link, LearnerLoopOptions options);
-  // Runs until `stop` (returns 0 after a final checkpoint) or the budget is done (returns 0).
+  LearnerLoop(LearnerLoopOptions options, links::LearnerLink* link);
+
+  // Loads the checkpoint (if any) and publishes the first weights. Called by the first Step.
   // Throws nn::CheckpointError when an existing checkpoint cannot be loaded: a learner never
   // silently starts from scratch over a run's checkpoint.
+  void Start();
+  // Takes episodes (waiting at most `wait` when there is no update to do), follows the
+  // graph, does the updates the rate limiter allows (at most max_updates_per_step), publishes
+  // and checkpoints when due. kDone once the budget is in and trained on (final weights,
+  // checkpoint and stats are out then).
+  StepResult Step(std::chrono::milliseconds wait = std::chrono::milliseconds(0));
+  // Final weights, checkpoint and stats. Called by Step at the end of the budget and by Run
+  // when stopped.
+  void Finish();
+  // Steps until `stop` or the end of the budget; returns 0.
   int Run(const std::atomic<bool>& stop);
+
   Learner& learner() { return learner_; }
+  uint64_t graphs_rejected() const { return graphs_rejected_; }
+  uint64_t graph_version() const { return graph_version_; }
 
  private:
   void Publish();
   void Report(bool force);
+  void FollowGraph();
 
-  config::Config config_;
-  LearnerLink* link_;
   LearnerLoopOptions options_;
+  links::LearnerLink* link_;
   Learner learner_;
+  bool started_ = false;
+  bool finished_ = false;
   UpdateStats last_update_;
   uint64_t graph_version_ = 0;
+  uint64_t graphs_rejected_ = 0;
+  uint64_t checkpointed_at_ = 0;
+  std::vector<rl::Episode> episodes_;
   std::chrono::steady_clock::time_point last_report_;
   uint64_t updates_at_report_ = 0, inserted_at_report_ = 0;
 };

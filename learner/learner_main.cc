@@ -28,9 +28,8 @@ int main(int argc, char** argv) {
   try {
     transport::Participant participant(config.transport);
     transport::DdsLearnerLink link(participant, rl::EpisodeLimitsFor(config.env));
-    learner::LearnerLoopOptions options;
-    if (!cl.run_dir.empty()) options.checkpoint_path = cl.run_dir + "/checkpoint.srics";
-    learner::LearnerLoop loop(config, &link, options);
+    learner::LearnerLoop loop(
+        learner::LearnerLoopOptionsFor(config, cl.run_dir.empty() ? "" : cl.run_dir + "/checkpoint.srics"), &link);
     spdlog::info("learner started: {} ({}), domain {}, run id '{}', budget {} env steps",
                  config::MethodName(config.run.method), config.source_file, config.transport.domain_id,
                  config.transport.run_id, config.run.total_env_steps);

@@ -3,6 +3,8 @@
 namespace srics::config {
 
 void ParseGraph(YamlSection s, GraphConfig* out) {
+  s.ReadBool("ground_truth", &out->ground_truth);
+  s.ReadString("file", &out->file);
   s.ReadInt("episodes", &out->episodes, 1, 1 << 24);
   s.ReadInt("episode_steps", &out->episode_steps, 2, 100000);
   s.ReadDouble("held_out_fraction", &out->held_out_fraction, 0, 0.9);
@@ -35,6 +37,8 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadBool("refine_after_publish", &out->refine_after_publish);
   if (out->refine_after_publish)
     s.FailRule("refine_after_publish", "is not implemented: the service publishes one graph per data set");
+  if (out->ground_truth && !out->file.empty())
+    s.FailRule("file", "and graph.ground_truth both name the graph to use: set one");
   if (out->min_updates > out->max_updates)
     s.FailRule("min_updates", "must not exceed max_updates (" + std::to_string(out->max_updates) + ")");
   const int held_out = static_cast<int>(out->episodes * out->held_out_fraction + 0.5);

@@ -2,10 +2,17 @@
 // The graph service: random-action data, recurrent GNN, aggregation (srics-method.md section 2).
 
 #include <cstdint>
+#include <string>
 
 namespace srics::config {
 
 struct GraphConfig {
+  // true: no graph is learned; the graph the environment config implies by construction is
+  // published (rl::GroundTruthGraph). For checks of the RL part alone; a config that sets it
+  // says so in its file name (*-ground-truth.yaml).
+  bool ground_truth = false;
+  // a graph file of an earlier run (graph.json): published as it is, no graph is learned
+  std::string file;
   int episodes = 1000;             // random-action episodes collected
   int episode_steps = 50;
   double held_out_fraction = 0.1;

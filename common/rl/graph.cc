@@ -68,4 +68,10 @@ std::string DescribeGraph(const InteractionGraph& graph) {
   return text;
 }
 
+std::string GraphMismatch(const InteractionGraph& graph, int num_entities) {
+  if (graph.num_entities == num_entities) return "";
+  return "the graph has " + std::to_string(graph.num_entities) + " entities, this run's environment " +
+         std::to_string(num_entities);
+}
+
 }  // namespace srics::rl

@@ -50,6 +50,11 @@ SubgoalStructure ComputeSubgoalStructure(const InteractionGraph& graph);
 // Validates a graph; returns an empty string when fine, else what is wrong.
 std::string ValidateGraph(const InteractionGraph& graph);
 
+// Whether a received graph can be used by a process whose environment has `num_entities`
+// entities: empty when it fits, else why not. Actors, the learner and the in-process run all
+// decide with this one check.
+std::string GraphMismatch(const InteractionGraph& graph, int num_entities);
+
 // One-line description such as "action->0, 0->1, 0->2, 2->3" for logs and monitors.
 std::string DescribeGraph(const InteractionGraph& graph);
 

@@ -15,7 +15,9 @@
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/transport/transport.h"
+#include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/run_folder.h"
+#include "deploy/launcher/run_session.h"
 #include "deploy/monitor/display.h"
 #include "deploy/monitor/monitor.h"
 
@@ -26,9 +28,11 @@ namespace mon = srics::monitor;
 namespace fs = std::filesystem;
 
 const char* const kRunUsage =
-    "usage: srics run CONFIG [--actors N] [--set key.path=value ...] [--run-dir DIR] [--bin-dir DIR]\n"
+    "usage: srics run CONFIG [--in-process] [--actors N] [--set key.path=value ...] [--run-dir DIR] [--bin-dir DIR]\n"
     "                 [--display auto|live|plain|none] [--stop-timeout S] [--final-eval-grace S]\n"
     "  CONFIG          the run's config (e.g. deploy/configs/default.yaml)\n"
+    "  --in-process    the same loops in one process and one thread, wired in memory (no DDS):\n"
+    "                  deterministic, the same run folder\n"
     "  --actors N      actor processes (default: actors.count of the config)\n"
     "  --set K=V       override a config value (recorded in the run folder's config.yaml)\n"
     "  --run-dir DIR   the run folder (default <run.output_dir>/<run.name>-<timestamp>); an existing\n"
@@ -50,13 +54,6 @@ double ParseNumber(const std::string& flag, const std::string& text, double min)
     throw std::invalid_argument(flag + " expects a number >= " + std::to_string(static_cast<int>(min)) +
                                 ", got '" + text + "'");
   return value;
-}
-
-std::string Clock(double seconds) {
-  char buffer[32];
-  const auto s = static_cast<int64_t>(seconds);
-  std::snprintf(buffer, sizeof buffer, "%02" PRId64 ":%02" PRId64 ":%02" PRId64, s / 3600, s / 60 % 60, s % 60);
-  return buffer;
 }
 
 // The launcher's view of its children for the display.
@@ -97,6 +94,7 @@ LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
     else if (arg == "--bin-dir") options.bin_dir = value();
     else if (arg == "--stop-timeout") options.stop_timeout_s = ParseNumber(arg, value(), 0);
     else if (arg == "--final-eval-grace") options.final_eval_grace_s = ParseNumber(arg, value(), 0);
+    else if (arg == "--in-process") options.in_process = true;
     else if (arg == "--display") {
       const std::string& mode = value();
       if (mode == "auto") options.display = DisplayMode::kAuto;
@@ -117,35 +115,88 @@ LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
   return options;
 }
 
-int Run(const LaunchOptions& options) {
-  // config first: a bad one stops everything before a folder or a process exists
-  const config::Config config = config::LoadConfig(options.config_file, options.overrides);
+namespace {
+
+// The role processes of one run under a supervisor.
+struct Roles {
+  size_t graph = 0, learner = 0;
+  std::vector<size_t> actors;
+};
+
+Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const config::Config& config,
+               const std::string& dir) {
   const std::string graph_bin = FindProgram("srics-graph", "graph_service", options.bin_dir);
   const std::string learner_bin = FindProgram("srics-learner", "learner", options.bin_dir);
   const std::string actor_bin = FindProgram("srics-actor", "actor", options.bin_dir);
-
-  const std::string dir = PrepareRunFolder(config, options.run_dir);
-  const std::string config_path = dir + "/config.yaml";
-  DisplayMode display = options.display;
-  if (display == DisplayMode::kAuto) display = isatty(STDOUT_FILENO) ? DisplayMode::kLive : DisplayMode::kPlain;
-  auto logger = logging::SetUpLogger("launcher", {.level = config.run.log_level, .file = dir + "/logs/launcher.log"});
-  if (display == DisplayMode::kLive) logger->sinks().front()->set_level(spdlog::level::off);
-  logger->flush_on(spdlog::level::info);
-  std::cout << "srics run: run folder " << dir << "\n" << std::flush;
-  spdlog::info("run folder {}, config {}, {} actors", dir, options.config_file, config.actors.count);
-
-  const auto start = SteadyClock::now();
-  std::deque<std::string> events;
-  auto note = [&](const std::string& text) {  // on the display only
-    events.push_back("[" + Clock(std::chrono::duration<double>(SteadyClock::now() - start).count()) + "] " + text);
-    if (events.size() > 8) events.pop_front();
+  auto argv = [&](const std::string& bin, std::vector<std::string> extra) {
+    std::vector<std::string> v = {bin, dir + "/config.yaml", "--run-dir", dir};
+    v.insert(v.end(), extra.begin(), extra.end());
+    return v;
   };
-  auto event = [&](const std::string& text) {  // logged and on the display
-    spdlog::info("{}", text);
-    events.push_back("[" + Clock(std::chrono::duration<double>(SteadyClock::now() - start).count()) + "] " + text);
-    if (events.size() > 8) events.pop_front();
-  };
+  Roles roles;
+  roles.graph = supervisor->Add({.name = "graph", .argv = argv(graph_bin, {}), .output_file = dir + "/logs/graph.out",
+                                 .max_restarts = options.max_restarts_service});
+  roles.learner = supervisor->Add({.name = "learner", .argv = argv(learner_bin, {}),
+                                   .output_file = dir + "/logs/learner.out", .max_restarts = options.max_restarts_service});
+  for (int k = 0; k < config.actors.count; ++k)
+    roles.actors.push_back(supervisor->Add({.name = "actor-" + std::to_string(k),
+                                            .argv = argv(actor_bin, {"--id", std::to_string(k)}),
+                                            .output_file = dir + "/logs/actor-" + std::to_string(k) + ".out"}));
+  return roles;
+}
 
+// Why the run ends now (empty: it goes on), from the children's phases and the clock.
+struct Ending {
+  std::string reason;
+  int exit_code = kExitDone;
+};
+
+class EndWatch {
+ public:
+  EndWatch(const LaunchOptions& options, const config::Config& config, const Roles& roles)
+      : options_(options), config_(config), roles_(roles) {}
+
+  Ending Check(Supervisor& supervisor, RunSession& session) {
+    for (size_t i : supervisor.Tick()) {
+      const ChildStatus& s = supervisor.status(i);
+      if (i == roles_.learner && s.phase == ChildPhase::kFinished) {
+        learner_done_ = SteadyClock::now();
+        session.Event("the learner finished its budget; waiting for the actors' final evaluation");
+      } else if ((i == roles_.learner || i == roles_.graph) && s.phase == ChildPhase::kFailed) {
+        return {s.name + " failed for good (" + (s.last_exit ? s.last_exit->Describe() : "?") + ")", kExitFailed};
+      }
+    }
+    bool actors_down = true, actor_failed = false;
+    for (size_t i : roles_.actors) {
+      const ChildPhase phase = supervisor.status(i).phase;
+      actors_down &= phase != ChildPhase::kRunning && phase != ChildPhase::kWaitingToRestart;
+      actor_failed |= phase == ChildPhase::kFailed;
+    }
+    const auto now = SteadyClock::now();
+    const auto grace = std::chrono::duration<double>(options_.final_eval_grace_s);
+    if (actors_down && !actors_down_at_) actors_down_at_ = now;
+    if (learner_done_ && actors_down)
+      return actor_failed ? Ending{"the budget is done, but actors failed", kExitFailed} : Ending{"the budget is done"};
+    if (learner_done_ && now - *learner_done_ >= grace)
+      return {"the budget is done (actors did not finish within the grace period)"};
+    if (!learner_done_ && !roles_.actors.empty() && actors_down && now - *actors_down_at_ >= grace)
+      return {"every actor ended but the learner did not finish", kExitFailed};
+    return {WallLimitReason(config_, session.elapsed_s())};
+  }
+
+
+ private:
+  const LaunchOptions& options_;
+  const config::Config& config_;
+  const Roles& roles_;
+  std::optional<SteadyClock::time_point> learner_done_;   // the learner exited with 0
+  std::optional<SteadyClock::time_point> actors_down_at_;  // no actor running or restarting
+};
+
+int RunProcesses(const LaunchOptions& options, const config::Config& config) {
+  RunSession session(options, config);
+  const std::string& dir = session.dir();
+  SeedGraphFile(config, dir);  // a given graph is re-published by srics-graph
   // what the processes publish, to the display and to eval.csv, learner.csv, nodes.csv
   tr::Participant participant(config.transport);
   mon::Monitor monitor(participant, {.all_runs = false, .weights = true, .csv_dir = dir, .csv_node_statuses = true});
@@ -153,26 +204,9 @@ int Run(const LaunchOptions& options) {
   SupervisorOptions supervisor_options;
   supervisor_options.backoff = options.backoff;
   supervisor_options.stop_timeout = std::chrono::milliseconds(static_cast<int64_t>(options.stop_timeout_s * 1000));
-  supervisor_options.on_event = event;
+  supervisor_options.on_event = [&](const std::string& text) { session.Event(text); };
   Supervisor supervisor(supervisor_options);
-  const std::vector<std::string> common = {config_path, "--run-dir", dir};
-  auto argv = [&](const std::string& bin, std::vector<std::string> extra) {
-    std::vector<std::string> v = {bin};
-    v.insert(v.end(), common.begin(), common.end());
-    v.insert(v.end(), extra.begin(), extra.end());
-    return v;
-  };
-  const size_t graph = supervisor.Add({.name = "graph", .argv = argv(graph_bin, {}),
-                                       .output_file = dir + "/logs/graph.out",
-                                       .max_restarts = options.max_restarts_service});
-  const size_t learner = supervisor.Add({.name = "learner", .argv = argv(learner_bin, {}),
-                                         .output_file = dir + "/logs/learner.out",
-                                         .max_restarts = options.max_restarts_service});
-  std::vector<size_t> actors;
-  for (int k = 0; k < config.actors.count; ++k)
-    actors.push_back(supervisor.Add({.name = "actor-" + std::to_string(k),
-                                     .argv = argv(actor_bin, {"--id", std::to_string(k)}),
-                                     .output_file = dir + "/logs/actor-" + std::to_string(k) + ".out"}));
+  const Roles roles = AddRoles(&supervisor, options, config, dir);
   try {
     supervisor.StartAll();
   } catch (const std::exception& e) {
@@ -181,105 +215,33 @@ int Run(const LaunchOptions& options) {
     return kExitFailed;
   }
 
-  mon::RenderOptions render;
-  render.title = "srics run  " + dir + "  (Ctrl-C stops)";
-  render.run_id = config.transport.run_id;
-  render.total_env_steps = config.run.total_env_steps;
-  render.max_wall_minutes = config.run.max_wall_minutes;
-
-  int exit_code = kExitDone;
-  std::string reason;
-  std::optional<SteadyClock::time_point> learner_done;   // the learner exited with 0
-  std::optional<SteadyClock::time_point> actors_down_at;  // no actor running or restarting
-  auto next_draw = start;
-  auto next_line = start + std::chrono::seconds(10);
-  while (reason.empty()) {
+  EndWatch watch(options, config, roles);
+  Ending ending;
+  while (ending.reason.empty()) {
     if (participant.shutdown_requested()) {
-      reason = "interrupted";
-      exit_code = kExitInterrupted;
+      ending = {"interrupted", kExitInterrupted};
       break;
     }
     monitor.Poll(std::chrono::milliseconds(200));
-    for (const std::string& text : monitor.TakeNodeEvents()) note(text);  // the monitor logged it
-    for (size_t i : supervisor.Tick()) {
-      const ChildStatus& s = supervisor.status(i);
-      if (i == learner && s.phase == ChildPhase::kFinished) {
-        learner_done = SteadyClock::now();
-        event("the learner finished its budget; waiting for the actors' final evaluation");
-      } else if ((i == learner || i == graph) && s.phase == ChildPhase::kFailed) {
-        reason = s.name + " failed for good (" + (s.last_exit ? s.last_exit->Describe() : "?") + ")";
-        exit_code = kExitFailed;
-      }
-    }
-    if (!reason.empty()) break;
-    bool actors_down = true, actor_failed = false;
-    for (size_t i : actors) {
-      const ChildPhase phase = supervisor.status(i).phase;
-      actors_down &= phase != ChildPhase::kRunning && phase != ChildPhase::kWaitingToRestart;
-      actor_failed |= phase == ChildPhase::kFailed;
-    }
-    const auto now = SteadyClock::now();
-    const double elapsed = std::chrono::duration<double>(now - start).count();
-    const auto grace = std::chrono::duration<double>(options.final_eval_grace_s);
-    if (actors_down && !actors_down_at) actors_down_at = now;
-    if (learner_done && actors_down) {
-      reason = actor_failed ? "the budget is done, but actors failed" : "the budget is done";
-      exit_code = actor_failed ? kExitFailed : kExitDone;
-    } else if (learner_done && now - *learner_done >= grace) {
-      reason = "the budget is done (actors did not finish within the grace period)";
-    } else if (!learner_done && !actors.empty() && actors_down && now - *actors_down_at >= grace) {
-      reason = "every actor ended but the learner did not finish";
-      exit_code = kExitFailed;
-    } else if (config.run.max_wall_minutes > 0 && elapsed >= config.run.max_wall_minutes * 60.0) {
-      char text[96];
-      std::snprintf(text, sizeof text, "wall-clock limit of %g minutes reached", config.run.max_wall_minutes);
-      reason = text;
-    }
-
-    if (display == DisplayMode::kLive && now >= next_draw) {
-      next_draw = now + std::chrono::seconds(1);
-      render.elapsed_s = elapsed;
-      render.processes = ProcessRows(supervisor, now);
-      render.events.assign(events.begin(), events.end());
-      std::cout << "\033[H\033[2J" << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
-    } else if (display == DisplayMode::kPlain && now >= next_line) {
-      next_line = now + std::chrono::seconds(10);
-      std::cout << "[" << Clock(elapsed) << "] "
-                << mon::RenderOneLine(monitor.state(), mon::Clock::now(), config.transport.run_id,
-                                      config.run.total_env_steps)
-                << "  restarts " << supervisor.total_restarts() << std::endl;
-    }
+    for (const std::string& text : monitor.TakeNodeEvents()) session.Note(text);  // the monitor logged it
+    ending = watch.Check(supervisor, session);
+    if (ending.reason.empty())
+      session.Show(monitor.state(), ProcessRows(supervisor, SteadyClock::now()), supervisor.total_restarts());
   }
-
-  event("stopping: " + reason);
-  if (display == DisplayMode::kLive) std::cout << "\nstopping (" << reason << ") ...\n" << std::flush;
+  session.Event("stopping: " + ending.reason);
   const bool clean = supervisor.StopAll();
   monitor.Poll(std::chrono::milliseconds(0));  // what the roles said last
-  const double elapsed = std::chrono::duration<double>(SteadyClock::now() - start).count();
+  return session.Finish(monitor.state(), ProcessRows(supervisor, SteadyClock::now()), ending.reason, ending.exit_code,
+                        clean, supervisor.total_restarts());
+}
 
-  std::string plot_error;
-  const bool plotted = PlotEvalCurves(dir, config::MethodName(config.run.method) + std::string(" - ") +
-                                               fs::path(dir).filename().string(), &plot_error);
-  if (!plotted) event("no learning-curve plot: " + plot_error);
+}  // namespace
 
-  render.title = "srics run  " + dir + "  finished: " + reason;
-  render.elapsed_s = elapsed;
-  render.processes = ProcessRows(supervisor, SteadyClock::now());
-  render.events.assign(events.begin(), events.end());
-  const std::string summary = mon::Render(monitor.state(), mon::Clock::now(), render);
-  std::ofstream(dir + "/summary.txt") << summary;
-
-  std::string files;
-  for (const char* name : {"config.yaml", "eval.csv", "learner.csv", "nodes.csv", "curve.png", "subgoal_success.png",
-                           "graph.json", "graph.png", "checkpoint.srics", "summary.txt", "logs"})
-    if (fs::exists(fs::path(dir) / name)) files += std::string(files.empty() ? "" : ", ") + name;
-  std::cout << (display == DisplayMode::kLive ? "\033[H\033[2J" : "\n") << summary << "\n"
-            << "run " << (exit_code == kExitDone ? "finished" : exit_code == kExitInterrupted ? "interrupted" : "FAILED")
-            << ": " << reason << (clean ? "" : " (some processes had to be killed)") << "; restarts "
-            << supervisor.total_restarts() << "\nrun folder " << dir << ": " << files << "\n"
-            << std::flush;
-  spdlog::info("done: {} (exit code {}), files: {}", reason, exit_code, files);
-  return exit_code;
+int Run(const LaunchOptions& options) {
+  // config first: a bad one stops everything before a folder or a process exists
+  const config::Config config = config::LoadConfig(options.config_file, options.overrides);
+  if (options.in_process) return RunInProcess(options, config);
+  return RunProcesses(options, config);
 }
 
 }  // namespace srics::launcher

@@ -36,6 +36,7 @@ struct LaunchOptions {
   std::string run_dir;                 // --run-dir ("" = <output_dir>/<name>-<timestamp>)
   std::string bin_dir;                 // --bin-dir ("" = next to this executable / build tree)
   DisplayMode display = DisplayMode::kAuto;
+  bool in_process = false;             // --in-process: one process, in-memory links
   double stop_timeout_s = 15;          // SIGINT -> SIGKILL
   double final_eval_grace_s = 180;     // after the learner finished: wait for the actors
   BackoffPolicy backoff;               // restarts of crashed processes

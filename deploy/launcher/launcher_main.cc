@@ -1,5 +1,5 @@
 // srics: the launcher. `srics run CONFIG ...` runs a whole training run on this machine (see
-// launcher.h and `srics run --help`).
+// launcher.h and `srics run --help`); `srics learn-graph` learns an environment's graph.
 
 #include <iostream>
 #include <string>
@@ -7,6 +7,7 @@
 
 #include "common/config/config_error.h"
 #include "common/transport/shutdown.h"
+#include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/launcher.h"
 
 int main(int argc, char** argv) {
@@ -17,6 +18,20 @@ int main(int argc, char** argv) {
       (args[0] == "run" && args.size() > 1 && (args[1] == "-h" || args[1] == "--help"))) {
     std::cout << launcher::kRunUsage;
     return args.empty() ? launcher::kExitUsage : 0;
+  }
+  if (args[0] == "learn-graph") {
+    try {
+      return launcher::LearnGraph({args.begin() + 1, args.end()});
+    } catch (const srics::config::ConfigError& e) {
+      std::cerr << "srics learn-graph: " << e.what() << "\n";
+      return launcher::kExitUsage;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "srics learn-graph: " << e.what() << "\n" << launcher::kLearnGraphUsage;
+      return launcher::kExitUsage;
+    } catch (const std::exception& e) {
+      std::cerr << "srics learn-graph: " << e.what() << "\n";
+      return launcher::kExitFailed;
+    }
   }
   if (args[0] != "run") {
     std::cerr << "srics: unknown command '" << args[0] << "'\n" << launcher::kRunUsage;

@@ -10,7 +10,31 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/rl/ground_truth.h"
+#include "graph_service/learned_graph.h"
+
 namespace srics::launcher {
+
+void SeedGraphFile(const config::Config& config, const std::string& dir) {
+  const config::GraphConfig& g = config.graph;
+  if (!g.ground_truth && g.file.empty()) return;
+  if (dir.empty()) throw std::runtime_error("a given graph (graph.ground_truth or graph.file) needs a run folder");
+  const std::string path = dir + "/graph.json";
+  if (std::filesystem::exists(path)) return;
+  graph::LearnedGraph learned;
+  if (!g.file.empty()) {
+    learned = graph::LoadGraph(g.file);  // validated: the file is untrusted
+  } else {
+    const rl::InteractionGraph truth = rl::GroundTruthGraph(config.env);
+    const int n = truth.num_entities;
+    std::vector<double> weights(static_cast<size_t>(n) * n, 0.0);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) weights[i * n + j] = i != j && truth.edge(i, j) ? 1.0 : 0.0;
+    learned = graph::AggregateGraph(n, weights, g.threshold, truth.action_entity);
+    learned.version = 1;
+  }
+  graph::SaveGraphWithPictures(learned, dir + "/graph");
+}
 namespace fs = std::filesystem;
 namespace {
 

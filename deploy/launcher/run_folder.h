@@ -14,6 +14,12 @@ namespace srics::launcher {
 // (the effective configuration). Returns the folder's path. Throws std::runtime_error.
 std::string PrepareRunFolder(const config::Config& config, const std::string& requested);
 
+// A run with a given graph (graph.ground_truth, or graph.file): writes it as <dir>/graph.json
+// (unless the folder has one already: a continued run keeps its graph), where the graph
+// service finds it and re-publishes it instead of learning. Does nothing otherwise. Throws
+// std::runtime_error (an unreadable graph.file, no folder).
+void SeedGraphFile(const config::Config& config, const std::string& dir);
+
 // Where the role programs are: `bin_dir` if given (the program in it, or in its build-tree
 // subfolder), else next to the running executable (installed side by side) or in the build
 // tree relative to it (build/deploy/launcher/srics -> build/<subdir>/<program>). Throws

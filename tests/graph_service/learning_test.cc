@@ -44,8 +44,10 @@ class EnvSource : public EpisodeSource {
 
 class RecordingSink : public GraphSink {
  public:
-  void Publish(const LearnedGraph& graph) override { graphs.push_back(graph); }
-  std::vector<LearnedGraph> graphs;
+  void Publish(const rl::GraphUpdate& graph) override { graphs.push_back(graph); }
+  void PublishStatus(const rl::NodeReport& report) override { statuses.push_back(report); }
+  std::vector<rl::GraphUpdate> graphs;
+  std::vector<rl::NodeReport> statuses;
 };
 
 TEST(GraphLearningTest, RecoversArmFreePuckStaticPuck) {
@@ -63,7 +65,7 @@ TEST(GraphLearningTest, RecoversArmFreePuckStaticPuck) {
   std::atomic<bool> stop{false};
   ASSERT_EQ(service.Run(stop), 0);
   ASSERT_EQ(sink.graphs.size(), 1u);
-  const LearnedGraph& g = sink.graphs[0];
+  const rl::GraphUpdate& g = sink.graphs[0];
   // the arm drives puck 1; nothing acts on the static puck 2; nothing acts on the arm
   EXPECT_EQ(rl::DescribeGraph(g.graph), "action->0, 0->1");
   EXPECT_EQ(g.graph.action_entity, 0);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/links/in_memory_bus.h"
 #include "tests/graph_service/toy_world.h"
 
 namespace srics::graph {
@@ -68,11 +69,11 @@ TEST(GraphServiceTest, TrainsPublishesSavesAndRepublishesAfterRestart) {
   std::atomic<bool> stop{false};
   ASSERT_EQ(service.Run(stop), 0);
   ASSERT_EQ(sink.graphs.size(), 1u);
-  const LearnedGraph& g = sink.graphs[0];
+  const rl::GraphUpdate& g = sink.graphs[0];
   EXPECT_EQ(g.version, 1u);
-  EXPECT_EQ(g.updates, 30);
-  EXPECT_EQ(g.episodes, 20);
-  EXPECT_EQ(g.num_entities(), 3);
+  EXPECT_EQ(g.training_updates, 30u);
+  EXPECT_EQ(g.episodes_used, 20u);
+  EXPECT_EQ(g.graph.num_entities, 3);
   EXPECT_EQ(g.graph.action_entity, 0);
   EXPECT_EQ(service.progress().dropped, 2);
   EXPECT_EQ(service.progress().phase, Progress::Phase::kPublished);
@@ -138,8 +139,47 @@ TEST(GraphServiceTest, StableGraphEndsTrainingBeforeMaxUpdates) {
   ASSERT_EQ(service.Run(stop), 0);
   ASSERT_EQ(sink.graphs.size(), 1u);
   // the graph of a tiny model hardly changes within a few updates
-  EXPECT_LT(sink.graphs[0].updates, 1000);
-  EXPECT_GE(sink.graphs[0].updates, 15);
+  EXPECT_LT(sink.graphs[0].training_updates, 1000u);
+  EXPECT_GE(sink.graphs[0].training_updates, 15u);
+}
+
+// The service stepped by hand on the in-memory bus: explore episodes published by an actor's
+// end reach it, training episodes do not count, and the graph reaches every other end.
+TEST(GraphServiceTest, StepsOnTheInMemoryBusUntilTheGraphReachesActorsAndLearner) {
+  links::InMemoryBus bus;
+  auto source = bus.GraphSourceEnd();
+  auto sink = bus.GraphSinkEnd();
+  auto actor = bus.ActorEnd(0);
+  auto learner = bus.LearnerEnd();
+  GraphService service(TinyConfig(), {.seed = 4, .render_pictures = false}, source.get(), sink.get(), {});
+  ToyWorld world({.num_pucks = 2, .steps = 10});
+  EXPECT_EQ(service.Step(), StepResult::kIdle);  // nothing published yet
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(actor->PublishEpisode(world.RandomEpisode(i)));
+  rl::Episode train = world.RandomEpisode(99);
+  train.mode = rl::EpisodeMode::kTrain;  // the learner's, not the graph service's
+  ASSERT_TRUE(actor->PublishEpisode(train));
+  EXPECT_EQ(service.Step(), StepResult::kWorked);
+  EXPECT_EQ(service.progress().episodes, 10);
+  EXPECT_EQ(service.progress().phase, Progress::Phase::kCollecting);
+  for (int i = 10; i < 20; ++i) ASSERT_TRUE(actor->PublishEpisode(world.RandomEpisode(i)));
+  int steps = 0;
+  while (!service.published() && steps < 100) {
+    EXPECT_NE(service.Step(), StepResult::kDone);
+    ++steps;
+    if (!service.published()) EXPECT_FALSE(actor->PollGraph().has_value()) << "a graph before the publication";
+  }
+  ASSERT_TRUE(service.published());
+  EXPECT_EQ(service.progress().updates, 30);
+  EXPECT_GE(steps, 3) << "each step does at most updates_per_step (10) GNN updates";
+  const auto seen_by_actor = actor->PollGraph();
+  ASSERT_TRUE(seen_by_actor.has_value());
+  EXPECT_EQ(seen_by_actor->version, 1u);
+  EXPECT_FALSE(actor->PollGraph().has_value()) << "the newest graph is delivered once";
+  const auto seen_by_learner = learner->PollGraph();
+  ASSERT_TRUE(seen_by_learner.has_value());
+  EXPECT_EQ(seen_by_learner->graph.adjacency, service.published()->graph.adjacency);
+  // after the publication the service only drains
+  EXPECT_EQ(service.Step(), StepResult::kIdle);
 }
 
 }  // namespace

@@ -158,8 +158,10 @@ class ToySource : public EpisodeSource {
 // A GraphSink that remembers what it was given.
 class RecordingSink : public GraphSink {
  public:
-  void Publish(const LearnedGraph& graph) override { graphs.push_back(graph); }
-  std::vector<LearnedGraph> graphs;
+  void Publish(const rl::GraphUpdate& graph) override { graphs.push_back(graph); }
+  void PublishStatus(const rl::NodeReport& report) override { statuses.push_back(report); }
+  std::vector<rl::GraphUpdate> graphs;
+  std::vector<rl::NodeReport> statuses;
 };
 
 }  // namespace srics::graph::testing

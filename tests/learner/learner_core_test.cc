@@ -28,7 +28,7 @@ config::Config SmallRun(config::Method method) {
 }
 
 TEST(LearnerCoreTest, GraphMethodsWaitForTheGraphWithoutPilingUpUpdates) {
-  Learner learner(SmallRun(config::Method::kSrics));
+  Learner learner(LearnerOptionsFor(SmallRun(config::Method::kSrics)));
   for (int i = 0; i < 50; ++i) ASSERT_EQ(learner.Ingest(MakeEpisode(3, 20, i, -1)), "");
   EXPECT_EQ(learner.counters().transitions_inserted, 1000u);
   EXPECT_FALSE(learner.CanUpdate()) << "no updates before the graph";
@@ -42,7 +42,7 @@ TEST(LearnerCoreTest, GraphMethodsWaitForTheGraphWithoutPilingUpUpdates) {
 }
 
 TEST(LearnerCoreTest, DistanceMethodsStartAfterWarmup) {
-  Learner learner(SmallRun(config::Method::kSmorl));
+  Learner learner(LearnerOptionsFor(SmallRun(config::Method::kSmorl)));
   for (int i = 0; i < 4; ++i) learner.Ingest(MakeEpisode(3, 20, i, 1));
   EXPECT_FALSE(learner.CanUpdate());  // 80 < warm-up of 100
   learner.Ingest(MakeEpisode(3, 20, 5, 1));
@@ -51,15 +51,15 @@ TEST(LearnerCoreTest, DistanceMethodsStartAfterWarmup) {
 }
 
 TEST(LearnerCoreTest, RejectsEpisodesThatDoNotFitAndCountsThem) {
-  Learner learner(SmallRun(config::Method::kSrics));
-  rl::Episode wrong_layout = MakeEpisode(4, 20, 1, 1);  // 4 kinds: tokens of 6, networks take 5
-  EXPECT_NE(learner.Ingest(wrong_layout).find("entity tokens of 6 floats"), std::string::npos);
+  Learner learner(LearnerOptionsFor(SmallRun(config::Method::kSrics)));
+  rl::Episode wrong_layout = MakeEpisode(4, 20, 1, 1);  // 4 entities: this run has 3
+  EXPECT_NE(learner.Ingest(wrong_layout).find("num_entities 4 outside [3, 3]"), std::string::npos);
   rl::Episode nan = MakeEpisode(3, 20, 2, 1);
   nan.states[7] = std::nanf("");
-  EXPECT_NE(learner.Ingest(nan).find("NaN"), std::string::npos);
+  EXPECT_NE(learner.Ingest(nan).find("states[7]"), std::string::npos);
   rl::Episode short_actions = MakeEpisode(3, 20, 3, 1);
   short_actions.actions.pop_back();
-  EXPECT_NE(learner.Ingest(short_actions).find("actions has 39 floats, expected 40"), std::string::npos);
+  EXPECT_NE(learner.Ingest(short_actions).find("actions has 39 values, expected 40"), std::string::npos);
   EXPECT_EQ(learner.episodes_rejected(), 3u);
   EXPECT_EQ(learner.replay().transitions(), 0u);
   EXPECT_EQ(learner.Ingest(MakeEpisode(3, 20, 4, 1)), "");
@@ -68,13 +68,13 @@ TEST(LearnerCoreTest, RejectsEpisodesThatDoNotFitAndCountsThem) {
 TEST(LearnerCoreTest, RestartFromCheckpointKeepsCountersAndRefillsBeforeUpdating) {
   const std::string path = ::testing::TempDir() + "/learner_core.srics";
   config::Config config = SmallRun(config::Method::kSmorl);
-  Learner first(config);
+  Learner first(LearnerOptionsFor(config));
   for (int i = 0; i < 20; ++i) first.Ingest(MakeEpisode(3, 20, i, 1));
   while (first.CanUpdate()) first.Update();
   first.TakePolicyWeights();
   first.SaveCheckpoint(path);
 
-  Learner second(config);
+  Learner second(LearnerOptionsFor(config));
   second.LoadCheckpoint(path);
   EXPECT_EQ(second.counters(), first.counters());
   EXPECT_EQ(second.agent().PolicyWeights(), first.agent().PolicyWeights());
@@ -106,7 +106,7 @@ TEST(LearnerMemoryTest, FullReplayOf250kTransitionsAndPaperBatchStayUnder1GB) {
   config::Config c;
   c.env.num_pucks = 4;
   c.run.method = config::Method::kSrics;
-  Learner learner(c);
+  Learner learner(LearnerOptionsFor(c));
   learner.SetGraph(rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(5)));
   for (int i = 0; i < 12600; ++i) ASSERT_EQ(learner.Ingest(testing::MakeEpisode(5, 20, i, i % 5)), "");
   EXPECT_EQ(learner.replay().transitions(), 250000u);

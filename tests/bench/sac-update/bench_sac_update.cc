@@ -26,7 +26,7 @@ Result Measure(int batch, const std::vector<rl::Episode>& episodes, int repeats)
   config::Config c = config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-3.yaml",
                                         {"agent.sac.batch_size=" + std::to_string(batch),
                                          "learner.warmup_steps=0"});
-  learner::Learner learner(c);
+  learner::Learner learner(learner::LearnerOptionsFor(c));
   learner.SetGraph(rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(4)));
   for (const auto& e : episodes) learner.Ingest(e);
   std::vector<nn::GemmShape> shapes;

@@ -1,8 +1,8 @@
-#include "actor/ground_truth.h"
+#include "common/rl/ground_truth.h"
 
-namespace srics::actor {
+namespace srics::rl {
 
-rl::InteractionGraph GroundTruthGraph(const config::EnvConfig& env) {
+InteractionGraph GroundTruthGraph(const config::EnvConfig& env) {
   const auto objects = config::EffectiveObjects(env);
   const int n = 1 + static_cast<int>(objects.size());
   rl::InteractionGraph graph;
@@ -18,4 +18,4 @@ rl::InteractionGraph GroundTruthGraph(const config::EnvConfig& env) {
   return graph;
 }
 
-}  // namespace srics::actor
+}  // namespace srics::rl

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 
-namespace srics::learner {
+namespace srics::rl {
 
 class RateLimiter {
  public:
@@ -45,4 +45,4 @@ class RateLimiter {
   double buffer_;
 };
 
-}  // namespace srics::learner
+}  // namespace srics::rl

@@ -6,8 +6,8 @@
 #include "common/config/env_config.h"
 #include "common/rl/graph.h"
 
-namespace srics::actor {
+namespace srics::rl {
 
-rl::InteractionGraph GroundTruthGraph(const config::EnvConfig& env);
+InteractionGraph GroundTruthGraph(const config::EnvConfig& env);
 
-}  // namespace srics::actor
+}  // namespace srics::rl

@@ -1,10 +1,10 @@
-#include "learner/rate_limiter.h"
+#include "common/rl/rate_limiter.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-namespace srics::learner {
+namespace srics::rl {
 namespace {
 
 TEST(RateLimiterTest, NoUpdatesDuringWarmup) {
@@ -49,4 +49,4 @@ TEST(RateLimiterTest, SimulatedActorsAndLearnerKeepTheRatio) {
 }
 
 }  // namespace
-}  // namespace srics::learner
+}  // namespace srics::rl

@@ -1,0 +1,120 @@
+#include "common/links/in_memory_bus.h"
+
+#include <stdexcept>
+
+namespace srics::links {
+
+class InMemoryBus::Actor : public ActorLink {
+ public:
+  Actor(InMemoryBus* bus, uint32_t id) : bus_(bus), id_(id) {}
+
+  std::optional<rl::WeightsUpdate> PollWeights() override {
+    if (!bus_->weights_ || bus_->weights_->version <= weights_seen_) return std::nullopt;
+    weights_seen_ = bus_->weights_->version;
+    return bus_->weights_;
+  }
+  std::optional<rl::GraphUpdate> PollGraph() override {
+    if (!bus_->graph_ || bus_->graph_->version <= graph_seen_) return std::nullopt;
+    graph_seen_ = bus_->graph_->version;
+    return bus_->graph_;
+  }
+  // No waiting: in one thread nothing can arrive while we wait.
+  std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds) override { return bus_->progress_; }
+  bool PublishEpisode(const rl::Episode& episode) override {
+    ++bus_->episodes_published_;
+    if (episode.mode == rl::EpisodeMode::kExplore && bus_->graph_source_attached_) bus_->graph_queue_.push_back(episode);
+    bus_->learner_queue_.push_back(episode);
+    return true;
+  }
+  void PublishEval(const rl::EvalReport& report) override {
+    if (bus_->observer_) bus_->observer_->OnEval(report);
+  }
+  void PublishStatus(const rl::NodeReport& report) override {
+    if (bus_->observer_) bus_->observer_->OnStatus("actor", id_, report);
+  }
+
+ private:
+  InMemoryBus* bus_;
+  uint32_t id_;
+  uint64_t weights_seen_ = 0, graph_seen_ = 0;
+};
+
+class InMemoryBus::Learner : public LearnerLink {
+ public:
+  explicit Learner(InMemoryBus* bus) : bus_(bus) {}
+
+  size_t TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds) override {
+    size_t taken = 0;
+    for (; taken < max && !bus_->learner_queue_.empty(); ++taken) {
+      out->push_back(std::move(bus_->learner_queue_.front()));
+      bus_->learner_queue_.pop_front();
+    }
+    return taken;
+  }
+  std::optional<rl::GraphUpdate> PollGraph() override {
+    if (!bus_->graph_ || bus_->graph_->version <= graph_seen_) return std::nullopt;
+    graph_seen_ = bus_->graph_->version;
+    return bus_->graph_;
+  }
+  void PublishWeights(const rl::WeightsUpdate& weights) override {
+    bus_->weights_ = weights;
+    if (bus_->observer_) bus_->observer_->OnWeights(weights);
+  }
+  void PublishStats(const rl::LearnerReport& report) override {
+    bus_->progress_ = report.progress();
+    if (bus_->observer_) bus_->observer_->OnLearnerStats(report);
+  }
+  void PublishStatus(const rl::NodeReport& report) override {
+    if (bus_->observer_) bus_->observer_->OnStatus("learner", 0, report);
+  }
+
+ private:
+  InMemoryBus* bus_;
+  uint64_t graph_seen_ = 0;
+};
+
+class InMemoryBus::Source : public EpisodeSource {
+ public:
+  explicit Source(InMemoryBus* bus) : bus_(bus) {}
+  bool Poll(std::chrono::milliseconds, std::vector<rl::Episode>* out) override {
+    for (auto& e : bus_->graph_queue_) out->push_back(std::move(e));
+    bus_->graph_queue_.clear();
+    return true;
+  }
+
+ private:
+  InMemoryBus* bus_;
+};
+
+class InMemoryBus::Sink : public GraphSink {
+ public:
+  explicit Sink(InMemoryBus* bus) : bus_(bus) {}
+  void Publish(const rl::GraphUpdate& graph) override { bus_->PublishGraph(graph); }
+  void PublishStatus(const rl::NodeReport& report) override {
+    if (bus_->observer_) bus_->observer_->OnStatus("graph", 0, report);
+  }
+
+ private:
+  InMemoryBus* bus_;
+};
+
+std::unique_ptr<ActorLink> InMemoryBus::ActorEnd(uint32_t actor_id) { return std::make_unique<Actor>(this, actor_id); }
+
+std::unique_ptr<LearnerLink> InMemoryBus::LearnerEnd() { return std::make_unique<Learner>(this); }
+
+std::unique_ptr<EpisodeSource> InMemoryBus::GraphSourceEnd() {
+  if (graph_source_attached_) throw std::logic_error("InMemoryBus: one graph service per bus");
+  graph_source_attached_ = true;
+  return std::make_unique<Source>(this);
+}
+
+std::unique_ptr<GraphSink> InMemoryBus::GraphSinkEnd() { return std::make_unique<Sink>(this); }
+
+void InMemoryBus::PublishGraph(const rl::GraphUpdate& graph) {
+  if (graph_ && graph.version <= graph_->version)
+    throw std::invalid_argument("InMemoryBus: graph versions must increase");
+  graph_ = graph;
+  if (observer_) observer_->OnGraph(graph);
+}
+
+}  // namespace srics::links

@@ -1,0 +1,75 @@
+#pragma once
+// The in-memory bus: the links of every role in one process, with the delivery rules of the
+// DDS topics (common/transport/topics.h) but no network and no threads. Episodes reach the
+// learner (all) and the graph service (explore ones) in the order they were published;
+// weights, graph and learner stats are "latest value" topics (keep-last 1, transient-local):
+// each reader gets the newest one it has not seen. An Observer sees what a monitor would.
+// `srics run --in-process` wires the same loops as the distributed run with it.
+//
+//   InMemoryBus bus;
+//   auto learner_link = bus.LearnerEnd();
+//   auto actor_link = bus.ActorEnd(0);
+//   ActorLoop actor(options, actor_link.get());
+//
+// Threading: single-threaded. Every end and the bus must be used from one thread, and the
+// bus must outlive its ends.
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/links/links.h"
+
+namespace srics::links {
+
+// What a monitor on the bus sees (every publication, in order).
+class BusObserver {
+ public:
+  virtual ~BusObserver() = default;
+  virtual void OnEval(const rl::EvalReport& report) { (void)report; }
+  virtual void OnLearnerStats(const rl::LearnerReport& report) { (void)report; }
+  virtual void OnGraph(const rl::GraphUpdate& graph) { (void)graph; }
+  virtual void OnWeights(const rl::WeightsUpdate& weights) { (void)weights; }
+  virtual void OnStatus(const std::string& role, uint32_t id, const rl::NodeReport& report) {
+    (void)role, (void)id, (void)report;
+  }
+};
+
+class InMemoryBus {
+ public:
+  explicit InMemoryBus(BusObserver* observer = nullptr) : observer_(observer) {}
+  InMemoryBus(const InMemoryBus&) = delete;
+  InMemoryBus& operator=(const InMemoryBus&) = delete;
+
+  std::unique_ptr<ActorLink> ActorEnd(uint32_t actor_id);
+  std::unique_ptr<LearnerLink> LearnerEnd();
+  // The graph service's two ends (one service per bus).
+  std::unique_ptr<EpisodeSource> GraphSourceEnd();
+  std::unique_ptr<GraphSink> GraphSinkEnd();
+  // Injects a graph as the graph service would publish it (a run with a given graph).
+  void PublishGraph(const rl::GraphUpdate& graph);
+
+  // Counters for tests and summaries.
+  uint64_t episodes_published() const { return episodes_published_; }
+  uint64_t episodes_pending_learner() const { return learner_queue_.size(); }
+
+ private:
+  class Actor;
+  class Learner;
+  class Source;
+  class Sink;
+
+  BusObserver* observer_;
+  std::deque<rl::Episode> learner_queue_;
+  std::deque<rl::Episode> graph_queue_;
+  bool graph_source_attached_ = false;
+  std::optional<rl::WeightsUpdate> weights_;
+  std::optional<rl::GraphUpdate> graph_;
+  std::optional<rl::LearnerProgress> progress_;
+  uint64_t episodes_published_ = 0;
+};
+
+}  // namespace srics::links

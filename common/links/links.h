@@ -1,0 +1,70 @@
+#pragma once
+// The seams between the roles. Each loop (actor/ActorLoop, learner/LearnerLoop,
+// graph_service/GraphService) talks to the rest of the system only through its link; the same
+// loops run as separate processes over DDS (common/transport/dds_links.h) or in one process
+// wired by the in-memory bus (common/links/in_memory_bus.h). Plain data only: no DDS here.
+//
+// Threading: every method of a link is called only from the thread that steps its loop.
+
+#include <chrono>
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include "common/rl/episode.h"
+#include "common/rl/updates.h"
+
+namespace srics::links {
+
+// The actor's connection to the system.
+class ActorLink {
+ public:
+  virtual ~ActorLink() = default;
+  // The newest weights not returned before, if any (non-blocking).
+  virtual std::optional<rl::WeightsUpdate> PollWeights() = 0;
+  // The newest graph not returned before, if any (non-blocking).
+  virtual std::optional<rl::GraphUpdate> PollGraph() = 0;
+  // The newest learner progress, waiting at most `wait` for news; empty if none ever came.
+  virtual std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds wait) = 0;
+  // Publishes a whole episode; false when it was not sent (the process is shutting down).
+  virtual bool PublishEpisode(const rl::Episode& episode) = 0;
+  virtual void PublishEval(const rl::EvalReport& report) = 0;
+  virtual void PublishStatus(const rl::NodeReport& report) = 0;
+};
+
+// The learner's connection to the system.
+class LearnerLink {
+ public:
+  virtual ~LearnerLink() = default;
+  // Appends up to `max` received episodes, waiting at most `wait` for the first. Returns how
+  // many were appended. Episodes the link refused (malformed, of another layout) are counted
+  // by the link (rejected()) and never appended.
+  virtual size_t TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds wait) = 0;
+  // The newest graph not returned before, if any (non-blocking).
+  virtual std::optional<rl::GraphUpdate> PollGraph() = 0;
+  virtual void PublishWeights(const rl::WeightsUpdate& weights) = 0;
+  virtual void PublishStats(const rl::LearnerReport& report) = 0;
+  virtual void PublishStatus(const rl::NodeReport& report) = 0;
+};
+
+// Where the graph service's explore episodes come from.
+class EpisodeSource {
+ public:
+  virtual ~EpisodeSource() = default;
+  // Appends the episodes available now, waiting at most `timeout` for the first one.
+  // Returns false once the source is closed and will never deliver again.
+  // Episodes are untrusted: the service validates each one and counts what it drops.
+  virtual bool Poll(std::chrono::milliseconds timeout, std::vector<rl::Episode>* out) = 0;
+};
+
+// Where the graph service's graphs and status go.
+class GraphSink {
+ public:
+  virtual ~GraphSink() = default;
+  // Publishes a graph (the InteractionGraph topic: transient-local, keep-last 1). Versions
+  // increase across publications. May throw; the service logs and retries later.
+  virtual void Publish(const rl::GraphUpdate& graph) = 0;
+  virtual void PublishStatus(const rl::NodeReport& report) = 0;
+};
+
+}  // namespace srics::links

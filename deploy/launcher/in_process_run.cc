@@ -1,0 +1,260 @@
+#include "deploy/launcher/in_process_run.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+#include <map>
+#include <optional>
+#include <stdexcept>
+
+#include "actor/actor_loop.h"
+#include "common/rl/agent_shape.h"
+#include "common/rl/seeds.h"
+#include "common/transport/rl_convert.h"
+#include "common/transport/shutdown.h"
+#include "deploy/launcher/run_folder.h"
+#include "deploy/launcher/run_session.h"
+#include "deploy/monitor/csv_sink.h"
+#include "graph_service/service.h"
+#include "learner/learner_loop.h"
+
+namespace srics::launcher {
+
+namespace mon = srics::monitor;
+namespace tr = srics::transport;
+
+namespace {
+
+// Rounds in a row in which no loop did anything before the run counts as stalled. A round in
+// which every loop waits is a bug of the loops' contract (someone must always be able to go on).
+constexpr uint64_t kStallRounds = 10000;
+
+// The monitor's view of the bus: the same MonitorState and CSV files a DDS monitor builds.
+class MonitorObserver : public links::BusObserver {
+ public:
+  MonitorObserver(const config::Config& config, const std::string& csv_dir) : run_id_(config.transport.run_id) {
+    if (!csv_dir.empty()) csv_.emplace(csv_dir);
+  }
+  void OnEval(const rl::EvalReport& report) override {
+    tr::EvalResult m = tr::ToMessage(report);
+    m.run_id = run_id_;
+    mon::Apply(&state_, m, mon::Clock::now());
+    if (csv_) csv_->Append(m, mon::WallTimeNow());
+  }
+  void OnLearnerStats(const rl::LearnerReport& report) override {
+    tr::LearnerStats m = tr::ToMessage(report);
+    m.run_id = run_id_;
+    mon::Apply(&state_, m, mon::Clock::now());
+    // the learner reports after every step in process: one CSV row a second, as over DDS
+    const auto now = mon::Clock::now();
+    if (csv_ && (now - last_stats_row_ >= std::chrono::seconds(1) || report.training_env_steps >= report.budget_env_steps)) {
+      csv_->Append(m, mon::WallTimeNow());
+      last_stats_row_ = now;
+    }
+  }
+  void OnGraph(const rl::GraphUpdate& graph) override {
+    tr::InteractionGraph m = tr::ToMessage(graph);
+    m.run_id = run_id_;
+    mon::Apply(&state_, m, mon::Clock::now());
+  }
+  void OnWeights(const rl::WeightsUpdate& weights) override {
+    tr::PolicyWeights m;
+    m.run_id = run_id_;
+    m.version = weights.version;
+    m.update_count = weights.update_count;
+    m.architecture = weights.architecture;  // the parameters are of no use to a monitor
+    mon::Apply(&state_, m, mon::Clock::now());
+  }
+  void OnStatus(const std::string& role, uint32_t id, const rl::NodeReport& report) override {
+    tr::NodeStatus m = tr::ToMessage(report, role, id);
+    m.run_id = run_id_;
+    m.pid = static_cast<int32_t>(getpid());
+    mon::Apply(&state_, m, mon::Clock::now());
+    if (csv_ && mon::Clock::now() - last_status_row_[role + std::to_string(id)] >= std::chrono::seconds(1)) {
+      csv_->Append(m, mon::WallTimeNow());
+      last_status_row_[role + std::to_string(id)] = mon::Clock::now();
+    }
+  }
+  const mon::MonitorState& state() const { return state_; }
+
+ private:
+  std::string run_id_;
+  std::optional<mon::CsvSink> csv_;
+  mon::MonitorState state_;
+  mon::Clock::time_point last_stats_row_;
+  std::map<std::string, mon::Clock::time_point> last_status_row_;
+};
+
+}  // namespace
+
+struct InProcessRun::Loops {
+  links::InMemoryBus bus;
+  std::unique_ptr<links::EpisodeSource> graph_source;
+  std::unique_ptr<links::GraphSink> graph_sink;
+  std::unique_ptr<graph::GraphService> graph;
+  std::unique_ptr<links::LearnerLink> learner_link;
+  std::unique_ptr<learner::LearnerLoop> learner;
+  std::vector<std::unique_ptr<links::ActorLink>> actor_links;
+  std::vector<std::unique_ptr<actor::ActorLoop>> actors;
+  std::vector<bool> actor_done;
+  bool learner_done = false;
+
+  explicit Loops(links::BusObserver* observer) : bus(observer) {}
+};
+
+InProcessRun::InProcessRun(const config::Config& config, const std::string& dir, links::BusObserver* observer,
+                           InProcessOptions options)
+    : loops_(std::make_unique<Loops>(observer)), options_(std::move(options)) {
+  Loops& l = *loops_;
+  SeedGraphFile(config, dir);  // a given graph is re-published by the graph service
+  if (rl::UsesGraph(config.run.method) || options_.graph_only) {
+    l.graph_source = l.bus.GraphSourceEnd();
+    l.graph_sink = l.bus.GraphSinkEnd();
+    graph::ServiceOptions options;
+    options.state_dir = dir;
+    options.seed = rl::DeriveSeed(config.run.seed, rl::SeedPurpose::kGraphService);
+    options.status_period_s = config.transport.status_period_s;
+    options.limits = rl::EpisodeLimitsFor(config.env);
+    l.graph = std::make_unique<graph::GraphService>(config.graph, options, l.graph_source.get(), l.graph_sink.get(),
+                                                    options_.on_graph_progress);
+  }
+  learner::LearnerLoopOptions learner_options =
+      learner::LearnerLoopOptionsFor(config, dir.empty() ? "" : dir + "/checkpoint.srics");
+  learner_options.report_period_s = 0;  // actors see exact progress: the run is deterministic
+  learner_options.final_weights_grace = std::chrono::milliseconds(0);
+  l.learner_link = l.bus.LearnerEnd();
+  if (!options_.graph_only) l.learner = std::make_unique<learner::LearnerLoop>(learner_options, l.learner_link.get());
+  l.learner_done = options_.graph_only;
+  for (int k = 0; k < config.actors.count; ++k) {
+    actor::ActorOptions options = actor::ActorOptionsFor(config, static_cast<uint32_t>(k));
+    options.explore_while_waiting_s = 0;  // nothing is lost in memory: exactly the share
+    l.actor_links.push_back(l.bus.ActorEnd(static_cast<uint32_t>(k)));
+    l.actors.push_back(std::make_unique<actor::ActorLoop>(options, l.actor_links.back().get()));
+    l.actor_done.push_back(false);
+  }
+}
+
+InProcessRun::~InProcessRun() = default;
+
+const graph::GraphService* InProcessRun::graph_service() const { return loops_->graph.get(); }
+
+bool InProcessRun::Round() {
+  Loops& l = *loops_;
+  ++rounds_;
+  bool worked = false;
+  if (l.graph) {
+    worked |= l.graph->Step() == graph::StepResult::kWorked;
+    if (options_.graph_only && l.graph->published()) return false;
+    if (l.graph->progress().phase == graph::Progress::Phase::kStopped)
+      throw std::runtime_error("the graph service stopped without a graph");
+  }
+  for (size_t k = 0; k < l.actors.size(); ++k) {
+    if (l.actor_done[k]) continue;
+    const actor::StepResult r = l.actors[k]->Step();
+    worked |= r == actor::StepResult::kWorked;
+    l.actor_done[k] = r == actor::StepResult::kDone;
+  }
+  if (!l.learner_done) {
+    const learner::StepResult r = l.learner->Step();
+    worked |= r == learner::StepResult::kWorked;
+    l.learner_done = r == learner::StepResult::kDone;
+  }
+  bool actors_done = true;
+  for (bool done : l.actor_done) actors_done &= done;
+  if (l.learner_done && actors_done) return false;
+  idle_rounds_ = worked ? 0 : idle_rounds_ + 1;
+  if (idle_rounds_ >= kStallRounds)
+    throw std::runtime_error("the in-process run stalled: no loop made progress for " + std::to_string(kStallRounds) +
+                             " rounds (" + std::to_string(l.bus.episodes_pending_learner()) +
+                             " episodes pending at the learner)");
+  return true;
+}
+
+void InProcessRun::Stop() {
+  if (loops_->learner) loops_->learner->Finish();
+}
+
+int RunInProcess(const LaunchOptions& options, const config::Config& config) {
+  transport::Shutdown::InstallSignalHandlers();
+  const auto& stop = transport::Shutdown::Process().flag();
+  RunSession session(options, config);
+  MonitorObserver observer(config, session.dir());
+  InProcessRun run(config, session.dir(), &observer);
+  std::string reason;
+  int exit_code = kExitDone;
+  auto rows = [&] { return std::vector<mon::ProcessRow>{{.name = "in-process", .pid = getpid(), .state = "running"}}; };
+  try {
+    while (reason.empty()) {
+      if (!run.Round()) {
+        reason = "the budget is done";
+      } else if (stop) {
+        reason = "interrupted";
+        exit_code = kExitInterrupted;
+      } else {
+        reason = WallLimitReason(config, session.elapsed_s());
+      }
+      session.Show(observer.state(), rows(), 0);
+    }
+    if (exit_code != kExitDone || reason != "the budget is done") run.Stop();
+  } catch (const std::exception& e) {
+    session.Event(std::string("failed: ") + e.what());
+    std::cerr << "srics run: " << e.what() << "\n";
+    reason = e.what();
+    exit_code = kExitFailed;
+  }
+  session.Event("stopping: " + reason);
+  return session.Finish(observer.state(), rows(), reason, exit_code, true, 0);
+}
+
+const char* const kLearnGraphUsage =
+    "usage: srics learn-graph --env FILE --out DIR [--seed N] [--set key.path=value ...]\n"
+    "  learns the interaction graph of an environment preset (or any run config) in process:\n"
+    "  actors explore at random, the graph service trains its GNN; DIR gets graph.json and its pictures\n";
+
+int LearnGraph(const std::vector<std::string>& args) {
+  std::string env_file, out_dir;
+  std::vector<std::string> overrides;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg == "-h" || arg == "--help") {
+      std::cout << kLearnGraphUsage;
+      return 0;
+    }
+    if (i + 1 >= args.size()) throw std::invalid_argument(arg + " needs a value");
+    const std::string& value = args[++i];
+    if (arg == "--env") env_file = value;
+    else if (arg == "--out") out_dir = value;
+    else if (arg == "--seed") overrides.push_back("run.seed=" + value);
+    else if (arg == "--set") overrides.push_back(value);
+    else throw std::invalid_argument("unknown option " + arg);
+  }
+  if (env_file.empty() || out_dir.empty()) throw std::invalid_argument("--env and --out are required");
+  const config::Config config = config::LoadConfig(env_file, overrides);
+  transport::Shutdown::InstallSignalHandlers();
+  const auto& stop = transport::Shutdown::Process().flag();
+  InProcessOptions options;
+  options.graph_only = true;
+  options.on_graph_progress = [](const graph::Progress& p) {
+    std::printf("[%7.1fs] %-10s episodes %d/%d (dropped %d) updates %lld held-out %.3g (no-motion %.3g) stable %d  %s\n",
+                p.elapsed_seconds, graph::PhaseName(p.phase), p.episodes, p.target_episodes, p.dropped,
+                static_cast<long long>(p.updates), p.held_out_loss, p.held_out_zero_loss, p.stable_evaluations,
+                p.graph.c_str());
+    std::fflush(stdout);
+  };
+  std::filesystem::create_directories(out_dir);
+  InProcessRun run(config, out_dir, nullptr, options);
+  while (!stop && run.Round()) {
+  }
+  const auto* service = run.graph_service();
+  if (!service || !service->published()) return kExitInterrupted;
+  std::printf("published graph version %llu: %s\n", static_cast<unsigned long long>(service->published()->version),
+              rl::DescribeGraph(service->published()->graph).c_str());
+  return kExitDone;
+}
+
+}  // namespace srics::launcher

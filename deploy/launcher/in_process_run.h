@@ -1,0 +1,63 @@
+#pragma once
+// `srics run CONFIG --in-process`: the distributed run's own loops (GraphService, LearnerLoop,
+// ActorLoop x actors.count) in one process and one thread, wired by the in-memory bus instead
+// of DDS, stepped in a fixed order. Same run folder, display, CSV files and plots as the
+// distributed run. Deterministic: the same config gives the same eval.csv, bit for bit, apart
+// from the wall-clock column (unless run.max_wall_minutes cuts it short).
+
+#include <cstdint>
+#include <functional>
+
+#include "common/config/config.h"
+#include "common/links/in_memory_bus.h"
+#include "deploy/launcher/launcher.h"
+#include "graph_service/service.h"
+
+namespace srics::launcher {
+
+// The loops of one run wired in memory, stepped round by round. Used by RunInProcess and by
+// tests that drive a whole run without processes.
+struct InProcessOptions {
+  // only the graph service and exploring actors; the run ends when the graph is published
+  // (`srics learn-graph`)
+  bool graph_only = false;
+  std::function<void(const graph::Progress&)> on_graph_progress;  // may be empty
+};
+
+class InProcessRun {
+ public:
+  // `dir` holds graph.json and checkpoint.srics ("" = nothing saved; graph.ground_truth and
+  // graph.file need a folder). `observer` sees every publication (may be null).
+  InProcessRun(const config::Config& config, const std::string& dir, links::BusObserver* observer,
+               InProcessOptions options = {});
+  ~InProcessRun();
+
+  // One round: the graph service, every actor, then the learner each take one step. Returns
+  // false once the learner has finished the budget and every actor has ended. Throws
+  // std::runtime_error when no loop could make progress for many rounds (a stall).
+  bool Round();
+  // Stops early (Ctrl-C, wall-clock limit): the learner publishes and checkpoints its final
+  // state.
+  void Stop();
+
+  uint64_t rounds() const { return rounds_; }
+  // The graph service's state (null when the method uses no graph).
+  const graph::GraphService* graph_service() const;
+
+ private:
+  struct Loops;
+  std::unique_ptr<Loops> loops_;
+  InProcessOptions options_;
+  uint64_t rounds_ = 0;
+  uint64_t idle_rounds_ = 0;
+};
+
+int RunInProcess(const LaunchOptions& options, const config::Config& config);
+
+// `srics learn-graph --env FILE --out DIR [--seed N] [--set ...]`: learns the interaction
+// graph of an environment preset in process (exploring actors and the graph service) and
+// leaves DIR/graph.json, graph.png, graph_weights.png. Returns an exit code.
+int LearnGraph(const std::vector<std::string>& args);
+extern const char* const kLearnGraphUsage;
+
+}  // namespace srics::launcher

@@ -1,0 +1,113 @@
+#include "deploy/launcher/run_session.h"
+
+#include <unistd.h>
+
+#include <cinttypes>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include <spdlog/sinks/sink.h>
+#include <spdlog/spdlog.h>
+
+#include "common/logging/logging.h"
+#include "deploy/launcher/run_folder.h"
+
+namespace srics::launcher {
+
+namespace mon = srics::monitor;
+namespace fs = std::filesystem;
+using SteadyClock = std::chrono::steady_clock;
+
+std::string ClockText(double seconds) {
+  char buffer[32];
+  const auto s = static_cast<int64_t>(seconds);
+  std::snprintf(buffer, sizeof buffer, "%02" PRId64 ":%02" PRId64 ":%02" PRId64, s / 3600, s / 60 % 60, s % 60);
+  return buffer;
+}
+
+std::string WallLimitReason(const config::Config& config, double elapsed_s) {
+  if (config.run.max_wall_minutes <= 0 || elapsed_s < config.run.max_wall_minutes * 60.0) return "";
+  char text[96];
+  std::snprintf(text, sizeof text, "wall-clock limit of %g minutes reached", config.run.max_wall_minutes);
+  return text;
+}
+
+RunSession::RunSession(const LaunchOptions& options, const config::Config& config)
+    : config_(config), dir_(PrepareRunFolder(config, options.run_dir)), display_(options.display) {
+  if (display_ == DisplayMode::kAuto) display_ = isatty(STDOUT_FILENO) ? DisplayMode::kLive : DisplayMode::kPlain;
+  auto logger = logging::SetUpLogger("launcher", {.level = config.run.log_level, .file = dir_ + "/logs/launcher.log"});
+  if (display_ == DisplayMode::kLive) logger->sinks().front()->set_level(spdlog::level::off);
+  logger->flush_on(spdlog::level::info);
+  std::cout << "srics run: run folder " << dir_ << "\n" << std::flush;
+  spdlog::info("run folder {}, config {}, {} actors{}", dir_, options.config_file, config.actors.count,
+               options.in_process ? ", in process" : "");
+  start_ = next_draw_ = SteadyClock::now();
+  next_line_ = start_ + std::chrono::seconds(10);
+}
+
+double RunSession::elapsed_s() const { return std::chrono::duration<double>(SteadyClock::now() - start_).count(); }
+
+void RunSession::Remember(const std::string& text) {
+  events_.push_back("[" + ClockText(elapsed_s()) + "] " + text);
+  if (events_.size() > 8) events_.pop_front();
+}
+
+void RunSession::Event(const std::string& text) {
+  spdlog::info("{}", text);
+  Remember(text);
+}
+
+void RunSession::Note(const std::string& text) { Remember(text); }
+
+mon::RenderOptions RunSession::Render(std::vector<mon::ProcessRow> rows) const {
+  mon::RenderOptions render;
+  render.title = "srics run  " + dir_ + "  (Ctrl-C stops)";
+  render.run_id = config_.transport.run_id;
+  render.total_env_steps = config_.run.total_env_steps;
+  render.max_wall_minutes = config_.run.max_wall_minutes;
+  render.elapsed_s = elapsed_s();
+  render.processes = std::move(rows);
+  render.events.assign(events_.begin(), events_.end());
+  return render;
+}
+
+void RunSession::Show(const mon::MonitorState& state, std::vector<mon::ProcessRow> rows, uint32_t restarts) {
+  const auto now = SteadyClock::now();
+  if (display_ == DisplayMode::kLive && now >= next_draw_) {
+    next_draw_ = now + std::chrono::seconds(1);
+    std::cout << "\033[H\033[2J" << mon::Render(state, mon::Clock::now(), Render(std::move(rows))) << std::flush;
+  } else if (display_ == DisplayMode::kPlain && now >= next_line_) {
+    next_line_ = now + std::chrono::seconds(10);
+    std::cout << "[" << ClockText(elapsed_s()) << "] "
+              << mon::RenderOneLine(state, mon::Clock::now(), config_.transport.run_id, config_.run.total_env_steps)
+              << "  restarts " << restarts << std::endl;
+  }
+}
+
+int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessRow> rows, const std::string& reason,
+                       int exit_code, bool clean, uint32_t restarts) {
+  std::string plot_error;
+  const std::string title = config::MethodName(config_.run.method) + std::string(" - ") + fs::path(dir_).filename().string();
+  if (!PlotEvalCurves(dir_, title, &plot_error)) Event("no learning-curve plot: " + plot_error);
+
+  mon::RenderOptions render = Render(std::move(rows));
+  render.title = "srics run  " + dir_ + "  finished: " + reason;
+  const std::string summary = mon::Render(state, mon::Clock::now(), render);
+  std::ofstream(dir_ + "/summary.txt") << summary;
+
+  std::string files;
+  for (const char* name : {"config.yaml", "eval.csv", "learner.csv", "nodes.csv", "curve.png", "subgoal_success.png",
+                           "graph.json", "graph.png", "checkpoint.srics", "summary.txt", "logs"})
+    if (fs::exists(fs::path(dir_) / name)) files += std::string(files.empty() ? "" : ", ") + name;
+  const char* outcome = exit_code == kExitDone ? "finished" : exit_code == kExitInterrupted ? "interrupted" : "FAILED";
+  std::cout << (display_ == DisplayMode::kLive ? "\033[H\033[2J" : "\n") << summary << "\n"
+            << "run " << outcome << ": " << reason << (clean ? "" : " (some processes had to be killed)")
+            << "; restarts " << restarts << "\nrun folder " << dir_ << ": " << files << "\n"
+            << std::flush;
+  spdlog::info("done: {} (exit code {}), files: {}", reason, exit_code, files);
+  return exit_code;
+}
+
+}  // namespace srics::launcher

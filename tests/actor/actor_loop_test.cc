@@ -1,0 +1,194 @@
+// ActorLoop driven step by step through the in-memory bus, with the real environment and
+// real networks: what it publishes, when it adopts weights and graphs, what it refuses, when
+// it holds back for the learner and when it ends.
+
+#include "actor/actor_loop.h"
+
+#include <gtest/gtest.h>
+
+#include "common/links/in_memory_bus.h"
+#include "common/nn/serialize.h"
+#include "common/rl/agent_shape.h"
+#include "common/rl/ground_truth.h"
+#include "common/rl/seeds.h"
+
+namespace srics::actor {
+namespace {
+
+config::Config SmallConfig() {
+  return config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+                            {"graph.episodes=4", "graph.held_out_fraction=0.25", "actors.count=2", "actors.evaluators=1", "actors.eval_episodes=2",
+                             "actors.eval_every_env_steps=100", "learner.warmup_steps=40",
+                             "learner.updates_per_step=1", "learner.rate_error_buffer=10"});
+}
+
+// Weights of a policy with the actor's own architecture, as the learner would publish them.
+rl::WeightsUpdate WeightsFor(const ActorOptions& options, uint64_t version, uint64_t seed) {
+  nn::Rng rng(seed);
+  rl::PolicyNetwork<float> policy("policy", options.policy, rng);
+  return {version, version * 10, rl::PolicySignature(policy), nn::Flatten(policy.Parameters())};
+}
+
+rl::GraphUpdate GroundTruth(const config::Config& config, uint64_t version) {
+  rl::GraphUpdate g;
+  g.version = version;
+  g.graph = rl::GroundTruthGraph(config.env);
+  g.structure = rl::ComputeSubgoalStructure(g.graph);
+  return g;
+}
+
+std::vector<rl::Episode> Drain(links::LearnerLink& learner) {
+  std::vector<rl::Episode> out;
+  learner.TakeEpisodes(&out, 1000, std::chrono::milliseconds(0));
+  return out;
+}
+
+class CountingObserver : public links::BusObserver {
+ public:
+  void OnEval(const rl::EvalReport& report) override { evals.push_back(report); }
+  std::vector<rl::EvalReport> evals;
+};
+
+TEST(ActorLoopTest, ExploresUntilGraphAndWeightsThenTrainsWithTheNewestWeights) {
+  const config::Config config = SmallConfig();
+  links::InMemoryBus bus;
+  auto link = bus.ActorEnd(1);
+  auto learner = bus.LearnerEnd();
+  ActorOptions options = ActorOptionsFor(config, 1);
+  options.explore_while_waiting_s = 0;
+  ActorLoop actor(options, link.get());
+
+  // no graph and no weights: whole random episodes of explore_episode_steps
+  ASSERT_EQ(actor.Step(), StepResult::kWorked);
+  auto episodes = Drain(*learner);
+  ASSERT_EQ(episodes.size(), 1u);
+  const rl::Episode& explore = episodes[0];
+  EXPECT_EQ(explore.mode, rl::EpisodeMode::kExplore);
+  EXPECT_EQ(explore.num_steps, config.actors.explore_episode_steps);
+  EXPECT_EQ(explore.layout.num_entities, 2);
+  EXPECT_EQ(explore.states.size(), static_cast<size_t>(explore.num_steps + 1) * explore.layout.state_size());
+  EXPECT_EQ(explore.actor_id, 1u);
+  EXPECT_EQ(explore.episode_id, 0u);
+  EXPECT_EQ(explore.policy_version, 0u);
+  EXPECT_EQ(rl::ValidateEpisode(explore, rl::EpisodeLimitsFor(config.env)), "");
+
+  // its share of the graph's data is ceil(1.2 * 4 / 2) = 3 episodes; then it waits
+  EXPECT_EQ(actor.Step(), StepResult::kWorked);
+  EXPECT_EQ(actor.Step(), StepResult::kWorked);
+  EXPECT_EQ(actor.Step(), StepResult::kIdle);
+  EXPECT_EQ(Drain(*learner).size(), 2u);
+
+  // graph and weights: training episodes on subgoals, with the weights' version
+  bus.PublishGraph(GroundTruth(config, 1));
+  learner->PublishWeights(WeightsFor(options, 1, 11));
+  ASSERT_EQ(actor.Step(), StepResult::kWorked);
+  episodes = Drain(*learner);
+  ASSERT_EQ(episodes.size(), 1u);
+  EXPECT_EQ(episodes[0].mode, rl::EpisodeMode::kTrain);
+  EXPECT_EQ(episodes[0].num_steps, config.actors.train_episode_steps);
+  EXPECT_EQ(episodes[0].policy_version, 1u);
+  EXPECT_EQ(episodes[0].graph_version, 1u);
+  EXPECT_GE(episodes[0].subgoal_entity, 0);
+  EXPECT_EQ(episodes[0].goal.size(), 2u);
+  EXPECT_EQ(episodes[0].episode_id, 3u);
+
+  // new weights are taken between episodes
+  learner->PublishWeights(WeightsFor(options, 2, 12));
+  ASSERT_EQ(actor.Step(), StepResult::kWorked);
+  episodes = Drain(*learner);
+  ASSERT_EQ(episodes.size(), 1u);
+  EXPECT_EQ(episodes[0].policy_version, 2u);
+  EXPECT_EQ(actor.counters().weights_rejected, 0u);
+
+  // weights of another architecture and a graph of another size are refused and counted
+  rl::WeightsUpdate wrong = WeightsFor(options, 3, 13);
+  wrong.parameters.pop_back();
+  learner->PublishWeights(wrong);
+  rl::GraphUpdate bigger;
+  bigger.version = 2;
+  bigger.graph = rl::InteractionGraph::Star(3);
+  bigger.structure = rl::ComputeSubgoalStructure(bigger.graph);
+  bus.PublishGraph(bigger);
+  ASSERT_EQ(actor.Step(), StepResult::kWorked);
+  EXPECT_EQ(actor.counters().weights_rejected, 1u);
+  EXPECT_EQ(actor.counters().graphs_rejected, 1u);
+  episodes = Drain(*learner);
+  ASSERT_EQ(episodes.size(), 1u);
+  EXPECT_EQ(episodes[0].policy_version, 2u);
+  EXPECT_EQ(episodes[0].graph_version, 1u);
+  EXPECT_EQ(actor.counters().episodes, 6u);
+  EXPECT_EQ(actor.counters().env_steps, 3u * 50 + 3u * 20);
+}
+
+TEST(ActorLoopTest, HoldsBackWhenAheadOfTheLearnerAndEndsWithTheBudget) {
+  const config::Config config = SmallConfig();
+  CountingObserver observer;
+  links::InMemoryBus bus(&observer);
+  auto link = bus.ActorEnd(0);
+  auto learner = bus.LearnerEnd();
+  ActorOptions options = ActorOptionsFor(config, 0);
+  ASSERT_TRUE(options.evaluator);
+  ActorLoop actor(options, link.get());
+  bus.PublishGraph(GroundTruth(config, 1));
+  learner->PublishWeights(WeightsFor(options, 1, 21));
+
+  // a learner past its warm-up: the first look sets the baseline
+  rl::LearnerReport stats;
+  stats.replay_size = 100;
+  stats.transitions_inserted = 100;
+  stats.updates = 60;
+  stats.budget_env_steps = 1000;
+  learner->PublishStats(stats);
+  // an evaluator first evaluates the passive policy
+  ASSERT_EQ(actor.Step(), StepResult::kWorked);
+  ASSERT_EQ(observer.evals.size(), 1u);
+  EXPECT_EQ(observer.evals[0].policy_version, 0u);
+  EXPECT_EQ(observer.evals[0].summary.episodes, 2);
+  ASSERT_EQ(actor.Step(), StepResult::kWorked);  // a training episode
+  // 20 more transitions in and no update: 20 > error buffer (10): wait
+  stats.transitions_inserted = 120;
+  learner->PublishStats(stats);
+  EXPECT_EQ(actor.Step(), StepResult::kIdle);
+  EXPECT_EQ(actor.counters().waits, 1u);
+  // the learner catches up: go on
+  stats.updates = 80;
+  learner->PublishStats(stats);
+  EXPECT_EQ(actor.Step(), StepResult::kWorked);
+
+  // the evaluation schedule follows the learner's env steps (every 100)
+  stats.training_env_steps = 150;
+  stats.updates = 100;
+  learner->PublishStats(stats);
+  ASSERT_EQ(actor.Step(), StepResult::kWorked);
+  ASSERT_EQ(observer.evals.size(), 2u);
+  EXPECT_EQ(observer.evals[1].policy_version, 1u);
+  EXPECT_EQ(observer.evals[1].env_steps, 150u);
+
+  // the budget is done: one more look for the final weights, a last evaluation, the end
+  learner->PublishWeights(WeightsFor(options, 2, 22));
+  stats.training_env_steps = 1000;
+  learner->PublishStats(stats);
+  EXPECT_EQ(actor.Step(), StepResult::kIdle);
+  EXPECT_EQ(actor.Step(), StepResult::kDone);
+  ASSERT_EQ(observer.evals.size(), 3u);
+  EXPECT_EQ(observer.evals[2].policy_version, 2u);
+}
+
+TEST(ActorLoopTest, SameSeedSameEpisodes) {
+  const config::Config config = SmallConfig();
+  std::vector<std::vector<float>> runs[2];
+  for (auto& states : runs) {
+    links::InMemoryBus bus;
+    auto link = bus.ActorEnd(0);
+    auto learner = bus.LearnerEnd();
+    ActorLoop actor(ActorOptionsFor(config, 0), link.get());
+    for (int i = 0; i < 2; ++i) actor.Step();
+    for (auto& e : Drain(*learner)) states.push_back(e.states);
+  }
+  ASSERT_EQ(runs[0].size(), 2u);
+  EXPECT_EQ(runs[0], runs[1]);
+  EXPECT_NE(runs[0][0], runs[0][1]);
+}
+
+}  // namespace
+}  // namespace srics::actor

@@ -1,0 +1,114 @@
+// LearnerLoop driven step by step through the in-memory bus with real networks: first weights
+// at once, the update-to-data ratio kept, a malformed episode refused and counted, a graph
+// of the wrong size ignored, the end of the budget published.
+
+#include "learner/learner_loop.h"
+
+#include <gtest/gtest.h>
+
+#include "common/links/in_memory_bus.h"
+#include "tests/learner/test_episodes.h"
+
+namespace srics::learner {
+namespace {
+
+class StatsObserver : public links::BusObserver {
+ public:
+  void OnLearnerStats(const rl::LearnerReport& report) override { last = report; ++reports; }
+  rl::LearnerReport last;
+  int reports = 0;
+};
+
+// Rearrange 2 sizes (arm + 2 pucks: K = 3, D = 5) with small networks and batches.
+LearnerLoopOptions SmallOptions() {
+  config::Config c;
+  c.env.num_pucks = 2;
+  c.run.method = config::Method::kSrics;
+  c.run.total_env_steps = 400;
+  c.agent.network.embed_dim = 16;
+  c.agent.network.heads = 2;
+  c.agent.network.policy_hidden = {16};
+  c.agent.network.q_hidden = {16};
+  c.agent.sac.batch_size = 16;
+  c.learner.warmup_steps = 100;
+  c.learner.updates_per_step = 0.5;
+  c.learner.rate_error_buffer = 4;
+  c.learner.publish_every_updates = 10;
+  LearnerLoopOptions o = LearnerLoopOptionsFor(c, "");
+  o.report_period_s = 0;
+  o.final_weights_grace = std::chrono::milliseconds(0);
+  return o;
+}
+
+rl::GraphUpdate Star(int n, uint64_t version) {
+  rl::GraphUpdate g;
+  g.version = version;
+  g.graph = rl::InteractionGraph::Star(n);
+  g.structure = rl::ComputeSubgoalStructure(g.graph);
+  return g;
+}
+
+TEST(LearnerLoopTest, KeepsTheRatioCountsRejectsAndEndsWithTheBudget) {
+  StatsObserver observer;
+  links::InMemoryBus bus(&observer);
+  auto link = bus.LearnerEnd();
+  auto actor = bus.ActorEnd(0);
+  LearnerLoop loop(SmallOptions(), link.get());
+
+  // the first step publishes weights at once: actors need them to start training
+  EXPECT_EQ(loop.Step(), StepResult::kIdle);
+  auto weights = actor->PollWeights();
+  ASSERT_TRUE(weights.has_value());
+  EXPECT_EQ(weights->version, 1u);
+  EXPECT_FALSE(weights->parameters.empty());
+
+  // a graph of another size is ignored; the right one is taken
+  bus.PublishGraph(Star(4, 1));
+  loop.Step();
+  EXPECT_EQ(loop.graphs_rejected(), 1u);
+  EXPECT_EQ(loop.graph_version(), 0u);
+  bus.PublishGraph(Star(3, 2));
+  loop.Step();
+  EXPECT_EQ(loop.graph_version(), 2u);
+
+  // a malformed episode (an action outside [-1, 1]) is refused, counted, and changes nothing
+  rl::Episode bad = testing::MakeEpisode(3, 20, 1);
+  bad.actions[3] = 5.0f;
+  ASSERT_TRUE(actor->PublishEpisode(bad));
+  loop.Step();
+  EXPECT_EQ(loop.learner().episodes_rejected(), 1u);
+  EXPECT_EQ(loop.learner().counters().transitions_inserted, 0u);
+  EXPECT_EQ(observer.last.episodes_rejected, 1u);
+
+  // 10 episodes of 20 steps: after the warm-up of 100 transitions, updates follow
+  // 0.5 * (inserted - 100) within the error buffer of 4
+  for (int i = 0; i < 10; ++i) {
+    ASSERT_TRUE(actor->PublishEpisode(testing::MakeEpisode(3, 20, 100 + i)));
+    for (int k = 0; k < 20 && loop.Step() != StepResult::kIdle; ++k) {
+    }
+    const auto& c = loop.learner().counters();
+    const double target = c.transitions_inserted < 100 ? 0.0 : 0.5 * (c.transitions_inserted - 100.0);
+    if (c.transitions_inserted < 100) {
+      EXPECT_EQ(c.updates, 0u) << "no update during the warm-up";
+      continue;
+    }
+    EXPECT_LE(static_cast<double>(c.updates), target + 4) << "after episode " << i;
+    EXPECT_GE(static_cast<double>(c.updates), target + 4 - 1) << "after episode " << i << ": the learner lags";
+  }
+  EXPECT_EQ(loop.learner().counters().transitions_inserted, 200u);
+  EXPECT_EQ(loop.learner().counters().updates, 54u);  // 0.5 * 100 + 4
+  EXPECT_EQ(observer.last.updates, 54u);
+  EXPECT_GT(actor->PollWeights()->version, 1u) << "weights are published every 10 updates";
+
+  // the rest of the budget (400 env steps): the loop ends, the end is in the stats
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(actor->PublishEpisode(testing::MakeEpisode(3, 20, 200 + i)));
+  StepResult last = StepResult::kWorked;
+  for (int k = 0; k < 1000 && last != StepResult::kDone; ++k) last = loop.Step();
+  EXPECT_EQ(last, StepResult::kDone);
+  EXPECT_TRUE(observer.last.progress().budget_done());
+  EXPECT_EQ(loop.learner().counters().updates, 154u);
+  EXPECT_TRUE(actor->PollLearner(std::chrono::milliseconds(0))->budget_done());
+}
+
+}  // namespace
+}  // namespace srics::learner
