@@ -5,7 +5,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 
 #include "actor/actor_loop.h"
 #include "common/process/role_startup.h"
@@ -31,22 +30,16 @@ uint64_t NextGeneration(const std::string& path) {
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  process::Role role;
-  if (const int code = process::StartRole(
-          argc, argv, "srics-actor",
-          "srics-actor CONFIG --id K [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]", "actor",
-          /*needs_id=*/true, &role))
-    return code;
-  const config::CommandLine& cl = role.command_line;
-  const config::Config& config = role.config;
-  const uint32_t id = static_cast<uint32_t>(*cl.id);
-  const std::string& name = role.name;
-  uint64_t first_id = 0;
-  if (!cl.run_dir.empty()) {
-    std::filesystem::create_directories(cl.run_dir + "/state");
-    first_id = NextGeneration(cl.run_dir + "/state/" + name + ".generation") << 32;
-  }
-  try {
+  return process::RunRole(argc, argv, {"srics-actor", "actor", /*needs_id=*/true}, [](const process::Role& role) {
+    const config::CommandLine& cl = role.command_line;
+    const config::Config& config = role.config;
+    const uint32_t id = static_cast<uint32_t>(*cl.id);
+    const std::string& name = role.name;
+    uint64_t first_id = 0;
+    if (!cl.run_dir.empty()) {
+      std::filesystem::create_directories(cl.run_dir + "/state");
+      first_id = NextGeneration(cl.run_dir + "/state/" + name + ".generation") << 32;
+    }
     transport::Participant participant(config.transport);
     transport::DdsActorLink link(participant, id, rl::EpisodeLimitsFor(config.env));
     actor::ActorLoop loop(actor::ActorOptionsFor(config, id, first_id), &link);
@@ -58,8 +51,5 @@ int main(int argc, char** argv) {
     spdlog::info("{} stopped: {} episodes, {} env steps, {} evaluations, {} unstable, {} weights refused, {} waits",
                  name, c.episodes, c.env_steps, c.evaluations, c.unstable_episodes, c.weights_rejected, c.waits);
     return code;
-  } catch (const std::exception& e) {
-    spdlog::critical("{} failed: {}", name, e.what());
-    return 1;
-  }
+  });
 }

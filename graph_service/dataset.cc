@@ -5,7 +5,7 @@
 #include <numeric>
 #include <stdexcept>
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds,
                            int action_dim, int episode_steps)
@@ -164,4 +164,4 @@ int SelectActionEntity(const GraphDataset& data) {
   return static_cast<int>(std::max_element(score.begin(), score.end()) - score.begin());
 }
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

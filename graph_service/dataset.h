@@ -10,7 +10,7 @@
 #include "common/nn/tensor.h"
 #include "common/rl/episode.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 // A batch of windows ready for the model: per transition t of the window, the node inputs
 // and the position changes to predict. Row b * N + n is entity n of window b.
@@ -95,4 +95,4 @@ std::vector<double> ActionCorrelations(const GraphDataset& data);
 // The entity the action node attaches to: the one with the largest ActionCorrelations.
 int SelectActionEntity(const GraphDataset& data);
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 template <typename T>
 GnnModel<T>::GnnModel(const GnnOptions& o, nn::Rng& rng)
@@ -192,4 +192,4 @@ void GnnModel<T>::Parameters(nn::ParameterList<T>& list) {
 template class GnnModel<float>;
 template class GnnModel<double>;
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

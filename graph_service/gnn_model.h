@@ -22,7 +22,7 @@
 #include "common/nn/tape.h"
 #include "graph_service/dataset.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 // Sizes and loss settings of the model.
 struct GnnOptions {
@@ -119,4 +119,4 @@ class GnnModel {
 extern template class GnnModel<float>;
 extern template class GnnModel<double>;
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

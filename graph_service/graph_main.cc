@@ -15,25 +15,18 @@
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  process::Role role;
-  if (const int code = process::StartRole(
-          argc, argv, "srics-graph",
-          "srics-graph CONFIG [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]", "graph",
-          /*needs_id=*/false, &role))
-    return code;
-  const config::CommandLine& cl = role.command_line;
-  const config::Config& config = role.config;
-  try {
+  return process::RunRole(argc, argv, {"srics-graph", "graph"}, [](const process::Role& role) {
+    const config::Config& config = role.config;
     transport::Participant participant(config.transport);
     transport::DdsEpisodeSource source(participant, rl::EpisodeLimitsFor(config.env),
                                        static_cast<size_t>(config.graph.episodes));
     transport::DdsGraphSink sink(participant);
-    graph::ServiceOptions options;
-    options.state_dir = cl.run_dir;
+    graph_service::ServiceOptions options;
+    options.state_dir = role.command_line.run_dir;
     options.seed = rl::DeriveSeed(config.run.seed, rl::SeedPurpose::kGraphService);
     options.limits = rl::EpisodeLimitsFor(config.env);
     options.status_period_s = config.transport.status_period_s;
-    graph::GraphService service(config.graph, options, &source, &sink, nullptr);
+    graph_service::GraphService service(config.graph, options, &source, &sink, nullptr);
     spdlog::info("graph service started: domain {}, run id '{}', {} explore episodes wanted",
                  config.transport.domain_id, config.transport.run_id, config.graph.episodes);
     // after the publication, steps keep the episode topic drained and the graph available
@@ -41,7 +34,7 @@ int main(int argc, char** argv) {
     const auto& stop = transport::Shutdown::Process().flag();
     int code = 0;
     while (!stop) {
-      if (service.Step(options.poll_timeout) == graph::StepResult::kDone) {
+      if (service.Step(options.poll_timeout) == graph_service::StepResult::kDone) {
         code = 1;  // the source closed before a graph was published
         break;
       }
@@ -49,8 +42,5 @@ int main(int argc, char** argv) {
     service.Stop();
     spdlog::info("graph service stopped");
     return code;
-  } catch (const std::exception& e) {
-    spdlog::critical("graph service failed: {}", e.what());
-    return 1;
-  }
+  });
 }

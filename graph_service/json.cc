@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 double JsonValue::AsDouble() const {
   if (kind_ != Kind::kNumber) throw std::runtime_error("expected a number");
@@ -177,4 +177,4 @@ class JsonParser {
 
 JsonValue ParseJson(const std::string& text) { return JsonParser(text).Document(); }
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 class JsonValue {
  public:
@@ -39,4 +39,4 @@ class JsonValue {
 // Parses a whole document; throws std::runtime_error with the byte offset on a syntax error.
 JsonValue ParseJson(const std::string& text);
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -11,7 +12,7 @@
 
 #include "graph_service/json.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 namespace {
 
 constexpr const char* kFormat = "srics-interaction-graph";
@@ -127,7 +128,10 @@ std::string GraphToJson(const LearnedGraph& g) {
   return body + ",\n  \"checksum\": \"" + Hex(Fnv1a(body)) + "\"\n}\n";
 }
 
-LearnedGraph GraphFromJson(const std::string& text) {
+namespace {
+
+// The JSON document of a graph file whose checksum matches (format and version checked).
+JsonValue CheckedRoot(const std::string& text) {
   // checksum first: every byte before `,\n  "checksum"` is covered
   const std::string marker = ",\n  \"checksum\": \"";
   const size_t at = text.rfind(marker);
@@ -144,6 +148,13 @@ LearnedGraph GraphFromJson(const std::string& text) {
   if (root.Get("format").AsString() != kFormat) Fail("not an interaction graph (format)");
   if (root.Get("format_version").AsInt() != kFormatVersion)
     Fail("unsupported format version " + std::to_string(root.Get("format_version").AsInt()));
+  return root;
+}
+
+}  // namespace
+
+LearnedGraph GraphFromJson(const std::string& text) {
+  const JsonValue root = CheckedRoot(text);
   LearnedGraph g;
   const int64_t version = root.Get("version").AsInt();
   if (version < 0) Fail("negative version");
@@ -205,13 +216,10 @@ LearnedGraph GraphFromJson(const std::string& text) {
         masks[i] != static_cast<int64_t>(derived.structure.ancestor_mask[i]))
       Fail("ancestor masks do not follow from the adjacency");
   }
-  derived.version = g.version;
-  derived.held_out_loss = g.held_out_loss;
-  derived.updates = g.updates;
-  derived.episodes = g.episodes;
-  derived.entity_kinds = g.entity_kinds;
-  derived.action_correlation = g.action_correlation;
-  return derived;
+  g.graph = std::move(derived.graph);
+  g.structure = std::move(derived.structure);
+  g.mean_weights = std::move(derived.mean_weights);
+  return g;
 }
 
 void SaveGraph(const LearnedGraph& graph, const std::string& path) {
@@ -312,4 +320,4 @@ std::string SaveGraphWithPictures(const LearnedGraph& graph, const std::string& 
   return missing;
 }
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -10,7 +10,7 @@
 
 #include "common/rl/graph.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 struct LearnedGraph {
   uint64_t version = 0;                 // 1, 2, ... per publication of a new graph
@@ -65,4 +65,4 @@ std::string HeatMapDot(const LearnedGraph& graph);
 // rendered (empty when all were), never throws for a missing `dot`.
 std::string SaveGraphWithPictures(const LearnedGraph& graph, const std::string& prefix);
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -7,7 +7,7 @@
 
 #include "common/rl/graph.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 const char* PhaseName(Progress::Phase phase) {
   switch (phase) {
@@ -287,4 +287,4 @@ void GraphService::Finish() {
   PublishStatus(true);
 }
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -25,7 +25,7 @@
 #include "graph_service/learned_graph.h"
 #include "graph_service/trainer.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 using links::EpisodeSource;
 using links::GraphSink;
@@ -131,4 +131,4 @@ class GraphService {
   std::chrono::steady_clock::time_point last_report_, last_status_;
 };
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset& data) {
   GnnOptions o;
@@ -192,4 +192,4 @@ EdgeStatistics GnnTrainer::Evaluate() {
   return stats;
 }
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

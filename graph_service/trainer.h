@@ -10,7 +10,7 @@
 #include "graph_service/dataset.h"
 #include "graph_service/gnn_model.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 
 // What an evaluation pass measured.
 struct EdgeStatistics {
@@ -69,4 +69,4 @@ class GnnTrainer {
   double last_mse_ = 0, last_kl_ = 0;
 };
 
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -4,8 +4,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <iostream>
-
 #include "common/logging/logging.h"
 #include "common/process/role_startup.h"
 #include "common/nn/serialize.h"
@@ -17,25 +15,16 @@
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  process::Role role;
-  if (const int code = process::StartRole(
-          argc, argv, "srics-learner",
-          "srics-learner CONFIG [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]", "learner",
-          /*needs_id=*/false, &role))
-    return code;
-  const config::CommandLine& cl = role.command_line;
-  const config::Config& config = role.config;
-  try {
+  return process::RunRole(argc, argv, {"srics-learner", "learner"}, [](const process::Role& role) {
+    const config::Config& config = role.config;
+    const std::string& run_dir = role.command_line.run_dir;
     transport::Participant participant(config.transport);
     transport::DdsLearnerLink link(participant, rl::EpisodeLimitsFor(config.env));
     learner::LearnerLoop loop(
-        learner::LearnerLoopOptionsFor(config, cl.run_dir.empty() ? "" : cl.run_dir + "/checkpoint.srics"), &link);
+        learner::LearnerLoopOptionsFor(config, run_dir.empty() ? "" : run_dir + "/checkpoint.srics"), &link);
     spdlog::info("learner started: {} ({}), domain {}, run id '{}', budget {} env steps",
                  config::MethodName(config.run.method), config.source_file, config.transport.domain_id,
                  config.transport.run_id, config.run.total_env_steps);
     return loop.Run(transport::Shutdown::Process().flag());
-  } catch (const std::exception& e) {
-    spdlog::critical("learner failed: {}", e.what());
-    return 1;
-  }
+  });
 }

@@ -1,5 +1,6 @@
 #include "actor/env/mjcf.h"
 
+#include <ostream>
 #include <sstream>
 
 namespace srics::env {
@@ -48,12 +49,10 @@ std::array<double, 3> ObjectColor(const config::EnvConfig& config, int entity) {
   return {p[0], p[1], p[2]};
 }
 
-std::string GenerateRearrangeMjcf(const config::EnvConfig& c) {
-  const auto objects = config::EffectiveObjects(c);
-  const auto& t = c.table;
-  const auto& h = c.hand;
-  std::ostringstream x;
-  x.precision(17);
+namespace {
+
+// The model's options and defaults, and the opening of the world body.
+void WriteHeader(std::ostream& x, const config::EnvConfig& c) {
   x << "<mujoco model=\"rearrange\">\n"
     << "  <compiler angle=\"radian\" inertiafromgeom=\"auto\"/>\n"
     << "  <option timestep=\"" << c.physics.timestep << "\" integrator=\"Euler\" iterations=\""
@@ -66,8 +65,10 @@ std::string GenerateRearrangeMjcf(const config::EnvConfig& c) {
     << "  </default>\n"
     << "  <worldbody>\n"
     << "    <light directional=\"true\" pos=\"0 0.6 1.5\" dir=\"0 0 -1\"/>\n";
+}
 
-  // table plane and the four invisible walls
+// The table plane and the four invisible walls.
+void WriteTableAndWalls(std::ostream& x, const config::TableConfig& t) {
   x << "    <geom name=\"table\" type=\"plane\" pos=\"" << t.center[0] << " " << t.center[1]
     << " 0\" size=\"0.4 0.25 0.5\" rgba=\".9 .9 .9 1\" friction=\"" << Join(t.friction)
     << "\" contype=\"" << kTableType << "\" conaffinity=\"" << kTableAffinity << "\"/>\n";
@@ -84,8 +85,10 @@ std::string GenerateRearrangeMjcf(const config::EnvConfig& c) {
   wall("wall_x_high", wx, y_mid, th, y_half);
   wall("wall_y_low", 0, t.wall_y_low, wx + th, th);
   wall("wall_y_high", 0, t.wall_y_high, wx + th, th);
+}
 
-  // the hand follows the mocap body through a weld
+// The hand and the mocap body it follows (through the weld of WriteEqualityAndTendons).
+void WriteHand(std::ostream& x, const config::HandConfig& h) {
   x << "    <body name=\"mocap\" mocap=\"true\" pos=\"" << h.start[0] << " " << h.start[1] << " "
     << h.z << "\"/>\n"
     << "    <body name=\"hand\" pos=\"" << h.start[0] << " " << h.start[1] << " " << h.z << "\">\n"
@@ -94,8 +97,11 @@ std::string GenerateRearrangeMjcf(const config::EnvConfig& c) {
     << h.mass << "\" rgba=\"0.2 0.2 0.2 1\" contype=\"" << kHandType << "\" conaffinity=\""
     << kHandAffinity << "\"/>\n"
     << "    </body>\n";
+}
 
-  // objects start parked; Reset places the ones present
+// One body per object, parked: Reset places the ones present.
+void WriteObjects(std::ostream& x, const config::EnvConfig& c) {
+  const auto objects = config::EffectiveObjects(c);
   for (size_t i = 0; i < objects.size(); ++i) {
     const auto& o = objects[i];
     const int e = static_cast<int>(i) + 1;
@@ -118,29 +124,42 @@ std::string GenerateRearrangeMjcf(const config::EnvConfig& c) {
       << "      <site name=\"site" << e << "\" pos=\"0 0 0\" size=\"0.01\"/>\n"
       << "    </body>\n";
   }
-  x << "  </worldbody>\n";
+}
 
+// The hand's weld to the mocap body, and one tendon per connection (rope or spring).
+void WriteEqualityAndTendons(std::ostream& x, const config::EnvConfig& c) {
   x << "  <equality>\n"
-    << "    <weld body1=\"mocap\" body2=\"hand\" solref=\"" << h.weld_timeconst
+    << "    <weld body1=\"mocap\" body2=\"hand\" solref=\"" << c.hand.weld_timeconst
     << " 1\" relpose=\"0 0 0 1 0 0 0\"/>\n"
     << "  </equality>\n";
-
-  if (!c.connections.empty()) {
-    x << "  <tendon>\n";
-    for (const auto& k : c.connections) {
-      if (k.kind == ConnectionKind::kRope) {
-        x << "    <spatial limited=\"true\" range=\"0 " << k.length << "\" solreflimit=\""
-          << k.limit_timeconst << " 1\" width=\"0.005\">\n";
-      } else {
-        x << "    <spatial stiffness=\"" << k.stiffness << "\" damping=\"" << k.damping
-          << "\" springlength=\"" << k.length << "\" width=\"0.005\">\n";
-      }
-      x << "      <site site=\"site" << k.first << "\"/>\n"
-        << "      <site site=\"site" << k.second << "\"/>\n"
-        << "    </spatial>\n";
+  if (c.connections.empty()) return;
+  x << "  <tendon>\n";
+  for (const auto& k : c.connections) {
+    if (k.kind == ConnectionKind::kRope) {
+      x << "    <spatial limited=\"true\" range=\"0 " << k.length << "\" solreflimit=\""
+        << k.limit_timeconst << " 1\" width=\"0.005\">\n";
+    } else {
+      x << "    <spatial stiffness=\"" << k.stiffness << "\" damping=\"" << k.damping
+        << "\" springlength=\"" << k.length << "\" width=\"0.005\">\n";
     }
-    x << "  </tendon>\n";
+    x << "      <site site=\"site" << k.first << "\"/>\n"
+      << "      <site site=\"site" << k.second << "\"/>\n"
+      << "    </spatial>\n";
   }
+  x << "  </tendon>\n";
+}
+
+}  // namespace
+
+std::string GenerateRearrangeMjcf(const config::EnvConfig& c) {
+  std::ostringstream x;
+  x.precision(17);
+  WriteHeader(x, c);
+  WriteTableAndWalls(x, c.table);
+  WriteHand(x, c.hand);
+  WriteObjects(x, c);
+  x << "  </worldbody>\n";
+  WriteEqualityAndTendons(x, c);
   x << "</mujoco>\n";
   return x.str();
 }

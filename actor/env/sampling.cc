@@ -28,8 +28,6 @@ bool Inside(const Vec2& p, const Vec2& lo, const Vec2& hi) {
   return p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1];
 }
 
-double Distance(const Vec2& a, const Vec2& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
-
 // True when every pair of objects and every object-hand distance obeys the spacing rules.
 bool SpacingHolds(const config::SamplingConfig& s, std::span<const Vec2> pos,
                   std::span<const double> radius, const Vec2& hand, double object_base,
@@ -79,16 +77,31 @@ void ObjectBox(const EnvConfig& c, const std::vector<double>& low, const std::ve
   (*hi)[1] = std::min(high[1], t.wall_y_high - t.wall_half_thickness - r);
 }
 
+namespace {
+
+// Each present object's bounding radius and sampling box (`low`..`high` within the walls).
+struct ObjectBoxes {
+  ObjectBoxes(const EnvConfig& c, const std::vector<ObjectConfig>& objects,
+              std::span<const int> present, const std::vector<double>& low,
+              const std::vector<double>& high)
+      : radius(present.size()), lo(present.size()), hi(present.size()) {
+    for (size_t k = 0; k < present.size(); ++k) {
+      radius[k] = config::BoundingRadius(objects.at(present[k] - 1));
+      ObjectBox(c, low, high, radius[k], &lo[k], &hi[k]);
+    }
+  }
+  std::vector<double> radius;
+  std::vector<Vec2> lo, hi;
+};
+
+}  // namespace
+
 std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int> present,
                                          Rng& rng) {
   const std::vector<ObjectConfig> objects = config::EffectiveObjects(c);
   const size_t n = present.size();
-  std::vector<double> radius(n);
-  std::vector<Vec2> lo(n), hi(n);
-  for (size_t k = 0; k < n; ++k) {
-    radius[k] = config::BoundingRadius(objects.at(present[k] - 1));
-    ObjectBox(c, c.sampling.init_low, c.sampling.init_high, radius[k], &lo[k], &hi[k]);
-  }
+  const ObjectBoxes boxes(c, objects, present, c.sampling.init_low, c.sampling.init_high);
+  const auto& [radius, lo, hi] = boxes;
   const Vec2 hand{c.hand.start[0], c.hand.start[1]};
   std::vector<Vec2> pos(n);
   for (int attempt = 0; attempt < c.sampling.max_attempts; ++attempt) {
@@ -129,12 +142,8 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
   const std::vector<ObjectConfig> objects = config::EffectiveObjects(c);
   const size_t n = present.size();
   if (initial.size() != n) throw std::invalid_argument("SampleGoals: one initial xy per object");
-  std::vector<double> radius(n);
-  std::vector<Vec2> lo(n), hi(n);
-  for (size_t k = 0; k < n; ++k) {
-    radius[k] = config::BoundingRadius(objects.at(present[k] - 1));
-    ObjectBox(c, c.sampling.goal_low, c.sampling.goal_high, radius[k], &lo[k], &hi[k]);
-  }
+  const ObjectBoxes boxes(c, objects, present, c.sampling.goal_low, c.sampling.goal_high);
+  const auto& [radius, lo, hi] = boxes;
   const Vec2 hand{c.hand.start[0], c.hand.start[1]};
   std::vector<Vec2> goals(n + 1);
   goals[0] = hand;

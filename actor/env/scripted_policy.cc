@@ -12,8 +12,6 @@ Vec2 Limit(const Vec2& a, double limit) {
   return m > limit ? Vec2{a[0] * limit / m, a[1] * limit / m} : a;
 }
 
-double Distance(const Vec2& a, const Vec2& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
-
 // Distance from point p to the segment a-b.
 double SegmentDistance(const Vec2& a, const Vec2& b, const Vec2& p) {
   const double dx = b[0] - a[0], dy = b[1] - a[1], len2 = dx * dx + dy * dy;

@@ -2,6 +2,7 @@
 // Small value types shared by the environment interface and its helpers (no MuJoCo here).
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -10,6 +11,9 @@ namespace srics::env {
 
 // A point or displacement on the table plane, in metres.
 using Vec2 = std::array<double, 2>;
+
+// Euclidean distance between two points of the plane.
+inline double Distance(const Vec2& a, const Vec2& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
 
 // The random generator of every sampler. std::mt19937_64 is fully specified by the C++
 // standard, so a seed gives the same numbers on every platform.

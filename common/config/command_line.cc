@@ -2,17 +2,29 @@
 
 #include "common/config/config_error.h"
 
+#include <stdexcept>
+
 namespace srics::config {
+
+const std::string& ArgumentReader::Value() {
+  if (at_ + 1 >= args_.size()) throw std::invalid_argument(arg() + " needs a value");
+  return args_[++at_];
+}
 
 CommandLine ParseCommandLine(int argc, char** argv, const std::string& usage) {
   CommandLine cl;
   auto fail = [&](const std::string& why) { throw ConfigError(why + "\nusage: " + usage); };
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) fail(arg + " needs a value");
-      return argv[++i];
-    };
+  ArgumentReader args(argc, argv);
+  auto value = [&]() -> const std::string& {
+    try {
+      return args.Value();
+    } catch (const std::invalid_argument& e) {
+      fail(e.what());
+      throw;
+    }
+  };
+  while (args.Next()) {
+    const std::string& arg = args.arg();
     if (arg == "--set") {
       cl.overrides.push_back(value());
     } else if (arg == "--run-dir") {
@@ -20,7 +32,7 @@ CommandLine ParseCommandLine(int argc, char** argv, const std::string& usage) {
     } else if (arg == "--log-level") {
       cl.log_level = value();
     } else if (arg == "--id") {
-      const std::string text = value();
+      const std::string& text = value();
       try {
         size_t used = 0;
         const int id = std::stoi(text, &used);

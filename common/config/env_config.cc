@@ -50,20 +50,21 @@ EnvConfigProblem CheckObjectSet(const std::string& key, const std::vector<int>& 
   return {};
 }
 
-}  // namespace
+// The inner faces of the walls: they bound every object's footprint.
+struct InnerWalls {
+  double x, y_low, y_high;
+};
 
-EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
-  const std::vector<ObjectConfig> objects = EffectiveObjects(c);
-  const int n = static_cast<int>(objects.size());
-  if (n < 1 || n > 6) return Problem("objects", "expected 1 to 6 objects, got " + std::to_string(n));
+InnerWalls InnerWallsOf(const TableConfig& t) {
+  return {t.wall_x - t.wall_half_thickness, t.wall_y_low + t.wall_half_thickness,
+          t.wall_y_high - t.wall_half_thickness};
+}
 
-  // the inner faces of the walls bound every object's footprint
+// Room between the walls, the boxes (low < high) and the hand's vector sizes.
+EnvConfigProblem CheckTableAndHand(const EnvConfig& c) {
   const TableConfig& t = c.table;
-  const double x_in = t.wall_x - t.wall_half_thickness;
-  const double y_in_low = t.wall_y_low + t.wall_half_thickness;
-  const double y_in_high = t.wall_y_high - t.wall_half_thickness;
-  if (!(x_in > 0 && y_in_low < y_in_high)) return Problem("table", "walls leave no room");
-
+  const InnerWalls in = InnerWallsOf(t);
+  if (!(in.x > 0 && in.y_low < in.y_high)) return Problem("table", "walls leave no room");
   for (const auto& [key, low, high] :
        {std::tuple{"table.object_low", t.object_low, t.object_high},
         std::tuple{"hand.mocap_low", c.hand.mocap_low, c.hand.mocap_high},
@@ -74,40 +75,44 @@ EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
   }
   if (c.hand.start.size() != 2) return Problem("hand.start", "expected 2 numbers");
   if (c.hand.half_size.size() != 3) return Problem("hand.half_size", "expected 3 numbers");
+  return {};
+}
 
-  // objects: positive physical quantities, sizes that fit between the walls
-  for (size_t i = 0; i < objects.size(); ++i) {
-    const ObjectConfig& o = objects[i];
-    const std::string key = ObjectKey(i);
-    if (!(o.mass > 0)) return Problem(key + ".mass", "must be positive, got " + Num(o.mass));
-    if (!(o.size > 0)) return Problem(key + ".size", "must be positive, got " + Num(o.size));
-    if (!(o.half_height > 0))
-      return Problem(key + ".half_height", "must be positive, got " + Num(o.half_height));
-    if (!(o.inertia > 0))
-      return Problem(key + ".inertia", "must be positive, got " + Num(o.inertia));
-    if (!o.rgb.empty() && o.rgb.size() != 3) return Problem(key + ".rgb", "expected 3 numbers");
-    const double r = BoundingRadius(o);
-    // the object's centre must have a non-empty box inside the sampling box and the walls
-    const double lo_x = std::max(c.sampling.init_low[0], -x_in + r);
-    const double hi_x = std::min(c.sampling.init_high[0], x_in - r);
-    const double lo_y = std::max(c.sampling.init_low[1], y_in_low + r);
-    const double hi_y = std::min(c.sampling.init_high[1], y_in_high - r);
-    if (!(lo_x < hi_x && lo_y < hi_y))
-      return Problem(key + ".size", "an object of bounding radius " + Num(r) +
-                                        " does not fit on the table between the walls");
-    if (!o.fixed_position.empty()) {
-      if (o.fixed_position.size() != 2)
-        return Problem(key + ".fixed_position", "expected 2 numbers (x, y)");
-      const double x = o.fixed_position[0], y = o.fixed_position[1];
-      if (std::abs(x) + r > x_in || y - r < y_in_low || y + r > y_in_high)
-        return Problem(key + ".fixed_position",
-                       "(" + Num(x) + ", " + Num(y) + ") puts the object through a wall");
-      const double dh = std::hypot(x - c.hand.start[0], y - c.hand.start[1]);
-      if (dh < r + c.hand.half_size[1])
-        return Problem(key + ".fixed_position", "overlaps the hand's start position");
-    }
-  }
-  // fixed objects must not overlap each other
+// One object (named `key`): positive physical quantities, a size that fits between the
+// walls, a fixed position clear of the walls and the hand.
+EnvConfigProblem CheckObject(const EnvConfig& c, const ObjectConfig& o, const std::string& key) {
+  if (!(o.mass > 0)) return Problem(key + ".mass", "must be positive, got " + Num(o.mass));
+  if (!(o.size > 0)) return Problem(key + ".size", "must be positive, got " + Num(o.size));
+  if (!(o.half_height > 0))
+    return Problem(key + ".half_height", "must be positive, got " + Num(o.half_height));
+  if (!(o.inertia > 0))
+    return Problem(key + ".inertia", "must be positive, got " + Num(o.inertia));
+  if (!o.rgb.empty() && o.rgb.size() != 3) return Problem(key + ".rgb", "expected 3 numbers");
+  const InnerWalls in = InnerWallsOf(c.table);
+  const double r = BoundingRadius(o);
+  // the object's centre must have a non-empty box inside the sampling box and the walls
+  const double lo_x = std::max(c.sampling.init_low[0], -in.x + r);
+  const double hi_x = std::min(c.sampling.init_high[0], in.x - r);
+  const double lo_y = std::max(c.sampling.init_low[1], in.y_low + r);
+  const double hi_y = std::min(c.sampling.init_high[1], in.y_high - r);
+  if (!(lo_x < hi_x && lo_y < hi_y))
+    return Problem(key + ".size", "an object of bounding radius " + Num(r) +
+                                      " does not fit on the table between the walls");
+  if (o.fixed_position.empty()) return {};
+  if (o.fixed_position.size() != 2)
+    return Problem(key + ".fixed_position", "expected 2 numbers (x, y)");
+  const double x = o.fixed_position[0], y = o.fixed_position[1];
+  if (std::abs(x) + r > in.x || y - r < in.y_low || y + r > in.y_high)
+    return Problem(key + ".fixed_position",
+                   "(" + Num(x) + ", " + Num(y) + ") puts the object through a wall");
+  const double dh = std::hypot(x - c.hand.start[0], y - c.hand.start[1]);
+  if (dh < r + c.hand.half_size[1])
+    return Problem(key + ".fixed_position", "overlaps the hand's start position");
+  return {};
+}
+
+// Fixed objects must not overlap each other.
+EnvConfigProblem CheckFixedOverlaps(const std::vector<ObjectConfig>& objects) {
   for (size_t i = 0; i < objects.size(); ++i) {
     for (size_t j = 0; j < i; ++j) {
       const auto& a = objects[i];
@@ -122,8 +127,13 @@ EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
                            Num(BoundingRadius(a) + BoundingRadius(b)));
     }
   }
+  return {};
+}
 
-  // connections: distinct existing objects, each object tied behind at most one other
+// Connections: distinct existing objects, each object tied behind at most one other, listed
+// in placing order, with a usable length and stiffness.
+EnvConfigProblem CheckConnections(const EnvConfig& c, const std::vector<ObjectConfig>& objects) {
+  const int n = static_cast<int>(objects.size());
   std::set<int> seconds;
   std::set<std::pair<int, int>> pairs;
   for (size_t i = 0; i < c.connections.size(); ++i) {
@@ -154,8 +164,11 @@ EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
     if (k.kind == ConnectionKind::kSpring && !(k.stiffness > 0))
       return Problem(key + ".stiffness", "a spring needs a positive stiffness");
   }
+  return {};
+}
 
-  // object sets
+// Every set of object_sets and eval_object_sets.
+EnvConfigProblem CheckObjectSets(const EnvConfig& c, int n) {
   for (const auto& [name, sets] : {std::pair{"object_sets", &c.object_sets},
                                    std::pair{"eval_object_sets", &c.eval_object_sets}}) {
     for (size_t i = 0; i < sets->size(); ++i) {
@@ -164,9 +177,12 @@ EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
       if (!p.ok()) return p;
     }
   }
+  return {};
+}
 
-  // the objects must fit: discs of half the required spacing cannot overlap inside the
-  // sampling box grown by that spacing (densest packing of discs: pi / sqrt(12))
+// The objects must fit: discs of half the required spacing cannot overlap inside the
+// sampling box grown by that spacing (densest packing of discs: pi / sqrt(12)).
+EnvConfigProblem CheckObjectsFit(const EnvConfig& c, const std::vector<ObjectConfig>& objects) {
   for (const auto& [name, low, high, spacing] :
        {std::tuple{"sampling.init_min_object_distance", c.sampling.init_low, c.sampling.init_high,
                    c.sampling.init_min_object_distance},
@@ -182,16 +198,36 @@ EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
     const double room = std::numbers::pi / std::sqrt(12.0) * (high[0] - low[0] + widest) *
                         (high[1] - low[1] + widest);
     if (needed > room)
-      return Problem("objects", std::to_string(n) +
+      return Problem("objects", std::to_string(objects.size()) +
                                     " objects do not fit on the table with " + name + " = " +
                                     Num(spacing) + " (more objects than fit the table)");
   }
+  return {};
+}
 
+// The vector sizes of physics and table.
+EnvConfigProblem CheckVectorSizes(const EnvConfig& c) {
   if (c.physics.geom_solref.size() != 2) return Problem("physics.geom_solref", "expected 2 numbers");
   if (c.physics.geom_solimp.size() != 3) return Problem("physics.geom_solimp", "expected 3 numbers");
-  if (t.center.size() != 2) return Problem("table.center", "expected 2 numbers");
-  if (t.friction.size() != 3) return Problem("table.friction", "expected 3 numbers");
+  if (c.table.center.size() != 2) return Problem("table.center", "expected 2 numbers");
+  if (c.table.friction.size() != 3) return Problem("table.friction", "expected 3 numbers");
   return {};
+}
+
+}  // namespace
+
+EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
+  const std::vector<ObjectConfig> objects = EffectiveObjects(c);
+  const int n = static_cast<int>(objects.size());
+  if (n < 1 || n > 6) return Problem("objects", "expected 1 to 6 objects, got " + std::to_string(n));
+  if (auto p = CheckTableAndHand(c); !p.ok()) return p;
+  for (size_t i = 0; i < objects.size(); ++i)
+    if (auto p = CheckObject(c, objects[i], ObjectKey(i)); !p.ok()) return p;
+  if (auto p = CheckFixedOverlaps(objects); !p.ok()) return p;
+  if (auto p = CheckConnections(c, objects); !p.ok()) return p;
+  if (auto p = CheckObjectSets(c, n); !p.ok()) return p;
+  if (auto p = CheckObjectsFit(c, objects); !p.ok()) return p;
+  return CheckVectorSizes(c);
 }
 
 namespace {
@@ -237,20 +273,99 @@ void ParseObjectSets(YamlSection& s, const std::string& key, std::vector<std::ve
   }
 }
 
+// Parses the list under `key` item by item into *out; the items' sections are kept in *items
+// so that a rule broken later can name the item's own line.
+template <typename T>
+void ParseItems(YamlSection& s, const std::string& key, void (*parse)(YamlSection&, T*),
+                std::vector<T>* out, std::vector<YamlSection>* items) {
+  out->clear();
+  *items = s.ChildList(key);
+  for (YamlSection& item : *items) {
+    T value;
+    parse(item, &value);
+    out->push_back(std::move(value));
+  }
+}
+
+void ParsePhysics(YamlSection p, PhysicsConfig* out) {
+  p.ReadDouble("timestep", &out->timestep, 1e-5, 0.1);
+  p.ReadInt("solver_iterations", &out->solver_iterations, 1, 10000);
+  p.ReadInt("frame_skip", &out->frame_skip, 1, 10000);
+  p.ReadDoubleList("geom_solref", &out->geom_solref, 2, -1e6, 1e6);
+  p.ReadDoubleList("geom_solimp", &out->geom_solimp, 3, 0, 1);
+  p.ReadDouble("geom_margin", &out->geom_margin, 0, 0.1);
+  p.Finish();
+}
+
+void ParseTable(YamlSection t, TableConfig* out) {
+  t.ReadDoubleList("center", &out->center, 2, -10, 10);
+  t.ReadDoubleList("friction", &out->friction, 3, 0, 10);
+  t.ReadDouble("wall_x", &out->wall_x, 0.01, 10);
+  t.ReadDouble("wall_y_low", &out->wall_y_low, -10, 10);
+  t.ReadDouble("wall_y_high", &out->wall_y_high, -10, 10);
+  t.ReadDouble("wall_half_thickness", &out->wall_half_thickness, 1e-4, 1);
+  t.ReadDouble("wall_half_height", &out->wall_half_height, 1e-3, 10);
+  t.ReadDoubleList("object_low", &out->object_low, 2, -10, 10);
+  t.ReadDoubleList("object_high", &out->object_high, 2, -10, 10);
+  t.Finish();
+}
+
+void ParseHand(YamlSection h, HandConfig* out) {
+  h.ReadDouble("action_scale", &out->action_scale, 1e-4, 1);
+  h.ReadDouble("z", &out->z, 0, 1);
+  h.ReadDoubleList("start", &out->start, 2, -10, 10);
+  h.ReadDoubleList("mocap_low", &out->mocap_low, 2, -10, 10);
+  h.ReadDoubleList("mocap_high", &out->mocap_high, 2, -10, 10);
+  h.ReadDouble("weld_timeconst", &out->weld_timeconst, 1e-4, 1);
+  h.ReadDouble("mass", &out->mass, 1e-4, 1e3);
+  h.ReadDoubleList("half_size", &out->half_size, 3, 1e-4, 1);
+  h.Finish();
+}
+
+void ParseSampling(YamlSection g, SamplingConfig* out) {
+  g.ReadDoubleList("init_low", &out->init_low, 2, -10, 10);
+  g.ReadDoubleList("init_high", &out->init_high, 2, -10, 10);
+  g.ReadDouble("init_min_object_distance", &out->init_min_object_distance, 0, 1);
+  g.ReadDouble("init_min_hand_distance", &out->init_min_hand_distance, 0, 1);
+  g.ReadDoubleList("goal_low", &out->goal_low, 2, -10, 10);
+  g.ReadDoubleList("goal_high", &out->goal_high, 2, -10, 10);
+  g.ReadDouble("goal_min_object_distance", &out->goal_min_object_distance, 0, 1);
+  g.ReadDouble("goal_min_hand_distance", &out->goal_min_hand_distance, 0, 1);
+  g.ReadDoubleList("subgoal_low", &out->subgoal_low, 2, -10, 10);
+  g.ReadDoubleList("subgoal_high", &out->subgoal_high, 2, -10, 10);
+  g.ReadDouble("reference_radius", &out->reference_radius, 1e-4, 1);
+  g.ReadBool("static_object_random_goal", &out->static_object_random_goal);
+  g.ReadBool("tied_goal_in_box", &out->tied_goal_in_box);
+  g.ReadInt("max_attempts", &out->max_attempts, 1, 100000000);
+  g.Finish();
+}
+
+// Fails with a rule that involves several keys, naming the offending key under env: an item
+// of objects or connections by its own line, anything else by its top-level key.
+[[noreturn]] void FailWithProblem(YamlSection& s, const EnvConfigProblem& problem,
+                                  std::vector<YamlSection>& object_items,
+                                  std::vector<YamlSection>& connection_items) {
+  for (auto& [name, items] : {std::pair{std::string("objects["), &object_items},
+                              std::pair{std::string("connections["), &connection_items}}) {
+    if (problem.key.rfind(name, 0) != 0) continue;
+    const size_t close = problem.key.find(']');
+    const size_t index = std::stoul(problem.key.substr(name.size(), close - name.size()));
+    if (index >= items->size()) break;
+    const std::string sub = close + 1 < problem.key.size() ? problem.key.substr(close + 2) : "";
+    (*items)[index].FailRule(sub.empty() ? "objects" : sub, problem.message);
+  }
+  const std::string top = problem.key.substr(0, problem.key.find_first_of(".["));
+  s.FailRule(top, (problem.key != top ? "at " + problem.key + ": " : std::string()) +
+                      problem.message);
+}
+
 }  // namespace
 
 void ParseEnv(YamlSection s, EnvConfig* out) {
   s.ReadInt("num_pucks", &out->num_pucks, 1, 6);
-  // the items are kept so that a broken rule can name the item's own line
   std::vector<YamlSection> object_items, connection_items;
   if (s.Has("objects")) {
-    out->objects.clear();
-    object_items = s.ChildList("objects");
-    for (YamlSection& item : object_items) {
-      ObjectConfig object;
-      ParseObject(item, &object);
-      out->objects.push_back(std::move(object));
-    }
+    ParseItems(s, "objects", ParseObject, &out->objects, &object_items);
     if (out->objects.empty() || out->objects.size() > 6)
       s.FailRule("objects", "expected 1 to 6 objects, got " + std::to_string(out->objects.size()));
     if (s.Has("num_pucks") && out->num_pucks != static_cast<int>(out->objects.size()))
@@ -258,85 +373,18 @@ void ParseEnv(YamlSection s, EnvConfig* out) {
                                   std::to_string(out->objects.size()));
     out->num_pucks = static_cast<int>(out->objects.size());
   }
-  if (s.Has("connections")) {
-    out->connections.clear();
-    connection_items = s.ChildList("connections");
-    for (YamlSection& item : connection_items) {
-      ConnectionConfig connection;
-      ParseConnection(item, &connection);
-      out->connections.push_back(connection);
-    }
-  }
+  if (s.Has("connections"))
+    ParseItems(s, "connections", ParseConnection, &out->connections, &connection_items);
   ParseObjectSets(s, "object_sets", &out->object_sets);
   ParseObjectSets(s, "eval_object_sets", &out->eval_object_sets);
   s.ReadBool("velocities", &out->velocities);
   s.ReadDouble("success_threshold", &out->success_threshold, 1e-6, 10);
-
-  YamlSection p = s.Child("physics");
-  p.ReadDouble("timestep", &out->physics.timestep, 1e-5, 0.1);
-  p.ReadInt("solver_iterations", &out->physics.solver_iterations, 1, 10000);
-  p.ReadInt("frame_skip", &out->physics.frame_skip, 1, 10000);
-  p.ReadDoubleList("geom_solref", &out->physics.geom_solref, 2, -1e6, 1e6);
-  p.ReadDoubleList("geom_solimp", &out->physics.geom_solimp, 3, 0, 1);
-  p.ReadDouble("geom_margin", &out->physics.geom_margin, 0, 0.1);
-  p.Finish();
-
-  YamlSection t = s.Child("table");
-  t.ReadDoubleList("center", &out->table.center, 2, -10, 10);
-  t.ReadDoubleList("friction", &out->table.friction, 3, 0, 10);
-  t.ReadDouble("wall_x", &out->table.wall_x, 0.01, 10);
-  t.ReadDouble("wall_y_low", &out->table.wall_y_low, -10, 10);
-  t.ReadDouble("wall_y_high", &out->table.wall_y_high, -10, 10);
-  t.ReadDouble("wall_half_thickness", &out->table.wall_half_thickness, 1e-4, 1);
-  t.ReadDouble("wall_half_height", &out->table.wall_half_height, 1e-3, 10);
-  t.ReadDoubleList("object_low", &out->table.object_low, 2, -10, 10);
-  t.ReadDoubleList("object_high", &out->table.object_high, 2, -10, 10);
-  t.Finish();
-
-  YamlSection h = s.Child("hand");
-  h.ReadDouble("action_scale", &out->hand.action_scale, 1e-4, 1);
-  h.ReadDouble("z", &out->hand.z, 0, 1);
-  h.ReadDoubleList("start", &out->hand.start, 2, -10, 10);
-  h.ReadDoubleList("mocap_low", &out->hand.mocap_low, 2, -10, 10);
-  h.ReadDoubleList("mocap_high", &out->hand.mocap_high, 2, -10, 10);
-  h.ReadDouble("weld_timeconst", &out->hand.weld_timeconst, 1e-4, 1);
-  h.ReadDouble("mass", &out->hand.mass, 1e-4, 1e3);
-  h.ReadDoubleList("half_size", &out->hand.half_size, 3, 1e-4, 1);
-  h.Finish();
-
-  YamlSection g = s.Child("sampling");
-  g.ReadDoubleList("init_low", &out->sampling.init_low, 2, -10, 10);
-  g.ReadDoubleList("init_high", &out->sampling.init_high, 2, -10, 10);
-  g.ReadDouble("init_min_object_distance", &out->sampling.init_min_object_distance, 0, 1);
-  g.ReadDouble("init_min_hand_distance", &out->sampling.init_min_hand_distance, 0, 1);
-  g.ReadDoubleList("goal_low", &out->sampling.goal_low, 2, -10, 10);
-  g.ReadDoubleList("goal_high", &out->sampling.goal_high, 2, -10, 10);
-  g.ReadDouble("goal_min_object_distance", &out->sampling.goal_min_object_distance, 0, 1);
-  g.ReadDouble("goal_min_hand_distance", &out->sampling.goal_min_hand_distance, 0, 1);
-  g.ReadDoubleList("subgoal_low", &out->sampling.subgoal_low, 2, -10, 10);
-  g.ReadDoubleList("subgoal_high", &out->sampling.subgoal_high, 2, -10, 10);
-  g.ReadDouble("reference_radius", &out->sampling.reference_radius, 1e-4, 1);
-  g.ReadBool("static_object_random_goal", &out->sampling.static_object_random_goal);
-  g.ReadBool("tied_goal_in_box", &out->sampling.tied_goal_in_box);
-  g.ReadInt("max_attempts", &out->sampling.max_attempts, 1, 100000000);
-  g.Finish();
-
-  // rules that involve several keys name the offending key under env: an item of objects or
-  // connections by its own line, anything else by its top-level key
-  if (EnvConfigProblem problem = CheckEnvConfig(*out); !problem.ok()) {
-    for (auto& [name, items] : {std::pair{std::string("objects["), &object_items},
-                                std::pair{std::string("connections["), &connection_items}}) {
-      if (problem.key.rfind(name, 0) != 0) continue;
-      const size_t close = problem.key.find(']');
-      const size_t index = std::stoul(problem.key.substr(name.size(), close - name.size()));
-      if (index >= items->size()) break;
-      const std::string sub = close + 1 < problem.key.size() ? problem.key.substr(close + 2) : "";
-      (*items)[index].FailRule(sub.empty() ? "objects" : sub, problem.message);
-    }
-    const std::string top = problem.key.substr(0, problem.key.find_first_of(".["));
-    s.FailRule(top, (problem.key != top ? "at " + problem.key + ": " : std::string()) +
-                        problem.message);
-  }
+  ParsePhysics(s.Child("physics"), &out->physics);
+  ParseTable(s.Child("table"), &out->table);
+  ParseHand(s.Child("hand"), &out->hand);
+  ParseSampling(s.Child("sampling"), &out->sampling);
+  if (EnvConfigProblem problem = CheckEnvConfig(*out); !problem.ok())
+    FailWithProblem(s, problem, object_items, connection_items);
   s.Finish();
 }
 

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <sstream>
+#include <type_traits>
 
 namespace srics::config {
 namespace {
@@ -110,6 +112,25 @@ YAML::Node LoadMergedYamlImpl(const std::filesystem::path& file, OriginMap* orig
   return merged;
 }
 
+// A scalar that decodes as N (finite, for floating point) within [lo, hi], or nothing.
+template <typename N>
+std::optional<N> DecodeInRange(const YAML::Node& value, N lo, N hi) {
+  N parsed = 0;
+  if (!value.IsScalar() || !YAML::convert<N>::decode(value, parsed)) return std::nullopt;
+  if constexpr (std::is_floating_point_v<N>)
+    if (!std::isfinite(parsed)) return std::nullopt;
+  if (parsed < lo || parsed > hi) return std::nullopt;
+  return parsed;
+}
+
+// "<what> in [lo, hi]", the expectation of a range.
+template <typename N>
+std::string InRange(const std::string& what, N lo, N hi) {
+  std::ostringstream text;
+  text << what << " in [" << lo << ", " << hi << "]";
+  return text.str();
+}
+
 }  // namespace
 
 YamlSection::YamlSection(YAML::Node node, std::string path,
@@ -182,14 +203,9 @@ void YamlSection::FailRule(const std::string& key, const std::string& message) c
 
 void YamlSection::ReadInt(const std::string& key, int* out, int64_t lo, int64_t hi) {
   if (!Has(key)) return;
-  YAML::Node value = Get(key);
-  std::ostringstream expected;
-  expected << "an integer in [" << lo << ", " << hi << "]";
-  int64_t parsed = 0;
-  if (!value.IsScalar() || !YAML::convert<int64_t>::decode(value, parsed) || parsed < lo ||
-      parsed > hi)
-    Fail(key, expected.str());
-  *out = static_cast<int>(parsed);
+  const std::optional<int64_t> parsed = DecodeInRange(Get(key), lo, hi);
+  if (!parsed) Fail(key, InRange("an integer", lo, hi));
+  *out = static_cast<int>(*parsed);
 }
 
 void YamlSection::ReadUint64(const std::string& key, uint64_t* out) {
@@ -204,14 +220,9 @@ void YamlSection::ReadUint64(const std::string& key, uint64_t* out) {
 
 void YamlSection::ReadDouble(const std::string& key, double* out, double lo, double hi) {
   if (!Has(key)) return;
-  YAML::Node value = Get(key);
-  std::ostringstream expected;
-  expected << "a number in [" << lo << ", " << hi << "]";
-  double parsed = 0;
-  if (!value.IsScalar() || !YAML::convert<double>::decode(value, parsed) ||
-      !std::isfinite(parsed) || parsed < lo || parsed > hi)
-    Fail(key, expected.str());
-  *out = parsed;
+  const std::optional<double> parsed = DecodeInRange(Get(key), lo, hi);
+  if (!parsed) Fail(key, InRange("a number", lo, hi));
+  *out = *parsed;
 }
 
 void YamlSection::ReadBool(const std::string& key, bool* out) {
@@ -235,17 +246,14 @@ void YamlSection::ReadDoubleList(const std::string& key, std::vector<double>* ou
                                  double lo, double hi) {
   if (!Has(key)) return;
   YAML::Node value = Get(key);
-  std::ostringstream expected;
-  expected << (size ? "a list of " + std::to_string(size) + " numbers" : std::string("a list of numbers"))
-           << " in [" << lo << ", " << hi << "]";
-  if (!value.IsSequence() || (size && value.size() != size)) Fail(key, expected.str());
+  const std::string expected = InRange(
+      size ? "a list of " + std::to_string(size) + " numbers" : "a list of numbers", lo, hi);
+  if (!value.IsSequence() || (size && value.size() != size)) Fail(key, expected);
   std::vector<double> parsed;
   for (const auto& item : value) {
-    double v = 0;
-    if (!item.IsScalar() || !YAML::convert<double>::decode(item, v) || !std::isfinite(v) ||
-        v < lo || v > hi)
-      Fail(key, expected.str());
-    parsed.push_back(v);
+    const std::optional<double> v = DecodeInRange(item, lo, hi);
+    if (!v) Fail(key, expected);
+    parsed.push_back(*v);
   }
   *out = std::move(parsed);
 }
@@ -254,15 +262,13 @@ void YamlSection::ReadIntList(const std::string& key, std::vector<int>* out, int
                               int64_t hi) {
   if (!Has(key)) return;
   YAML::Node value = Get(key);
-  std::ostringstream expected;
-  expected << "a list of integers in [" << lo << ", " << hi << "]";
-  if (!value.IsSequence()) Fail(key, expected.str());
+  const std::string expected = InRange("a list of integers", lo, hi);
+  if (!value.IsSequence()) Fail(key, expected);
   std::vector<int> parsed;
   for (const auto& item : value) {
-    int64_t v = 0;
-    if (!item.IsScalar() || !YAML::convert<int64_t>::decode(item, v) || v < lo || v > hi)
-      Fail(key, expected.str());
-    parsed.push_back(static_cast<int>(v));
+    const std::optional<int64_t> v = DecodeInRange(item, lo, hi);
+    if (!v) Fail(key, expected);
+    parsed.push_back(static_cast<int>(*v));
   }
   *out = std::move(parsed);
 }

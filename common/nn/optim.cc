@@ -8,15 +8,6 @@ namespace srics::nn {
 namespace {
 
 template <typename T>
-std::vector<Matrix<T>> ZerosLike(const ParameterList<T>& params) {
-  std::vector<Matrix<T>> out;
-  for (const Parameter<T>* p : params) {
-    out.push_back(Matrix<T>::Zero(p->value.rows(), p->value.cols()));
-  }
-  return out;
-}
-
-template <typename T>
 void Append(std::vector<float>& out, const Matrix<T>& m) {
   for (Eigen::Index i = 0; i < m.size(); ++i) out.push_back(static_cast<float>(m.data()[i]));
 }
@@ -27,97 +18,75 @@ size_t Read(const std::vector<float>& in, size_t pos, Matrix<T>& m) {
   return pos + static_cast<size_t>(m.size());
 }
 
-// two header slots: the step count split in 24-bit halves so floats hold it exactly
-template <typename T>
-size_t StateSize(const ParameterList<T>& params, int slots) {
-  return 2 + slots * static_cast<size_t>(NumScalars(params));
-}
-
 constexpr std::int64_t kHalf = std::int64_t{1} << 24;
 
 }  // namespace
 
-template <typename T>
-Adam<T>::Adam(ParameterList<T> params, Options options)
-    : params_(std::move(params)), options_(options), m_(ZerosLike(params_)),
-      v_(ZerosLike(params_)) {}
-
-template <typename T>
-void Adam<T>::Step() {
-  ++steps_;
-  const double c1 = 1.0 - std::pow(options_.beta1, static_cast<double>(steps_));
-  const double c2 = 1.0 - std::pow(options_.beta2, static_cast<double>(steps_));
-  const T b1 = static_cast<T>(options_.beta1), b2 = static_cast<T>(options_.beta2);
-  const T step = static_cast<T>(options_.lr / c1);
-  const T inv_sqrt_c2 = static_cast<T>(1.0 / std::sqrt(c2));
-  const T eps = static_cast<T>(options_.eps);
-  for (size_t i = 0; i < params_.size(); ++i) {
-    const auto g = params_[i]->grad.array();
-    auto m = m_[i].array();
-    auto v = v_[i].array();
-    m = b1 * m + (T(1) - b1) * g;
-    v = b2 * v + (T(1) - b2) * g.square();
-    // p -= lr * m_hat / (sqrt(v_hat) + eps)
-    params_[i]->value.array() -= step * m / (v.sqrt() * inv_sqrt_c2 + eps);
-  }
+template <typename T, typename Rule>
+Optimizer<T, Rule>::Optimizer(ParameterList<T> params, Options options)
+    : params_(std::move(params)), options_(options), moments_(params_.size()) {
+  for (size_t i = 0; i < params_.size(); ++i)
+    for (Matrix<T>& m : moments_[i]) m.setZero(params_[i]->value.rows(), params_[i]->value.cols());
 }
 
-template <typename T>
-std::vector<float> Adam<T>::ExportState() const {
-  std::vector<float> out;
-  out.reserve(StateSize(params_, 2));
-  out.push_back(static_cast<float>(steps_ / kHalf));
-  out.push_back(static_cast<float>(steps_ % kHalf));
-  for (const auto& m : m_) Append(out, m);
-  for (const auto& v : v_) Append(out, v);
+template <typename T, typename Rule>
+void Optimizer<T, Rule>::Step() {
+  ++steps_;
+  for (size_t i = 0; i < params_.size(); ++i) Rule::Update(options_, steps_, *params_[i], moments_[i]);
+}
+
+// The state: two header slots (the step count split in 24-bit halves so floats hold it
+// exactly), then moment by moment, every parameter's values.
+template <typename T, typename Rule>
+std::vector<float> Optimizer<T, Rule>::ExportState() const {
+  std::vector<float> out{static_cast<float>(steps_ / kHalf), static_cast<float>(steps_ % kHalf)};
+  out.reserve(2 + Rule::kMoments * static_cast<size_t>(NumScalars(params_)));
+  for (int k = 0; k < Rule::kMoments; ++k)
+    for (const auto& moments : moments_) Append(out, moments[k]);
   return out;
 }
 
-template <typename T>
-void Adam<T>::ImportState(const std::vector<float>& state) {
-  if (state.size() != StateSize(params_, 2)) {
-    throw std::invalid_argument("nn::Adam::ImportState: " + std::to_string(state.size()) +
-                                " values, expected " + std::to_string(StateSize(params_, 2)));
+template <typename T, typename Rule>
+void Optimizer<T, Rule>::ImportState(const std::vector<float>& state) {
+  const size_t expected = 2 + Rule::kMoments * static_cast<size_t>(NumScalars(params_));
+  if (state.size() != expected) {
+    throw std::invalid_argument(std::string(Rule::kName) + "::ImportState: " +
+                                std::to_string(state.size()) + " values, expected " +
+                                std::to_string(expected));
   }
   steps_ = static_cast<std::int64_t>(state[0]) * kHalf + static_cast<std::int64_t>(state[1]);
   size_t pos = 2;
-  for (auto& m : m_) pos = Read(state, pos, m);
-  for (auto& v : v_) pos = Read(state, pos, v);
+  for (int k = 0; k < Rule::kMoments; ++k)
+    for (auto& moments : moments_) pos = Read(state, pos, moments[k]);
 }
 
 template <typename T>
-RmsProp<T>::RmsProp(ParameterList<T> params, Options options)
-    : params_(std::move(params)), options_(options), v_(ZerosLike(params_)) {}
-
-template <typename T>
-void RmsProp<T>::Step() {
-  const T a = static_cast<T>(options_.alpha), lr = static_cast<T>(options_.lr);
-  const T eps = static_cast<T>(options_.eps);
-  for (size_t i = 0; i < params_.size(); ++i) {
-    const auto g = params_[i]->grad.array();
-    auto v = v_[i].array();
-    v = a * v + (T(1) - a) * g.square();
-    params_[i]->value.array() -= lr * g / (v.sqrt() + eps);
-  }
+void AdamRule::Update(const Options& o, std::int64_t step, Parameter<T>& p,
+                      std::array<Matrix<T>, 2>& moments) {
+  const double c1 = 1.0 - std::pow(o.beta1, static_cast<double>(step));
+  const double c2 = 1.0 - std::pow(o.beta2, static_cast<double>(step));
+  const T b1 = static_cast<T>(o.beta1), b2 = static_cast<T>(o.beta2);
+  const T lr = static_cast<T>(o.lr / c1);
+  const T inv_sqrt_c2 = static_cast<T>(1.0 / std::sqrt(c2));
+  const T eps = static_cast<T>(o.eps);
+  const auto g = p.grad.array();
+  auto m = moments[0].array();
+  auto v = moments[1].array();
+  m = b1 * m + (T(1) - b1) * g;
+  v = b2 * v + (T(1) - b2) * g.square();
+  // p -= lr * m_hat / (sqrt(v_hat) + eps)
+  p.value.array() -= lr * m / (v.sqrt() * inv_sqrt_c2 + eps);
 }
 
 template <typename T>
-std::vector<float> RmsProp<T>::ExportState() const {
-  std::vector<float> out;
-  out.push_back(0.0f);  // keeps the layout of Adam: two header slots, then the moments
-  out.push_back(0.0f);
-  for (const auto& v : v_) Append(out, v);
-  return out;
-}
-
-template <typename T>
-void RmsProp<T>::ImportState(const std::vector<float>& state) {
-  if (state.size() != StateSize(params_, 1)) {
-    throw std::invalid_argument("nn::RmsProp::ImportState: " + std::to_string(state.size()) +
-                                " values, expected " + std::to_string(StateSize(params_, 1)));
-  }
-  size_t pos = 2;
-  for (auto& v : v_) pos = Read(state, pos, v);
+void RmsPropRule::Update(const Options& o, std::int64_t, Parameter<T>& p,
+                         std::array<Matrix<T>, 1>& moments) {
+  const T a = static_cast<T>(o.alpha), lr = static_cast<T>(o.lr);
+  const T eps = static_cast<T>(o.eps);
+  const auto g = p.grad.array();
+  auto v = moments[0].array();
+  v = a * v + (T(1) - a) * g.square();
+  p.value.array() -= lr * g / (v.sqrt() + eps);
 }
 
 template <typename T>
@@ -152,10 +121,10 @@ void SoftUpdate(const ParameterList<T>& target, const ParameterList<T>& source, 
   }
 }
 
-template class Adam<float>;
-template class Adam<double>;
-template class RmsProp<float>;
-template class RmsProp<double>;
+template class Optimizer<float, AdamRule>;
+template class Optimizer<double, AdamRule>;
+template class Optimizer<float, RmsPropRule>;
+template class Optimizer<double, RmsPropRule>;
 template double ClipGradNorm<float>(const ParameterList<float>&, double);
 template double ClipGradNorm<double>(const ParameterList<double>&, double);
 template void SoftUpdate<float>(const ParameterList<float>&, const ParameterList<float>&,

@@ -147,31 +147,30 @@ Var<T> Tape<T>::Param(Parameter<T>& p, bool trainable) {
 }
 
 template <typename T>
-Var<T> Tape<T>::MatMul(Var<T> a, Var<T> b) {
-  Node& n = NewNode(Op::kMatMul, a.id, b.id);
+typename Tape<T>::Node& Tape<T>::Product(Op op, Var<T> a, Var<T> b, const char* what) {
+  Node& n = NewNode(op, a.id, b.id);
   const Mat& A = Val(a.id);
   const Mat& B = Val(b.id);
-  Check(A.cols() == B.rows(), "MatMul", Shape(A) + " * " + Shape(B));
+  Check(A.cols() == B.rows(), what, Shape(A) + " * " + Shape(B));
   n.value.resize(A.rows(), B.cols());
   n.value.noalias() = A * B;
   LogGemm(A.rows(), A.cols(), B.cols(), false, false);
-  return Out(n);
+  return n;
+}
+
+template <typename T>
+Var<T> Tape<T>::MatMul(Var<T> a, Var<T> b) {
+  return Out(Product(Op::kMatMul, a, b, "MatMul"));
 }
 
 template <typename T>
 Var<T> Tape<T>::Linear(Var<T> x, Var<T> w, Var<T> b) {
-  Node& n = NewNode(Op::kLinear, x.id, w.id);
+  Node& n = Product(Op::kLinear, x, w, "Linear");
   n.c = b.id;
   n.needs_grad = n.needs_grad || Needs(b.id);
-  const Mat& X = Val(x.id);
-  const Mat& W = Val(w.id);
-  Check(X.cols() == W.rows(), "Linear", Shape(X) + " * " + Shape(W));
-  n.value.resize(X.rows(), W.cols());
-  n.value.noalias() = X * W;
-  LogGemm(X.rows(), X.cols(), W.cols(), false, false);
   if (b.id >= 0) {
     const Mat& B = Val(b.id);
-    Check(B.rows() == 1 && B.cols() == W.cols(), "Linear", "bias " + Shape(B));
+    Check(B.rows() == 1 && B.cols() == n.value.cols(), "Linear", "bias " + Shape(B));
     n.value.rowwise() += B.row(0);
   }
   return Out(n);
@@ -219,16 +218,6 @@ Var<T> Tape<T>::Binary(Op op, Var<T> a, Var<T> b) {
   return Out(n);
 }
 
-template <typename T>
-Var<T> Tape<T>::Add(Var<T> a, Var<T> b) { return Binary(Op::kAdd, a, b); }
-template <typename T>
-Var<T> Tape<T>::Sub(Var<T> a, Var<T> b) { return Binary(Op::kSub, a, b); }
-template <typename T>
-Var<T> Tape<T>::Mul(Var<T> a, Var<T> b) { return Binary(Op::kMul, a, b); }
-template <typename T>
-Var<T> Tape<T>::Div(Var<T> a, Var<T> b) { return Binary(Op::kDiv, a, b); }
-template <typename T>
-Var<T> Tape<T>::Min(Var<T> a, Var<T> b) { return Binary(Op::kMin, a, b); }
 
 template <typename T>
 Var<T> Tape<T>::AddScalar(Var<T> a, T s) {
@@ -273,20 +262,6 @@ Var<T> Tape<T>::Unary(Op op, Var<T> a) {
   return Out(n);
 }
 
-template <typename T>
-Var<T> Tape<T>::Relu(Var<T> a) { return Unary(Op::kRelu, a); }
-template <typename T>
-Var<T> Tape<T>::Tanh(Var<T> a) { return Unary(Op::kTanh, a); }
-template <typename T>
-Var<T> Tape<T>::Sigmoid(Var<T> a) { return Unary(Op::kSigmoid, a); }
-template <typename T>
-Var<T> Tape<T>::Exp(Var<T> a) { return Unary(Op::kExp, a); }
-template <typename T>
-Var<T> Tape<T>::Log(Var<T> a) { return Unary(Op::kLog, a); }
-template <typename T>
-Var<T> Tape<T>::Softplus(Var<T> a) { return Unary(Op::kSoftplus, a); }
-template <typename T>
-Var<T> Tape<T>::Square(Var<T> a) { return Unary(Op::kSquare, a); }
 
 template <typename T>
 Var<T> Tape<T>::Sum(Var<T> a, int axis) {
@@ -554,6 +529,103 @@ void Tape<T>::Backward(Var<T> out, const Mat& seed) {
 }
 
 template <typename T>
+void Tape<T>::BackwardBinary(Node& n) {
+  const Mat& g = n.grad;
+  const Mat& A = Val(n.a);
+  const Mat& B = Val(n.b);
+  const bool same = A.rows() == B.rows() && A.cols() == B.cols();
+  if (same) {
+    switch (n.op) {
+      case Op::kAdd:
+        if (Needs(n.a)) Acc(nodes_[n.a], g);
+        if (Needs(n.b)) Acc(nodes_[n.b], g);
+        break;
+      case Op::kSub:
+        if (Needs(n.a)) Acc(nodes_[n.a], g);
+        if (Needs(n.b)) Acc(nodes_[n.b], -g);
+        break;
+      case Op::kMul:
+        if (Needs(n.a)) Acc(nodes_[n.a], g.cwiseProduct(B));
+        if (Needs(n.b)) Acc(nodes_[n.b], g.cwiseProduct(A));
+        break;
+      case Op::kDiv:
+        if (Needs(n.a)) Acc(nodes_[n.a], g.cwiseQuotient(B));
+        if (Needs(n.b)) {
+          Acc(nodes_[n.b], (-g.array() * A.array() / B.array().square()).matrix());
+        }
+        break;
+      case Op::kMin: {
+        const auto pick_a = (A.array() <= B.array()).template cast<T>();
+        if (Needs(n.a)) Acc(nodes_[n.a], (g.array() * pick_a).matrix());
+        if (Needs(n.b)) Acc(nodes_[n.b], (g.array() * (T(1) - pick_a)).matrix());
+        break;
+      }
+      default:
+        break;
+    }
+    return;
+  }
+  // broadcasting: work at full shape, then sum down to each operand's shape
+  const Mat Af = Expand(A, g.rows(), g.cols());
+  const Mat Bf = Expand(B, g.rows(), g.cols());
+  Mat ga, gb;
+  switch (n.op) {
+    case Op::kAdd: ga = g; gb = g; break;
+    case Op::kSub: ga = g; gb = -g; break;
+    case Op::kMul: ga = g.cwiseProduct(Bf); gb = g.cwiseProduct(Af); break;
+    case Op::kDiv:
+      ga = g.cwiseQuotient(Bf);
+      gb = (-g.array() * Af.array() / Bf.array().square()).matrix();
+      break;
+    default: break;
+  }
+  if (Needs(n.a)) Acc(nodes_[n.a], Reduce(ga, A.rows(), A.cols()));
+  if (Needs(n.b)) Acc(nodes_[n.b], Reduce(gb, B.rows(), B.cols()));
+}
+
+template <typename T>
+void Tape<T>::BackwardAttention(Node& n) {
+  const Mat& g = n.grad;
+  const Mat& Q = Val(n.a);
+  const Mat& K = Val(n.b);
+  const Mat& V = Val(n.c);
+  const Index batch = Q.rows(), embed = Q.cols(), heads = n.i0;
+  const Index ents = K.rows() / batch, dh = embed / heads;
+  const T scale = T(1) / std::sqrt(static_cast<T>(dh));
+  const bool nq = Needs(n.a), nk = Needs(n.b), nv = Needs(n.c);
+  if (nq) EnsureGrad(nodes_[n.a], batch, embed);
+  if (nk) EnsureGrad(nodes_[n.b], K.rows(), embed);
+  if (nv) EnsureGrad(nodes_[n.c], V.rows(), embed);
+  Mat* gq = nq ? &nodes_[n.a].grad : nullptr;
+  Mat* gk = nk ? &nodes_[n.b].grad : nullptr;
+  Mat* gv = nv ? &nodes_[n.c].grad : nullptr;
+  std::vector<T> gs(static_cast<size_t>(ents));
+  for (Index b = 0; b < batch; ++b) {
+    for (Index h = 0; h < heads; ++h) {
+      const T* w = n.aux.data() + b * n.aux.cols() + h * ents;
+      const auto go = g.row(b).segment(h * dh, dh);
+      // gradient of the weights, then through the softmax to the scores
+      T wg = 0;
+      for (Index e = 0; e < ents; ++e) {
+        if (w[e] == T(0)) {
+          gs[e] = 0;
+          continue;
+        }
+        gs[e] = go.dot(V.row(b * ents + e).segment(h * dh, dh));
+        wg += w[e] * gs[e];
+        if (gv) gv->row(b * ents + e).segment(h * dh, dh) += w[e] * go;
+      }
+      for (Index e = 0; e < ents; ++e) {
+        if (w[e] == T(0)) continue;
+        const T s = scale * w[e] * (gs[e] - wg);
+        if (gq) gq->row(b).segment(h * dh, dh) += s * K.row(b * ents + e).segment(h * dh, dh);
+        if (gk) gk->row(b * ents + e).segment(h * dh, dh) += s * Q.row(b).segment(h * dh, dh);
+      }
+    }
+  }
+}
+
+template <typename T>
 void Tape<T>::BackwardNode(int id) {
   Node& n = nodes_[id];
   const Mat& g = n.grad;
@@ -586,59 +658,9 @@ void Tape<T>::BackwardNode(int id) {
     case Op::kSub:
     case Op::kMul:
     case Op::kDiv:
-    case Op::kMin: {
-      const Mat& A = Val(n.a);
-      const Mat& B = Val(n.b);
-      const bool same = A.rows() == B.rows() && A.cols() == B.cols();
-      if (same) {
-        switch (n.op) {
-          case Op::kAdd:
-            if (Needs(n.a)) Acc(nodes_[n.a], g);
-            if (Needs(n.b)) Acc(nodes_[n.b], g);
-            break;
-          case Op::kSub:
-            if (Needs(n.a)) Acc(nodes_[n.a], g);
-            if (Needs(n.b)) Acc(nodes_[n.b], -g);
-            break;
-          case Op::kMul:
-            if (Needs(n.a)) Acc(nodes_[n.a], g.cwiseProduct(B));
-            if (Needs(n.b)) Acc(nodes_[n.b], g.cwiseProduct(A));
-            break;
-          case Op::kDiv:
-            if (Needs(n.a)) Acc(nodes_[n.a], g.cwiseQuotient(B));
-            if (Needs(n.b)) {
-              Acc(nodes_[n.b], (-g.array() * A.array() / B.array().square()).matrix());
-            }
-            break;
-          case Op::kMin: {
-            const auto pick_a = (A.array() <= B.array()).template cast<T>();
-            if (Needs(n.a)) Acc(nodes_[n.a], (g.array() * pick_a).matrix());
-            if (Needs(n.b)) Acc(nodes_[n.b], (g.array() * (T(1) - pick_a)).matrix());
-            break;
-          }
-          default:
-            break;
-        }
-        break;
-      }
-      // broadcasting: work at full shape, then sum down to each operand's shape
-      const Mat Af = Expand(A, g.rows(), g.cols());
-      const Mat Bf = Expand(B, g.rows(), g.cols());
-      Mat ga, gb;
-      switch (n.op) {
-        case Op::kAdd: ga = g; gb = g; break;
-        case Op::kSub: ga = g; gb = -g; break;
-        case Op::kMul: ga = g.cwiseProduct(Bf); gb = g.cwiseProduct(Af); break;
-        case Op::kDiv:
-          ga = g.cwiseQuotient(Bf);
-          gb = (-g.array() * Af.array() / Bf.array().square()).matrix();
-          break;
-        default: break;
-      }
-      if (Needs(n.a)) Acc(nodes_[n.a], Reduce(ga, A.rows(), A.cols()));
-      if (Needs(n.b)) Acc(nodes_[n.b], Reduce(gb, B.rows(), B.cols()));
+    case Op::kMin:
+      BackwardBinary(n);
       break;
-    }
     case Op::kAddScalar:
       Acc(nodes_[n.a], g);
       break;
@@ -749,46 +771,9 @@ void Tape<T>::BackwardNode(int id) {
       for (size_t i = 0; i < n.index.size(); ++i) in.grad.row(i) += g.row(n.index[i]);
       break;
     }
-    case Op::kAttention: {
-      const Mat& Q = Val(n.a);
-      const Mat& K = Val(n.b);
-      const Mat& V = Val(n.c);
-      const Index batch = Q.rows(), embed = Q.cols(), heads = n.i0;
-      const Index ents = K.rows() / batch, dh = embed / heads;
-      const T scale = T(1) / std::sqrt(static_cast<T>(dh));
-      const bool nq = Needs(n.a), nk = Needs(n.b), nv = Needs(n.c);
-      if (nq) EnsureGrad(nodes_[n.a], batch, embed);
-      if (nk) EnsureGrad(nodes_[n.b], K.rows(), embed);
-      if (nv) EnsureGrad(nodes_[n.c], V.rows(), embed);
-      Mat* gq = nq ? &nodes_[n.a].grad : nullptr;
-      Mat* gk = nk ? &nodes_[n.b].grad : nullptr;
-      Mat* gv = nv ? &nodes_[n.c].grad : nullptr;
-      std::vector<T> gs(static_cast<size_t>(ents));
-      for (Index b = 0; b < batch; ++b) {
-        for (Index h = 0; h < heads; ++h) {
-          const T* w = n.aux.data() + b * n.aux.cols() + h * ents;
-          const auto go = g.row(b).segment(h * dh, dh);
-          // gradient of the weights, then through the softmax to the scores
-          T wg = 0;
-          for (Index e = 0; e < ents; ++e) {
-            if (w[e] == T(0)) {
-              gs[e] = 0;
-              continue;
-            }
-            gs[e] = go.dot(V.row(b * ents + e).segment(h * dh, dh));
-            wg += w[e] * gs[e];
-            if (gv) gv->row(b * ents + e).segment(h * dh, dh) += w[e] * go;
-          }
-          for (Index e = 0; e < ents; ++e) {
-            if (w[e] == T(0)) continue;
-            const T s = scale * w[e] * (gs[e] - wg);
-            if (gq) gq->row(b).segment(h * dh, dh) += s * K.row(b * ents + e).segment(h * dh, dh);
-            if (gk) gk->row(b * ents + e).segment(h * dh, dh) += s * Q.row(b).segment(h * dh, dh);
-          }
-        }
-      }
+    case Op::kAttention:
+      BackwardAttention(n);
       break;
-    }
   }
 }
 

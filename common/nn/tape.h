@@ -76,23 +76,24 @@ class Tape {
   Var<T> AddBias(Var<T> x, Var<T> b);                // x + b broadcast over rows, b is 1 x n
 
   // Elementwise arithmetic. Either operand may broadcast: shape 1 x 1, 1 x n or m x 1.
-  Var<T> Add(Var<T> a, Var<T> b);
-  Var<T> Sub(Var<T> a, Var<T> b);
-  Var<T> Mul(Var<T> a, Var<T> b);
-  Var<T> Div(Var<T> a, Var<T> b);
+  Var<T> Add(Var<T> a, Var<T> b) { return Binary(Op::kAdd, a, b); }
+  Var<T> Sub(Var<T> a, Var<T> b) { return Binary(Op::kSub, a, b); }
+  Var<T> Mul(Var<T> a, Var<T> b) { return Binary(Op::kMul, a, b); }
+  Var<T> Div(Var<T> a, Var<T> b) { return Binary(Op::kDiv, a, b); }
   Var<T> AddScalar(Var<T> a, T s);
   Var<T> MulScalar(Var<T> a, T s);
-  Var<T> Min(Var<T> a, Var<T> b);                    // same shapes; ties send grad to a
+  // same shapes; ties send the gradient to a
+  Var<T> Min(Var<T> a, Var<T> b) { return Binary(Op::kMin, a, b); }
   Var<T> Clamp(Var<T> a, T lo, T hi);                // zero gradient outside [lo, hi]
 
   // Elementwise functions.
-  Var<T> Relu(Var<T> a);
-  Var<T> Tanh(Var<T> a);
-  Var<T> Sigmoid(Var<T> a);
-  Var<T> Exp(Var<T> a);
-  Var<T> Log(Var<T> a);
-  Var<T> Softplus(Var<T> a);                         // log(1 + e^a), overflow-safe
-  Var<T> Square(Var<T> a);
+  Var<T> Relu(Var<T> a) { return Unary(Op::kRelu, a); }
+  Var<T> Tanh(Var<T> a) { return Unary(Op::kTanh, a); }
+  Var<T> Sigmoid(Var<T> a) { return Unary(Op::kSigmoid, a); }
+  Var<T> Exp(Var<T> a) { return Unary(Op::kExp, a); }
+  Var<T> Log(Var<T> a) { return Unary(Op::kLog, a); }
+  Var<T> Softplus(Var<T> a) { return Unary(Op::kSoftplus, a); }  // log(1 + e^a), overflow-safe
+  Var<T> Square(Var<T> a) { return Unary(Op::kSquare, a); }
 
   // Reductions. axis -1: all elements (1 x 1); 0: over rows (1 x n); 1: over columns (m x 1).
   Var<T> Sum(Var<T> a, int axis = -1);
@@ -166,8 +167,12 @@ class Tape {
   }
   bool Needs(int id) const { return id >= 0 && nodes_[id].needs_grad; }
   Var<T> Binary(Op op, Var<T> a, Var<T> b);
+  // a new node holding a * b (checked shapes; `what` names the op in errors)
+  Node& Product(Op op, Var<T> a, Var<T> b, const char* what);
   Var<T> Unary(Op op, Var<T> a);
   void BackwardNode(int id);
+  void BackwardBinary(Node& n);     // Add, Sub, Mul, Div, Min (broadcast operands summed down)
+  void BackwardAttention(Node& n);
   void LogGemm(Eigen::Index m, Eigen::Index k, Eigen::Index n, bool ta, bool tb) {
     if (gemm_log_) gemm_log_->push_back({m, k, n, ta, tb});
   }

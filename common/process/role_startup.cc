@@ -1,29 +1,49 @@
 #include "common/process/role_startup.h"
 
+#include <spdlog/spdlog.h>
+
 #include <iostream>
 
 #include "common/logging/logging.h"
 
 namespace srics::process {
 
-int StartRole(int argc, char** argv, const std::string& program, const std::string& usage,
-              const std::string& base_name, bool needs_id, Role* role) {
+std::string UsageOf(const RoleProgram& program) {
+  return program.program + (program.needs_id ? " CONFIG --id K" : " CONFIG") +
+         " [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]";
+}
+
+int StartRole(int argc, char** argv, const RoleProgram& program, Role* role) {
+  const std::string usage = UsageOf(program);
   try {
     role->command_line = config::ParseCommandLine(argc, argv, usage);
-    if (needs_id && !role->command_line.id)
+    if (program.needs_id && !role->command_line.id)
       throw config::ConfigError("--id K is required\nusage: " + usage);
     role->config = config::LoadConfig(role->command_line.config_path, role->command_line.overrides);
-    role->name = needs_id ? base_name + "-" + std::to_string(*role->command_line.id) : base_name;
+    role->name = program.needs_id ? program.base_name + "-" + std::to_string(*role->command_line.id)
+                                  : program.base_name;
     logging::LogOptions log;
     log.level = role->command_line.log_level.empty() ? role->config.run.log_level : role->command_line.log_level;
     if (!role->command_line.run_dir.empty() && role->config.run.log_to_file)
       log.file = role->command_line.run_dir + "/logs/" + role->name + ".log";
     logging::SetUpLogger(role->name, log);
   } catch (const std::exception& e) {
-    std::cerr << program << ": " << e.what() << "\n";
+    std::cerr << program.program << ": " << e.what() << "\n";
     return 2;
   }
   return 0;
+}
+
+int RunRole(int argc, char** argv, const RoleProgram& program,
+            const std::function<int(const Role&)>& body) {
+  Role role;
+  if (const int code = StartRole(argc, argv, program, &role)) return code;
+  try {
+    return body(role);
+  } catch (const std::exception& e) {
+    spdlog::critical("{} failed: {}", role.name, e.what());
+    return 1;
+  }
 }
 
 }  // namespace srics::process

@@ -1,8 +1,9 @@
 #pragma once
 // The start every role process shares (srics-actor, srics-learner, srics-graph): parse the
 // command line, load and validate the config, set up the role's logger (console, and a file
-// in the run folder's logs/ when there is one).
+// in the run folder's logs/ when there is one), then run the role and log what ended it.
 
+#include <functional>
 #include <string>
 
 #include "common/config/command_line.h"
@@ -16,10 +17,23 @@ struct Role {
   std::string name;  // logger and log-file name: "learner", "graph", "actor-3"
 };
 
+// What distinguishes one role program from another at start-up.
+struct RoleProgram {
+  std::string program;    // "srics-actor"
+  std::string base_name;  // "actor"
+  bool needs_id = false;  // --id K required, appended to the name ("actor-3")
+};
+
+// The usage line of a role program: "srics-actor CONFIG --id K [--set ...] ...".
+std::string UsageOf(const RoleProgram& program);
+
 // Fills *role and returns 0, or prints "<program>: <what is wrong>" to stderr and returns the
-// exit code (2) when the command line, the config or the log level is bad. `base_name` is
-// the role ("actor"); with `needs_id` the --id option is required and appended ("actor-3").
-int StartRole(int argc, char** argv, const std::string& program, const std::string& usage,
-              const std::string& base_name, bool needs_id, Role* role);
+// exit code (2) when the command line, the config or the log level is bad.
+int StartRole(int argc, char** argv, const RoleProgram& program, Role* role);
+
+// StartRole, then body(role); an exception out of the body is logged as "<name> failed: ..."
+// and gives exit code 1. Returns the exit code of the process.
+int RunRole(int argc, char** argv, const RoleProgram& program,
+            const std::function<int(const Role&)>& body);
 
 }  // namespace srics::process

@@ -56,15 +56,31 @@ EntityBatch<T> PackEntities(const std::vector<nn::Matrix<T>>& sets, const nn::Ma
   return out;
 }
 
+// ---- AttentionMlpNetwork
+
+template <typename T>
+AttentionMlpNetwork<T>::AttentionMlpNetwork(const std::string& name,
+                                            const AttentionNetworkConfig& config,
+                                            int extra_inputs, const std::vector<int>& hidden,
+                                            int outputs, nn::Rng& rng)
+    : config_(config),
+      attention_(name + ".attention", AttentionOf(config), rng),
+      mlp_(name + ".mlp", 2 * config.embed_dim + extra_inputs, hidden, outputs, rng) {}
+
+template <typename T>
+nn::ParameterList<T> AttentionMlpNetwork<T>::Parameters() {
+  nn::ParameterList<T> list;
+  attention_.Parameters(list);
+  mlp_.Parameters(list);
+  return list;
+}
+
 // ---- PolicyNetwork
 
 template <typename T>
 PolicyNetwork<T>::PolicyNetwork(const std::string& name, const AttentionNetworkConfig& config,
                                 nn::Rng& rng)
-    : config_(config),
-      attention_(name + ".attention", AttentionOf(config), rng),
-      mlp_(name + ".mlp", 2 * config.embed_dim, config.policy_hidden, 2 * config.action_dim,
-           rng),
+    : AttentionMlpNetwork<T>(name, config, 0, config.policy_hidden, 2 * config.action_dim, rng),
       head_{static_cast<T>(config.log_std_min), static_cast<T>(config.log_std_max)},
       eps_(static_cast<size_t>(config.action_dim)) {}
 
@@ -110,22 +126,12 @@ const nn::Matrix<T>& PolicyNetwork<T>::Act(const Eigen::Ref<const nn::Matrix<T>>
   return action_;
 }
 
-template <typename T>
-nn::ParameterList<T> PolicyNetwork<T>::Parameters() {
-  nn::ParameterList<T> list;
-  attention_.Parameters(list);
-  mlp_.Parameters(list);
-  return list;
-}
-
 // ---- QNetwork
 
 template <typename T>
 QNetwork<T>::QNetwork(const std::string& name, const AttentionNetworkConfig& config,
                       nn::Rng& rng)
-    : config_(config),
-      attention_(name + ".attention", AttentionOf(config), rng),
-      mlp_(name + ".mlp", 2 * config.embed_dim + config.action_dim, config.q_hidden, 1, rng) {}
+    : AttentionMlpNetwork<T>(name, config, config.action_dim, config.q_hidden, 1, rng) {}
 
 template <typename T>
 nn::Var<T> QNetwork<T>::Forward(nn::Tape<T>& tape, nn::Var<T> entities, nn::Var<T> mask,
@@ -142,18 +148,12 @@ nn::Var<T> QNetwork<T>::Forward(nn::Tape<T>& tape, const EntityBatch<T>& batch,
                  tape.Constant(batch.goals), actions, trainable);
 }
 
-template <typename T>
-nn::ParameterList<T> QNetwork<T>::Parameters() {
-  nn::ParameterList<T> list;
-  attention_.Parameters(list);
-  mlp_.Parameters(list);
-  return list;
-}
-
 template EntityBatch<float> PackEntities(const std::vector<nn::Matrix<float>>&,
                                          const nn::Matrix<float>&);
 template EntityBatch<double> PackEntities(const std::vector<nn::Matrix<double>>&,
                                           const nn::Matrix<double>&);
+template class AttentionMlpNetwork<float>;
+template class AttentionMlpNetwork<double>;
 template class PolicyNetwork<float>;
 template class PolicyNetwork<double>;
 template class QNetwork<float>;

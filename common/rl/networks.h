@@ -51,9 +51,28 @@ struct EntityBatch {
 template <typename T>
 EntityBatch<T> PackEntities(const std::vector<nn::Matrix<T>>& sets, const nn::Matrix<T>& goals);
 
+// What the policy and the Q network share: goal-conditioned attention over the entities, then
+// an MLP on [attention | goal embedding | extra inputs].
+template <typename T>
+class AttentionMlpNetwork {
+ public:
+  // Parameters in a fixed order (the flat weight layout): attention, then the MLP.
+  nn::ParameterList<T> Parameters();
+  const AttentionNetworkConfig& config() const { return config_; }
+
+ protected:
+  // Throws std::invalid_argument naming the first bad field of `config`.
+  AttentionMlpNetwork(const std::string& name, const AttentionNetworkConfig& config,
+                      int extra_inputs, const std::vector<int>& hidden, int outputs, nn::Rng& rng);
+
+  AttentionNetworkConfig config_;
+  nn::GoalAttention<T> attention_;
+  nn::Mlp<T> mlp_;
+};
+
 // The SAC policy.
 template <typename T>
-class PolicyNetwork {
+class PolicyNetwork : public AttentionMlpNetwork<T> {
  public:
   PolicyNetwork(const std::string& name, const AttentionNetworkConfig& config, nn::Rng& rng);
 
@@ -79,14 +98,10 @@ class PolicyNetwork {
   // Log-probability of the last Act's action.
   T last_log_prob() const { return last_log_prob_; }
 
-  // Parameters in a fixed order (the flat weight layout).
-  nn::ParameterList<T> Parameters();
-  const AttentionNetworkConfig& config() const { return config_; }
-
  private:
-  AttentionNetworkConfig config_;
-  nn::GoalAttention<T> attention_;
-  nn::Mlp<T> mlp_;
+  using AttentionMlpNetwork<T>::config_;
+  using AttentionMlpNetwork<T>::attention_;
+  using AttentionMlpNetwork<T>::mlp_;
   nn::TanhGaussian<T> head_;
   // inference buffers
   nn::Matrix<T> att_, goal_emb_, features_, head_out_, action_;
@@ -96,7 +111,7 @@ class PolicyNetwork {
 
 // One SAC critic Q(s, g, a).
 template <typename T>
-class QNetwork {
+class QNetwork : public AttentionMlpNetwork<T> {
  public:
   QNetwork(const std::string& name, const AttentionNetworkConfig& config, nn::Rng& rng);
 
@@ -106,15 +121,13 @@ class QNetwork {
   nn::Var<T> Forward(nn::Tape<T>& tape, const EntityBatch<T>& batch, nn::Var<T> actions,
                      bool trainable = true);
 
-  nn::ParameterList<T> Parameters();
-  const AttentionNetworkConfig& config() const { return config_; }
-
  private:
-  AttentionNetworkConfig config_;
-  nn::GoalAttention<T> attention_;
-  nn::Mlp<T> mlp_;
+  using AttentionMlpNetwork<T>::attention_;
+  using AttentionMlpNetwork<T>::mlp_;
 };
 
+extern template class AttentionMlpNetwork<float>;
+extern template class AttentionMlpNetwork<double>;
 extern template class PolicyNetwork<float>;
 extern template class PolicyNetwork<double>;
 extern template class QNetwork<float>;

@@ -50,6 +50,14 @@ bool WaitForStatus(int32_t participant, int32_t guard, const Shutdown& shutdown,
   }
 }
 
+// One status of `entity`, read with `get` (dds_get_..._status); throws DdsError.
+template <typename Status>
+Status StatusOf(dds_return_t (*get)(dds_entity_t, Status*), dds_entity_t entity, const char* what) {
+  Status status;
+  Check(get(entity, &status), what);
+  return status;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------- Topic
@@ -207,10 +215,8 @@ void Writer<T>::Flush() {
 
 template <typename T>
 uint32_t Writer<T>::matched_readers() const {
-  dds_publication_matched_status_t status;
-  Check(dds_get_publication_matched_status(impl_->writer, &status),
-        "dds_get_publication_matched_status");
-  return status.current_count;
+  return StatusOf(dds_get_publication_matched_status, impl_->writer,
+                  "dds_get_publication_matched_status").current_count;
 }
 
 template <typename T>
@@ -380,18 +386,14 @@ size_t Reader<T>::TakeMany(std::vector<T>* out, size_t max, std::chrono::millise
 
 template <typename T>
 uint32_t Reader<T>::matched_writers() const {
-  dds_subscription_matched_status_t status;
-  Check(dds_get_subscription_matched_status(impl_->reader, &status),
-        "dds_get_subscription_matched_status");
-  return status.current_count;
+  return StatusOf(dds_get_subscription_matched_status, impl_->reader,
+                  "dds_get_subscription_matched_status").current_count;
 }
 
 template <typename T>
 uint32_t Reader<T>::alive_writers() const {
-  dds_liveliness_changed_status_t status;
-  Check(dds_get_liveliness_changed_status(impl_->reader, &status),
-        "dds_get_liveliness_changed_status");
-  return status.alive_count;
+  return StatusOf(dds_get_liveliness_changed_status, impl_->reader,
+                  "dds_get_liveliness_changed_status").alive_count;
 }
 
 template <typename T>

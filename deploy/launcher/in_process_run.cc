@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "actor/actor_loop.h"
+#include "common/config/command_line.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/seeds.h"
 #include "common/transport/rl_convert.h"
@@ -96,7 +97,7 @@ struct InProcessRun::Loops {
   links::InMemoryBus bus;
   std::unique_ptr<links::EpisodeSource> graph_source;
   std::unique_ptr<links::GraphSink> graph_sink;
-  std::unique_ptr<graph::GraphService> graph;
+  std::unique_ptr<graph_service::GraphService> graph;
   std::unique_ptr<links::LearnerLink> learner_link;
   std::unique_ptr<learner::LearnerLoop> learner;
   std::vector<std::unique_ptr<links::ActorLink>> actor_links;
@@ -115,12 +116,12 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
   if (rl::UsesGraph(config.run.method) || options_.graph_only) {
     l.graph_source = l.bus.GraphSourceEnd();
     l.graph_sink = l.bus.GraphSinkEnd();
-    graph::ServiceOptions options;
+    graph_service::ServiceOptions options;
     options.state_dir = dir;
     options.seed = rl::DeriveSeed(config.run.seed, rl::SeedPurpose::kGraphService);
     options.status_period_s = config.transport.status_period_s;
     options.limits = rl::EpisodeLimitsFor(config.env);
-    l.graph = std::make_unique<graph::GraphService>(config.graph, options, l.graph_source.get(), l.graph_sink.get(),
+    l.graph = std::make_unique<graph_service::GraphService>(config.graph, options, l.graph_source.get(), l.graph_sink.get(),
                                                     options_.on_graph_progress);
   }
   learner::LearnerLoopOptions learner_options =
@@ -141,16 +142,16 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
 
 InProcessRun::~InProcessRun() = default;
 
-const graph::GraphService* InProcessRun::graph_service() const { return loops_->graph.get(); }
+const graph_service::GraphService* InProcessRun::graph_service() const { return loops_->graph.get(); }
 
 bool InProcessRun::Round() {
   Loops& l = *loops_;
   ++rounds_;
   bool worked = false;
   if (l.graph) {
-    worked |= l.graph->Step() == graph::StepResult::kWorked;
+    worked |= l.graph->Step() == graph_service::StepResult::kWorked;
     if (options_.graph_only && l.graph->published()) return false;
-    if (l.graph->progress().phase == graph::Progress::Phase::kStopped)
+    if (l.graph->progress().phase == graph_service::Progress::Phase::kStopped)
       throw std::runtime_error("the graph service stopped without a graph");
   }
   for (size_t k = 0; k < l.actors.size(); ++k) {
@@ -219,14 +220,13 @@ const char* const kLearnGraphUsage =
 int LearnGraph(const std::vector<std::string>& args) {
   std::string env_file, out_dir;
   std::vector<std::string> overrides;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
+  for (config::ArgumentReader r(args); r.Next();) {
+    const std::string& arg = r.arg();
     if (arg == "-h" || arg == "--help") {
       std::cout << kLearnGraphUsage;
       return 0;
     }
-    if (i + 1 >= args.size()) throw std::invalid_argument(arg + " needs a value");
-    const std::string& value = args[++i];
+    const std::string& value = r.Value();
     if (arg == "--env") env_file = value;
     else if (arg == "--out") out_dir = value;
     else if (arg == "--seed") overrides.push_back("run.seed=" + value);
@@ -239,9 +239,9 @@ int LearnGraph(const std::vector<std::string>& args) {
   const auto& stop = transport::Shutdown::Process().flag();
   InProcessOptions options;
   options.graph_only = true;
-  options.on_graph_progress = [](const graph::Progress& p) {
+  options.on_graph_progress = [](const graph_service::Progress& p) {
     std::printf("[%7.1fs] %-10s episodes %d/%d (dropped %d) updates %lld held-out %.3g (no-motion %.3g) stable %d  %s\n",
-                p.elapsed_seconds, graph::PhaseName(p.phase), p.episodes, p.target_episodes, p.dropped,
+                p.elapsed_seconds, graph_service::PhaseName(p.phase), p.episodes, p.target_episodes, p.dropped,
                 static_cast<long long>(p.updates), p.held_out_loss, p.held_out_zero_loss, p.stable_evaluations,
                 p.graph.c_str());
     std::fflush(stdout);

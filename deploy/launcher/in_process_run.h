@@ -21,7 +21,7 @@ struct InProcessOptions {
   // only the graph service and exploring actors; the run ends when the graph is published
   // (`srics learn-graph`)
   bool graph_only = false;
-  std::function<void(const graph::Progress&)> on_graph_progress;  // may be empty
+  std::function<void(const graph_service::Progress&)> on_graph_progress;  // may be empty
 };
 
 class InProcessRun {
@@ -42,7 +42,7 @@ class InProcessRun {
 
   uint64_t rounds() const { return rounds_; }
   // The graph service's state (null when the method uses no graph).
-  const graph::GraphService* graph_service() const;
+  const graph_service::GraphService* graph_service() const;
 
  private:
   struct Loops;

@@ -12,6 +12,7 @@
 
 #include <spdlog/sinks/sink.h>
 
+#include "common/config/command_line.h"
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/transport/transport.h"
@@ -82,12 +83,9 @@ std::vector<mon::ProcessRow> ProcessRows(const Supervisor& supervisor, SteadyClo
 
 LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
   LaunchOptions options;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw std::invalid_argument(arg + " needs a value");
-      return args[++i];
-    };
+  for (config::ArgumentReader r(args); r.Next();) {
+    const std::string& arg = r.arg();
+    auto value = [&r]() -> const std::string& { return r.Value(); };
     if (arg == "--set") options.overrides.push_back(value());
     else if (arg == "--actors") options.actors = static_cast<int>(ParseNumber(arg, value(), 1));
     else if (arg == "--run-dir") options.run_dir = value();

@@ -21,19 +21,19 @@ void SeedGraphFile(const config::Config& config, const std::string& dir) {
   if (dir.empty()) throw std::runtime_error("a given graph (graph.ground_truth or graph.file) needs a run folder");
   const std::string path = dir + "/graph.json";
   if (std::filesystem::exists(path)) return;
-  graph::LearnedGraph learned;
+  graph_service::LearnedGraph learned;
   if (!g.file.empty()) {
-    learned = graph::LoadGraph(g.file);  // validated: the file is untrusted
+    learned = graph_service::LoadGraph(g.file);  // validated: the file is untrusted
   } else {
     const rl::InteractionGraph truth = rl::GroundTruthGraph(config.env);
     const int n = truth.num_entities;
     std::vector<double> weights(static_cast<size_t>(n) * n, 0.0);
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) weights[i * n + j] = i != j && truth.edge(i, j) ? 1.0 : 0.0;
-    learned = graph::AggregateGraph(n, weights, g.threshold, truth.action_entity);
+    learned = graph_service::AggregateGraph(n, weights, g.threshold, truth.action_entity);
     learned.version = 1;
   }
-  graph::SaveGraphWithPictures(learned, dir + "/graph");
+  graph_service::SaveGraphWithPictures(learned, dir + "/graph");
 }
 namespace fs = std::filesystem;
 namespace {
@@ -137,12 +137,11 @@ std::string FindProgram(const std::string& program, const std::string& build_sub
                            "); build it first (tests/build.sh) or pass --bin-dir");
 }
 
-bool PlotEvalCurves(const std::string& dir, const std::string& title, std::string* error) {
-  std::ifstream in(dir + "/eval.csv");
-  if (!in) {
-    *error = "no eval.csv";
-    return false;
-  }
+namespace {
+
+// eval.csv as curves: the trained policy's evaluations in env-step order and the first
+// evaluation of the passive policy (version 0), when there is one.
+struct EvalCurve {
   struct Point {
     double steps, distance, object_distance;
     std::vector<double> success;
@@ -150,6 +149,11 @@ bool PlotEvalCurves(const std::string& dir, const std::string& title, std::strin
   std::vector<Point> points;
   bool have_passive = false;
   double passive_distance = 0, passive_object = 0;
+  size_t entities = 0;  // the longest per-subgoal success list
+};
+
+EvalCurve ReadEvalCurve(std::istream& in) {
+  EvalCurve curve;
   std::string line;
   std::getline(in, line);  // header
   while (std::getline(in, line)) {
@@ -160,56 +164,63 @@ bool PlotEvalCurves(const std::string& dir, const std::string& title, std::strin
     const double distance = std::strtod(f[7].c_str(), nullptr);
     const double object = std::strtod(f[8].c_str(), nullptr);
     if (version == 0) {
-      if (!have_passive) passive_distance = distance, passive_object = object, have_passive = true;
+      if (!curve.have_passive)
+        curve.passive_distance = distance, curve.passive_object = object, curve.have_passive = true;
       continue;
     }
-    points.push_back({steps, distance, object, SplitList(f[12])});
+    curve.points.push_back({steps, distance, object, SplitList(f[12])});
   }
-  if (points.empty()) {
-    *error = "no evaluation of a trained policy in eval.csv";
-    return false;
+  std::stable_sort(curve.points.begin(), curve.points.end(),
+                   [](const EvalCurve::Point& a, const EvalCurve::Point& b) { return a.steps < b.steps; });
+  for (const EvalCurve::Point& p : curve.points) curve.entities = std::max(curve.entities, p.success.size());
+  return curve;
+}
+
+// curve.dat: one row per evaluation (env steps, distances, per-subgoal success).
+void WriteCurveData(const std::string& dir, const EvalCurve& curve) {
+  std::ofstream data(dir + "/curve.dat");
+  data << "# env_steps avg_distance avg_object_distance subgoal_success_0..N-1\n";
+  for (const EvalCurve::Point& p : curve.points) {
+    data << p.steps << ' ' << p.distance << ' ' << p.object_distance;
+    for (size_t i = 0; i < curve.entities; ++i) data << ' ' << (i < p.success.size() ? p.success[i] : 0.0);
+    data << '\n';
   }
-  std::stable_sort(points.begin(), points.end(), [](const Point& a, const Point& b) { return a.steps < b.steps; });
-  size_t entities = 0;
-  for (const Point& p : points) entities = std::max(entities, p.success.size());
-  {
-    std::ofstream data(dir + "/curve.dat");
-    data << "# env_steps avg_distance avg_object_distance subgoal_success_0..N-1\n";
-    for (const Point& p : points) {
-      data << p.steps << ' ' << p.distance << ' ' << p.object_distance;
-      for (size_t i = 0; i < entities; ++i) data << ' ' << (i < p.success.size() ? p.success[i] : 0.0);
-      data << '\n';
-    }
+}
+
+// The gnuplot script of curve.png (distances, with the passive policy's as flat lines) and
+// subgoal_success.png.
+void WriteGnuplotScript(const std::string& path, const std::string& dir, const std::string& title,
+                        const EvalCurve& curve) {
+  std::ofstream script(path);
+  script << "set terminal pngcairo size 900,540 font 'sans,10'\n"
+         << "set output '" << Quote(dir) << "/curve.png'\n"
+         << "set title '" << Quote(title) << "' noenhanced\n"
+         << "set xlabel 'environment steps'\nset ylabel 'final distance to goal (m)'\n"
+         << "set key outside right top\nset grid\nset yrange [0:*]\n";
+  std::string plot = "plot '" + Quote(dir) + "/curve.dat' using 1:3 with linespoints lw 2 title 'avg object distance', "
+                     "'' using 1:2 with linespoints lw 2 title 'avg distance (arm incl.)'";
+  if (curve.have_passive) {
+    char buffer[256];
+    std::snprintf(buffer, sizeof buffer,
+                  ", %.9g with lines dt 2 lw 2 title 'passive: avg object distance', %.9g with lines dt 3 lw 2 "
+                  "title 'passive: avg distance'",
+                  curve.passive_object, curve.passive_distance);
+    plot += buffer;
   }
-  const std::string script_path = dir + "/curve.gnuplot";
-  {
-    std::ofstream script(script_path);
-    script << "set terminal pngcairo size 900,540 font 'sans,10'\n"
-           << "set output '" << Quote(dir) << "/curve.png'\n"
-           << "set title '" << Quote(title) << "' noenhanced\n"
-           << "set xlabel 'environment steps'\nset ylabel 'final distance to goal (m)'\n"
-           << "set key outside right top\nset grid\nset yrange [0:*]\n";
-    std::string plot = "plot '" + Quote(dir) + "/curve.dat' using 1:3 with linespoints lw 2 title 'avg object distance', "
-                       "'' using 1:2 with linespoints lw 2 title 'avg distance (arm incl.)'";
-    if (have_passive) {
-      char buffer[256];
-      std::snprintf(buffer, sizeof buffer,
-                    ", %.9g with lines dt 2 lw 2 title 'passive: avg object distance', %.9g with lines dt 3 lw 2 "
-                    "title 'passive: avg distance'",
-                    passive_object, passive_distance);
-      plot += buffer;
-    }
-    script << plot << "\n";
-    if (entities > 0) {
-      script << "set output '" << Quote(dir) << "/subgoal_success.png'\n"
-             << "set title 'per-subgoal success: " << Quote(title) << "' noenhanced\n"
-             << "set ylabel 'success rate'\nset yrange [0:1.05]\nplot ";
-      for (size_t i = 0; i < entities; ++i)
-        script << (i ? ", " : "") << "'" << Quote(dir) << "/curve.dat' using 1:" << 4 + i
-               << " with linespoints lw 2 title 'entity " << i << "'";
-      script << "\n";
-    }
+  script << plot << "\n";
+  if (curve.entities > 0) {
+    script << "set output '" << Quote(dir) << "/subgoal_success.png'\n"
+           << "set title 'per-subgoal success: " << Quote(title) << "' noenhanced\n"
+           << "set ylabel 'success rate'\nset yrange [0:1.05]\nplot ";
+    for (size_t i = 0; i < curve.entities; ++i)
+      script << (i ? ", " : "") << "'" << Quote(dir) << "/curve.dat' using 1:" << 4 + i
+             << " with linespoints lw 2 title 'entity " << i << "'";
+    script << "\n";
   }
+}
+
+// Runs gnuplot on the script; false with *error (its output) when it fails.
+bool RunGnuplot(const std::string& script_path, std::string* error) {
   const std::string command = "gnuplot '" + script_path + "' 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) {
@@ -225,6 +236,25 @@ bool PlotEvalCurves(const std::string& dir, const std::string& title, std::strin
     return false;
   }
   return true;
+}
+
+}  // namespace
+
+bool PlotEvalCurves(const std::string& dir, const std::string& title, std::string* error) {
+  std::ifstream in(dir + "/eval.csv");
+  if (!in) {
+    *error = "no eval.csv";
+    return false;
+  }
+  const EvalCurve curve = ReadEvalCurve(in);
+  if (curve.points.empty()) {
+    *error = "no evaluation of a trained policy in eval.csv";
+    return false;
+  }
+  WriteCurveData(dir, curve);
+  const std::string script_path = dir + "/curve.gnuplot";
+  WriteGnuplotScript(script_path, dir, title, curve);
+  return RunGnuplot(script_path, error);
 }
 
 }  // namespace srics::launcher

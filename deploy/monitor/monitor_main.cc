@@ -18,6 +18,7 @@
 
 #include <spdlog/sinks/sink.h>
 
+#include "common/config/command_line.h"
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/transport/transport.h"
@@ -64,12 +65,9 @@ double ParseSeconds(const std::string& flag, const std::string& text) {
 
 Args ParseArgs(int argc, char** argv) {
   Args args;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
+  for (srics::config::ArgumentReader r(argc, argv); r.Next();) {
+    const std::string& arg = r.arg();
+    auto value = [&r] { return r.Value(); };
     if (arg == "--set") args.overrides.push_back(value());
     else if (arg == "--csv") args.csv_dir = value();
     else if (arg == "--once") args.once = true;

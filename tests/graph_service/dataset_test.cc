@@ -6,7 +6,7 @@
 
 #include "tests/graph_service/toy_world.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 namespace {
 
 using testing::ToyWorld;
@@ -104,4 +104,4 @@ TEST(ActionEntityTest, FollowsTheDrivenEntityWhereverItIs) {
 }
 
 }  // namespace
-}  // namespace srics::graph
+}  // namespace srics::graph_service

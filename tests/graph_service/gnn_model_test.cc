@@ -7,7 +7,7 @@
 #include "tests/common/nn/gradcheck.h"
 #include "tests/graph_service/toy_world.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 namespace {
 
 using testing::ToyWorld;
@@ -19,6 +19,19 @@ GraphDataset ToyData(int episodes, int steps) {
   data.Split(0.25, 1);
   return data;
 }
+
+// ToyData, a generator from `seed` and a batch of windows drawn with it (the model under test
+// is then initialised from the same generator).
+template <typename T>
+struct ToyBatch {
+  ToyBatch(int episodes, int steps, uint64_t seed, int windows, int window_steps)
+      : data(ToyData(episodes, steps)), rng(seed) {
+    data.SampleWindows(windows, window_steps, rng, &batch);
+  }
+  GraphDataset data;
+  nn::Rng rng;
+  WindowBatch<T> batch;
+};
 
 TEST(GnnModelTest, EdgeIndexingIsConsistent) {
   nn::Rng rng(1);
@@ -36,10 +49,8 @@ TEST(GnnModelTest, EdgeIndexingIsConsistent) {
 }
 
 TEST(GnnModelTest, HardSamplesAreZeroOrOne) {
-  GraphDataset data = ToyData(4, 6);
-  nn::Rng rng(2);
-  WindowBatch<float> batch;
-  data.SampleWindows(3, 4, rng, &batch);
+  ToyBatch<float> toy(4, 6, /*seed=*/2, 3, 4);
+  auto& [data, rng, batch] = toy;
   GnnModel<float> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 6,
                          .mlp_hidden = 8, .hard = true}, rng);
   nn::Tape<float> tape;
@@ -56,10 +67,8 @@ TEST(GnnModelTest, HardSamplesAreZeroOrOne) {
 
 // Gradients of the whole model (soft edge samples, KL included) against central differences.
 TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
-  GraphDataset data = ToyData(4, 6);
-  nn::Rng rng(3);
-  WindowBatch<double> batch;
-  data.SampleWindows(2, 3, rng, &batch);
+  ToyBatch<double> toy(4, 6, /*seed=*/3, 2, 3);
+  auto& [data, rng, batch] = toy;
   GnnModel<double> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 3,
                           .mlp_hidden = 4, .kl_weight = 0.1, .hard = false}, rng);
   nn::ParameterList<double> params;
@@ -76,10 +85,8 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
 }
 
 TEST(GnnModelTest, LossGoesDownOnAFixedBatch) {
-  GraphDataset data = ToyData(8, 20);
-  nn::Rng rng(4);
-  WindowBatch<float> batch;
-  data.SampleWindows(20, 10, rng, &batch);
+  ToyBatch<float> toy(8, 20, /*seed=*/4, 20, 10);
+  auto& [data, rng, batch] = toy;
   GnnModel<float> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 10,
                          .mlp_hidden = 32}, rng);
   nn::ParameterList<float> params;
@@ -128,4 +135,4 @@ TEST(GnnTrainerTest, EvaluationAveragesEdgeProbabilities) {
 }
 
 }  // namespace
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -15,6 +15,7 @@
 #include "actor/rollout.h"
 #include "common/config/config.h"
 #include "graph_service/service.h"
+#include "tests/graph_service/progress_printer.h"
 #include "tests/graph_service/toy_world.h"
 
 using namespace srics;
@@ -35,7 +36,7 @@ void ReadVec(std::ifstream& f, std::vector<V>* v) {
   f.read(reinterpret_cast<char*>(v->data()), static_cast<std::streamsize>(n * sizeof(V)));
 }
 
-class VectorSource : public graph::EpisodeSource {
+class VectorSource : public graph_service::EpisodeSource {
  public:
   explicit VectorSource(std::vector<rl::Episode> e) : episodes_(std::move(e)) {}
   bool Poll(std::chrono::milliseconds, std::vector<rl::Episode>* out) override {
@@ -140,27 +141,13 @@ int main(int argc, char** argv) {
   if (stats_only) return 0;
 
   VectorSource source(std::move(episodes));
-  graph::testing::RecordingSink sink;
-  graph::ServiceOptions options;
+  graph_service::testing::RecordingSink sink;
+  graph_service::ServiceOptions options;
   options.seed = seed;
   options.render_pictures = false;
   options.state_dir = "/tmp/graph_probe_out_" + std::to_string(seed);
   std::filesystem::remove_all(options.state_dir);
-  graph::GraphService service(cfg.graph, options, &source, &sink, [](const graph::Progress& p) {
-    if (p.phase != graph::Progress::Phase::kTraining) return;
-    std::printf("%7.1fs upd %6lld train %.3g held %.3g (zero %.3g)  %s\n   ", p.elapsed_seconds,
-                static_cast<long long>(p.updates), p.train_loss, p.held_out_loss,
-                p.held_out_zero_loss, p.graph.c_str());
-    const int n = static_cast<int>(std::sqrt(p.mean_weights.size()) + 0.5);
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) std::printf(" %.3f", p.mean_weights[i * n + j]);
-      std::printf(" |");
-    }
-    std::printf("\n    entity mse/zero:");
-    for (int i = 0; i < n; ++i) std::printf(" %.2g/%.2g", p.entity_loss[i], p.entity_zero_loss[i]);
-    std::printf("\n");
-    std::fflush(stdout);
-  });
+  graph_service::GraphService service(cfg.graph, options, &source, &sink, graph_service::testing::PrintTrainingProgress);
   std::atomic<bool> stop{false};
   const int rc = service.Run(stop);
   if (!sink.graphs.empty())

@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-namespace srics::graph {
+namespace srics::graph_service {
 namespace {
 
 TEST(JsonTest, ParsesNestedValues) {
@@ -34,4 +34,4 @@ TEST(JsonTest, TypedAccessorsCheckTypes) {
 }
 
 }  // namespace
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace srics::graph {
+namespace srics::graph_service {
 namespace {
 
 // The relational-4 graph as mean weights: arm -> 2, 3, 4; 2 <-> 3; static puck 1 untouched.
@@ -167,4 +167,4 @@ TEST(GraphFileTest, PicturesNameEdgesAndWeights) {
 }
 
 }  // namespace
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -14,8 +14,9 @@
 #include "common/config/env_config.h"
 #include "common/config/graph_config.h"
 #include "graph_service/service.h"
+#include "tests/graph_service/toy_world.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 namespace {
 
 // Explore episodes straight from the environment (episode i is reset with seed base + i).
@@ -42,13 +43,7 @@ class EnvSource : public EpisodeSource {
   nn::Rng rng_;
 };
 
-class RecordingSink : public GraphSink {
- public:
-  void Publish(const rl::GraphUpdate& graph) override { graphs.push_back(graph); }
-  void PublishStatus(const rl::NodeReport& report) override { statuses.push_back(report); }
-  std::vector<rl::GraphUpdate> graphs;
-  std::vector<rl::NodeReport> statuses;
-};
+using testing::RecordingSink;
 
 TEST(GraphLearningTest, RecoversArmFreePuckStaticPuck) {
   config::EnvConfig env;
@@ -72,4 +67,4 @@ TEST(GraphLearningTest, RecoversArmFreePuckStaticPuck) {
 }
 
 }  // namespace
-}  // namespace srics::graph
+}  // namespace srics::graph_service

@@ -8,7 +8,7 @@
 #include "common/links/in_memory_bus.h"
 #include "tests/graph_service/toy_world.h"
 
-namespace srics::graph {
+namespace srics::graph_service {
 namespace {
 
 using testing::RecordingSink;
@@ -183,4 +183,4 @@ TEST(GraphServiceTest, StepsOnTheInMemoryBusUntilTheGraphReachesActorsAndLearner
 }
 
 }  // namespace
-}  // namespace srics::graph
+}  // namespace srics::graph_service

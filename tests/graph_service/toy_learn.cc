@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "tests/graph_service/progress_printer.h"
 #include "tests/graph_service/toy_world.h"
 
 using namespace srics;
@@ -14,7 +15,7 @@ using namespace srics;
 int main(int argc, char** argv) {
   const std::string preset = argc > 1 ? argv[1] : "small";
   const uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
-  graph::testing::ToyWorldConfig world;
+  graph_service::testing::ToyWorldConfig world;
   if (preset == "small") { world.num_pucks = 2; world.static_pucks = {2}; }
   if (preset == "rearrange3") world.num_pucks = 3;
   if (preset == "relational4") { world.num_pucks = 4; world.static_pucks = {1}; world.ropes = {{2, 3}}; }
@@ -27,27 +28,13 @@ int main(int argc, char** argv) {
   if (const char* v = std::getenv("KL_RAMP")) cfg.kl_ramp_updates = std::atoi(v);
   if (const char* v = std::getenv("LR")) cfg.learning_rate = std::atof(v);
   if (const char* v = std::getenv("KL")) cfg.kl_weight = std::atof(v);
-  graph::testing::ToySource source(world, cfg.episodes, seed * 100000);
-  graph::testing::RecordingSink sink;
-  graph::ServiceOptions options;
+  graph_service::testing::ToySource source(world, cfg.episodes, seed * 100000);
+  graph_service::testing::RecordingSink sink;
+  graph_service::ServiceOptions options;
   options.seed = seed;
   options.state_dir = "/tmp/toy_learn_" + preset + "_" + std::to_string(seed);
   std::filesystem::remove_all(options.state_dir);
-  graph::GraphService service(cfg, options, &source, &sink, [](const graph::Progress& p) {
-    if (p.phase != graph::Progress::Phase::kTraining) return;
-    std::printf("%7.1fs upd %6lld train %.3g held %.3g (zero %.3g)  %s\n   ", p.elapsed_seconds,
-                static_cast<long long>(p.updates), p.train_loss, p.held_out_loss,
-                p.held_out_zero_loss, p.graph.c_str());
-    const int n = static_cast<int>(std::sqrt(p.mean_weights.size()) + 0.5);
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) std::printf(" %.3f", p.mean_weights[i * n + j]);
-      std::printf(" |");
-    }
-    std::printf("\n    entity mse/zero:");
-    for (int i = 0; i < n; ++i) std::printf(" %.2g/%.2g", p.entity_loss[i], p.entity_zero_loss[i]);
-    std::printf("\n");
-    std::fflush(stdout);
-  });
+  graph_service::GraphService service(cfg, options, &source, &sink, graph_service::testing::PrintTrainingProgress);
   std::atomic<bool> stop{false};
   return service.Run(stop);
 }

@@ -16,7 +16,7 @@
 #include "common/rl/episode.h"
 #include "graph_service/service.h"
 
-namespace srics::graph::testing {
+namespace srics::graph_service::testing {
 
 struct ToyWorldConfig {
   int num_pucks = 2;
@@ -164,6 +164,6 @@ class RecordingSink : public GraphSink {
   std::vector<rl::NodeReport> statuses;
 };
 
-}  // namespace srics::graph::testing
+}  // namespace srics::graph_service::testing
 
 #endif  // SRICS_TESTS_GRAPH_SERVICE_TOY_WORLD_H_

@@ -2,30 +2,15 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
 
-#include "tests/learner/test_episodes.h"
+#include "tests/learner/learner_testing.h"
 
 namespace srics::learner {
 namespace {
 
 using testing::MakeEpisode;
-
-// Rearrange 2 sizes (arm + 2 pucks: K = 3, D = 5) with small networks and batches.
-config::Config SmallRun(config::Method method) {
-  config::Config c;
-  c.env.num_pucks = 2;
-  c.run.method = method;
-  c.agent.network.embed_dim = 16;
-  c.agent.network.heads = 2;
-  c.agent.network.policy_hidden = {16};
-  c.agent.network.q_hidden = {16};
-  c.agent.sac.batch_size = 16;
-  c.learner.warmup_steps = 100;
-  c.learner.updates_per_step = 0.5;
-  c.learner.rate_error_buffer = 4;
-  return c;
-}
+using testing::ResidentKb;
+using testing::SmallRun;
 
 TEST(LearnerCoreTest, GraphMethodsWaitForTheGraphWithoutPilingUpUpdates) {
   Learner learner(LearnerOptionsFor(SmallRun(config::Method::kSrics)));
@@ -93,13 +78,6 @@ TEST(LearnerCoreTest, RestartFromCheckpointKeepsCountersAndRefillsBeforeUpdating
 
 namespace srics::learner {
 namespace {
-
-long ResidentKb() {
-  std::ifstream status("/proc/self/status");
-  for (std::string line; std::getline(status, line);)
-    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
-  return -1;
-}
 
 TEST(LearnerMemoryTest, FullReplayOf250kTransitionsAndPaperBatchStayUnder1GB) {
   // Rearrange 4 (5 entities), paper networks and batch 2048, a full 250k-transition replay

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "common/links/in_memory_bus.h"
-#include "tests/learner/test_episodes.h"
+#include "tests/learner/learner_testing.h"
 
 namespace srics::learner {
 namespace {
@@ -19,20 +19,10 @@ class StatsObserver : public links::BusObserver {
   int reports = 0;
 };
 
-// Rearrange 2 sizes (arm + 2 pucks: K = 3, D = 5) with small networks and batches.
+// SmallRun's sizes, a 400-step budget and weights every 10 updates.
 LearnerLoopOptions SmallOptions() {
-  config::Config c;
-  c.env.num_pucks = 2;
-  c.run.method = config::Method::kSrics;
+  config::Config c = testing::SmallRun(config::Method::kSrics);
   c.run.total_env_steps = 400;
-  c.agent.network.embed_dim = 16;
-  c.agent.network.heads = 2;
-  c.agent.network.policy_hidden = {16};
-  c.agent.network.q_hidden = {16};
-  c.agent.sac.batch_size = 16;
-  c.learner.warmup_steps = 100;
-  c.learner.updates_per_step = 0.5;
-  c.learner.rate_error_buffer = 4;
   c.learner.publish_every_updates = 10;
   LearnerLoopOptions o = LearnerLoopOptionsFor(c, "");
   o.report_period_s = 0;

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "common/rl/rewards.h"
-#include "tests/learner/test_episodes.h"
+#include "tests/learner/learner_testing.h"
 
 namespace srics::learner {
 namespace {

@@ -2,15 +2,15 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <map>
 
-#include "tests/learner/test_episodes.h"
+#include "tests/learner/learner_testing.h"
 
 namespace srics::learner {
 namespace {
 
 using testing::MakeEpisode;
+using testing::ResidentKb;
 
 TEST(ReplayBufferTest, EvictsWholeEpisodesOldestFirst) {
   ReplayBuffer replay(50);
@@ -56,13 +56,6 @@ TEST(ReplayBufferTest, SamplingStaysUniformAfterEvictions) {
   ASSERT_EQ(counts.size(), 5u);
   EXPECT_EQ(counts.begin()->first, 18u);
   for (auto& [id, c] : counts) EXPECT_NEAR(c, 5000, 300) << id;
-}
-
-long ResidentKb() {
-  std::ifstream status("/proc/self/status");
-  for (std::string line; std::getline(status, line);)
-    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
-  return -1;
 }
 
 TEST(ReplayBufferTest, FullReplayOfFiveEntitiesFitsWellUnder200MB) {

@@ -16,6 +16,7 @@
 #include "actor/env/metrics.h"
 #include "actor/env/rearrange_env.h"
 #include "actor/env/scripted_policy.h"
+#include "common/config/command_line.h"
 #include "common/config/config.h"
 
 namespace {
@@ -38,18 +39,14 @@ void Usage() {
 
 Args Parse(int argc, char** argv) {
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(flag + " needs a value");
-      return argv[++i];
-    };
-    if (flag == "--config") a.config = value();
-    else if (flag == "--set") a.overrides.push_back(value());
-    else if (flag == "--seed") a.seed = std::stoull(value());
-    else if (flag == "--steps") a.steps = std::stoi(value());
-    else if (flag == "--policy") a.policy = value();
-    else if (flag == "--out") a.out = value();
+  for (srics::config::ArgumentReader r(argc, argv); r.Next();) {
+    const std::string& flag = r.arg();
+    if (flag == "--config") a.config = r.Value();
+    else if (flag == "--set") a.overrides.push_back(r.Value());
+    else if (flag == "--seed") a.seed = std::stoull(r.Value());
+    else if (flag == "--steps") a.steps = std::stoi(r.Value());
+    else if (flag == "--policy") a.policy = r.Value();
+    else if (flag == "--out") a.out = r.Value();
     else if (flag == "--eval") a.eval = true;
     else throw std::runtime_error("unknown argument " + flag);
   }

@@ -9,14 +9,12 @@
 #include "actor/env/rearrange_env.h"
 #include "actor/env/scripted_policy.h"
 #include "common/config/config.h"
+#include "tests/actor/env/env_presets.h"
 
 namespace srics::env {
 namespace {
 
-config::EnvConfig Preset(const std::string& name) {
-  return config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/" + name + ".yaml")
-      .env;
-}
+using testing::Preset;
 
 constexpr int kEpisodes = 20;
 constexpr int kSteps = 60;

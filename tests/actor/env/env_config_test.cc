@@ -9,13 +9,12 @@
 
 #include "actor/env/rearrange_env.h"
 #include "common/config/config.h"
+#include "tests/actor/env/env_presets.h"
 
 namespace srics::config {
 namespace {
 
-std::string Preset(const std::string& name) {
-  return std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/" + name + ".yaml";
-}
+using env::testing::PresetPath;
 
 // The ConfigError message of parsing `yaml`, or "" when it parses.
 std::string ErrorOf(const std::string& yaml) {
@@ -25,6 +24,12 @@ std::string ErrorOf(const std::string& yaml) {
     return e.what();
   }
   return "";
+}
+
+// Expects the ConfigError of parsing `yaml` to contain every one of `parts`.
+void ExpectError(const std::string& yaml, std::initializer_list<std::string> parts) {
+  const std::string e = ErrorOf(yaml);
+  for (const std::string& part : parts) EXPECT_NE(e.find(part), std::string::npos) << e;
 }
 
 TEST(EnvConfigTest, DefaultsAreTheReferenceNumbers) {
@@ -66,7 +71,7 @@ TEST(EnvConfigTest, EveryPresetLoadsAndBuildsAnEnvironment) {
 }
 
 TEST(EnvConfigTest, PresetsSayWhatTheirNamesSay) {
-  const EnvConfig relational = LoadConfig(Preset("relational-4")).env;
+  const EnvConfig relational = LoadConfig(PresetPath("relational-4")).env;
   ASSERT_EQ(relational.objects.size(), 4u);
   EXPECT_TRUE(relational.objects[0].is_static);
   EXPECT_FALSE(relational.objects[1].is_static);
@@ -76,25 +81,25 @@ TEST(EnvConfigTest, PresetsSayWhatTheirNamesSay) {
   EXPECT_EQ(relational.connections[0].kind, ConnectionKind::kRope);
   EXPECT_DOUBLE_EQ(relational.connections[0].length, 0.13);
 
-  const EnvConfig spring = LoadConfig(Preset("relational-4-spring")).env;
+  const EnvConfig spring = LoadConfig(PresetPath("relational-4-spring")).env;
   EXPECT_EQ(spring.connections.at(0).kind, ConnectionKind::kSpring);
   EXPECT_TRUE(spring.objects.at(0).is_static);  // inherited through extends
 
-  EXPECT_TRUE(LoadConfig(Preset("rearrange-4-velocity")).env.velocities);
-  EXPECT_EQ(LoadConfig(Preset("rearrange-4-velocity")).env.num_pucks, 4);
+  EXPECT_TRUE(LoadConfig(PresetPath("rearrange-4-velocity")).env.velocities);
+  EXPECT_EQ(LoadConfig(PresetPath("rearrange-4-velocity")).env.num_pucks, 4);
 
-  const EnvConfig different = LoadConfig(Preset("different-6")).env;
+  const EnvConfig different = LoadConfig(PresetPath("different-6")).env;
   ASSERT_EQ(different.objects.size(), 6u);
   int boxes = 0;
   for (const auto& o : different.objects) boxes += o.shape == ObjectShape::kBox;
   EXPECT_EQ(boxes, 3);
 
-  const EnvConfig combos = LoadConfig(Preset("rearrange-4-combinations")).env;
+  const EnvConfig combos = LoadConfig(PresetPath("rearrange-4-combinations")).env;
   EXPECT_EQ(combos.object_sets.size(), 3u);
   ASSERT_EQ(combos.eval_object_sets.size(), 1u);
   EXPECT_EQ(combos.eval_object_sets[0], (std::vector<int>{2, 3, 4}));
   for (const auto& set : combos.object_sets) EXPECT_NE(set, combos.eval_object_sets[0]);
-  EXPECT_EQ(LoadConfig(Preset("rearrange-4-heldout")).env.object_sets,
+  EXPECT_EQ(LoadConfig(PresetPath("rearrange-4-heldout")).env.object_sets,
             (std::vector<std::vector<int>>{{2, 3, 4}}));
 }
 
@@ -114,13 +119,9 @@ TEST(EnvConfigTest, UnknownShapeListsTheShapes) {
 }
 
 TEST(EnvConfigTest, UnknownKeysAreRejectedWithASuggestion) {
-  std::string e = ErrorOf("env:\n  num_puck: 3\n");
-  EXPECT_NE(e.find("env.num_puck: unknown key"), std::string::npos) << e;
-  EXPECT_NE(e.find("did you mean 'num_pucks'"), std::string::npos) << e;
-  e = ErrorOf("env:\n  hand:\n    action_scal: 0.1\n");
-  EXPECT_NE(e.find("env.hand.action_scal: unknown key"), std::string::npos) << e;
-  e = ErrorOf("env:\n  objects:\n    - {mas: 0.1}\n");
-  EXPECT_NE(e.find("env.objects[0].mas: unknown key"), std::string::npos) << e;
+  ExpectError("env:\n  num_puck: 3\n", {"env.num_puck: unknown key", "did you mean 'num_pucks'"});
+  ExpectError("env:\n  hand:\n    action_scal: 0.1\n", {"env.hand.action_scal: unknown key"});
+  ExpectError("env:\n  objects:\n    - {mas: 0.1}\n", {"env.objects[0].mas: unknown key"});
 }
 
 TEST(EnvConfigTest, OverlappingFixedObjectsFail) {
@@ -160,30 +161,24 @@ TEST(EnvConfigTest, CrowdedTableFailsInTheEnvironmentToo) {
 }
 
 TEST(EnvConfigTest, ConnectionAndObjectSetRules) {
-  std::string e = ErrorOf("env:\n  num_pucks: 3\n  connections:\n    - {objects: [2, 5]}\n");
-  EXPECT_NE(e.find("test.yaml:4: env.connections[0].objects: objects are entities 1..3"),
-            std::string::npos)
-      << e;
-  e = ErrorOf("env:\n  connections:\n    - {objects: [2, 2]}\n");
-  EXPECT_NE(e.find("tied to itself"), std::string::npos) << e;
-  e = ErrorOf("env:\n  connections:\n    - {objects: [2, 3], kind: chain}\n");
-  EXPECT_NE(e.find("env.connections[0].kind: expected one of 'rope' 'spring'"), std::string::npos)
-      << e;
-  e = ErrorOf(
+  ExpectError("env:\n  num_pucks: 3\n  connections:\n    - {objects: [2, 5]}\n",
+              {"test.yaml:4: env.connections[0].objects: objects are entities 1..3"});
+  ExpectError("env:\n  connections:\n    - {objects: [2, 2]}\n", {"tied to itself"});
+  ExpectError("env:\n  connections:\n    - {objects: [2, 3], kind: chain}\n",
+              {"env.connections[0].kind: expected one of 'rope' 'spring'"});
+  ExpectError(
       "env:\n  num_pucks: 4\n  connections:\n    - {objects: [2, 3]}\n"
-      "  object_sets:\n    - {present: [1, 2, 4]}\n");
-  EXPECT_NE(e.find("both or neither"), std::string::npos) << e;
-  e = ErrorOf("env:\n  object_sets:\n    - {present: [1, 1]}\n");
-  EXPECT_NE(e.find("repeated"), std::string::npos) << e;
-  e = ErrorOf("env:\n  num_pucks: 2\n  objects:\n    - {}\n");
-  EXPECT_NE(e.find("env.num_pucks"), std::string::npos) << e;
+      "  object_sets:\n    - {present: [1, 2, 4]}\n",
+      {"both or neither"});
+  ExpectError("env:\n  object_sets:\n    - {present: [1, 1]}\n", {"repeated"});
+  ExpectError("env:\n  num_pucks: 2\n  objects:\n    - {}\n", {"env.num_pucks"});
 }
 
 TEST(EnvConfigTest, ExtendsAndOverridesMergeIntoEnv) {
   const auto dir = std::filesystem::temp_directory_path() / "srics_env_config_test";
   std::filesystem::create_directories(dir);
   {
-    std::ofstream(dir / "run.yaml") << "extends: " << Preset("relational-4")
+    std::ofstream(dir / "run.yaml") << "extends: " << PresetPath("relational-4")
                                     << "\nenv:\n  velocities: true\n";
   }
   const Config c = LoadConfig((dir / "run.yaml").string(), {"env.hand.action_scale=0.05"});

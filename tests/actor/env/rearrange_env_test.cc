@@ -9,18 +9,14 @@
 #include "actor/env/rearrange_env.h"
 #include "actor/env/scripted_policy.h"
 #include "common/config/config.h"
+#include "tests/actor/env/env_presets.h"
 
 namespace srics::env {
 namespace {
 
 using config::EnvConfig;
 
-EnvConfig Preset(const std::string& name) {
-  return config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/" + name + ".yaml")
-      .env;
-}
-
-double Dist(const Vec2& a, const Vec2& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+using testing::Preset;
 
 double PuckZ(RearrangeEnv& env, int entity) {
   const int q = env.model()->jnt_qposadr[mj_name2id(
@@ -105,7 +101,7 @@ TEST(RearrangeEnvTest, StaticPuckDoesNotMoveWhenPushed) {
       g.push_speed = 1.0;
       ASSERT_EQ(env.Step(PushAction(p[0], p[1], goal, g)), StepStatus::kOk);
       EXPECT_EQ(env.Positions()[1], start) << "seed " << seed << " step " << t;
-      pushes_with_contact += Dist(env.Positions()[0], start) < 0.04 + 0.02 + 0.01;
+      pushes_with_contact += Distance(env.Positions()[0], start) < 0.04 + 0.02 + 0.01;
     }
   }
   EXPECT_GT(pushes_with_contact, 5);  // the hand really was against it
@@ -129,9 +125,9 @@ TEST(RearrangeEnvTest, TiedPairNeverSeparatesBeyondTheRope) {
       PushGeometry g = MakePushGeometry(c, 2);
       g.push_speed = 0.5;
       ASSERT_EQ(env.Step(PushAction(p[0], p[2], goal, g)), StepStatus::kOk);
-      longest = std::max(longest, Dist(env.Positions()[2], env.Positions()[3]));
+      longest = std::max(longest, Distance(env.Positions()[2], env.Positions()[3]));
     }
-    dragged = std::max(dragged, Dist(env.Positions()[3], start3));
+    dragged = std::max(dragged, Distance(env.Positions()[3], start3));
   }
   EXPECT_LE(longest, rope + 0.005);  // solver tolerance of the soft limit
   EXPECT_GT(longest, rope - 0.01);   // the rope did get taut
@@ -149,9 +145,9 @@ TEST(RearrangeEnvTest, SpringPullsThePairBackToItsRestLength) {
   const double dx = p[3][0] - p[2][0], dy = p[3][1] - p[2][1], n = std::hypot(dx, dy);
   d->qpos[q3] = p[2][0] + 0.2 * dx / n;
   d->qpos[q3 + 1] = p[2][1] + 0.2 * dy / n;
-  const double stretched = Dist(env.Positions()[2], env.Positions()[3]);
+  const double stretched = Distance(env.Positions()[2], env.Positions()[3]);
   for (int t = 0; t < 30; ++t) ASSERT_EQ(env.Step(std::vector<double>{0, 0}), StepStatus::kOk);
-  const double relaxed = Dist(env.Positions()[2], env.Positions()[3]);
+  const double relaxed = Distance(env.Positions()[2], env.Positions()[3]);
   EXPECT_LT(relaxed, stretched - 0.02);  // pulled together
   EXPECT_GT(relaxed, 0.08);              // not collapsed (pucks touch at 0.08)
 }

@@ -8,18 +8,14 @@
 
 #include "actor/env/sampling.h"
 #include "common/config/config.h"
+#include "tests/actor/env/env_presets.h"
 
 namespace srics::env {
 namespace {
 
 using config::EnvConfig;
 
-EnvConfig Preset(const std::string& name) {
-  return config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/" + name + ".yaml")
-      .env;
-}
-
-double Dist(const Vec2& a, const Vec2& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+using testing::Preset;
 
 // Runs 1000 draws of initial positions and goals of `c` and checks every rule.
 void CheckThousandDraws(const EnvConfig& c) {
@@ -46,16 +42,16 @@ void CheckThousandDraws(const EnvConfig& c) {
       EXPECT_GE(goals[i + 1][1], c.sampling.goal_low[1]);
       EXPECT_LE(goals[i + 1][1], c.sampling.goal_high[1]);
       // away from the hand
-      EXPECT_GE(Dist(init[i], hand), c.sampling.init_min_hand_distance + extra_i);
-      EXPECT_GE(Dist(goals[i + 1], goals[0]), c.sampling.goal_min_hand_distance + extra_i);
+      EXPECT_GE(Distance(init[i], hand), c.sampling.init_min_hand_distance + extra_i);
+      EXPECT_GE(Distance(goals[i + 1], goals[0]), c.sampling.goal_min_hand_distance + extra_i);
       // apart from each other
       for (size_t j = 0; j < i; ++j) {
         const double rj = config::BoundingRadius(objects[present[j] - 1]);
-        EXPECT_GE(Dist(init[i], init[j]),
+        EXPECT_GE(Distance(init[i], init[j]),
                   RequiredDistance(c.sampling, c.sampling.init_min_object_distance, ri, rj));
-        EXPECT_GE(Dist(goals[i + 1], goals[j + 1]),
+        EXPECT_GE(Distance(goals[i + 1], goals[j + 1]),
                   RequiredDistance(c.sampling, c.sampling.goal_min_object_distance, ri, rj));
-        EXPECT_GE(Dist(init[i], init[j]), ri + rj);  // never overlapping
+        EXPECT_GE(Distance(init[i], init[j]), ri + rj);  // never overlapping
       }
     }
     // connections: start within the link, goals exactly one link apart
@@ -67,8 +63,8 @@ void CheckThousandDraws(const EnvConfig& c) {
       }
       ASSERT_GE(a, 0);
       ASSERT_GE(b, 0);
-      EXPECT_LE(Dist(init[a], init[b]), link.length + 1e-12);
-      EXPECT_NEAR(Dist(goals[a + 1], goals[b + 1]), link.length, 1e-12);
+      EXPECT_LE(Distance(init[a], init[b]), link.length + 1e-12);
+      EXPECT_NEAR(Distance(goals[a + 1], goals[b + 1]), link.length, 1e-12);
     }
     if (::testing::Test::HasFailure()) FAIL() << "draw " << draw;
   }

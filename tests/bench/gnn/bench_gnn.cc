@@ -37,14 +37,14 @@ double BestOf(int repeats, F&& f) {
 int main() {
   Eigen::setNbThreads(1);
   // relational-4 shaped toy data: 5 entities
-  srics::graph::testing::ToyWorld world(
+  srics::graph_service::testing::ToyWorld world(
       {.num_pucks = 4, .static_pucks = {1}, .ropes = {{2, 3}}});
-  srics::graph::GraphDataset data = srics::graph::GraphDataset::ShapedLike(world.RandomEpisode(0));
+  srics::graph_service::GraphDataset data = srics::graph_service::GraphDataset::ShapedLike(world.RandomEpisode(0));
   for (int e = 0; e < 60; ++e) data.Add(world.RandomEpisode(e + 1));
   data.Split(0.1, 1);
   srics::config::GraphConfig config;  // paper sizes: batch 100, window 20, hidden 20, MLP 100
   config.warmup_updates = 0;          // time the gated phase (the longer one)
-  srics::graph::GnnTrainer trainer(config, data, 1);
+  srics::graph_service::GnnTrainer trainer(config, data, 1);
   for (int i = 0; i < 3; ++i) trainer.Update();  // buffers sized
   std::vector<GemmShape> shapes;
   trainer.set_gemm_log(&shapes);

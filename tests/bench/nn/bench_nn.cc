@@ -11,6 +11,7 @@
 #include "common/nn/tape.h"
 #include "tests/bench/bench_util.h"
 #include "common/rl/networks.h"
+#include "tests/common/rl/network_configs.h"
 
 namespace {
 
@@ -22,19 +23,7 @@ using srics::nn::Tensor;
 using Clock = std::chrono::steady_clock;
 using srics::bench::GemmFloor;
 using srics::bench::MedianMs;
-
-srics::rl::AttentionNetworkConfig PaperConfig(int entities) {
-  // entity token [one-hot id (K = entities), x, y]; goal token [one-hot, goal xy, 1]
-  srics::rl::AttentionNetworkConfig c;
-  c.entity_dim = entities + 2;
-  c.goal_dim = entities + 3;
-  c.action_dim = 2;
-  c.embed_dim = 80;
-  c.num_heads = 5;
-  c.policy_hidden = {128, 128};
-  c.q_hidden = {128, 128, 128};
-  return c;
-}
+using srics::rl::testing::PaperNetworkConfig;
 
 struct Case {
   int batch, entities;
@@ -43,7 +32,7 @@ struct Case {
 
 Case RunCase(int batch, int entities, int repeats) {
   Rng rng(1);
-  const auto config = PaperConfig(entities);
+  const auto config = PaperNetworkConfig(entities);
   srics::rl::PolicyNetwork<float> policy("policy", config, rng);
   srics::rl::QNetwork<float> q("q1", config, rng);
   std::vector<Tensor> sets;
@@ -78,7 +67,7 @@ Case RunCase(int batch, int entities, int repeats) {
 
 double ActMicros(int entities) {
   Rng rng(2);
-  const auto config = PaperConfig(entities);
+  const auto config = PaperNetworkConfig(entities);
   srics::rl::PolicyNetwork<float> policy("policy", config, rng);
   const Tensor ents = Tensor::Random(entities, config.entity_dim);
   const Tensor goal = Tensor::Random(1, config.goal_dim);

@@ -129,25 +129,23 @@ TEST_F(ConfigFiles, OutOfRangeNamesFileLineKeyAndRange) {
 }
 
 TEST_F(ConfigFiles, OtherTypeErrors) {
-  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("a.yaml", "transport:\n  profile: wifi\n")); })
-                .find("transport.profile: expected one of 'loopback' 'lan' 'unicast' 'file' "
-                      "'environment', got 'wifi'"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("b.yaml", "run:\n  log_to_file: maybe\n")); })
-                .find("run.log_to_file: expected true or false, got 'maybe'"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("c.yaml", "run:\n  seed: -3\n")); })
-                .find("run.seed: expected a non-negative integer, got '-3'"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("d.yaml", "transport: [1, 2]\n")); })
-                .find("transport: expected a mapping, got a list"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("e.yaml", "run:\n  name: [a]\n")); })
-                .find("run.name: expected a non-empty string, got a list"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([&] { LoadConfig(Write("f.yaml", "transport:\n  domain_id: 1.5\n")); })
-                .find("got '1.5'"),
-            std::string::npos);
+  const struct {
+    const char* yaml;
+    const char* message;
+  } cases[] = {
+      {"transport:\n  profile: wifi\n",
+       "transport.profile: expected one of 'loopback' 'lan' 'unicast' 'file' 'environment', got "
+       "'wifi'"},
+      {"run:\n  log_to_file: maybe\n", "run.log_to_file: expected true or false, got 'maybe'"},
+      {"run:\n  seed: -3\n", "run.seed: expected a non-negative integer, got '-3'"},
+      {"transport: [1, 2]\n", "transport: expected a mapping, got a list"},
+      {"run:\n  name: [a]\n", "run.name: expected a non-empty string, got a list"},
+      {"transport:\n  domain_id: 1.5\n", "got '1.5'"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = ErrorOf([&] { LoadConfig(Write("case.yaml", c.yaml)); });
+    EXPECT_NE(message.find(c.message), std::string::npos) << message;
+  }
 }
 
 TEST_F(ConfigFiles, CrossFieldRulesNameTheKey) {

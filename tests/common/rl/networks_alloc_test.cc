@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "common/rl/networks.h"
+#include "tests/common/rl/network_configs.h"
 
 extern "C" void* __libc_malloc(size_t size);
 
@@ -24,14 +25,7 @@ namespace srics::rl {
 namespace {
 
 TEST(PolicyActTest, NoHeapAllocationInSteadyState) {
-  AttentionNetworkConfig c;
-  c.entity_dim = 9;
-  c.goal_dim = 10;
-  c.action_dim = 2;
-  c.embed_dim = 80;
-  c.num_heads = 5;
-  c.policy_hidden = {128, 128};
-  c.q_hidden = {128, 128, 128};
+  const AttentionNetworkConfig c = testing::PaperNetworkConfig(7);
   nn::Rng rng(1);
   PolicyNetwork<float> policy("policy", c, rng);
   const nn::Tensor ents = nn::Tensor::Random(7, 9);

@@ -7,6 +7,7 @@
 #include "common/nn/optim.h"
 #include "common/nn/serialize.h"
 #include "tests/common/nn/gradcheck.h"
+#include "tests/common/rl/network_configs.h"
 
 namespace srics::rl {
 namespace {
@@ -21,29 +22,8 @@ using MatD = Matrix<double>;
 
 constexpr double kTol = 1e-6;
 
-AttentionNetworkConfig SmallConfig() {
-  AttentionNetworkConfig c;
-  c.entity_dim = 5;
-  c.goal_dim = 6;
-  c.action_dim = 2;
-  c.embed_dim = 8;
-  c.num_heads = 2;
-  c.policy_hidden = {7, 6};
-  c.q_hidden = {6, 5, 4};
-  return c;
-}
-
-AttentionNetworkConfig PaperConfig(int entities) {
-  AttentionNetworkConfig c;
-  c.entity_dim = entities + 2;
-  c.goal_dim = entities + 3;
-  c.action_dim = 2;
-  c.embed_dim = 80;
-  c.num_heads = 5;
-  c.policy_hidden = {128, 128};
-  c.q_hidden = {128, 128, 128};
-  return c;
-}
+using testing::PaperNetworkConfig;
+using testing::SmallNetworkConfig;
 
 // non-zero biases so that every parameter matters in the checks
 template <typename T>
@@ -55,7 +35,7 @@ void RandomizeBiases(const ParameterList<T>& params, Rng& rng) {
 
 class NetworksTest : public ::testing::Test {
  protected:
-  NetworksTest() : policy_("policy", SmallConfig(), rng_), q_("q1", SmallConfig(), rng_) {
+  NetworksTest() : policy_("policy", SmallNetworkConfig(), rng_), q_("q1", SmallNetworkConfig(), rng_) {
     RandomizeBiases(policy_.Parameters(), rng_);
     RandomizeBiases(q_.Parameters(), rng_);
   }
@@ -145,8 +125,8 @@ TEST_F(NetworksTest, ActMatchesTapeForwardDeterministicAndSampled) {
 
 TEST(NetworksConfigTest, PaperSizesAndSignature) {
   Rng rng(1);
-  PolicyNetwork<float> policy("policy", PaperConfig(4), rng);
-  QNetwork<float> q("q1", PaperConfig(4), rng);
+  PolicyNetwork<float> policy("policy", PaperNetworkConfig(4), rng);
+  QNetwork<float> q("q1", PaperNetworkConfig(4), rng);
   const std::string sig = nn::SignatureString(policy.Parameters());
   EXPECT_NE(sig.find("policy.attention.goal.w:7x80;"), std::string::npos) << sig;
   EXPECT_EQ(sig.find("policy.attention.goal.b"), std::string::npos) << "goal linear has no bias";
@@ -164,7 +144,7 @@ TEST(NetworksConfigTest, PaperSizesAndSignature) {
 }
 
 TEST(NetworksConfigTest, ValidationNamesTheField) {
-  AttentionNetworkConfig c = PaperConfig(4);
+  AttentionNetworkConfig c = PaperNetworkConfig(4);
   c.num_heads = 3;
   try {
     c.Validate();
@@ -172,7 +152,7 @@ TEST(NetworksConfigTest, ValidationNamesTheField) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("num_heads"), std::string::npos);
   }
-  c = PaperConfig(4);
+  c = PaperNetworkConfig(4);
   c.embed_dim = 0;
   Rng rng(1);
   EXPECT_THROW(PolicyNetwork<float>("p", c, rng), std::invalid_argument);
@@ -181,7 +161,7 @@ TEST(NetworksConfigTest, ValidationNamesTheField) {
 TEST(NetworksTrainingTest, PolicyLearnsToPointAtTheGoal) {
   // a sanity check that gradients flow end to end: the deterministic action learns to match
   // the goal's xy (a function of the goal token only)
-  AttentionNetworkConfig c = SmallConfig();
+  AttentionNetworkConfig c = SmallNetworkConfig();
   c.entity_dim = 4;
   c.goal_dim = 5;
   Rng rng(3);

@@ -60,25 +60,15 @@ int ReadOne(const Participant& participant, const T& expected) {
   return 0;
 }
 
-int WriteTopic(const Participant& p, const std::string& topic, uint64_t seed) {
-  const std::string& run = p.run_id();
-  if (topic == "episode") return WriteOne(p, MakeEpisode(seed));
-  if (topic == "policy_weights") return WriteOne(p, MakePolicyWeights(run, seed));
-  if (topic == "interaction_graph") return WriteOne(p, MakeInteractionGraph(run, seed));
-  if (topic == "eval_result") return WriteOne(p, MakeEvalResult(run, seed));
-  if (topic == "learner_stats") return WriteOne(p, MakeLearnerStats(run, seed));
-  if (topic == "node_status") return WriteOne(p, MakeNodeStatus(run, seed));
-  return 2;
-}
-
-int ReadTopic(const Participant& p, const std::string& topic, uint64_t seed) {
-  const std::string& run = p.run_id();
-  if (topic == "episode") return ReadOne(p, MakeEpisode(seed));
-  if (topic == "policy_weights") return ReadOne(p, MakePolicyWeights(run, seed));
-  if (topic == "interaction_graph") return ReadOne(p, MakeInteractionGraph(run, seed));
-  if (topic == "eval_result") return ReadOne(p, MakeEvalResult(run, seed));
-  if (topic == "learner_stats") return ReadOne(p, MakeLearnerStats(run, seed));
-  if (topic == "node_status") return ReadOne(p, MakeNodeStatus(run, seed));
+// Calls act(sample) with the seeded sample of the named topic; 2 for an unknown topic.
+template <typename Act>
+int WithSample(const std::string& run, const std::string& topic, uint64_t seed, Act act) {
+  if (topic == "episode") return act(MakeEpisode(seed));
+  if (topic == "policy_weights") return act(MakePolicyWeights(run, seed));
+  if (topic == "interaction_graph") return act(MakeInteractionGraph(run, seed));
+  if (topic == "eval_result") return act(MakeEvalResult(run, seed));
+  if (topic == "learner_stats") return act(MakeLearnerStats(run, seed));
+  if (topic == "node_status") return act(MakeNodeStatus(run, seed));
   return 2;
 }
 
@@ -168,8 +158,12 @@ int main(int argc, char** argv) {
     if (mode == "block" || mode == "latest") Shutdown::InstallSignalHandlers();
     if (mode == "episodes" && argc == 6) config.writer_max_blocking_ms = std::atoi(argv[5]);
     Participant participant(config);
-    if (mode == "write" && argc == 6) return WriteTopic(participant, argv[4], std::stoull(argv[5]));
-    if (mode == "read" && argc == 6) return ReadTopic(participant, argv[4], std::stoull(argv[5]));
+    if (mode == "write" && argc == 6)
+      return WithSample(participant.run_id(), argv[4], std::stoull(argv[5]),
+                        [&](const auto& sample) { return WriteOne(participant, sample); });
+    if (mode == "read" && argc == 6)
+      return WithSample(participant.run_id(), argv[4], std::stoull(argv[5]),
+                        [&](const auto& sample) { return ReadOne(participant, sample); });
     if (mode == "latest") return Latest(participant);
     if (mode == "big" && argc == 5)
       return WriteOne(participant, MakePolicyWeights(config.run_id, 5, std::stoull(argv[4])));

@@ -145,17 +145,23 @@ TEST(ValidationTest, EvalAndStatusRanges) {
 
 // ------------------------------------------------------------------------------ Cyclone XML
 
+// Expects every one of `present` in the XML and none of `absent`.
+void ExpectXml(const std::string& xml, std::initializer_list<std::string> present,
+               std::initializer_list<std::string> absent) {
+  for (const std::string& part : present) EXPECT_NE(xml.find(part), std::string::npos) << part;
+  for (const std::string& part : absent) EXPECT_EQ(xml.find(part), std::string::npos) << part;
+}
+
 TEST(CycloneConfigTest, LoopbackRaisesParticipantIndexAndDisablesMulticast) {
   config::TransportConfig c;
   c.max_participants_per_host = 99;
   const std::string xml = CycloneConfigFor(c);
-  EXPECT_NE(xml.find("<MaxAutoParticipantIndex>99</MaxAutoParticipantIndex>"), std::string::npos);
-  EXPECT_NE(xml.find("<AllowMulticast>false</AllowMulticast>"), std::string::npos);
-  EXPECT_NE(xml.find("<MaxMessageSize>65500B</MaxMessageSize>"), std::string::npos);
-  EXPECT_NE(xml.find("<Peer address=\"127.0.0.1\"/>"), std::string::npos);
-  EXPECT_EQ(xml.find("${SRICS_DDS_MAX_PARTICIPANTS"), std::string::npos);
   // knobs not in the config stay for Cyclone to expand (environment or default)
-  EXPECT_NE(xml.find("${SRICS_DDS_WHC_HIGH:-8MB}"), std::string::npos);
+  ExpectXml(xml,
+            {"<MaxAutoParticipantIndex>99</MaxAutoParticipantIndex>",
+             "<AllowMulticast>false</AllowMulticast>", "<MaxMessageSize>65500B</MaxMessageSize>",
+             "<Peer address=\"127.0.0.1\"/>", "${SRICS_DDS_WHC_HIGH:-8MB}"},
+            {"${SRICS_DDS_MAX_PARTICIPANTS"});
 }
 
 TEST(CycloneConfigTest, UnicastListsEveryPeerAndTheInterface) {
@@ -163,12 +169,10 @@ TEST(CycloneConfigTest, UnicastListsEveryPeerAndTheInterface) {
   c.profile = config::CycloneProfile::kUnicast;
   c.peers = "10.0.0.1, 10.0.0.2,host-c";
   c.network_interface = "eth1";
-  const std::string xml = CycloneConfigFor(c);
-  EXPECT_NE(xml.find("<Peer address=\"10.0.0.1\"/>"), std::string::npos);
-  EXPECT_NE(xml.find("<Peer address=\"10.0.0.2\"/>"), std::string::npos);
-  EXPECT_NE(xml.find("<Peer address=\"host-c\"/>"), std::string::npos);
-  EXPECT_NE(xml.find("name=\"eth1\" autodetermine=\"false\""), std::string::npos);
-  EXPECT_EQ(xml.find("<Peer address=\"${SRICS_DDS_PEER"), std::string::npos);
+  ExpectXml(CycloneConfigFor(c),
+            {"<Peer address=\"10.0.0.1\"/>", "<Peer address=\"10.0.0.2\"/>",
+             "<Peer address=\"host-c\"/>", "name=\"eth1\" autodetermine=\"false\""},
+            {"<Peer address=\"${SRICS_DDS_PEER"});
   c.peers = "a\"/><Evil";
   EXPECT_THROW(CycloneConfigFor(c), std::invalid_argument);
 }

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "deploy/launcher/child_process.h"
+#include "tests/deploy/test_files.h"
 
 namespace srics::launcher {
 namespace {
@@ -25,12 +26,7 @@ namespace fs = std::filesystem;
 using std::chrono::milliseconds;
 using ::testing::HasSubstr;
 
-std::string Read(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using deploy::testing::ReadFile;
 
 // pids a stand-in printed ("start <pid>") in its output file
 std::vector<pid_t> StartedPids(const fs::path& output_file) {
@@ -103,14 +99,14 @@ TEST_F(LauncherTest, RunEndsWhenLearnerAndActorsFinishAndACrashedActorIsRestarte
   setenv("FAKE_ACTOR_0", ("crash-once:" + (root_ / "marker").string() + ":3:4000").c_str(), 1);
   ChildProcess launcher = StartLauncher();
   const auto exit = launcher.WaitFor(milliseconds(60000));
-  ASSERT_TRUE(exit.has_value()) << Read(root_ / "launcher.out");
-  EXPECT_EQ(exit->Describe(), "exit code 0") << Read(root_ / "launcher.out");
+  ASSERT_TRUE(exit.has_value()) << ReadFile(root_ / "launcher.out");
+  EXPECT_EQ(exit->Describe(), "exit code 0") << ReadFile(root_ / "launcher.out");
 
   // the run folder
-  EXPECT_THAT(Read(run_dir_ / "config.yaml"), HasSubstr("count: 2"));
+  EXPECT_THAT(ReadFile(run_dir_ / "config.yaml"), HasSubstr("count: 2"));
   for (const char* file : {"eval.csv", "learner.csv", "nodes.csv", "summary.txt", "logs/launcher.log"})
     EXPECT_TRUE(fs::exists(run_dir_ / file)) << file;
-  const std::string log = Read(run_dir_ / "logs/launcher.log");
+  const std::string log = ReadFile(run_dir_ / "logs/launcher.log");
   EXPECT_THAT(log, HasSubstr("actor-0 ended: exit code 3; restart 1 in 1.0s"));
   EXPECT_THAT(log, HasSubstr("actor-0 restarted"));
   EXPECT_THAT(log, HasSubstr("the learner finished its budget; waiting for the actors"));
@@ -119,7 +115,7 @@ TEST_F(LauncherTest, RunEndsWhenLearnerAndActorsFinishAndACrashedActorIsRestarte
   EXPECT_EQ(StartedPids(run_dir_ / "logs/actor-0.out").size(), 2u);
   EXPECT_EQ(StartedPids(run_dir_ / "logs/actor-1.out").size(), 1u);
   // children got the effective config and the run folder
-  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("run finished: the budget is done; restarts 1"));
+  EXPECT_THAT(ReadFile(root_ / "launcher.out"), HasSubstr("run finished: the budget is done; restarts 1"));
   for (pid_t pid : RolePids()) EXPECT_FALSE(ProcessExists(pid)) << pid;
 }
 
@@ -128,8 +124,8 @@ TEST_F(LauncherTest, ActorsThatDoNotFinishAreStoppedAfterTheGracePeriod) {
   ChildProcess launcher = StartLauncher({"--final-eval-grace", "1"});
   const auto exit = launcher.WaitFor(milliseconds(30000));
   ASSERT_TRUE(exit.has_value());
-  EXPECT_EQ(exit->Describe(), "exit code 0") << Read(root_ / "launcher.out");
-  const std::string log = Read(run_dir_ / "logs/launcher.log");
+  EXPECT_EQ(exit->Describe(), "exit code 0") << ReadFile(root_ / "launcher.out");
+  const std::string log = ReadFile(run_dir_ / "logs/launcher.log");
   EXPECT_THAT(log, HasSubstr("stopping: the budget is done (actors did not finish within the grace period)"));
   EXPECT_THAT(log, HasSubstr("actor-1 stopped: exit code 0"));
   for (pid_t pid : RolePids()) EXPECT_FALSE(ProcessExists(pid)) << pid;
@@ -142,7 +138,7 @@ TEST_F(LauncherTest, SigintStopsEveryChildAndExits130) {
   while (RolePids().size() < 4 && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(milliseconds(50));
   const std::vector<pid_t> pids = RolePids();
-  ASSERT_EQ(pids.size(), 4u) << Read(root_ / "launcher.out");
+  ASSERT_EQ(pids.size(), 4u) << ReadFile(root_ / "launcher.out");
   std::this_thread::sleep_for(milliseconds(200));
 
   launcher.Signal(SIGINT);
@@ -150,12 +146,12 @@ TEST_F(LauncherTest, SigintStopsEveryChildAndExits130) {
   const auto exit = launcher.WaitFor(milliseconds(15000));
   ASSERT_TRUE(exit.has_value());
   EXPECT_LT(std::chrono::steady_clock::now() - start, milliseconds(5000));
-  EXPECT_EQ(exit->Describe(), "exit code 130") << Read(root_ / "launcher.out");
+  EXPECT_EQ(exit->Describe(), "exit code 130") << ReadFile(root_ / "launcher.out");
   for (pid_t pid : pids) EXPECT_FALSE(ProcessExists(pid)) << pid;
-  const std::string log = Read(run_dir_ / "logs/launcher.log");
+  const std::string log = ReadFile(run_dir_ / "logs/launcher.log");
   for (const char* name : {"graph", "learner", "actor-0", "actor-1"})
     EXPECT_THAT(log, HasSubstr(std::string(name) + " stopped: exit code 0"));
-  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("run interrupted"));
+  EXPECT_THAT(ReadFile(root_ / "launcher.out"), HasSubstr("run interrupted"));
 }
 
 TEST_F(LauncherTest, BadConfigExitsWithCode2BeforeStartingAnything) {
@@ -163,7 +159,7 @@ TEST_F(LauncherTest, BadConfigExitsWithCode2BeforeStartingAnything) {
   const auto exit = launcher.WaitFor(milliseconds(20000));
   ASSERT_TRUE(exit.has_value());
   EXPECT_EQ(exit->Describe(), "exit code 2");
-  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("run.total_env_steps"));
+  EXPECT_THAT(ReadFile(root_ / "launcher.out"), HasSubstr("run.total_env_steps"));
   EXPECT_FALSE(fs::exists(run_dir_));
 }
 
@@ -173,7 +169,7 @@ TEST_F(LauncherTest, MissingRoleProgramIsNamed) {
   const auto exit = launcher.WaitFor(milliseconds(20000));
   ASSERT_TRUE(exit.has_value());
   EXPECT_EQ(exit->Describe(), "exit code 1");
-  EXPECT_THAT(Read(root_ / "launcher.out"), HasSubstr("cannot find the program srics-learner"));
+  EXPECT_THAT(ReadFile(root_ / "launcher.out"), HasSubstr("cannot find the program srics-learner"));
 }
 
 }  // namespace

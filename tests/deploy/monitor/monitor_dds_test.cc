@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "tests/common/transport/test_samples.h"
+#include "tests/deploy/test_files.h"
 
 namespace srics::monitor {
 namespace {
@@ -22,12 +23,7 @@ namespace tr = srics::transport;
 using std::chrono::milliseconds;
 using ::testing::HasSubstr;
 
-std::string Read(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using deploy::testing::ReadFile;
 
 TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   config::TransportConfig transport;
@@ -102,10 +98,10 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   EXPECT_THAT(events[0], HasSubstr("LOST"));
 
   // the CSV files hold what arrived
-  EXPECT_THAT(Read(dir / "learner.csv"), HasSubstr("," + transport.run_id + ",777,"));
-  EXPECT_THAT(Read(dir / "eval.csv"), HasSubstr("," + transport.run_id + "," + std::to_string(eval.actor_id) + ",9,"));
-  EXPECT_THAT(Read(dir / "nodes.csv"), HasSubstr(",actor,3,"));
-  EXPECT_THAT(Read(dir / "nodes.csv"), HasSubstr(",lost,"));
+  EXPECT_THAT(ReadFile(dir / "learner.csv"), HasSubstr("," + transport.run_id + ",777,"));
+  EXPECT_THAT(ReadFile(dir / "eval.csv"), HasSubstr("," + transport.run_id + "," + std::to_string(eval.actor_id) + ",9,"));
+  EXPECT_THAT(ReadFile(dir / "nodes.csv"), HasSubstr(",actor,3,"));
+  EXPECT_THAT(ReadFile(dir / "nodes.csv"), HasSubstr(",lost,"));
   fs::remove_all(dir);
 }
 

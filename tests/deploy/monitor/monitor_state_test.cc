@@ -36,29 +36,40 @@ TEST(MonitorStateTest, NodeStatusIsKeyedByRunRoleAndId) {
   EXPECT_EQ(a0.last_seen, t0 + milliseconds(100));
 }
 
-TEST(MonitorStateTest, QuietNodeIsLostUnlessItSaidStopping) {
+// Node health over time: a node is lost 1000 ms after its last status; times are ms after t0.
+class NodeHealthTest : public ::testing::Test {
+ protected:
+  NodeHealthTest() { state.lost_after = milliseconds(1000); }
+  // `role` `id` reports state `s` at `ms`.
+  void Report(const std::string& role, uint32_t id, NodeState s, int ms) {
+    Apply(&state, Node(role, id, s), At(ms));
+  }
+  Clock::time_point At(int ms) const { return t0 + milliseconds(ms); }
+  const NodeEntry& Entry(const std::string& role, uint32_t id) const {
+    return state.nodes.at({"r1", role, id});
+  }
+
   MonitorState state;
-  state.lost_after = milliseconds(1000);
   const Clock::time_point t0{};
-  Apply(&state, Node("actor", 0, NodeState::kTraining), t0);
-  Apply(&state, Node("learner", 0, NodeState::kStopping), t0);
-  const NodeEntry& actor = state.nodes.at({"r1", "actor", 0});
-  const NodeEntry& learner = state.nodes.at({"r1", "learner", 0});
-  EXPECT_EQ(HealthOf(state, actor, t0 + milliseconds(1000)), NodeHealth::kAlive);
-  EXPECT_EQ(HealthOf(state, actor, t0 + milliseconds(1001)), NodeHealth::kLost);
-  EXPECT_EQ(HealthOf(state, learner, t0 + milliseconds(999)), NodeHealth::kAlive);
-  EXPECT_EQ(HealthOf(state, learner, t0 + milliseconds(1500)), NodeHealth::kExited);
+};
+
+TEST_F(NodeHealthTest, QuietNodeIsLostUnlessItSaidStopping) {
+  Report("actor", 0, NodeState::kTraining, 0);
+  Report("learner", 0, NodeState::kStopping, 0);
+  const NodeEntry& actor = Entry("actor", 0);
+  const NodeEntry& learner = Entry("learner", 0);
+  EXPECT_EQ(HealthOf(state, actor, At(1000)), NodeHealth::kAlive);
+  EXPECT_EQ(HealthOf(state, actor, At(1001)), NodeHealth::kLost);
+  EXPECT_EQ(HealthOf(state, learner, At(999)), NodeHealth::kAlive);
+  EXPECT_EQ(HealthOf(state, learner, At(1500)), NodeHealth::kExited);
 }
 
-TEST(MonitorStateTest, QuietNodeWithLiveWritersIsBusyNotLost) {
-  MonitorState state;
-  state.lost_after = milliseconds(1000);
-  const Clock::time_point t0{};
-  Apply(&state, Node("graph", 0, NodeState::kTraining), t0);
-  Apply(&state, Node("actor", 0, NodeState::kTraining), t0 + milliseconds(1500));
-  Apply(&state, Node("actor", 1, NodeState::kStopping), t0);  // said goodbye: its writer is gone
-  const NodeEntry& graph = state.nodes.at({"r1", "graph", 0});
-  const Clock::time_point now = t0 + milliseconds(2000);
+TEST_F(NodeHealthTest, QuietNodeWithLiveWritersIsBusyNotLost) {
+  Report("graph", 0, NodeState::kTraining, 0);
+  Report("actor", 0, NodeState::kTraining, 1500);
+  Report("actor", 1, NodeState::kStopping, 0);  // said goodbye: its writer is gone
+  const NodeEntry& graph = Entry("graph", 0);
+  const Clock::time_point now = At(2000);
   state.liveliness_known = true;
   state.status_writers_alive = 2;  // graph and actor 0: the graph is only busy
   EXPECT_EQ(HealthOf(state, graph, now), NodeHealth::kQuiet);
@@ -69,23 +80,20 @@ TEST(MonitorStateTest, QuietNodeWithLiveWritersIsBusyNotLost) {
   EXPECT_EQ(HealthOf(state, graph, now), NodeHealth::kLost);
 }
 
-TEST(MonitorStateTest, NewlyGoneReportsEachTransitionOnceAndForgetsNodesThatCameBack) {
-  MonitorState state;
-  state.lost_after = milliseconds(1000);
-  const Clock::time_point t0{};
-  Apply(&state, Node("actor", 0, NodeState::kTraining), t0);
-  Apply(&state, Node("actor", 1, NodeState::kTraining), t0 + milliseconds(1500));
+TEST_F(NodeHealthTest, NewlyGoneReportsEachTransitionOnceAndForgetsNodesThatCameBack) {
+  Report("actor", 0, NodeState::kTraining, 0);
+  Report("actor", 1, NodeState::kTraining, 1500);
   std::map<NodeKey, NodeHealth> gone;
-  std::vector<NodeKey> first = NewlyGone(state, t0 + milliseconds(2000), &gone);
+  std::vector<NodeKey> first = NewlyGone(state, At(2000), &gone);
   ASSERT_EQ(first.size(), 1u);
   EXPECT_EQ(first[0].node_id, 0u);
-  EXPECT_TRUE(NewlyGone(state, t0 + milliseconds(2100), &gone).empty());
+  EXPECT_TRUE(NewlyGone(state, At(2100), &gone).empty());
   // actor 0 restarts and reports again: alive, forgotten; it may be reported again later
-  Apply(&state, Node("actor", 0, NodeState::kExploring), t0 + milliseconds(2200));
-  EXPECT_TRUE(NewlyGone(state, t0 + milliseconds(2300), &gone).empty());
+  Report("actor", 0, NodeState::kExploring, 2200);
+  EXPECT_TRUE(NewlyGone(state, At(2300), &gone).empty());
   EXPECT_TRUE(gone.empty());
   // later both went quiet: actor 0 is reported a second time, actor 1 for the first time
-  EXPECT_EQ(NewlyGone(state, t0 + milliseconds(3300), &gone).size(), 2u);
+  EXPECT_EQ(NewlyGone(state, At(3300), &gone).size(), 2u);
   EXPECT_EQ(gone.size(), 2u);
 }
 

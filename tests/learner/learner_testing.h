@@ -1,8 +1,12 @@
 #pragma once
-// Synthetic episodes for learner tests: entities walk deterministically from a seed.
+// What the learner tests share: synthetic episodes (entities walk deterministically from a
+// seed), a small run's config and the process's resident memory.
 
+#include <fstream>
 #include <random>
+#include <string>
 
+#include "common/config/config.h"
 #include "common/rl/episode.h"
 
 namespace srics::learner::testing {
@@ -40,6 +44,30 @@ inline rl::Episode MakeEpisode(int num_entities, int num_steps, uint64_t seed,
   e.mode = subgoal_entity >= 0 ? rl::EpisodeMode::kTrain : rl::EpisodeMode::kExplore;
   e.episode_id = seed;
   return e;
+}
+
+// Rearrange 2 sizes (arm + 2 pucks: K = 3, D = 5) with small networks and batches.
+inline config::Config SmallRun(config::Method method) {
+  config::Config c;
+  c.env.num_pucks = 2;
+  c.run.method = method;
+  c.agent.network.embed_dim = 16;
+  c.agent.network.heads = 2;
+  c.agent.network.policy_hidden = {16};
+  c.agent.network.q_hidden = {16};
+  c.agent.sac.batch_size = 16;
+  c.learner.warmup_steps = 100;
+  c.learner.updates_per_step = 0.5;
+  c.learner.rate_error_buffer = 4;
+  return c;
+}
+
+// The resident set size of this process in kB (-1 when /proc does not tell).
+inline long ResidentKb() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  return -1;
 }
 
 }  // namespace srics::learner::testing
