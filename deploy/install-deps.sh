@@ -14,7 +14,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox graphviz libqhull-dev
   iproute2 procps
-  python3  # the bench and acceptance scripts summarise with it
+  python3 bc time  # the bench and acceptance scripts summarise and time with them
 )
 
 missing=()

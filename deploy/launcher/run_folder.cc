@@ -32,6 +32,12 @@ void SeedGraphFile(const config::Config& config, const std::string& dir) {
       for (int j = 0; j < n; ++j) weights[i * n + j] = i != j && truth.edge(i, j) ? 1.0 : 0.0;
     learned = graph_service::AggregateGraph(n, weights, g.threshold, truth.action_entity);
     learned.version = 1;
+    // entity i is catalogue kind i (every object present); only the action's own entity
+    // follows the action (nothing was measured: the numbers say so)
+    for (int i = 0; i < n; ++i) {
+      learned.entity_kinds.push_back(i);
+      learned.action_correlation.push_back(i == truth.action_entity ? 1.0 : 0.0);
+    }
   }
   graph_service::SaveGraphWithPictures(learned, dir + "/graph");
 }

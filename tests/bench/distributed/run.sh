@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
-# ./tests/bench.sh distributed [CONFIG] [ENV_STEPS]: the distributed system against the
-# in-process trainer on the same config, seed and budget.
-#  1. `srics run` with one actor (rate limiter at the configured ratio: it then behaves like
-#     the in-process trainer), which also learns the graph;
-#  2. `srics-train` with that learned graph.
+# ./tests/bench.sh distributed [CONFIG] [ENV_STEPS]: the distributed system against the same
+# loops in one process on the same config, seed and budget.
+#  1. `srics run` with one actor over loopback DDS, which also learns the graph;
+#  2. `srics run --in-process` with one actor and that learned graph (graph.file).
 # Reports both final evaluations against the passive policy, the actor's env steps/s while
 # training against the in-process trainer's, and as the last line one JSON object whose
 # "ratio" is distributed final avg_object_distance / in-process final avg_object_distance.
@@ -21,18 +20,19 @@ start=$(date +%s)
   "${common[@]}" >&2
 dist_seconds=$(( $(date +%s) - start ))
 start=$(date +%s)
-"$build/learner/trainer/srics-train" "$config" --graph "$out/distributed/graph.json" --out "$out/in-process" \
-  "${common[@]}" >&2
+"$build/deploy/launcher/srics" run "$config" --in-process --actors 1 --run-dir "$out/in-process" --display plain \
+  --set graph.file="$out/distributed/graph.json" "${common[@]}" >&2
 inproc_seconds=$(( $(date +%s) - start ))
 
 python3 - "$out" "$dist_seconds" "$inproc_seconds" <<'PY'
 import csv, json, sys
 out, dist_s, inproc_s = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-inproc = list(csv.DictReader(open(f"{out}/in-process/curve.csv")))[-1]
-evals = list(csv.DictReader(open(f"{out}/distributed/eval.csv")))
-passive = [r for r in evals if int(r["policy_version"]) == 0]
-policy = [r for r in evals if int(r["policy_version"]) > 0]
-dist = policy[-1]
+def final(folder):
+    evals = list(csv.DictReader(open(f"{out}/{folder}/eval.csv")))
+    passive = [r for r in evals if int(r["policy_version"]) == 0]
+    return [r for r in evals if int(r["policy_version"]) > 0][-1], passive[0] if passive else None
+dist, passive = final("distributed")
+inproc, inproc_passive = final("in-process")
 # actor env steps/s while training: from its NodeStatus rows (env_steps over uptime)
 nodes = [r for r in csv.DictReader(open(f"{out}/distributed/nodes.csv")) if r.get("role") == "actor"]
 def rate(rows):
@@ -42,13 +42,14 @@ def rate(rows):
     dt = (float(b["uptime_ms"]) - float(a["uptime_ms"])) / 1000
     return (float(b["env_steps"]) - float(a["env_steps"])) / dt if dt > 0 else float("nan")
 actor_rate = rate(nodes)
-inproc_rate = float(inproc["env_steps"]) / float(inproc["wall_seconds"])
+inproc_rate = float(inproc["env_steps"]) / inproc_s
 d = float(dist["avg_object_distance"]); i = float(inproc["avg_object_distance"])
 print(f"{'':28s} {'distributed':>12s} {'in-process':>12s}")
 print(f"{'final avg_object_distance':28s} {d:12.4f} {i:12.4f}")
 print(f"{'final avg_distance':28s} {float(dist['avg_distance']):12.4f} {float(inproc['avg_distance']):12.4f}")
-print(f"{'passive avg_object_distance':28s} {float(passive[0]['avg_object_distance']) if passive else float('nan'):12.4f} {float(inproc['passive_avg_object_distance']):12.4f}")
-print(f"{'env steps/s (training)':28s} {actor_rate:12.1f} {inproc_rate:12.1f}")
+nan = float("nan")
+print(f"{'passive avg_object_distance':28s} {float(passive['avg_object_distance']) if passive else nan:12.4f} {float(inproc_passive['avg_object_distance']) if inproc_passive else nan:12.4f}")
+print(f"{'env steps/s (whole run)':28s} {actor_rate:12.1f} {inproc_rate:12.1f}")
 print(f"{'wall seconds':28s} {dist_s:12d} {inproc_s:12d}")
 print(json.dumps({"bench": "distributed", "distributed_avg_object_distance": d, "in_process_avg_object_distance": i,
                   "actor_env_steps_per_s": round(actor_rate, 1), "in_process_env_steps_per_s": round(inproc_rate, 1),

@@ -13,7 +13,7 @@ build="${1:-$root/build}"
 shift || true
 out="${OUT:-/tmp/gnn-acceptance}"
 if [[ $# -gt 0 ]]; then seeds=("$@"); else seeds=(1 2 3); fi
-cmake --build "$build" --target srics-learn-graph -j1 >/dev/null
+cmake --build "$build" --target srics -j1 >/dev/null
 declare -A expected=(
   [rearrange-3]="action->0, 0->1, 0->2, 0->3"
   [relational-4]="action->0, 0->2, 0->3, 0->4, 2->3|action->0, 0->2, 0->3, 0->4, 3->2|action->0, 0->2, 0->3, 0->4, 2->3, 3->2"
@@ -27,7 +27,7 @@ for env in ${ENVS:-rearrange-3 relational-4}; do
     mkdir -p "$dir"
     start=$(date +%s.%N)
     OMP_NUM_THREADS=1 /usr/bin/time -f '%U %S' -o "$dir/time.txt" \
-      "$build/graph_service/srics-learn-graph" --env "$root/deploy/configs/env/$env.yaml" \
+      "$build/deploy/launcher/srics" learn-graph --env "$root/deploy/configs/env/$env.yaml" \
       --seed "$seed" --out "$dir" >"$dir/log.txt" 2>&1 || true
     wall=$(echo "$(date +%s.%N) - $start" | bc)
     cpu=$(awk '{print $1 + $2}' "$dir/time.txt")

@@ -125,7 +125,9 @@ TEST_F(AttentionTest, GradientWithPaddingMask) {
               auto out = att_.Forward(t, t.Param(e), t.Constant(mask), t.Param(g));
               return t.Concat({out.attention, out.goal_embedding}, 1);
             }),
-            kTol);
+            // 1.4e-6 on an AVX2-only EPYC (below 1e-6 with AVX-512): the central difference
+            // meets a relu kink of this draw; a wrong backward formula gives ~1e-1
+            10 * kTol);
 }
 
 TEST_F(AttentionTest, PermutationInvariantAndPaddingIgnored) {
