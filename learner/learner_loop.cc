@@ -32,8 +32,8 @@ void LearnerLoop::Publish() {
 }
 
 void LearnerLoop::Report(bool force) {
-  const double dt = std::chrono::duration<double>(Clock::now() - last_report_).count();
-  if (!force && options_.report_period_s > 0 && dt < options_.report_period_s) return;
+  const double since = std::chrono::duration<double>(Clock::now() - last_report_).count();
+  if (!force && options_.report_period_s > 0 && since < options_.report_period_s) return;
   const LearnerCounters& c = learner_.counters();
   rl::LearnerReport r;
   r.updates = c.updates;
@@ -53,10 +53,17 @@ void LearnerLoop::Report(bool force) {
   r.alpha = last_update_.alpha;
   r.entropy = last_update_.entropy;
   r.mean_reward = last_update_.mean_reward;
-  if (dt > 0) {
-    r.updates_per_second = (c.updates - updates_at_report_) / dt;
-    r.inserts_per_second = (c.transitions_inserted - inserted_at_report_) / dt;
+  // rates over windows of at least a second (reports may come after every step)
+  const double window = std::chrono::duration<double>(Clock::now() - rate_window_start_).count();
+  if (window >= 1.0) {
+    updates_per_second_ = (c.updates - updates_at_window_) / window;
+    inserts_per_second_ = (c.transitions_inserted - inserted_at_window_) / window;
+    rate_window_start_ = Clock::now();
+    updates_at_window_ = c.updates;
+    inserted_at_window_ = c.transitions_inserted;
   }
+  r.updates_per_second = updates_per_second_;
+  r.inserts_per_second = inserts_per_second_;
   link_->PublishStats(r);
   rl::NodeReport status;
   status.phase = learner_.CanUpdate() || c.updates > 0 ? rl::NodePhase::kTraining : rl::NodePhase::kWaiting;
@@ -68,8 +75,6 @@ void LearnerLoop::Report(bool force) {
                   (learner_.has_graph() || !rl::UsesGraph(options_.learner.method) ? "" : ", waiting for the graph");
   link_->PublishStatus(status);
   last_report_ = Clock::now();
-  updates_at_report_ = c.updates;
-  inserted_at_report_ = c.transitions_inserted;
 }
 
 void LearnerLoop::Start() {
@@ -87,7 +92,9 @@ void LearnerLoop::Start() {
   checkpointed_at_ = learner_.counters().updates;
   // actors start training once weights exist: publish the initial ones at once
   Publish();
-  last_report_ = Clock::now();
+  last_report_ = rate_window_start_ = Clock::now();
+  updates_at_window_ = learner_.counters().updates;
+  inserted_at_window_ = learner_.counters().transitions_inserted;
   Report(true);
 }
 

@@ -75,8 +75,9 @@ class LearnerLoop {
   uint64_t graphs_rejected_ = 0;
   uint64_t checkpointed_at_ = 0;
   std::vector<rl::Episode> episodes_;
-  std::chrono::steady_clock::time_point last_report_;
-  uint64_t updates_at_report_ = 0, inserted_at_report_ = 0;
+  std::chrono::steady_clock::time_point last_report_, rate_window_start_;
+  uint64_t updates_at_window_ = 0, inserted_at_window_ = 0;
+  double updates_per_second_ = 0, inserts_per_second_ = 0;
 };
 
 }  // namespace srics::learner

@@ -38,8 +38,11 @@ constexpr uint64_t kStallRounds = 10000;
 // The monitor's view of the bus: the same MonitorState and CSV files a DDS monitor builds.
 class MonitorObserver : public links::BusObserver {
  public:
-  MonitorObserver(const config::Config& config, const std::string& csv_dir) : run_id_(config.transport.run_id) {
+  MonitorObserver(const config::Config& config, const std::string& csv_dir)
+      : run_id_(config.transport.run_id), start_(mon::Clock::now()) {
     if (!csv_dir.empty()) csv_.emplace(csv_dir);
+    char name[256] = {};
+    if (gethostname(name, sizeof name - 1) == 0) host_ = name;
   }
   void OnEval(const rl::EvalReport& report) override {
     tr::EvalResult m = tr::ToMessage(report);
@@ -68,13 +71,17 @@ class MonitorObserver : public links::BusObserver {
     m.run_id = run_id_;
     m.version = weights.version;
     m.update_count = weights.update_count;
-    m.architecture = weights.architecture;  // the parameters are of no use to a monitor
+    m.architecture = weights.architecture;
+    m.parameters = weights.parameters;  // the monitor keeps only their number
     mon::Apply(&state_, m, mon::Clock::now());
   }
   void OnStatus(const std::string& role, uint32_t id, const rl::NodeReport& report) override {
     tr::NodeStatus m = tr::ToMessage(report, role, id);
     m.run_id = run_id_;
     m.pid = static_cast<int32_t>(getpid());
+    m.host = host_;
+    m.uptime_ms = static_cast<uint64_t>(
+        std::chrono::duration_cast<std::chrono::milliseconds>(mon::Clock::now() - start_).count());
     mon::Apply(&state_, m, mon::Clock::now());
     if (csv_ && mon::Clock::now() - last_status_row_[role + std::to_string(id)] >= std::chrono::seconds(1)) {
       csv_->Append(m, mon::WallTimeNow());
@@ -85,6 +92,8 @@ class MonitorObserver : public links::BusObserver {
 
  private:
   std::string run_id_;
+  std::string host_;
+  mon::Clock::time_point start_;
   std::optional<mon::CsvSink> csv_;
   mon::MonitorState state_;
   mon::Clock::time_point last_stats_row_;
@@ -188,7 +197,9 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
   InProcessRun run(config, session.dir(), &observer);
   std::string reason;
   int exit_code = kExitDone;
-  auto rows = [&] { return std::vector<mon::ProcessRow>{{.name = "in-process", .pid = getpid(), .state = "running"}}; };
+  auto rows = [&](const std::string& state) {
+    return std::vector<mon::ProcessRow>{{.name = "in-process", .pid = getpid(), .state = state}};
+  };
   try {
     while (reason.empty()) {
       if (!run.Round()) {
@@ -199,7 +210,7 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
       } else {
         reason = WallLimitReason(config, session.elapsed_s());
       }
-      session.Show(observer.state(), rows(), 0);
+      session.Show(observer.state(), rows("running"), 0);
     }
     if (exit_code != kExitDone || reason != "the budget is done") run.Stop();
   } catch (const std::exception& e) {
@@ -209,7 +220,8 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
     exit_code = kExitFailed;
   }
   session.Event("stopping: " + reason);
-  return session.Finish(observer.state(), rows(), reason, exit_code, true, 0);
+  return session.Finish(observer.state(), rows(exit_code == kExitDone ? "finished" : "stopped"), reason, exit_code,
+                        true, 0);
 }
 
 const char* const kLearnGraphUsage =
