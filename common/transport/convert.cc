@@ -10,8 +10,8 @@
 
 namespace srics::transport::internal {
 
-static_assert(srics_CONTRACT_VERSION == kContractVersion,
-              "kContractVersion (messages.h) must equal CONTRACT_VERSION (idl/srics.idl)");
+static_assert(srics_WIRE_CONTRACT_VERSION == kContractVersion,
+              "kContractVersion (messages.h) must equal WIRE_CONTRACT_VERSION (idl/srics.idl)");
 static_assert(srics_EPISODE_EXPLORE == static_cast<int>(rl::EpisodeMode::kExplore) &&
               srics_EPISODE_TRAIN == static_cast<int>(rl::EpisodeMode::kTrain) &&
               srics_EPISODE_EVAL == static_cast<int>(rl::EpisodeMode::kEval));

@@ -10,7 +10,7 @@
 
 namespace srics::transport {
 
-// Must equal srics::CONTRACT_VERSION in idl/srics.idl (checked by a static_assert in the
+// Must equal srics::WIRE_CONTRACT_VERSION in idl/srics.idl (checked by a static_assert in the
 // transport library). Readers reject samples carrying any other value.
 inline constexpr uint32_t kContractVersion = 1;
 
