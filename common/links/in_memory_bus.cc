@@ -3,21 +3,25 @@
 #include <stdexcept>
 
 namespace srics::links {
+namespace {
+
+// The bus's latest value of a keep-last-1 topic if this reader has not seen its version yet
+// (then marked seen): readers get the newest sample once, as over DDS.
+template <typename T>
+std::optional<T> Unseen(const std::optional<T>& latest, uint64_t* seen_version) {
+  if (!latest || latest->version <= *seen_version) return std::nullopt;
+  *seen_version = latest->version;
+  return latest;
+}
+
+}  // namespace
 
 class InMemoryBus::Actor : public ActorLink {
  public:
   Actor(InMemoryBus* bus, uint32_t id) : bus_(bus), id_(id) {}
 
-  std::optional<rl::WeightsUpdate> PollWeights() override {
-    if (!bus_->weights_ || bus_->weights_->version <= weights_seen_) return std::nullopt;
-    weights_seen_ = bus_->weights_->version;
-    return bus_->weights_;
-  }
-  std::optional<rl::GraphUpdate> PollGraph() override {
-    if (!bus_->graph_ || bus_->graph_->version <= graph_seen_) return std::nullopt;
-    graph_seen_ = bus_->graph_->version;
-    return bus_->graph_;
-  }
+  std::optional<rl::WeightsUpdate> PollWeights() override { return Unseen(bus_->weights_, &weights_seen_); }
+  std::optional<rl::GraphUpdate> PollGraph() override { return Unseen(bus_->graph_, &graph_seen_); }
   // No waiting: in one thread nothing can arrive while we wait.
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds) override { return bus_->progress_; }
   bool PublishEpisode(const rl::Episode& episode) override {
@@ -51,11 +55,7 @@ class InMemoryBus::Learner : public LearnerLink {
     }
     return taken;
   }
-  std::optional<rl::GraphUpdate> PollGraph() override {
-    if (!bus_->graph_ || bus_->graph_->version <= graph_seen_) return std::nullopt;
-    graph_seen_ = bus_->graph_->version;
-    return bus_->graph_;
-  }
+  std::optional<rl::GraphUpdate> PollGraph() override { return Unseen(bus_->graph_, &graph_seen_); }
   void PublishWeights(const rl::WeightsUpdate& weights) override {
     bus_->weights_ = weights;
     if (bus_->observer_) bus_->observer_->OnWeights(weights);
