@@ -3,29 +3,11 @@
 
 #include <spdlog/spdlog.h>
 
-#include <filesystem>
-#include <fstream>
-
 #include "actor/actor_loop.h"
 #include "common/process/role_startup.h"
 #include "common/rl/agent_shape.h"
 #include "common/transport/dds_links.h"
 #include "common/transport/transport.h"
-
-namespace srics {
-namespace {
-
-// How many times this actor has started in this run folder (a small state file), so that a
-// restarted actor's episode ids keep increasing: generation << 32 | episode count.
-uint64_t NextGeneration(const std::string& path) {
-  uint64_t generation = 0;
-  std::ifstream(path) >> generation;
-  std::ofstream(path) << generation + 1 << "\n";
-  return generation;
-}
-
-}  // namespace
-}  // namespace srics
 
 int main(int argc, char** argv) {
   using namespace srics;
@@ -35,11 +17,8 @@ int main(int argc, char** argv) {
     const config::Config& config = role.config;
     const uint32_t id = static_cast<uint32_t>(*cl.id);
     const std::string& name = role.name;
-    uint64_t first_id = 0;
-    if (!cl.run_dir.empty()) {
-      std::filesystem::create_directories(cl.run_dir + "/state");
-      first_id = NextGeneration(cl.run_dir + "/state/" + name + ".generation") << 32;
-    }
+    // a restarted actor's episode ids keep increasing
+    const uint64_t first_id = process::NextActorFirstEpisodeId(cl.run_dir, name);
     transport::Participant participant(config.transport);
     transport::DdsActorLink link(participant, id, rl::EpisodeLimitsFor(config.env));
     actor::ActorLoop loop(actor::ActorOptionsFor(config, id, first_id), &link);

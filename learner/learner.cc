@@ -1,5 +1,6 @@
 #include "learner/learner.h"
 
+#include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/seeds.h"
 
@@ -40,6 +41,10 @@ std::string Learner::Ingest(rl::Episode episode) {
   if (!problem.empty()) {
     ++rejected_;
     return problem;
+  }
+  if (episode.mode == rl::EpisodeMode::kExplore && !options_.learner.exploration_into_replay) {
+    ++exploration_skipped_;  // learner.exploration_into_replay: false
+    return "";
   }
   if (BudgetReached()) {
     ++beyond_budget_;
@@ -95,12 +100,67 @@ std::vector<float> Learner::TakePolicyWeights() {
   return agent_.PolicyWeights();
 }
 
-void Learner::SaveCheckpoint(const std::string& path) { agent_.SaveCheckpoint(path, counters_); }
+namespace {
+
+// Version of the learner's own state section ("learner.state").
+constexpr uint32_t kLearnerStateFormat = 1;
+
+}  // namespace
+
+void Learner::SaveCheckpoint(const std::string& path) {
+  std::vector<nn::CheckpointSection> sections = agent_.CheckpointSections(counters_);
+  nn::ByteWriter state;
+  state.Put<uint32_t>(kLearnerStateFormat);
+  state.Put<uint64_t>(limiter_offset_);
+  state.Put<uint64_t>(rejected_);
+  state.Put<uint64_t>(beyond_budget_);
+  state.PutString(nn::RngState(relabeler_.rng()));
+  sections.push_back({"learner.state", "", {}, state.Take()});
+  sections.push_back({"replay", "", {}, replay_.Serialize()});
+  nn::WriteCheckpoint(path, sections);
+}
 
 void Learner::LoadCheckpoint(const std::string& path) {
-  counters_ = agent_.LoadCheckpoint(path);
-  // the replay is not saved: the limiter's warm-up restarts from the restored insert count
+  const std::vector<nn::CheckpointSection> sections = nn::ReadCheckpoint(path);
+  const nn::CheckpointSection* state_section = nullptr;
+  const nn::CheckpointSection* replay_section = nullptr;
+  for (const auto& s : sections) {
+    if (s.name == "learner.state") state_section = &s;
+    if (s.name == "replay") replay_section = &s;
+  }
+  // read the learner's own parts into locals first: a bad file changes nothing
+  uint64_t limiter_offset = 0, rejected = 0, beyond_budget = 0;
+  nn::Rng relabeler_rng = relabeler_.rng();
+  ReplayBuffer replay(options_.learner.replay_capacity);
+  if (state_section && replay_section) {
+    const std::string what = "checkpoint " + path + ": section 'learner.state'";
+    nn::ByteReader r(state_section->bytes, what);
+    if (const auto format = r.Get<uint32_t>(); format != kLearnerStateFormat)
+      throw nn::CheckpointError(what + ": format " + std::to_string(format) + " (this build reads " +
+                                std::to_string(kLearnerStateFormat) + ")");
+    limiter_offset = r.Get<uint64_t>();
+    rejected = r.Get<uint64_t>();
+    beyond_budget = r.Get<uint64_t>();
+    nn::SetRngState(&relabeler_rng, r.GetString(), what);
+    replay.Restore(replay_section->bytes, options_.limits, "checkpoint " + path + ": section 'replay'");
+  } else if (state_section || replay_section) {
+    throw nn::CheckpointError("checkpoint " + path + ": has " + (state_section ? "learner.state" : "replay") +
+                              " but not " + (state_section ? "replay" : "learner.state"));
+  }
+  counters_ = agent_.LoadCheckpointSections(sections, path);
   published_at_update_ = counters_.updates;
+  replay_restored_ = replay_section != nullptr;
+  if (!replay_restored_) {
+    // an old checkpoint without the replay: the warm-up refills it; the limiter counts from
+    // the restored insert count (Ingest shifts its offset while blocked)
+    replay_ = ReplayBuffer(options_.learner.replay_capacity);
+    return;
+  }
+  replay_ = std::move(replay);
+  limiter_offset_ = limiter_offset;
+  rejected_ = rejected;
+  beyond_budget_ = beyond_budget;
+  relabeler_.rng() = relabeler_rng;
 }
 
 }  // namespace srics::learner

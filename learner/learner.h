@@ -36,6 +36,8 @@ class Learner {
 
   // Validates and stores a training or exploration episode. Returns "" when accepted, else
   // why it was rejected (the replay is unchanged then and the rejection is counted).
+  // Exploration episodes are accepted but not stored when learner.exploration_into_replay is
+  // false (counted in exploration_skipped(); they count for nothing then).
   // Once the run's budget is in (BudgetReached), further episodes are not stored: the learner
   // trains on the budget's data, and actors still running until they hear of the end are
   // counted in episodes_beyond_budget() (not rejected).
@@ -60,15 +62,28 @@ class Learner {
   // Raises the next policy version by `count` (after a restart from a checkpoint).
   void SkipPolicyVersions(uint64_t count) { counters_.policy_version += count; }
 
+  // Everything a resumed run needs to go on as if uninterrupted, in one file written
+  // atomically: networks, optimizers, temperature, counters, the replay (every stored episode
+  // and its insert counters), the rate limiter's state and the random streams of sampling and
+  // updates.
   void SaveCheckpoint(const std::string& path);
-  // Restores networks, optimizers, temperature and counters; the replay starts empty.
+  // Restores what SaveCheckpoint wrote. A checkpoint of the format before the replay was saved
+  // (nn format version 1) restores networks and counters with an empty replay (the warm-up
+  // then refills it). Throws nn::CheckpointError (cannot open, truncated, corrupted, another
+  // architecture, a replay that does not fit this run's environment); nothing is changed then
+  // unless the optimizer state itself is malformed.
   void LoadCheckpoint(const std::string& path);
+  // False after loading a checkpoint that had no replay (the old format).
+  bool replay_restored() const { return replay_restored_; }
+
 
   const LearnerCounters& counters() const { return counters_; }
   // True once the run's budget of training env steps is in (run.total_env_steps).
   bool BudgetReached() const { return counters_.training_env_steps >= options_.total_env_steps; }
   uint64_t episodes_rejected() const { return rejected_; }
   uint64_t episodes_beyond_budget() const { return beyond_budget_; }
+  // Exploration episodes not stored (learner.exploration_into_replay: false).
+  uint64_t exploration_skipped() const { return exploration_skipped_; }
   const ReplayBuffer& replay() const { return replay_; }
   SacAgent& agent() { return agent_; }
   const AgentShape& shape() const { return shape_; }
@@ -84,6 +99,7 @@ class Learner {
   LearnerCounters counters_;
   uint64_t rejected_ = 0;
   uint64_t beyond_budget_ = 0;
+  uint64_t exploration_skipped_ = 0;
   bool has_graph_ = false;
   // Updates are blocked until there is a graph (if the method needs one) and the replay
   // holds warmup_steps transitions (also after a restart, when it starts empty). While
@@ -94,6 +110,7 @@ class Learner {
   uint64_t limiter_offset_ = 0;
   uint64_t published_at_update_ = 0;
   bool published_once_ = false;
+  bool replay_restored_ = false;
 };
 
 }  // namespace srics::learner

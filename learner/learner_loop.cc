@@ -16,11 +16,16 @@ LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::stri
   o.num_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
   o.checkpoint_path = std::move(checkpoint_path);
   o.report_period_s = config.transport.status_period_s;
+  if (!o.checkpoint_path.empty())
+    o.training_log.path = (std::filesystem::path(o.checkpoint_path).parent_path() / "train.csv").string();
+  o.training_log.every_env_steps = config.actors.eval_every_env_steps;
+  o.training_log.epsilon = config.agent.reward.epsilon;
+  o.training_log.success_threshold = config.env.success_threshold;
   return o;
 }
 
 LearnerLoop::LearnerLoop(LearnerLoopOptions options, links::LearnerLink* link)
-    : options_(std::move(options)), link_(link), learner_(options_.learner) {}
+    : options_(std::move(options)), link_(link), learner_(options_.learner), training_log_(options_.training_log) {}
 
 void LearnerLoop::Publish() {
   rl::WeightsUpdate w;
@@ -86,10 +91,14 @@ void LearnerLoop::Start() {
     // past every version that can have been used, so versions keep increasing for actors
     const auto& l = options_.learner.learner;
     learner_.SkipPolicyVersions(l.checkpoint_every_updates / l.publish_every_updates + 2);
-    spdlog::info("resumed from {}: {} updates, {} transitions inserted, policy v{}", path, learner_.counters().updates,
-                 learner_.counters().transitions_inserted, learner_.counters().policy_version);
+    spdlog::info("resumed from {}: {} updates, {} transitions inserted, policy v{}, replay {} transitions{}", path,
+                 learner_.counters().updates, learner_.counters().transitions_inserted,
+                 learner_.counters().policy_version, learner_.replay().transitions(),
+                 learner_.replay_restored() ? "" : " (an older checkpoint without the replay: refilling it)");
   }
   checkpointed_at_ = learner_.counters().updates;
+  // rows of train.csv beyond the checkpoint are trained again: dropped
+  training_log_.ResumeAt(learner_.counters().training_env_steps);
   // actors start training once weights exist: publish the initial ones at once
   Publish();
   last_report_ = rate_window_start_ = Clock::now();
@@ -118,8 +127,12 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
   const bool work = learner_.CanUpdate();
   link_->TakeEpisodes(&episodes_, 64, work ? std::chrono::milliseconds(0) : wait);
   for (auto& e : episodes_) {
+    // measured before Ingest takes the episode, counted only when it was stored
+    const auto figures = training_log_.Measure(e);
+    const uint64_t stored_before = learner_.counters().episodes_accepted;
     const std::string problem = learner_.Ingest(std::move(e));
     if (!problem.empty()) spdlog::warn("episode rejected: {}", problem);
+    if (figures && learner_.counters().episodes_accepted > stored_before) training_log_.Add(*figures);
   }
   FollowGraph();
   int updates = 0;
@@ -130,6 +143,7 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
     learner_.SaveCheckpoint(options_.checkpoint_path);
     checkpointed_at_ = learner_.counters().updates;
   }
+  training_log_.Advance(learner_.counters().training_env_steps);
   Report(false);
   if (learner_.BudgetReached() && !learner_.CanUpdate()) {
     Finish();
@@ -143,6 +157,7 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
 void LearnerLoop::Finish() {
   if (finished_) return;
   finished_ = true;
+  training_log_.Advance(learner_.counters().training_env_steps, /*force=*/true);
   // final weights first, then the stats that tell actors the budget is done
   Publish();
   if (!options_.checkpoint_path.empty()) learner_.SaveCheckpoint(options_.checkpoint_path);

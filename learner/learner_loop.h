@@ -17,6 +17,7 @@
 #include "common/config/config.h"
 #include "common/links/links.h"
 #include "learner/learner.h"
+#include "learner/training_log.h"
 
 namespace srics::learner {
 
@@ -31,6 +32,9 @@ struct LearnerLoopOptions {
   // after the final weights, wait this long before the budget-done stats (DDS delivers the
   // two topics independently: actors should have the final weights when they see the end)
   std::chrono::milliseconds final_weights_grace{300};
+  // train.csv: figures of the training episodes (selectivity during training) per evaluation
+  // interval; LearnerLoopOptionsFor puts it beside the checkpoint
+  TrainingLogOptions training_log;
 };
 
 LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::string checkpoint_path);
@@ -75,6 +79,7 @@ class LearnerLoop {
   uint64_t graphs_rejected_ = 0;
   uint64_t checkpointed_at_ = 0;
   std::vector<rl::Episode> episodes_;
+  TrainingLog training_log_;
   std::chrono::steady_clock::time_point last_report_, rate_window_start_;
   uint64_t updates_at_window_ = 0, inserted_at_window_ = 0;
   double updates_per_second_ = 0, inserts_per_second_ = 0;

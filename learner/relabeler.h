@@ -55,6 +55,10 @@ class Relabeler {
 
   bool full_goal() const { return method_ == config::Method::kSacHer; }
 
+  // The random stream of sampling and relabeling, for checkpoints (a resumed learner draws
+  // the batches the uninterrupted one would have).
+  std::mt19937_64& rng() { return rng_; }
+
  private:
   int PickSubgoalEntity(const rl::Episode& episode);
   double Reward(const rl::Episode& episode, int t, int entity, const float* goal) const;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <deque>
 #include <random>
+#include <string>
 
 #include "common/rl/episode.h"
 
@@ -39,6 +40,16 @@ class ReplayBuffer {
   // Largest entity count among stored episodes (batches pad to it).
   int max_entities() const;
   const std::deque<rl::Episode>& contents() const { return episodes_; }
+
+  // Everything stored (the episodes in insertion order and the running counters) as the
+  // bytes of a checkpoint section.
+  std::string Serialize() const;
+  // Replaces the contents with what Serialize wrote. Every episode must pass
+  // rl::ValidateEpisode against `limits` (a checkpoint of another environment is refused).
+  // A smaller capacity than the saved contents drops the oldest episodes, as Insert would.
+  // Throws nn::CheckpointError naming `what` on a truncated or malformed payload, leaving
+  // the buffer as it was.
+  void Restore(const std::string& bytes, const rl::EpisodeLimits& limits, const std::string& what);
 
  private:
   uint64_t capacity_;

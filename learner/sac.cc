@@ -162,26 +162,34 @@ std::vector<float> SacAgent::PolicyWeights() { return nn::Flatten(policy_.Parame
 std::string SacAgent::PolicySignature() { return rl::PolicySignature(policy_); }
 
 void SacAgent::SaveCheckpoint(const std::string& path, const LearnerCounters& counters) {
+  nn::WriteCheckpoint(path, CheckpointSections(counters));
+}
+
+LearnerCounters SacAgent::LoadCheckpoint(const std::string& path) {
+  return LoadCheckpointSections(nn::ReadCheckpoint(path), path);
+}
+
+std::vector<nn::CheckpointSection> SacAgent::CheckpointSections(const LearnerCounters& counters) {
   auto section = [](const std::string& name, nn::ParameterList<float> params) {
-    return nn::CheckpointSection{name, nn::SignatureString(params), nn::Flatten(params)};
+    return nn::CheckpointSection{name, nn::SignatureString(params), nn::Flatten(params), {}};
   };
-  std::vector<nn::CheckpointSection> sections = {
+  return {
       section("policy", policy_.Parameters()),
       section("q1", q1_.Parameters()),
       section("q2", q2_.Parameters()),
       section("q1_target", q1_target_.Parameters()),
       section("q2_target", q2_target_.Parameters()),
       section("log_alpha", {&log_alpha_}),
-      {"policy.adam", "", policy_optimizer_->ExportState()},
-      {"q.adam", "", q_optimizer_->ExportState()},
-      {"alpha.adam", "", alpha_optimizer_->ExportState()},
-      {"counters", "", PackCounters(counters)},
+      {"policy.adam", "", policy_optimizer_->ExportState(), {}},
+      {"q.adam", "", q_optimizer_->ExportState(), {}},
+      {"alpha.adam", "", alpha_optimizer_->ExportState(), {}},
+      {"counters", "", PackCounters(counters), {}},
+      {"agent.rng", "", {}, nn::RngState(rng_)},
   };
-  nn::WriteCheckpoint(path, sections);
 }
 
-LearnerCounters SacAgent::LoadCheckpoint(const std::string& path) {
-  const auto sections = nn::ReadCheckpoint(path);
+LearnerCounters SacAgent::LoadCheckpointSections(const std::vector<nn::CheckpointSection>& sections,
+                                                 const std::string& path) {
   // check every part before changing anything, so a bad file leaves the agent as it was
   const std::pair<const char*, nn::ParameterList<float>> parts[] = {
       {"policy", policy_.Parameters()},       {"q1", q1_.Parameters()},
@@ -193,7 +201,11 @@ LearnerCounters SacAgent::LoadCheckpoint(const std::string& path) {
       throw nn::CheckpointError(path + ": section '" + name + "': architecture mismatch");
   }
   const LearnerCounters counters = UnpackCounters(nn::FindSection(sections, "counters", path).values, path);
+  nn::Rng rng = rng_;
+  for (const auto& s : sections)
+    if (s.name == "agent.rng") nn::SetRngState(&rng, s.bytes, path + ": section 'agent.rng'");
   for (const auto& [name, params] : parts) nn::LoadSection(nn::FindSection(sections, name, path), params, path);
+  rng_ = rng;
   try {
     policy_optimizer_->ImportState(nn::FindSection(sections, "policy.adam", path).values);
     q_optimizer_->ImportState(nn::FindSection(sections, "q.adam", path).values);

@@ -11,6 +11,7 @@
 
 #include "common/config/agent_config.h"
 #include "common/nn/optim.h"
+#include "common/nn/serialize.h"
 #include "common/nn/tape.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/networks.h"
@@ -52,10 +53,18 @@ class SacAgent {
   std::vector<float> PolicyWeights();
   std::string PolicySignature();
 
-  // Checkpoint: every network, target network, optimizer state, the temperature and the
-  // counters. Written atomically; Load throws nn::CheckpointError naming what is wrong.
+  // Checkpoint: every network, target network, optimizer state, the temperature, the random
+  // stream of the updates and the counters. Written atomically; Load throws
+  // nn::CheckpointError naming what is wrong.
   void SaveCheckpoint(const std::string& path, const LearnerCounters& counters);
   LearnerCounters LoadCheckpoint(const std::string& path);
+  // The same as sections, for a checkpoint file that holds more than the agent. Loading
+  // checks every network's part before changing anything; a checkpoint without the random
+  // stream (older ones) keeps the current one.
+  std::vector<nn::CheckpointSection> CheckpointSections(const LearnerCounters& counters);
+  LearnerCounters LoadCheckpointSections(const std::vector<nn::CheckpointSection>& sections,
+                                         const std::string& path);
+
 
   double alpha() const;
   // Logs the shape of every matrix product of the following updates (benchmarks).

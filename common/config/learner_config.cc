@@ -14,6 +14,7 @@ void ParseLearner(YamlSection s, LearnerConfig* out) {
   s.ReadDouble("rate_error_buffer", &out->rate_error_buffer, 1, 1e9);
   s.ReadInt("publish_every_updates", &out->publish_every_updates, 1, 1 << 30);
   s.ReadInt("checkpoint_every_updates", &out->checkpoint_every_updates, 1, 1 << 30);
+  s.ReadBool("exploration_into_replay", &out->exploration_into_replay);
   YamlSection relabel = s.Child("relabel");
   RelabelConfig& r = out->relabel;
   relabel.ReadDouble("original", &r.original, 0, 1);

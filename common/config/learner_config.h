@@ -18,6 +18,10 @@ struct LearnerConfig {
   double rate_error_buffer = 500;     // updates the learner may run ahead of (or behind) the ratio
   int publish_every_updates = 100;    // PolicyWeights period
   int checkpoint_every_updates = 5000;
+  // whether the random exploration episodes collected for the interaction graph (graph
+  // methods, before the graph and first weights exist) also enter the RL replay; they always
+  // reach the graph service. true: the behaviour before this setting existed
+  bool exploration_into_replay = true;
   RelabelConfig relabel;
 };
 

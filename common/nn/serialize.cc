@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 namespace srics::nn {
 namespace {
@@ -115,6 +116,20 @@ void LoadFlat(const ParameterList<T>& params, std::span<const float> flat) {
   }
 }
 
+std::string RngState(const Rng& rng) {
+  std::ostringstream out;
+  out << rng;
+  return out.str();
+}
+
+void SetRngState(Rng* rng, const std::string& state, const std::string& what) {
+  std::istringstream in(state);
+  Rng parsed;
+  in >> parsed;
+  if (in.fail()) throw CheckpointError(what + ": not the state of a random stream");
+  *rng = parsed;
+}
+
 void WriteCheckpoint(const std::string& path, const std::vector<CheckpointSection>& sections) {
   std::string buf(kMagic, sizeof(kMagic));
   Put<std::uint32_t>(buf, kCheckpointVersion);
@@ -126,6 +141,8 @@ void WriteCheckpoint(const std::string& path, const std::vector<CheckpointSectio
     buf += s.signature;
     Put<std::uint64_t>(buf, s.values.size());
     buf.append(reinterpret_cast<const char*>(s.values.data()), s.values.size() * sizeof(float));
+    Put<std::uint64_t>(buf, s.bytes.size());
+    buf += s.bytes;
   }
   Put<std::uint64_t>(buf, Fnv1a(buf.data(), buf.size()));
   const std::string tmp = path + ".tmp";
@@ -155,9 +172,10 @@ std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
   Reader r(data, data.size() - 8, path);
   r.Take(sizeof(kMagic));
   const auto version = r.Get<std::uint32_t>();
-  if (version != kCheckpointVersion) {
+  if (version < kOldestCheckpointVersion || version > kCheckpointVersion) {
     throw CheckpointError("checkpoint " + path + ": unsupported format version " +
-                          std::to_string(version) + " (this build reads " +
+                          std::to_string(version) + " (this build reads versions " +
+                          std::to_string(kOldestCheckpointVersion) + " to " +
                           std::to_string(kCheckpointVersion) + ")");
   }
   // the sections are parsed before the checksum so that a cut file reports "truncated"
@@ -173,6 +191,11 @@ std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
     if (n > data.size() / sizeof(float)) r.Take(data.size());  // reports truncated
     s.values.resize(n);
     std::memcpy(s.values.data(), r.Take(n * sizeof(float)), n * sizeof(float));
+    if (version >= 2) {
+      const auto b = r.Get<std::uint64_t>();
+      if (b > data.size()) r.Take(data.size());  // reports truncated
+      s.bytes.assign(r.Take(b), b);
+    }
     sections.push_back(std::move(s));
   }
   std::uint64_t stored;
@@ -206,7 +229,7 @@ void LoadSection(const CheckpointSection& section, const ParameterList<T>& param
 
 template <typename T>
 void SaveParameters(const std::string& path, const ParameterList<T>& params) {
-  WriteCheckpoint(path, {{"parameters", SignatureString(params), Flatten(params)}});
+  WriteCheckpoint(path, {{"parameters", SignatureString(params), Flatten(params), {}}});
 }
 
 template <typename T>

@@ -4,18 +4,22 @@
 // ("policy.attn.entity.w:9x80;..."); its 64-bit FNV-1a hash travels with the weights so a
 // receiver can refuse weights of another architecture.
 //
-// Checkpoint file layout (little-endian):
+// Checkpoint file layout (little-endian), format version 2:
 //   magic "SRICSNN1" (8 bytes) | format version u32 | section count u32 |
 //   per section: name length u32, name, signature length u32, signature, value count u64,
-//                values (float32) |
+//                values (float32), byte count u64, bytes |
 //   checksum u64 (FNV-1a over every byte before it).
+// Version 1 (before the replay was checkpointed) has no byte count and bytes; it is still
+// read (its sections have empty bytes).
 #ifndef SRICS_COMMON_NN_SERIALIZE_H_
 #define SRICS_COMMON_NN_SERIALIZE_H_
 
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "common/nn/tensor.h"
@@ -53,17 +57,94 @@ struct CheckpointSection {
   std::string name;
   std::string signature;  // SignatureString of what the values belong to (may be empty)
   std::vector<float> values;
+  std::string bytes;      // anything else (a replay buffer, counters, RNG states): ByteWriter
 };
 
-// The format version written by WriteCheckpoint.
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+// The format version written by WriteCheckpoint, and the oldest one ReadCheckpoint reads.
+inline constexpr std::uint32_t kCheckpointVersion = 2;
+inline constexpr std::uint32_t kOldestCheckpointVersion = 1;
+
+// Builds the bytes of a section: fixed-width values and length-prefixed arrays, little-endian
+// as the machine writes them (the checkpoint is read back by the same build family).
+class ByteWriter {
+ public:
+  template <typename V>
+  void Put(V value) {
+    static_assert(std::is_trivially_copyable_v<V>);
+    bytes_.append(reinterpret_cast<const char*>(&value), sizeof(V));
+  }
+  // a count (u64), then the elements
+  template <typename V>
+  void PutVector(const std::vector<V>& values) {
+    static_assert(std::is_trivially_copyable_v<V>);
+    Put<std::uint64_t>(values.size());
+    bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(V));
+  }
+  void PutString(const std::string& text) {
+    Put<std::uint64_t>(text.size());
+    bytes_ += text;
+  }
+  std::string Take() { return std::move(bytes_); }
+
+ private:
+  std::string bytes_;
+};
+
+// Reads what a ByteWriter wrote. Every read past the end throws CheckpointError
+// "<what>: truncated ...", so a malformed section is an error, never a wild read.
+class ByteReader {
+ public:
+  ByteReader(const std::string& bytes, std::string what) : bytes_(bytes), what_(std::move(what)) {}
+  template <typename V>
+  V Get() {
+    V value;
+    std::memcpy(&value, Take(sizeof(V)), sizeof(V));
+    return value;
+  }
+  template <typename V>
+  std::vector<V> GetVector() {
+    const auto count = Get<std::uint64_t>();
+    if (count > remaining() / sizeof(V)) Fail(count * sizeof(V));
+    std::vector<V> values(count);
+    std::memcpy(values.data(), Take(count * sizeof(V)), count * sizeof(V));
+    return values;
+  }
+  std::string GetString() {
+    const auto count = Get<std::uint64_t>();
+    if (count > remaining()) Fail(count);
+    return std::string(Take(count), count);
+  }
+  size_t remaining() const { return bytes_.size() - pos_; }
+  bool done() const { return pos_ == bytes_.size(); }
+
+ private:
+  const char* Take(size_t n) {
+    if (n > remaining()) Fail(n);
+    const char* p = bytes_.data() + pos_;
+    pos_ += n;
+    return p;
+  }
+  [[noreturn]] void Fail(size_t wanted) const {
+    throw CheckpointError(what_ + ": truncated (needs " + std::to_string(wanted) + " more bytes at offset " +
+                          std::to_string(pos_) + ", has " + std::to_string(remaining()) + ")");
+  }
+  const std::string& bytes_;
+  std::string what_;
+  size_t pos_ = 0;
+};
+
+// A random stream's whole state as text (what std::mt19937_64 prints), and back. SetRngState
+// throws CheckpointError naming `what` when the text is not such a state (the stream is
+// unchanged then).
+std::string RngState(const Rng& rng);
+void SetRngState(Rng* rng, const std::string& state, const std::string& what);
 
 // Writes sections atomically (to path + ".tmp", then rename). Throws CheckpointError.
 void WriteCheckpoint(const std::string& path, const std::vector<CheckpointSection>& sections);
 
-// Reads a checkpoint. Throws CheckpointError saying "cannot open", "truncated",
-// "not a checkpoint (bad magic)", "unsupported format version", or "checksum mismatch
-// (corrupted)".
+// Reads a checkpoint of any version from kOldestCheckpointVersion to kCheckpointVersion.
+// Throws CheckpointError saying "cannot open", "truncated", "not a checkpoint (bad magic)",
+// "unsupported format version", or "checksum mismatch (corrupted)".
 std::vector<CheckpointSection> ReadCheckpoint(const std::string& path);
 
 // Writes one section holding params (name "parameters").

@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "common/logging/logging.h"
@@ -44,6 +46,16 @@ int RunRole(int argc, char** argv, const RoleProgram& program,
     spdlog::critical("{} failed: {}", role.name, e.what());
     return 1;
   }
+}
+
+uint64_t NextActorFirstEpisodeId(const std::string& run_dir, const std::string& name) {
+  if (run_dir.empty()) return 0;
+  std::filesystem::create_directories(run_dir + "/state");
+  const std::string path = run_dir + "/state/" + name + ".generation";
+  uint64_t generation = 0;
+  std::ifstream(path) >> generation;
+  std::ofstream(path) << generation + 1 << "\n";
+  return generation << 32;
 }
 
 }  // namespace srics::process

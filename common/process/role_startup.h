@@ -3,6 +3,7 @@
 // command line, load and validate the config, set up the role's logger (console, and a file
 // in the run folder's logs/ when there is one), then run the role and log what ended it.
 
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -35,5 +36,12 @@ int StartRole(int argc, char** argv, const RoleProgram& program, Role* role);
 // and gives exit code 1. Returns the exit code of the process.
 int RunRole(int argc, char** argv, const RoleProgram& program,
             const std::function<int(const Role&)>& body);
+
+// The first episode id of an actor starting in the run folder `run_dir` (in its own process
+// or in process): a small state file, <run_dir>/state/<name>.generation, counts the actor's
+// starts in that folder, so the episode ids of a restarted or resumed actor keep increasing
+// (generation << 32; its episodes' seeds then differ from the earlier ones). 0 without a run
+// folder.
+uint64_t NextActorFirstEpisodeId(const std::string& run_dir, const std::string& name);
 
 }  // namespace srics::process

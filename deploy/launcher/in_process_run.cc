@@ -14,6 +14,7 @@
 
 #include "actor/actor_loop.h"
 #include "common/config/command_line.h"
+#include "common/process/role_startup.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/seeds.h"
 #include "common/transport/rl_convert.h"
@@ -141,7 +142,10 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
   if (!options_.graph_only) l.learner = std::make_unique<learner::LearnerLoop>(learner_options, l.learner_link.get());
   l.learner_done = options_.graph_only;
   for (int k = 0; k < config.actors.count; ++k) {
-    actor::ActorOptions options = actor::ActorOptionsFor(config, static_cast<uint32_t>(k));
+    // a resumed run's actors go on from their next episode ids, as restarted actor processes do
+    const uint64_t first_id =
+        options_.graph_only ? 0 : process::NextActorFirstEpisodeId(dir, "actor-" + std::to_string(k));
+    actor::ActorOptions options = actor::ActorOptionsFor(config, static_cast<uint32_t>(k), first_id);
     options.explore_while_waiting_s = 0;  // nothing is lost in memory: exactly the share
     l.actor_links.push_back(l.bus.ActorEnd(static_cast<uint32_t>(k)));
     l.actors.push_back(std::make_unique<actor::ActorLoop>(options, l.actor_links.back().get()));

@@ -44,6 +44,8 @@ const char* const kRunUsage =
     "  --stop-timeout S      seconds between SIGINT and SIGKILL when stopping (default 15)\n"
     "  --final-eval-grace S  once the learner finished, wait this long for the actors' final\n"
     "                        evaluation and exit before stopping them (default 180)\n"
+    "  --label TEXT    shown in the display's title (srics sweep: which run of how many)\n"
+    "the run folder's outcome.yaml says how the run ended (finished, interrupted, failed)\n"
     "exit codes: 0 run finished, 1 a role failed for good, 2 bad arguments/config, 130 interrupted\n";
 
 namespace {
@@ -93,6 +95,7 @@ LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
     else if (arg == "--stop-timeout") options.stop_timeout_s = ParseNumber(arg, value(), 0);
     else if (arg == "--final-eval-grace") options.final_eval_grace_s = ParseNumber(arg, value(), 0);
     else if (arg == "--in-process") options.in_process = true;
+    else if (arg == "--label") options.label = value();
     else if (arg == "--display") {
       const std::string& mode = value();
       if (mode == "auto") options.display = DisplayMode::kAuto;

@@ -41,6 +41,7 @@ struct LaunchOptions {
   double final_eval_grace_s = 180;     // after the learner finished: wait for the actors
   BackoffPolicy backoff;               // restarts of crashed processes
   int max_restarts_service = 5;        // learner and graph service (actors: no limit)
+  std::string label;                   // --label: shown in the display's title ("sweep run 2/6")
 };
 
 // Exit codes of `srics run`.

@@ -1,5 +1,7 @@
 // srics: the launcher. `srics run CONFIG ...` runs a whole training run on this machine (see
-// launcher.h and `srics run --help`); `srics learn-graph` learns an environment's graph.
+// launcher.h and `srics run --help`); `srics sweep` a grid of runs over methods and seeds
+// (sweep.h); `srics compare` draws figures and tables from sweeps (compare.h); `srics
+// learn-graph` learns an environment's graph.
 
 #include <iostream>
 #include <string>
@@ -7,8 +9,10 @@
 
 #include "common/config/config_error.h"
 #include "common/transport/shutdown.h"
+#include "deploy/launcher/compare.h"
 #include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/launcher.h"
+#include "deploy/launcher/sweep.h"
 
 int main(int argc, char** argv) {
   namespace launcher = srics::launcher;
@@ -16,7 +20,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" ||
       (args[0] == "run" && args.size() > 1 && (args[1] == "-h" || args[1] == "--help"))) {
-    std::cout << launcher::kRunUsage;
+    std::cout << "srics run | sweep | compare | learn-graph (each with --help)\n" << launcher::kRunUsage;
     return args.empty() ? launcher::kExitUsage : 0;
   }
   if (args[0] == "learn-graph") {
@@ -30,6 +34,39 @@ int main(int argc, char** argv) {
       return launcher::kExitUsage;
     } catch (const std::exception& e) {
       std::cerr << "srics learn-graph: " << e.what() << "\n";
+      return launcher::kExitFailed;
+    }
+  }
+  if (args[0] == "sweep") {
+    if (args.size() > 1 && (args[1] == "-h" || args[1] == "--help")) {
+      std::cout << launcher::kSweepUsage;
+      return 0;
+    }
+    try {
+      return launcher::Sweep(launcher::ParseSweepArgs({args.begin() + 1, args.end()}));
+    } catch (const srics::config::ConfigError& e) {
+      std::cerr << "srics sweep: " << e.what() << "\n";
+      return launcher::kExitUsage;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "srics sweep: " << e.what() << "\n" << launcher::kSweepUsage;
+      return launcher::kExitUsage;
+    } catch (const std::exception& e) {
+      std::cerr << "srics sweep: " << e.what() << "\n";
+      return launcher::kExitFailed;
+    }
+  }
+  if (args[0] == "compare") {
+    if (args.size() > 1 && (args[1] == "-h" || args[1] == "--help")) {
+      std::cout << launcher::kCompareUsage;
+      return 0;
+    }
+    try {
+      return launcher::Compare(launcher::ParseCompareArgs({args.begin() + 1, args.end()}));
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "srics compare: " << e.what() << "\n" << launcher::kCompareUsage;
+      return launcher::kExitUsage;
+    } catch (const std::exception& e) {
+      std::cerr << "srics compare: " << e.what() << "\n";
       return launcher::kExitFailed;
     }
   }

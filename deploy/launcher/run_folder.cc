@@ -58,27 +58,6 @@ bool IsExecutable(const fs::path& path) {
   return fs::is_regular_file(path, error) && access(path.c_str(), X_OK) == 0;
 }
 
-// Splits one CSV line (fields of eval.csv may be quoted).
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
-      else if (c == '"') quoted = false;
-      else fields.back() += c;
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      fields.emplace_back();
-    } else {
-      fields.back() += c;
-    }
-  }
-  return fields;
-}
-
 std::vector<double> SplitList(const std::string& text) {
   std::vector<double> values;
   std::stringstream in(text);
@@ -88,11 +67,6 @@ std::vector<double> SplitList(const std::string& text) {
   return values;
 }
 
-std::string Quote(const std::string& text) {  // for gnuplot single-quoted strings
-  std::string out;
-  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out;
-}
 
 }  // namespace
 
@@ -114,6 +88,95 @@ std::string PrepareRunFolder(const config::Config& config, const std::string& re
       << config.effective_yaml << "\n";
   if (!out) throw std::runtime_error("cannot write " + config_path.string());
   return fs::absolute(dir).lexically_normal().string();
+}
+
+// Splits one CSV line (fields of eval.csv may be quoted).
+std::vector<std::string> SplitCsvLine(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
+      else if (c == '"') quoted = false;
+      else fields.back() += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+std::string GnuplotQuote(const std::string& text) {
+  std::string out;
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out;
+}
+
+std::string QuotedString(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\', out += c;
+    else if (c == '\n') out += "\\n";
+    else if (static_cast<unsigned char>(c) < 0x20) out += ' ';
+    else out += c;
+  }
+  return out + "\"";
+}
+
+namespace {
+
+// The inverse of QuotedString (text that is not quoted is returned as it is).
+std::string UnquotedString(const std::string& text) {
+  if (text.size() < 2 || text.front() != '"' || text.back() != '"') return text;
+  std::string out;
+  for (size_t i = 1; i + 1 < text.size(); ++i) {
+    if (text[i] == '\\' && i + 2 < text.size()) {
+      ++i;
+      out += text[i] == 'n' ? '\n' : text[i];
+    } else {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void WriteRunOutcome(const std::string& dir, const RunOutcome& outcome) {
+  const fs::path path = fs::path(dir) / "outcome.yaml";
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << "# how this run ended (srics run): finished, interrupted or failed\n"
+        << "state: " << outcome.state << "\nexit_code: " << outcome.exit_code
+        << "\nreason: " << QuotedString(outcome.reason) << "\n";
+    if (!out) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, path);
+}
+
+std::optional<RunOutcome> ReadRunOutcome(const std::string& dir) {
+  std::ifstream in(fs::path(dir) / "outcome.yaml");
+  if (!in) return std::nullopt;
+  RunOutcome outcome;
+  bool have_state = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("state: ", 0) == 0) outcome.state = line.substr(7), have_state = true;
+    else if (line.rfind("exit_code: ", 0) == 0) outcome.exit_code = std::atoi(line.c_str() + 11);
+    else if (line.rfind("reason: ", 0) == 0) outcome.reason = UnquotedString(line.substr(8));
+  }
+  if (!have_state) return std::nullopt;
+  return outcome;
+}
+
+void RemoveRunOutcome(const std::string& dir) {
+  std::error_code ignored;
+  fs::remove(fs::path(dir) / "outcome.yaml", ignored);
 }
 
 std::string ExecutableDir() {
@@ -163,7 +226,7 @@ EvalCurve ReadEvalCurve(std::istream& in) {
   std::string line;
   std::getline(in, line);  // header
   while (std::getline(in, line)) {
-    const std::vector<std::string> f = SplitCsv(line);
+    const std::vector<std::string> f = SplitCsvLine(line);
     if (f.size() < 13) continue;
     const double version = std::strtod(f[3].c_str(), nullptr);
     const double steps = std::strtod(f[5].c_str(), nullptr);
@@ -199,11 +262,11 @@ void WriteGnuplotScript(const std::string& path, const std::string& dir, const s
                         const EvalCurve& curve) {
   std::ofstream script(path);
   script << "set terminal pngcairo size 900,540 font 'sans,10'\n"
-         << "set output '" << Quote(dir) << "/curve.png'\n"
-         << "set title '" << Quote(title) << "' noenhanced\n"
+         << "set output '" << GnuplotQuote(dir) << "/curve.png'\n"
+         << "set title '" << GnuplotQuote(title) << "' noenhanced\n"
          << "set xlabel 'environment steps'\nset ylabel 'final distance to goal (m)'\n"
          << "set key outside right top\nset grid\nset yrange [0:*]\n";
-  std::string plot = "plot '" + Quote(dir) + "/curve.dat' using 1:3 with linespoints lw 2 title 'avg object distance', "
+  std::string plot = "plot '" + GnuplotQuote(dir) + "/curve.dat' using 1:3 with linespoints lw 2 title 'avg object distance', "
                      "'' using 1:2 with linespoints lw 2 title 'avg distance (arm incl.)'";
   if (curve.have_passive) {
     char buffer[256];
@@ -215,17 +278,18 @@ void WriteGnuplotScript(const std::string& path, const std::string& dir, const s
   }
   script << plot << "\n";
   if (curve.entities > 0) {
-    script << "set output '" << Quote(dir) << "/subgoal_success.png'\n"
-           << "set title 'per-subgoal success: " << Quote(title) << "' noenhanced\n"
+    script << "set output '" << GnuplotQuote(dir) << "/subgoal_success.png'\n"
+           << "set title 'per-subgoal success: " << GnuplotQuote(title) << "' noenhanced\n"
            << "set ylabel 'success rate'\nset yrange [0:1.05]\nplot ";
     for (size_t i = 0; i < curve.entities; ++i)
-      script << (i ? ", " : "") << "'" << Quote(dir) << "/curve.dat' using 1:" << 4 + i
+      script << (i ? ", " : "") << "'" << GnuplotQuote(dir) << "/curve.dat' using 1:" << 4 + i
              << " with linespoints lw 2 title 'entity " << i << "'";
     script << "\n";
   }
 }
 
-// Runs gnuplot on the script; false with *error (its output) when it fails.
+}  // namespace
+
 bool RunGnuplot(const std::string& script_path, std::string* error) {
   const std::string command = "gnuplot '" + script_path + "' 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
@@ -243,8 +307,6 @@ bool RunGnuplot(const std::string& script_path, std::string* error) {
   }
   return true;
 }
-
-}  // namespace
 
 bool PlotEvalCurves(const std::string& dir, const std::string& title, std::string* error) {
   std::ifstream in(dir + "/eval.csv");

@@ -1,6 +1,7 @@
 #pragma once
 // The run folder and the files the launcher itself writes into it.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,32 @@ std::string FindProgram(const std::string& program, const std::string& build_sub
 
 // The directory of the running executable (/proc/self/exe).
 std::string ExecutableDir();
+
+// How a run ended, in <dir>/outcome.yaml: written when a run stops in any way but a kill of
+// the launcher itself ("finished", "interrupted" or "failed", the exit code, the reason) and
+// removed when a run starts in the folder, so a folder without it holds a run that is going
+// on or was killed. `srics sweep` takes a run as done when it says "finished".
+struct RunOutcome {
+  std::string state;
+  int exit_code = 0;
+  std::string reason;
+};
+void WriteRunOutcome(const std::string& dir, const RunOutcome& outcome);
+// Empty when there is no readable outcome.yaml.
+std::optional<RunOutcome> ReadRunOutcome(const std::string& dir);
+void RemoveRunOutcome(const std::string& dir);
+
+// Splits one CSV line (fields may be quoted, with doubled quotes inside).
+std::vector<std::string> SplitCsvLine(const std::string& line);
+
+// Runs gnuplot on a script; false with *error (its output) when it fails or is missing.
+bool RunGnuplot(const std::string& script_path, std::string* error);
+
+// `text` for inside a gnuplot single-quoted string (quotes doubled).
+std::string GnuplotQuote(const std::string& text);
+
+// `text` as a double-quoted YAML/JSON string (backslash escapes).
+std::string QuotedString(const std::string& text);
 
 // Draws <dir>/curve.png (avg object distance and avg distance vs env steps, the passive
 // policy's values as horizontal lines) and <dir>/subgoal_success.png from <dir>/eval.csv

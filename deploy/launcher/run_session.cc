@@ -35,7 +35,8 @@ std::string WallLimitReason(const config::Config& config, double elapsed_s) {
 }
 
 RunSession::RunSession(const LaunchOptions& options, const config::Config& config)
-    : config_(config), dir_(PrepareRunFolder(config, options.run_dir)), display_(options.display) {
+    : config_(config), dir_(PrepareRunFolder(config, options.run_dir)), label_(options.label), display_(options.display) {
+  RemoveRunOutcome(dir_);  // the run goes on: no longer ended
   if (display_ == DisplayMode::kAuto) display_ = isatty(STDOUT_FILENO) ? DisplayMode::kLive : DisplayMode::kPlain;
   auto logger = logging::SetUpLogger("launcher", {.level = config.run.log_level, .file = dir_ + "/logs/launcher.log"});
   if (display_ == DisplayMode::kLive) logger->sinks().front()->set_level(spdlog::level::off);
@@ -63,7 +64,7 @@ void RunSession::Note(const std::string& text) { Remember(text); }
 
 mon::RenderOptions RunSession::Render(std::vector<mon::ProcessRow> rows) const {
   mon::RenderOptions render;
-  render.title = "srics run  " + dir_ + "  (Ctrl-C stops)";
+  render.title = "srics run  " + (label_.empty() ? "" : label_ + "  ") + dir_ + "  (Ctrl-C stops)";
   render.run_id = config_.transport.run_id;
   render.total_env_steps = config_.run.total_env_steps;
   render.max_wall_minutes = config_.run.max_wall_minutes;
@@ -80,7 +81,7 @@ void RunSession::Show(const mon::MonitorState& state, std::vector<mon::ProcessRo
     std::cout << "\033[H\033[2J" << mon::Render(state, mon::Clock::now(), Render(std::move(rows))) << std::flush;
   } else if (display_ == DisplayMode::kPlain && now >= next_line_) {
     next_line_ = now + std::chrono::seconds(10);
-    std::cout << "[" << ClockText(elapsed_s()) << "] "
+    std::cout << "[" << ClockText(elapsed_s()) << "] " << (label_.empty() ? "" : label_ + " ")
               << mon::RenderOneLine(state, mon::Clock::now(), config_.transport.run_id, config_.run.total_env_steps)
               << "  restarts " << restarts << std::endl;
   }
@@ -98,10 +99,19 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
   std::ofstream(dir_ + "/summary.txt") << summary;
 
   std::string files;
-  for (const char* name : {"config.yaml", "eval.csv", "learner.csv", "nodes.csv", "curve.png", "subgoal_success.png",
-                           "graph.json", "graph.png", "checkpoint.srics", "summary.txt", "logs"})
+  for (const char* name : {"config.yaml", "eval.csv", "learner.csv", "train.csv", "nodes.csv", "curve.png",
+                           "subgoal_success.png", "graph.json", "graph.png", "checkpoint.srics", "summary.txt",
+                           "outcome.yaml", "logs"})
     if (fs::exists(fs::path(dir_) / name)) files += std::string(files.empty() ? "" : ", ") + name;
   const char* outcome = exit_code == kExitDone ? "finished" : exit_code == kExitInterrupted ? "interrupted" : "FAILED";
+  try {
+    WriteRunOutcome(dir_, {exit_code == kExitDone          ? "finished"
+                           : exit_code == kExitInterrupted ? "interrupted"
+                                                           : "failed",
+                           exit_code, reason});
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+  }
   std::cout << (display_ == DisplayMode::kLive ? "\033[H\033[2J" : "\n") << summary << "\n"
             << "run " << outcome << ": " << reason << (clean ? "" : " (some processes had to be killed)")
             << "; restarts " << restarts << "\nrun folder " << dir_ << ": " << files << "\n"

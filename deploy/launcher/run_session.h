@@ -31,7 +31,8 @@ class RunSession {
   void Note(const std::string& text);
   // Redraws the live display (at most once a second) or prints a plain line (every 10 s).
   void Show(const monitor::MonitorState& state, std::vector<monitor::ProcessRow> rows, uint32_t restarts);
-  // Plots the curves, writes summary.txt and prints the closing lines. Returns exit_code.
+  // Plots the curves, writes summary.txt and outcome.yaml (how the run ended) and prints the
+  // closing lines. Returns exit_code.
   int Finish(const monitor::MonitorState& state, std::vector<monitor::ProcessRow> rows, const std::string& reason,
              int exit_code, bool clean, uint32_t restarts);
 
@@ -41,6 +42,7 @@ class RunSession {
 
   const config::Config& config_;
   std::string dir_;
+  std::string label_;
   DisplayMode display_;
   std::chrono::steady_clock::time_point start_, next_draw_, next_line_;
   std::deque<std::string> events_;

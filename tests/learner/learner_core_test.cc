@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
+#include "common/nn/serialize.h"
 
 #include "tests/learner/learner_testing.h"
 
@@ -50,27 +54,118 @@ TEST(LearnerCoreTest, RejectsEpisodesThatDoNotFitAndCountsThem) {
   EXPECT_EQ(learner.Ingest(MakeEpisode(3, 20, 4, 1)), "");
 }
 
-TEST(LearnerCoreTest, RestartFromCheckpointKeepsCountersAndRefillsBeforeUpdating) {
+// A learner restarted from its checkpoint goes on as if uninterrupted: the same replay, the
+// same counters and limiter state, and the next updates equal the original's bit for bit.
+TEST(LearnerCoreTest, RestartFromCheckpointKeepsTheReplayAndGoesOnAsIfUninterrupted) {
   const std::string path = ::testing::TempDir() + "/learner_core.srics";
-  config::Config config = SmallRun(config::Method::kSmorl);
+  config::Config config = SmallRun(config::Method::kSrics);
+  config.learner.replay_capacity = 300;  // some episodes have left already
   Learner first(LearnerOptionsFor(config));
-  for (int i = 0; i < 20; ++i) first.Ingest(MakeEpisode(3, 20, i, 1));
-  while (first.CanUpdate()) first.Update();
+  for (int i = 0; i < 10; ++i) first.Ingest(MakeEpisode(3, 20, i, -1));  // explore, before the graph
+  const auto graph = rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(3));
+  first.SetGraph(graph);
+  for (int i = 10; i < 22; ++i) {
+    first.Ingest(MakeEpisode(3, 20, i, i % 3));
+    while (first.CanUpdate()) first.Update();
+  }
+  first.Ingest(MakeEpisode(3, 20, 40, 1));  // allowance left unused at the checkpoint
   first.TakePolicyWeights();
   first.SaveCheckpoint(path);
 
   Learner second(LearnerOptionsFor(config));
   second.LoadCheckpoint(path);
+  second.SetGraph(graph);  // the graph service re-publishes its graph after a restart
+  EXPECT_TRUE(second.replay_restored());
   EXPECT_EQ(second.counters(), first.counters());
+  EXPECT_EQ(second.replay().contents(), first.replay().contents());
+  EXPECT_EQ(second.replay().transitions(), 300u);
+  EXPECT_EQ(second.replay().inserted_total(), first.replay().inserted_total());
   EXPECT_EQ(second.agent().PolicyWeights(), first.agent().PolicyWeights());
-  EXPECT_FALSE(second.CanUpdate()) << "empty replay after a restart";
-  for (int i = 0; i < 5; ++i) second.Ingest(MakeEpisode(3, 20, 100 + i, 1));
-  // the episode that completed the refill pays for 10 updates, plus the buffer of 4: not the
-  // 0.5 * (500 - 100) + 4 - 154 = 50 that a limiter counting from zero would allow
-  EXPECT_EQ(second.UpdatesAllowed(), 14u) << "no burst of updates after the refill";
+  ASSERT_GT(first.UpdatesAllowed(), 0u);
+  EXPECT_EQ(second.UpdatesAllowed(), first.UpdatesAllowed()) << "the rate limiter's state is kept";
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(second.CanUpdate());
+    const UpdateStats a = first.Update(), b = second.Update();
+    EXPECT_EQ(a.q_loss, b.q_loss) << "update " << i;
+    EXPECT_EQ(a.policy_loss, b.policy_loss) << "update " << i;
+    EXPECT_EQ(a.mean_reward, b.mean_reward) << "update " << i;
+  }
+  first.Ingest(MakeEpisode(3, 20, 41, 2));
+  second.Ingest(MakeEpisode(3, 20, 41, 2));
+  EXPECT_EQ(second.UpdatesAllowed(), first.UpdatesAllowed());
+  EXPECT_EQ(second.replay().contents(), first.replay().contents());
   // weight versions keep increasing across the restart
   second.TakePolicyWeights();
   EXPECT_EQ(second.counters().policy_version, first.counters().policy_version + 1);
+}
+
+// A truncated or corrupted checkpoint is a clear nn::CheckpointError and leaves the learner
+// as it was.
+TEST(LearnerCoreTest, ABrokenCheckpointIsRefusedWithAMessageAndChangesNothing) {
+  const std::string path = ::testing::TempDir() + "/learner_core_broken.srics";
+  config::Config config = SmallRun(config::Method::kSmorl);
+  Learner first(LearnerOptionsFor(config));
+  for (int i = 0; i < 12; ++i) first.Ingest(MakeEpisode(3, 20, i, 1));
+  while (first.CanUpdate()) first.Update();
+  first.SaveCheckpoint(path);
+  std::string data;
+  {
+    std::ifstream in(path, std::ios::binary);
+    data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  auto expect_refused = [&](const std::string& contents, const std::string& what) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc).write(contents.data(), contents.size());
+    Learner second(LearnerOptionsFor(config));
+    second.Ingest(MakeEpisode(3, 20, 99, 1));
+    try {
+      second.LoadCheckpoint(path);
+      ADD_FAILURE() << "no error, expected '" << what << "'";
+    } catch (const nn::CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(second.replay().episodes(), 1u);
+    EXPECT_EQ(second.counters().transitions_inserted, 20u);
+  };
+  for (size_t keep : {size_t{6}, size_t{100}, data.size() / 2, data.size() - 9, data.size() - 1})
+    expect_refused(data.substr(0, keep), "truncated");
+  std::string flipped = data;
+  flipped[data.size() - 100] ^= 0x01;  // inside the replay
+  expect_refused(flipped, "checksum mismatch (corrupted)");
+  // a checkpoint of another environment: its replay does not fit this run
+  config::Config other = config;
+  other.env.num_pucks = 3;
+  std::ofstream(path, std::ios::binary | std::ios::trunc).write(data.data(), data.size());
+  Learner wider(LearnerOptionsFor(other));
+  try {
+    wider.LoadCheckpoint(path);
+    ADD_FAILURE() << "a replay of 3 entities loaded into a run of 4";
+  } catch (const nn::CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("replay episode 0: num_entities 3"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(wider.replay().episodes(), 0u);
+}
+
+// A checkpoint written before the replay was saved (agent sections only) still loads: networks
+// and counters come back, the replay starts empty and the warm-up refills it without a burst.
+TEST(LearnerCoreTest, ACheckpointWithoutReplayLoadsAndRefillsBeforeUpdating) {
+  const std::string path = ::testing::TempDir() + "/learner_core_old.srics";
+  config::Config config = SmallRun(config::Method::kSmorl);
+  Learner first(LearnerOptionsFor(config));
+  for (int i = 0; i < 20; ++i) first.Ingest(MakeEpisode(3, 20, i, 1));
+  while (first.CanUpdate()) first.Update();
+  first.TakePolicyWeights();
+  first.agent().SaveCheckpoint(path, first.counters());  // the old contents
+
+  Learner second(LearnerOptionsFor(config));
+  second.LoadCheckpoint(path);
+  EXPECT_FALSE(second.replay_restored());
+  EXPECT_EQ(second.counters(), first.counters());
+  EXPECT_EQ(second.agent().PolicyWeights(), first.agent().PolicyWeights());
+  EXPECT_FALSE(second.CanUpdate()) << "empty replay";
+  for (int i = 0; i < 5; ++i) second.Ingest(MakeEpisode(3, 20, 100 + i, 1));
+  // the episode that completed the refill pays for 10 updates, plus the buffer of 4
+  EXPECT_EQ(second.UpdatesAllowed(), 14u) << "no burst of updates after the refill";
 }
 
 }  // namespace

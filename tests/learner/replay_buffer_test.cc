@@ -4,6 +4,7 @@
 
 #include <map>
 
+#include "common/nn/serialize.h"
 #include "tests/learner/learner_testing.h"
 
 namespace srics::learner {
@@ -66,6 +67,70 @@ TEST(ReplayBufferTest, FullReplayOfFiveEntitiesFitsWellUnder200MB) {
   const long grown_mb = (ResidentKb() - before) / 1024;
   EXPECT_LT(replay.payload_bytes(), 50u << 20);
   EXPECT_LT(grown_mb, 100) << "resident growth for 250k transitions";
+}
+
+// The replay as a checkpoint section: every episode and counter comes back, and the restored
+// buffer samples exactly what the original samples.
+TEST(ReplayBufferTest, SerializeRestoreKeepsEpisodesCountersAndSampling) {
+  ReplayBuffer replay(100);
+  for (int i = 0; i < 7; ++i) replay.Insert(MakeEpisode(3, 20, i, i % 3 - 1));  // evicts the first two
+  ASSERT_EQ(replay.episodes(), 5u);
+  ReplayBuffer restored(100);
+  restored.Restore(replay.Serialize(), rl::EpisodeLimits{}, "test");
+  EXPECT_EQ(restored.contents(), replay.contents());
+  EXPECT_EQ(restored.transitions(), replay.transitions());
+  EXPECT_EQ(restored.inserted_total(), 140u);
+  EXPECT_EQ(restored.payload_bytes(), replay.payload_bytes());
+  std::mt19937_64 a(3), b(3);
+  for (int i = 0; i < 200; ++i) {
+    const auto x = replay.Sample(a), y = restored.Sample(b);
+    ASSERT_EQ(x.episode->episode_id, y.episode->episode_id);
+    ASSERT_EQ(x.t, y.t);
+  }
+  // both go on alike: the next insert evicts the same episode
+  replay.Insert(MakeEpisode(3, 20, 50));
+  restored.Insert(MakeEpisode(3, 20, 50));
+  EXPECT_EQ(restored.contents(), replay.contents());
+}
+
+TEST(ReplayBufferTest, RestoreIntoASmallerCapacityDropsTheOldest) {
+  ReplayBuffer replay(1000);
+  for (int i = 0; i < 5; ++i) replay.Insert(MakeEpisode(3, 20, i));
+  ReplayBuffer small(45);
+  small.Restore(replay.Serialize(), rl::EpisodeLimits{}, "test");
+  EXPECT_EQ(small.transitions(), 40u);
+  EXPECT_EQ(small.contents().front().episode_id, 3u);
+  EXPECT_EQ(small.inserted_total(), 100u);
+}
+
+TEST(ReplayBufferTest, RestoreRefusesTruncatedOrForeignPayloadsAndChangesNothing) {
+  ReplayBuffer replay(1000);
+  for (int i = 0; i < 3; ++i) replay.Insert(MakeEpisode(3, 20, i));
+  const std::string bytes = replay.Serialize();
+  ReplayBuffer target(1000);
+  target.Insert(MakeEpisode(3, 20, 77));
+  auto expect_error = [&](const std::string& payload, const rl::EpisodeLimits& limits, const std::string& what) {
+    try {
+      target.Restore(payload, limits, "ckpt");
+      ADD_FAILURE() << "no error, expected '" << what << "'";
+    } catch (const nn::CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("ckpt"), std::string::npos) << e.what();
+    }
+    ASSERT_EQ(target.episodes(), 1u);
+    EXPECT_EQ(target.contents().front().episode_id, 77u);
+  };
+  for (size_t keep : {size_t{0}, size_t{10}, bytes.size() / 2, bytes.size() - 1}) expect_error(bytes.substr(0, keep), {}, "truncated");
+  expect_error(bytes + "xyz", {}, "3 bytes after the replay");
+  // a replay of another environment (4 entities expected)
+  rl::EpisodeLimits four;
+  four.min_entities = four.max_entities = 4;
+  expect_error(bytes, four, "replay episode 0: num_entities 3 outside [4, 4]");
+  // a huge element count does not allocate: it is reported as truncated
+  std::string huge = bytes;
+  const size_t states_count_at = 4 + 8 + 8 + 8 + 4 + 4 + 1 + 8 + 3 * 2 + 4 + 4;
+  for (size_t i = 0; i < 8; ++i) huge[states_count_at + i] = '\x7f';
+  expect_error(huge, {}, "truncated");
 }
 
 }  // namespace

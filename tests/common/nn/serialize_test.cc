@@ -80,8 +80,8 @@ TEST_F(SerializeTest, CheckpointRoundTripIsExact) {
   LoadParameters(path_, cp);
   for (size_t i = 0; i < params_.size(); ++i) EXPECT_EQ(params_[i]->value, cp[i]->value);
   // several sections, e.g. weights and optimizer state
-  WriteCheckpoint(path_, {{"policy", SignatureString(params_), Flatten(params_)},
-                          {"policy.adam", "", {1.f, 2.f, 3.f}}});
+  WriteCheckpoint(path_, {{"policy", SignatureString(params_), Flatten(params_), {}},
+                          {"policy.adam", "", {1.f, 2.f, 3.f}, {}}});
   const auto sections = ReadCheckpoint(path_);
   ASSERT_EQ(sections.size(), 2u);
   EXPECT_EQ(FindSection(sections, "policy.adam", path_).values, (std::vector<float>{1, 2, 3}));
@@ -119,7 +119,7 @@ TEST_F(SerializeTest, UnsupportedVersion) {
   std::string data = ReadAll(path_);
   data[8] = 99;  // the version field follows the 8-byte magic
   WriteAll(path_, data);
-  ExpectFailure("unsupported format version 99", params_);
+  ExpectFailure("unsupported format version 99 (this build reads versions 1 to 2)", params_);
 }
 
 TEST_F(SerializeTest, ArchitectureMismatch) {
@@ -133,6 +133,71 @@ TEST_F(SerializeTest, ArchitectureMismatch) {
   } catch (const CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("net.0.w:3x5"), std::string::npos) << e.what();
   }
+}
+
+TEST_F(SerializeTest, ByteSectionsRoundTripAndReadersReportTruncation) {
+  ByteWriter w;
+  w.Put<std::uint32_t>(7);
+  w.PutVector(std::vector<std::uint16_t>{1, 2, 3});
+  w.PutString("state text");
+  std::string bytes = w.Take();
+  WriteCheckpoint(path_, {{"values", "", {4.f}, {}}, {"blob", "", {}, bytes}});
+  const auto sections = ReadCheckpoint(path_);
+  ASSERT_EQ(sections.size(), 2u);
+  EXPECT_EQ(sections[0].values, std::vector<float>{4.f});
+  EXPECT_TRUE(sections[0].bytes.empty());
+  ByteReader r(FindSection(sections, "blob", path_).bytes, "blob");
+  EXPECT_EQ(r.Get<std::uint32_t>(), 7u);
+  EXPECT_EQ(r.GetVector<std::uint16_t>(), (std::vector<std::uint16_t>{1, 2, 3}));
+  EXPECT_EQ(r.GetString(), "state text");
+  EXPECT_TRUE(r.done());
+  EXPECT_THROW(r.Get<std::uint8_t>(), CheckpointError);
+  // a count larger than what follows is "truncated", never an allocation of that size
+  ByteWriter big;
+  big.Put<std::uint64_t>(std::uint64_t{1} << 60);
+  const std::string huge = big.Take();
+  ByteReader h(huge, "huge");
+  try {
+    h.GetVector<float>();
+    FAIL() << "no error";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("huge: truncated"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(SerializeTest, RandomStreamStateRoundTrips) {
+  Rng a(42);
+  a();
+  Rng b(1);
+  SetRngState(&b, RngState(a), "rng");
+  EXPECT_EQ(a(), b());
+  EXPECT_THROW(SetRngState(&b, "not a state", "rng"), CheckpointError);
+}
+
+// A file of format version 1 (sections without bytes, written before the replay was
+// checkpointed) is still read.
+TEST_F(SerializeTest, Version1FilesAreStillRead) {
+  const std::vector<float> flat = Flatten(params_);
+  const std::string sig = SignatureString(params_);
+  std::string buf("SRICSNN1", 8);
+  auto put = [&buf](auto v) { buf.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  put(std::uint32_t{1});
+  put(std::uint32_t{1});
+  put(std::uint32_t{10});
+  buf += "parameters";
+  put(static_cast<std::uint32_t>(sig.size()));
+  buf += sig;
+  put(static_cast<std::uint64_t>(flat.size()));
+  buf.append(reinterpret_cast<const char*>(flat.data()), flat.size() * sizeof(float));
+  put(Fnv1a(buf.data(), buf.size()));
+  WriteAll(path_, buf);
+  Rng other(10);
+  Mlp<float> copy("net", 3, {5}, 2, other);
+  ParameterList<float> cp;
+  copy.Parameters(cp);
+  LoadParameters(path_, cp);
+  for (size_t i = 0; i < params_.size(); ++i) EXPECT_EQ(params_[i]->value, cp[i]->value);
+  EXPECT_TRUE(ReadCheckpoint(path_)[0].bytes.empty());
 }
 
 }  // namespace

@@ -1,0 +1,527 @@
+#include "deploy/launcher/compare.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <numeric>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/config/command_line.h"
+#include "deploy/launcher/run_folder.h"
+#include "deploy/launcher/sweep.h"
+
+namespace srics::launcher {
+
+namespace fs = std::filesystem;
+
+const char* const kCompareUsage =
+    "usage: srics compare DIR... [--out DIR]\n"
+    "  DIR       sweep folders (srics sweep) or run folders; their eval.csv and train.csv are read\n"
+    "  --out DIR where the figures and results.md go (default DIR/compare for one DIR, ./compare for several)\n"
+    "  per environment: <env>-distance.png, <env>-object_distance.png, <env>-subgoal_success.png,\n"
+    "  <env>-selectivity.png (mean over seeds, band min-max); results.md: final figures, mean ± std over seeds\n";
+
+CompareOptions ParseCompareArgs(const std::vector<std::string>& args) {
+  CompareOptions options;
+  for (config::ArgumentReader r(args); r.Next();) {
+    const std::string& arg = r.arg();
+    if (arg == "--out") options.out_dir = r.Value();
+    else if (!arg.empty() && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);
+    else options.dirs.push_back(arg);
+  }
+  if (options.dirs.empty()) throw std::invalid_argument("missing DIR");
+  return options;
+}
+
+namespace {
+
+// A CSV file as its header's column positions and its rows.
+struct Csv {
+  std::map<std::string, size_t> columns;
+  std::vector<std::vector<std::string>> rows;
+
+  std::optional<double> Number(const std::vector<std::string>& row, const std::string& column) const {
+    const auto it = columns.find(column);
+    if (it == columns.end() || it->second >= row.size() || row[it->second].empty()) return std::nullopt;
+    char* end = nullptr;
+    const double v = std::strtod(row[it->second].c_str(), &end);
+    if (end == row[it->second].c_str() || !std::isfinite(v)) return std::nullopt;
+    return v;
+  }
+  std::string Text(const std::vector<std::string>& row, const std::string& column) const {
+    const auto it = columns.find(column);
+    return it == columns.end() || it->second >= row.size() ? "" : row[it->second];
+  }
+};
+
+std::optional<Csv> ReadCsv(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  Csv csv;
+  std::string line;
+  if (!std::getline(in, line)) return std::nullopt;
+  const std::vector<std::string> header = SplitCsvLine(line);
+  for (size_t i = 0; i < header.size(); ++i) csv.columns[header[i]] = i;
+  while (std::getline(in, line))
+    if (!line.empty()) csv.rows.push_back(SplitCsvLine(line));
+  return csv;
+}
+
+std::vector<double> SplitValues(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ';');)
+    if (!item.empty()) values.push_back(std::strtod(item.c_str(), nullptr));
+  return values;
+}
+
+// The stem of the config file a sweep folder's sweep.yaml names ("relational-4").
+std::optional<std::string> SweepEnvironment(const fs::path& sweep_dir) {
+  std::ifstream in(sweep_dir / "sweep.yaml");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("config: ", 0) != 0) continue;
+    std::string path = line.substr(8);
+    if (path.size() >= 2 && path.front() == '"') path = path.substr(1, path.size() - 2);
+    return fs::path(path).stem().string();
+  }
+  return std::nullopt;
+}
+
+// run.method and run.seed from an effective config.yaml (the `run:` block).
+bool MethodAndSeedFromConfig(const fs::path& path, std::string* method, uint64_t* seed) {
+  std::ifstream in(path);
+  bool in_run = false, have_method = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    if (line[0] != ' ') {
+      in_run = line.rfind("run:", 0) == 0;
+      continue;
+    }
+    if (!in_run) continue;
+    const size_t start = line.find_first_not_of(' ');
+    const std::string entry = line.substr(start);
+    if (start != 2) continue;  // only the block's own keys
+    if (entry.rfind("method: ", 0) == 0) *method = entry.substr(8), have_method = true;
+    if (entry.rfind("seed: ", 0) == 0) *seed = std::strtoull(entry.c_str() + 6, nullptr, 10);
+  }
+  return have_method;
+}
+
+std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environment, std::vector<std::string>* warnings) {
+  RunData run;
+  run.dir = dir.string();
+  run.environment = environment;
+  static const std::regex kName("(.+)-seed([0-9]+)");
+  std::smatch m;
+  const std::string name = dir.filename().string();
+  if (std::regex_match(name, m, kName)) {
+    run.method = m[1];
+    run.seed = std::strtoull(m[2].str().c_str(), nullptr, 10);
+  } else if (!MethodAndSeedFromConfig(dir / "config.yaml", &run.method, &run.seed)) {
+    warnings->push_back(dir.string() + ": neither <method>-seed<N> nor a config.yaml naming run.method: skipped");
+    return std::nullopt;
+  }
+  run.finished = RunFinished(dir.string());
+  const std::optional<Csv> eval = ReadCsv(dir / "eval.csv");
+  if (!eval || !eval->columns.count("env_steps") || !eval->columns.count("avg_distance")) {
+    warnings->push_back(dir.string() + ": no readable eval.csv (columns env_steps, avg_distance): skipped");
+    return std::nullopt;
+  }
+  // rows at the same env-step count (several evaluators, a resumed run) are averaged
+  std::map<double, std::pair<EvalPoint, int>> by_steps;
+  for (const auto& row : eval->rows) {
+    const auto steps = eval->Number(row, "env_steps");
+    const auto distance = eval->Number(row, "avg_distance");
+    if (!steps || !distance) continue;
+    EvalPoint p;
+    p.env_steps = *steps;
+    p.avg_distance = *distance;
+    p.avg_object_distance = eval->Number(row, "avg_object_distance").value_or(0);
+    p.success_rate = eval->Number(row, "success_rate").value_or(0);
+    p.subgoal_success = SplitValues(eval->Text(row, "subgoal_success"));
+    if (eval->Number(row, "policy_version").value_or(1) == 0) {
+      if (!run.passive) run.passive = p;
+      continue;
+    }
+    auto& [sum, count] = by_steps[*steps];
+    sum.env_steps = *steps;
+    sum.avg_distance += p.avg_distance;
+    sum.avg_object_distance += p.avg_object_distance;
+    sum.success_rate += p.success_rate;
+    sum.subgoal_success.resize(std::max(sum.subgoal_success.size(), p.subgoal_success.size()), 0.0);
+    for (size_t i = 0; i < p.subgoal_success.size(); ++i) sum.subgoal_success[i] += p.subgoal_success[i];
+    ++count;
+  }
+  for (auto& [steps, entry] : by_steps) {
+    auto& [p, count] = entry;
+    p.avg_distance /= count;
+    p.avg_object_distance /= count;
+    p.success_rate /= count;
+    for (double& s : p.subgoal_success) s /= count;
+    run.evaluations.push_back(p);
+  }
+  if (const std::optional<Csv> train = ReadCsv(dir / "train.csv")) {
+    std::map<double, double> by_steps_selectivity;
+    for (const auto& row : train->rows) {
+      const auto steps = train->Number(row, "env_steps");
+      const auto selectivity = train->Number(row, "selectivity");
+      if (!steps || !selectivity || train->Number(row, "selectivity_episodes").value_or(1) <= 0) continue;
+      by_steps_selectivity[*steps] = *selectivity;  // the last row of a step count wins
+    }
+    run.selectivity.assign(by_steps_selectivity.begin(), by_steps_selectivity.end());
+  }
+  return run;
+}
+
+bool HasEval(const fs::path& dir) { return fs::is_regular_file(dir / "eval.csv"); }
+
+// The environment of runs in `sweep_dir`: its sweep.yaml's config, else the folder's name.
+std::string EnvironmentOf(const fs::path& sweep_dir) {
+  if (auto env = SweepEnvironment(sweep_dir)) return *env;
+  const std::string name = fs::absolute(sweep_dir).lexically_normal().filename().string();
+  return name.empty() ? "runs" : name;
+}
+
+}  // namespace
+
+std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<std::string>* warnings) {
+  std::vector<RunData> runs;
+  for (const std::string& d : dirs) {
+    const fs::path dir = fs::absolute(d).lexically_normal();
+    if (!fs::is_directory(dir)) {
+      warnings->push_back(d + ": not a folder");
+      continue;
+    }
+    std::vector<std::pair<fs::path, std::string>> run_dirs;
+    if (HasEval(dir)) {
+      run_dirs.emplace_back(dir, EnvironmentOf(dir.parent_path()));
+    } else {
+      const std::string environment = EnvironmentOf(dir);
+      for (const auto& entry : fs::directory_iterator(dir))
+        if (entry.is_directory() && HasEval(entry.path())) run_dirs.emplace_back(entry.path(), environment);
+      std::sort(run_dirs.begin(), run_dirs.end());
+      if (run_dirs.empty()) warnings->push_back(d + ": no run folder (a subfolder with eval.csv) in it");
+    }
+    for (const auto& [run_dir, environment] : run_dirs)
+      if (auto run = ReadRun(run_dir, environment, warnings)) runs.push_back(std::move(*run));
+  }
+  return runs;
+}
+
+Spread SpreadOf(const std::vector<double>& values) {
+  Spread s;
+  s.n = static_cast<int>(values.size());
+  if (values.empty()) return s;
+  s.mean = std::accumulate(values.begin(), values.end(), 0.0) / s.n;
+  s.min = *std::min_element(values.begin(), values.end());
+  s.max = *std::max_element(values.begin(), values.end());
+  if (s.n > 1) {
+    double squares = 0;
+    for (double v : values) squares += (v - s.mean) * (v - s.mean);
+    s.std = std::sqrt(squares / (s.n - 1));
+  }
+  return s;
+}
+
+std::optional<double> Interpolate(const std::vector<std::pair<double, double>>& curve, double x) {
+  if (curve.empty() || x < curve.front().first || x > curve.back().first) return std::nullopt;
+  const auto upper = std::lower_bound(curve.begin(), curve.end(), x,
+                                      [](const std::pair<double, double>& p, double v) { return p.first < v; });
+  if (upper->first == x || upper == curve.begin()) return upper->second;
+  const auto lower = upper - 1;
+  const double w = (x - lower->first) / (upper->first - lower->first);
+  return lower->second + w * (upper->second - lower->second);
+}
+
+namespace {
+
+using Group = std::vector<const RunData*>;
+// environment -> method -> runs (seed order)
+using Groups = std::map<std::string, std::map<std::string, Group>>;
+
+Groups GroupRuns(const std::vector<RunData>& runs) {
+  Groups groups;
+  for (const RunData& r : runs) groups[r.environment][r.method].push_back(&r);
+  for (auto& [env, methods] : groups)
+    for (auto& [method, group] : methods)
+      std::sort(group.begin(), group.end(), [](const RunData* a, const RunData* b) { return a->seed < b->seed; });
+  return groups;
+}
+
+std::string Format(double v, int digits = 3) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
+  return buffer;
+}
+
+std::string MeanStd(const Spread& s, int digits = 3) {
+  if (s.n == 0) return "-";
+  return Format(s.mean, digits) + " ± " + Format(s.std, digits);
+}
+
+std::string EntityName(size_t i) { return i == 0 ? "arm" : "object " + std::to_string(i); }
+
+// The x values where a group's curves are drawn: every run's points, those closer than half
+// the typical spacing merged (runs evaluate at slightly different step counts).
+std::vector<double> CurveGrid(const std::vector<std::vector<std::pair<double, double>>>& curves, double* tolerance) {
+  std::vector<double> xs, gaps;
+  for (const auto& c : curves) {
+    for (size_t i = 0; i < c.size(); ++i) {
+      xs.push_back(c[i].first);
+      if (i) gaps.push_back(c[i].first - c[i - 1].first);
+    }
+  }
+  std::sort(xs.begin(), xs.end());
+  std::sort(gaps.begin(), gaps.end());
+  *tolerance = gaps.empty() ? 0 : 0.5 * gaps[gaps.size() / 2];
+  std::vector<double> grid;
+  for (size_t i = 0; i < xs.size();) {
+    size_t j = i;
+    double sum = 0;
+    while (j < xs.size() && xs[j] - xs[i] <= *tolerance) sum += xs[j++];
+    grid.push_back(sum / static_cast<double>(j - i));
+    i = j;
+  }
+  return grid;
+}
+
+// A run's value at x: interpolated, or its end value within `tolerance` of its ends.
+std::optional<double> ValueAt(const std::vector<std::pair<double, double>>& c, double x, double tolerance) {
+  if (c.empty()) return std::nullopt;
+  if (x < c.front().first && c.front().first - x <= tolerance) return c.front().second;
+  if (x > c.back().first && x - c.back().first <= tolerance) return c.back().second;
+  return Interpolate(c, x);
+}
+
+// Writes one figure's data: per method a block "x mean min max n" (blocks separated by two
+// blank lines, gnuplot's `index`). Returns the methods with data, in block order.
+std::vector<std::string> WriteCurveBlocks(const std::string& path, const std::map<std::string, Group>& methods,
+                                          const std::function<std::vector<std::pair<double, double>>(const RunData&)>& curve_of) {
+  std::ofstream out(path);
+  out << "# per method (blocks in the order of the plot): env_steps mean min max seeds\n";
+  std::vector<std::string> written;
+  for (const auto& [method, group] : methods) {
+    std::vector<std::vector<std::pair<double, double>>> curves;
+    for (const RunData* r : group) curves.push_back(curve_of(*r));
+    double tolerance = 0;
+    const std::vector<double> grid = CurveGrid(curves, &tolerance);
+    if (grid.empty()) continue;
+    out << "# " << method << "\n";
+    for (double x : grid) {
+      std::vector<double> values;
+      for (const auto& c : curves)
+        if (auto v = ValueAt(c, x, tolerance)) values.push_back(*v);
+      if (values.empty()) continue;
+      const Spread s = SpreadOf(values);
+      out << x << ' ' << s.mean << ' ' << s.min << ' ' << s.max << ' ' << s.n << '\n';
+    }
+    out << "\n\n";
+    written.push_back(method);
+  }
+  return written;
+}
+
+const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
+
+void PlotCurves(std::ostream& script, const std::string& png, const std::string& dat, const std::string& title,
+                const std::string& ylabel, const std::vector<std::string>& methods,
+                const std::map<std::string, Group>& groups, const std::map<std::string, double>& passive) {
+  script << "set output '" << GnuplotQuote(png) << "'\n"
+         << "set title '" << GnuplotQuote(title) << "' noenhanced\n"
+         << "set xlabel 'environment steps'\nset ylabel '" << GnuplotQuote(ylabel) << "' noenhanced\n"
+         << "set key outside right top noenhanced\nset grid\nset yrange [0:*]\nset style fill transparent solid 0.2 noborder\n"
+         << "plot ";
+  for (size_t i = 0; i < methods.size(); ++i) {
+    const char* color = kColors[i % (sizeof kColors / sizeof *kColors)];
+    const size_t seeds = groups.at(methods[i]).size();
+    script << (i ? ", " : "") << "'" << GnuplotQuote(dat) << "' index " << i
+           << " using 1:3:4 with filledcurves lc rgb '" << color << "' notitle, '' index " << i
+           << " using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '" << color << "' title '" << GnuplotQuote(methods[i])
+           << " (" << seeds << (seeds == 1 ? " seed" : " seeds") << ")'";
+  }
+  int k = 0;
+  for (const auto& [label, value] : passive)
+    script << ", " << value << " with lines dt 2 lw 2 lc rgb 'gray" << (k++ ? "40" : "") << "' title 'passive policy"
+           << (passive.size() > 1 ? " (" + GnuplotQuote(label) + ")" : std::string()) << "'";
+  script << "\n";
+}
+
+}  // namespace
+
+std::string FinalTable(const std::vector<RunData>& runs) {
+  std::ostringstream out;
+  out << "# Final figures (srics compare)\n\n"
+      << "Each run's final evaluation (its last one, never its best), as mean ± sample standard deviation over "
+         "seeds; n = seeds. Distances in metres at the final step of evaluation episodes; success per subgoal as "
+         "a fraction of evaluation episodes. Training selectivity: the last train.csv window. The figures' bands "
+         "span min-max over seeds.\n";
+  for (const auto& [env, methods] : GroupRuns(runs)) {
+    size_t entities = 0;
+    for (const auto& [method, group] : methods)
+      for (const RunData* r : group)
+        if (!r->evaluations.empty()) entities = std::max(entities, r->evaluations.back().subgoal_success.size());
+    out << "\n## " << env << "\n\n| method | n | finished | env steps | avg distance (arm incl.) | avg object distance | "
+           "success rate |";
+    for (size_t i = 0; i < entities; ++i) out << " success " << EntityName(i) << " |";
+    out << " training selectivity | passive avg distance |\n|---|---|---|---|---|---|---|";
+    for (size_t i = 0; i < entities; ++i) out << "---|";
+    out << "---|---|\n";
+    for (const auto& [method, group] : methods) {
+      std::vector<double> steps, distance, object, success, selectivity, passive;
+      std::vector<std::vector<double>> subgoal(entities);
+      int finished = 0;
+      for (const RunData* r : group) {
+        finished += r->finished ? 1 : 0;
+        if (r->passive) passive.push_back(r->passive->avg_distance);
+        if (!r->selectivity.empty()) selectivity.push_back(r->selectivity.back().second);
+        if (r->evaluations.empty()) continue;
+        const EvalPoint& last = r->evaluations.back();
+        steps.push_back(last.env_steps);
+        distance.push_back(last.avg_distance);
+        object.push_back(last.avg_object_distance);
+        success.push_back(last.success_rate);
+        for (size_t i = 0; i < entities; ++i)
+          if (i < last.subgoal_success.size()) subgoal[i].push_back(last.subgoal_success[i]);
+      }
+      const Spread d = SpreadOf(distance);
+      out << "| " << method << " | " << d.n << " | " << finished << "/" << group.size() << " | "
+          << (steps.empty() ? "-" : Format(SpreadOf(steps).mean, 0)) << " | " << MeanStd(d) << " | "
+          << MeanStd(SpreadOf(object)) << " | " << MeanStd(SpreadOf(success), 2) << " |";
+      for (size_t i = 0; i < entities; ++i) out << " " << MeanStd(SpreadOf(subgoal[i]), 2) << " |";
+      out << " " << MeanStd(SpreadOf(selectivity)) << " | " << MeanStd(SpreadOf(passive)) << " |\n";
+    }
+    out << "\nRuns:";
+    for (const auto& [method, group] : methods)
+      for (const RunData* r : group)
+        out << " " << fs::path(r->dir).filename().string() << (r->finished ? "" : " (not finished)") << ";";
+    out << "\n";
+  }
+  return out.str();
+}
+
+int Compare(const CompareOptions& options) {
+  std::vector<std::string> warnings;
+  const std::vector<RunData> runs = ReadRuns(options.dirs, &warnings);
+  for (const std::string& w : warnings) std::cerr << "srics compare: " << w << "\n";
+  if (runs.empty()) {
+    std::cerr << "srics compare: no runs found\n";
+    return 1;
+  }
+  const std::string out_dir = !options.out_dir.empty() ? options.out_dir
+                              : options.dirs.size() == 1 ? options.dirs[0] + "/compare"
+                                                          : std::string("compare");
+  std::error_code error;
+  fs::create_directories(out_dir, error);
+  if (error) throw std::runtime_error("cannot create " + out_dir + ": " + error.message());
+  const std::string out = fs::absolute(out_dir).lexically_normal().string();
+  {
+    std::ofstream table(out + "/results.md");
+    table << FinalTable(runs);
+    if (!table) throw std::runtime_error("cannot write " + out + "/results.md");
+  }
+  int code = 0;
+  std::vector<std::string> pictures;
+  for (const auto& [env, methods] : GroupRuns(runs)) {
+    const std::string base = out + "/" + env;
+    std::map<std::string, double> passive_distance, passive_object;
+    {
+      std::vector<double> d, o;
+      for (const auto& [method, group] : methods)
+        for (const RunData* r : group)
+          if (r->passive) d.push_back(r->passive->avg_distance), o.push_back(r->passive->avg_object_distance);
+      if (!d.empty()) passive_distance[env] = SpreadOf(d).mean, passive_object[env] = SpreadOf(o).mean;
+    }
+    std::ofstream script(base + ".gnuplot");
+    script << "set terminal pngcairo size 1000,600 font 'sans,11'\n";
+    const auto distance = WriteCurveBlocks(base + "-distance.dat", methods, [](const RunData& r) {
+      std::vector<std::pair<double, double>> c;
+      for (const EvalPoint& p : r.evaluations) c.emplace_back(p.env_steps, p.avg_distance);
+      return c;
+    });
+    PlotCurves(script, base + "-distance.png", base + "-distance.dat",
+               env + ": average distance of all entities, arm included (mean, band min-max over seeds)",
+               "final distance to goal (m)", distance, methods, passive_distance);
+    pictures.push_back(base + "-distance.png");
+    const auto object = WriteCurveBlocks(base + "-object_distance.dat", methods, [](const RunData& r) {
+      std::vector<std::pair<double, double>> c;
+      for (const EvalPoint& p : r.evaluations) c.emplace_back(p.env_steps, p.avg_object_distance);
+      return c;
+    });
+    PlotCurves(script, base + "-object_distance.png", base + "-object_distance.dat",
+               env + ": average object distance (mean, band min-max over seeds)", "final distance to goal (m)", object,
+               methods, passive_object);
+    pictures.push_back(base + "-object_distance.png");
+    bool any_selectivity = false;
+    for (const auto& [method, group] : methods)
+      for (const RunData* r : group) any_selectivity |= !r->selectivity.empty();
+    if (any_selectivity) {
+      const auto selectivity = WriteCurveBlocks(base + "-selectivity.dat", methods, [](const RunData& r) {
+        return r.selectivity;
+      });
+      PlotCurves(script, base + "-selectivity.png", base + "-selectivity.dat",
+                 env + ": selectivity of training episodes (mean, band min-max over seeds)", "selectivity", selectivity,
+                 methods, {});
+      pictures.push_back(base + "-selectivity.png");
+    }
+    // per-subgoal success at the final evaluation: one bar per method and entity
+    size_t entities = 0;
+    for (const auto& [method, group] : methods)
+      for (const RunData* r : group)
+        if (!r->evaluations.empty()) entities = std::max(entities, r->evaluations.back().subgoal_success.size());
+    if (entities > 0) {
+      std::ofstream bars(base + "-subgoal_success.dat");
+      bars << "# entity, then per method: mean min max over seeds of the final evaluation's success\n# entity";
+      for (const auto& [method, group] : methods) bars << ' ' << method << " min max";
+      bars << '\n';
+      for (size_t i = 0; i < entities; ++i) {
+        bars << '"' << EntityName(i) << '"';
+        for (const auto& [method, group] : methods) {
+          std::vector<double> values;
+          for (const RunData* r : group)
+            if (!r->evaluations.empty() && i < r->evaluations.back().subgoal_success.size())
+              values.push_back(r->evaluations.back().subgoal_success[i]);
+          const Spread s = SpreadOf(values);
+          bars << ' ' << s.mean << ' ' << s.min << ' ' << s.max;
+        }
+        bars << '\n';
+      }
+      script << "set output '" << GnuplotQuote(base + "-subgoal_success.png") << "'\n"
+             << "set title '" << GnuplotQuote(env) << ": success per subgoal at the final evaluation (mean over seeds, "
+             << "bars min-max)' noenhanced\n"
+             << "set xlabel ''\nset ylabel 'success rate'\nset yrange [0:1.05]\nset grid ytics\nset key noenhanced\n"
+             << "set style data histograms\nset style histogram errorbars gap 2 lw 1\nset style fill solid 0.8 border -1\n"
+             << "set bars 2\nplot ";
+      size_t k = 0;
+      for (const auto& [method, group] : methods) {
+        const size_t column = 2 + 3 * k;
+        script << (k ? ", " : "") << "'" << GnuplotQuote(base + "-subgoal_success.dat") << "' using " << column << ":"
+               << column + 1 << ":" << column + 2 << (k ? "" : ":xtic(1)") << " lc rgb '"
+               << kColors[k % (sizeof kColors / sizeof *kColors)] << "' title '" << GnuplotQuote(method) << " ("
+               << group.size() << (group.size() == 1 ? " seed" : " seeds") << ")'";
+        ++k;
+      }
+      script << "\n";
+      pictures.push_back(base + "-subgoal_success.png");
+    }
+    script.close();
+    std::string plot_error;
+    if (!RunGnuplot(base + ".gnuplot", &plot_error)) {
+      std::cerr << "srics compare: " << env << ": " << plot_error << "\n";
+      code = 1;
+    }
+  }
+  std::cout << "srics compare: " << runs.size() << " runs; " << out << "/results.md";
+  for (const std::string& p : pictures) std::cout << ", " << fs::path(p).filename().string();
+  std::cout << "\n";
+  return code;
+}
+
+}  // namespace srics::launcher

@@ -1,0 +1,79 @@
+#pragma once
+// `srics compare DIR... [--out DIR]`: the paper's figures and a table of final figures from
+// the CSV files of finished or running runs, over methods and seeds.
+//
+// Each DIR is a sweep folder (its run folders are the subfolders holding eval.csv) or one
+// run folder. A run's method and seed come from its folder name (<method>-seed<N>, as
+// `srics sweep` names them) or else from its config.yaml; its environment is the name of the
+// config file of the sweep (sweep.yaml), else the run folder's parent folder name. Runs are
+// grouped by environment and method.
+//
+// Per environment (OUT/<env>-*.png, each with its .dat and .gnuplot):
+//   distance.png         average distance of all entities, arm included, vs env steps
+//   object_distance.png  average object distance vs env steps
+//   subgoal_success.png  per-subgoal success at each run's final evaluation (bars)
+//   selectivity.png      selectivity of training episodes vs env steps (train.csv)
+// Curves: the mean over seeds, the band from the minimum to the maximum over seeds, each run
+// interpolated linearly onto the group's evaluation grid (a point uses the seeds that reached
+// it); the passive policy (policy version 0) as a dashed line. Bars: mean, error bars min-max.
+// OUT/results.md: per environment and method, each run's final evaluation (its last, never its
+// best) summarized as mean ± sample standard deviation over seeds, with n.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace srics::launcher {
+
+struct CompareOptions {
+  std::vector<std::string> dirs;
+  std::string out_dir;  // "" = DIR/compare for one DIR, ./compare for several
+};
+
+// Parses the arguments after `srics compare`. Throws std::invalid_argument.
+CompareOptions ParseCompareArgs(const std::vector<std::string>& args);
+extern const char* const kCompareUsage;
+
+// One evaluation of a run (the rows of eval.csv at one env-step count, averaged).
+struct EvalPoint {
+  double env_steps = 0;
+  double avg_distance = 0;
+  double avg_object_distance = 0;
+  double success_rate = 0;
+  std::vector<double> subgoal_success;
+};
+
+// What compare reads of one run folder.
+struct RunData {
+  std::string dir;
+  std::string environment;
+  std::string method;
+  uint64_t seed = 0;
+  bool finished = false;               // outcome.yaml says so
+  std::vector<EvalPoint> evaluations;  // trained policy, env-step order
+  std::optional<EvalPoint> passive;    // the first evaluation of policy version 0
+  std::vector<std::pair<double, double>> selectivity;  // train.csv: env steps, selectivity
+};
+
+// Reads every run under the folders; folders it cannot use are named in *warnings.
+std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<std::string>* warnings);
+
+// Mean, sample standard deviation (0 for one value), minimum and maximum.
+struct Spread {
+  double mean = 0, std = 0, min = 0, max = 0;
+  int n = 0;
+};
+Spread SpreadOf(const std::vector<double>& values);
+
+// Linear interpolation of a curve (x ascending) at x; empty outside its range.
+std::optional<double> Interpolate(const std::vector<std::pair<double, double>>& curve, double x);
+
+// The markdown table of final figures (results.md).
+std::string FinalTable(const std::vector<RunData>& runs);
+
+// Writes the figures and results.md; returns 0, or 1 when no run was found or gnuplot failed
+// (the table is written anyway).
+int Compare(const CompareOptions& options);
+
+}  // namespace srics::launcher

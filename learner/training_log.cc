@@ -1,0 +1,118 @@
+#include "learner/training_log.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "common/rl/rewards.h"
+
+namespace srics::learner {
+namespace {
+
+constexpr const char* kHeader =
+    "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success";
+
+double WallTime() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+double EpisodeSelectivity(const rl::Episode& e, double epsilon) {
+  const int k = e.subgoal_entity;
+  if (k < 0 || k >= e.layout.num_entities) return -1;
+  double sum = 0;
+  int steps = 0;
+  for (int t = 0; t < e.num_steps; ++t) {
+    if (auto m = rl::SelectivityMeasure(e.layout, e.state(t), e.state(t + 1), k, e.ancestor_mask, epsilon)) {
+      sum += *m;
+      ++steps;
+    }
+  }
+  return steps ? sum / steps : -1;
+}
+
+TrainingLog::TrainingLog(TrainingLogOptions options) : options_(std::move(options)) {
+  if (options_.every_env_steps == 0) options_.every_env_steps = 1;
+  next_row_at_ = options_.every_env_steps;
+  Open();
+}
+
+void TrainingLog::Open() {
+  if (options_.path.empty()) return;
+  std::error_code error;
+  const bool fresh = !std::filesystem::exists(options_.path) || std::filesystem::file_size(options_.path, error) == 0;
+  out_.open(options_.path, std::ios::app);
+  if (!out_) throw std::runtime_error("cannot open " + options_.path);
+  out_ << std::setprecision(7);
+  if (fresh) out_ << kHeader << '\n' << std::flush;
+}
+
+void TrainingLog::ResumeAt(uint64_t env_steps) {
+  next_row_at_ = (env_steps / options_.every_env_steps + 1) * options_.every_env_steps;
+  episodes_ = selectivity_episodes_ = successes_ = 0;
+  selectivity_sum_ = distance_sum_ = 0;
+  if (options_.path.empty()) return;
+  // keep the header and the rows up to the checkpoint
+  out_.close();
+  std::vector<std::string> keep;
+  {
+    std::ifstream in(options_.path);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty()) continue;
+      if (keep.empty() || line == kHeader) {
+        if (keep.empty()) keep.push_back(line);
+        continue;
+      }
+      const size_t comma = line.find(',');
+      const uint64_t steps = comma == std::string::npos ? 0 : std::strtoull(line.c_str() + comma + 1, nullptr, 10);
+      if (steps <= env_steps) keep.push_back(line);
+    }
+  }
+  const std::string tmp = options_.path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    for (const std::string& line : keep) out << line << '\n';
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+  }
+  std::filesystem::rename(tmp, options_.path);
+  Open();
+}
+
+std::optional<TrainingLog::Figures> TrainingLog::Measure(const rl::Episode& e) const {
+  const int k = e.subgoal_entity;
+  if (e.mode != rl::EpisodeMode::kTrain || k < 0 || k >= e.layout.num_entities || e.goal.size() != 2) return std::nullopt;
+  return Figures{EpisodeSelectivity(e, options_.epsilon),
+                 rl::DistanceToGoal(e.layout, e.state(e.num_steps), k, e.goal.data())};
+}
+
+void TrainingLog::Add(const Figures& f) {
+  ++episodes_;
+  if (f.selectivity >= 0) {
+    selectivity_sum_ += f.selectivity;
+    ++selectivity_episodes_;
+  }
+  distance_sum_ += f.subgoal_distance;
+  if (f.subgoal_distance < options_.success_threshold) ++successes_;
+}
+
+void TrainingLog::Advance(uint64_t env_steps, bool force) {
+  if (env_steps < next_row_at_ && !force) return;
+  if (episodes_ > 0 && out_.is_open()) {
+    char wall[32];
+    std::snprintf(wall, sizeof wall, "%.3f", WallTime());
+    out_ << wall << ',' << env_steps << ',' << episodes_ << ',' << mean_selectivity() << ',' << selectivity_episodes_
+         << ',' << distance_sum_ / episodes_ << ',' << static_cast<double>(successes_) / episodes_ << '\n'
+         << std::flush;
+  }
+  episodes_ = selectivity_episodes_ = successes_ = 0;
+  selectivity_sum_ = distance_sum_ = 0;
+  while (next_row_at_ <= env_steps) next_row_at_ += options_.every_env_steps;
+}
+
+}  // namespace srics::learner

@@ -1,0 +1,146 @@
+// `srics compare` on hand-made run folders: the final figures are each run's last evaluation
+// (never its best), summarized as mean ± sample std over seeds; curves are the mean over seeds
+// with a min-max band; the figures are PNG files.
+
+#include "deploy/launcher/compare.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "deploy/launcher/run_folder.h"
+#include "tests/deploy/test_files.h"
+
+namespace srics::launcher {
+namespace {
+
+namespace fs = std::filesystem;
+using deploy::testing::ReadFile;
+using ::testing::HasSubstr;
+
+constexpr const char* kEvalHeader =
+    "wall_time,run_id,actor_id,policy_version,graph_version,env_steps,episodes,avg_distance,avg_object_distance,"
+    "success_rate,selectivity,entity_distance,subgoal_success\n";
+
+// one eval.csv row: version, env steps, avg distance, avg object distance, success per subgoal
+std::string Row(int version, int steps, double distance, double object, const std::string& subgoals) {
+  std::ostringstream row;
+  row << "1.0,r,0," << version << ",1," << steps << ",5," << distance << ',' << object << ",0.5,0.4,0.1;0.1," << subgoals
+      << "\n";
+  return row.str();
+}
+
+class CompareTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("srics_compare_test_" + std::to_string(getpid()));
+    fs::remove_all(root_);
+    sweep_ = root_ / "sweep";
+    fs::create_directories(sweep_);
+    std::ofstream(sweep_ / "sweep.yaml") << "# a sweep\nconfig: \"/somewhere/relational-4.yaml\"\nmethods: [smorl, srics]\n";
+    // srics seed 1: its best evaluation (0.05) is not its last (0.10)
+    Write("srics-seed1", Row(0, 0, 0.30, 0.28, "0;0") + Row(3, 1000, 0.05, 0.04, "1;0.2") + Row(6, 2000, 0.10, 0.08, "1;0.4"),
+          "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success\n"
+          "1,1000,10,0.5,10,0.1,0.2\n1,2000,10,0.7,10,0.1,0.2\n");
+    // srics seed 2: two evaluators at the final step count (averaged: 0.14)
+    Write("srics-seed2", Row(0, 0, 0.32, 0.30, "0;0") + Row(3, 1000, 0.20, 0.18, "1;0") +
+                             Row(6, 2000, 0.13, 0.10, "0.5;0.6") + Row(6, 2000, 0.15, 0.12, "1;0.6"),
+          "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success\n"
+          "1,1000,10,0.3,10,0.1,0.2\n1,2000,10,0.5,10,0.1,0.2\n");
+    WriteRunOutcome((sweep_ / "srics-seed2").string(), {"finished", 0, "the budget is done"});
+    Write("smorl-seed1", Row(0, 0, 0.31, 0.29, "0;0") + Row(2, 1000, 0.25, 0.20, "1;0") + Row(4, 2000, 0.20, 0.18, "1;0"),
+          "");
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  void Write(const std::string& run, const std::string& eval_rows, const std::string& train) {
+    fs::create_directories(sweep_ / run);
+    std::ofstream(sweep_ / run / "eval.csv") << kEvalHeader << eval_rows;
+    if (!train.empty()) std::ofstream(sweep_ / run / "train.csv") << train;
+  }
+
+  fs::path root_, sweep_;
+};
+
+TEST(CompareMathTest, SpreadIsMeanSampleStdMinMax) {
+  const Spread s = SpreadOf({0.10, 0.14});
+  EXPECT_DOUBLE_EQ(s.mean, 0.12);
+  EXPECT_NEAR(s.std, 0.028284271, 1e-8);  // sqrt(2 * 0.02^2 / 1)
+  EXPECT_DOUBLE_EQ(s.min, 0.10);
+  EXPECT_DOUBLE_EQ(s.max, 0.14);
+  EXPECT_EQ(s.n, 2);
+  EXPECT_EQ(SpreadOf({0.3}).std, 0.0);
+  EXPECT_EQ(SpreadOf({}).n, 0);
+}
+
+TEST(CompareMathTest, InterpolatesInsideTheCurveOnly) {
+  const std::vector<std::pair<double, double>> c = {{1000, 0.2}, {2000, 0.1}};
+  EXPECT_NEAR(*Interpolate(c, 1500), 0.15, 1e-12);
+  EXPECT_EQ(*Interpolate(c, 2000), 0.1);
+  EXPECT_FALSE(Interpolate(c, 999));
+  EXPECT_FALSE(Interpolate(c, 2001));
+}
+
+TEST_F(CompareTest, ReadsRunsByMethodSeedAndEnvironment) {
+  std::vector<std::string> warnings;
+  const std::vector<RunData> runs = ReadRuns({sweep_.string()}, &warnings);
+  ASSERT_EQ(runs.size(), 3u);
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_EQ(runs[0].method, "smorl");
+  EXPECT_EQ(runs[1].method, "srics");
+  EXPECT_EQ(runs[2].seed, 2u);
+  EXPECT_EQ(runs[0].environment, "relational-4");
+  EXPECT_FALSE(runs[1].finished);
+  EXPECT_TRUE(runs[2].finished);
+  ASSERT_TRUE(runs[1].passive);
+  EXPECT_DOUBLE_EQ(runs[1].passive->avg_distance, 0.30);
+  ASSERT_EQ(runs[2].evaluations.size(), 2u);
+  EXPECT_NEAR(runs[2].evaluations.back().avg_distance, 0.14, 1e-12);
+  EXPECT_EQ(runs[2].evaluations.back().subgoal_success, (std::vector<double>{0.75, 0.6}));
+  EXPECT_EQ(runs[1].selectivity.back(), (std::pair<double, double>{2000, 0.7}));
+}
+
+TEST_F(CompareTest, TableHoldsFinalValuesAsMeanAndStdOverSeeds) {
+  std::vector<std::string> warnings;
+  const std::string table = FinalTable(ReadRuns({sweep_.string()}, &warnings));
+  // srics: last evaluations 0.10 and 0.14 (not the best 0.05): 0.120 ± 0.028; objects 0.08, 0.11
+  EXPECT_THAT(table, HasSubstr("## relational-4"));
+  EXPECT_THAT(table, HasSubstr("| srics | 2 | 1/2 | 2000 | 0.120 ± 0.028 | 0.095 ± 0.021 | 0.50 ± 0.00 | "
+                               "0.88 ± 0.18 | 0.50 ± 0.14 | 0.600 ± 0.141 | 0.310 ± 0.014 |"))
+      << table;
+  EXPECT_THAT(table, HasSubstr("| smorl | 1 | 0/1 | 2000 | 0.200 ± 0.000 | 0.180 ± 0.000 |")) << table;
+  EXPECT_THAT(table, HasSubstr("srics-seed1 (not finished)"));
+}
+
+TEST_F(CompareTest, WritesCurvesWithMeanAndMinMaxAndPngFigures) {
+  CompareOptions options;
+  options.dirs = {sweep_.string()};
+  options.out_dir = (root_ / "out").string();
+  ASSERT_EQ(Compare(options), 0);
+  // srics at 2000 steps: mean 0.12, min 0.10, max 0.14 over 2 seeds (blocks: smorl, then srics)
+  const std::string dat = ReadFile(root_ / "out" / "relational-4-distance.dat");
+  EXPECT_THAT(dat, HasSubstr("# srics\n1000 0.125 0.05 0.2 2\n2000 0.12 0.1 0.14 2\n")) << dat;
+  EXPECT_THAT(dat, HasSubstr("# smorl\n1000 0.25 0.25 0.25 1\n")) << dat;
+  const std::string selectivity = ReadFile(root_ / "out" / "relational-4-selectivity.dat");
+  EXPECT_THAT(selectivity, HasSubstr("2000 0.6 0.5 0.7 2")) << selectivity;
+  for (const char* name : {"relational-4-distance.png", "relational-4-object_distance.png",
+                           "relational-4-subgoal_success.png", "relational-4-selectivity.png", "results.md"}) {
+    const fs::path path = root_ / "out" / name;
+    ASSERT_TRUE(fs::exists(path)) << name;
+    EXPECT_GT(fs::file_size(path), path.extension() == ".png" ? 5000u : 500u) << name;
+  }
+  EXPECT_EQ(ReadFile(root_ / "out" / "relational-4-distance.png").substr(1, 3), "PNG");
+}
+
+TEST_F(CompareTest, NoRunsIsAnError) {
+  CompareOptions options;
+  options.dirs = {(root_ / "nothing").string()};
+  options.out_dir = (root_ / "out").string();
+  EXPECT_EQ(Compare(options), 1);
+}
+
+}  // namespace
+}  // namespace srics::launcher

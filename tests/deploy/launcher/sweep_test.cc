@@ -1,0 +1,149 @@
+// `srics sweep`: the plan and its checks, the outcome a run folder records, the exit codes of
+// bad methods. The sweep stopped half-way and resumed is in sweep_resume_test.cc (slow).
+
+#include "deploy/launcher/sweep.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include "common/config/config.h"
+#include "common/config/config_error.h"
+#include "deploy/launcher/child_process.h"
+#include "deploy/launcher/run_folder.h"
+#include "tests/deploy/launcher/sweep_testing.h"
+#include "tests/deploy/test_files.h"
+
+namespace srics::launcher {
+namespace {
+
+namespace fs = std::filesystem;
+using deploy::testing::ReadFile;
+using ::testing::HasSubstr;
+using testing::kConfig;
+using testing::kTinyRun;
+using testing::RunSrics;
+
+class SweepTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("srics_sweep_test_" + std::to_string(getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  SweepOptions Options(std::vector<std::string> methods, std::vector<uint64_t> seeds) const {
+    SweepOptions o;
+    o.config_file = kConfig;
+    o.methods = std::move(methods);
+    o.seeds = std::move(seeds);
+    o.overrides = kTinyRun;
+    o.out_dir = (root_ / "sweep").string();
+    o.in_process = true;
+    return o;
+  }
+
+  fs::path root_;
+};
+
+TEST_F(SweepTest, ParsesTheGridAndRefusesBadArguments) {
+  const SweepOptions o = ParseSweepArgs(
+      {"c.yaml", "--methods", "srics,smorl", "--seeds", "1,3-4", "--set", "a.b=1", "--in-process", "--parallel", "2"});
+  EXPECT_EQ(o.methods, (std::vector<std::string>{"srics", "smorl"}));
+  EXPECT_EQ(o.seeds, (std::vector<uint64_t>{1, 3, 4}));
+  EXPECT_EQ(o.overrides, std::vector<std::string>{"a.b=1"});
+  EXPECT_TRUE(o.in_process);
+  EXPECT_EQ(o.parallel, 2);
+  EXPECT_THROW(ParseSweepArgs({"c.yaml", "--seeds", "1"}), std::invalid_argument);              // no methods
+  EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "srics"}), std::invalid_argument);        // no seeds
+  EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "a,a", "--seeds", "1"}), std::invalid_argument);
+  EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "a", "--seeds", "x"}), std::invalid_argument);
+  EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "a", "--seeds", "1", "--parallel", "0"}), std::invalid_argument);
+}
+
+TEST_F(SweepTest, PlansOneRunFolderPerMethodAndSeedWithItsOwnRunId) {
+  const SweepPlan plan = PlanSweep(Options({"srics", "smorl"}, {1, 2}));
+  ASSERT_EQ(plan.runs.size(), 4u);
+  EXPECT_EQ(plan.runs[0].name, "srics-seed1");
+  EXPECT_EQ(plan.runs[3].name, "smorl-seed2");
+  EXPECT_EQ(plan.runs[3].dir, (root_ / "sweep" / "smorl-seed2").string());
+  EXPECT_THAT(plan.runs[3].effective_yaml, HasSubstr("method: smorl"));
+  EXPECT_THAT(plan.runs[3].effective_yaml, HasSubstr("seed: 2"));
+  EXPECT_NE(plan.runs[0].effective_yaml, plan.runs[1].effective_yaml);
+  EXPECT_THAT(plan.runs[1].overrides.back(), HasSubstr("-srics-seed2"));  // transport.run_id
+  // the manifest does not depend on the order the grid was typed in
+  EXPECT_EQ(PlanSweep(Options({"smorl", "srics"}, {2, 1})).manifest, plan.manifest);
+}
+
+TEST_F(SweepTest, AnUnknownMethodIsAConfigErrorNamingRunMethod) {
+  try {
+    PlanSweep(Options({"srics", "no_such_method"}, {1}));
+    FAIL() << "no error";
+  } catch (const config::ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("run.method"));
+    EXPECT_THAT(e.what(), HasSubstr("no_such_method"));
+  }
+  SweepOptions o = Options({"srics"}, {1});
+  o.overrides.push_back("run.seed=7");
+  EXPECT_THROW(PlanSweep(o), std::invalid_argument) << "the sweep sets run.seed itself";
+}
+
+TEST_F(SweepTest, AnotherGridOrAChangedConfigInTheSameFolderIsRefused) {
+  const SweepPlan plan = PlanSweep(Options({"srics", "smorl"}, {1}));
+  CheckSweepFolder(plan);
+  EXPECT_THAT(ReadFile(root_ / "sweep" / "sweep.yaml"), HasSubstr("methods: [smorl, srics]"));
+  CheckSweepFolder(plan);  // the same grid again: fine
+  try {
+    CheckSweepFolder(PlanSweep(Options({"srics", "smorl"}, {1, 2})));
+    FAIL() << "another grid was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("holds another grid"));
+    EXPECT_THAT(e.what(), HasSubstr("seeds: [1]"));
+  }
+  // a run folder whose configuration is not what the run would get now
+  fs::create_directories(plan.runs[0].dir);
+  std::ofstream(plan.runs[0].dir + "/config.yaml") << "# header\n" << plan.runs[0].effective_yaml << "\n";
+  CheckSweepFolder(plan);
+  std::ofstream(plan.runs[0].dir + "/config.yaml") << "# header\n" << plan.runs[1].effective_yaml << "\n";
+  try {
+    CheckSweepFolder(plan);
+    FAIL() << "a changed configuration was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("changed since it started"));
+  }
+}
+
+TEST_F(SweepTest, RunFinishedOnlyWhenTheOutcomeSaysSo) {
+  const std::string dir = (root_ / "run").string();
+  fs::create_directories(dir);
+  EXPECT_FALSE(RunFinished(dir));
+  WriteRunOutcome(dir, {"interrupted", 130, "interrupted"});
+  EXPECT_FALSE(RunFinished(dir));
+  WriteRunOutcome(dir, {"finished", 0, "the \"budget\" is done"});
+  EXPECT_TRUE(RunFinished(dir));
+  EXPECT_EQ(ReadRunOutcome(dir)->reason, "the \"budget\" is done");
+  RemoveRunOutcome(dir);
+  EXPECT_FALSE(RunFinished(dir));
+}
+
+TEST_F(SweepTest, UnknownMethodsExitWithCode2NamingTheKey) {
+  const auto [sweep_code, sweep_text] =
+      RunSrics(root_, {"sweep", kConfig, "--methods", "srics,hacc", "--seeds", "1", "--out", (root_ / "s").string()});
+  EXPECT_EQ(sweep_code, 2) << sweep_text;
+  EXPECT_THAT(sweep_text, HasSubstr("run.method"));
+  EXPECT_FALSE(fs::exists(root_ / "s")) << "nothing starts on a bad grid";
+  const auto [run_code, run_text] =
+      RunSrics(root_, {"run", kConfig, "--in-process", "--set", "run.method=hacc", "--run-dir", (root_ / "r").string()});
+  EXPECT_EQ(run_code, 2) << run_text;
+  EXPECT_THAT(run_text, HasSubstr("run.method"));
+}
+
+}  // namespace
+}  // namespace srics::launcher
