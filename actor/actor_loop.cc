@@ -22,6 +22,8 @@ ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, ui
   o.run_seed = config.run.seed;
   o.env = config.env;
   o.policy = rl::MakeNetworkConfig(rl::AgentShapeFor(config.env, config.run.method), config.agent);
+  if (config.run.method == config::Method::kHac)
+    o.high_policy = rl::MakeNetworkConfig(rl::HighLevelShapeFor(config.env), config.agent);
   o.uses_graph = rl::UsesGraph(config.run.method);
   o.train = TrainOptionsFor(config);
   o.eval = EvalOptionsFor(config);
@@ -40,6 +42,7 @@ ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, ui
 struct ActorLoop::State {
   std::unique_ptr<env::Environment> env;
   std::unique_ptr<rl::PolicyNetwork<float>> policy;
+  std::unique_ptr<rl::PolicyNetwork<float>> high;  // HAC's high level, else null
   std::string signature;
   int num_entities = 0;
   nn::Rng rng;
@@ -70,7 +73,8 @@ ActorLoop::ActorLoop(ActorOptions options, links::ActorLink* link)
   s.rng.seed(rl::DeriveSeed(options_.run_seed, rl::SeedPurpose::kActorRng, options_.actor_id,
                             options_.first_episode_id));
   s.policy = std::make_unique<rl::PolicyNetwork<float>>("policy", options_.policy, s.rng);
-  s.signature = rl::PolicySignature(*s.policy);
+  if (options_.high_policy) s.high = std::make_unique<rl::PolicyNetwork<float>>("policy", *options_.high_policy, s.rng);
+  s.signature = s.high ? rl::HacPolicySignature(*s.high, *s.policy) : rl::PolicySignature(*s.policy);
   if (!options_.uses_graph) {
     s.structure = rl::AllEntitiesStructure(s.num_entities);
     s.have_graph = true;
@@ -114,12 +118,17 @@ void ActorLoop::PollUpdates() {
   }
   if (auto w = link_->PollWeights()) {
     auto params = s.policy->Parameters();
-    if (w->architecture != s.signature || static_cast<int64_t>(w->parameters.size()) != nn::NumScalars(params)) {
+    const int64_t high_size = s.high ? nn::NumScalars(s.high->Parameters()) : 0;
+    if (w->architecture != s.signature ||
+        static_cast<int64_t>(w->parameters.size()) != high_size + nn::NumScalars(params)) {
       ++counters_.weights_rejected;
       spdlog::warn("weights v{} ({}, {} floats) do not fit this actor's network ({}): ignored", w->version,
                    w->architecture, w->parameters.size(), s.signature);
     } else {
-      nn::LoadFlat(params, w->parameters);
+      // HAC: the high level's parameters first, then the low level's
+      const std::span<const float> flat(w->parameters);
+      if (s.high) nn::LoadFlat(s.high->Parameters(), flat.first(high_size));
+      nn::LoadFlat(params, flat.subspan(high_size));
       if (!s.have_weights) spdlog::info("first weights: v{}", w->version);
       s.have_weights = true;
       s.policy_version = w->version;
@@ -154,7 +163,8 @@ void ActorLoop::Evaluate(bool passive) {
   report.graph_version = s.graph_version;
   report.env_steps = s.learner ? s.learner->training_env_steps : 0;
   report.summary = EvaluatePolicy(*s.env, passive ? nullptr : s.policy.get(), s.structure, options_.eval,
-                                  options_.eval_episodes, options_.run_seed, &counters_.unstable_episodes);
+                                  options_.eval_episodes, options_.run_seed, &counters_.unstable_episodes,
+                                  s.high.get());
   ++counters_.evaluations;
   if (!passive) s.evaluated_version = s.policy_version;
   link_->PublishEval(report);
@@ -169,7 +179,8 @@ void ActorLoop::RunEpisode(bool training) {
   std::optional<rl::Episode> episode;
   if (training) {
     Status(rl::NodePhase::kTraining, "", false);
-    episode = RunTrainEpisode(*s.env, *s.policy, s.structure, options_.train, seed, s.rng);
+    episode = s.high ? RunHacTrainEpisode(*s.env, *s.high, *s.policy, *options_.train.hac, seed, s.rng)
+                     : RunTrainEpisode(*s.env, *s.policy, s.structure, options_.train, seed, s.rng);
   } else {
     Status(rl::NodePhase::kExploring, s.have_graph ? "waiting for weights" : "waiting for the graph", false);
     episode = RunExploreEpisode(*s.env, options_.explore_episode_steps, seed, s.rng);

@@ -30,6 +30,9 @@ struct ActorOptions {
   uint64_t run_seed = 1;
   config::EnvConfig env;             // the environment this actor steps
   rl::AttentionNetworkConfig policy; // its policy network (the learner's signature must match)
+  // HAC: the high level's network (`policy` is then the low level's); weights carry the high
+  // level's parameters, then the low level's
+  std::optional<rl::AttentionNetworkConfig> high_policy;
   bool uses_graph = true;            // false: every entity is a subgoal, no graph is awaited
   TrainOptions train;
   EvalOptions eval;

@@ -1,6 +1,8 @@
 #include "actor/rollout.h"
 
+#include <algorithm>
 #include <array>
+#include <stdexcept>
 #include <vector>
 
 #include "actor/env/sampling.h"
@@ -61,13 +63,85 @@ nn::Tensor FullGoalToken(const env::Environment& env) {
   return token;
 }
 
+// A goal of every entity's xy (2N floats) as a token of `goal_dim` floats (zero padded when
+// the episode presents fewer entities than the networks take).
+void WriteGoalToken(const float* xy, int num_entities, nn::Tensor* token, int goal_dim) {
+  token->setZero(1, goal_dim);
+  std::copy(xy, xy + 2 * num_entities, token->data());
+}
+
+// HAC's two levels acting on one full goal: the high level proposes a subgoal whenever the
+// previous one is over (reached, held H steps, or the full goal reached); the low level acts
+// towards the current subgoal.
+class HacActor {
+ public:
+  HacActor(rl::PolicyNetwork<float>& high, rl::PolicyNetwork<float>& low, const HacActOptions& options,
+           const rl::EntityLayout& layout, const nn::Tensor& full_goal)
+      : high_(high), low_(low), options_(options), layout_(layout), full_goal_(full_goal),
+        subgoal_(2 * layout.num_entities) {}
+
+  // True when the high level has to propose the next subgoal before the low level acts in
+  // state `entities`.
+  bool SubgoalOver(const nn::Tensor& entities) const {
+    return held_ < 0 || held_ >= options_.horizon ||
+           rl::GoalReached(layout_, entities.data(), subgoal_.data(), options_.threshold) ||
+           rl::GoalReached(layout_, entities.data(), full_goal_.data(), options_.threshold);
+  }
+  // The high level's proposal in state `entities`; `test`: the low level then acts without noise.
+  const std::vector<float>& Propose(const nn::Tensor& entities, bool deterministic, bool test, nn::Rng& rng) {
+    const nn::Tensor& action = high_.Act(entities, full_goal_, deterministic, rng);
+    rl::SubgoalFromAction(options_.box, action.data(), layout_.num_entities, subgoal_.data());
+    WriteGoalToken(subgoal_.data(), layout_.num_entities, &subgoal_token_, static_cast<int>(full_goal_.cols()));
+    held_ = 0;
+    test_ = test;
+    return subgoal_;
+  }
+  // The low level's action towards the current subgoal.
+  const nn::Tensor& Act(const nn::Tensor& entities, bool deterministic, nn::Rng& rng) {
+    ++held_;
+    return low_.Act(entities, subgoal_token_, deterministic || test_, rng);
+  }
+
+ private:
+  rl::PolicyNetwork<float>& high_;
+  rl::PolicyNetwork<float>& low_;
+  const HacActOptions& options_;
+  rl::EntityLayout layout_;
+  const nn::Tensor& full_goal_;
+  std::vector<float> subgoal_;
+  nn::Tensor subgoal_token_;
+  int held_ = -1;  // steps the current subgoal was held; -1: none yet
+  bool test_ = false;
+};
+
+// The environment's full goal as a token for networks taking `goal_dim` floats.
+nn::Tensor PaddedFullGoalToken(const env::Environment& env, int goal_dim) {
+  const nn::Tensor goal = FullGoalToken(env);
+  nn::Tensor token;
+  WriteGoalToken(goal.data(), static_cast<int>(goal.cols() / 2), &token, goal_dim);
+  return token;
+}
+
 }  // namespace
+
+HacActOptions HacActOptionsFor(const config::Config& config) {
+  HacActOptions hac;
+  hac.horizon = config.agent.hac.horizon;
+  hac.test_probability = config.agent.hac.subgoal_test_probability;
+  hac.threshold = config.agent.hac.goal_threshold;
+  hac.box = rl::SubgoalBoxFor(config.env);
+  return hac;
+}
 
 TrainOptions TrainOptionsFor(const config::Config& config) {
   TrainOptions train;
   train.steps = config.actors.train_episode_steps;
   train.full_goal = config.run.method == config::Method::kSacHer;
   train.sampling = config.env.sampling;
+  if (config.run.method == config::Method::kHac) {
+    train.hac = HacActOptionsFor(config);
+    train.steps = train.hac->horizon * train.hac->horizon;
+  }
   return train;
 }
 
@@ -75,7 +149,8 @@ EvalOptions EvalOptionsFor(const config::Config& config) {
   const config::Method method = config.run.method;
   EvalOptions eval;
   eval.attempt_steps = config.actors.eval_attempt_steps;
-  eval.full_goal = method == config::Method::kSacHer;
+  eval.full_goal = method == config::Method::kSacHer || method == config::Method::kHac;
+  if (method == config::Method::kHac) eval.hac = HacActOptionsFor(config);
   eval.threshold = config.env.success_threshold;
   eval.epsilon = config.agent.reward.epsilon;
   eval.order = (method == config::Method::kSrics || method == config::Method::kSricsNoSelectivity)
@@ -148,10 +223,44 @@ std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetw
   return episode;
 }
 
+std::optional<rl::Episode> RunHacTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& high,
+                                              rl::PolicyNetwork<float>& low, const HacActOptions& options,
+                                              uint64_t seed, nn::Rng& rng) {
+  env.Reset(seed);
+  Observer observer(env);
+  const rl::EntityLayout& layout = observer.layout();
+  rl::Episode episode = StartEpisode(env, layout);
+  episode.mode = rl::EpisodeMode::kTrain;
+  const nn::Tensor goal = PaddedFullGoalToken(env, high.config().goal_dim);
+  episode.goal.assign(goal.data(), goal.data() + 2 * layout.num_entities);
+  HacActor actor(high, low, options, layout, goal);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  observer.Observe(env);
+  observer.Append(&episode.states);
+  int t = 0;
+  for (int k = 0; k < options.horizon; ++k) {
+    const bool test = unit(rng) < options.test_probability;
+    const std::vector<float>& subgoal = actor.Propose(observer.entities(), false, test, rng);
+    episode.subgoal_starts.push_back(static_cast<uint16_t>(t));
+    episode.subgoals.insert(episode.subgoals.end(), subgoal.begin(), subgoal.end());
+    episode.subgoal_tests.push_back(test ? 1 : 0);
+    do {
+      const nn::Tensor& action = actor.Act(observer.entities(), false, rng);
+      if (!StepWith(env, action.data(), env.action_dim(), &episode.actions)) return std::nullopt;
+      observer.Observe(env);
+      observer.Append(&episode.states);
+      ++t;
+    } while (!actor.SubgoalOver(observer.entities()));
+  }
+  episode.num_steps = t;
+  return episode;
+}
+
 std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                                                        rl::PolicyNetwork<float>* policy,
                                                        const rl::SubgoalStructure& structure,
-                                                       const EvalOptions& options, uint64_t seed) {
+                                                       const EvalOptions& options, uint64_t seed,
+                                                       rl::PolicyNetwork<float>* high_policy) {
   env.Reset(seed, env::Split::kEval);
   Observer observer(env);
   const rl::EntityLayout& layout = observer.layout();
@@ -181,9 +290,21 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
     return true;
   };
 
-  if (options.full_goal) {
-    if (!attempt(FullGoalToken(env), -1, (2 * layout.num_entities - 1) * options.attempt_steps))
-      return std::nullopt;
+  const int full_goal_steps = (2 * layout.num_entities - 1) * options.attempt_steps;
+  if (options.hac && policy) {
+    // both levels, deterministic, for as many steps as a flat full-goal attempt
+    if (!high_policy) throw std::invalid_argument("HAC evaluation needs the high-level policy");
+    const nn::Tensor goal = PaddedFullGoalToken(env, high_policy->config().goal_dim);
+    HacActor actor(*high_policy, *policy, *options.hac, layout, goal);
+    observer.Observe(env);
+    for (int t = 0; t < full_goal_steps; ++t) {
+      if (actor.SubgoalOver(observer.entities())) actor.Propose(observer.entities(), true, false, rng);
+      if (!StepWith(env, actor.Act(observer.entities(), true, rng).data(), env.action_dim(), nullptr))
+        return std::nullopt;
+      observer.Observe(env);
+    }
+  } else if (options.full_goal) {
+    if (!attempt(FullGoalToken(env), -1, full_goal_steps)) return std::nullopt;
   } else {
     std::mt19937_64 order_rng(seed);
     nn::Tensor goal(1, rl::SubgoalTokenSize(layout.num_kinds));
@@ -209,10 +330,12 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
 
 rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
                                      const rl::SubgoalStructure& structure, const EvalOptions& options,
-                                     int episodes, uint64_t run_seed, uint64_t* unstable) {
+                                     int episodes, uint64_t run_seed, uint64_t* unstable,
+                                     rl::PolicyNetwork<float>* high_policy) {
   rl::EvaluationSummary summary;
   for (int i = 0; i < episodes; ++i) {
-    const auto metrics = RunEvaluationEpisode(env, policy, structure, options, rl::EvalEpisodeSeed(run_seed, i));
+    const auto metrics =
+        RunEvaluationEpisode(env, policy, structure, options, rl::EvalEpisodeSeed(run_seed, i), high_policy);
     if (metrics) summary.Add(*metrics, options.threshold);
     else ++*unstable;
   }

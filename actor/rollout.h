@@ -14,6 +14,7 @@
 #include "common/rl/episode.h"
 #include "common/rl/evaluation.h"
 #include "common/rl/graph.h"
+#include "common/rl/hac.h"
 #include "common/rl/networks.h"
 
 namespace srics::actor {
@@ -26,10 +27,19 @@ rl::EntityLayout LayoutOf(const env::Environment& env);
 std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, int steps, uint64_t seed,
                                              nn::Rng& rng);
 
+// How HAC's two levels act (agent.hac; the subgoal box from the table).
+struct HacActOptions {
+  int horizon = 20;               // H: low steps per subgoal at most, subgoals per training episode
+  double test_probability = 0.3;  // a subgoal is tested (the low level acts without noise)
+  double threshold = 0.05;        // a goal is reached with every entity this close
+  rl::SubgoalBox box;
+};
+
 struct TrainOptions {
-  int steps = 20;
+  int steps = 20;          // episode length (HAC: the longest, H * H)
   bool full_goal = false;  // SAC+HER: the environment's full goal instead of a subgoal
   config::SamplingConfig sampling;  // subgoal goal region
+  std::optional<HacActOptions> hac; // set for HAC: two levels on the full goal
 };
 
 // One training episode: a subgoal entity drawn uniformly among the structure's subgoal
@@ -40,26 +50,42 @@ std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetw
                                            const TrainOptions& options, uint64_t seed,
                                            nn::Rng& rng);
 
+// HAC's training episode: the high level proposes `horizon` subgoals (the xy of every entity)
+// for the environment's full goal; the low level pursues each for `horizon` steps at most,
+// ending early when it reaches the subgoal or the full goal. Each subgoal is a test subgoal
+// with test_probability (the low level then takes its mean action). The episode records the
+// full goal, the subgoals, where each started and which were tests. Empty if the physics
+// became unstable.
+std::optional<rl::Episode> RunHacTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& high,
+                                              rl::PolicyNetwork<float>& low, const HacActOptions& options,
+                                              uint64_t seed, nn::Rng& rng);
+
 struct EvalOptions {
   rl::SubgoalOrder order = rl::SubgoalOrder::kDepth;
   int attempt_steps = 20;
-  bool full_goal = false;     // SAC+HER: one attempt of (2N - 1) * attempt_steps on the full goal
+  bool full_goal = false;     // SAC+HER and HAC: one attempt of (2N - 1) * attempt_steps on the full goal
   double threshold = 0.05;    // a subgoal counts as solved below this distance
   double epsilon = 1e-5;      // for the selectivity measure
+  std::optional<HacActOptions> hac;  // HAC: the full-goal attempt runs both levels
 };
 
-// The options a run's config implies (episode lengths, full goal for SAC+HER, subgoal order
-// by method: depth for SRICS and its selectivity ablation, random otherwise).
+// The options a run's config implies (episode lengths, full goal for SAC+HER and HAC, HAC's
+// levels, subgoal order by method: depth for SRICS and its selectivity ablation, random
+// otherwise).
+HacActOptions HacActOptionsFor(const config::Config& config);
 TrainOptions TrainOptionsFor(const config::Config& config);
 EvalOptions EvalOptionsFor(const config::Config& config);
 
 // One evaluation episode on the environment's own goals (Reset(seed, kEval)). `policy` null
-// is the passive baseline (it never moves). Deterministic policy (its mean action). Returns
-// the final-step metrics; empty if the physics became unstable.
+// is the passive baseline (it never moves). Deterministic policy (its mean action). For HAC
+// (options.hac) `policy` is the low level and `high_policy` the high level, which proposes a
+// subgoal whenever the low level has reached the last one or held it `horizon` steps.
+// Returns the final-step metrics; empty if the physics became unstable.
 std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                                                        rl::PolicyNetwork<float>* policy,
                                                        const rl::SubgoalStructure& structure,
-                                                       const EvalOptions& options, uint64_t seed);
+                                                       const EvalOptions& options, uint64_t seed,
+                                                       rl::PolicyNetwork<float>* high_policy = nullptr);
 
 // The evaluation protocol of every mode (actors, the in-process run, `srics eval`): `episodes`
 // evaluation episodes with the run's evaluation seeds (rl::EvalEpisodeSeed: the same goals
@@ -67,6 +93,7 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
 // left out of the summary and counted in *unstable.
 rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
                                      const rl::SubgoalStructure& structure, const EvalOptions& options,
-                                     int episodes, uint64_t run_seed, uint64_t* unstable);
+                                     int episodes, uint64_t run_seed, uint64_t* unstable,
+                                     rl::PolicyNetwork<float>* high_policy = nullptr);
 
 }  // namespace srics::actor

@@ -17,6 +17,12 @@ LearnerOptions LearnerOptionsFor(const config::Config& config) {
   o.goal_region = {sampling.subgoal_low[0], sampling.subgoal_high[0], sampling.subgoal_low[1], sampling.subgoal_high[1]};
   o.run_seed = config.run.seed;
   o.total_env_steps = config.run.total_env_steps;
+  // HAC's subgoal records are checked against its horizon; other methods' episodes carry none
+  o.limits.max_subgoal_steps = config.run.method == config::Method::kHac ? config.agent.hac.horizon : rl::kNoSubgoals;
+  o.hac = {config.agent.hac.horizon, config.agent.hac.goal_threshold, config.agent.hac.hindsight_goals,
+           rl::SubgoalBoxFor(config.env)};
+  o.high_shape = rl::HighLevelShapeFor(config.env);
+  o.max_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
   return o;
 }
 
@@ -27,7 +33,12 @@ Learner::Learner(const LearnerOptions& options)
       relabeler_(options.method, options.agent.reward, options.learner.relabel, options.goal_region,
                  rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerReplay)),
       agent_(shape_, options.agent, rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent)),
-      limiter_(options.learner.updates_per_step, options.learner.warmup_steps, options.learner.rate_error_buffer) {}
+      limiter_(options.learner.updates_per_step, options.learner.warmup_steps, options.learner.rate_error_buffer) {
+  if (options.method == config::Method::kHac)
+    hac_ = std::make_unique<HacLevels>(options.hac, shape_, options.high_shape, options.agent,
+                                       options.learner.replay_capacity, options.max_entities,
+                                       rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent, 1));
+}
 
 std::string Learner::Ingest(rl::Episode episode) {
   std::string problem = rl::ValidateEpisode(episode, options_.limits);
@@ -37,6 +48,9 @@ std::string Learner::Ingest(rl::Episode episode) {
   if (problem.empty() && relabeler_.full_goal() && episode.mode == rl::EpisodeMode::kTrain &&
       episode.goal.size() != static_cast<size_t>(2 * episode.layout.num_entities))
     problem = "SAC+HER training episodes need a full goal";
+  if (problem.empty() && hac_ && episode.mode == rl::EpisodeMode::kTrain &&
+      (episode.goal.size() != static_cast<size_t>(2 * episode.layout.num_entities) || episode.num_subgoals() == 0))
+    problem = "HAC training episodes need a full goal and the high level's subgoals";
   if (problem.empty() && episode.mode == rl::EpisodeMode::kEval) problem = "evaluation episodes are not training data";
   if (!problem.empty()) {
     ++rejected_;
@@ -53,6 +67,7 @@ std::string Learner::Ingest(rl::Episode episode) {
   counters_.transitions_inserted += episode.num_steps;
   if (!rl::UsesGraph(options_.method) || has_graph_) counters_.training_env_steps += episode.num_steps;
   ++counters_.episodes_accepted;
+  if (hac_) hac_->Add(episode);
   replay_.Insert(std::move(episode));
   if (Blocked() && options_.learner.updates_per_step > 0) {
     const double paid = static_cast<double>(options_.learner.warmup_steps) +
@@ -69,7 +84,7 @@ void Learner::SetGraph(const rl::SubgoalStructure& structure) {
 }
 
 bool Learner::Blocked() const {
-  return replay_.empty() || replay_.transitions() < options_.learner.warmup_steps ||
+  return replay_.empty() || replay_.transitions() < options_.learner.warmup_steps || (hac_ && !hac_->ready()) ||
          (rl::UsesGraph(options_.method) && !has_graph_);
 }
 
@@ -82,8 +97,13 @@ uint64_t Learner::UpdatesAllowed() const {
 }
 
 UpdateStats Learner::Update() {
-  relabeler_.Sample(replay_, options_.agent.sac.batch_size, &batch_);
-  UpdateStats stats = agent_.Update(batch_);
+  UpdateStats stats;
+  if (hac_) {
+    stats = hac_->Update(agent_, options_.agent.sac.batch_size);
+  } else {
+    relabeler_.Sample(replay_, options_.agent.sac.batch_size, &batch_);
+    stats = agent_.Update(batch_);
+  }
   ++counters_.updates;
   return stats;
 }
@@ -97,8 +117,10 @@ std::vector<float> Learner::TakePolicyWeights() {
   published_once_ = true;
   published_at_update_ = counters_.updates;
   ++counters_.policy_version;
-  return agent_.PolicyWeights();
+  return hac_ ? hac_->PolicyWeights(agent_) : agent_.PolicyWeights();
 }
+
+std::string Learner::PolicySignature() { return hac_ ? hac_->PolicySignature(agent_) : agent_.PolicySignature(); }
 
 namespace {
 
@@ -109,6 +131,7 @@ constexpr uint32_t kLearnerStateFormat = 1;
 
 void Learner::SaveCheckpoint(const std::string& path) {
   std::vector<nn::CheckpointSection> sections = agent_.CheckpointSections(counters_);
+  if (hac_) hac_->AppendCheckpointSections(counters_, &sections);
   nn::ByteWriter state;
   state.Put<uint32_t>(kLearnerStateFormat);
   state.Put<uint64_t>(limiter_offset_);
@@ -147,6 +170,7 @@ void Learner::LoadCheckpoint(const std::string& path) {
     throw nn::CheckpointError("checkpoint " + path + ": has " + (state_section ? "learner.state" : "replay") +
                               " but not " + (state_section ? "replay" : "learner.state"));
   }
+  if (hac_) hac_->LoadCheckpointSections(sections, path);
   counters_ = agent_.LoadCheckpointSections(sections, path);
   published_at_update_ = counters_.updates;
   replay_restored_ = replay_section != nullptr;
@@ -157,6 +181,7 @@ void Learner::LoadCheckpoint(const std::string& path) {
     return;
   }
   replay_ = std::move(replay);
+  if (hac_) hac_->Rebuild(replay_.contents());  // HAC's transitions follow from the episodes
   limiter_offset_ = limiter_offset;
   rejected_ = rejected;
   beyond_budget_ = beyond_budget;

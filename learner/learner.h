@@ -4,12 +4,14 @@
 // updates and checkpoints everything. No DDS, no YAML: it takes plain structs.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "common/config/config.h"
 #include "common/rl/episode.h"
 #include "common/rl/graph.h"
 #include "common/rl/rate_limiter.h"
+#include "learner/hac.h"
 #include "learner/relabeler.h"
 #include "learner/replay_buffer.h"
 #include "learner/sac.h"
@@ -26,6 +28,10 @@ struct LearnerOptions {
   GoalRegion goal_region;          // where relabeled goals are sampled
   uint64_t run_seed = 1;
   uint64_t total_env_steps = 0;    // the run's budget of training env steps
+  // HAC only: its settings and the high level's network sizes (`shape` is the low level's)
+  HacOptions hac;
+  AgentShape high_shape;
+  int max_entities = 0;            // of the run's environment (HAC's replays pad to it)
 };
 
 LearnerOptions LearnerOptionsFor(const config::Config& config);
@@ -55,8 +61,10 @@ class Learner {
   // Updates the limiter allows right now.
   uint64_t UpdatesAllowed() const;
 
-  // Publishing: the flat policy weights with a new version number.
+  // Publishing: the flat policy weights with a new version number (HAC: the high level's
+  // parameters, then the low level's) and their architecture signature.
   std::vector<float> TakePolicyWeights();
+  std::string PolicySignature();
   bool PublishDue() const;
 
   // Raises the next policy version by `count` (after a restart from a checkpoint).
@@ -76,7 +84,6 @@ class Learner {
   // False after loading a checkpoint that had no replay (the old format).
   bool replay_restored() const { return replay_restored_; }
 
-
   const LearnerCounters& counters() const { return counters_; }
   // True once the run's budget of training env steps is in (run.total_env_steps).
   bool BudgetReached() const { return counters_.training_env_steps >= options_.total_env_steps; }
@@ -85,7 +92,10 @@ class Learner {
   // Exploration episodes not stored (learner.exploration_into_replay: false).
   uint64_t exploration_skipped() const { return exploration_skipped_; }
   const ReplayBuffer& replay() const { return replay_; }
+  // The agent that acts (HAC: the low level).
   SacAgent& agent() { return agent_; }
+  // HAC's levels (the high level and both transition replays); null for other methods.
+  HacLevels* hac() { return hac_.get(); }
   const AgentShape& shape() const { return shape_; }
 
  private:
@@ -94,6 +104,7 @@ class Learner {
   ReplayBuffer replay_;
   Relabeler relabeler_;
   SacAgent agent_;
+  std::unique_ptr<HacLevels> hac_;
   rl::RateLimiter limiter_;
   TrainingBatch batch_;
   LearnerCounters counters_;

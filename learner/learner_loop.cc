@@ -32,7 +32,7 @@ void LearnerLoop::Publish() {
   w.parameters = learner_.TakePolicyWeights();
   w.version = learner_.counters().policy_version;
   w.update_count = learner_.counters().updates;
-  w.architecture = learner_.agent().PolicySignature();
+  w.architecture = learner_.PolicySignature();
   link_->PublishWeights(w);
 }
 

@@ -35,6 +35,9 @@ struct TrainingBatch {
   std::vector<float> action;         // B x A
   std::vector<float> reward;         // B
   std::vector<int> subgoal_entity;   // B (-1 for full goals)
+  // B: 1 where the transition ends its level's episode (HAC: goal reached, missed test
+  // subgoal), so its target does not bootstrap; empty: every transition bootstraps
+  std::vector<float> terminal;
 };
 
 // Which goal each sample ended up with, for statistics and tests.

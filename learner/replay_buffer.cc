@@ -12,7 +12,9 @@ uint64_t PayloadBytes(const rl::Episode& e) {
 }
 
 // Version of the replay payload inside its checkpoint section.
-constexpr uint32_t kReplayFormat = 1;
+// 2: episodes carry HAC's subgoal record; 1 (before it) still loads, without one.
+constexpr uint32_t kReplayFormat = 2;
+constexpr uint32_t kOldestReplayFormat = 1;
 
 void PutEpisode(nn::ByteWriter& w, const rl::Episode& e) {
   w.Put<int32_t>(e.layout.num_entities);
@@ -31,9 +33,12 @@ void PutEpisode(nn::ByteWriter& w, const rl::Episode& e) {
   w.Put<uint64_t>(e.episode_id);
   w.Put<uint64_t>(e.policy_version);
   w.Put<uint64_t>(e.graph_version);
+  w.PutVector(e.subgoal_starts);
+  w.PutVector(e.subgoals);
+  w.PutVector(e.subgoal_tests);
 }
 
-rl::Episode GetEpisode(nn::ByteReader& r) {
+rl::Episode GetEpisode(nn::ByteReader& r, uint32_t format) {
   rl::Episode e;
   e.layout.num_entities = r.Get<int32_t>();
   e.layout.num_kinds = r.Get<int32_t>();
@@ -51,6 +56,11 @@ rl::Episode GetEpisode(nn::ByteReader& r) {
   e.episode_id = r.Get<uint64_t>();
   e.policy_version = r.Get<uint64_t>();
   e.graph_version = r.Get<uint64_t>();
+  if (format >= 2) {
+    e.subgoal_starts = r.GetVector<uint16_t>();
+    e.subgoals = r.GetVector<float>();
+    e.subgoal_tests = r.GetVector<uint8_t>();
+  }
   return e;
 }
 
@@ -100,16 +110,16 @@ std::string ReplayBuffer::Serialize() const {
 void ReplayBuffer::Restore(const std::string& bytes, const rl::EpisodeLimits& limits, const std::string& what) {
   nn::ByteReader r(bytes, what);
   const auto format = r.Get<uint32_t>();
-  if (format != kReplayFormat)
+  if (format < kOldestReplayFormat || format > kReplayFormat)
     throw nn::CheckpointError(what + ": replay format " + std::to_string(format) + " (this build reads " +
-                              std::to_string(kReplayFormat) + ")");
+                              std::to_string(kOldestReplayFormat) + " to " + std::to_string(kReplayFormat) + ")");
   const auto next_start = r.Get<uint64_t>();
   const auto inserted_total = r.Get<uint64_t>();
   const auto count = r.Get<uint64_t>();
   std::deque<rl::Episode> episodes;
   uint64_t transitions = 0;
   for (uint64_t i = 0; i < count; ++i) {
-    episodes.push_back(GetEpisode(r));
+    episodes.push_back(GetEpisode(r, format));
     if (const std::string problem = rl::ValidateEpisode(episodes.back(), limits); !problem.empty())
       throw nn::CheckpointError(what + ": replay episode " + std::to_string(i) + ": " + problem);
     transitions += static_cast<uint64_t>(episodes.back().num_steps);

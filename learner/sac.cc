@@ -77,6 +77,10 @@ void SacAgent::LoadBatch(const TrainingBatch& b) {
   goals_ = Eigen::Map<const nn::Tensor>(b.goal.data(), b.size, b.goal_dim);
   actions_ = Eigen::Map<const nn::Tensor>(b.action.data(), b.size, b.action_dim);
   rewards_ = Eigen::Map<const nn::Tensor>(b.reward.data(), b.size, 1);
+  if (b.terminal.empty())
+    bootstraps_.setOnes(b.size, 1);
+  else
+    bootstraps_ = 1.0f - Eigen::Map<const nn::Tensor>(b.terminal.data(), b.size, 1).array();
 }
 
 UpdateStats SacAgent::Update(const TrainingBatch& batch) {
@@ -89,7 +93,8 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
   stats.mean_reward = rewards_.mean();
 
   // bellman targets: y = scale * r + discount * (min target Q(s', a') - alpha log pi(a'|s'));
-  // episodes end by time limit only, so every transition bootstraps
+  // episodes end by time limit only, so every transition bootstraps unless the batch marks
+  // it terminal (HAC)
   nn::Tensor targets;
   {
     tape_.Reset();
@@ -101,7 +106,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     auto t1 = q1_target_.Forward(tape_, ent, mask, goals, next.action, false);
     auto t2 = q2_target_.Forward(tape_, ent, mask, goals, next.action, false);
     targets = static_cast<float>(sac.reward_scale) * rewards_.array() +
-              static_cast<float>(sac.discount) *
+              static_cast<float>(sac.discount) * bootstraps_.array() *
                   (t1.value().array().min(t2.value().array()) - alpha * next.log_prob.value().array());
   }
 

@@ -65,7 +65,6 @@ class SacAgent {
   LearnerCounters LoadCheckpointSections(const std::vector<nn::CheckpointSection>& sections,
                                          const std::string& path);
 
-
   double alpha() const;
   // Logs the shape of every matrix product of the following updates (benchmarks).
   void set_gemm_log(std::vector<nn::GemmShape>* log) { tape_.set_gemm_log(log); }
@@ -87,6 +86,7 @@ class SacAgent {
   nn::Tape<float> tape_;
   // the current batch as matrices
   nn::Tensor entities_, next_entities_, mask_, goals_, actions_, rewards_;
+  nn::Tensor bootstraps_;  // B x 1: 0 for terminal transitions, else 1
 };
 
 }  // namespace srics::learner

@@ -40,6 +40,15 @@ void ParseAgent(YamlSection s, AgentConfig* out) {
   reward.ReadDouble("solved_threshold", &r.solved_threshold, 0, 10);
   reward.ReadDouble("epsilon", &r.epsilon, 0, 1);
   reward.Finish();
+
+  YamlSection hac = s.Child("hac");
+  HacConfig& h = out->hac;
+  // a training episode has up to H * H steps: at most 10,000 (rl::kMaxEpisodeSteps)
+  hac.ReadInt("horizon", &h.horizon, 1, 100);
+  hac.ReadDouble("subgoal_test_probability", &h.subgoal_test_probability, 0, 1);
+  hac.ReadDouble("goal_threshold", &h.goal_threshold, 1e-6, 10);
+  hac.ReadInt("hindsight_goals", &h.hindsight_goals, 0, 1000);
+  hac.Finish();
   s.Finish();
 }
 

@@ -38,10 +38,22 @@ struct RewardConfig {
   double epsilon = 1e-5;
 };
 
+// The HAC baseline (Levy et al. 2019) with 2 levels: the high level proposes a subgoal (the xy
+// of every entity) every `horizon` steps or when the low level reaches it; a training episode
+// is `horizon` high-level actions. Rewards are HAC's: 0 when the level's goal is reached
+// (every entity within goal_threshold), else -1; a missed test subgoal costs -horizon.
+struct HacConfig {
+  int horizon = 20;                       // H: low steps per subgoal, subgoals per episode
+  double subgoal_test_probability = 0.3;  // the low level acts without noise on a test subgoal
+  double goal_threshold = 0.05;           // m, per entity (Euclidean xy distance)
+  int hindsight_goals = 3;                // goal replay: per attempt, k-1 random achieved states + the last
+};
+
 struct AgentConfig {
   NetworkConfig network;
   SacConfig sac;
   RewardConfig reward;
+  HacConfig hac;
 };
 
 }  // namespace srics::config

@@ -11,9 +11,23 @@ AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method) {
   const int kinds = 1 + objects;
   AgentShape shape;
   shape.entity_dim = kinds + (env.velocities ? 4 : 2);
-  shape.goal_dim = method == config::Method::kSacHer ? 2 * (1 + objects) : kinds + 3;
+  const bool full_goal = method == config::Method::kSacHer || method == config::Method::kHac;
+  shape.goal_dim = full_goal ? 2 * (1 + objects) : kinds + 3;
   shape.action_dim = 2;
   return shape;
+}
+
+AgentShape HighLevelShapeFor(const config::EnvConfig& env) {
+  AgentShape shape = AgentShapeFor(env, config::Method::kHac);
+  shape.action_dim = shape.goal_dim;
+  return shape;
+}
+
+config::AgentConfig HighLevelAgentConfig(const config::AgentConfig& agent, const AgentShape& low,
+                                         const AgentShape& high) {
+  config::AgentConfig c = agent;
+  c.sac.target_entropy = agent.sac.target_entropy * high.action_dim / low.action_dim;
+  return c;
 }
 
 EpisodeLimits EpisodeLimitsFor(const config::EnvConfig& env) {
@@ -52,6 +66,11 @@ AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::
 
 std::string PolicySignature(PolicyNetwork<float>& policy) {
   return "attention-policy/" + std::to_string(nn::SignatureHash(policy.Parameters()));
+}
+
+std::string HacPolicySignature(PolicyNetwork<float>& high, PolicyNetwork<float>& low) {
+  return "hac-policy/" + std::to_string(nn::SignatureHash(high.Parameters())) + "+" +
+         std::to_string(nn::SignatureHash(low.Parameters()));
 }
 
 bool UsesGraph(config::Method method) {

@@ -21,8 +21,16 @@ struct AgentShape {
 };
 
 // Entity tokens of K + 2 (+ 2 with velocities) floats for K = 1 + catalogue objects, goal
-// tokens of K + 3 (subgoals) or 2N (SAC+HER's full goal), actions of 2.
+// tokens of K + 3 (subgoals) or 2N (SAC+HER's full goal, HAC's subgoal of every entity),
+// actions of 2. For HAC this is the low level; N = 1 + catalogue objects.
 AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method);
+
+// HAC's high level: the full goal (2N) as goal token, a subgoal (2N) as action.
+AgentShape HighLevelShapeFor(const config::EnvConfig& env);
+// HAC's high-level agent settings: the shared ones, with the entropy target per action
+// dimension kept (sac.target_entropy is -|A| for the low level's actions).
+config::AgentConfig HighLevelAgentConfig(const config::AgentConfig& agent, const AgentShape& low,
+                                         const AgentShape& high);
 
 // What this environment's episodes look like: the entity count ranges over the object sets
 // (training and evaluation), the kinds, velocities and action size are the run's.
@@ -34,6 +42,8 @@ AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::
 // The architecture signature PolicyWeights carries: actors refuse weights whose signature
 // differs from their own network's.
 std::string PolicySignature(PolicyNetwork<float>& policy);
+// HAC's weights are the high level's parameters, then the low level's, with this signature.
+std::string HacPolicySignature(PolicyNetwork<float>& high, PolicyNetwork<float>& low);
 
 // True for the methods that use the learned interaction graph.
 bool UsesGraph(config::Method method);

@@ -106,6 +106,35 @@ std::string CheckValues(const std::vector<float>& values, const char* field, flo
   return "";
 }
 
+// HAC's subgoal record: where each subgoal starts, its xy per entity and its test flag.
+std::string CheckSubgoals(const Episode& e, const EpisodeLimits& limits) {
+  const size_t k = e.subgoal_starts.size();
+  if (k == 0) {
+    if (!e.subgoals.empty() || !e.subgoal_tests.empty()) return "subgoals or subgoal_tests without subgoal_starts";
+    return "";
+  }
+  if (limits.max_subgoal_steps == kNoSubgoals) return "subgoal_starts present: this run's episodes carry no subgoals";
+  if (e.mode != EpisodeMode::kTrain) return "subgoal_starts in a non-training episode";
+  if (e.subgoal_starts[0] != 0) return "subgoal_starts[0] = " + std::to_string(e.subgoal_starts[0]) + ", must be 0";
+  for (size_t i = 0; i < k; ++i) {
+    const int start = e.subgoal_starts[i];
+    const int end = i + 1 < k ? e.subgoal_starts[i + 1] : e.num_steps;
+    if (end <= start)
+      return "subgoal_starts[" + std::to_string(i) + "] = " + std::to_string(start) +
+             (i + 1 < k ? ": not below the next start " : ": not below num_steps ") + std::to_string(end);
+    if (limits.max_subgoal_steps > 0 && end - start > limits.max_subgoal_steps)
+      return "subgoal " + std::to_string(i) + " held " + std::to_string(end - start) + " steps, this run allows " +
+             std::to_string(limits.max_subgoal_steps);
+  }
+  const size_t values = k * 2 * static_cast<size_t>(e.layout.num_entities);
+  if (e.subgoals.size() != values) return SizeMismatch("subgoals", e.subgoals.size(), values, "K x 2N");
+  if (e.subgoal_tests.size() != k) return SizeMismatch("subgoal_tests", e.subgoal_tests.size(), k, "K");
+  for (size_t i = 0; i < k; ++i)
+    if (e.subgoal_tests[i] > 1)
+      return "subgoal_tests[" + std::to_string(i) + "] = " + std::to_string(e.subgoal_tests[i]) + ", must be 0 or 1";
+  return CheckValues(e.subgoals, "subgoals", limits.max_abs_position);
+}
+
 }  // namespace
 
 EpisodeLimits LimitsOfLayout(const EntityLayout& layout, int action_dim) {
@@ -122,7 +151,8 @@ std::string ValidateEpisode(const Episode& e, const EpisodeLimits& limits) {
   if (auto r = CheckSizes(e); !r.empty()) return r;
   if (auto r = CheckStates(e, limits); !r.empty()) return r;
   if (auto r = CheckValues(e.actions, "actions", limits.max_abs_action); !r.empty()) return r;
-  return CheckValues(e.goal, "goal", limits.max_abs_position);
+  if (auto r = CheckValues(e.goal, "goal", limits.max_abs_position); !r.empty()) return r;
+  return CheckSubgoals(e, limits);
 }
 
 }  // namespace srics::rl

@@ -29,7 +29,19 @@ struct Episode {
   uint64_t episode_id = 0;
   uint64_t policy_version = 0;
   uint64_t graph_version = 0;
+  // HAC only (empty otherwise): the high level's subgoals. Subgoal k was set at step
+  // subgoal_starts[k] (the first at 0, increasing) and held until the next start or the end;
+  // subgoals holds K x 2N proposed xy of every entity; subgoal_tests[k] is 1 for a test
+  // subgoal (the low level acted without noise on it).
+  std::vector<uint16_t> subgoal_starts;
+  std::vector<float> subgoals;
+  std::vector<uint8_t> subgoal_tests;
 
+  int num_subgoals() const { return static_cast<int>(subgoal_starts.size()); }
+  // steps [subgoal_start(k), subgoal_end(k)) belong to subgoal k
+  int subgoal_start(int k) const { return subgoal_starts[k]; }
+  int subgoal_end(int k) const { return k + 1 < num_subgoals() ? subgoal_starts[k + 1] : num_steps; }
+  const float* subgoal(int k) const { return subgoals.data() + static_cast<size_t>(k) * 2 * layout.num_entities; }
   const float* state(int t) const { return states.data() + static_cast<size_t>(t) * layout.state_size(); }
   const float* action(int t) const { return actions.data() + static_cast<size_t>(t) * action_dim; }
   bool operator==(const Episode&) const = default;
@@ -57,14 +69,19 @@ struct EpisodeLimits {
   float max_abs_position = kMaxAbsPosition;
   float max_abs_velocity = kMaxAbsVelocity;
   float max_abs_action = 1.0f;
+  // HAC's subgoals: the longest a subgoal may be held (the run's H); 0: any length;
+  // kNoSubgoals: this run's episodes carry none
+  int max_subgoal_steps = 0;
 };
+inline constexpr int kNoSubgoals = -1;
 
 // Limits that accept exactly one layout and action size (e.g. a data set's own).
 EpisodeLimits LimitsOfLayout(const EntityLayout& layout, int action_dim);
 
 // Empty when the episode is whole and fits `limits`: layout and sizes, entity kinds and their
 // one-hot identifiers in the states, subgoal and goal, ancestor mask, mode, every value finite
-// and bounded, actions in range. Otherwise what is wrong, naming the field. The learner and
+// and bounded, actions in range, HAC's subgoals (train episodes only, starting at step 0,
+// increasing, each held at most max_subgoal_steps, K x 2N bounded values, test flags 0 or 1). Otherwise what is wrong, naming the field. The learner and
 // the graph service call it on everything that came from another process.
 std::string ValidateEpisode(const Episode& episode, const EpisodeLimits& limits);
 

@@ -77,7 +77,8 @@ template <typename Op, typename M, Is<srics_Episode> C>
 void Fields(const Op& op, M& m, C& c) {
   // the envelope and entity_dim are not rl::Episode fields: ToC and FromC handle them
   SRICS_FIELDS(op, m, c, actor_id, episode_id, mode, policy_version, graph_version, action_dim, num_steps,
-               entity_kinds, states, actions, subgoal_entity, goal, ancestor_mask);
+               entity_kinds, states, actions, subgoal_entity, goal, ancestor_mask, subgoal_starts, subgoals,
+               subgoal_tests);
   op(m.layout.num_entities, c.num_entities, "num_entities");
 }
 

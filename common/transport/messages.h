@@ -12,7 +12,7 @@ namespace srics::transport {
 
 // Must equal srics::WIRE_CONTRACT_VERSION in idl/srics.idl (checked by a static_assert in the
 // transport library). Readers reject samples carrying any other value.
-inline constexpr uint32_t kContractVersion = 1;
+inline constexpr uint32_t kContractVersion = 2;
 
 // Bounds of the IDL's bounded strings (characters, without the terminating NUL).
 inline constexpr size_t kRunIdMaxLength = 64;

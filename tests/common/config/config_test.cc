@@ -260,6 +260,38 @@ TEST_F(ConfigFiles, OverrideReplacesAWholeMappingWithAScalarOnlyWhenAsked) {
   EXPECT_NE(message.find("transport: expected a mapping"), std::string::npos) << message;
 }
 
+// Every method name the parser accepts runs its own pipeline; any other name is an error
+// naming run.method (the launcher exits 2 on it: tests/deploy/launcher/launcher_test.cc).
+TEST_F(ConfigFiles, MethodsAreTheImplementedOnesAndAnyOtherNameIsAnError) {
+  const std::string file = Write("run.yaml", "run:\n  seed: 3\n");
+  EXPECT_EQ(LoadConfig(file, {"run.method=hac"}).run.method, Method::kHac);
+  for (const char* method : {"feudal", "HAC", "sac", ""}) {
+    const std::string message = ErrorOf([&] { LoadConfig(file, {std::string("run.method=") + method}); });
+    EXPECT_NE(message.find("run.method: expected one of 'srics' 'srics_no_selectivity' "
+                           "'srics_no_selectivity_no_order' 'smorl' 'sac_her' 'hac'"),
+              std::string::npos)
+        << method << ": " << message;
+  }
+}
+
+TEST_F(ConfigFiles, HacSettingsHaveDefaultsAndRanges) {
+  const Config defaults = LoadConfig(Write("empty.yaml", ""));
+  EXPECT_EQ(defaults.agent.hac.horizon, 20);
+  EXPECT_DOUBLE_EQ(defaults.agent.hac.subgoal_test_probability, 0.3);
+  EXPECT_DOUBLE_EQ(defaults.agent.hac.goal_threshold, 0.05);
+  EXPECT_EQ(defaults.agent.hac.hindsight_goals, 3);
+  const std::string file = Write("hac.yaml", "agent:\n  hac:\n    horizon: 10\n    hindsight_goals: 0\n");
+  EXPECT_EQ(LoadConfig(file).agent.hac.horizon, 10);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"agent.hac.horizon=101"}); })
+                .find("agent.hac.horizon: expected an integer in [1, 100], got '101'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"agent.hac.subgoal_test_probability=1.5"}); })
+                .find("agent.hac.subgoal_test_probability"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"agent.hac.goal_threshold=0"}); }).find("agent.hac.goal_threshold"),
+            std::string::npos);
+}
+
 // ------------------------------------------------------------------------- ParseConfig
 
 TEST(ParseConfigTest, TextUsesTheGivenNameInErrors) {

@@ -220,6 +220,53 @@ TEST(EpisodeLimitsTest, SubgoalGoalAndAncestorMask) {
   EXPECT_REFUSED(e, Limits(), "ancestor_mask");
 }
 
+// HAC's subgoal record: 2 subgoals over 4 steps, starts 0 and 2, H = 2.
+TEST(EpisodeLimitsTest, HacSubgoalsStartAtZeroIncreaseAndFitTheHorizon) {
+  Episode good = MakeValid();
+  good.subgoal_entity = -1;
+  good.goal.assign(6, 0.5f);
+  good.subgoal_starts = {0, 2};
+  good.subgoals.assign(2 * 6, 0.3f);
+  good.subgoal_tests = {0, 1};
+  EpisodeLimits limits = Limits();
+  limits.max_subgoal_steps = 2;
+  EXPECT_VALID(good, limits);
+  Episode e = good;
+  e.subgoal_starts = {1, 2};
+  EXPECT_REFUSED(e, limits, "subgoal_starts[0] = 1, must be 0");
+  e.subgoal_starts = {0, 0};
+  EXPECT_REFUSED(e, limits, "subgoal_starts[0] = 0: not below the next start 0");
+  e = good;
+  e.subgoal_starts = {0, 2, 4};  // the last starts at T
+  EXPECT_REFUSED(e, limits, "subgoal_starts[2] = 4: not below num_steps 4");
+  e.subgoal_starts = {0, 3};  // the first is held 3 steps
+  EXPECT_REFUSED(e, limits, "subgoal 0 held 3 steps, this run allows 2");
+  limits.max_subgoal_steps = 0;  // any length
+  EXPECT_VALID(e, limits);
+  limits.max_subgoal_steps = kNoSubgoals;
+  EXPECT_REFUSED(e, limits, "this run's episodes carry no subgoals");
+  limits.max_subgoal_steps = 2;
+  e = good;
+  e.subgoals.pop_back();
+  EXPECT_REFUSED(e, limits, "subgoals has 11 values, expected 12 (K x 2N)");
+  e = good;
+  e.subgoals[5] = kNaN;
+  EXPECT_REFUSED(e, limits, "subgoals[5] = nan is not finite");
+  e.subgoals[5] = 11;
+  EXPECT_REFUSED(e, limits, "subgoals[5]");
+  e = good;
+  e.subgoal_tests = {0};
+  EXPECT_REFUSED(e, limits, "subgoal_tests has 1 values, expected 2");
+  e.subgoal_tests = {0, 2};
+  EXPECT_REFUSED(e, limits, "subgoal_tests[1] = 2, must be 0 or 1");
+  e = good;
+  e.mode = EpisodeMode::kExplore;
+  EXPECT_REFUSED(e, limits, "subgoal_starts in a non-training episode");
+  e = MakeValid();
+  e.subgoal_tests = {1};
+  EXPECT_REFUSED(e, limits, "without subgoal_starts");
+}
+
 TEST(EpisodeLimitsTest, LimitsForAnEnvironmentFollowItsObjectSets) {
   config::EnvConfig env;
   env.objects.resize(4);

@@ -52,6 +52,13 @@ rl::Episode MakeEpisode(uint64_t seed, int steps, int entities) {
   e.subgoal_entity = static_cast<int>(seed % entities);
   e.goal = {Value(seed, 99), Value(seed, 100)};
   e.ancestor_mask = (1ull << e.subgoal_entity) | 1ull;
+  // HAC's subgoal record (contract 2): subgoals from steps 0 and T / 2, the second a test
+  e.subgoal_starts = {0};
+  if (steps >= 2) e.subgoal_starts.push_back(static_cast<uint16_t>(steps / 2));
+  for (size_t k = 0; k < e.subgoal_starts.size(); ++k) {
+    for (int j = 0; j < 2 * entities; ++j) e.subgoals.push_back(0.5f * Value(seed + 2 + k, j));
+    e.subgoal_tests.push_back(static_cast<uint8_t>(k % 2));
+  }
   return e;
 }
 

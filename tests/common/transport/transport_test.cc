@@ -120,6 +120,10 @@ TEST_F(TransportTest, EpisodeFieldsSurviveOneByOne) {
   EXPECT_EQ(got.subgoal_entity, want.subgoal_entity);
   EXPECT_EQ(got.goal, want.goal);
   EXPECT_EQ(got.ancestor_mask, want.ancestor_mask);
+  ASSERT_EQ(want.subgoal_starts.size(), 2u);
+  EXPECT_EQ(got.subgoal_starts, want.subgoal_starts);
+  EXPECT_EQ(got.subgoals, want.subgoals);
+  EXPECT_EQ(got.subgoal_tests, want.subgoal_tests);
   EXPECT_EQ(peer.Wait(20s), 0);
 }
 

@@ -77,7 +77,7 @@ TEST(ValidationTest, EveryFloatMustBeFinite) {
 
 TEST(ValidationTest, ContractVersionAndRunIdAreChecked) {
   EvalResult e = testing::MakeEvalResult("r", 1);
-  e.contract_version = 2;
+  e.contract_version = kContractVersion + 1;
   ExpectMalformed(Validate(e, "r"), "contract_version");
   e = testing::MakeEvalResult("", 1);
   ExpectMalformed(Validate(e, ""), "run_id");

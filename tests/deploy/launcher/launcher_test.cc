@@ -163,6 +163,15 @@ TEST_F(LauncherTest, BadConfigExitsWithCode2BeforeStartingAnything) {
   EXPECT_FALSE(fs::exists(run_dir_));
 }
 
+TEST_F(LauncherTest, UnknownMethodExitsWithCode2NamingRunMethod) {
+  ChildProcess launcher = StartLauncher({"--set", "run.method=feudal"});
+  const auto exit = launcher.WaitFor(milliseconds(20000));
+  ASSERT_TRUE(exit.has_value());
+  EXPECT_EQ(exit->Describe(), "exit code 2");
+  EXPECT_THAT(ReadFile(root_ / "launcher.out"), HasSubstr("run.method: expected one of"));
+  EXPECT_FALSE(fs::exists(run_dir_));
+}
+
 TEST_F(LauncherTest, MissingRoleProgramIsNamed) {
   fs::remove(root_ / "bin" / "srics-learner");
   ChildProcess launcher = StartLauncher();
