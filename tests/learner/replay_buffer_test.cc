@@ -133,5 +133,21 @@ TEST(ReplayBufferTest, RestoreRefusesTruncatedOrForeignPayloadsAndChangesNothing
   expect_error(huge, {}, "truncated");
 }
 
+// HAC's subgoal records travel with their episodes (replay format 2).
+TEST(ReplayBufferTest, SerializeRestoreKeepsHacSubgoalRecords) {
+  ReplayBuffer replay(1000);
+  rl::Episode e = MakeEpisode(3, 20, 1, -1);
+  e.mode = rl::EpisodeMode::kTrain;
+  e.goal.assign(6, 0.5f);
+  e.subgoal_starts = {0, 10};
+  e.subgoals.assign(2 * 6, 0.55f);
+  e.subgoal_tests = {0, 1};
+  replay.Insert(e);
+  ReplayBuffer restored(1000);
+  restored.Restore(replay.Serialize(), rl::EpisodeLimits{}, "test");
+  ASSERT_EQ(restored.episodes(), 1u);
+  EXPECT_EQ(restored.contents().front(), e);
+}
+
 }  // namespace
 }  // namespace srics::learner
