@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -303,6 +304,14 @@ int LearnGraph(const std::vector<std::string>& args) {
                 p.elapsed_seconds, graph_service::PhaseName(p.phase), p.episodes, p.target_episodes, p.dropped,
                 static_cast<long long>(p.updates), p.held_out_loss, p.held_out_zero_loss, p.stable_evaluations,
                 p.graph.c_str());
+    // the read-out's score of every edge above 0.01, so a user sees how clear the decision was
+    const int n = static_cast<int>(std::sqrt(static_cast<double>(p.edge_scores.size())) + 0.5);
+    std::string scores;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (const double v = p.edge_scores[static_cast<size_t>(i) * n + j]; i != j && v > 0.01)
+          scores += " " + std::to_string(i) + "->" + std::to_string(j) + " " + std::to_string(v).substr(0, 5);
+    if (!scores.empty()) std::printf("           edge scores:%s\n", scores.c_str());
     std::fflush(stdout);
   };
   std::filesystem::create_directories(out_dir);
