@@ -91,7 +91,8 @@ int GnnModel<T>::edge_sender_entity(int e) const {
 
 template <typename T>
 typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h, nn::Var<T> x,
-                                                int batch, const Mat& gumbel) {
+                                                int batch, const Mat& gumbel,
+                                                const Mat* edge_mask) {
   BuildEdges(batch);
   const int m = options_.mlp_hidden;
   nn::Var<T> raw = x;
@@ -116,6 +117,7 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
   nn::Var<T> sample = tape.GumbelSoftmax(logits, gumbel, T(options_.temperature), options_.hard);
   nn::Var<T> weight = tape.Slice(sample, 1, 0, 1);
   nn::Var<T> message = open_edges_ ? effect : tape.Mul(effect, weight);
+  if (edge_mask) message = tape.Mul(message, tape.Constant(*edge_mask));
   const Eigen::Index rows = static_cast<Eigen::Index>(batch) * options_.num_entities;
   nn::Var<T> interaction = tape.ScatterAdd(message, receivers_, rows);
   nn::Var<T> own = act_.Forward(tape, x);

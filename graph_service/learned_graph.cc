@@ -16,7 +16,8 @@ namespace srics::graph_service {
 namespace {
 
 constexpr const char* kFormat = "srics-interaction-graph";
-constexpr int kFormatVersion = 1;
+// 2: "readout" and "edge_scores" (the threshold applies to them); 1: mean weights only
+constexpr int kFormatVersion = 2;
 
 uint64_t Fnv1a(const std::string& text) {
   uint64_t h = 0xcbf29ce484222325ull;
@@ -56,7 +57,7 @@ LearnedGraph AggregateGraph(int n, const std::vector<double>& w, double threshol
     throw std::invalid_argument("AggregateGraph: action entity out of range");
   LearnedGraph out;
   out.threshold = threshold;
-  out.mean_weights = w;
+  out.edge_scores = w;
   out.graph.num_entities = n;
   out.graph.action_entity = action_entity;
   out.graph.adjacency.assign(w.size(), 0);
@@ -65,13 +66,14 @@ LearnedGraph AggregateGraph(int n, const std::vector<double>& w, double threshol
       const double v = w[static_cast<size_t>(i) * n + j];
       if (!std::isfinite(v)) throw std::invalid_argument("AggregateGraph: weight not finite");
       if (i == j) {
-        out.mean_weights[static_cast<size_t>(i) * n + j] = 0;  // no self edges
+        out.edge_scores[static_cast<size_t>(i) * n + j] = 0;  // no self edges
         continue;
       }
       out.graph.adjacency[static_cast<size_t>(i) * n + j] = v > threshold ? 1 : 0;
     }
   }
   out.structure = rl::ComputeSubgoalStructure(out.graph);
+  out.mean_weights = out.edge_scores;
   return out;
 }
 
@@ -89,6 +91,7 @@ std::string GraphToJson(const LearnedGraph& g) {
   s << "  \"version\": " << g.version << ",\n";
   s << "  \"num_entities\": " << n << ",\n";
   s << "  \"action_entity\": " << g.graph.action_entity << ",\n";
+  s << "  \"readout\": \"" << g.readout << "\",\n";
   s << "  \"threshold\": " << Num(g.threshold) << ",\n";
   s << "  \"held_out_loss\": " << Num(g.held_out_loss) << ",\n";
   s << "  \"updates\": " << g.updates << ",\n";
@@ -108,13 +111,18 @@ std::string GraphToJson(const LearnedGraph& g) {
   s << "  \"entity_kinds\": " << list(g.entity_kinds) << ",\n";
   s << "  \"action_correlation\": " << list(g.action_correlation) << ",\n";
   // matrices row by row (row = from), readable in a text editor
-  s << "  \"mean_weights\": [\n";
-  for (int i = 0; i < n; ++i) {
-    std::vector<double> row(g.mean_weights.begin() + static_cast<size_t>(i) * n,
-                            g.mean_weights.begin() + static_cast<size_t>(i + 1) * n);
-    s << "    " << list(row) << (i + 1 < n ? ",\n" : "\n");
-  }
-  s << "  ],\n  \"adjacency\": [\n";
+  auto matrix = [&](const char* name, const std::vector<double>& m) {
+    s << "  \"" << name << "\": [\n";
+    for (int i = 0; i < n; ++i) {
+      std::vector<double> row(m.begin() + static_cast<size_t>(i) * n,
+                              m.begin() + static_cast<size_t>(i + 1) * n);
+      s << "    " << list(row) << (i + 1 < n ? ",\n" : "\n");
+    }
+    s << "  ],\n";
+  };
+  matrix("edge_scores", g.edge_scores);
+  matrix("mean_weights", g.mean_weights);
+  s << "  \"adjacency\": [\n";
   for (int i = 0; i < n; ++i) {
     std::vector<int> row(n);
     for (int j = 0; j < n; ++j) row[j] = g.graph.edge(i, j) ? 1 : 0;
@@ -146,8 +154,9 @@ JsonValue CheckedRoot(const std::string& text) {
   }
   if (!root.is_object()) Fail("top level is not an object");
   if (root.Get("format").AsString() != kFormat) Fail("not an interaction graph (format)");
-  if (root.Get("format_version").AsInt() != kFormatVersion)
-    Fail("unsupported format version " + std::to_string(root.Get("format_version").AsInt()));
+  const int64_t version = root.Get("format_version").AsInt();
+  if (version != 1 && version != kFormatVersion)
+    Fail("unsupported format version " + std::to_string(version));
   return root;
 }
 
@@ -179,23 +188,37 @@ LearnedGraph GraphFromJson(const std::string& text) {
   for (const JsonValue& v : root.Get("action_correlation").AsArray())
     g.action_correlation.push_back(v.AsDouble());
   if (static_cast<int64_t>(g.action_correlation.size()) != n) Fail("action_correlation size");
-  // the matrices must be N rows of N, weights in [0, 1], zero diagonal
-  const auto& rows = root.Get("mean_weights").AsArray();
+  // the matrices must be N rows of N, values in [0, 1], zero diagonal
+  auto read_matrix = [&](const char* name) {
+    const auto& rows = root.Get(name).AsArray();
+    if (static_cast<int64_t>(rows.size()) != n) Fail(std::string(name) + " must have num_entities rows");
+    std::vector<double> m;
+    for (int64_t i = 0; i < n; ++i) {
+      const auto& r = rows[i].AsArray();
+      if (static_cast<int64_t>(r.size()) != n)
+        Fail(std::string(name) + " row " + std::to_string(i) + " does not have num_entities columns");
+      for (int64_t j = 0; j < n; ++j) {
+        const double w = r[j].AsDouble();
+        if (!(w >= 0 && w <= 1)) Fail(std::string(name) + " value outside [0, 1]");
+        if (i == j && w != 0) Fail(std::string(name) + ": non-zero self value");
+        m.push_back(w);
+      }
+    }
+    return m;
+  };
+  const bool v1 = root.Get("format_version").AsInt() == 1;
+  g.readout = v1 ? "mean_weight" : root.Get("readout").AsString();
+  if (g.readout != "cut" && g.readout != "mean_weight") Fail("unknown readout '" + g.readout + "'");
+  const std::vector<double> mean_weights = read_matrix("mean_weights");
+  const std::vector<double> weights = v1 ? mean_weights : read_matrix("edge_scores");
   const auto& adj = root.Get("adjacency").AsArray();
-  if (static_cast<int64_t>(rows.size()) != n || static_cast<int64_t>(adj.size()) != n)
-    Fail("mean_weights / adjacency must have num_entities rows");
-  std::vector<double> weights;
+  if (static_cast<int64_t>(adj.size()) != n) Fail("adjacency must have num_entities rows");
   std::vector<uint8_t> adjacency;
   for (int64_t i = 0; i < n; ++i) {
-    const auto& wr = rows[i].AsArray();
     const auto& ar = adj[i].AsArray();
-    if (static_cast<int64_t>(wr.size()) != n || static_cast<int64_t>(ar.size()) != n)
-      Fail("row " + std::to_string(i) + " does not have num_entities columns");
+    if (static_cast<int64_t>(ar.size()) != n)
+      Fail("adjacency row " + std::to_string(i) + " does not have num_entities columns");
     for (int64_t j = 0; j < n; ++j) {
-      const double w = wr[j].AsDouble();
-      if (!(w >= 0 && w <= 1)) Fail("mean weight outside [0, 1]");
-      if (i == j && w != 0) Fail("non-zero self weight");
-      weights.push_back(w);
       const int64_t a = ar[j].AsInt();
       if (a != 0 && a != 1) Fail("adjacency entries must be 0 or 1");
       adjacency.push_back(static_cast<uint8_t>(a));
@@ -205,7 +228,7 @@ LearnedGraph GraphFromJson(const std::string& text) {
   LearnedGraph derived = AggregateGraph(static_cast<int>(n), weights, g.threshold,
                                         static_cast<int>(action));
   if (derived.graph.adjacency != adjacency)
-    Fail("adjacency does not match the mean weights and threshold");
+    Fail("adjacency does not match the edge scores and threshold");
   std::vector<int64_t> depths, masks;
   for (const JsonValue& v : root.Get("depths").AsArray()) depths.push_back(v.AsInt());
   for (const JsonValue& v : root.Get("ancestor_masks").AsArray()) masks.push_back(v.AsInt());
@@ -218,7 +241,8 @@ LearnedGraph GraphFromJson(const std::string& text) {
   }
   g.graph = std::move(derived.graph);
   g.structure = std::move(derived.structure);
-  g.mean_weights = std::move(derived.mean_weights);
+  g.edge_scores = std::move(derived.edge_scores);
+  g.mean_weights = mean_weights;
   return g;
 }
 
@@ -252,8 +276,8 @@ std::string GraphDot(const LearnedGraph& g) {
   const int n = g.num_entities();
   std::ostringstream s;
   s << "digraph interaction {\n  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n";
-  s << "  label=\"version " << g.version << ", " << g.updates << " updates, threshold "
-    << g.threshold << "\";\n";
+  s << "  label=\"version " << g.version << ", " << g.updates << " updates, " << g.readout
+    << " read-out, threshold " << g.threshold << "\";\n";
   s << "  action [shape=diamond, style=filled, fillcolor=\"#f4d35e\", label=\"action\"];\n";
   for (int e = 0; e < n; ++e) {
     const bool subgoal = g.structure.has_subgoal(e);
@@ -266,7 +290,7 @@ std::string GraphDot(const LearnedGraph& g) {
     for (int j = 0; j < n; ++j) {
       if (i == j || !g.graph.edge(i, j)) continue;
       char w[32];
-      std::snprintf(w, sizeof w, "%.3f", g.mean_weights[static_cast<size_t>(i) * n + j]);
+      std::snprintf(w, sizeof w, "%.3f", g.edge_scores[static_cast<size_t>(i) * n + j]);
       s << "  e" << i << " -> e" << j << " [label=\"" << w << "\"];\n";
     }
   s << "}\n";
@@ -278,14 +302,15 @@ std::string HeatMapDot(const LearnedGraph& g) {
   std::ostringstream s;
   s << "digraph weights {\n  node [shape=plaintext, fontname=\"Helvetica\"];\n";
   s << "  m [label=<<table border=\"0\" cellborder=\"1\" cellspacing=\"0\" cellpadding=\"8\">\n";
-  s << "  <tr><td colspan=\"" << n + 1 << "\">mean edge weight (row acts on column), threshold "
-    << g.threshold << "</td></tr>\n  <tr><td>from \\ to</td>";
+  s << "  <tr><td colspan=\"" << n + 1 << "\">"
+    << (g.readout == "cut" ? "cut score" : "mean edge weight")
+    << " (row acts on column), threshold " << g.threshold << "</td></tr>\n  <tr><td>from \\ to</td>";
   for (int j = 0; j < n; ++j) s << "<td>" << EntityName(j) << "</td>";
   s << "</tr>\n";
   for (int i = 0; i < n; ++i) {
     s << "  <tr><td>" << EntityName(i) << "</td>";
     for (int j = 0; j < n; ++j) {
-      const double w = g.mean_weights[static_cast<size_t>(i) * n + j];
+      const double w = g.edge_scores[static_cast<size_t>(i) * n + j];
       // white (0) to dark red (1)
       const double v = std::clamp(w, 0.0, 1.0);
       const int gb = static_cast<int>(255 * (1 - v));

@@ -16,8 +16,13 @@ struct LearnedGraph {
   uint64_t version = 0;                 // 1, 2, ... per publication of a new graph
   rl::InteractionGraph graph;           // adjacency (i acts on j) and the action entity
   rl::SubgoalStructure structure;       // ancestor sets and depths of `graph`
-  std::vector<double> mean_weights;     // N x N, [i * N + j], diagonal 0, each in [0, 1]
-  double threshold = 0.06;              // kept edges have mean weight > threshold
+  // how the edges were read out of the model: "cut" or "mean_weight" (the paper's)
+  std::string readout = "mean_weight";
+  // N x N, [i * N + j], diagonal 0, each in [0, 1]: the read-out's score of each edge (the
+  // cut score, or the mean weight); kept edges have a score > threshold
+  std::vector<double> edge_scores;
+  double threshold = 0.06;
+  std::vector<double> mean_weights;     // N x N: the model's mean edge weights (informational)
   std::vector<double> action_correlation;  // per entity, how its motion follows the action
   std::vector<int> entity_kinds;        // kind of each entity (0 = arm)
   double held_out_loss = 0;             // held-out MSE per transition of the final model
@@ -27,11 +32,13 @@ struct LearnedGraph {
   int num_entities() const { return graph.num_entities; }
 };
 
-// Keeps the edges i -> j (i != j) whose mean weight exceeds `threshold`, attaches the action
-// node to `action_entity`, and derives ancestor sets and depths with
-// rl::ComputeSubgoalStructure. Throws std::invalid_argument on malformed input (size not
-// N x N, N outside [2, rl::kMaxGraphEntities], action entity out of range, weights not finite).
-LearnedGraph AggregateGraph(int num_entities, const std::vector<double>& mean_weights,
+// Keeps the edges i -> j (i != j) whose score exceeds `threshold`, attaches the action node
+// to `action_entity`, and derives ancestor sets and depths with rl::ComputeSubgoalStructure.
+// edge_scores and mean_weights of the result are `scores` (diagonal zeroed); a caller with
+// another read-out sets mean_weights and readout afterwards. Throws std::invalid_argument on
+// malformed input (size not N x N, N outside [2, rl::kMaxGraphEntities], action entity out of
+// range, scores not finite).
+LearnedGraph AggregateGraph(int num_entities, const std::vector<double>& scores,
                             double threshold, int action_entity);
 
 // True when two graphs keep the same edges and action entity (weights may differ).

@@ -44,7 +44,7 @@ rl::GraphUpdate ToGraphUpdate(const LearnedGraph& g) {
   u.version = g.version;
   u.graph = g.graph;
   u.structure = g.structure;
-  u.mean_weights = g.mean_weights;
+  u.mean_weights = g.edge_scores;  // what the threshold applies to (the wire's name is older)
   u.threshold = g.threshold;
   u.held_out_loss = g.held_out_loss;
   u.training_updates = static_cast<uint64_t>(g.updates);
@@ -146,6 +146,7 @@ bool GraphService::LoadSaved() {
     progress_.phase = Progress::Phase::kPublished;
     progress_.published_version = saved.version;
     progress_.graph = rl::DescribeGraph(saved.graph);
+    progress_.edge_scores = saved.edge_scores;
     progress_.mean_weights = saved.mean_weights;
     progress_.held_out_loss = saved.held_out_loss;
     progress_.updates = saved.updates;
@@ -237,9 +238,13 @@ void GraphService::TrainStep() {
 }
 
 void GraphService::EvaluateGraph() {
-  // held-out loss and the thresholded graph of the mean weights
+  // held-out loss and the thresholded graph of the read-out's edge scores
   const EdgeStatistics stats = trainer_->Evaluate();
-  LearnedGraph graph = AggregateGraph(data_->num_entities(), stats.mean_weight, config_.threshold, action_entity_);
+  const bool cut = config_.readout == config::GraphReadout::kCut;
+  LearnedGraph graph = AggregateGraph(data_->num_entities(), cut ? stats.cut_score : stats.mean_weight,
+                                      cut ? config_.cut_threshold : config_.threshold, action_entity_);
+  graph.readout = cut ? "cut" : "mean_weight";
+  graph.mean_weights = stats.mean_weight;
   graph.held_out_loss = stats.held_out_mse;
   graph.updates = trainer_->updates();
   graph.episodes = data_->size();
@@ -258,6 +263,7 @@ void GraphService::EvaluateGraph() {
   progress_.entity_zero_loss = stats.held_out_entity_zero_mse;
   progress_.stable_evaluations = stable_;
   progress_.graph = rl::DescribeGraph(current_->graph);
+  progress_.edge_scores = current_->edge_scores;
   progress_.mean_weights = stats.mean_weight;
   Report();
 }

@@ -46,6 +46,7 @@ struct Progress {
   std::vector<double> entity_loss, entity_zero_loss;
   int stable_evaluations = 0;  // consecutive evaluations with an unchanged graph
   std::string graph;           // current thresholded graph (rl::DescribeGraph)
+  std::vector<double> edge_scores;   // current read-out scores (N x N), thresholded
   std::vector<double> mean_weights;  // current mean weights (N x N)
   uint64_t published_version = 0;    // 0: nothing published yet
   double elapsed_seconds = 0;  // since Run started

@@ -97,7 +97,7 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
     std::vector<double> w(n);
     for (int e = 0; e < n; ++e) {
       const double var = count > 0 ? sq[e] / count : 0.0;
-      w[e] = 1.0 / (var < 0.01 * largest ? largest : var);
+      w[e] = 1.0 / (var < config.static_variance_fraction * largest ? largest : var);
     }
     model_.set_entity_loss_weights(w);
   }
@@ -183,6 +183,7 @@ EdgeStatistics GnnTrainer::Evaluate() {
   }
   stats.mean_weight.resize(sum.size());
   for (size_t i = 0; i < sum.size(); ++i) stats.mean_weight[i] = count > 0 ? sum[i] / count : 0;
+  if (config_.readout == config::GraphReadout::kCut) stats.cut_score = EdgeCutScores();
   stats.held_out_mse = transitions > 0 ? mse / transitions : 0;
   stats.held_out_zero_mse = transitions > 0 ? zero_mse / transitions : 0;
   for (int e = 0; e < n; ++e) {
@@ -190,6 +191,78 @@ EdgeStatistics GnnTrainer::Evaluate() {
     stats.held_out_entity_zero_mse.push_back(transitions > 0 ? entity_zero[e] / transitions : 0);
   }
   return stats;
+}
+
+std::vector<double> GnnTrainer::HeldOutEntityError(int cut_sender, int cut_receiver) {
+  const int n = data_.num_entities();
+  const std::vector<int>& episodes = data_.held_out_episodes();
+  std::vector<double> error(n, 0.0);
+  double transitions = 0;
+  // the same noise in every call: two calls differ only by the cut
+  nn::Rng noise_rng(0xC07);
+  nn::Tape<float> tape;
+  WindowBatch<float> batch;
+  nn::Matrix<float> mask;
+  for (size_t first = 0; first < episodes.size();
+       first += static_cast<size_t>(config_.eval_chunk_episodes)) {
+    const size_t last = std::min(episodes.size(), first + config_.eval_chunk_episodes);
+    const std::vector<int> chunk(episodes.begin() + first, episodes.begin() + last);
+    data_.EpisodeBatch(chunk, &batch);
+    const int b = batch.batch;
+    const Eigen::Index rows = static_cast<Eigen::Index>(b) * n;
+    const bool cut = cut_sender >= 0;
+    if (cut) {
+      // edges of receiver row r are r * (N - 1) + k, senders in increasing order without r
+      mask = nn::Matrix<float>::Ones(rows * (n - 1), 1);
+      const int k = cut_sender < cut_receiver ? cut_sender : cut_sender - 1;
+      for (int s = 0; s < b; ++s)
+        mask((static_cast<Eigen::Index>(s) * n + cut_receiver) * (n - 1) + k, 0) = 0;
+    }
+    nn::Matrix<float> h = nn::Matrix<float>::Zero(rows, config_.hidden_dim);
+    for (int t = 0; t < batch.steps(); ++t) {
+      tape.Reset();
+      const nn::Matrix<float> noise = nn::RandomGumbel<float>(rows * (n - 1), 2, noise_rng);
+      auto step = model_.Forward(tape, tape.Constant(h), tape.Constant(batch.inputs[t]), b, noise,
+                                 cut ? &mask : nullptr);
+      h = step.hidden.value();
+      const nn::Matrix<float>& target = batch.deltas[t];
+      for (Eigen::Index r = 0; r < target.rows(); ++r)
+        error[r % n] += (step.delta.value().row(r) - target.row(r)).squaredNorm() / 2;
+      transitions += b;
+    }
+  }
+  for (double& e : error) e = transitions > 0 ? e / transitions : 0;
+  return error;
+}
+
+std::vector<double> GnnTrainer::EdgeCutScores() {
+  const int n = data_.num_entities();
+  std::vector<double> score(static_cast<size_t>(n) * n, 0.0);
+  // what there is to predict per entity: the held-out error of predicting no motion
+  std::vector<double> zero(n, 0.0);
+  for (int ep : data_.held_out_episodes())
+    for (int t = 0; t < data_.episode_steps(); ++t)
+      for (int e = 0; e < n; ++e)
+        for (int a = 0; a < 2; ++a) {
+          const double d = data_.position(ep, t + 1, e)[a] - data_.position(ep, t, e)[a];
+          zero[e] += d * d / 2;
+        }
+  const double largest = *std::max_element(zero.begin(), zero.end());
+  const std::vector<double> full = HeldOutEntityError(-1, -1);
+  for (int j = 0; j < n; ++j) {
+    // an entity that does not move has nothing for an edge to explain
+    if (zero[j] <= config_.static_variance_fraction * largest) continue;
+    const double transitions = static_cast<double>(data_.held_out_episodes().size()) *
+                               data_.episode_steps();
+    const double explained = zero[j] / transitions - full[j];
+    if (!(explained > 0)) continue;
+    for (int i = 0; i < n; ++i) {
+      if (i == j) continue;
+      const double lost = HeldOutEntityError(i, j)[j] - full[j];
+      score[static_cast<size_t>(i) * n + j] = std::clamp(lost / explained, 0.0, 1.0);
+    }
+  }
+  return score;
 }
 
 }  // namespace srics::graph_service

@@ -25,6 +25,10 @@ struct EdgeStatistics {
   // per entity: held-out mean squared error of its position change (per axis), and the same
   // for a predicted change of zero
   std::vector<double> held_out_entity_mse, held_out_entity_zero_mse;
+  // cut read-out (empty with the mean_weight read-out): cut_score[i * N + j] = held-out error
+  // of j with the edge i -> j cut minus without, over what the model explains of j (its
+  // no-motion error minus its error), clamped to [0, 1]; 0 into entities that do not move
+  std::vector<double> cut_score;
 };
 
 // Options of the model from the service config and a data set's shape.
@@ -45,8 +49,16 @@ class GnnTrainer {
   double Update();
 
   // Runs the model over whole episodes (all of them, in chunks) and returns the mean edge
-  // weights and held-out error. Does not change the parameters.
+  // weights and held-out error, and with the cut read-out the cut scores. Does not change the
+  // parameters.
   EdgeStatistics Evaluate();
+
+  // Cut scores of every edge (see EdgeStatistics::cut_score): N (N - 1) + 1 passes over the
+  // held-out episodes with the same gate noise.
+  std::vector<double> EdgeCutScores();
+  // Held-out squared error per entity and transition (per axis), with the edge
+  // cut_sender -> cut_receiver cut (-1: nothing cut).
+  std::vector<double> HeldOutEntityError(int cut_sender, int cut_receiver);
 
   int64_t updates() const { return updates_; }
   double last_mse() const { return last_mse_; }  // per transition, last batch

@@ -24,7 +24,11 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadInt("warmup_updates", &out->warmup_updates, 0, 1 << 30);
   s.ReadInt("kl_ramp_updates", &out->kl_ramp_updates, 0, 1 << 30);
   s.ReadDouble("gumbel_temperature", &out->gumbel_temperature, 1e-3, 100);
+  s.ReadEnum("readout", &out->readout,
+             {{"cut", GraphReadout::kCut}, {"mean_weight", GraphReadout::kMeanWeight}});
   s.ReadDouble("threshold", &out->threshold, 0, 1);
+  s.ReadDouble("cut_threshold", &out->cut_threshold, 0, 1);
+  s.ReadDouble("static_variance_fraction", &out->static_variance_fraction, 0, 1);
   s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
   s.ReadBool("restart_adam_after_warmup", &out->restart_adam_after_warmup);
   s.ReadDouble("adam_beta2_after_warmup", &out->adam_beta2_after_warmup, 0, 1 - 1e-9);

@@ -6,6 +6,17 @@
 
 namespace srics::config {
 
+// How the thresholded graph is read out of the trained model.
+enum class GraphReadout {
+  // an edge i -> j is kept when cutting it (message forced to 0 at every step) makes the
+  // held-out prediction of j worse by more than cut_threshold of what the model explains of
+  // j's motion; nothing enters an entity that does not move (see graph_service/README.md)
+  kCut,
+  // the paper's: the posterior edge probability averaged over every step of the data set,
+  // kept above `threshold`
+  kMeanWeight,
+};
+
 struct GraphConfig {
   // true: no graph is learned; the graph the environment config implies by construction is
   // published (rl::GroundTruthGraph). For checks of the RL part alone; a config that sets it
@@ -56,7 +67,15 @@ struct GraphConfig {
   int warmup_updates = 1500;       // (not in the reference)
   int kl_ramp_updates = 500;
   double gumbel_temperature = 0.5;
-  double threshold = 0.06;         // keep edges with mean weight above this
+  GraphReadout readout = GraphReadout::kCut;  // paper: kMeanWeight
+  double threshold = 0.06;         // mean_weight read-out: keep edges with mean weight above this
+  // cut read-out: keep i -> j when cutting it loses more than this fraction of the held-out
+  // variance of j's motion the model explains
+  double cut_threshold = 0.1;
+  // an entity whose position change has a variance below this fraction of the largest
+  // entity's counts as not moving: its loss weight is not amplified by 1 / variance, and the
+  // cut read-out gives it no incoming edge
+  double static_variance_fraction = 0.01;
   // loss += gate_logit_decay * sum over edges of max(0, logit_0 - logit_1)^2 / (N * B) (not
   // in the reference). With Adam (scale free) the margins of useful edges otherwise grow
   // without bound (20-50 after 4000 updates), dragging along edges that share their features

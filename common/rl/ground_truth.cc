@@ -11,9 +11,10 @@ InteractionGraph GroundTruthGraph(const config::EnvConfig& env) {
   graph.action_entity = 0;
   for (int i = 1; i < n; ++i)
     if (!objects[i - 1].is_static) graph.adjacency[i] = 1;  // arm -> object i
+  // a tie acts both ways, but nothing acts on a static object (it is put back every step)
   for (const auto& c : env.connections) {
-    if (!objects[c.first - 1].is_static) graph.adjacency[c.first * n + c.second] = 1;
-    if (!objects[c.second - 1].is_static) graph.adjacency[c.second * n + c.first] = 1;
+    if (!objects[c.second - 1].is_static) graph.adjacency[c.first * n + c.second] = 1;
+    if (!objects[c.first - 1].is_static) graph.adjacency[c.second * n + c.first] = 1;
   }
   return graph;
 }

@@ -2,8 +2,10 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include <spdlog/spdlog.h>
 
@@ -13,6 +15,8 @@
 #include <stdexcept>
 
 #include "actor/actor_loop.h"
+#include "actor/env/random_table.h"
+#include "common/rl/ground_truth.h"
 #include "common/config/command_line.h"
 #include "common/process/role_startup.h"
 #include "common/rl/agent_shape.h"
@@ -229,12 +233,35 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
 }
 
 const char* const kLearnGraphUsage =
-    "usage: srics learn-graph --env FILE --out DIR [--seed N] [--set key.path=value ...]\n"
+    "usage: srics learn-graph (--env FILE | --random-table N) --out DIR [--seed N] [--set key.path=value ...]\n"
+    "       srics learn-graph (--env FILE | --random-table N) --expected\n"
     "  learns the interaction graph of an environment preset (or any run config) in process:\n"
-    "  actors explore at random, the graph service trains its GNN; DIR gets graph.json and its pictures\n";
+    "  actors explore at random, the graph service trains its GNN; DIR gets graph.json and its pictures.\n"
+    "  --random-table N   a random table (objects, shapes, masses, static objects, ropes and springs\n"
+    "                     drawn from seed N) instead of a file; written to DIR/env.yaml\n"
+    "  --expected         print the graph the table implies by construction and exit\n"
+    "  The last line compares the learned graph with the one by construction.\n";
+
+namespace {
+
+uint64_t ParseTableSeed(const std::string& text) {
+  size_t used = 0;
+  unsigned long long v = 0;
+  try {
+    v = std::stoull(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || text[0] == '-')
+    throw std::invalid_argument("--random-table: expected a non-negative integer seed, got '" + text + "'");
+  return v;
+}
+
+}  // namespace
 
 int LearnGraph(const std::vector<std::string>& args) {
-  std::string env_file, out_dir;
+  std::string env_file, out_dir, table_seed;
+  bool expected_only = false;
   std::vector<std::string> overrides;
   for (config::ArgumentReader r(args); r.Next();) {
     const std::string& arg = r.arg();
@@ -242,15 +269,36 @@ int LearnGraph(const std::vector<std::string>& args) {
       std::cout << kLearnGraphUsage;
       return 0;
     }
+    if (arg == "--expected") {
+      expected_only = true;
+      continue;
+    }
     const std::string& value = r.Value();
     if (arg == "--env") env_file = value;
+    else if (arg == "--random-table") table_seed = value;
     else if (arg == "--out") out_dir = value;
     else if (arg == "--seed") overrides.push_back("run.seed=" + value);
     else if (arg == "--set") overrides.push_back(value);
     else throw std::invalid_argument("unknown option " + arg);
   }
-  if (env_file.empty() || out_dir.empty()) throw std::invalid_argument("--env and --out are required");
+  if (env_file.empty() == table_seed.empty())
+    throw std::invalid_argument("give one of --env FILE and --random-table N");
+  if (out_dir.empty() && !expected_only) throw std::invalid_argument("--out is required");
+  if (!table_seed.empty()) {
+    // the table is written as a preset file, so the run and a later rerun read the same file
+    const uint64_t seed = ParseTableSeed(table_seed);
+    const config::EnvConfig table = env::RandomTable(seed);
+    const std::string dir = out_dir.empty() ? std::filesystem::temp_directory_path().string() : out_dir;
+    std::filesystem::create_directories(dir);
+    env_file = dir + "/env.yaml";
+    std::ofstream(env_file) << env::RandomTableYaml(table, seed, rl::DescribeGraph(rl::GroundTruthGraph(table)));
+  }
   const config::Config config = config::LoadConfig(env_file, overrides);
+  const std::string expected = rl::DescribeGraph(rl::GroundTruthGraph(config.env));
+  if (expected_only) {
+    std::printf("%s\n", expected.c_str());
+    return kExitDone;
+  }
   transport::Shutdown::InstallSignalHandlers();
   const auto& stop = transport::Shutdown::Process().flag();
   InProcessOptions options;
@@ -260,6 +308,14 @@ int LearnGraph(const std::vector<std::string>& args) {
                 p.elapsed_seconds, graph_service::PhaseName(p.phase), p.episodes, p.target_episodes, p.dropped,
                 static_cast<long long>(p.updates), p.held_out_loss, p.held_out_zero_loss, p.stable_evaluations,
                 p.graph.c_str());
+    // the read-out's score of every edge above 0.01, so a user sees how clear the decision was
+    const int n = static_cast<int>(std::sqrt(static_cast<double>(p.edge_scores.size())) + 0.5);
+    std::string scores;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (const double v = p.edge_scores[static_cast<size_t>(i) * n + j]; i != j && v > 0.01)
+          scores += " " + std::to_string(i) + "->" + std::to_string(j) + " " + std::to_string(v).substr(0, 5);
+    if (!scores.empty()) std::printf("           edge scores:%s\n", scores.c_str());
     std::fflush(stdout);
   };
   std::filesystem::create_directories(out_dir);
@@ -268,8 +324,10 @@ int LearnGraph(const std::vector<std::string>& args) {
   }
   const auto* service = run.graph_service();
   if (!service || !service->published()) return kExitInterrupted;
+  const std::string learned = rl::DescribeGraph(service->published()->graph);
   std::printf("published graph version %llu: %s\n", static_cast<unsigned long long>(service->published()->version),
-              rl::DescribeGraph(service->published()->graph).c_str());
+              learned.c_str());
+  std::printf("by construction: %s (%s)\n", expected.c_str(), learned == expected ? "same" : "differs");
   return kExitDone;
 }
 

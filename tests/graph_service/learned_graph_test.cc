@@ -31,7 +31,7 @@ std::vector<double> RelationalWeights() {
 TEST(AggregateGraphTest, ThresholdsHandMadeWeights) {
   const LearnedGraph g = AggregateGraph(5, RelationalWeights(), 0.06, 0);
   EXPECT_EQ(rl::DescribeGraph(g.graph), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
-  for (int i = 0; i < 5; ++i) EXPECT_EQ(g.mean_weights[i * 5 + i], 0.0);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(g.edge_scores[i * 5 + i], 0.0);
   // ancestor sets and depths of rl::ComputeSubgoalStructure
   EXPECT_EQ(g.structure.depth, (std::vector<int>{1, -1, 3, 3, 2}));
   EXPECT_FALSE(g.structure.has_subgoal(1));
@@ -66,6 +66,7 @@ LearnedGraph Example() {
   g.episodes = 1000;
   g.entity_kinds = {0, 1, 2, 3, 4};
   g.action_correlation = {0.99, 0.0, 0.1, 0.1, 0.12};
+  g.readout = "cut";
   return g;
 }
 
@@ -78,6 +79,8 @@ TEST(GraphFileTest, RoundTripKeepsEverything) {
   EXPECT_EQ(back.version, 7u);
   EXPECT_TRUE(SameStructure(back.graph, g.graph));
   EXPECT_EQ(back.mean_weights, g.mean_weights);  // bit-exact doubles
+  EXPECT_EQ(back.edge_scores, g.edge_scores);
+  EXPECT_EQ(back.readout, g.readout);
   EXPECT_EQ(back.structure.depth, g.structure.depth);
   EXPECT_EQ(back.structure.ancestor_mask, g.structure.ancestor_mask);
   EXPECT_EQ(back.held_out_loss, g.held_out_loss);
@@ -129,8 +132,10 @@ TEST(GraphFileTest, RejectsCorruptedFiles) {
   flipped[good.find("0.31")] = '9';
   ExpectRejected(flipped, "checksum mismatch");
   // well-formed and re-signed, but inconsistent
-  ExpectRejected(Resign(Replace(good, "\"format_version\": 1", "\"format_version\": 2")),
+  ExpectRejected(Resign(Replace(good, "\"format_version\": 2", "\"format_version\": 3")),
                  "unsupported format version");
+  ExpectRejected(Resign(Replace(good, "\"readout\": \"cut\"", "\"readout\": \"guess\"")),
+                 "unknown readout");
   ExpectRejected(Resign(Replace(good, "\"num_entities\": 5", "\"num_entities\": 4")),
                  "differs from num_entities");
   ExpectRejected(Resign(Replace(good, "[0, 0, 1, 1, 1]", "[0, 1, 1, 1, 1]")),
@@ -144,6 +149,35 @@ TEST(GraphFileTest, RejectsCorruptedFiles) {
                  "format");
   ExpectRejected("", "checksum");
   EXPECT_THROW(LoadGraph("/nonexistent/graph.json"), std::runtime_error);
+}
+
+// The cut read-out keeps edges by their scores; the mean weights ride along unthresholded.
+TEST(GraphFileTest, ScoresNotMeanWeightsDecideTheEdges) {
+  LearnedGraph g = Example();
+  std::vector<double> mean(25, 0.5);
+  for (int i = 0; i < 5; ++i) mean[i * 5 + i] = 0;
+  g.mean_weights = mean;
+  const LearnedGraph back = GraphFromJson(GraphToJson(g));
+  EXPECT_EQ(rl::DescribeGraph(back.graph), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
+  EXPECT_EQ(back.mean_weights, mean);
+  EXPECT_EQ(back.readout, "cut");
+}
+
+// A file of format version 1 (mean weights only, before the cut read-out) still loads: its
+// mean weights are its edge scores.
+TEST(GraphFileTest, LoadsVersionOneFiles) {
+  LearnedGraph g = Example();
+  std::string text = GraphToJson(g);
+  text = Replace(text, "\"format_version\": 2", "\"format_version\": 1");
+  text = Replace(text, "  \"readout\": \"cut\",\n", "");
+  const size_t from = text.find("  \"edge_scores\"");
+  const size_t to = text.find("  \"mean_weights\"");
+  ASSERT_LT(from, to);
+  text.erase(from, to - from);
+  const LearnedGraph back = GraphFromJson(Resign(text));
+  EXPECT_EQ(back.readout, "mean_weight");
+  EXPECT_EQ(back.edge_scores, g.edge_scores);
+  EXPECT_TRUE(SameStructure(back.graph, g.graph));
 }
 
 TEST(GraphFileTest, PicturesNameEdgesAndWeights) {

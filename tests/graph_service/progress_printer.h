@@ -17,9 +17,9 @@ inline void PrintTrainingProgress(const Progress& p) {
   std::printf("%7.1fs upd %6lld train %.3g held %.3g (zero %.3g)  %s\n   ", p.elapsed_seconds,
               static_cast<long long>(p.updates), p.train_loss, p.held_out_loss,
               p.held_out_zero_loss, p.graph.c_str());
-  const int n = static_cast<int>(std::sqrt(p.mean_weights.size()) + 0.5);
+  const int n = static_cast<int>(std::sqrt(p.edge_scores.size()) + 0.5);
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) std::printf(" %.3f", p.mean_weights[i * n + j]);
+    for (int j = 0; j < n; ++j) std::printf(" %.3f", p.edge_scores[i * n + j]);
     std::printf(" |");
   }
   std::printf("\n    entity mse/zero:");

@@ -1,58 +1,95 @@
 #!/usr/bin/env bash
-# Acceptance of the graph service (issue 6): learns the interaction graph of rearrange-3 and
-# relational-4 from 1000 random-action episodes for seeds 1..3 with the default GraphConfig,
-# one run at a time on one thread, and prints per run: graph, wall and CPU time, held-out
-# loss, updates, and the mean weights of the kept edges (full matrices in OUT/<env>-<seed>/).
-#   ./tests/bench.sh gnn-acceptance [SEEDS...]              (build dir: SRICS_BUILD_DIR or build)
-#   tests/bench/gnn-acceptance/run.sh BUILD_DIR [SEEDS...]    (output: $OUT or /tmp/gnn-acceptance,
-#                                                             environments: $ENVS)
-# The last line is one JSON object: {"bench":"gnn-acceptance","passed":..,"runs":..,"max_cpu_s":..}.
+# Acceptance of the graph service: learns the interaction graph of every environment preset
+# (deploy/configs/env/*.yaml) and of random tables 1..10 (srics learn-graph --random-table N),
+# seeds 1..3 each, with the default GraphConfig, one thread per run, and compares each graph
+# with the one the table implies by construction (exact match of every edge).
+#   ./tests/bench.sh gnn-acceptance [--jobs N] [--tables "a b ..."] [--seeds "1 2 3"]
+#   tests/bench/gnn-acceptance/run.sh BUILD_DIR [same options]
+# Table names: a preset's file name without .yaml, or table-N for random table N.
+# Output in $OUT (default runs/gnn-acceptance, kept across calls): OUT/<table>-s<seed>/ holds
+# the run's log, graph.json and pictures and result.txt. Resumable: a run with a result.txt
+# is not repeated (delete the folder to redo it), so a stopped acceptance continues where it
+# was. Runs are niced; --jobs 2 runs two at a time (one per core: do not benchmark meanwhile).
+# Prints a markdown table of every run so far (graph_service/README.md keeps one) and, as its
+# last line, one JSON object {"bench":"gnn-acceptance","exact":..,"runs":..,"max_cpu_s":..}.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../../.." && pwd)"
 build="${1:-$root/build}"
 shift || true
-out="${OUT:-/tmp/gnn-acceptance}"
-if [[ $# -gt 0 ]]; then seeds=("$@"); else seeds=(1 2 3); fi
-cmake --build "$build" --target srics -j1 >/dev/null
-declare -A expected=(
-  [rearrange-3]="action->0, 0->1, 0->2, 0->3"
-  [relational-4]="action->0, 0->2, 0->3, 0->4, 2->3|action->0, 0->2, 0->3, 0->4, 3->2|action->0, 0->2, 0->3, 0->4, 2->3, 3->2"
-)
-mkdir -p "$out"
-printf '%-13s %-5s %-7s %-7s %-7s %-10s %s\n' env seed ok wall_s cpu_s updates "graph (mean weights of kept edges)"
-for env in ${ENVS:-rearrange-3 relational-4}; do
-  for seed in "${seeds[@]}"; do
-    dir="$out/$env-$seed"
-    rm -rf "$dir"
-    mkdir -p "$dir"
-    start=$(date +%s.%N)
-    OMP_NUM_THREADS=1 /usr/bin/time -f '%U %S' -o "$dir/time.txt" \
-      "$build/deploy/launcher/srics" learn-graph --env "$root/deploy/configs/env/$env.yaml" \
-      --seed "$seed" --out "$dir" >"$dir/log.txt" 2>&1 || true
-    wall=$(echo "$(date +%s.%N) - $start" | bc)
-    cpu=$(awk '{print $1 + $2}' "$dir/time.txt")
-    python3 - "$dir/graph.json" "$env" "$seed" "$wall" "$cpu" "${expected[$env]}" <<'PY'
-import json, sys
-path, env, seed, wall, cpu, expected = sys.argv[1:]
-try:
-    g = json.load(open(path))
-except Exception as e:
-    open(path + ".ok", "w").write(f"NO {cpu}\n")
-    print(f"{env:<13} {seed:<5} {'NO':<7} {float(wall):<7.0f} {float(cpu):<7.0f} -          no graph ({e})")
-    sys.exit(0)
-n, w, adj = g["num_entities"], g["mean_weights"], g["adjacency"]
-kept = ", ".join(f"{i}->{j} {w[i][j]:.3f}" for i in range(n) for j in range(n) if adj[i][j])
-rest = max((w[i][j] for i in range(n) for j in range(n) if i != j and not adj[i][j]), default=0)
-ok = "yes" if g["edges"] in expected.split("|") else "NO"
-open(path + ".ok", "w").write(f"{ok} {cpu}\n")
-print(f"{env:<13} {seed:<5} {ok:<7} {float(wall):<7.0f} {float(cpu):<7.0f} {g['updates']:<10} "
-      f"{g['edges']}  [{kept}; largest other {rest:.3f}; held-out {g['held_out_loss']:.3g}]")
-PY
-  done
+out="${OUT:-$root/runs/gnn-acceptance}"
+jobs=1
+tables=""
+seeds="1 2 3"
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --jobs) jobs="$2"; shift 2 ;;
+    --tables) tables="$2"; shift 2 ;;
+    --seeds) seeds="$2"; shift 2 ;;
+    *) echo "unknown option $1" >&2; exit 2 ;;
+  esac
 done
+if [[ -z "$tables" ]]; then
+  for f in "$root"/deploy/configs/env/*.yaml; do tables+="$(basename "$f" .yaml) "; done
+  for n in $(seq 1 10); do tables+="table-$n "; done
+fi
+srics="$build/deploy/launcher/srics"
+cmake --build "$build" --target srics -j1 >/dev/null
+mkdir -p "$out"
+
+# one run: learns, times, compares; writes result.txt last (its presence = done)
+run_one() {
+  local table=$1 seed=$2 dir="$out/$1-s$2"
+  [[ -f "$dir/result.txt" ]] && return 0
+  rm -rf "$dir"
+  mkdir -p "$dir"
+  local source=(--env "$root/deploy/configs/env/$table.yaml")
+  [[ $table == table-* ]] && source=(--random-table "${table#table-}")
+  local expected
+  expected=$("$srics" learn-graph "${source[@]}" --out "$dir" --expected)
+  local start=$SECONDS
+  OMP_NUM_THREADS=1 nice /usr/bin/time -f '%U %S' -o "$dir/time.txt" \
+    "$srics" learn-graph "${source[@]}" --seed "$seed" --out "$dir" >"$dir/log.txt" 2>&1 || true
+  local wall=$((SECONDS - start))
+  python3 - "$dir" "$table" "$seed" "$wall" "$expected" <<'PY'
+import json, sys
+d, table, seed, wall, expected = sys.argv[1:]
+cpu = sum(float(x) for x in open(d + "/time.txt").read().split()[-2:])
+try:
+    g = json.load(open(d + "/graph.json"))
+    learned, exact = g["edges"], g["edges"] == expected
+    n, s, adj = g["num_entities"], g["edge_scores"], g["adjacency"]
+    kept = min((s[i][j] for i in range(n) for j in range(n) if adj[i][j]), default=1)
+    other = max((s[i][j] for i in range(n) for j in range(n) if i != j and not adj[i][j]), default=0)
+    detail = f"weakest kept {kept:.2f}, strongest cut {other:.2f}, {g['updates']} updates"
+except Exception as e:
+    learned, exact, detail = "no graph", False, str(e)
+with open(d + "/result.txt", "w") as f:
+    f.write(json.dumps({"table": table, "seed": int(seed), "exact": exact, "learned": learned,
+                        "expected": expected, "cpu_s": round(cpu), "wall_s": int(wall),
+                        "detail": detail}) + "\n")
+PY
+  echo "$table seed $seed: $(cat "$dir/result.txt")" >&2
+}
+export -f run_one
+export out root srics
+for t in $tables; do for s in $seeds; do echo "$t $s"; done; done |
+  xargs -P "$jobs" -L 1 bash -c 'run_one "$0" "$1"'
+
 python3 - "$out" <<'PY'
 import glob, json, sys
-rows = [open(p).read().split() for p in glob.glob(sys.argv[1] + "/*/graph.json.ok")]
-print(json.dumps({"bench": "gnn-acceptance", "passed": sum(r[0] == "yes" for r in rows),
-                  "runs": len(rows), "max_cpu_s": max((float(r[1]) for r in rows), default=0)}))
+rows = sorted((json.loads(open(p).read()) for p in glob.glob(sys.argv[1] + "/*/result.txt")),
+              key=lambda r: (r["table"].startswith("table-"), r["table"].split("-")[0],
+                             int(r["table"][6:]) if r["table"].startswith("table-") else 0,
+                             r["table"], r["seed"]))
+print("| table | seed | exact | learned graph | expected (by construction) | CPU s | scores |")
+print("|---|---|---|---|---|---|---|")
+for r in rows:
+    same = r["learned"] == r["expected"]
+    print(f"| {r['table']} | {r['seed']} | {'yes' if r['exact'] else '**no**'} | {r['learned']} | "
+          f"{'(same)' if same else r['expected']} | {r['cpu_s']} | {r['detail']} |")
+exact = sum(r["exact"] for r in rows)
+print(f"\n{exact} of {len(rows)} runs exact ({100.0 * exact / max(len(rows), 1):.0f}%), "
+      f"largest CPU time {max((r['cpu_s'] for r in rows), default=0)} s")
+print(json.dumps({"bench": "gnn-acceptance", "exact": exact, "runs": len(rows),
+                  "max_cpu_s": max((r["cpu_s"] for r in rows), default=0)}))
 PY
