@@ -56,6 +56,9 @@ rl::Episode ExploreEpisode(uint64_t seed) {
   e.subgoal_entity = -1;
   e.goal.clear();
   e.ancestor_mask = 0;
+  e.subgoal_starts.clear();  // HAC's subgoal record belongs to training episodes
+  e.subgoals.clear();
+  e.subgoal_tests.clear();
   return e;
 }
 
