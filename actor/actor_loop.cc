@@ -27,7 +27,7 @@ ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, ui
   o.uses_graph = rl::UsesGraph(config.run.method);
   o.train = TrainOptionsFor(config);
   o.eval = EvalOptionsFor(config);
-  o.explore_episode_steps = config.actors.explore_episode_steps;
+  o.explore = ExploreOptionsFor(config);
   o.explore_share = static_cast<uint64_t>(std::ceil(1.2 * config.graph.episodes / std::max(1, config.actors.count)));
   o.evaluator = static_cast<int>(actor_id) < config.actors.evaluators;
   o.eval_episodes = config.actors.eval_episodes;
@@ -183,7 +183,7 @@ void ActorLoop::RunEpisode(bool training) {
                      : RunTrainEpisode(*s.env, *s.policy, s.structure, options_.train, seed, s.rng);
   } else {
     Status(rl::NodePhase::kExploring, s.have_graph ? "waiting for weights" : "waiting for the graph", false);
-    episode = RunExploreEpisode(*s.env, options_.explore_episode_steps, seed, s.rng);
+    episode = RunExploreEpisode(*s.env, options_.explore, seed, s.rng);
   }
   const uint64_t id = next_episode_id_++;
   s.last_episode_end = Clock::now();

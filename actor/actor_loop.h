@@ -36,7 +36,7 @@ struct ActorOptions {
   bool uses_graph = true;            // false: every entity is a subgoal, no graph is awaited
   TrainOptions train;
   EvalOptions eval;
-  int explore_episode_steps = 50;
+  ExploreOptions explore;   // how explore episodes act
   // explore episodes this actor contributes before it waits for the graph (its share of the
   // graph service's data set, with a margin)
   uint64_t explore_share = 0;

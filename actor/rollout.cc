@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -164,19 +165,61 @@ rl::EntityLayout LayoutOf(const env::Environment& env) {
   return {l.num_entities, l.num_kinds, l.velocities};
 }
 
+ExploreOptions ExploreOptionsFor(const config::Config& config) {
+  ExploreOptions o;
+  o.steps = config.actors.explore_episode_steps;
+  o.push_fraction = config.actors.explore_push_fraction;
+  o.push_segment_steps = config.actors.explore_push_segment_steps;
+  o.push_noise = config.actors.explore_push_noise;
+  // one geometry for every object: the largest keeps the hand clear of all of them
+  const auto objects = config::EffectiveObjects(config.env);
+  int largest = 1;
+  for (size_t i = 0; i < objects.size(); ++i)
+    if (config::BoundingRadius(objects[i]) > config::BoundingRadius(objects[largest - 1]))
+      largest = static_cast<int>(i) + 1;
+  o.push = env::MakePushGeometry(config.env, largest);
+  o.target_low = {config.env.sampling.subgoal_low[0], config.env.sampling.subgoal_low[1]};
+  o.target_high = {config.env.sampling.subgoal_high[0], config.env.sampling.subgoal_high[1]};
+  return o;
+}
+
 std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, int steps, uint64_t seed,
                                              nn::Rng& rng) {
+  ExploreOptions options;
+  options.steps = steps;
+  return RunExploreEpisode(env, options, seed, rng);
+}
+
+std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const ExploreOptions& options,
+                                             uint64_t seed, nn::Rng& rng) {
   env.Reset(seed);
   Observer observer(env);
   rl::Episode episode = StartEpisode(env, observer.layout());
   episode.mode = rl::EpisodeMode::kExplore;
-  episode.num_steps = steps;
+  episode.num_steps = options.steps;
   std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+  std::normal_distribution<double> noise(0.0, options.push_noise);
+  // drawn only when pushes are on, so that random-only runs keep their random streams
+  const bool push = options.push_fraction > 0 && std::uniform_real_distribution<double>(0, 1)(rng) < options.push_fraction;
+  const int objects = env.layout().num_entities - 1;
   std::vector<float> action(env.action_dim());
   observer.Observe(env);
   observer.Append(&episode.states);
-  for (int t = 0; t < steps; ++t) {
-    for (float& a : action) a = uniform(rng);
+  int object = 1;
+  env::Vec2 target{};
+  for (int t = 0; t < options.steps; ++t) {
+    if (push && objects > 0 && action.size() == 2) {
+      if (t % options.push_segment_steps == 0) {
+        object = 1 + static_cast<int>(std::uniform_int_distribution<int>(0, objects - 1)(rng));
+        for (int a = 0; a < 2; ++a)
+          target[a] = std::uniform_real_distribution<double>(options.target_low[a], options.target_high[a])(rng);
+      }
+      const std::vector<env::Vec2> at = env.Positions();
+      const env::Vec2 act = env::PushAction(at[0], at[object], target, options.push);
+      for (int a = 0; a < 2; ++a) action[a] = static_cast<float>(std::clamp(act[a] + noise(rng), -1.0, 1.0));
+    } else {
+      for (float& a : action) a = uniform(rng);
+    }
     if (!StepWith(env, action.data(), env.action_dim(), &episode.actions)) return std::nullopt;
     observer.Observe(env);
     observer.Append(&episode.states);

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "actor/env/environment.h"
+#include "actor/env/scripted_policy.h"
 #include "common/config/config.h"
 #include "common/config/env_config.h"
 #include "common/nn/tensor.h"
@@ -22,8 +23,23 @@ namespace srics::actor {
 // The rl view of the environment's current layout.
 rl::EntityLayout LayoutOf(const env::Environment& env);
 
-// Uniformly random actions for `steps` steps after Reset(seed). Empty if the physics became
-// unstable (such an episode is never passed on).
+// How explore episodes act (actors.explore_* of the config).
+struct ExploreOptions {
+  int steps = 50;
+  double push_fraction = 0;      // share of episodes driven by the pushing controller
+  int push_segment_steps = 10;   // steps per (object, target) pair
+  double push_noise = 0.3;       // std of the Gaussian noise on each action component
+  env::PushGeometry push;        // hand and object geometry (the largest object of the table)
+  env::Vec2 target_low{}, target_high{};  // targets are drawn in this box (the subgoal box)
+};
+ExploreOptions ExploreOptionsFor(const config::Config& config);
+
+// Reset(seed), then `steps` steps of uniformly random actions or, for a push_fraction share
+// of the episodes, of noisy pushes of random objects toward random targets. Empty if the
+// physics became unstable (such an episode is never passed on).
+std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const ExploreOptions& options,
+                                             uint64_t seed, nn::Rng& rng);
+// Uniformly random actions only.
 std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, int steps, uint64_t seed,
                                              nn::Rng& rng);
 

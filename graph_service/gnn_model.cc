@@ -92,8 +92,9 @@ int GnnModel<T>::edge_sender_entity(int e) const {
 template <typename T>
 typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h, nn::Var<T> x,
                                                 int batch, const Mat& gumbel,
-                                                const Mat* edge_mask) {
+                                                const std::vector<int>* sender_rows) {
   BuildEdges(batch);
+  const std::vector<int>& senders = sender_rows ? *sender_rows : senders_;
   const int m = options_.mlp_hidden;
   nn::Var<T> raw = x;
   if (input_mean_.size() > 0)
@@ -102,11 +103,11 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
   nn::Var<T> node = options_.edge_node_inputs ? tape.Concat({h, x}, 1) : h;
   nn::Var<T> send = edge_send_.Forward(tape, node);
   nn::Var<T> recv = edge_recv_.Forward(tape, node);
-  nn::Var<T> first = tape.Add(tape.Gather(send, senders_), tape.Gather(recv, receivers_));
+  nn::Var<T> first = tape.Add(tape.Gather(send, senders), tape.Gather(recv, receivers_));
   if (edge_rel_) {
     // (xy_i - xy_j) / scale per edge, through its own slice of the first layer
     nn::Var<T> xy = tape.Slice(raw, 1, 0, 2);
-    nn::Var<T> rel = tape.MulScalar(tape.Sub(tape.Gather(xy, senders_), tape.Gather(xy, receivers_)),
+    nn::Var<T> rel = tape.MulScalar(tape.Sub(tape.Gather(xy, senders), tape.Gather(xy, receivers_)),
                                     T(1.0 / options_.edge_relative_scale));
     first = tape.Add(first, edge_rel_->Forward(tape, rel));
   }
@@ -117,7 +118,6 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
   nn::Var<T> sample = tape.GumbelSoftmax(logits, gumbel, T(options_.temperature), options_.hard);
   nn::Var<T> weight = tape.Slice(sample, 1, 0, 1);
   nn::Var<T> message = open_edges_ ? effect : tape.Mul(effect, weight);
-  if (edge_mask) message = tape.Mul(message, tape.Constant(*edge_mask));
   const Eigen::Index rows = static_cast<Eigen::Index>(batch) * options_.num_entities;
   nn::Var<T> interaction = tape.ScatterAdd(message, receivers_, rows);
   nn::Var<T> own = act_.Forward(tape, x);

@@ -59,10 +59,12 @@ class GnnModel {
     nn::Var<T> edge_weight;   // E x 1, the (sampled) weight used
   };
   // h: (B*N) x H, x: (B*N) x F; gumbel: E x 2 standard Gumbel noise (all zero: the
-  // deterministic argmax / softmax of the logits). edge_mask (E x 1, optional) multiplies
-  // every message: 0 cuts an edge whatever its gate says (the cut read-out of the graph).
+  // deterministic argmax / softmax of the logits). sender_rows (size E, optional) replaces
+  // the row each edge takes its sender's features from (default: senders(batch)): the cut
+  // read-out points an edge at the same entity of another sample, which keeps the message's
+  // distribution but removes what it says about this sample's sender.
   Step Forward(nn::Tape<T>& tape, nn::Var<T> h, nn::Var<T> x, int batch, const Mat& gumbel,
-               const Mat* edge_mask = nullptr);
+               const std::vector<int>* sender_rows = nullptr);
 
   // Loss of a window batch with teacher forcing (inputs are the true states), summed over
   // the window's transitions as in the reference: sum_t [MSE_t + kl_weight * KL_t], where

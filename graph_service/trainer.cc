@@ -202,7 +202,7 @@ std::vector<double> GnnTrainer::HeldOutEntityError(int cut_sender, int cut_recei
   nn::Rng noise_rng(0xC07);
   nn::Tape<float> tape;
   WindowBatch<float> batch;
-  nn::Matrix<float> mask;
+  std::vector<int> senders;
   for (size_t first = 0; first < episodes.size();
        first += static_cast<size_t>(config_.eval_chunk_episodes)) {
     const size_t last = std::min(episodes.size(), first + config_.eval_chunk_episodes);
@@ -210,20 +210,24 @@ std::vector<double> GnnTrainer::HeldOutEntityError(int cut_sender, int cut_recei
     data_.EpisodeBatch(chunk, &batch);
     const int b = batch.batch;
     const Eigen::Index rows = static_cast<Eigen::Index>(b) * n;
-    const bool cut = cut_sender >= 0;
+    const bool cut = cut_sender >= 0 && b > 1;
     if (cut) {
-      // edges of receiver row r are r * (N - 1) + k, senders in increasing order without r
-      mask = nn::Matrix<float>::Ones(rows * (n - 1), 1);
+      // the edge of sample s takes its sender from sample s + b/2 (a derangement): the
+      // message keeps its usual values but no longer depends on this sample's sender. (Forcing
+      // the message to zero instead also removes its constant part, which every edge of a
+      // dense model carries and the receiver relies on.) Edges of receiver row r are
+      // r * (N - 1) + k, senders in increasing order without r.
+      senders = model_.senders(b);
       const int k = cut_sender < cut_receiver ? cut_sender : cut_sender - 1;
       for (int s = 0; s < b; ++s)
-        mask((static_cast<Eigen::Index>(s) * n + cut_receiver) * (n - 1) + k, 0) = 0;
+        senders[(static_cast<size_t>(s) * n + cut_receiver) * (n - 1) + k] = ((s + b / 2) % b) * n + cut_sender;
     }
     nn::Matrix<float> h = nn::Matrix<float>::Zero(rows, config_.hidden_dim);
     for (int t = 0; t < batch.steps(); ++t) {
       tape.Reset();
       const nn::Matrix<float> noise = nn::RandomGumbel<float>(rows * (n - 1), 2, noise_rng);
       auto step = model_.Forward(tape, tape.Constant(h), tape.Constant(batch.inputs[t]), b, noise,
-                                 cut ? &mask : nullptr);
+                                 cut ? &senders : nullptr);
       h = step.hidden.value();
       const nn::Matrix<float>& target = batch.deltas[t];
       for (Eigen::Index r = 0; r < target.rows(); ++r)

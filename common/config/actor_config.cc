@@ -5,6 +5,9 @@ namespace srics::config {
 void ParseActors(YamlSection s, ActorConfig* out) {
   s.ReadInt("count", &out->count, 0, 1024);
   s.ReadInt("explore_episode_steps", &out->explore_episode_steps, 1, 100000);
+  s.ReadDouble("explore_push_fraction", &out->explore_push_fraction, 0, 1);
+  s.ReadInt("explore_push_segment_steps", &out->explore_push_segment_steps, 1, 100000);
+  s.ReadDouble("explore_push_noise", &out->explore_push_noise, 0, 10);
   s.ReadInt("train_episode_steps", &out->train_episode_steps, 1, 100000);
   s.ReadInt("eval_attempt_steps", &out->eval_attempt_steps, 1, 100000);
   s.ReadInt("evaluators", &out->evaluators, 0, 1024);

@@ -8,6 +8,15 @@ namespace srics::config {
 struct ActorConfig {
   int count = 2;                       // actor processes started by the launcher
   int explore_episode_steps = 50;      // random-action episodes until graph + weights exist
+  // Exploration for the graph's data (not in the paper: uniformly random actions only). This
+  // share of explore episodes is driven by a pushing controller: every
+  // explore_push_segment_steps it picks a random object and a random target in the subgoal box
+  // and pushes the object toward it (env::PushAction) with Gaussian action noise. Random
+  // actions touch objects in ~10% of the steps and seldom drag a tied object far enough for
+  // its partner to follow; pushes do both often.
+  double explore_push_fraction = 0.0;
+  int explore_push_segment_steps = 10;
+  double explore_push_noise = 0.3;     // std of the noise added to each action component
   int train_episode_steps = 20;        // one subgoal per episode
   int eval_attempt_steps = 20;         // steps per subgoal attempt at evaluation
   int evaluators = 1;                  // actors 0..evaluators-1 also evaluate

@@ -8,7 +8,8 @@ namespace srics::config {
 
 // How the thresholded graph is read out of the trained model.
 enum class GraphReadout {
-  // an edge i -> j is kept when cutting it (message forced to 0 at every step) makes the
+  // an edge i -> j is kept when cutting it (its sender swapped for the same entity of another
+  // held-out episode at every step) makes the
   // held-out prediction of j worse by more than cut_threshold of what the model explains of
   // j's motion; nothing enters an entity that does not move (see graph_service/README.md)
   kCut,
