@@ -68,7 +68,9 @@ struct GraphConfig {
   int warmup_updates = 1500;       // (not in the reference)
   int kl_ramp_updates = 500;
   double gumbel_temperature = 0.5;
-  GraphReadout readout = GraphReadout::kCut;  // paper: kMeanWeight
+  // the paper's read-out stays the default until the acceptance shows the cut read-out finds
+  // at least as many graphs (relational-4 seed 1: the cut found the rope in one direction only)
+  GraphReadout readout = GraphReadout::kMeanWeight;
   double threshold = 0.06;         // mean_weight read-out: keep edges with mean weight above this
   // cut read-out: keep i -> j when cutting it loses more than this fraction of the held-out
   // variance of j's motion the model explains
