@@ -24,6 +24,14 @@
 
 namespace srics::launcher {
 
+DisplayMode ParseDisplayMode(const std::string& mode) {
+  if (mode == "auto") return DisplayMode::kAuto;
+  if (mode == "live") return DisplayMode::kLive;
+  if (mode == "plain") return DisplayMode::kPlain;
+  if (mode == "none") return DisplayMode::kNone;
+  throw std::invalid_argument("--display expects auto, live, plain or none, got '" + mode + "'");
+}
+
 namespace tr = srics::transport;
 namespace mon = srics::monitor;
 namespace fs = std::filesystem;
@@ -97,12 +105,7 @@ LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
     else if (arg == "--in-process") options.in_process = true;
     else if (arg == "--label") options.label = value();
     else if (arg == "--display") {
-      const std::string& mode = value();
-      if (mode == "auto") options.display = DisplayMode::kAuto;
-      else if (mode == "live") options.display = DisplayMode::kLive;
-      else if (mode == "plain") options.display = DisplayMode::kPlain;
-      else if (mode == "none") options.display = DisplayMode::kNone;
-      else throw std::invalid_argument("--display expects auto, live, plain or none, got '" + mode + "'");
+      options.display = ParseDisplayMode(value());
     } else if (!arg.empty() && arg[0] == '-') {
       throw std::invalid_argument("unknown option " + arg);
     } else if (options.config_file.empty()) {

@@ -29,6 +29,9 @@ enum class DisplayMode {
   kNone,   // nothing but the final summary
 };
 
+// The value of --display (srics run and srics sweep); throws std::invalid_argument otherwise.
+DisplayMode ParseDisplayMode(const std::string& mode);
+
 struct LaunchOptions {
   std::string config_file;
   std::vector<std::string> overrides;  // --set key.path=value

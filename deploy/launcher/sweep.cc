@@ -196,12 +196,7 @@ SweepOptions ParseSweepArgs(const std::vector<std::string>& args) {
       if (end == v.c_str() || *end != '\0' || !(options.stop_timeout_s >= 0))
         throw std::invalid_argument("--stop-timeout expects seconds >= 0, got '" + v + "'");
     } else if (arg == "--display") {
-      const std::string& mode = r.Value();
-      if (mode == "auto") options.display = DisplayMode::kAuto;
-      else if (mode == "live") options.display = DisplayMode::kLive;
-      else if (mode == "plain") options.display = DisplayMode::kPlain;
-      else if (mode == "none") options.display = DisplayMode::kNone;
-      else throw std::invalid_argument("--display expects auto, live, plain or none, got '" + mode + "'");
+      options.display = ParseDisplayMode(r.Value());
     } else if (!arg.empty() && arg[0] == '-') {
       throw std::invalid_argument("unknown option " + arg);
     } else if (options.config_file.empty()) {
