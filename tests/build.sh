@@ -10,6 +10,8 @@ t0=$SECONDS
 "$root/deploy/install-deps.sh"
 phase install $((SECONDS - t0))
 export CCACHE_DIR=${CCACHE_DIR:-$HOME/.cache/srics-ccache}
+# Paths relative to the checkout, so a fresh clone or a worktree hits the cache of another.
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$root} CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-1}
 t0=$SECONDS
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=${SRICS_BUILD_TYPE:-Release} ${SRICS_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build" -j "${SRICS_JOBS:-$(nproc)}" "$@"
