@@ -241,7 +241,10 @@ void GraphService::EvaluateGraph() {
   // held-out loss and the thresholded graph of the read-out's edge scores
   const EdgeStatistics stats = trainer_->Evaluate();
   const bool cut = config_.readout == config::GraphReadout::kCut;
-  LearnedGraph graph = AggregateGraph(data_->num_entities(), cut ? stats.cut_score : stats.mean_weight,
+  std::vector<double> scores = cut ? stats.cut_score : stats.mean_weight;
+  if (cut && config_.reciprocal_object_edges)
+    scores = ReciprocalObjectScores(scores, action_entity_, MovingEntities(stats.held_out_entity_zero_mse, config_.static_variance_fraction));
+  LearnedGraph graph = AggregateGraph(data_->num_entities(), scores,
                                       cut ? config_.cut_threshold : config_.threshold, action_entity_);
   graph.readout = cut ? "cut" : "mean_weight";
   graph.mean_weights = stats.mean_weight;
