@@ -14,7 +14,10 @@ namespace {
 
 constexpr int kExtraGeoms = 64;              // room in the scene for the goal markers
 constexpr double kMarkerHalfHeight = 0.001;  // flat markers lying on the table
-constexpr float kHandGoalRgb[3] = {0.1f, 0.1f, 0.1f};
+constexpr float kHandGoalRgb[3] = {0.95f, 0.55f, 0.05f};  // orange: unlike the grey hand
+// a floor under the table, so that nothing of the frame is the black of an empty scene
+constexpr float kFloorRgba[4] = {0.30f, 0.37f, 0.48f, 1.0f};
+constexpr double kFloorHalfSize = 4.0, kFloorDepth = 0.02;
 
 }  // namespace
 
@@ -84,6 +87,18 @@ EpisodeRenderer::EpisodeRenderer(RearrangeEnv& env, const GlContext& /*gl: curre
 
 EpisodeRenderer::~EpisodeRenderer() = default;
 
+void EpisodeRenderer::AddFloor() {
+  mjvScene& s = mj_->scene;
+  if (s.ngeom >= s.maxgeom) return;
+  const mjtNum identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const mjtNum size[3] = {kFloorHalfSize, kFloorHalfSize, 0.5 * kFloorDepth};
+  const mjtNum pos[3] = {options_.lookat[0], options_.lookat[1], -kFloorDepth};
+  mjvGeom* g = s.geoms + s.ngeom;
+  mjv_initGeom(g, mjGEOM_BOX, size, pos, identity, kFloorRgba);
+  g->category = mjCAT_DECOR;
+  ++s.ngeom;
+}
+
 void EpisodeRenderer::AddGoalMarkers(int active_entity) {
   mjvScene& s = mj_->scene;
   const auto& goals = env_.goals();
@@ -121,6 +136,7 @@ const Image& EpisodeRenderer::Render(int active_entity, const std::string& capti
   mjModel* m = const_cast<mjModel*>(env_.model());
   mjData* d = env_.data();
   mjv_updateScene(m, d, &mj_->option, nullptr, &mj_->camera, mjCAT_ALL, &mj_->scene);
+  AddFloor();
   if (options_.draw_goals) AddGoalMarkers(active_entity);
   const mjrRect viewport = {0, 0, options_.width, options_.height};
   mjr_render(viewport, &mj_->scene, &mj_->context);

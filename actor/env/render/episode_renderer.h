@@ -1,8 +1,8 @@
 #pragma once
-// Frames of a rearrange episode from MuJoCo's own renderer: the table, the hand and the
-// objects as the simulator has them, the episode's goals drawn as translucent markers added
+// Frames of a rearrange episode from MuJoCo's own renderer: the table (on a blue-grey floor
+// that is only in the picture), the hand and the objects as the simulator has them, the episode's goals drawn as translucent markers added
 // to the scene (a flat disc or square of the object's size and colour at its goal, a flat
-// dark square for the hand's goal; the subgoal being attempted more opaque), and a caption.
+// orange square of the hand's size for the hand's goal; the subgoal being attempted more opaque), and a caption.
 // The markers live only in the visual scene (mjvScene): the model and its physics are
 // untouched, so a rendered episode is the same episode as an unrendered one.
 //
@@ -25,7 +25,7 @@ struct RenderOptions {
   int width = 640;    // pixels; even (video encoders want even sizes)
   int height = 480;
   Vec2 lookat{0.0, 0.56};     // camera target on the table, metres
-  double distance = 0.8;      // camera distance to the target, metres
+  double distance = 0.72;     // camera distance to the target, metres
   double elevation = -58;     // degrees (negative: looking down)
   double azimuth = 90;        // degrees (90: looking along +y, the table's depth)
   double goal_alpha = 0.35;   // opacity of the goal markers
@@ -64,6 +64,7 @@ class EpisodeRenderer {
 
  private:
   struct Mujoco;
+  void AddFloor();
   void AddGoalMarkers(int active_entity);
 
   RearrangeEnv& env_;

@@ -80,21 +80,22 @@ inline int DifferingPixels(const Image& a, const Image& b, int tolerance = 24) {
   return count;
 }
 
-// The hand in a frame: the centroid (x, y pixels) of the near-black pixels (the hand is the
-// only dark grey body: table, objects and goal markers are light or coloured); empty when
-// fewer than `min_pixels` are found. `max_level`: the brightest channel value counted.
+// The hand in a frame: the centroid (x, y pixels) of the dark grey pixels (the hand is the only
+// grey body, its top 80-90 and its sides 36 under the default lights; table and caption text are
+// white, floor, caption box, objects and goal markers coloured); empty when fewer than
+// `min_pixels` are found. `max_level`: the brightest channel value counted.
 struct Blob {
   double x = 0, y = 0;
   int pixels = 0;
 };
-inline std::optional<Blob> FindHand(const Image& image, int max_level = 70, int min_pixels = 20) {
+inline std::optional<Blob> FindHand(const Image& image, int max_level = 100, int min_pixels = 20) {
   Blob blob;
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
       const uint8_t* p = image.rgb.data() + (static_cast<size_t>(y) * image.width + x) * 3;
       if (std::max({p[0], p[1], p[2]}) > max_level) continue;
       // grey, not a dark colour
-      if (std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) > 20) continue;
+      if (std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) > 12) continue;
       blob.x += x, blob.y += y, ++blob.pixels;
     }
   if (blob.pixels < min_pixels) return std::nullopt;
