@@ -1,6 +1,5 @@
 #include "deploy/launcher/eval.h"
 
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -150,7 +149,6 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& args) {
 }
 
 int Eval(const EvalArgs& args) {
-  std::signal(SIGPIPE, SIG_IGN);  // an ffmpeg that dies is an error of the video, not our end
   const RunFiles files = Locate(args);
   const config::Config config = config::LoadConfig(files.config, args.overrides);
   const int episodes = args.episodes > 0 ? args.episodes : config.actors.eval_episodes;

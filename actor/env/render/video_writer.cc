@@ -2,6 +2,8 @@
 
 #include <fcntl.h>
 #include <png.h>
+#include <pthread.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -22,6 +24,36 @@ namespace {
 
 struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+// Blocks SIGPIPE on this thread while frames go into the pipe, so that an ffmpeg that died is
+// an EPIPE error here and not the end of the program; a SIGPIPE the write raised is taken
+// back before the mask is restored.
+class SigpipeBlock {
+ public:
+  SigpipeBlock() {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGPIPE);
+    sigset_t pending;
+    sigpending(&pending);
+    was_pending_ = sigismember(&pending, SIGPIPE) == 1;
+    pthread_sigmask(SIG_BLOCK, &set_, &old_);
+  }
+  ~SigpipeBlock() {
+    if (broken_ && !was_pending_) {
+      const timespec zero{};
+      sigtimedwait(&set_, nullptr, &zero);
+    }
+    pthread_sigmask(SIG_SETMASK, &old_, nullptr);
+  }
+  SigpipeBlock(const SigpipeBlock&) = delete;
+  SigpipeBlock& operator=(const SigpipeBlock&) = delete;
+  void set_broken() { broken_ = true; }
+
+ private:
+  sigset_t set_, old_;
+  bool was_pending_ = false;
+  bool broken_ = false;
 };
 
 // posix_spawn's file actions, destroyed on every path.
@@ -178,11 +210,13 @@ void VideoWriter::Write(const uint8_t* rgb) {
     return;
   }
   const size_t size = static_cast<size_t>(width_) * height_ * 3;
+  SigpipeBlock block;
   for (size_t done = 0; done < size;) {
     const ssize_t n = write(pipe_, rgb + done, size - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       const int error = errno;
+      if (error == EPIPE) block.set_broken();
       close(pipe_);
       pipe_ = -1;
       WaitExit(pid_);

@@ -6,8 +6,8 @@
 //   for (...) video.Write(image.rgb.data());
 //   video.Close();   // waits for ffmpeg; throws with its message when it failed
 //
-// The process must ignore SIGPIPE (srics does), so that an ffmpeg that died is an error
-// here and not the end of the program.
+// An ffmpeg that died is a VideoError here, never a SIGPIPE: writes block SIGPIPE on the
+// calling thread.
 
 #include <cstdint>
 #include <optional>
