@@ -29,6 +29,7 @@ void CheckRenderOptions(const RenderOptions& o) {
   };
   size("width", o.width);
   size("height", o.height);
+  if (o.multisamples < 0 || o.multisamples > 16) throw std::invalid_argument("multisamples: expected 0 to 16");
   if (!(o.distance > 0)) throw std::invalid_argument("camera distance: expected > 0");
   for (const double a : {o.goal_alpha, o.active_goal_alpha})
     if (!(a >= 0 && a <= 1)) throw std::invalid_argument("goal alpha: expected a value in [0, 1]");
@@ -60,7 +61,11 @@ EpisodeRenderer::EpisodeRenderer(RearrangeEnv& env, const GlContext& /*gl: curre
   InstallMujocoHandlers();
   const mjModel* m = env_.model();
   mjv_makeScene(m, &mj_->scene, m->ngeom + m->ntendon + kExtraGeoms);
-  mjr_makeContext(m, &mj_->context, mjFONTSCALE_100);
+  // the rendering context from a copy of the model with the multisampling asked for (the
+  // environment's own model is left as it is)
+  ModelPtr visual(mj_copyModel(nullptr, m));
+  visual->vis.quality.offsamples = options_.multisamples;
+  mjr_makeContext(visual.get(), &mj_->context, mjFONTSCALE_100);
   mjr_setBuffer(mjFB_OFFSCREEN, &mj_->context);
   if (mj_->context.currentBuffer != mjFB_OFFSCREEN)
     throw RenderError("MuJoCo has no offscreen framebuffer in this OpenGL context");
@@ -136,6 +141,9 @@ const Image& EpisodeRenderer::Render(int active_entity, const std::string& capti
   mjModel* m = const_cast<mjModel*>(env_.model());
   mjData* d = env_.data();
   mjv_updateScene(m, d, &mj_->option, nullptr, &mj_->camera, mjCAT_ALL, &mj_->scene);
+  // the lights shine from straight above: their shadows hide under the objects, and a shadow
+  // map costs llvmpipe most of a frame
+  for (int i = 0; i < mj_->scene.nlight; ++i) mj_->scene.lights[i].castshadow = 0;
   AddFloor();
   if (options_.draw_goals) AddGoalMarkers(active_entity);
   const mjrRect viewport = {0, 0, options_.width, options_.height};
