@@ -37,7 +37,7 @@ const char* const kEvalUsage =
     "  --out DIR        default: <run folder>/eval\n"
     "  --format F       mp4 (ffmpeg), gif (ffmpeg) or png (frames; no ffmpeg needed);\n"
     "                   default mp4 when ffmpeg is installed (deploy/install-deps.sh video), else png\n"
-    "  --width/--height frame size in pixels (even, at most 640 x 480; default 640 x 480); --fps default 10\n";
+    "  --width/--height frame size in pixels (even, 16 to 4096; default 640 x 480); --fps default 10\n";
 
 namespace {
 

@@ -61,15 +61,17 @@ EpisodeRenderer::EpisodeRenderer(RearrangeEnv& env, const GlContext& /*gl: curre
   InstallMujocoHandlers();
   const mjModel* m = env_.model();
   mjv_makeScene(m, &mj_->scene, m->ngeom + m->ntendon + kExtraGeoms);
-  // the rendering context from a copy of the model with the multisampling asked for (the
-  // environment's own model is left as it is)
+  // the rendering context from a copy of the model with the multisampling and the offscreen
+  // buffer size asked for (the environment's own model is left as it is)
   ModelPtr visual(mj_copyModel(nullptr, m));
   visual->vis.quality.offsamples = options_.multisamples;
+  visual->vis.global.offwidth = std::max(visual->vis.global.offwidth, options_.width);
+  visual->vis.global.offheight = std::max(visual->vis.global.offheight, options_.height);
   mjr_makeContext(visual.get(), &mj_->context, mjFONTSCALE_100);
   mjr_setBuffer(mjFB_OFFSCREEN, &mj_->context);
   if (mj_->context.currentBuffer != mjFB_OFFSCREEN)
     throw RenderError("MuJoCo has no offscreen framebuffer in this OpenGL context");
-  // the model's offscreen buffer (640 x 480 by default) bounds the frame size
+  // the OpenGL implementation may cap the buffer's size
   if (options_.width > mj_->context.offWidth || options_.height > mj_->context.offHeight)
     throw RenderError("frames of " + std::to_string(options_.width) + "x" + std::to_string(options_.height) +
                       " exceed MuJoCo's offscreen buffer of " + std::to_string(mj_->context.offWidth) + "x" +

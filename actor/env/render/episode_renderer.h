@@ -48,9 +48,10 @@ struct Image {
 
 class EpisodeRenderer {
  public:
-  // Makes MuJoCo's rendering context for env's model in the current GL context (`gl` must
-  // be current on this thread and outlive the renderer). Throws std::invalid_argument for
-  // bad options, RenderError when MuJoCo cannot render (e.g. no offscreen buffer that big).
+  // Makes MuJoCo's rendering context for env's model (an offscreen buffer of the frame size)
+  // in the current GL context (`gl` must be current on this thread and outlive the renderer).
+  // Throws std::invalid_argument for bad options, RenderError when MuJoCo cannot render (e.g.
+  // the OpenGL implementation has no offscreen buffer that big).
   EpisodeRenderer(RearrangeEnv& env, const GlContext& gl, const RenderOptions& options);
   ~EpisodeRenderer();
   EpisodeRenderer(const EpisodeRenderer&) = delete;

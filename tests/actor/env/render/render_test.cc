@@ -86,14 +86,24 @@ TEST_F(RenderTest, HandMovingRightMovesItsPixelsRight) {
   EXPECT_LT(std::abs(after->y - before->y), 20);
 }
 
-TEST_F(RenderTest, RejectsSizesItCannotEncodeOrRender) {
+TEST_F(RenderTest, RendersAnyEvenSizeAndRejectsOthers) {
   RenderOptions odd;
   odd.width = 641;
   EXPECT_THROW(CheckRenderOptions(odd), std::invalid_argument);
+  RenderOptions tiny;
+  tiny.height = 8;
+  EXPECT_THROW(CheckRenderOptions(tiny), std::invalid_argument);
+  // beyond the model's own offscreen buffer (640 x 480): the renderer makes a larger one
   RearrangeEnv env(testing::Preset("rearrange-1"));
   RenderOptions large;
-  large.width = 1280;  // beyond the model's offscreen buffer
-  EXPECT_THROW(EpisodeRenderer(env, *gl_, large), RenderError);
+  large.width = 1280;
+  large.height = 720;
+  large.caption = false;
+  EpisodeRenderer renderer(env, *gl_, large);
+  const Image& frame = renderer.Render(-1, "");
+  EXPECT_EQ(frame.rgb.size(), 1280u * 720 * 3);
+  EXPECT_GT(PixelStdDev(frame), 20);
+  EXPECT_TRUE(FindHand(frame).has_value());
 }
 
 // Frames of one colour each, so a decoded frame tells which one it is.
