@@ -2,10 +2,10 @@
 
 #include <algorithm>
 
+#include "learner/acting_policy.h"
+
 namespace srics::learner {
 namespace {
-
-constexpr const char* kHighPrefix = "hac.high.";
 
 // Goal replay's choice of goals among `count` candidates: k - 1 uniformly random ones and
 // the last (fewer when there are fewer candidates), in increasing order.
@@ -183,14 +183,14 @@ std::string HacLevels::PolicySignature(SacAgent& low) { return rl::HacPolicySign
 void HacLevels::AppendCheckpointSections(const LearnerCounters& counters,
                                          std::vector<nn::CheckpointSection>* sections) {
   for (nn::CheckpointSection& s : high_.CheckpointSections(counters)) {
-    s.name = kHighPrefix + s.name;
+    s.name = kHacHighPrefix + s.name;
     sections->push_back(std::move(s));
   }
 }
 
 void HacLevels::LoadCheckpointSections(const std::vector<nn::CheckpointSection>& sections, const std::string& path) {
   std::vector<nn::CheckpointSection> high;
-  const std::string prefix = kHighPrefix;
+  const std::string prefix = kHacHighPrefix;
   for (const nn::CheckpointSection& s : sections)
     if (s.name.compare(0, prefix.size(), prefix) == 0) {
       high.push_back(s);

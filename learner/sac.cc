@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "common/nn/serialize.h"
+#include "learner/acting_policy.h"
 
 namespace srics::learner {
 namespace {
@@ -44,6 +45,10 @@ LearnerCounters UnpackCounters(const std::vector<float>& values, const std::stri
 }
 
 }  // namespace
+
+LearnerCounters CheckpointCounters(const std::vector<nn::CheckpointSection>& sections, const std::string& path) {
+  return UnpackCounters(nn::FindSection(sections, "counters", path).values, path);
+}
 
 SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed)
     : shape_(shape),
@@ -179,7 +184,7 @@ std::vector<nn::CheckpointSection> SacAgent::CheckpointSections(const LearnerCou
     return nn::CheckpointSection{name, nn::SignatureString(params), nn::Flatten(params), {}};
   };
   return {
-      section("policy", policy_.Parameters()),
+      section(kPolicySection, policy_.Parameters()),
       section("q1", q1_.Parameters()),
       section("q2", q2_.Parameters()),
       section("q1_target", q1_target_.Parameters()),
@@ -197,7 +202,7 @@ LearnerCounters SacAgent::LoadCheckpointSections(const std::vector<nn::Checkpoin
                                                  const std::string& path) {
   // check every part before changing anything, so a bad file leaves the agent as it was
   const std::pair<const char*, nn::ParameterList<float>> parts[] = {
-      {"policy", policy_.Parameters()},       {"q1", q1_.Parameters()},
+      {kPolicySection, policy_.Parameters()}, {"q1", q1_.Parameters()},
       {"q2", q2_.Parameters()},               {"q1_target", q1_target_.Parameters()},
       {"q2_target", q2_target_.Parameters()}, {"log_alpha", {&log_alpha_}}};
   for (const auto& [name, params] : parts) {
@@ -205,7 +210,7 @@ LearnerCounters SacAgent::LoadCheckpointSections(const std::vector<nn::Checkpoin
     if (s.signature != nn::SignatureString(params))
       throw nn::CheckpointError(path + ": section '" + name + "': architecture mismatch");
   }
-  const LearnerCounters counters = UnpackCounters(nn::FindSection(sections, "counters", path).values, path);
+  const LearnerCounters counters = CheckpointCounters(sections, path);
   nn::Rng rng = rng_;
   for (const auto& s : sections)
     if (s.name == "agent.rng") nn::SetRngState(&rng, s.bytes, path + ": section 'agent.rng'");
