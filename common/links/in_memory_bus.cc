@@ -20,7 +20,10 @@ class InMemoryBus::Actor : public ActorLink {
  public:
   Actor(InMemoryBus* bus, uint32_t id) : bus_(bus), id_(id) {}
 
-  std::optional<rl::WeightsUpdate> PollWeights() override { return Unseen(bus_->weights_, &weights_seen_); }
+  std::optional<rl::WeightsUpdate> PollWeights(uint64_t newer_than) override {
+    if (!bus_->weights_ || bus_->weights_->version <= newer_than) return std::nullopt;
+    return bus_->weights_;
+  }
   std::optional<rl::GraphUpdate> PollGraph() override { return Unseen(bus_->graph_, &graph_seen_); }
   // No waiting: in one thread nothing can arrive while we wait.
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds) override { return bus_->progress_; }
@@ -40,7 +43,7 @@ class InMemoryBus::Actor : public ActorLink {
  private:
   InMemoryBus* bus_;
   uint32_t id_;
-  uint64_t weights_seen_ = 0, graph_seen_ = 0;
+  uint64_t graph_seen_ = 0;
 };
 
 class InMemoryBus::Learner : public LearnerLink {
