@@ -84,6 +84,8 @@ void GraphService::PublishStatus(bool force) {
   r.graph_version = p.published_version;
   r.steps = static_cast<uint64_t>(p.updates);
   r.dropped = static_cast<uint64_t>(p.dropped);
+  // explore episodes refused by the service's own checks (the run's shape, steps, limits)
+  if (p.dropped > 0) r.rejections["episode.graph"] = static_cast<uint64_t>(p.dropped);
   r.detail = std::string(PhaseName(p.phase)) + ": " + std::to_string(p.episodes) + "/" +
              std::to_string(p.target_episodes) + " episodes, " + std::to_string(p.updates) + " updates" +
              (p.held_out_loss >= 0 ? ", held-out " + std::to_string(p.held_out_loss) : "") +

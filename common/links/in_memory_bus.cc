@@ -1,5 +1,6 @@
 #include "common/links/in_memory_bus.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace srics::links {
@@ -20,8 +21,10 @@ class InMemoryBus::Actor : public ActorLink {
  public:
   Actor(InMemoryBus* bus, uint32_t id) : bus_(bus), id_(id) {}
 
+  // each publication once (as a DDS take), and only above the caller's version
   std::optional<rl::WeightsUpdate> PollWeights(uint64_t newer_than) override {
-    if (!bus_->weights_ || bus_->weights_->version <= newer_than) return std::nullopt;
+    if (!bus_->weights_ || bus_->weights_->version <= std::max(newer_than, weights_seen_)) return std::nullopt;
+    weights_seen_ = bus_->weights_->version;
     return bus_->weights_;
   }
   std::optional<rl::GraphUpdate> PollGraph() override { return Unseen(bus_->graph_, &graph_seen_); }
@@ -43,7 +46,7 @@ class InMemoryBus::Actor : public ActorLink {
  private:
   InMemoryBus* bus_;
   uint32_t id_;
-  uint64_t graph_seen_ = 0;
+  uint64_t weights_seen_ = 0, graph_seen_ = 0;
 };
 
 class InMemoryBus::Learner : public LearnerLink {
