@@ -29,8 +29,8 @@ LearnerLoop::LearnerLoop(LearnerLoopOptions options, links::LearnerLink* link)
     : options_(std::move(options)),
       link_(link),
       learner_(options_.learner),
-      training_log_(options_.training_log),
-      refusals_log_(std::make_unique<logging::RateLimiter>(std::chrono::seconds(options_.rejected_log_interval_s))) {}
+      refusals_log_(std::make_unique<logging::RateLimiter>(std::chrono::seconds(options_.rejected_log_interval_s))),
+      training_log_(options_.training_log) {}
 
 void LearnerLoop::Publish() {
   rl::WeightsUpdate w;
@@ -91,10 +91,11 @@ void LearnerLoop::Report(bool force) {
   status.graph_version = graph_version_;
   status.steps = c.updates;
   status.dropped = r.episodes_rejected + graphs_rejected_;
-  for (auto [counter, count] : {std::pair<const char*, uint64_t>{"episode.learner", r.episodes_rejected},
-                                {"graph.entities", graphs_rejected_},
-                                {"update.nonfinite", learner_.non_finite_updates()},
-                                {"weights.withheld", weights_withheld_}})
+  for (auto [counter, count] : std::initializer_list<std::pair<const char*, uint64_t>>{
+           {"episode.learner", r.episodes_rejected},
+           {"graph.entities", graphs_rejected_},
+           {"update.nonfinite", learner_.non_finite_updates()},
+           {"weights.withheld", weights_withheld_}})
     if (count > 0) status.rejections[counter] = count;
   status.detail = "replay " + std::to_string(r.replay_size) + ", inserted " + std::to_string(c.transitions_inserted) +
                   (learner_.has_graph() || !rl::UsesGraph(options_.learner.method) ? "" : ", waiting for the graph");
