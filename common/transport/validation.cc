@@ -32,7 +32,7 @@ Validation CheckCommon(const char* topic, uint32_t contract_version, const std::
 
 Validation CheckRun(const std::string& msg_run_id, std::string_view run_id) {
   if (!run_id.empty() && msg_run_id != run_id)
-    return {Verdict::kOtherRun, "run_id '" + msg_run_id + "' is not '" + std::string(run_id) + "'"};
+    return {Verdict::kOtherRun, "run_id '" + msg_run_id + "' is not '" + std::string(run_id) + "'", ""};
   return {};
 }
 
