@@ -90,6 +90,8 @@ rl::GraphUpdate Graph(uint64_t version) {
   return g;
 }
 
+constexpr uint64_t kBudget = 9000;  // the run's budget of env steps (learner stats must carry it)
+
 class DdsLinksTest : public ::testing::Test {
  protected:
   config::TransportConfig config_ = testing::IsolatedTransportConfig("links");
