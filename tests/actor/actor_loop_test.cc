@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 
+#include "actor/env/rearrange_env.h"
 #include "common/links/in_memory_bus.h"
 #include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"
@@ -208,6 +211,27 @@ TEST(ActorLoopTest, HugeStepCountsNeitherHangTheScheduleNorWrapTheRateLimit) {
   learner->PublishStats(stats);
   EXPECT_EQ(actor.Step(), StepResult::kWorked);
   EXPECT_EQ(actor.counters().waits, 0u);
+}
+
+// Issue 15: a policy whose output is not finite made the environment throw, which ended the
+// actor (and every actor, with the same weights). The episode is now dropped as unstable.
+TEST(ActorLoopTest, NonFiniteActionsDropTheEpisodeInsteadOfThrowing) {
+  const config::Config config = SmallConfig();
+  auto env = env::MakeRearrangeEnv(config.env);
+  const ActorOptions options = ActorOptionsFor(config, 0);
+  nn::Rng rng(1);
+  rl::PolicyNetwork<float> policy("policy", options.policy, rng);
+  std::vector<float> flat = nn::Flatten(policy.Parameters());
+  std::fill(flat.begin(), flat.end(), std::numeric_limits<float>::quiet_NaN());
+  nn::LoadFlat(policy.Parameters(), flat);
+  const rl::SubgoalStructure structure = rl::ComputeSubgoalStructure(rl::GroundTruthGraph(config.env));
+  std::optional<rl::Episode> episode;
+  EXPECT_NO_THROW(episode = RunTrainEpisode(*env, policy, structure, options.train, 1, rng));
+  EXPECT_FALSE(episode.has_value());
+  // the environment is usable for the next episode
+  std::optional<rl::Episode> explore;
+  EXPECT_NO_THROW(explore = RunExploreEpisode(*env, options.explore, 2, rng));
+  EXPECT_TRUE(explore.has_value());
 }
 
 TEST(ActorLoopTest, SameSeedSameEpisodes) {

@@ -191,8 +191,9 @@ TEST_F(ForeignSamplesTest, CompleteGraphOf16EntitiesIsRefusedAtOnceAndTheRunsGra
 // A refused PolicyWeights sample advanced the actor's version: one with a huge version froze
 // the weights for the rest of the run. Huge (finite) weights made the environment throw in
 // every actor. Now: another architecture, another size and huge magnitudes are refused and
-// counted, the learner's v1 that follows is taken; weights at the bound that overflow the
-// policy cost an episode, never the actor.
+// counted, the learner's v1 that follows is taken; weights at the bound are taken and the
+// actor goes on training (an overflowing policy costs an episode, never the actor:
+// ActorLoopTest.NonFiniteActionsDropTheEpisodeInsteadOfThrowing).
 TEST_F(ForeignSamplesTest, RefusedWeightsWithAHugeVersionDoNotFreezeTheActor) {
   Participant foreign(config_.transport), learner_side(config_.transport), actor_side(config_.transport),
       graph_side(config_.transport);
@@ -238,8 +239,7 @@ TEST_F(ForeignSamplesTest, RefusedWeightsWithAHugeVersionDoNotFreezeTheActor) {
     return actor.policy_version() == 1u;
   }));
 
-  // weights at the bound overflow the policy into non-finite actions: the episode is dropped
-  // as unstable, the actor goes on (before: the environment threw and the actor died)
+  // weights at the bound, the largest the contract allows: the actor trains on with them
   transport::DdsGraphSink sink(graph_side);
   sink.Publish(GroundTruth(config_, 1));
   ASSERT_TRUE(Eventually([&] {
