@@ -1,5 +1,7 @@
 #include "actor/rollout.h"
 
+#include <cmath>
+
 #include <algorithm>
 #include <array>
 #include <random>
@@ -46,10 +48,15 @@ rl::Episode StartEpisode(const env::Environment& env, const rl::EntityLayout& la
   return episode;
 }
 
-// Steps with a float action; false when the physics became unstable.
+// Steps with a float action; false when the physics became unstable or the policy gave a
+// non-finite action (weights that overflow: the environment would throw on it), so that the
+// episode is dropped as unstable instead of ending the actor.
 bool StepWith(env::Environment& env, const float* action, int dim, std::vector<float>* actions) {
   std::array<double, 8> a{};
-  for (int i = 0; i < dim; ++i) a[i] = action[i];
+  for (int i = 0; i < dim; ++i) {
+    if (!std::isfinite(action[i])) return false;
+    a[i] = action[i];
+  }
   if (actions) actions->insert(actions->end(), action, action + dim);
   return env.Step(std::span<const double>(a.data(), dim)) == env::StepStatus::kOk;
 }

@@ -166,9 +166,11 @@ void HacLevels::Add(const rl::Episode& episode) {
 
 UpdateStats HacLevels::Update(SacAgent& low, int batch_size) {
   high_replay_.Sample(batch_size, rng_, &batch_);
-  high_.Update(batch_);
+  const bool high_non_finite = high_.Update(batch_).non_finite;
   low_replay_.Sample(batch_size, rng_, &batch_);
-  return low.Update(batch_);
+  UpdateStats stats = low.Update(batch_);
+  stats.non_finite = stats.non_finite || high_non_finite;
+  return stats;
 }
 
 std::vector<float> HacLevels::PolicyWeights(SacAgent& low) {

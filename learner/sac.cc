@@ -44,6 +44,13 @@ LearnerCounters UnpackCounters(const std::vector<float>& values, const std::stri
   return {v[0], v[1], v[2], v[3], v[4]};
 }
 
+// True when every gradient of `params` is finite (checked before each optimizer step).
+bool GradientsFinite(const nn::ParameterList<float>& params) {
+  for (const nn::Parameter<float>* p : params)
+    if (!p->grad.allFinite()) return false;
+  return true;
+}
+
 }  // namespace
 
 LearnerCounters CheckpointCounters(const std::vector<nn::CheckpointSection>& sections, const std::string& path) {
@@ -114,6 +121,10 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
               static_cast<float>(sac.discount) * bootstraps_.array() *
                   (t1.value().array().min(t2.value().array()) - alpha * next.log_prob.value().array());
   }
+  if (!targets.allFinite()) {
+    stats.non_finite = true;
+    return stats;
+  }
 
   // critics
   {
@@ -130,9 +141,13 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     q_optimizer_->ZeroGrad();
     tape_.Backward(loss);
     if (sac.grad_clip_norm > 0) nn::ClipGradNorm(q_optimizer_->parameters(), sac.grad_clip_norm);
-    q_optimizer_->Step();
     stats.q_loss = loss.value()(0, 0);
     stats.mean_q = q1.value().mean();
+    if (!std::isfinite(stats.q_loss) || !GradientsFinite(q_optimizer_->parameters())) {
+      stats.non_finite = true;
+      return stats;
+    }
+    q_optimizer_->Step();
   }
 
   // policy: minimise alpha log pi - min Q over reparameterised actions (critics frozen)
@@ -150,10 +165,15 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     policy_optimizer_->ZeroGrad();
     tape_.Backward(loss);
     if (sac.grad_clip_norm > 0) nn::ClipGradNorm(policy_optimizer_->parameters(), sac.grad_clip_norm);
-    policy_optimizer_->Step();
     stats.policy_loss = loss.value()(0, 0);
     mean_log_prob = pi.log_prob.value().mean();
     stats.entropy = -mean_log_prob;
+    if (!std::isfinite(stats.policy_loss) || !std::isfinite(mean_log_prob) ||
+        !GradientsFinite(policy_optimizer_->parameters())) {
+      stats.non_finite = true;
+      return stats;
+    }
+    policy_optimizer_->Step();
   }
 
   // temperature: loss = -log_alpha * (log pi + target entropy), gradient by hand
