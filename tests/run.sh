@@ -8,6 +8,10 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${SRICS_BUILD_DIR:-$root/build}
+# test-only packages (Fast DDS for the interop test), before cmake looks for them
+t0=$SECONDS
+"$root/tests/install-test-deps.sh"
+[ -n "${SRICS_PHASE_TIMES:-}" ] && echo "test-deps seconds: $((SECONDS - t0))" >>"$SRICS_PHASE_TIMES"
 "$root/tests/build.sh"
 cd "$build"
 t0=$SECONDS
