@@ -57,6 +57,20 @@ bool ListHas(const std::map<std::string, std::string>& values, const std::string
   return false;
 }
 
+// Cyclone's loopback profile lets processes take participant indices up to
+// transport.max_participants_per_host; the Fast DDS profile must announce itself to all of them.
+TEST(FastDdsInteropTest, FastDdsProfileReachesEveryParticipantIndexOfTheDefaultConfig) {
+  const std::string xml = ReadFile(SourceDir() + "/deploy/fastdds/loopback.xml");
+  const std::string tag = "<maxInitialPeersRange>";
+  const auto at = xml.find(tag);
+  ASSERT_NE(at, std::string::npos) << "deploy/fastdds/loopback.xml has no " << tag;
+  const int range = std::stoi(xml.substr(at + tag.size()));
+  const auto config = config::LoadConfig(SourceDir() + "/deploy/configs/default.yaml");
+  EXPECT_GE(range, config.transport.max_participants_per_host + 1)
+      << "indices 0.." << config.transport.max_participants_per_host << " need a range of "
+      << config.transport.max_participants_per_host + 1;
+}
+
 TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsALateJoiner) {
   const std::string probe = SRICS_FASTDDS_PROBE;
   if (probe.empty())

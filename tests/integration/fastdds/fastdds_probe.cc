@@ -64,7 +64,7 @@ Options ParseArguments(int argc, char** argv) {
 // The participant and everything in it; deleted in the right order.
 class Participant {
  public:
-  Participant(const Options& o) {
+  explicit Participant(const Options& o) {
     auto* factory = dds::DomainParticipantFactory::get_instance();
     if (factory->load_XML_profiles_file(o.profile) != ReturnCode_t::RETCODE_OK)
       throw std::runtime_error("cannot load Fast DDS profile " + o.profile);
