@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 
+#include "deploy/launcher/run_folder.h"
 #include "tests/integration/system_harness.h"
 
 namespace srics::testing {
@@ -77,14 +78,19 @@ TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsA
     GTEST_SKIP() << "SKIP: fastddsgen or libfastrtps-dev is not installed, so the Fast DDS probe "
                     "was not built (tests/install-test-deps.sh installs them; then re-run cmake)";
 
-  // The graph is given (published once, so a late joiner can only get it from the writer's
-  // history); NodeStatus every 2 s, so a node status written before the probe joined is still
-  // the latest when it matches.
+  // The graph is given, as `srics run` does it (the graph service publishes it once, so a late
+  // joiner can only get it from the writer's history); NodeStatus every 2 s, so a node status
+  // written before the probe joined is still the latest when it matches.
   System system("fastdds", {"graph.ground_truth=true", "run.total_env_steps=1000000",
                             "actors.eval_every_env_steps=500", "transport.status_period_s=2"});
+  launcher::SeedGraphFile(system.config(), system.run_dir());
   system.StartAll(2);
   ASSERT_TRUE(system.WaitUntil(
-      [&] { return system.graph && system.latest_weights > 0 && !system.evals.empty(); }, 240s))
+      [&] {
+        return system.graph && system.stats && system.stats->updates > 0 && system.latest_weights > 1 &&
+               !system.evals.empty();
+      },
+      240s))
       << system.Output("learner") << system.Output("actor-0");
 
   // Stop the actors: the learner runs out of data (its rate limiter) and stops publishing
@@ -111,9 +117,12 @@ TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsA
        std::to_string(system.config().transport.domain_id), "--run-id",
        system.config().transport.run_id, "--timeout-s", "120"},
       options);
-  // The transient-local samples reach it within a second; then episodes, evaluations and new
-  // weights flow again.
-  system.WaitUntil([] { return false; }, 3s);
+  // Once it has the transient-local samples, the actors come back: episodes, evaluations and
+  // new weights flow again.
+  ASSERT_TRUE(system.WaitUntil(
+      [&] { return ReadFile(output).find("late-joiner:") != std::string::npos || child.Poll(); }, 30s))
+      << ReadFile(output);
+  ASSERT_TRUE(child.running()) << ReadFile(output);
   system.Start("actor-0");
   system.Start("actor-1");
   std::optional<launcher::ExitStatus> status;
@@ -144,6 +153,7 @@ TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsA
   EXPECT_EQ(Number(episodes, "num_entities"), graph_before.num_entities);
   EXPECT_TRUE(ListHas(episodes, "modes", "train")) << Value(episodes, "modes");
   EXPECT_EQ(Number(topics["eval_result"], "entities"), graph_before.num_entities);
+  EXPECT_GE(Number(topics["eval_result"], "max_policy_version"), weights_before);
   EXPECT_GE(Number(topics["learner_stats"], "policy_version"), weights_before);
 }
 

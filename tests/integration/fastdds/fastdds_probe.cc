@@ -4,9 +4,11 @@
 //
 //   srics-fastdds-probe --profile deploy/fastdds/loopback.xml --domain D --run-id R --timeout-s S
 //
-// Waits until every topic has given at least one sample of run R (or the timeout), then prints
-// one line per topic ("topic=NAME samples=K key=value ...") and "probe: ok" (exit 0) or
-// "probe: FAIL ..." with every failed check (exit 1); exit 2 on bad arguments or setup.
+// Prints "late-joiner: ..." once the three transient-local topics have given a sample of run R.
+// Waits until every topic has given at least one sample of run R, evaluations one of a trained
+// policy (or the timeout), then prints one line per topic ("topic=NAME samples=K key=value
+// ...") and "probe: ok" (exit 0) or "probe: FAIL ..." with every failed check (exit 1); exit 2
+// on bad arguments or setup.
 #include <zlib.h>
 
 #include <chrono>
@@ -208,7 +210,10 @@ void CheckEval(const srics::EvalResult& e, TopicReport* r) {
 void CheckStats(const srics::LearnerStats& s, TopicReport* r) {
   r->Check(s.budget_env_steps() > 0, "budget 0");
   r->Check(s.replay_size() <= s.transitions_inserted(), "replay larger than what was inserted");
-  r->Check(std::isfinite(s.q_loss()) && std::isfinite(s.alpha()) && s.alpha() > 0, "losses or alpha");
+  // losses and temperature are those of the latest update (zero before the first)
+  r->Check(std::isfinite(s.q_loss()) && std::isfinite(s.policy_loss()) && std::isfinite(s.alpha()),
+           "non-finite losses or alpha");
+  r->Check(s.updates() == 0 || s.alpha() > 0, "alpha not positive after updates");
   r->values["updates"] = std::to_string(s.updates());
   r->values["policy_version"] = std::to_string(s.policy_version());
   r->values["transitions_inserted"] = std::to_string(s.transitions_inserted());
@@ -251,6 +256,7 @@ int Run(const Options& o) {
   const auto start = std::chrono::steady_clock::now();
   const auto deadline = start + std::chrono::duration<double>(o.timeout_s);
   std::map<std::string, double> first_sample_s;
+  bool announced = false;
   for (;;) {
     Drain<srics::Episode>(episodes, o, joined_ns, &reports["episode"], CheckEpisode);
     Drain<srics::PolicyWeights>(weights, o, joined_ns, &reports["policy_weights"], CheckWeights);
@@ -263,6 +269,13 @@ int Run(const Options& o) {
       if (r.samples > 0 && !first_sample_s.count(name))
         first_sample_s[name] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       all = all && r.samples > 0;
+    }
+    // evaluations: wait for one of a trained policy, not only the passive baseline
+    all = all && reports["eval_result"].maxima["max_policy_version"] > 0;
+    if (!announced && reports["policy_weights"].samples > 0 &&
+        reports["interaction_graph"].samples > 0 && reports["node_status"].samples > 0) {
+      std::cout << "late-joiner: weights, graph and node status received" << std::endl;
+      announced = true;
     }
     if (all || std::chrono::steady_clock::now() > deadline) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -282,6 +295,8 @@ int Run(const Options& o) {
     }
     std::cout << "\n";
     if (r.samples == 0) failures.push_back(name + ": no sample of run " + o.run_id);
+    if (name == "eval_result" && r.samples > 0 && r.maxima["max_policy_version"] == 0)
+      failures.push_back(name + ": only evaluations of the passive baseline");
     for (const auto& f : r.failures) failures.push_back(name + ": " + f);
   }
   if (failures.empty()) {
