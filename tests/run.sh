@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what is missing, builds, runs every test with ctest.
 #   ./tests/run.sh                 everything
-#   ./tests/run.sh -L unit         only tests labelled unit (labels: unit, integration, slow;
+#   ./tests/run.sh -L unit         only tests labelled unit (labels: unit, integration, slow, fastdds;
 #                                  a test may carry two, joined: integration-slow)
 #   ./tests/run.sh -LE slow        everything but the slow tests
 #   ./tests/run.sh -R Transport    ctest's own filters pass through
