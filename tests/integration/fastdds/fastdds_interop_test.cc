@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <cctype>
 #include <fstream>
 #include <map>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -56,6 +59,45 @@ bool ListHas(const std::map<std::string, std::string>& values, const std::string
   for (std::string s; std::getline(in, s, ',');)
     if (s == item) return true;
   return false;
+}
+
+// Names of module scope (constants, enums, enumerators, structs) that equal a struct field's
+// name ignoring case: fastddsgen refuses such an IDL ("already defined"), idlc accepts it.
+std::set<std::string> CaseInsensitiveCollisions(std::string idl) {
+  const auto lower = [](std::string v) {
+    for (char& c : v) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return v;
+  };
+  idl = std::regex_replace(idl, std::regex("//[^\n]*"), "");
+  std::set<std::string> module_names, fields;
+  const std::regex constant("const\\s+[\\w ]+?\\s(\\w+)\\s*="), enumeration("enum\\s+(\\w+)\\s*\\{([^}]*)\\}"),
+      structure("struct\\s+(\\w+)\\s*\\{([^}]*)\\}"), word("\\w+"), field("(\\w+)\\s*;");
+  for (std::sregex_iterator it(idl.begin(), idl.end(), constant), end; it != end; ++it)
+    module_names.insert(lower((*it)[1]));
+  for (std::sregex_iterator it(idl.begin(), idl.end(), enumeration), end; it != end; ++it) {
+    module_names.insert(lower((*it)[1]));
+    const std::string body = (*it)[2];
+    for (std::sregex_iterator w(body.begin(), body.end(), word); w != end; ++w) module_names.insert(lower((*w)[0]));
+  }
+  for (std::sregex_iterator it(idl.begin(), idl.end(), structure), end; it != end; ++it) {
+    module_names.insert(lower((*it)[1]));
+    const std::string body = (*it)[2];
+    for (std::sregex_iterator f(body.begin(), body.end(), field); f != end; ++f) fields.insert(lower((*f)[1]));
+  }
+  std::set<std::string> collisions;
+  for (const auto& f : fields)
+    if (module_names.count(f)) collisions.insert(f);
+  return collisions;
+}
+
+TEST(FastDdsInteropTest, IdlNamesDifferFromEveryFieldNameIgnoringCase) {
+  // the check finds the collision that once made fastddsgen refuse the file
+  EXPECT_EQ(CaseInsensitiveCollisions("module m { const unsigned long CONTRACT_VERSION = 2;\n"
+                                      "  @final struct T { unsigned long contract_version; }; };"),
+            std::set<std::string>{"contract_version"});
+  const auto collisions = CaseInsensitiveCollisions(ReadFile(SourceDir() + "/idl/srics.idl"));
+  EXPECT_TRUE(collisions.empty()) << "idl/srics.idl: " << *collisions.begin()
+                                  << " is both a module-level name and a field (ignoring case)";
 }
 
 // Cyclone's loopback profile lets processes take participant indices up to
