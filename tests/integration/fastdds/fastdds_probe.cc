@@ -11,6 +11,7 @@
 // on bad arguments or setup.
 #include <zlib.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -27,6 +28,7 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
@@ -63,6 +65,26 @@ Options ParseArguments(int argc, char** argv) {
   return o;
 }
 
+int64_t WallClockNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// Records when a reader first matched a writer: a sample written before then can only have
+// come from the writer's history (the writers are on the same host, same clock).
+class MatchClock : public dds::DataReaderListener {
+ public:
+  void on_subscription_matched(dds::DataReader*, const dds::SubscriptionMatchedStatus& status) override {
+    int64_t unset = 0;
+    if (status.current_count_change > 0) first_match_ns_.compare_exchange_strong(unset, WallClockNs());
+  }
+  // 0 until the first match
+  int64_t first_match_ns() const { return first_match_ns_.load(); }
+
+ private:
+  std::atomic<int64_t> first_match_ns_{0};
+};
+
 // The participant and everything in it; deleted in the right order.
 class Participant {
  public:
@@ -89,7 +111,8 @@ class Participant {
   // A reader of `topic` with the contract's QoS (idl/README.md): reliable; keyed topics keep
   // the last sample of up to 1000 instances (Fast DDS allows 10 by default).
   template <typename PubSubType>
-  dds::DataReader* Reader(const std::string& topic, bool transient_local, bool keep_all, bool keyed) {
+  dds::DataReader* Reader(const std::string& topic, bool transient_local, bool keep_all, bool keyed,
+                          MatchClock* clock) {
     dds::TypeSupport type(new PubSubType());
     type.register_type(participant_);
     dds::Topic* t = participant_->create_topic(topic, type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
@@ -105,7 +128,7 @@ class Participant {
       q.resource_limits().max_samples_per_instance = 1;
       q.resource_limits().max_samples = 1000;
     }
-    dds::DataReader* reader = subscriber_->create_datareader(t, q);
+    dds::DataReader* reader = subscriber_->create_datareader(t, q, clock);
     if (reader == nullptr) throw std::runtime_error("cannot create a reader of " + topic);
     return reader;
   }
@@ -119,7 +142,7 @@ class Participant {
 struct TopicReport {
   int samples = 0;        // of this run
   int other_runs = 0;     // samples of other runs on the domain (ignored)
-  int historical = 0;     // samples written before the probe joined (late-joiner delivery)
+  int historical = 0;     // samples written before the reader matched: from the writer's history
   std::map<std::string, std::string> values;  // printed as key=value
   std::map<std::string, std::set<std::string>> sets;  // printed as key=a,b,c
   std::map<std::string, uint64_t> maxima;             // printed as key=max
@@ -227,30 +250,29 @@ void CheckStatus(const srics::NodeStatus& n, TopicReport* r) {
 }
 
 // Takes every available sample of one reader into the report.
-// `joined_ns`: wall-clock time the probe joined (the writers are on the same host).
 template <typename Sample, typename CheckFn>
-void Drain(dds::DataReader* reader, const Options& o, int64_t joined_ns, TopicReport* r, CheckFn check) {
+void Drain(dds::DataReader* reader, const MatchClock& clock, const Options& o, TopicReport* r,
+           CheckFn check) {
   Sample sample;
   dds::SampleInfo info;
   while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
     if (!info.valid_data) continue;  // instance state changes (a node that left)
     if (!Envelope(sample, o, r)) continue;
-    if (info.source_timestamp.to_ns() < joined_ns) ++r->historical;
+    if (info.source_timestamp.to_ns() < clock.first_match_ns()) ++r->historical;
     check(sample, r);
   }
 }
 
 int Run(const Options& o) {
-  const int64_t joined_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                std::chrono::system_clock::now().time_since_epoch()).count();
+  MatchClock clocks[6];  // outlive the participant (they are the readers' listeners)
   Participant participant(o);
   // QoS per topic as in idl/README.md: (transient_local, keep_all, keyed)
-  auto* episodes = participant.Reader<srics::EpisodePubSubType>("srics/episode", false, true, false);
-  auto* weights = participant.Reader<srics::PolicyWeightsPubSubType>("srics/policy_weights", true, false, true);
-  auto* graphs = participant.Reader<srics::InteractionGraphPubSubType>("srics/interaction_graph", true, false, true);
-  auto* evals = participant.Reader<srics::EvalResultPubSubType>("srics/eval_result", false, true, false);
-  auto* stats = participant.Reader<srics::LearnerStatsPubSubType>("srics/learner_stats", false, false, true);
-  auto* status = participant.Reader<srics::NodeStatusPubSubType>("srics/node_status", true, false, true);
+  auto* episodes = participant.Reader<srics::EpisodePubSubType>("srics/episode", false, true, false, &clocks[0]);
+  auto* weights = participant.Reader<srics::PolicyWeightsPubSubType>("srics/policy_weights", true, false, true, &clocks[1]);
+  auto* graphs = participant.Reader<srics::InteractionGraphPubSubType>("srics/interaction_graph", true, false, true, &clocks[2]);
+  auto* evals = participant.Reader<srics::EvalResultPubSubType>("srics/eval_result", false, true, false, &clocks[3]);
+  auto* stats = participant.Reader<srics::LearnerStatsPubSubType>("srics/learner_stats", false, false, true, &clocks[4]);
+  auto* status = participant.Reader<srics::NodeStatusPubSubType>("srics/node_status", true, false, true, &clocks[5]);
 
   std::map<std::string, TopicReport> reports;
   const auto start = std::chrono::steady_clock::now();
@@ -258,12 +280,12 @@ int Run(const Options& o) {
   std::map<std::string, double> first_sample_s;
   bool announced = false;
   for (;;) {
-    Drain<srics::Episode>(episodes, o, joined_ns, &reports["episode"], CheckEpisode);
-    Drain<srics::PolicyWeights>(weights, o, joined_ns, &reports["policy_weights"], CheckWeights);
-    Drain<srics::InteractionGraph>(graphs, o, joined_ns, &reports["interaction_graph"], CheckGraph);
-    Drain<srics::EvalResult>(evals, o, joined_ns, &reports["eval_result"], CheckEval);
-    Drain<srics::LearnerStats>(stats, o, joined_ns, &reports["learner_stats"], CheckStats);
-    Drain<srics::NodeStatus>(status, o, joined_ns, &reports["node_status"], CheckStatus);
+    Drain<srics::Episode>(episodes, clocks[0], o, &reports["episode"], CheckEpisode);
+    Drain<srics::PolicyWeights>(weights, clocks[1], o, &reports["policy_weights"], CheckWeights);
+    Drain<srics::InteractionGraph>(graphs, clocks[2], o, &reports["interaction_graph"], CheckGraph);
+    Drain<srics::EvalResult>(evals, clocks[3], o, &reports["eval_result"], CheckEval);
+    Drain<srics::LearnerStats>(stats, clocks[4], o, &reports["learner_stats"], CheckStats);
+    Drain<srics::NodeStatus>(status, clocks[5], o, &reports["node_status"], CheckStatus);
     bool all = true;
     for (auto& [name, r] : reports) {
       if (r.samples > 0 && !first_sample_s.count(name))
