@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Debian packages only the test suite needs (tests/run.sh calls this before building):
+# fastddsgen and libfastrtps-dev, for the test that builds a Fast DDS 2.9 subscriber from
+# idl/srics.idl (tests/integration/fastdds/). Idempotent like deploy/install-deps.sh.
+# Cost, measured on Debian 12: 40 packages, ~40 MB download, ~60 MB on disk, ~25 s when a
+# Java runtime is present; without one, fastddsgen also pulls openjdk-17-jre-headless (+44 MB
+# download, +190 MB on disk). SRICS_SKIP_TEST_DEPS=1 skips it (the interop test then SKIPs).
+set -euo pipefail
+
+[ -n "${SRICS_SKIP_TEST_DEPS:-}" ] && exit 0
+packages=(fastddsgen libfastrtps-dev)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "install-test-deps: installing ${missing[*]}"
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+if ! { "${sudo_cmd[@]}" apt-get update -qq &&
+       "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"; }; then
+  # the rest of the suite does not need them: go on, the interop test will SKIP and say why
+  echo "install-test-deps: could not install ${missing[*]}; the Fast DDS interop test will SKIP" >&2
+fi
