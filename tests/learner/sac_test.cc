@@ -188,8 +188,10 @@ TEST(SacTest, SeveralThreadsGiveTheUpdateOfOneThreadUpToSummationOrder) {
       // the gradients of this update (left in Parameter::grad) are the whole batch's
       EXPECT_LT(RelativeDistance(Grads(many.q1().Parameters()), Grads(one.q1().Parameters())), 1e-5);
       EXPECT_LT(RelativeDistance(Grads(many.policy().Parameters()), Grads(one.policy().Parameters())), 1e-5);
-      EXPECT_LT(RelativeDistance(many.PolicyWeights(), one.PolicyWeights()), 1e-5);
-      EXPECT_LT(RelativeDistance(nn::Flatten(many.q1().Parameters()), nn::Flatten(one.q1().Parameters())), 1e-5);
+      // weights: Adam's first steps are about lr * sign(gradient), so an element whose gradient
+      // is near zero can move differently on rounding alone; the whole stays within 1e-4
+      EXPECT_LT(RelativeDistance(many.PolicyWeights(), one.PolicyWeights()), 1e-4);
+      EXPECT_LT(RelativeDistance(nn::Flatten(many.q1().Parameters()), nn::Flatten(one.q1().Parameters())), 1e-4);
     }
     // and the gradients are not trivially equal because nothing was computed: they are non-zero
     double norm = 0;
@@ -221,7 +223,9 @@ TEST(SacTest, ABatchSmallerThanTheThreadCountStillUpdates) {
   const UpdateStats s1 = one.Update(b);
   const UpdateStats sn = many.Update(b);
   EXPECT_NEAR(sn.q_loss, s1.q_loss, 1e-5 * std::abs(s1.q_loss) + 1e-7);
-  EXPECT_LT(RelativeDistance(many.PolicyWeights(), one.PolicyWeights()), 1e-5);
+  EXPECT_LT(RelativeDistance(Grads(many.q2().Parameters()), Grads(one.q2().Parameters())), 1e-5);
+  EXPECT_LT(RelativeDistance(Grads(many.policy().Parameters()), Grads(one.policy().Parameters())), 1e-5);
+  EXPECT_LT(RelativeDistance(many.PolicyWeights(), one.PolicyWeights()), 1e-4);
 }
 
 }  // namespace
