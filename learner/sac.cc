@@ -131,38 +131,33 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
 
   // bellman targets: y = scale * r + discount * (min target Q(s', a') - alpha log pi(a'|s'));
   // episodes end by time limit only, so every transition bootstraps unless the batch marks
-  // it terminal (HAC)
-  nn::Tensor targets(size, 1);
+  // it terminal (HAC). Then the critics. A shard's targets are its own rows, so each shard
+  // goes from its targets to its critic gradients without waiting for the others.
   {
     const nn::Tensor noise = nn::RandomNormal<float>(size, shape_.action_dim, rng_);
-    ForEachShard(size, [&](nn::Tape<float>& tape, int, int begin, int end) {
-      tape.Reset();
-      auto ent = tape.Constant(whole ? next_entities_ : rows(next_entities_, begin, end, ents));
-      auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));
-      auto goals = tape.Constant(whole ? goals_ : rows(goals_, begin, end, 1));
-      auto next = policy_.Forward(tape, ent, mask, goals, whole ? noise : rows(noise, begin, end, 1), false);
-      auto t1 = q1_target_.Forward(tape, ent, mask, goals, next.action, false);
-      auto t2 = q2_target_.Forward(tape, ent, mask, goals, next.action, false);
-      const auto r = rewards_.middleRows(begin, end - begin).array();
-      const auto boot = bootstraps_.middleRows(begin, end - begin).array();
-      targets.middleRows(begin, end - begin) =
-          (static_cast<float>(sac.reward_scale) * r +
-          static_cast<float>(sac.discount) * boot *
-              (t1.value().array().min(t2.value().array()) - alpha * next.log_prob.value().array()))
-              .matrix();
-    });
-  }
-
-  // critics
-  {
     q_optimizer_->ZeroGrad();
     ForEachShard(size, [&](nn::Tape<float>& tape, int k, int begin, int end) {
+      nn::Tensor targets;
+      {
+        tape.Reset();
+        auto ent = tape.Constant(whole ? next_entities_ : rows(next_entities_, begin, end, ents));
+        auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));
+        auto goals = tape.Constant(whole ? goals_ : rows(goals_, begin, end, 1));
+        auto next = policy_.Forward(tape, ent, mask, goals, whole ? noise : rows(noise, begin, end, 1), false);
+        auto t1 = q1_target_.Forward(tape, ent, mask, goals, next.action, false);
+        auto t2 = q2_target_.Forward(tape, ent, mask, goals, next.action, false);
+        const auto r = rewards_.middleRows(begin, end - begin).array();
+        const auto boot = bootstraps_.middleRows(begin, end - begin).array();
+        targets = static_cast<float>(sac.reward_scale) * r +
+                  static_cast<float>(sac.discount) * boot *
+                      (t1.value().array().min(t2.value().array()) - alpha * next.log_prob.value().array());
+      }
       tape.Reset();
       auto ent = tape.Constant(whole ? entities_ : rows(entities_, begin, end, ents));
       auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));
       auto goals = tape.Constant(whole ? goals_ : rows(goals_, begin, end, 1));
       auto actions = tape.Constant(whole ? actions_ : rows(actions_, begin, end, 1));
-      auto y = tape.Constant(whole ? targets : rows(targets, begin, end, 1));
+      auto y = tape.Constant(targets);
       auto q1 = q1_.Forward(tape, ent, mask, goals, actions);
       auto q2 = q2_.Forward(tape, ent, mask, goals, actions);
       auto loss = share(tape,

@@ -4,8 +4,8 @@
 // One Update() is one gradient step of the critics, the policy and the temperature, then a
 // soft target update (srics-method.md section 3).
 //
-// With threads > 1 (learner.threads) each phase of an update (Bellman targets, critics,
-// policy) splits the batch into one contiguous shard of samples per thread; each thread runs
+// With threads > 1 (learner.threads) each of the two phases of an update (Bellman targets
+// and critics; policy) splits the batch into one contiguous shard of samples per thread; each thread runs
 // forward and backward on its shard with its own tape, the per-thread gradients are added in
 // a fixed order, then one optimizer step: the same math as one thread up to the order of
 // float summation, and deterministic for a given thread count. The random noise is drawn for

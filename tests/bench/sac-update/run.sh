@@ -3,7 +3,9 @@
 # learner threads, GEMM floor, Eigen's sgemm rate) and, in the same invocation, its PyTorch
 # peer (torch_peer.py: the same networks, SAC settings and batch, which the C++ bench writes
 # out) pinned to the same thread count: torch.set_num_threads and the OpenMP / OpenBLAS
-# thread counts. Installs python3-torch, python3-numpy and libopenblas0-pthread when missing
+# thread counts, with passive OpenMP waiting (spinning OpenMP threads lose their time slices
+# on a machine shared with other work: PyTorch with 2 threads took 8x longer than with 1 on
+# the loaded development machine). Installs python3-torch, python3-numpy and libopenblas0-pthread when missing
 # (Debian's torch multiplies through the system BLAS, OpenBLAS with this package).
 #   tests/bench/sac-update/run.sh BUILD_DIR
 # Prints the C++ table, the PyTorch table and, as its last line, one JSON object: the C++
@@ -37,7 +39,7 @@ trap 'rm -rf "$work"' EXIT
 grep -v '^{' "$work/cpp.out"
 echo
 for t in 1 2; do
-  OMP_NUM_THREADS=$t OPENBLAS_NUM_THREADS=$t MKL_NUM_THREADS=$t "$py" "$here/torch_peer.py" "$work" --threads "$t" \
+  OMP_NUM_THREADS=$t OPENBLAS_NUM_THREADS=$t MKL_NUM_THREADS=$t OMP_WAIT_POLICY=PASSIVE "$py" "$here/torch_peer.py" "$work" --threads "$t" \
     >"$work/torch$t.out"
   grep -v '^{' "$work/torch$t.out"
   echo
