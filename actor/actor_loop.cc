@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "actor/env/rearrange_env.h"
+#include "common/logging/logging.h"
 #include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/rate_limiter.h"
@@ -36,6 +37,7 @@ ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, ui
   o.rate_error_buffer = config.learner.rate_error_buffer;
   o.learner_warmup_steps = config.learner.warmup_steps;
   o.status_period_s = config.transport.status_period_s;
+  o.rejected_log_interval_s = config.transport.rejected_log_interval_s;
   return o;
 }
 
@@ -60,6 +62,7 @@ struct ActorLoop::State {
   bool final_poll_done = false;    // one more look for the final weights before the last evaluation
   Clock::time_point last_status;
   Clock::time_point last_episode_end;
+  std::unique_ptr<logging::RateLimiter> refusals_log;
 };
 
 ActorLoop::ActorLoop(ActorOptions options, links::ActorLink* link)
@@ -80,6 +83,7 @@ ActorLoop::ActorLoop(ActorOptions options, links::ActorLink* link)
     s.have_graph = true;
   }
   s.next_eval_steps = options_.eval_every_env_steps;
+  s.refusals_log = std::make_unique<logging::RateLimiter>(std::chrono::seconds(options_.rejected_log_interval_s));
 }
 
 ActorLoop::~ActorLoop() = default;
@@ -99,8 +103,16 @@ void ActorLoop::Status(rl::NodePhase phase, const std::string& detail, bool forc
   r.graph_version = s.graph_version;
   r.steps = counters_.env_steps;
   r.dropped = counters_.weights_rejected + counters_.graphs_rejected;
+  r.rejections = counters_.rejections;
   r.detail = detail;
   link_->PublishStatus(r);
+}
+
+void ActorLoop::Refuse(const char* counter, const std::string& what) {
+  ++counters_.rejections[counter];
+  uint64_t suppressed = 0;
+  if (state_->refusals_log->Allow(&suppressed))
+    spdlog::warn("{}: ignored ({}; {} warnings suppressed)", what, counter, suppressed);
 }
 
 void ActorLoop::PollUpdates() {
@@ -108,7 +120,7 @@ void ActorLoop::PollUpdates() {
   if (auto g = link_->PollGraph()) {
     if (const std::string problem = rl::GraphMismatch(g->graph, s.num_entities); !problem.empty()) {
       ++counters_.graphs_rejected;
-      spdlog::warn("graph v{} ignored: {}", g->version, problem);
+      Refuse("graph.entities", "graph v" + std::to_string(g->version) + ": " + problem);
     } else if (options_.uses_graph) {
       s.structure = g->structure;
       s.have_graph = true;
@@ -116,14 +128,23 @@ void ActorLoop::PollUpdates() {
       spdlog::info("graph v{}: {}", g->version, rl::DescribeGraph(g->graph));
     }
   }
-  if (auto w = link_->PollWeights()) {
+  // weights are checked against this actor's network before anything changes: a refused
+  // sample leaves the version (and so the next good weights) as they were
+  if (auto w = link_->PollWeights(s.have_weights ? s.policy_version : 0)) {
     auto params = s.policy->Parameters();
     const int64_t high_size = s.high ? nn::NumScalars(s.high->Parameters()) : 0;
-    if (w->architecture != s.signature ||
-        static_cast<int64_t>(w->parameters.size()) != high_size + nn::NumScalars(params)) {
+    const std::string what = "weights v" + std::to_string(w->version);
+    std::string problem;
+    if (w->architecture != s.signature) {
       ++counters_.weights_rejected;
-      spdlog::warn("weights v{} ({}, {} floats) do not fit this actor's network ({}): ignored", w->version,
-                   w->architecture, w->parameters.size(), s.signature);
+      Refuse("weights.architecture", what + " are for " + w->architecture + ", this actor's network is " + s.signature);
+    } else if (static_cast<int64_t>(w->parameters.size()) != high_size + nn::NumScalars(params)) {
+      ++counters_.weights_rejected;
+      Refuse("weights.size", what + " have " + std::to_string(w->parameters.size()) + " parameters, this network " +
+                                 std::to_string(high_size + nn::NumScalars(params)));
+    } else if (problem = rl::ParameterProblem(w->parameters); !problem.empty()) {
+      ++counters_.weights_rejected;
+      Refuse("weights.magnitude", what + ": " + problem);
     } else {
       // HAC: the high level's parameters first, then the low level's
       const std::span<const float> flat(w->parameters);
@@ -144,7 +165,9 @@ bool ActorLoop::RateLimited() {
   State& s = *state_;
   if (options_.updates_per_step <= 0 || !s.learner) return false;
   const rl::LearnerProgress& now = *s.learner;
-  if (!s.baseline || now.replay_size < options_.learner_warmup_steps || now.updates < s.baseline->updates) {
+  // counters below the baseline (a learner restarted without its checkpoint): count afresh
+  if (!s.baseline || now.replay_size < options_.learner_warmup_steps || now.updates < s.baseline->updates ||
+      now.transitions_inserted < s.baseline->transitions_inserted) {
     s.baseline = now;
     return false;
   }
@@ -226,7 +249,10 @@ StepResult ActorLoop::Step() {
       return StepResult::kWorked;
     }
     if (s.learner && s.learner->training_env_steps >= s.next_eval_steps) {
-      while (s.next_eval_steps <= s.learner->training_env_steps) s.next_eval_steps += options_.eval_every_env_steps;
+      // the next multiple of the interval above the learner's steps, in one step (a loop would
+      // run for as long as the reported step count is large)
+      const uint64_t every = std::max<uint64_t>(1, options_.eval_every_env_steps);
+      s.next_eval_steps = (s.learner->training_env_steps / every + 1) * every;
       Evaluate(false);
       return StepResult::kWorked;
     }

@@ -12,6 +12,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -50,6 +51,7 @@ struct ActorOptions {
   double updates_per_step = 1;
   double rate_error_buffer = 0;
   uint64_t learner_warmup_steps = 0; // while the learner refills its replay, never wait
+  int rejected_log_interval_s = 5;   // refused weights and graphs are logged at most this often
   double status_period_s = 1;
 };
 
@@ -59,8 +61,11 @@ struct ActorCounters {
   uint64_t env_steps = 0;
   uint64_t episodes = 0;
   uint64_t unstable_episodes = 0;
-  uint64_t weights_rejected = 0;   // wrong architecture or size
+  uint64_t weights_rejected = 0;   // wrong architecture, size or magnitudes
   uint64_t graphs_rejected = 0;    // graph does not fit this environment
+  // every refusal by counter (weights.architecture, weights.size, weights.magnitude,
+  // graph.entities), reported in NodeStatus
+  std::map<std::string, uint64_t> rejections;
   uint64_t evaluations = 0;
   uint64_t waits = 0;              // steps the rate limiter held the actor back
 };
@@ -97,6 +102,7 @@ class ActorLoop {
   void Evaluate(bool passive);
   void RunEpisode(bool training);
   void Status(rl::NodePhase phase, const std::string& detail, bool force);
+  void Refuse(const char* counter, const std::string& what);
 
   std::unique_ptr<State> state_;
   ActorOptions options_;

@@ -1,5 +1,7 @@
 #include "actor/rollout.h"
 
+#include <cmath>
+
 #include <algorithm>
 #include <array>
 #include <random>
@@ -46,10 +48,15 @@ rl::Episode StartEpisode(const env::Environment& env, const rl::EntityLayout& la
   return episode;
 }
 
-// Steps with a float action; false when the physics became unstable.
+// Steps with a float action; false when the physics became unstable or the policy gave a
+// non-finite action (weights that overflow: the environment would throw on it), so that the
+// episode is dropped as unstable instead of ending the actor.
 bool StepWith(env::Environment& env, const float* action, int dim, std::vector<float>* actions) {
   std::array<double, 8> a{};
-  for (int i = 0; i < dim; ++i) a[i] = action[i];
+  for (int i = 0; i < dim; ++i) {
+    if (!std::isfinite(action[i])) return false;
+    a[i] = action[i];
+  }
   if (actions) actions->insert(actions->end(), action, action + dim);
   return env.Step(std::span<const double>(a.data(), dim)) == env::StepStatus::kOk;
 }
@@ -303,8 +310,10 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                                                        rl::PolicyNetwork<float>* policy,
                                                        const rl::SubgoalStructure& structure,
                                                        const EvalOptions& options, uint64_t seed,
-                                                       rl::PolicyNetwork<float>* high_policy) {
+                                                       rl::PolicyNetwork<float>* high_policy,
+                                                       EvalEpisodeObserver* watcher) {
   env.Reset(seed, env::Split::kEval);
+  if (watcher) watcher->OnState(env, -1);
   Observer observer(env);
   const rl::EntityLayout& layout = observer.layout();
   nn::Rng rng(seed ^ 0x9e3779b97f4a7c15ull);
@@ -320,6 +329,7 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
       before.assign(observer.entities().data(), observer.entities().data() + observer.entities().size());
       const float* action = policy ? policy->Act(observer.entities(), goal, true, rng).data() : zero.data();
       if (!StepWith(env, action, env.action_dim(), nullptr)) return false;
+      if (watcher) watcher->OnState(env, entity);
       if (entity >= 0) {
         const nn::Tensor& after = observer.Observe(env);
         const uint64_t ancestors = entity < structure.num_entities() ? structure.ancestor_mask[entity] : 0;
@@ -344,6 +354,7 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
       if (actor.SubgoalOver(observer.entities())) actor.Propose(observer.entities(), true, false, rng);
       if (!StepWith(env, actor.Act(observer.entities(), true, rng).data(), env.action_dim(), nullptr))
         return std::nullopt;
+      if (watcher) watcher->OnState(env, -1);
       observer.Observe(env);
     }
   } else if (options.full_goal) {

@@ -85,6 +85,17 @@ struct EvalOptions {
   std::optional<HacActOptions> hac;  // HAC: the full-goal attempt runs both levels
 };
 
+// Sees an evaluation episode as it is played (`srics eval` draws it): once after the reset
+// and once after every env step, so an episode of T steps is seen T + 1 times. Must not
+// change the environment.
+class EvalEpisodeObserver {
+ public:
+  virtual ~EvalEpisodeObserver() = default;
+  // `entity`: the entity whose subgoal the step attempted; -1 after the reset and when the
+  // episode attempts the full goal (SAC+HER, HAC, the passive policy's full goal).
+  virtual void OnState(const env::Environment& env, int entity) = 0;
+};
+
 // The options a run's config implies (episode lengths, full goal for SAC+HER and HAC, HAC's
 // levels, subgoal order by method: depth for SRICS and its selectivity ablation, random
 // otherwise).
@@ -96,12 +107,14 @@ EvalOptions EvalOptionsFor(const config::Config& config);
 // is the passive baseline (it never moves). Deterministic policy (its mean action). For HAC
 // (options.hac) `policy` is the low level and `high_policy` the high level, which proposes a
 // subgoal whenever the low level has reached the last one or held it `horizon` steps.
-// Returns the final-step metrics; empty if the physics became unstable.
+// Returns the final-step metrics; empty if the physics became unstable. `observer` (may be
+// null) sees every state of the episode.
 std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                                                        rl::PolicyNetwork<float>* policy,
                                                        const rl::SubgoalStructure& structure,
                                                        const EvalOptions& options, uint64_t seed,
-                                                       rl::PolicyNetwork<float>* high_policy = nullptr);
+                                                       rl::PolicyNetwork<float>* high_policy = nullptr,
+                                                       EvalEpisodeObserver* observer = nullptr);
 
 // The evaluation protocol of every mode (actors, the in-process run, `srics eval`): `episodes`
 // evaluation episodes with the run's evaluation seeds (rl::EvalEpisodeSeed: the same goals

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages SRICS-DDS needs. Idempotent: does nothing when all are present,
 # and runs `apt-get update` only when something is missing.
+#   deploy/install-deps.sh          what the build, the tests and the runs need
+#   deploy/install-deps.sh video    also ffmpeg, for the MP4 and GIF videos of `srics eval`
+#                                   (without it, srics eval writes PNG frames)
 set -euo pipefail
 
 packages=(
@@ -13,9 +16,19 @@ packages=(
   libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox graphviz libqhull-dev
+  # MuJoCo's offscreen renderer without a display (srics eval): EGL with Mesa (llvmpipe)
+  libegl-dev libegl-mesa0 libgl1-mesa-dri
   iproute2 procps
   python3 bc time  # the bench and acceptance scripts summarise and time with them
 )
+
+# optional: only the command that needs them asks for them
+video_packages=(ffmpeg)
+case "${1:-}" in
+  "") ;;
+  video) packages+=("${video_packages[@]}") ;;
+  *) echo "install-deps: unknown argument '$1' (expected: video)" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do

@@ -23,6 +23,13 @@ struct WindowBatch {
   int steps() const { return static_cast<int>(inputs.size()); }
 };
 
+// The shape every episode of a data set has.
+struct DatasetShape {
+  rl::EntityLayout layout;
+  std::vector<uint16_t> entity_kinds;
+  int action_dim = 0;
+};
+
 // Episodes of one entity layout, stored as xy per entity and step plus actions.
 //
 // Not thread-safe; the service owns it on one thread.

@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
     options.state_dir = role.command_line.run_dir;
     options.seed = rl::DeriveSeed(config.run.seed, rl::SeedPurpose::kGraphService);
     options.limits = rl::EpisodeLimitsFor(config.env);
+    const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(config.env);
+    options.shape = graph_service::DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim};
     options.status_period_s = config.transport.status_period_s;
     graph_service::GraphService service(config.graph, options, &source, &sink, nullptr);
     spdlog::info("graph service started: domain {}, run id '{}', {} explore episodes wanted",

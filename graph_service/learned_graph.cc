@@ -77,6 +77,22 @@ LearnedGraph AggregateGraph(int n, const std::vector<double>& w, double threshol
   return out;
 }
 
+std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, int arm,
+                                           const std::vector<bool>& moving) {
+  const int n = static_cast<int>(moving.size());
+  if (scores.size() != static_cast<size_t>(n) * n)
+    throw std::invalid_argument("ReciprocalObjectScores: score matrix is not N x N");
+  if (arm < 0 || arm >= n) throw std::invalid_argument("ReciprocalObjectScores: arm out of range");
+  std::vector<double> out = scores;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      if (i == arm || j == arm || !moving[i] || !moving[j]) continue;
+      const size_t ij = static_cast<size_t>(i) * n + j, ji = static_cast<size_t>(j) * n + i;
+      out[ij] = out[ji] = std::max(scores[ij], scores[ji]);
+    }
+  return out;
+}
+
 bool SameStructure(const rl::InteractionGraph& a, const rl::InteractionGraph& b) {
   return a.num_entities == b.num_entities && a.action_entity == b.action_entity &&
          a.adjacency == b.adjacency;

@@ -41,6 +41,13 @@ struct LearnedGraph {
 LearnedGraph AggregateGraph(int num_entities, const std::vector<double>& scores,
                             double threshold, int action_entity);
 
+// Scores with every object -> object pair made reciprocal: for i, j both moving and neither
+// `arm`, scores[i][j] = scores[j][i] = the larger of the two. Edges from or into the arm and
+// into an entity that does not move are left as they are. Throws std::invalid_argument when
+// the sizes do not match or arm is out of range.
+std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, int arm,
+                                           const std::vector<bool>& moving);
+
 // True when two graphs keep the same edges and action entity (weights may differ).
 bool SameStructure(const rl::InteractionGraph& a, const rl::InteractionGraph& b);
 

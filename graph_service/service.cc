@@ -27,6 +27,13 @@ GraphService::GraphService(const config::GraphConfig& config, const ServiceOptio
   if (source_ == nullptr || sink_ == nullptr)
     throw std::invalid_argument("GraphService: source and sink are required");
   progress_.target_episodes = config_.episodes;
+  if (options_.shape) {
+    // the run's shape, before any episode: no peer decides it by being first
+    const DatasetShape& shape = *options_.shape;
+    if (shape.layout.num_entities < 2)
+      throw std::invalid_argument("GraphService: the environment needs at least 2 entities");
+    data_ = std::make_unique<GraphDataset>(shape.layout, shape.entity_kinds, shape.action_dim, config_.episode_steps);
+  }
 }
 
 std::string GraphService::graph_path() const {
@@ -77,6 +84,8 @@ void GraphService::PublishStatus(bool force) {
   r.graph_version = p.published_version;
   r.steps = static_cast<uint64_t>(p.updates);
   r.dropped = static_cast<uint64_t>(p.dropped);
+  // explore episodes refused by the service's own checks (the run's shape, steps, limits)
+  if (p.dropped > 0) r.rejections["episode.graph"] = static_cast<uint64_t>(p.dropped);
   r.detail = std::string(PhaseName(p.phase)) + ": " + std::to_string(p.episodes) + "/" +
              std::to_string(p.target_episodes) + " episodes, " + std::to_string(p.updates) + " updates" +
              (p.held_out_loss >= 0 ? ", held-out " + std::to_string(p.held_out_loss) : "") +
@@ -176,7 +185,7 @@ StepResult GraphService::CollectStep(std::chrono::milliseconds wait) {
       problem = "episode has " + std::to_string(episode.num_steps) + " steps, expected " +
                 std::to_string(config_.episode_steps);
     if (problem.empty() && !data_) {
-      // the first valid episode fixes the data set's layout (within the run's limits)
+      // no shape given (toy worlds in tests): the first valid episode fixes it
       try {
         data_ = std::make_unique<GraphDataset>(GraphDataset::ShapedLike(episode));
         if (data_->num_entities() < 2) {
@@ -241,7 +250,10 @@ void GraphService::EvaluateGraph() {
   // held-out loss and the thresholded graph of the read-out's edge scores
   const EdgeStatistics stats = trainer_->Evaluate();
   const bool cut = config_.readout == config::GraphReadout::kCut;
-  LearnedGraph graph = AggregateGraph(data_->num_entities(), cut ? stats.cut_score : stats.mean_weight,
+  std::vector<double> scores = cut ? stats.cut_score : stats.mean_weight;
+  if (cut && config_.reciprocal_object_edges)
+    scores = ReciprocalObjectScores(scores, action_entity_, MovingEntities(stats.held_out_entity_zero_mse, config_.static_variance_fraction));
+  LearnedGraph graph = AggregateGraph(data_->num_entities(), scores,
                                       cut ? config_.cut_threshold : config_.threshold, action_entity_);
   graph.readout = cut ? "cut" : "mean_weight";
   graph.mean_weights = stats.mean_weight;

@@ -62,6 +62,10 @@ struct ServiceOptions {
   bool render_pictures = true;  // graph.png and graph_weights.png via graphviz
   std::chrono::milliseconds poll_timeout{200};
   rl::EpisodeLimits limits;     // what an episode of this run looks like (default: any layout)
+  // The data set's layout, entity kinds and action size: the run's, from its config
+  // (rl::FullEnvironmentShapeFor); explore episodes of any other shape are dropped. The role
+  // programs always set it. Unset (toy worlds in tests) the first valid episode fixes it.
+  std::optional<DatasetShape> shape;
   int updates_per_step = 10;    // GNN updates per Step (each Step stays well under a second)
   double status_period_s = 1;   // NodeStatus to the sink this often
 };

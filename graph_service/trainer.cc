@@ -239,6 +239,13 @@ std::vector<double> GnnTrainer::HeldOutEntityError(int cut_sender, int cut_recei
   return error;
 }
 
+std::vector<bool> MovingEntities(const std::vector<double>& no_motion_error, double fraction) {
+  const double largest = no_motion_error.empty() ? 0 : *std::max_element(no_motion_error.begin(), no_motion_error.end());
+  std::vector<bool> moving;
+  for (double e : no_motion_error) moving.push_back(e > fraction * largest);
+  return moving;
+}
+
 std::vector<double> GnnTrainer::EdgeCutScores() {
   const int n = data_.num_entities();
   std::vector<double> score(static_cast<size_t>(n) * n, 0.0);
@@ -251,11 +258,11 @@ std::vector<double> GnnTrainer::EdgeCutScores() {
           const double d = data_.position(ep, t + 1, e)[a] - data_.position(ep, t, e)[a];
           zero[e] += d * d / 2;
         }
-  const double largest = *std::max_element(zero.begin(), zero.end());
+  const std::vector<bool> moving = MovingEntities(zero, config_.static_variance_fraction);
   const std::vector<double> full = HeldOutEntityError(-1, -1);
   for (int j = 0; j < n; ++j) {
     // an entity that does not move has nothing for an edge to explain
-    if (zero[j] <= config_.static_variance_fraction * largest) continue;
+    if (!moving[j]) continue;
     const double transitions = static_cast<double>(data_.held_out_episodes().size()) *
                                data_.episode_steps();
     const double explained = zero[j] / transitions - full[j];

@@ -31,6 +31,10 @@ struct EdgeStatistics {
   std::vector<double> cut_score;
 };
 
+// Which entities move: the no-motion error of each (any scale) above `fraction` of the
+// largest one's (config graph.static_variance_fraction).
+std::vector<bool> MovingEntities(const std::vector<double>& no_motion_error, double fraction);
+
 // Options of the model from the service config and a data set's shape.
 GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset& data);
 

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 
+#include "learner/acting_policy.h"
+
 namespace srics::learner {
 namespace {
-
-constexpr const char* kHighPrefix = "hac.high.";
 
 // Goal replay's choice of goals among `count` candidates: k - 1 uniformly random ones and
 // the last (fewer when there are fewer candidates), in increasing order.
@@ -167,9 +167,11 @@ void HacLevels::Add(const rl::Episode& episode) {
 
 UpdateStats HacLevels::Update(SacAgent& low, int batch_size) {
   high_replay_.Sample(batch_size, rng_, &batch_);
-  high_.Update(batch_);
+  const bool high_non_finite = high_.Update(batch_).non_finite;
   low_replay_.Sample(batch_size, rng_, &batch_);
-  return low.Update(batch_);
+  UpdateStats stats = low.Update(batch_);
+  stats.non_finite = stats.non_finite || high_non_finite;
+  return stats;
 }
 
 std::vector<float> HacLevels::PolicyWeights(SacAgent& low) {
@@ -184,14 +186,14 @@ std::string HacLevels::PolicySignature(SacAgent& low) { return rl::HacPolicySign
 void HacLevels::AppendCheckpointSections(const LearnerCounters& counters,
                                          std::vector<nn::CheckpointSection>* sections) {
   for (nn::CheckpointSection& s : high_.CheckpointSections(counters)) {
-    s.name = kHighPrefix + s.name;
+    s.name = kHacHighPrefix + s.name;
     sections->push_back(std::move(s));
   }
 }
 
 void HacLevels::LoadCheckpointSections(const std::vector<nn::CheckpointSection>& sections, const std::string& path) {
   std::vector<nn::CheckpointSection> high;
-  const std::string prefix = kHighPrefix;
+  const std::string prefix = kHacHighPrefix;
   for (const nn::CheckpointSection& s : sections)
     if (s.name.compare(0, prefix.size(), prefix) == 0) {
       high.push_back(s);

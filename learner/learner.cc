@@ -106,6 +106,7 @@ UpdateStats Learner::Update() {
     relabeler_.Sample(replay_, options_.agent.sac.batch_size, &batch_);
     stats = agent_.Update(batch_);
   }
+  if (stats.non_finite) ++non_finite_updates_;
   ++counters_.updates;
   return stats;
 }

@@ -56,7 +56,9 @@ class Learner {
 
   // True when the rate limiter allows one more update now.
   bool CanUpdate() const;
-  // One SAC update on a freshly relabeled batch. Precondition: CanUpdate().
+  // One SAC update on a freshly relabeled batch. Precondition: CanUpdate(). An update that met
+  // a non-finite value changed no network from that point (SacAgent::Update); it still counts
+  // as an update for the rate limiter and is counted in non_finite_updates().
   UpdateStats Update();
   // Updates the limiter allows right now.
   uint64_t UpdatesAllowed() const;
@@ -88,6 +90,7 @@ class Learner {
   // True once the run's budget of training env steps is in (run.total_env_steps).
   bool BudgetReached() const { return counters_.training_env_steps >= options_.total_env_steps; }
   uint64_t episodes_rejected() const { return rejected_; }
+  uint64_t non_finite_updates() const { return non_finite_updates_; }
   uint64_t episodes_beyond_budget() const { return beyond_budget_; }
   // Exploration episodes not stored (learner.exploration_into_replay: false).
   uint64_t exploration_skipped() const { return exploration_skipped_; }
@@ -111,6 +114,7 @@ class Learner {
   TrainingBatch batch_;
   LearnerCounters counters_;
   uint64_t rejected_ = 0;
+  uint64_t non_finite_updates_ = 0;
   uint64_t beyond_budget_ = 0;
   uint64_t exploration_skipped_ = 0;
   bool has_graph_ = false;

@@ -21,15 +21,30 @@ LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::stri
   o.training_log.every_env_steps = config.actors.eval_every_env_steps;
   o.training_log.epsilon = config.agent.reward.epsilon;
   o.training_log.success_threshold = config.env.success_threshold;
+  o.rejected_log_interval_s = config.transport.rejected_log_interval_s;
   return o;
 }
 
 LearnerLoop::LearnerLoop(LearnerLoopOptions options, links::LearnerLink* link)
-    : options_(std::move(options)), link_(link), learner_(options_.learner), training_log_(options_.training_log) {}
+    : options_(std::move(options)),
+      link_(link),
+      learner_(options_.learner),
+      refusals_log_(std::make_unique<logging::RateLimiter>(std::chrono::seconds(options_.rejected_log_interval_s))),
+      training_log_(options_.training_log) {}
 
 void LearnerLoop::Publish() {
   rl::WeightsUpdate w;
   w.parameters = learner_.TakePolicyWeights();
+  // never publish what actors would refuse (and the writer would throw on): the weights of
+  // the next publication, after more updates, go out instead
+  if (const std::string problem = rl::ParameterProblem(w.parameters); !problem.empty()) {
+    ++weights_withheld_;
+    uint64_t suppressed = 0;
+    if (refusals_log_->Allow(&suppressed))
+      spdlog::error("weights v{} withheld: {} ({} withheld so far, {} warnings suppressed)",
+                    learner_.counters().policy_version, problem, weights_withheld_, suppressed);
+    return;
+  }
   w.version = learner_.counters().policy_version;
   w.update_count = learner_.counters().updates;
   w.architecture = learner_.PolicySignature();
@@ -76,6 +91,12 @@ void LearnerLoop::Report(bool force) {
   status.graph_version = graph_version_;
   status.steps = c.updates;
   status.dropped = r.episodes_rejected + graphs_rejected_;
+  for (auto [counter, count] : std::initializer_list<std::pair<const char*, uint64_t>>{
+           {"episode.learner", r.episodes_rejected},
+           {"graph.entities", graphs_rejected_},
+           {"update.nonfinite", learner_.non_finite_updates()},
+           {"weights.withheld", weights_withheld_}})
+    if (count > 0) status.rejections[counter] = count;
   status.detail = "replay " + std::to_string(r.replay_size) + ", inserted " + std::to_string(c.transitions_inserted) +
                   (learner_.has_graph() || !rl::UsesGraph(options_.learner.method) ? "" : ", waiting for the graph");
   link_->PublishStatus(status);
@@ -112,7 +133,9 @@ void LearnerLoop::FollowGraph() {
   if (!g) return;
   if (const std::string problem = rl::GraphMismatch(g->graph, options_.num_entities); !problem.empty()) {
     ++graphs_rejected_;
-    spdlog::warn("graph v{} ignored: {}", g->version, problem);
+    uint64_t suppressed = 0;
+    if (refusals_log_->Allow(&suppressed))
+      spdlog::warn("graph v{} ignored: {} ({} warnings suppressed)", g->version, problem, suppressed);
     return;
   }
   learner_.SetGraph(g->structure);
@@ -131,12 +154,25 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
     const auto figures = training_log_.Measure(e);
     const uint64_t stored_before = learner_.counters().episodes_accepted;
     const std::string problem = learner_.Ingest(std::move(e));
-    if (!problem.empty()) spdlog::warn("episode rejected: {}", problem);
+    uint64_t suppressed = 0;
+    if (!problem.empty() && refusals_log_->Allow(&suppressed))
+      spdlog::warn("episode rejected: {} ({} rejected so far, {} warnings suppressed)", problem,
+                   learner_.episodes_rejected(), suppressed);
     if (figures && learner_.counters().episodes_accepted > stored_before) training_log_.Add(*figures);
   }
   FollowGraph();
   int updates = 0;
-  for (; updates < options_.max_updates_per_step && learner_.CanUpdate(); ++updates) last_update_ = learner_.Update();
+  for (; updates < options_.max_updates_per_step && learner_.CanUpdate(); ++updates) {
+    const UpdateStats stats = learner_.Update();
+    if (!stats.non_finite) {
+      last_update_ = stats;
+      continue;
+    }
+    uint64_t suppressed = 0;
+    if (refusals_log_->Allow(&suppressed))
+      spdlog::warn("update {} skipped: a non-finite target, loss or gradient ({} so far, {} warnings suppressed)",
+                   learner_.counters().updates, learner_.non_finite_updates(), suppressed);
+  }
   if (learner_.counters().updates > 0 && learner_.PublishDue()) Publish();
   if (!options_.checkpoint_path.empty() &&
       learner_.counters().updates >= checkpointed_at_ + options_.learner.learner.checkpoint_every_updates) {

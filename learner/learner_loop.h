@@ -10,12 +10,14 @@
 
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "common/config/config.h"
 #include "common/links/links.h"
+#include "common/logging/logging.h"
 #include "learner/learner.h"
 #include "learner/training_log.h"
 
@@ -35,6 +37,7 @@ struct LearnerLoopOptions {
   // train.csv: figures of the training episodes (selectivity during training) per evaluation
   // interval; LearnerLoopOptionsFor puts it beside the checkpoint
   TrainingLogOptions training_log;
+  int rejected_log_interval_s = 5;  // refused episodes and graphs, skipped updates: logged this often
 };
 
 LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::string checkpoint_path);
@@ -62,6 +65,8 @@ class LearnerLoop {
 
   Learner& learner() { return learner_; }
   uint64_t graphs_rejected() const { return graphs_rejected_; }
+  // Weights not published because a parameter was not finite or beyond rl::kMaxAbsParameter.
+  uint64_t weights_withheld() const { return weights_withheld_; }
   uint64_t graph_version() const { return graph_version_; }
 
  private:
@@ -77,6 +82,8 @@ class LearnerLoop {
   UpdateStats last_update_;
   uint64_t graph_version_ = 0;
   uint64_t graphs_rejected_ = 0;
+  uint64_t weights_withheld_ = 0;
+  std::unique_ptr<logging::RateLimiter> refusals_log_;
   uint64_t checkpointed_at_ = 0;
   std::vector<rl::Episode> episodes_;
   TrainingLog training_log_;

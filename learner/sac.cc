@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "common/nn/serialize.h"
+#include "learner/acting_policy.h"
 
 namespace srics::learner {
 namespace {
@@ -44,7 +45,18 @@ LearnerCounters UnpackCounters(const std::vector<float>& values, const std::stri
   return {v[0], v[1], v[2], v[3], v[4]};
 }
 
+// True when every gradient of `params` is finite (checked before each optimizer step).
+bool GradientsFinite(const nn::ParameterList<float>& params) {
+  for (const nn::Parameter<float>* p : params)
+    if (!p->grad.allFinite()) return false;
+  return true;
+}
+
 }  // namespace
+
+LearnerCounters CheckpointCounters(const std::vector<nn::CheckpointSection>& sections, const std::string& path) {
+  return UnpackCounters(nn::FindSection(sections, "counters", path).values, path);
+}
 
 SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed, int threads)
     : shape_(shape),
@@ -135,6 +147,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
   // goes from its targets to its critic gradients without waiting for the others.
   {
     const nn::Tensor noise = nn::RandomNormal<float>(size, shape_.action_dim, rng_);
+    std::vector<char> targets_non_finite(static_cast<size_t>(shards), 0);
     q_optimizer_->ZeroGrad();
     ForEachShard(size, [&](nn::Tape<float>& tape, int k, int begin, int end) {
       nn::Tensor targets;
@@ -152,6 +165,10 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
                   static_cast<float>(sac.discount) * boot *
                       (t1.value().array().min(t2.value().array()) - alpha * next.log_prob.value().array());
       }
+      if (!targets.allFinite()) {  // no critic step on non-finite targets (checked below)
+        targets_non_finite[k] = 1;
+        return;
+      }
       tape.Reset();
       auto ent = tape.Constant(whole ? entities_ : rows(entities_, begin, end, ents));
       auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));
@@ -168,9 +185,17 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
       sum_part[k] = whole ? q1.value().mean() : q1.value().sum();
     });
     if (sac.grad_clip_norm > 0) nn::ClipGradNorm(q_optimizer_->parameters(), sac.grad_clip_norm);
-    q_optimizer_->Step();
+    if (std::find(targets_non_finite.begin(), targets_non_finite.end(), 1) != targets_non_finite.end()) {
+      stats.non_finite = true;
+      return stats;
+    }
     stats.q_loss = total(loss_part);
     stats.mean_q = whole ? sum_part[0] : total(sum_part) / size;
+    if (!std::isfinite(stats.q_loss) || !GradientsFinite(q_optimizer_->parameters())) {
+      stats.non_finite = true;
+      return stats;
+    }
+    q_optimizer_->Step();
   }
 
   // policy: minimise alpha log pi - min Q over reparameterised actions (critics frozen)
@@ -192,10 +217,15 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
       sum_part[k] = whole ? pi.log_prob.value().mean() : pi.log_prob.value().sum();
     });
     if (sac.grad_clip_norm > 0) nn::ClipGradNorm(policy_optimizer_->parameters(), sac.grad_clip_norm);
-    policy_optimizer_->Step();
     stats.policy_loss = total(loss_part);
     mean_log_prob = whole ? sum_part[0] : total(sum_part) / size;
     stats.entropy = -mean_log_prob;
+    if (!std::isfinite(stats.policy_loss) || !std::isfinite(mean_log_prob) ||
+        !GradientsFinite(policy_optimizer_->parameters())) {
+      stats.non_finite = true;
+      return stats;
+    }
+    policy_optimizer_->Step();
   }
 
   // temperature: loss = -log_alpha * (log pi + target entropy), gradient by hand
@@ -226,7 +256,7 @@ std::vector<nn::CheckpointSection> SacAgent::CheckpointSections(const LearnerCou
     return nn::CheckpointSection{name, nn::SignatureString(params), nn::Flatten(params), {}};
   };
   return {
-      section("policy", policy_.Parameters()),
+      section(kPolicySection, policy_.Parameters()),
       section("q1", q1_.Parameters()),
       section("q2", q2_.Parameters()),
       section("q1_target", q1_target_.Parameters()),
@@ -244,7 +274,7 @@ LearnerCounters SacAgent::LoadCheckpointSections(const std::vector<nn::Checkpoin
                                                  const std::string& path) {
   // check every part before changing anything, so a bad file leaves the agent as it was
   const std::pair<const char*, nn::ParameterList<float>> parts[] = {
-      {"policy", policy_.Parameters()},       {"q1", q1_.Parameters()},
+      {kPolicySection, policy_.Parameters()}, {"q1", q1_.Parameters()},
       {"q2", q2_.Parameters()},               {"q1_target", q1_target_.Parameters()},
       {"q2_target", q2_target_.Parameters()}, {"log_alpha", {&log_alpha_}}};
   for (const auto& [name, params] : parts) {
@@ -252,7 +282,7 @@ LearnerCounters SacAgent::LoadCheckpointSections(const std::vector<nn::Checkpoin
     if (s.signature != nn::SignatureString(params))
       throw nn::CheckpointError(path + ": section '" + name + "': architecture mismatch");
   }
-  const LearnerCounters counters = UnpackCounters(nn::FindSection(sections, "counters", path).values, path);
+  const LearnerCounters counters = CheckpointCounters(sections, path);
   nn::Rng rng = rng_;
   for (const auto& s : sections)
     if (s.name == "agent.rng") nn::SetRngState(&rng, s.bytes, path + ": section 'agent.rng'");

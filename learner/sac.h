@@ -37,6 +37,10 @@ struct UpdateStats {
   double entropy = 0;      // -mean log pi
   double mean_q = 0;
   double mean_reward = 0;
+  // a Bellman target, loss or gradient was not finite: the stage where it showed and every
+  // later one changed nothing (no optimizer step, no target update), so no NaN reaches a
+  // network; the learner counts these updates
+  bool non_finite = false;
 };
 
 // Counters kept in checkpoints with the networks.
@@ -55,7 +59,8 @@ class SacAgent {
   // threads >= 1: threads that share each update (learner.threads).
   SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed, int threads);
 
-  // One SAC update on a relabeled batch.
+  // One SAC update on a relabeled batch. A non-finite target, loss or gradient stops it
+  // before that stage's optimizer step (UpdateStats::non_finite).
   UpdateStats Update(const TrainingBatch& batch);
 
   // The policy's parameters as one flat vector and its architecture signature: what

@@ -29,6 +29,7 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadDouble("threshold", &out->threshold, 0, 1);
   s.ReadDouble("cut_threshold", &out->cut_threshold, 0, 1);
   s.ReadDouble("static_variance_fraction", &out->static_variance_fraction, 0, 1);
+  s.ReadBool("reciprocal_object_edges", &out->reciprocal_object_edges);
   s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
   s.ReadBool("restart_adam_after_warmup", &out->restart_adam_after_warmup);
   s.ReadDouble("adam_beta2_after_warmup", &out->adam_beta2_after_warmup, 0, 1 - 1e-9);

@@ -79,6 +79,12 @@ struct GraphConfig {
   // entity's counts as not moving: its loss weight is not amplified by 1 / variance, and the
   // cut read-out gives it no incoming edge
   double static_variance_fraction = 0.01;
+  // cut read-out: an object -> object pair (neither the arm) scores the larger of its two
+  // directions, both ways. Ties and contacts act both ways (Newton's third law); the data
+  // do not: the arm pushes one end of a rope more often, and the cut saw 3 -> 2 at 0.13-0.17
+  // but 2 -> 3 at 0.01-0.04 (relational-4 seed 1). The arm is driven, so arm -> object stays
+  // one-way, and nothing enters an entity that does not move.
+  bool reciprocal_object_edges = true;
   // loss += gate_logit_decay * sum over edges of max(0, logit_0 - logit_1)^2 / (N * B) (not
   // in the reference). With Adam (scale free) the margins of useful edges otherwise grow
   // without bound (20-50 after 4000 updates), dragging along edges that share their features

@@ -1,5 +1,6 @@
 #include "common/links/in_memory_bus.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace srics::links {
@@ -20,7 +21,12 @@ class InMemoryBus::Actor : public ActorLink {
  public:
   Actor(InMemoryBus* bus, uint32_t id) : bus_(bus), id_(id) {}
 
-  std::optional<rl::WeightsUpdate> PollWeights() override { return Unseen(bus_->weights_, &weights_seen_); }
+  // each publication once (as a DDS take), and only above the caller's version
+  std::optional<rl::WeightsUpdate> PollWeights(uint64_t newer_than) override {
+    if (!bus_->weights_ || bus_->weights_->version <= std::max(newer_than, weights_seen_)) return std::nullopt;
+    weights_seen_ = bus_->weights_->version;
+    return bus_->weights_;
+  }
   std::optional<rl::GraphUpdate> PollGraph() override { return Unseen(bus_->graph_, &graph_seen_); }
   // No waiting: in one thread nothing can arrive while we wait.
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds) override { return bus_->progress_; }

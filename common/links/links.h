@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -20,8 +21,10 @@ namespace srics::links {
 class ActorLink {
  public:
   virtual ~ActorLink() = default;
-  // The newest weights not returned before, if any (non-blocking).
-  virtual std::optional<rl::WeightsUpdate> PollWeights() = 0;
+  // The newest weights with a version above `newer_than` (the version the caller uses), if any
+  // (non-blocking). The caller checks them against its network and keeps its version when it
+  // refuses them: a refused sample, whatever its version, never hides the next good one.
+  virtual std::optional<rl::WeightsUpdate> PollWeights(uint64_t newer_than) = 0;
   // The newest graph not returned before, if any (non-blocking).
   virtual std::optional<rl::GraphUpdate> PollGraph() = 0;
   // The newest learner progress, waiting at most `wait` for news; empty if none ever came.

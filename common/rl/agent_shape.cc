@@ -49,6 +49,15 @@ EpisodeLimits EpisodeLimitsFor(const config::EnvConfig& env) {
   return limits;
 }
 
+EnvironmentShape FullEnvironmentShapeFor(const config::EnvConfig& env) {
+  const int objects = static_cast<int>(config::EffectiveObjects(env).size());
+  EnvironmentShape shape;
+  shape.layout = {1 + objects, 1 + objects, env.velocities};
+  for (int kind = 0; kind <= objects; ++kind) shape.entity_kinds.push_back(static_cast<uint16_t>(kind));
+  shape.action_dim = AgentShapeFor(env, config::Method::kSrics).action_dim;
+  return shape;
+}
+
 AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::AgentConfig& agent) {
   AttentionNetworkConfig c;
   c.entity_dim = shape.entity_dim;

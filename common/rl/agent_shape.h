@@ -36,6 +36,16 @@ config::AgentConfig HighLevelAgentConfig(const config::AgentConfig& agent, const
 // (training and evaluation), the kinds, velocities and action size are the run's.
 EpisodeLimits EpisodeLimitsFor(const config::EnvConfig& env);
 
+// The environment with every object present: the arm (kind 0), then catalogue object i as
+// kind i. The shape of the graph service's data set and of the run's graphs, from the config
+// alone (never from what some peer published first).
+struct EnvironmentShape {
+  EntityLayout layout;
+  std::vector<uint16_t> entity_kinds;
+  int action_dim = 0;
+};
+EnvironmentShape FullEnvironmentShapeFor(const config::EnvConfig& env);
+
 // The network configuration for a shape and the agent config.
 AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::AgentConfig& agent);
 

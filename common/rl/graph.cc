@@ -1,21 +1,37 @@
 #include "common/rl/graph.h"
 
 #include <algorithm>
+#include <bit>
 #include <stdexcept>
 
 namespace srics::rl {
 namespace {
 
-// Depth-first enumeration of every simple path from the action node; on reaching a node, all
-// nodes on the current path are its ancestors and the path length bounds its depth.
-void ExtendPaths(const InteractionGraph& graph, int node, int length, uint64_t on_path,
-                 SubgoalStructure* out) {
-  out->ancestor_mask[node] |= on_path;
-  out->depth[node] = std::max(out->depth[node], length);
-  const uint64_t with_node = on_path | (uint64_t{1} << node);
-  for (int next = 0; next < graph.num_entities; ++next) {
-    if (next == node || !graph.edge(node, next) || ((with_node >> next) & 1u)) continue;
-    ExtendPaths(graph, next, length + 1, with_node, out);
+// Every simple path from the driven entity, as the set of its nodes and its last node:
+// reach[S] has bit v when some simple path visits exactly the entities of S and ends at v. The
+// sets are visited in increasing order (adding a node only makes a set larger), so each is
+// complete before it is extended: O(2^N * N) bit operations, about a million for N = 16,
+// whatever the edges (enumerating the paths themselves grows like N! on a dense graph).
+void SimplePathSets(const InteractionGraph& graph, SubgoalStructure* out) {
+  const int n = graph.num_entities;
+  std::vector<uint32_t> successors(n, 0);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (i != j && graph.edge(i, j)) successors[i] |= uint32_t{1} << j;
+  std::vector<uint32_t> reach(size_t{1} << n, 0);
+  reach[uint32_t{1} << graph.action_entity] = uint32_t{1} << graph.action_entity;
+  for (uint32_t set = 1; set < reach.size(); ++set) {
+    for (uint32_t ends = reach[set]; ends != 0; ends &= ends - 1) {
+      const int last = std::countr_zero(ends);
+      // a path through `set` ending at `last`: every other node of it is an ancestor of `last`;
+      // its length in edges, counting the action node's edge, is the number of its nodes
+      out->ancestor_mask[last] |= set & ~(uint32_t{1} << last);
+      out->depth[last] = std::max(out->depth[last], std::popcount(set));
+      for (uint32_t next = successors[last] & ~set; next != 0; next &= next - 1) {
+        const uint32_t bit = next & (~next + 1);
+        reach[set | bit] |= bit;
+      }
+    }
   }
 }
 
@@ -55,8 +71,8 @@ SubgoalStructure ComputeSubgoalStructure(const InteractionGraph& graph) {
   SubgoalStructure out;
   out.ancestor_mask.assign(graph.num_entities, 0);
   out.depth.assign(graph.num_entities, -1);
-  // the action node is not an entity: the path starts at the driven entity with length 1
-  ExtendPaths(graph, graph.action_entity, 1, 0, &out);
+  // the action node is not an entity: a path starts at the driven entity with length 1
+  SimplePathSets(graph, &out);
   return out;
 }
 

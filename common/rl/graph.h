@@ -39,12 +39,14 @@ struct SubgoalStructure {
   std::vector<int> SubgoalEntities() const;
 };
 
-// Largest graph the exact simple-path search accepts (paths are enumerated exhaustively).
+// Largest graph the exact simple-path search accepts: it walks the sets of nodes a simple path
+// can visit (2^N sets), so the work is bounded by the entity count, never by the edges.
 constexpr int kMaxGraphEntities = 16;
 
 // Ancestor sets over all simple paths from the action node and longest-simple-path depths.
 // Handles cycles. Throws std::invalid_argument for a malformed graph (size mismatch, action
-// entity out of range, more than kMaxGraphEntities entities).
+// entity out of range, more than kMaxGraphEntities entities), checked before any search.
+// At most ~2^N * N steps: a complete graph of 16 entities takes milliseconds.
 SubgoalStructure ComputeSubgoalStructure(const InteractionGraph& graph);
 
 // Validates a graph; returns an empty string when fine, else what is wrong.

@@ -3,6 +3,7 @@
 // transport adapters of the process mains fill these from DDS samples.
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,14 @@
 #include "common/rl/graph.h"
 
 namespace srics::rl {
+
+// Sanity bound on policy parameters received or published: trained weights stay within a few
+// units; a finite but huge parameter overflows the activations and gives NaN actions, which
+// the environment refuses (the bound is the contract's, like kMaxAbsPosition in episode.h).
+inline constexpr float kMaxAbsParameter = 1000.0f;
+
+// Empty when every parameter is finite and within +-kMaxAbsParameter, else the first offender.
+std::string ParameterProblem(const std::vector<float>& parameters);
 
 struct WeightsUpdate {
   uint64_t version = 0;
@@ -40,6 +49,13 @@ struct LearnerProgress {
   uint64_t replay_size = 0;         // transitions held (small after a learner restart)
   bool budget_done() const { return budget_env_steps > 0 && training_env_steps >= budget_env_steps; }
 };
+
+// Empty when `progress` can come from this run's learner, whose budget is `budget_env_steps`
+// (run.total_env_steps); else why not. Checks what the actors act on: the budget itself,
+// training steps within it and within the transitions inserted, the replay within the inserts.
+// A sample of the right run id that passes is still not proven to be the learner's (only DDS
+// Security's access control can say who wrote it: common/transport/README.md).
+std::string ImplausibleProgress(const LearnerProgress& progress, uint64_t budget_env_steps);
 
 // The learner's statistics, as published (LearnerStats) and as actors read them.
 struct LearnerReport {
@@ -82,6 +98,9 @@ struct NodeReport {
   uint64_t steps = 0;     // env steps (actors) or updates (learner)
   uint64_t dropped = 0;   // samples rejected by this node's own checks
   std::string detail;
+  // what the node's own checks rejected, per counter ("weights.architecture": 2); the
+  // transport adds its own and shows them in NodeStatus.detail
+  std::map<std::string, uint64_t> rejections;
 };
 
 }  // namespace srics::rl

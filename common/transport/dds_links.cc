@@ -30,25 +30,28 @@ std::chrono::milliseconds LogInterval(const Participant& participant) {
 // ------------------------------------------------------------------------------ actor link
 
 DdsActorLink::DdsActorLink(const Participant& participant, uint32_t actor_id, const rl::EpisodeLimits& limits,
-                           std::chrono::milliseconds wait_for_readers)
-    : limits_(limits),
+                           uint64_t budget_env_steps, std::chrono::milliseconds wait_for_readers)
+    : participant_(participant),
+      limits_(limits),
+      budget_env_steps_(budget_env_steps),
       weights_(participant),
-      graphs_(participant),
+      graphs_(participant, limits.num_kinds),
       stats_(participant),
       episodes_(participant, CheckedByLink()),
       evals_(participant),
       status_(participant, "actor", actor_id),
-      limiter_(LogInterval(participant)) {
+      limiter_(LogInterval(participant)),
+      stats_limiter_(LogInterval(participant)) {
   // the learner and the graph service; go on without them after that
   episodes_.WaitForReaders(2, wait_for_readers);
 }
 
-std::optional<rl::WeightsUpdate> DdsActorLink::PollWeights() {
+std::optional<rl::WeightsUpdate> DdsActorLink::PollWeights(uint64_t newer_than) {
+  // no version is kept here: the actor keeps the version of the weights it accepted
   PolicyWeights message;
   std::optional<rl::WeightsUpdate> newest;
   while (weights_.Take(&message, std::chrono::milliseconds(0)) == TakeStatus::kSample) {
-    if (message.version <= weights_version_) continue;
-    weights_version_ = message.version;
+    if (message.version <= newer_than || (newest && message.version <= newest->version)) continue;
     newest = FromMessage(std::move(message));
   }
   return newest;
@@ -59,8 +62,19 @@ std::optional<rl::GraphUpdate> DdsActorLink::PollGraph() { return graphs_.PollNe
 std::optional<rl::LearnerProgress> DdsActorLink::PollLearner(std::chrono::milliseconds wait) {
   LearnerStats message;
   for (auto timeout = wait; stats_.Take(&message, timeout) == TakeStatus::kSample;
-       timeout = std::chrono::milliseconds(0))
-    progress_ = FromMessage(message).progress();
+       timeout = std::chrono::milliseconds(0)) {
+    const rl::LearnerProgress progress = FromMessage(message).progress();
+    if (const std::string problem = rl::ImplausibleProgress(progress, budget_env_steps_); !problem.empty()) {
+      ++stats_refused_;
+      participant_.CountRejection("stats.implausible");
+      uint64_t suppressed = 0;
+      if (stats_limiter_.Allow(&suppressed))
+        spdlog::warn("learner stats refused: {} ({} refused so far, {} warnings suppressed)", problem, stats_refused_,
+                     suppressed);
+      continue;
+    }
+    progress_ = progress;
+  }
   return progress_;
 }
 
@@ -82,7 +96,9 @@ void DdsActorLink::PublishEval(const rl::EvalReport& report) {
 
 void DdsActorLink::PublishStatus(const rl::NodeReport& report) {
   rl::NodeReport r = report;
-  r.dropped += rejected();  // the participant adds what its readers refused
+  // the participant adds what its readers and links refused (graphs and stats among them)
+  r.dropped += episodes_refused_;
+  if (episodes_refused_ > 0) r.rejections["episode.own"] += episodes_refused_;
   status_.Publish(r);
 }
 
@@ -90,7 +106,7 @@ void DdsActorLink::PublishStatus(const rl::NodeReport& report) {
 
 DdsLearnerLink::DdsLearnerLink(const Participant& participant, const rl::EpisodeLimits& limits)
     : episodes_(participant, EpisodeReaderOptions(limits)),
-      graphs_(participant),
+      graphs_(participant, limits.num_kinds),
       weights_(participant),
       stats_(participant),
       status_(participant, "learner", 0) {}
@@ -114,9 +130,7 @@ void DdsLearnerLink::PublishStats(const rl::LearnerReport& report) {
 }
 
 void DdsLearnerLink::PublishStatus(const rl::NodeReport& report) {
-  rl::NodeReport r = report;
-  r.dropped += graphs_.rejected();  // the participant adds what its readers refused
-  status_.Publish(r);
+  status_.Publish(report);  // the participant adds what its readers and the graph feed refused
 }
 
 // -------------------------------------------------------------------------- episode source

@@ -1,8 +1,11 @@
 #pragma once
 // The links of common/links/links.h over DDS: what a role process hands its loop. Each owns
 // its readers and writers (the participant must outlive it); none holds any algorithm.
-// Episodes are checked against the run's rl::EpisodeLimits on arrival; what is refused is
-// counted (rejected()) and logged at a limited rate, never handed on.
+// Every received sample is checked before anything is computed from it: the contract (the
+// readers, validation.h), then the run: episodes against its rl::EpisodeLimits, graphs against
+// its entity count (limits.num_kinds: the arm and every object; 0 = any), learner stats
+// against its budget. What is refused is counted per reason (Participant::CountRejection, shown
+// in NodeStatus), logged at a limited rate, never handed on, and changes no state.
 
 #include <atomic>
 #include <chrono>
@@ -30,11 +33,15 @@ class DdsActorLink final : public links::ActorLink {
  public:
   // Waits up to `wait_for_readers` for the learner and the graph service to match the episode
   // writer: episodes are volatile, so what is written before they listen is lost.
+  // `budget_env_steps` is the run's (run.total_env_steps): learner stats must carry it.
   DdsActorLink(const Participant& participant, uint32_t actor_id, const rl::EpisodeLimits& limits,
-               std::chrono::milliseconds wait_for_readers = std::chrono::seconds(3));
+               uint64_t budget_env_steps, std::chrono::milliseconds wait_for_readers = std::chrono::seconds(3));
 
-  std::optional<rl::WeightsUpdate> PollWeights() override;
+  std::optional<rl::WeightsUpdate> PollWeights(uint64_t newer_than) override;
   std::optional<rl::GraphUpdate> PollGraph() override;
+  // Stats that rl::ImplausibleProgress refuses (another budget, counters that cannot be the
+  // learner's) are counted as "stats.implausible" and never returned: a stray sample cannot
+  // end the run for the actors or hold them back.
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds wait) override;
   // An episode outside the run's limits is not sent: it is logged and counted (rejected())
   // and true is returned (the loop goes on). False only when shutdown stopped the write.
@@ -44,18 +51,22 @@ class DdsActorLink final : public links::ActorLink {
 
   // Own episodes refused before sending plus graphs refused on arrival.
   uint64_t rejected() const { return episodes_refused_ + graphs_.rejected(); }
+  // Learner stats refused as implausible.
+  uint64_t stats_rejected() const { return stats_refused_; }
 
  private:
+  const Participant& participant_;
   rl::EpisodeLimits limits_;
+  uint64_t budget_env_steps_;
   Reader<PolicyWeights> weights_;
   GraphFeed graphs_;
   Reader<LearnerStats> stats_;
   Writer<rl::Episode> episodes_;
   Writer<EvalResult> evals_;
   StatusPublisher status_;
-  logging::RateLimiter limiter_;
-  uint64_t weights_version_ = 0;
+  logging::RateLimiter limiter_, stats_limiter_;
   uint64_t episodes_refused_ = 0;
+  uint64_t stats_refused_ = 0;
   std::optional<rl::LearnerProgress> progress_;
 };
 

@@ -292,7 +292,7 @@ struct Reader<T>::Impl {
       if (auto v = ValidateEnvelope(sample.contract_version, internal::RunIdOf(sample), run_id); !v.ok()) return v;
       internal::FromC(sample, options.episode_limits.velocities, out);
       if (auto problem = rl::ValidateEpisode(*out, options.episode_limits); !problem.empty())
-        return {Verdict::kMalformed, std::move(problem)};
+        return {Verdict::kMalformed, std::move(problem), "episode.limits"};
       return {};
     } else {
       internal::FromC(sample, out);
@@ -315,6 +315,7 @@ struct Reader<T>::Impl {
       case Verdict::kMalformed: {
         ++local.rejected;
         row.rejected.fetch_add(1, std::memory_order_relaxed);
+        shared->CountRejection(v.counter.empty() ? std::string(Spec(TopicOf<T>::kId).name) : v.counter);
         uint64_t suppressed = 0;
         if (limiter.Allow(&suppressed))
           spdlog::warn("transport: dropped a malformed {} sample: {} ({} rejected so far, {} "

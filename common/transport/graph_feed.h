@@ -1,11 +1,14 @@
 #pragma once
 // The newest interaction graph of the run as the algorithms use it: taken from the topic,
-// checked (ancestor sets and depths are recomputed and must agree with the sample), and
-// converted. Actors and the learner each keep one.
+// checked against the run (its entity count, before anything is computed from the sample),
+// its ancestor sets and depths recomputed (they must agree with the sample), and converted.
+// Actors and the learner each keep one.
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 
+#include "common/logging/logging.h"
 #include "common/rl/updates.h"
 #include "common/transport/endpoint.h"
 #include "common/transport/messages.h"
@@ -15,14 +18,23 @@ namespace srics::transport {
 
 class GraphFeed {
  public:
-  explicit GraphFeed(const Participant& participant) : reader_(participant) {}
+  // `num_entities`: the run's entity count (the arm and every object); 0 accepts any count the
+  // graph algorithms take (rl::kMaxGraphEntities).
+  GraphFeed(const Participant& participant, int num_entities);
   // The newest graph with a version above every one returned before, if any (non-blocking).
-  // A sample that fails the checks is counted and logged, never returned.
+  // A sample that fails the checks is counted (per reason, in the participant: graph.entities,
+  // graph.structure, graph.stale for an older version; the same version again is skipped), logged at a limited rate, never returned, and leaves the
+  // version where it was: a refused graph with a huge version does not hide the next good one.
   std::optional<rl::GraphUpdate> PollNewest();
   uint64_t rejected() const { return rejected_; }
 
  private:
+  void Refuse(const char* counter, const InteractionGraph& message, const std::string& why);
+
+  const Participant& participant_;
+  int num_entities_;
   Reader<InteractionGraph> reader_;
+  logging::RateLimiter limiter_;
   uint64_t version_ = 0;
   uint64_t rejected_ = 0;
 };

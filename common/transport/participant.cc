@@ -137,8 +137,31 @@ SampleCounters Participant::counters(TopicId topic) const {
 
 uint64_t Participant::total_rejected() const {
   uint64_t total = 0;
-  for (const auto& row : counters_->rows) total += row.rejected.load();
+  for (const auto& [counter, count] : counters_->Rejections()) total += count;
   return total;
+}
+
+void CounterTable::CountRejection(std::string_view counter) {
+  std::lock_guard lock(mutex_);
+  if (auto it = rejections_.find(counter); it != rejections_.end())
+    ++it->second;
+  else
+    rejections_.emplace(std::string(counter), 1);
+}
+
+std::map<std::string, uint64_t, std::less<>> CounterTable::Rejections() const {
+  std::lock_guard lock(mutex_);
+  return rejections_;
+}
+
+std::string RejectionSummary(const std::map<std::string, uint64_t, std::less<>>& rejections) {
+  std::string text;
+  for (const auto& [counter, count] : rejections) {
+    if (count == 0) continue;
+    if (!text.empty()) text += ' ';
+    text += counter + "=" + std::to_string(count);
+  }
+  return text;
 }
 
 }  // namespace srics::transport

@@ -6,8 +6,11 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <string_view>
 
 #include "common/config/transport_config.h"
 #include "common/transport/shutdown.h"
@@ -28,7 +31,18 @@ struct CounterTable {
     std::atomic<uint64_t> accepted{0}, rejected{0}, other_run{0};
   };
   std::array<Row, kTopics.size()> rows;
+  // every rejection of a received sample by its counter name ("graph.entities"): those of the
+  // readers' contract checks and those of the links' checks against the run
+  void CountRejection(std::string_view counter);
+  std::map<std::string, uint64_t, std::less<>> Rejections() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::string, uint64_t, std::less<>> rejections_;
 };
+
+// "graph.entities=2 weights.checksum=1": counters in name order, for NodeStatus.detail.
+std::string RejectionSummary(const std::map<std::string, uint64_t, std::less<>>& rejections);
 
 // The Cyclone configuration string for `config` (XML from the templates in deploy/cyclonedds/
 // with the config's values filled in, or a file:// URI for profile file), or "" for profile
@@ -58,8 +72,14 @@ class Participant {
 
   // Received-sample counters of one topic (all readers of this participant).
   SampleCounters counters(TopicId topic) const;
-  // Malformed samples rejected on every topic: NodeStatus.dropped_samples.
+  // Received samples rejected on every topic, by the readers' contract checks and by the
+  // links' checks against the run (CountRejection): NodeStatus.dropped_samples.
   uint64_t total_rejected() const;
+  // Counts one rejection of a received sample under `counter` ("<topic>.<check>", the table
+  // of common/transport/README.md). Readers count their own; links call it for their checks.
+  void CountRejection(std::string_view counter) const { counters_->CountRejection(counter); }
+  // Every rejection so far by counter.
+  std::map<std::string, uint64_t, std::less<>> rejections() const { return counters_->Rejections(); }
 
   // Internal, for readers and writers: DDS handles and the shared counters.
   int32_t handle() const { return participant_; }

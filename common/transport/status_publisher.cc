@@ -22,6 +22,15 @@ void StatusPublisher::Publish(const rl::NodeReport& report) {
   fresh.pid = status_.pid;
   status_ = std::move(fresh);
   status_.dropped_samples += participant_->total_rejected();
+  // what was rejected, per counter: the node's own checks and the transport's
+  auto rejections = participant_->rejections();
+  for (const auto& [counter, count] : report.rejections) rejections[counter] += count;
+  if (const std::string summary = RejectionSummary(rejections); !summary.empty()) {
+    const std::string tail = "rejected: " + summary;
+    std::string& detail = status_.detail;
+    detail = detail.empty() ? tail : detail + " | " + tail;
+    if (detail.size() > kDetailMaxLength) detail.resize(kDetailMaxLength);
+  }
   status_.uptime_ms = static_cast<uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
                                                 std::chrono::steady_clock::now() - start_)
                                                 .count());

@@ -1,7 +1,9 @@
 #pragma once
 // Publishes a process's NodeStatus (keyed by run, role and id; transient-local, with a
-// liveliness lease so monitors notice a dead process). Fills host, pid and uptime, and adds
-// the participant's rejected-sample count to the node's own.
+// liveliness lease so monitors notice a dead process). Fills host, pid and uptime, adds
+// the participant's rejected-sample count to the node's own, and appends every rejection
+// counter (the node's report.rejections and the participant's) to the detail:
+// "training | rejected: graph.entities=1 weights.checksum=2" (cut to the IDL's 256).
 
 #include <chrono>
 #include <memory>

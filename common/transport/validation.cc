@@ -8,7 +8,9 @@
 namespace srics::transport {
 namespace {
 
-Validation Malformed(std::string reason) { return {Verdict::kMalformed, std::move(reason)}; }
+Validation Malformed(std::string counter, std::string reason) {
+  return {Verdict::kMalformed, std::move(reason), std::move(counter)};
+}
 
 // Index of the first non-finite value, or -1.
 int64_t FirstNonFinite(const std::vector<float>& values) {
@@ -18,18 +20,19 @@ int64_t FirstNonFinite(const std::vector<float>& values) {
 }
 
 // Checks shared by every topic; returns a malformed verdict or an empty reason.
-Validation CheckCommon(uint32_t contract_version, const std::string& msg_run_id) {
+Validation CheckCommon(const char* topic, uint32_t contract_version, const std::string& msg_run_id) {
+  const std::string counter = std::string(topic) + ".envelope";
   if (contract_version != kContractVersion)
-    return Malformed("contract_version " + std::to_string(contract_version) + ", expected " +
-                     std::to_string(kContractVersion));
-  if (msg_run_id.empty()) return Malformed("empty run_id");
-  if (msg_run_id.size() > kRunIdMaxLength) return Malformed("run_id longer than 64 characters");
+    return Malformed(counter, "contract_version " + std::to_string(contract_version) + ", expected " +
+                                  std::to_string(kContractVersion));
+  if (msg_run_id.empty()) return Malformed(counter, "empty run_id");
+  if (msg_run_id.size() > kRunIdMaxLength) return Malformed(counter, "run_id longer than 64 characters");
   return {};
 }
 
 Validation CheckRun(const std::string& msg_run_id, std::string_view run_id) {
   if (!run_id.empty() && msg_run_id != run_id)
-    return {Verdict::kOtherRun, "run_id '" + msg_run_id + "' is not '" + std::string(run_id) + "'"};
+    return {Verdict::kOtherRun, "run_id '" + msg_run_id + "' is not '" + std::string(run_id) + "'", ""};
   return {};
 }
 
@@ -65,87 +68,105 @@ const char* NodeStateName(NodeState state) {
 }
 
 Validation ValidateEnvelope(uint32_t contract_version, const std::string& msg_run_id, std::string_view run_id) {
-  if (auto v = CheckCommon(contract_version, msg_run_id); !v.ok()) return v;
+  if (auto v = CheckCommon("episode", contract_version, msg_run_id); !v.ok()) return v;
   return CheckRun(msg_run_id, run_id);
 }
 
 Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool verify_checksum) {
-  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
-  if (msg.version < 1) return Malformed("version 0 (published weights start at 1)");
+  if (auto v = CheckCommon("weights", msg.contract_version, msg.run_id); !v.ok()) return v;
+  if (msg.version < 1) return Malformed("weights.version", "version 0 (published weights start at 1)");
   if (msg.architecture.empty() || msg.architecture.size() > kArchitectureMaxLength)
-    return Malformed("architecture empty or longer than 256 characters");
+    return Malformed("weights.architecture", "architecture empty or longer than 256 characters");
   if (msg.parameters.empty() || msg.parameters.size() > kMaxParameters)
-    return Malformed("parameters: " + std::to_string(msg.parameters.size()) +
-                     " values, expected 1 to 64 Mi");
-  if (auto r = NonFinite("parameters", msg.parameters); !r.empty()) return Malformed(r);
+    return Malformed("weights.size", "parameters: " + std::to_string(msg.parameters.size()) +
+                                         " values, expected 1 to 64 Mi");
+  if (auto r = NonFinite("parameters", msg.parameters); !r.empty()) return Malformed("weights.nonfinite", r);
+  // finite but huge parameters overflow the policy's activations into NaN actions
+  for (size_t i = 0; i < msg.parameters.size(); ++i)
+    if (std::fabs(msg.parameters[i]) > rl::kMaxAbsParameter)
+      return Malformed("weights.magnitude", "parameters[" + std::to_string(i) + "] = " +
+                                                std::to_string(msg.parameters[i]) + " outside +-" +
+                                                std::to_string(rl::kMaxAbsParameter));
   if (const uint32_t crc = verify_checksum ? ParameterChecksum(msg.parameters) : msg.checksum;
       crc != msg.checksum)
-    return Malformed("checksum " + std::to_string(msg.checksum) + " does not match the parameters (" +
-                     std::to_string(crc) + ")");
+    return Malformed("weights.checksum", "checksum " + std::to_string(msg.checksum) +
+                                             " does not match the parameters (" + std::to_string(crc) + ")");
   return CheckRun(msg.run_id, run_id);
 }
 
 Validation Validate(const InteractionGraph& msg, std::string_view run_id) {
-  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
+  if (auto v = CheckCommon("graph", msg.contract_version, msg.run_id); !v.ok()) return v;
   const uint32_t n = msg.num_entities;
-  if (msg.version < 1) return Malformed("version 0 (published graphs start at 1)");
-  if (n < 1 || n > kMaxEntities) return Malformed("num_entities " + std::to_string(n) + " not in [1, 64]");
+  if (msg.version < 1) return Malformed("graph.version", "version 0 (published graphs start at 1)");
+  if (n < 1 || n > kMaxEntities)
+    return Malformed("graph.size", "num_entities " + std::to_string(n) + " not in [1, 64]");
   if (msg.mean_weights.size() != n * n)
-    return Malformed(SizeMismatch("mean_weights", msg.mean_weights.size(), n * n, "N x N"));
+    return Malformed("graph.size", SizeMismatch("mean_weights", msg.mean_weights.size(), n * n, "N x N"));
   if (msg.adjacency.size() != n * n)
-    return Malformed(SizeMismatch("adjacency", msg.adjacency.size(), n * n, "N x N"));
+    return Malformed("graph.size", SizeMismatch("adjacency", msg.adjacency.size(), n * n, "N x N"));
   if (msg.ancestor_masks.size() != n)
-    return Malformed(SizeMismatch("ancestor_masks", msg.ancestor_masks.size(), n, "N"));
-  if (msg.depths.size() != n) return Malformed(SizeMismatch("depths", msg.depths.size(), n, "N"));
+    return Malformed("graph.size", SizeMismatch("ancestor_masks", msg.ancestor_masks.size(), n, "N"));
+  if (msg.depths.size() != n) return Malformed("graph.size", SizeMismatch("depths", msg.depths.size(), n, "N"));
   if (msg.action_entity < 0 || msg.action_entity >= static_cast<int32_t>(n))
-    return Malformed("action_entity " + std::to_string(msg.action_entity) + " not in [0, N)");
+    return Malformed("graph.range", "action_entity " + std::to_string(msg.action_entity) + " not in [0, N)");
   for (size_t i = 0; i < msg.adjacency.size(); ++i)
-    if (msg.adjacency[i] > 1) return Malformed("adjacency[" + std::to_string(i) + "] is neither 0 nor 1");
+    if (msg.adjacency[i] > 1)
+      return Malformed("graph.range", "adjacency[" + std::to_string(i) + "] is neither 0 nor 1");
   for (uint32_t i = 0; i < n; ++i) {
     if (!MaskInside(msg.ancestor_masks[i], n))
-      return Malformed("ancestor_masks[" + std::to_string(i) + "] has bits at or above N");
+      return Malformed("graph.range", "ancestor_masks[" + std::to_string(i) + "] has bits at or above N");
     // a longest simple path from the action node has at most N edges
     if (msg.depths[i] < -1 || msg.depths[i] > static_cast<int32_t>(n))
-      return Malformed("depths[" + std::to_string(i) + "] = " + std::to_string(msg.depths[i]) +
-                       " not in [-1, N]");
+      return Malformed("graph.range", "depths[" + std::to_string(i) + "] = " + std::to_string(msg.depths[i]) +
+                                          " not in [-1, N]");
   }
-  if (auto r = NonFinite("mean_weights", msg.mean_weights); !r.empty()) return Malformed(r);
-  if (!std::isfinite(msg.threshold)) return Malformed("threshold is not finite");
-  if (!std::isfinite(msg.held_out_loss)) return Malformed("held_out_loss is not finite");
+  if (auto r = NonFinite("mean_weights", msg.mean_weights); !r.empty()) return Malformed("graph.nonfinite", r);
+  if (!std::isfinite(msg.threshold)) return Malformed("graph.nonfinite", "threshold is not finite");
+  if (!std::isfinite(msg.held_out_loss)) return Malformed("graph.nonfinite", "held_out_loss is not finite");
   return CheckRun(msg.run_id, run_id);
 }
 
 Validation Validate(const EvalResult& msg, std::string_view run_id) {
-  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
+  if (auto v = CheckCommon("eval", msg.contract_version, msg.run_id); !v.ok()) return v;
   const size_t n = msg.entity_distance.size();
   if (n < 1 || n > kMaxEntities)
-    return Malformed("entity_distance has " + std::to_string(n) + " values, expected 1 to 64 (N)");
+    return Malformed("eval.size", "entity_distance has " + std::to_string(n) + " values, expected 1 to 64 (N)");
   if (msg.subgoal_success.size() != n)
-    return Malformed(SizeMismatch("subgoal_success", msg.subgoal_success.size(), n, "N, as entity_distance"));
+    return Malformed("eval.size",
+                     SizeMismatch("subgoal_success", msg.subgoal_success.size(), n, "N, as entity_distance"));
   for (float v : {msg.avg_distance, msg.avg_object_distance, msg.success_rate, msg.selectivity})
-    if (!std::isfinite(v)) return Malformed("a mean (distance, success rate or selectivity) is not finite");
-  if (auto r = NonFinite("entity_distance", msg.entity_distance); !r.empty()) return Malformed(r);
-  if (auto r = NonFinite("subgoal_success", msg.subgoal_success); !r.empty()) return Malformed(r);
-  if (msg.success_rate < 0 || msg.success_rate > 1) return Malformed("success_rate outside [0, 1]");
+    if (!std::isfinite(v))
+      return Malformed("eval.nonfinite", "a mean (distance, success rate or selectivity) is not finite");
+  if (auto r = NonFinite("entity_distance", msg.entity_distance); !r.empty()) return Malformed("eval.nonfinite", r);
+  if (auto r = NonFinite("subgoal_success", msg.subgoal_success); !r.empty()) return Malformed("eval.nonfinite", r);
+  if (msg.success_rate < 0 || msg.success_rate > 1) return Malformed("eval.range", "success_rate outside [0, 1]");
   for (size_t i = 0; i < n; ++i)
     if (msg.subgoal_success[i] < 0 || msg.subgoal_success[i] > 1)
-      return Malformed("subgoal_success[" + std::to_string(i) + "] outside [0, 1]");
+      return Malformed("eval.range", "subgoal_success[" + std::to_string(i) + "] outside [0, 1]");
+  if (msg.avg_distance < 0 || msg.avg_object_distance < 0) return Malformed("eval.range", "a negative distance");
+  for (size_t i = 0; i < n; ++i)
+    if (msg.entity_distance[i] < 0)
+      return Malformed("eval.range", "entity_distance[" + std::to_string(i) + "] is negative");
   return CheckRun(msg.run_id, run_id);
 }
 
 Validation Validate(const LearnerStats& msg, std::string_view run_id) {
-  // the float fields are reports for people: NaN or Inf (a diverged learner) is shown as is
-  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
+  // the float fields are reports for people: NaN or Inf (a diverged learner) is shown as is;
+  // actors check the counters against their run (rl::ImplausibleProgress) before using them
+  if (auto v = CheckCommon("stats", msg.contract_version, msg.run_id); !v.ok()) return v;
   return CheckRun(msg.run_id, run_id);
 }
 
 Validation Validate(const NodeStatus& msg, std::string_view run_id) {
-  if (auto v = CheckCommon(msg.contract_version, msg.run_id); !v.ok()) return v;
-  if (msg.role.empty() || msg.role.size() > kRoleMaxLength) return Malformed("role empty or longer than 32");
-  if (msg.host.size() > kHostMaxLength) return Malformed("host longer than 128 characters");
-  if (msg.detail.size() > kDetailMaxLength) return Malformed("detail longer than 256 characters");
+  // strings are shown to people: monitors strip control characters (monitor/display.h)
+  if (auto v = CheckCommon("status", msg.contract_version, msg.run_id); !v.ok()) return v;
+  if (msg.role.empty() || msg.role.size() > kRoleMaxLength)
+    return Malformed("status.size", "role empty or longer than 32");
+  if (msg.host.size() > kHostMaxLength) return Malformed("status.size", "host longer than 128 characters");
+  if (msg.detail.size() > kDetailMaxLength) return Malformed("status.size", "detail longer than 256 characters");
   if (static_cast<int32_t>(msg.state) < 0 || static_cast<int32_t>(msg.state) > 6)
-    return Malformed("state " + std::to_string(static_cast<int32_t>(msg.state)) + " is not a NodeState");
+    return Malformed("status.range",
+                     "state " + std::to_string(static_cast<int32_t>(msg.state)) + " is not a NodeState");
   return CheckRun(msg.run_id, run_id);
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/rl/episode.h"
+#include "common/rl/updates.h"
 #include "common/transport/messages.h"
 
 namespace srics::transport {
@@ -26,7 +27,8 @@ enum class Verdict {
 
 struct Validation {
   Verdict verdict = Verdict::kAccept;
-  std::string reason;  // empty when accepted; otherwise says what is wrong, for the log
+  std::string reason;   // empty when accepted; otherwise says what is wrong, for the log
+  std::string counter;  // kMalformed: the rejection counter it counts in ("weights.checksum")
   bool ok() const { return verdict == Verdict::kAccept; }
 };
 
@@ -38,7 +40,9 @@ Validation ValidateEnvelope(uint32_t contract_version, const std::string& msg_ru
 // Each returns kMalformed with a reason for the first violation found, else kOtherRun when
 // `run_id` is not empty and differs from the sample's, else kAccept. The rules (also in
 // idl/README.md): the envelope above; sequence lengths match the declared layout; enums in
-// range; every float finite; indices and masks inside [0, N). Episodes: rl::ValidateEpisode.
+// range; every float finite; indices and masks inside [0, N); policy parameters within
+// +-rl::kMaxAbsParameter; distances of evaluations non-negative. Episodes: rl::ValidateEpisode.
+// The counter of a malformed verdict is "<topic>.<check>" (README: the table of checks).
 // `verify_checksum` false skips the CRC (for a writer that has just computed it).
 Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool verify_checksum = true);
 Validation Validate(const InteractionGraph& msg, std::string_view run_id);

@@ -15,6 +15,9 @@
 #include <stdexcept>
 
 #include "common/config/command_line.h"
+#include "common/config/config.h"
+#include "common/rl/ground_truth.h"
+#include "graph_service/learned_graph.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/launcher/sweep.h"
 
@@ -27,7 +30,8 @@ const char* const kCompareUsage =
     "  DIR       sweep folders (srics sweep) or run folders; their eval.csv and train.csv are read\n"
     "  --out DIR where the figures and results.md go (default DIR/compare for one DIR, ./compare for several)\n"
     "  per environment: <env>-distance.png, <env>-object_distance.png, <env>-subgoal_success.png,\n"
-    "  <env>-selectivity.png (mean over seeds, band min-max); results.md: final figures, mean ± std over seeds\n";
+    "  <env>-selectivity.png (mean over seeds, band min-max), <env>-<run>-graph.png (learned graphs);\n"
+    "  results.md: final figures, mean ± std over seeds, each run's learned graph against the one by construction\n";
 
 CompareOptions ParseCompareArgs(const std::vector<std::string>& args) {
   CompareOptions options;
@@ -167,6 +171,19 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     p.success_rate /= count;
     for (double& s : p.subgoal_success) s /= count;
     run.evaluations.push_back(p);
+  }
+  if (fs::is_regular_file(dir / "graph.json")) {
+    try {
+      run.graph = rl::DescribeGraph(graph_service::LoadGraph((dir / "graph.json").string()).graph);
+    } catch (const std::exception& e) {
+      warnings->push_back(dir.string() + ": graph.json: " + e.what());
+    }
+    try {
+      run.graph_by_construction = rl::DescribeGraph(rl::GroundTruthGraph(config::LoadConfig((dir / "config.yaml").string()).env));
+    } catch (const std::exception&) {
+      // a config from another version: the learned graph is still listed
+    }
+    if (fs::is_regular_file(dir / "graph.png")) run.graph_picture = (dir / "graph.png").string();
   }
   if (const std::optional<Csv> train = ReadCsv(dir / "train.csv")) {
     std::map<double, double> by_steps_selectivity;
@@ -398,6 +415,21 @@ std::string FinalTable(const std::vector<RunData>& runs) {
       for (size_t i = 0; i < entities; ++i) out << " " << MeanStd(SpreadOf(subgoal[i]), 2) << " |";
       out << " " << MeanStd(SpreadOf(selectivity)) << " | " << MeanStd(SpreadOf(passive)) << " |\n";
     }
+    bool any_graph = false;
+    for (const auto& [method, group] : methods)
+      for (const RunData* r : group) any_graph |= !r->graph.empty();
+    if (any_graph) {
+      out << "\nLearned graphs (graph.json of each run; pictures " << env << "-<run>-graph.png):\n\n"
+          << "| run | learned graph | by construction | same |\n|---|---|---|---|\n";
+      for (const auto& [method, group] : methods)
+        for (const RunData* r : group) {
+          if (r->graph.empty()) continue;
+          const std::string& truth = r->graph_by_construction;
+          out << "| " << fs::path(r->dir).filename().string() << " | " << r->graph << " | "
+              << (truth.empty() ? "-" : truth) << " | "
+              << (truth.empty() ? "-" : truth == r->graph ? "yes" : "no") << " |\n";
+        }
+    }
     out << "\nRuns:";
     for (const auto& [method, group] : methods)
       for (const RunData* r : group)
@@ -511,6 +543,15 @@ int Compare(const CompareOptions& options) {
       script << "\n";
       pictures.push_back(base + "-subgoal_success.png");
     }
+    for (const auto& [method, group] : methods)
+      for (const RunData* r : group) {
+        if (r->graph_picture.empty()) continue;
+        const std::string copy = base + "-" + fs::path(r->dir).filename().string() + "-graph.png";
+        std::error_code copy_error;
+        fs::copy_file(r->graph_picture, copy, fs::copy_options::overwrite_existing, copy_error);
+        if (copy_error) std::cerr << "srics compare: cannot copy " << r->graph_picture << ": " << copy_error.message() << "\n";
+        else pictures.push_back(copy);
+      }
     script.close();
     std::string plot_error;
     if (!RunGnuplot(base + ".gnuplot", &plot_error)) {

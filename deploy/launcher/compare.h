@@ -54,6 +54,9 @@ struct RunData {
   std::vector<EvalPoint> evaluations;  // trained policy, env-step order
   std::optional<EvalPoint> passive;    // the first evaluation of policy version 0
   std::vector<std::pair<double, double>> selectivity;  // train.csv: env steps, selectivity
+  // the run's graph.json as edges ("action->0, 0->2"), empty when it has none; the graph its
+  // config.yaml implies by construction, empty when that cannot be read; graph.png if drawn
+  std::string graph, graph_by_construction, graph_picture;
 };
 
 // Reads every run under the folders; folders it cannot use are named in *warnings.

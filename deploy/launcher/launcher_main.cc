@@ -1,6 +1,7 @@
 // srics: the launcher. `srics run CONFIG ...` runs a whole training run on this machine (see
 // launcher.h and `srics run --help`); `srics sweep` a grid of runs over methods and seeds
-// (sweep.h); `srics compare` draws figures and tables from sweeps (compare.h); `srics
+// (sweep.h); `srics compare` draws figures and tables from sweeps (compare.h); `srics eval`
+// plays a trained policy's evaluation episodes into metrics and videos (eval.h); `srics
 // learn-graph` learns an environment's graph.
 
 #include <iostream>
@@ -10,6 +11,7 @@
 #include "common/config/config_error.h"
 #include "common/transport/shutdown.h"
 #include "deploy/launcher/compare.h"
+#include "deploy/launcher/eval.h"
 #include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/launcher.h"
 #include "deploy/launcher/sweep.h"
@@ -20,7 +22,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" ||
       (args[0] == "run" && args.size() > 1 && (args[1] == "-h" || args[1] == "--help"))) {
-    std::cout << "srics run | sweep | compare | learn-graph (each with --help)\n" << launcher::kRunUsage;
+    std::cout << "srics run | sweep | compare | eval | learn-graph (each with --help)\n" << launcher::kRunUsage;
     return args.empty() ? launcher::kExitUsage : 0;
   }
   if (args[0] == "learn-graph") {
@@ -67,6 +69,24 @@ int main(int argc, char** argv) {
       return launcher::kExitUsage;
     } catch (const std::exception& e) {
       std::cerr << "srics compare: " << e.what() << "\n";
+      return launcher::kExitFailed;
+    }
+  }
+  if (args[0] == "eval") {
+    if (args.size() > 1 && (args[1] == "-h" || args[1] == "--help")) {
+      std::cout << launcher::kEvalUsage;
+      return 0;
+    }
+    try {
+      return launcher::Eval(launcher::ParseEvalArgs({args.begin() + 1, args.end()}));
+    } catch (const srics::config::ConfigError& e) {
+      std::cerr << "srics eval: " << e.what() << "\n";
+      return launcher::kExitUsage;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "srics eval: " << e.what() << "\n" << launcher::kEvalUsage;
+      return launcher::kExitUsage;
+    } catch (const std::exception& e) {
+      std::cerr << "srics eval: " << e.what() << "\n";
       return launcher::kExitFailed;
     }
   }

@@ -1,5 +1,7 @@
 #include "deploy/monitor/csv_sink.h"
 
+#include "deploy/monitor/monitor_state.h"
+
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
@@ -34,8 +36,9 @@ std::string Time(double wall_time) {
 
 }  // namespace
 
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+std::string CsvField(const std::string& raw) {
+  const std::string text = PrintableText(raw);  // a peer's string: no control characters
+  if (text.find_first_of(",\"") == std::string::npos) return text;
   std::string out = "\"";
   for (char c : text) {
     if (c == '"') out += '"';

@@ -41,7 +41,8 @@ class CsvSink {
   std::ofstream nodes_;
 };
 
-// A CSV field: quoted (with doubled quotes) when it holds a comma, quote or line break.
+// A CSV field of a peer's string: PrintableText (no control characters, so no line breaks),
+// quoted (with doubled quotes) when it holds a comma or quote.
 std::string CsvField(const std::string& text);
 
 // Seconds since the Unix epoch, now.

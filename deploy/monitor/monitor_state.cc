@@ -20,23 +20,35 @@ std::chrono::milliseconds LostAfter(const config::TransportConfig& transport) {
   return std::chrono::milliseconds(static_cast<int64_t>(std::ceil(seconds * 1000.0)));
 }
 
-void Apply(MonitorState* state, const transport::NodeStatus& status, Clock::time_point now) {
+std::string PrintableText(std::string_view text) {
+  std::string out(text);
+  for (char& c : out)
+    if (c < 0x20 || c > 0x7e) c = '?';  // char is signed here: bytes >= 0x80 are negative
+  return out;
+}
+
+void Apply(MonitorState* state, const transport::NodeStatus& received, Clock::time_point now) {
+  transport::NodeStatus status = received;
+  for (std::string* text : {&status.run_id, &status.role, &status.host, &status.detail}) *text = PrintableText(*text);
   NodeKey key{status.run_id, status.role, status.node_id};
   auto [it, inserted] = state->nodes.try_emplace(std::move(key));
   NodeEntry& node = it->second;
   if (inserted) node.first_seen = now;
-  node.status = status;
+  node.status = std::move(status);
   node.last_seen = now;
   ++node.statuses;
 }
 
 void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::time_point now) {
-  RunView& run = state->runs[stats.run_id];
+  RunView& run = state->runs[PrintableText(stats.run_id)];
   run.learner = stats;
+  run.learner->run_id = PrintableText(stats.run_id);
   run.learner_received = now;
 }
 
-void Apply(MonitorState* state, const transport::EvalResult& result, Clock::time_point /*now*/) {
+void Apply(MonitorState* state, const transport::EvalResult& received, Clock::time_point /*now*/) {
+  transport::EvalResult result = received;
+  result.run_id = PrintableText(received.run_id);
   RunView& run = state->runs[result.run_id];
   if (result.policy_version == 0) {
     // the passive policy is evaluated once per evaluating actor; the first one is the baseline
@@ -50,17 +62,18 @@ void Apply(MonitorState* state, const transport::EvalResult& result, Clock::time
 }
 
 void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock::time_point now) {
-  RunView& run = state->runs[graph.run_id];
+  RunView& run = state->runs[PrintableText(graph.run_id)];
   run.graph = graph;
+  run.graph->run_id = PrintableText(graph.run_id);
   run.graph_received = now;
 }
 
 void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::time_point now) {
-  RunView& run = state->runs[weights.run_id];
+  RunView& run = state->runs[PrintableText(weights.run_id)];
   WeightsInfo info;
   info.version = weights.version;
   info.update_count = weights.update_count;
-  info.architecture = weights.architecture;
+  info.architecture = PrintableText(weights.architecture);
   info.num_parameters = weights.parameters.size();
   info.received = now;
   run.weights = std::move(info);

@@ -15,6 +15,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "common/config/transport_config.h"
@@ -84,7 +85,13 @@ struct MonitorState {
 // node sends a status every period, so this is never reached while it is alive).
 std::chrono::milliseconds LostAfter(const config::TransportConfig& transport);
 
-// Folding samples into the state. `now` is the arrival time.
+// A peer's string as it may be shown on a terminal or written to a CSV: every byte outside
+// printable ASCII (control characters, escape sequences, C1 codes in UTF-8) becomes '?'.
+// Anything on the domain can publish: a run id or a detail must not drive the terminal.
+std::string PrintableText(std::string_view text);
+
+// Folding samples into the state. `now` is the arrival time. Every string of a sample (run
+// id, role, host, detail, architecture) is kept as PrintableText.
 void Apply(MonitorState* state, const transport::NodeStatus& status, Clock::time_point now);
 void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::time_point now);
 void Apply(MonitorState* state, const transport::EvalResult& result, Clock::time_point now);

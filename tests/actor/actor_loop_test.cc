@@ -6,6 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+#include "actor/env/rearrange_env.h"
 #include "common/links/in_memory_bus.h"
 #include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"
@@ -172,6 +177,61 @@ TEST(ActorLoopTest, HoldsBackWhenAheadOfTheLearnerAndEndsWithTheBudget) {
   EXPECT_EQ(actor.Step(), StepResult::kDone);
   ASSERT_EQ(observer.evals.size(), 3u);
   EXPECT_EQ(observer.evals[2].policy_version, 2u);
+}
+
+// Issue 15: the next evaluation was found by adding the interval until it passed the
+// learner's step count: a count of 2^62 (one stray LearnerStats sample) kept an evaluating
+// actor in that loop for good, and counters below the rate limiter's baseline wrapped around.
+TEST(ActorLoopTest, HugeStepCountsNeitherHangTheScheduleNorWrapTheRateLimit) {
+  const config::Config config = SmallConfig();
+  CountingObserver observer;
+  links::InMemoryBus bus(&observer);
+  auto link = bus.ActorEnd(0);
+  auto learner = bus.LearnerEnd();
+  ActorOptions options = ActorOptionsFor(config, 0);
+  ActorLoop actor(options, link.get());
+  bus.PublishGraph(GroundTruth(config, 1));
+  learner->PublishWeights(WeightsFor(options, 1, 21));
+  rl::LearnerReport stats;
+  stats.replay_size = stats.transitions_inserted = 100;
+  stats.updates = 60;
+  learner->PublishStats(stats);
+  ASSERT_EQ(actor.Step(), StepResult::kWorked);  // the passive evaluation
+  stats.training_env_steps = uint64_t{1} << 62;
+  stats.transitions_inserted = (uint64_t{1} << 62) + 100;
+  learner->PublishStats(stats);
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_EQ(actor.Step(), StepResult::kWorked);  // evaluates once, at once
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
+  ASSERT_EQ(observer.evals.size(), 2u);
+  // a learner that starts again from fewer inserted transitions: counted afresh, no wait
+  stats.training_env_steps = 0;
+  stats.transitions_inserted = 50;
+  stats.updates = 60;
+  learner->PublishStats(stats);
+  EXPECT_EQ(actor.Step(), StepResult::kWorked);
+  EXPECT_EQ(actor.counters().waits, 0u);
+}
+
+// Issue 15: a policy whose output is not finite made the environment throw, which ended the
+// actor (and every actor, with the same weights). The episode is now dropped as unstable.
+TEST(ActorLoopTest, NonFiniteActionsDropTheEpisodeInsteadOfThrowing) {
+  const config::Config config = SmallConfig();
+  auto env = env::MakeRearrangeEnv(config.env);
+  const ActorOptions options = ActorOptionsFor(config, 0);
+  nn::Rng rng(1);
+  rl::PolicyNetwork<float> policy("policy", options.policy, rng);
+  std::vector<float> flat = nn::Flatten(policy.Parameters());
+  std::fill(flat.begin(), flat.end(), std::numeric_limits<float>::quiet_NaN());
+  nn::LoadFlat(policy.Parameters(), flat);
+  const rl::SubgoalStructure structure = rl::ComputeSubgoalStructure(rl::GroundTruthGraph(config.env));
+  std::optional<rl::Episode> episode;
+  EXPECT_NO_THROW(episode = RunTrainEpisode(*env, policy, structure, options.train, 1, rng));
+  EXPECT_FALSE(episode.has_value());
+  // the environment is usable for the next episode
+  std::optional<rl::Episode> explore;
+  EXPECT_NO_THROW(explore = RunExploreEpisode(*env, options.explore, 2, rng));
+  EXPECT_TRUE(explore.has_value());
 }
 
 TEST(ActorLoopTest, SameSeedSameEpisodes) {

@@ -1,4 +1,5 @@
 #include "graph_service/learned_graph.h"
+#include "graph_service/trainer.h"
 
 #include <gtest/gtest.h>
 
@@ -47,6 +48,39 @@ TEST(AggregateGraphTest, ActionEntityAndThresholdMatter) {
   EXPECT_EQ(rl::DescribeGraph(g.graph), "action->2, 0->2, 0->3, 0->4");
   // arm unreachable from the action: only 2 has a subgoal
   EXPECT_EQ(g.structure.depth, (std::vector<int>{-1, -1, 1, -1, -1}));
+}
+
+TEST(ReciprocalObjectScoresTest, ObjectPairsTakeTheLargerDirectionArmAndStaticUntouched) {
+  // entities: 0 arm, 1 static puck, 2 and 3 tied pucks, 4 free puck; the cut saw the tie
+  // from 3 only (the arm pushed 3 more often) and a contact 4 -> 2
+  const int n = 5;
+  std::vector<double> s(n * n, 0.0);
+  auto at = [&](std::vector<double>& m, int i, int j) -> double& { return m[i * n + j]; };
+  at(s, 0, 2) = 0.9; at(s, 0, 3) = 1.0; at(s, 0, 4) = 0.95;
+  at(s, 3, 2) = 0.15; at(s, 2, 3) = 0.02;  // the rope, one direction seen
+  at(s, 4, 2) = 0.03;                       // an occasional contact
+  at(s, 1, 2) = 0.2;                        // static puck acting on 2: stays one-way
+  at(s, 2, 0) = 0.3;                        // into the arm: left as it is
+  const std::vector<bool> moving = {true, false, true, true, true};
+  const std::vector<double> r = ReciprocalObjectScores(s, 0, moving);
+  EXPECT_EQ(r[2 * n + 3], 0.15);
+  EXPECT_EQ(r[3 * n + 2], 0.15);
+  EXPECT_EQ(r[2 * n + 4], 0.03);
+  EXPECT_EQ(r[4 * n + 2], 0.03);
+  EXPECT_EQ(r[1 * n + 2], 0.2);
+  EXPECT_EQ(r[2 * n + 1], 0.0);  // nothing into the static puck
+  EXPECT_EQ(r[0 * n + 2], 0.9);
+  EXPECT_EQ(r[2 * n + 0], 0.3);  // the arm is driven: no reciprocity with it
+  EXPECT_EQ(r[3 * n + 0], 0.0);
+  const LearnedGraph g = AggregateGraph(n, r, 0.1, 0);
+  EXPECT_EQ(rl::DescribeGraph(g.graph), "action->0, 0->2, 0->3, 0->4, 1->2, 2->0, 2->3, 3->2");
+  EXPECT_THROW(ReciprocalObjectScores(s, 5, moving), std::invalid_argument);
+  EXPECT_THROW(ReciprocalObjectScores(std::vector<double>(24, 0.0), 0, moving), std::invalid_argument);
+}
+
+TEST(MovingEntitiesTest, BelowTheFractionOfTheLargestDoesNotMove) {
+  EXPECT_EQ(MovingEntities({4.0, 0.03, 0.05, 1.0}, 0.01), (std::vector<bool>{true, false, true, true}));
+  EXPECT_EQ(MovingEntities({0.0, 0.0}, 0.01), (std::vector<bool>{false, false}));
 }
 
 TEST(AggregateGraphTest, RejectsMalformedInput) {

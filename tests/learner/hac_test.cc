@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "common/rl/agent_shape.h"
+#include "learner/acting_policy.h"
 #include "learner/learner.h"
 #include "tests/learner/learner_testing.h"
 
@@ -298,6 +299,44 @@ TEST(HacLearnerTest, CheckpointHoldsBothLevels) {
   Learner flat(LearnerOptionsFor(sac_her));
   flat.SaveCheckpoint(path);
   EXPECT_THROW(restored.LoadCheckpoint(path), nn::CheckpointError);
+  std::filesystem::remove(path);
+}
+
+// `srics eval` loads only the acting networks: both levels of a HAC checkpoint, as the actors
+// build them, and refuses files that do not fit.
+TEST(ActingPolicyTest, LoadsBothLevelsOfAHacCheckpointAndRefusesOthers) {
+  const std::string path = ::testing::TempDir() + "/hac_acting.srics";
+  const config::Config run = HacRun();
+  Learner learner(LearnerOptionsFor(run));
+  for (int i = 0; i < 30; ++i) ASSERT_EQ(learner.Ingest(HandEpisode()), "");
+  for (int i = 0; i < 2; ++i) learner.Update();
+  learner.SaveCheckpoint(path);
+  nn::Rng rng(7);
+  rl::PolicyNetwork<float> low("policy", rl::MakeNetworkConfig(rl::AgentShapeFor(run.env, run.run.method), run.agent), rng);
+  rl::PolicyNetwork<float> high("policy", rl::MakeNetworkConfig(rl::HighLevelShapeFor(run.env), run.agent), rng);
+  ASSERT_NE(nn::Flatten(low.Parameters()), learner.agent().PolicyWeights());
+  const LearnerCounters counters = LoadActingPolicies(path, low, &high);
+  EXPECT_EQ(nn::Flatten(low.Parameters()), learner.agent().PolicyWeights());
+  EXPECT_EQ(nn::Flatten(high.Parameters()), learner.hac()->high().PolicyWeights());
+  EXPECT_EQ(counters.updates, 2u);
+  EXPECT_EQ(counters, learner.counters());
+
+  // another architecture (a table with more pucks): refused, naming the file
+  config::Config bigger = run;
+  bigger.env.num_pucks = 3;
+  rl::PolicyNetwork<float> other("policy", rl::MakeNetworkConfig(rl::AgentShapeFor(bigger.env, run.run.method), run.agent), rng);
+  try {
+    LoadActingPolicies(path, other, nullptr);
+    ADD_FAILURE() << "loaded into another architecture";
+  } catch (const nn::CheckpointError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr(path));
+  }
+  // a flat method's checkpoint has no high level
+  config::Config sac_her = run;
+  sac_her.run.method = config::Method::kSacHer;
+  Learner flat(LearnerOptionsFor(sac_her));
+  flat.SaveCheckpoint(path);
+  EXPECT_THROW(LoadActingPolicies(path, low, &high), nn::CheckpointError);
   std::filesystem::remove(path);
 }
 

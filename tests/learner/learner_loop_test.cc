@@ -47,7 +47,7 @@ TEST(LearnerLoopTest, KeepsTheRatioCountsRejectsAndEndsWithTheBudget) {
 
   // the first step publishes weights at once: actors need them to start training
   EXPECT_EQ(loop.Step(), StepResult::kIdle);
-  auto weights = actor->PollWeights();
+  auto weights = actor->PollWeights(0);
   ASSERT_TRUE(weights.has_value());
   EXPECT_EQ(weights->version, 1u);
   EXPECT_FALSE(weights->parameters.empty());
@@ -88,7 +88,7 @@ TEST(LearnerLoopTest, KeepsTheRatioCountsRejectsAndEndsWithTheBudget) {
   EXPECT_EQ(loop.learner().counters().transitions_inserted, 200u);
   EXPECT_EQ(loop.learner().counters().updates, 54u);  // 0.5 * 100 + 4
   EXPECT_EQ(observer.last.updates, 54u);
-  EXPECT_GT(actor->PollWeights()->version, 1u) << "weights are published every 10 updates";
+  EXPECT_GT(actor->PollWeights(0)->version, 1u) << "weights are published every 10 updates";
 
   // the rest of the budget (400 env steps): the loop ends, the end is in the stats
   for (int i = 0; i < 10; ++i) ASSERT_TRUE(actor->PublishEpisode(testing::MakeEpisode(3, 20, 200 + i)));

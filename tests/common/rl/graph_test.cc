@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <random>
+
 namespace srics::rl {
 namespace {
 
@@ -84,6 +88,55 @@ TEST(GraphTest, MalformedGraphsAreRejectedWithTheReason) {
   graph.action_entity = 3;
   EXPECT_NE(ValidateGraph(graph).find("action_entity 3"), std::string::npos);
   EXPECT_EQ(ValidateGraph(InteractionGraph::Star(3)), "");
+}
+
+// The definition, by brute force: every simple path from the driven entity, depth first.
+void ReferencePaths(const InteractionGraph& g, int node, int length, uint64_t on_path, SubgoalStructure* out) {
+  out->ancestor_mask[node] |= on_path;
+  out->depth[node] = std::max(out->depth[node], length);
+  const uint64_t with_node = on_path | (uint64_t{1} << node);
+  for (int next = 0; next < g.num_entities; ++next)
+    if (next != node && g.edge(node, next) && !((with_node >> next) & 1u))
+      ReferencePaths(g, next, length + 1, with_node, out);
+}
+
+TEST(GraphTest, AncestorsAndDepthsMatchEveryPathEnumeratedOnRandomGraphs) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int n = 1 + trial % 8;
+    InteractionGraph g;
+    g.num_entities = n;
+    g.action_entity = static_cast<int>(rng() % n);
+    const double density = (trial % 5 + 1) / 5.0;
+    for (int i = 0; i < n * n; ++i) g.adjacency.push_back(std::uniform_real_distribution<>(0, 1)(rng) < density);
+    SubgoalStructure want;
+    want.ancestor_mask.assign(n, 0);
+    want.depth.assign(n, -1);
+    ReferencePaths(g, g.action_entity, 1, 0, &want);
+    const SubgoalStructure got = ComputeSubgoalStructure(g);
+    EXPECT_EQ(got.ancestor_mask, want.ancestor_mask) << DescribeGraph(g);
+    EXPECT_EQ(got.depth, want.depth) << DescribeGraph(g);
+  }
+}
+
+// Issue 15: every edge of 16 entities set (a sample anyone on the domain can publish) made the
+// path enumeration run for ~15! paths; the work is now bounded by 2^N whatever the edges.
+TEST(GraphTest, CompleteGraphOfTheLargestSizeIsQuick) {
+  InteractionGraph g;
+  g.num_entities = kMaxGraphEntities;
+  g.adjacency.assign(kMaxGraphEntities * kMaxGraphEntities, 1);
+  const auto start = std::chrono::steady_clock::now();
+  const SubgoalStructure s = ComputeSubgoalStructure(g);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 2.0);  // milliseconds in practice; the old search did not end in hours
+  for (int i = 0; i < kMaxGraphEntities; ++i) {
+    EXPECT_EQ(s.depth[i], i == 0 ? 1 : kMaxGraphEntities) << i;  // a Hamiltonian path ends anywhere
+    const uint64_t all_but_i = ((uint64_t{1} << kMaxGraphEntities) - 1) & ~(uint64_t{1} << i);
+    EXPECT_EQ(s.ancestor_mask[i], i == 0 ? 0u : all_but_i) << i;
+  }
+  g.num_entities = kMaxGraphEntities + 1;  // refused before any search
+  g.adjacency.assign(g.num_entities * g.num_entities, 1);
+  EXPECT_THROW(ComputeSubgoalStructure(g), std::invalid_argument);
 }
 
 TEST(GraphTest, DescribeListsEdges) {

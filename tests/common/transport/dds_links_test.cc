@@ -71,21 +71,26 @@ rl::WeightsUpdate Weights(uint64_t version) {
   return w;
 }
 
-// A graph in which the arm drives entity 1, which pushes entity 2.
+// A graph of the run's entity count in which the arm drives entity 1, which pushes entity 2.
 rl::GraphUpdate Graph(uint64_t version) {
+  constexpr int n = testing::kSampleKinds;
   rl::GraphUpdate g;
   g.version = version;
-  g.graph.num_entities = 3;
+  g.graph.num_entities = n;
   g.graph.action_entity = 0;
-  g.graph.adjacency = {0, 1, 0, 0, 0, 1, 0, 0, 0};
+  g.graph.adjacency.assign(n * n, 0);
+  g.graph.adjacency[0 * n + 1] = 1;
+  g.graph.adjacency[1 * n + 2] = 1;
   g.structure = rl::ComputeSubgoalStructure(g.graph);
-  for (int i = 0; i < 9; ++i) g.mean_weights.push_back(g.graph.adjacency[i] ? 0.5 + 0.01 * i : 0.01 * i);
+  for (int i = 0; i < n * n; ++i) g.mean_weights.push_back(g.graph.adjacency[i] ? 0.5 + 0.01 * i : 0.001 * i);
   g.threshold = 0.25;
   g.held_out_loss = 0.125;
   g.training_updates = 1000 * version;
   g.episodes_used = 64;
   return g;
 }
+
+constexpr uint64_t kBudget = 9000;  // the run's budget of env steps (learner stats must carry it)
 
 class DdsLinksTest : public ::testing::Test {
  protected:
@@ -97,7 +102,7 @@ TEST_F(DdsLinksTest, ActorEpisodesArriveWholeAtLearnerAndGraphSource) {
   Participant learner_side(config_), graph_side(config_), actor_side(config_);
   DdsLearnerLink learner(learner_side, limits_);
   DdsEpisodeSource source(graph_side, limits_, 100);
-  DdsActorLink actor(actor_side, 3, limits_, 10s);  // waits for both readers
+  DdsActorLink actor(actor_side, 3, limits_, kBudget, 10s);  // waits for both readers
 
   const rl::Episode explore = ExploreEpisode(11);
   const rl::Episode train = testing::MakeEpisode(12);
@@ -129,8 +134,8 @@ TEST_F(DdsLinksTest, WeightsGraphAndStatsArriveAsTheNewestOnly) {
       .policy_version = 3};
 
   // a late joiner: transient-local, keep-last 1
-  DdsActorLink actor(actor_side, 0, limits_, 0ms);
-  const auto weights = PollUntil([&] { return actor.PollWeights(); });
+  DdsActorLink actor(actor_side, 0, limits_, kBudget, 0ms);
+  const auto weights = PollUntil([&] { return actor.PollWeights(0); });
   ASSERT_TRUE(weights.has_value());
   EXPECT_EQ(weights->version, 3u);
   EXPECT_EQ(weights->update_count, 300u);
@@ -143,8 +148,8 @@ TEST_F(DdsLinksTest, WeightsGraphAndStatsArriveAsTheNewestOnly) {
   EXPECT_EQ(graph->graph.adjacency, want.graph.adjacency);
   EXPECT_EQ(graph->structure.ancestor_mask, want.structure.ancestor_mask);
   EXPECT_EQ(graph->structure.depth, want.structure.depth);
-  ASSERT_EQ(graph->mean_weights.size(), 9u);
-  for (int i = 0; i < 9; ++i) EXPECT_FLOAT_EQ(graph->mean_weights[i], want.mean_weights[i]);  // float on the wire
+  ASSERT_EQ(graph->mean_weights.size(), want.mean_weights.size());
+  for (size_t i = 0; i < want.mean_weights.size(); ++i) EXPECT_FLOAT_EQ(graph->mean_weights[i], want.mean_weights[i]);  // float on the wire
   EXPECT_DOUBLE_EQ(graph->threshold, 0.25);
   EXPECT_DOUBLE_EQ(graph->held_out_loss, 0.125);
   EXPECT_EQ(graph->training_updates, 2000u);
@@ -161,12 +166,12 @@ TEST_F(DdsLinksTest, WeightsGraphAndStatsArriveAsTheNewestOnly) {
   EXPECT_FALSE(progress->budget_done());
 
   // nothing newer: nothing returned; an older version published again is not returned either
-  EXPECT_FALSE(actor.PollWeights().has_value());
+  EXPECT_FALSE(actor.PollWeights(3).has_value());
   learner.PublishWeights(Weights(2));
   std::this_thread::sleep_for(300ms);
-  EXPECT_FALSE(actor.PollWeights().has_value());
+  EXPECT_FALSE(actor.PollWeights(3).has_value());
   learner.PublishWeights(Weights(4));
-  const auto newer = PollUntil([&] { return actor.PollWeights(); });
+  const auto newer = PollUntil([&] { return actor.PollWeights(3); });
   ASSERT_TRUE(newer.has_value());
   EXPECT_EQ(newer->version, 4u);
 }
@@ -174,7 +179,7 @@ TEST_F(DdsLinksTest, WeightsGraphAndStatsArriveAsTheNewestOnly) {
 TEST_F(DdsLinksTest, GraphWhoseStructureDisagreesIsRefusedAndCounted) {
   Participant graph_side(config_), actor_side(config_);
   DdsGraphSink sink(graph_side);
-  DdsActorLink actor(actor_side, 0, limits_, 0ms);
+  DdsActorLink actor(actor_side, 0, limits_, kBudget, 0ms);
   rl::GraphUpdate lying = Graph(1);
   lying.structure.ancestor_mask[2] = 0;  // entity 1 is an ancestor of 2 in the adjacency
   sink.Publish(lying);
@@ -232,7 +237,7 @@ TEST_F(DdsLinksTest, ActorDoesNotSendOwnEpisodesOutsideTheLimits) {
   Participant learner_side(config_), graph_side(config_), actor_side(config_);
   DdsLearnerLink learner(learner_side, limits_);
   DdsEpisodeSource source(graph_side, limits_, 100);
-  DdsActorLink actor(actor_side, 0, limits_, 10s);  // both readers matched: a sent episode arrives
+  DdsActorLink actor(actor_side, 0, limits_, kBudget, 10s);  // both readers matched: a sent episode arrives
   rl::Episode bad = testing::MakeEpisode(1);
   bad.actions[0] = 1.5f;
   EXPECT_TRUE(actor.PublishEpisode(bad));  // refused, not a shutdown

@@ -90,8 +90,8 @@ PolicyWeights MakePolicyWeights(const std::string& run_id, uint64_t seed, size_t
   if (count > 4) {
     w.parameters[0] = -0.0f;
     w.parameters[1] = std::numeric_limits<float>::denorm_min();
-    w.parameters[2] = std::numeric_limits<float>::max();
-    w.parameters[3] = std::numeric_limits<float>::lowest();
+    w.parameters[2] = rl::kMaxAbsParameter;  // the largest magnitudes the contract allows
+    w.parameters[3] = -rl::kMaxAbsParameter;
   }
   w.checksum = ParameterChecksum(w.parameters);
   return w;

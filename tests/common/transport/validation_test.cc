@@ -143,6 +143,70 @@ TEST(ValidationTest, EvalAndStatusRanges) {
   ExpectMalformed(Validate(n, "r"), "role");
 }
 
+// Issue 15: each rejection names the counter it counts in ("<topic>.<check>").
+TEST(ValidationTest, EveryRejectionNamesItsCounter) {
+  PolicyWeights w = testing::MakePolicyWeights("r", 1);
+  w.contract_version = 0;
+  EXPECT_EQ(Validate(w, "r").counter, "weights.envelope");
+  w = testing::MakePolicyWeights("r", 1);
+  w.parameters[5] += 1;
+  EXPECT_EQ(Validate(w, "r").counter, "weights.checksum");
+  w = testing::MakePolicyWeights("r", 1);
+  w.parameters[7] = kNaN;
+  w.checksum = ParameterChecksum(w.parameters);
+  EXPECT_EQ(Validate(w, "r").counter, "weights.nonfinite");
+  InteractionGraph g = testing::MakeInteractionGraph("r", 1);
+  g.depths.pop_back();
+  EXPECT_EQ(Validate(g, "r").counter, "graph.size");
+  g = testing::MakeInteractionGraph("r", 1);
+  g.adjacency[2] = 7;
+  EXPECT_EQ(Validate(g, "r").counter, "graph.range");
+  EvalResult e = testing::MakeEvalResult("r", 1);
+  e.avg_distance = kInf;
+  EXPECT_EQ(Validate(e, "r").counter, "eval.nonfinite");
+  NodeStatus n = testing::MakeNodeStatus("r", 1);
+  n.host = std::string(200, 'h');
+  EXPECT_EQ(Validate(n, "r").counter, "status.size");
+  EXPECT_EQ(ValidateEnvelope(kContractVersion, "", "r").counter, "episode.envelope");
+  EXPECT_TRUE(Validate(testing::MakeNodeStatus("r", 1), "r").counter.empty());
+}
+
+// Finite but huge parameters overflowed the actors' policies into NaN actions: refused.
+TEST(ValidationTest, WeightsBeyondTheParameterBoundAreRefused) {
+  PolicyWeights w = testing::MakePolicyWeights("r", 1);
+  EXPECT_TRUE(Validate(w, "r").ok()) << "+-kMaxAbsParameter itself is allowed";
+  w.parameters[9] = 1e30f;
+  w.checksum = ParameterChecksum(w.parameters);
+  const Validation v = Validate(w, "r");
+  ExpectMalformed(v, "parameters[9]");
+  EXPECT_EQ(v.counter, "weights.magnitude");
+  w.parameters[9] = -std::nextafter(rl::kMaxAbsParameter, 2 * rl::kMaxAbsParameter);
+  w.checksum = ParameterChecksum(w.parameters);
+  EXPECT_EQ(Validate(w, "r").counter, "weights.magnitude");
+}
+
+TEST(ValidationTest, EvaluationDistancesAreNotNegative) {
+  EvalResult e = testing::MakeEvalResult("r", 1);
+  e.entity_distance[1] = -0.5f;
+  ExpectMalformed(Validate(e, "r"), "entity_distance[1]");
+  e = testing::MakeEvalResult("r", 1);
+  e.avg_object_distance = -1;
+  EXPECT_EQ(Validate(e, "r").counter, "eval.range");
+}
+
+TEST(RejectionCountersTest, CountedPerReasonSummedAndSummarized) {
+  CounterTable table;
+  table.CountRejection("weights.checksum");
+  table.CountRejection("graph.entities");
+  table.CountRejection("weights.checksum");
+  const auto all = table.Rejections();
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all.at("weights.checksum"), 2u);
+  EXPECT_EQ(all.at("graph.entities"), 1u);
+  EXPECT_EQ(RejectionSummary(all), "graph.entities=1 weights.checksum=2");
+  EXPECT_EQ(RejectionSummary({}), "");
+}
+
 // ------------------------------------------------------------------------------ Cyclone XML
 
 // Expects every one of `present` in the XML and none of `absent`.

@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "deploy/launcher/run_folder.h"
+#include "graph_service/learned_graph.h"
 #include "tests/deploy/test_files.h"
 
 namespace srics::launcher {
@@ -20,6 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 using deploy::testing::ReadFile;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 constexpr const char* kEvalHeader =
     "wall_time,run_id,actor_id,policy_version,graph_version,env_steps,episodes,avg_distance,avg_object_distance,"
@@ -133,6 +135,47 @@ TEST_F(CompareTest, WritesCurvesWithMeanAndMinMaxAndPngFigures) {
     EXPECT_GT(fs::file_size(path), path.extension() == ".png" ? 5000u : 500u) << name;
   }
   EXPECT_EQ(ReadFile(root_ / "out" / "relational-4-distance.png").substr(1, 3), "PNG");
+}
+
+// A learned graph as graph_service writes it: the given edges of 5 entities, action on the arm.
+void WriteGraph(const fs::path& run, const std::vector<std::pair<int, int>>& edges) {
+  std::vector<double> scores(25, 0.0);
+  for (auto [i, j] : edges) scores[i * 5 + j] = 0.5;
+  graph_service::LearnedGraph g = graph_service::AggregateGraph(5, scores, 0.06, 0);
+  g.version = 1;
+  for (int i = 0; i < 5; ++i) g.entity_kinds.push_back(i), g.action_correlation.push_back(i == 0 ? 1.0 : 0.0);
+  graph_service::SaveGraph(g, (run / "graph.json").string());
+  // relational-4's table as the effective config.yaml holds it: a static puck, a rope 2-3
+  std::ofstream(run / "config.yaml") << "env:\n  objects:\n    - {static: true}\n    - {}\n    - {}\n    - {}\n"
+                                        "  connections:\n    - {objects: [2, 3], kind: rope, length: 0.13}\n";
+}
+
+TEST_F(CompareTest, ListsEachLearnedGraphAgainstTheGraphByConstruction) {
+  WriteGraph(sweep_ / "srics-seed1", {{0, 2}, {0, 3}, {0, 4}, {3, 2}});          // the rope one way only
+  WriteGraph(sweep_ / "srics-seed2", {{0, 2}, {0, 3}, {0, 4}, {2, 3}, {3, 2}});  // exact
+  std::vector<std::string> warnings;
+  const std::vector<RunData> runs = ReadRuns({sweep_.string()}, &warnings);
+  EXPECT_TRUE(warnings.empty()) << warnings[0];
+  ASSERT_EQ(runs.size(), 3u);
+  EXPECT_EQ(runs[0].graph, "");  // smorl learns no graph
+  EXPECT_EQ(runs[1].graph, "action->0, 0->2, 0->3, 0->4, 3->2");
+  EXPECT_EQ(runs[1].graph_by_construction, "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
+  const std::string table = FinalTable(runs);
+  EXPECT_THAT(table, HasSubstr("| srics-seed1 | action->0, 0->2, 0->3, 0->4, 3->2 | "
+                               "action->0, 0->2, 0->3, 0->4, 2->3, 3->2 | no |")) << table;
+  EXPECT_THAT(table, HasSubstr("| srics-seed2 | action->0, 0->2, 0->3, 0->4, 2->3, 3->2 | "
+                               "action->0, 0->2, 0->3, 0->4, 2->3, 3->2 | yes |")) << table;
+  EXPECT_THAT(table, Not(HasSubstr("| smorl-seed1 | action"))) << table;
+}
+
+TEST_F(CompareTest, ACorruptGraphFileIsNamedAndTheRunStillCounts) {
+  fs::create_directories(sweep_ / "srics-seed1");
+  std::ofstream(sweep_ / "srics-seed1" / "graph.json") << "{ not a graph";
+  std::vector<std::string> warnings;
+  const std::vector<RunData> runs = ReadRuns({sweep_.string()}, &warnings);
+  EXPECT_EQ(runs.size(), 3u);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("srics-seed1/graph.json"));
 }
 
 TEST_F(CompareTest, NoRunsIsAnError) {

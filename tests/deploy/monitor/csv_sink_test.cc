@@ -90,7 +90,9 @@ TEST(CsvFieldTest, QuotesOnlyWhenNeeded) {
   EXPECT_EQ(CsvField("plain"), "plain");
   EXPECT_EQ(CsvField("a,b"), "\"a,b\"");
   EXPECT_EQ(CsvField("say \"hi\""), "\"say \"\"hi\"\"\"");
-  EXPECT_EQ(CsvField("two\nlines"), "\"two\nlines\"");
+  // peers' strings: control characters (a line break, an escape) are not written (issue 15)
+  EXPECT_EQ(CsvField("two\nlines"), "two?lines");
+  EXPECT_EQ(CsvField("\x1b[2J,x"), "\"?[2J,x\"");
 }
 
 TEST(CsvSinkErrorTest, UnwritableFolderNamesThePath) {

@@ -36,6 +36,27 @@ TEST(MonitorStateTest, NodeStatusIsKeyedByRunRoleAndId) {
   EXPECT_EQ(a0.last_seen, t0 + milliseconds(100));
 }
 
+// Issue 15: peer strings were printed raw; a NodeStatus could clear the terminal or set its
+// title. Every byte outside printable ASCII is now shown as '?'.
+TEST(MonitorStateTest, PeerStringsAreKeptPrintable) {
+  EXPECT_EQ(PrintableText("actor-1 on lab3, v2 (ok)"), "actor-1 on lab3, v2 (ok)");
+  EXPECT_EQ(PrintableText("\x1b[2J\x1b]0;t\x07x\r\n\t\x7f"), "?[2J?]0;t?x????");
+  EXPECT_EQ(PrintableText("\xc2\x9b" "31m \xe2\x86\x92"), "??31m ???");  // C1 CSI in UTF-8, an arrow
+  EXPECT_EQ(PrintableText(std::string("a\0b", 3)), "a?b");
+
+  MonitorState state;
+  transport::NodeStatus status = Node("actor\x1b[31m", 0, NodeState::kTraining, "r\x1b" "1");
+  status.host = "h\r";
+  status.detail = "\x1b[H";
+  Apply(&state, status, Clock::time_point{});
+  ASSERT_EQ(state.nodes.size(), 1u);
+  const auto& [key, node] = *state.nodes.begin();
+  EXPECT_EQ(key.run_id, "r?1");
+  EXPECT_EQ(key.role, "actor?[31m");
+  EXPECT_EQ(node.status.host, "h?");
+  EXPECT_EQ(node.status.detail, "?[H");
+}
+
 // Node health over time: a node is lost 1000 ms after its last status; times are ms after t0.
 class NodeHealthTest : public ::testing::Test {
  protected:

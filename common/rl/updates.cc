@@ -1,0 +1,37 @@
+#include "common/rl/updates.h"
+
+#include <cmath>
+
+#include "common/rl/episode.h"
+
+namespace srics::rl {
+
+std::string ParameterProblem(const std::vector<float>& parameters) {
+  for (size_t i = 0; i < parameters.size(); ++i) {
+    const float v = parameters[i];
+    if (!std::isfinite(v)) return "parameter " + std::to_string(i) + " is not finite";
+    if (std::fabs(v) > kMaxAbsParameter)
+      return "parameter " + std::to_string(i) + " = " + std::to_string(v) + " outside +-" +
+             std::to_string(kMaxAbsParameter);
+  }
+  return "";
+}
+
+std::string ImplausibleProgress(const LearnerProgress& p, uint64_t budget_env_steps) {
+  if (p.budget_env_steps != budget_env_steps)
+    return "budget of " + std::to_string(p.budget_env_steps) + " env steps, this run's is " +
+           std::to_string(budget_env_steps);
+  // the episode that reaches the budget is stored whole: at most one episode beyond it
+  if (budget_env_steps > 0 && p.training_env_steps > budget_env_steps + kMaxEpisodeSteps)
+    return "training_env_steps " + std::to_string(p.training_env_steps) + " beyond the budget " +
+           std::to_string(budget_env_steps) + " and one episode";
+  if (p.training_env_steps > p.transitions_inserted)
+    return "training_env_steps " + std::to_string(p.training_env_steps) + " above transitions_inserted " +
+           std::to_string(p.transitions_inserted);
+  if (p.replay_size > p.transitions_inserted)
+    return "replay_size " + std::to_string(p.replay_size) + " above transitions_inserted " +
+           std::to_string(p.transitions_inserted);
+  return "";
+}
+
+}  // namespace srics::rl

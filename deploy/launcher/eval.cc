@@ -1,0 +1,261 @@
+#include "deploy/launcher/eval.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+
+#include "actor/actor_loop.h"
+#include "actor/env/rearrange_env.h"
+#include "actor/env/render/gl_context.h"
+#include "actor/rollout.h"
+#include "common/config/command_line.h"
+#include "common/config/config.h"
+#include "common/rl/agent_shape.h"
+#include "common/rl/evaluation.h"
+#include "common/rl/seeds.h"
+#include "graph_service/learned_graph.h"
+#include "learner/acting_policy.h"
+
+namespace srics::launcher {
+
+namespace fs = std::filesystem;
+
+const char* const kEvalUsage =
+    "usage: srics eval RUN_DIR|CHECKPOINT [--episodes N] [--out DIR] [--format mp4|gif|png] [--no-video]\n"
+    "                  [--config FILE] [--graph FILE] [--set key.path=value ...]\n"
+    "                  [--width PX] [--height PX] [--fps N]\n"
+    "  plays the run's evaluation protocol with the checkpoint's policy (the evaluating actors' code and\n"
+    "  seeds) and writes DIR/episodes.csv (per-episode distances, success, per-subgoal success) and a video\n"
+    "  of each episode (MuJoCo's renderer, headless EGL; goals as translucent markers).\n"
+    "  RUN_DIR          a run folder: its checkpoint.srics, config.yaml and (SRICS) graph.json\n"
+    "  CHECKPOINT       a checkpoint file; config.yaml and graph.json are taken from its folder\n"
+    "  --episodes N     evaluation episodes (default: the config's actors.eval_episodes)\n"
+    "  --out DIR        default: <run folder>/eval\n"
+    "  --format F       mp4 (ffmpeg), gif (ffmpeg) or png (frames; no ffmpeg needed);\n"
+    "                   default mp4 when ffmpeg is installed (deploy/install-deps.sh video), else png\n"
+    "  --width/--height frame size in pixels (even, 16 to 4096; default 640 x 480); --fps default 10\n";
+
+namespace {
+
+int ParsePositive(const std::string& option, const std::string& text, int max) {
+  size_t used = 0;
+  long value = 0;
+  try {
+    value = std::stol(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || value < 1 || value > max)
+    throw std::invalid_argument(option + ": expected an integer from 1 to " + std::to_string(max) + ", got '" +
+                                text + "'");
+  return static_cast<int>(value);
+}
+
+// The name of an entity in captions.
+std::string EntityName(int entity) { return entity == 0 ? "arm" : "object " + std::to_string(entity); }
+
+// Draws every state of an episode into its video.
+class EpisodeRecorder : public actor::EvalEpisodeObserver {
+ public:
+  EpisodeRecorder(env::EpisodeRenderer& renderer, env::VideoWriter& video, int episode)
+      : renderer_(renderer), video_(video), episode_(episode) {}
+
+  void OnState(const env::Environment& env, int entity) override {
+    const std::string what = env.steps() == 0 ? "start" : entity < 0 ? "full goal" : "subgoal: " + EntityName(entity);
+    const std::string caption = "episode " + std::to_string(episode_) + "  step " + std::to_string(env.steps()) + "  " + what;
+    video_.Write(renderer_.Render(entity, caption).rgb.data());
+  }
+
+ private:
+  env::EpisodeRenderer& renderer_;
+  env::VideoWriter& video_;
+  int episode_;
+};
+
+// Where the checkpoint, config and graph are.
+struct RunFiles {
+  std::string dir;
+  std::string checkpoint;
+  std::string config;
+  std::string graph;
+};
+
+RunFiles Locate(const EvalArgs& args) {
+  RunFiles f;
+  std::error_code error;
+  if (fs::is_directory(args.target, error)) {
+    f.dir = args.target;
+    f.checkpoint = (fs::path(args.target) / "checkpoint.srics").string();
+  } else if (fs::exists(args.target, error)) {
+    f.checkpoint = args.target;
+    f.dir = fs::path(args.target).parent_path().string();
+    if (f.dir.empty()) f.dir = ".";
+  } else {
+    throw std::invalid_argument("RUN_DIR|CHECKPOINT: no such folder or file: " + args.target);
+  }
+  f.config = args.config_file.empty() ? (fs::path(f.dir) / "config.yaml").string() : args.config_file;
+  if (!fs::is_regular_file(f.config, error))
+    throw std::invalid_argument(args.config_file.empty()
+                                    ? "RUN_DIR|CHECKPOINT: no config.yaml in " + f.dir + " (give --config FILE)"
+                                    : "--config: no such file: " + args.config_file);
+  f.graph = args.graph_file.empty() ? (fs::path(f.dir) / "graph.json").string() : args.graph_file;
+  if (!args.graph_file.empty() && !fs::is_regular_file(f.graph, error))
+    throw std::invalid_argument("--graph: no such file: " + args.graph_file);
+  return f;
+}
+
+}  // namespace
+
+EvalArgs ParseEvalArgs(const std::vector<std::string>& args) {
+  EvalArgs a;
+  for (config::ArgumentReader r(args); r.Next();) {
+    const std::string& arg = r.arg();
+    if (arg == "--no-video") {
+      a.video = false;
+      continue;
+    }
+    if (arg.rfind("--", 0) != 0) {
+      if (!a.target.empty()) throw std::invalid_argument("RUN_DIR|CHECKPOINT: given twice ('" + a.target + "', '" + arg + "')");
+      a.target = arg;
+      continue;
+    }
+    const std::string& value = r.Value();
+    if (arg == "--episodes") a.episodes = ParsePositive(arg, value, 100000);
+    else if (arg == "--out") a.out_dir = value;
+    else if (arg == "--config") a.config_file = value;
+    else if (arg == "--graph") a.graph_file = value;
+    else if (arg == "--set") a.overrides.push_back(value);
+    else if (arg == "--width") a.render.width = ParsePositive(arg, value, 4096);
+    else if (arg == "--height") a.render.height = ParsePositive(arg, value, 4096);
+    else if (arg == "--fps") a.fps = ParsePositive(arg, value, 240);
+    else if (arg == "--format") {
+      if (!env::ParseVideoFormat(value)) throw std::invalid_argument("--format: expected mp4, gif or png, got '" + value + "'");
+      a.format = value;
+    } else {
+      throw std::invalid_argument("unknown option " + arg);
+    }
+  }
+  if (a.target.empty()) throw std::invalid_argument("RUN_DIR|CHECKPOINT: missing");
+  try {
+    env::CheckRenderOptions(a.render);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("--" + std::string(e.what()));
+  }
+  return a;
+}
+
+int Eval(const EvalArgs& args) {
+  const RunFiles files = Locate(args);
+  const config::Config config = config::LoadConfig(files.config, args.overrides);
+  const int episodes = args.episodes > 0 ? args.episodes : config.actors.eval_episodes;
+  const std::string out_dir = args.out_dir.empty() ? (fs::path(files.dir) / "eval").string() : args.out_dir;
+
+  // the acting networks, as an actor of this run builds them
+  const actor::ActorOptions actor = actor::ActorOptionsFor(config, 0);
+  env::RearrangeEnv environment(actor.env);
+  nn::Rng init(0);
+  rl::PolicyNetwork<float> policy("policy", actor.policy, init);
+  std::unique_ptr<rl::PolicyNetwork<float>> high;
+  if (actor.high_policy) high = std::make_unique<rl::PolicyNetwork<float>>("policy", *actor.high_policy, init);
+  if (!fs::exists(files.checkpoint))
+    throw std::runtime_error("no checkpoint: " + files.checkpoint + " does not exist (has the run checkpointed yet?)");
+  const learner::LearnerCounters counters = learner::LoadActingPolicies(files.checkpoint, policy, high.get());
+
+  // the subgoals and their order: the run's graph, or every entity for methods without one
+  const int num_entities = environment.layout().num_entities;
+  rl::SubgoalStructure structure = rl::AllEntitiesStructure(num_entities);
+  std::string graph_text = "none (" + std::string(config::MethodName(config.run.method)) + " uses no graph)";
+  if (actor.uses_graph) {
+    if (!fs::exists(files.graph))
+      throw std::runtime_error("no graph: " + files.graph + " does not exist; " +
+                               config::MethodName(config.run.method) +
+                               " evaluates in the order of the run's interaction graph (give --graph FILE)");
+    const graph_service::LearnedGraph graph = graph_service::LoadGraph(files.graph);
+    if (const std::string problem = rl::GraphMismatch(graph.graph, num_entities); !problem.empty())
+      throw std::runtime_error(files.graph + ": " + problem);
+    structure = graph.structure;
+    graph_text = rl::DescribeGraph(graph.graph) + " (" + files.graph + ")";
+  }
+
+  // the renderer and the video format
+  std::optional<env::GlContext> gl;
+  std::optional<env::EpisodeRenderer> renderer;
+  env::VideoOptions video;
+  video.fps = args.fps;
+  if (args.video) {
+    if (!args.format.empty()) {
+      video.format = *env::ParseVideoFormat(args.format);
+    } else if (!env::FfmpegAvailable()) {
+      video.format = env::VideoFormat::kPng;
+      std::cout << "ffmpeg is not installed: episodes are written as PNG frames "
+                   "(deploy/install-deps.sh video installs it)\n";
+    }
+    gl.emplace();
+    renderer.emplace(environment, *gl, args.render);
+  }
+  fs::create_directories(out_dir);
+  std::printf("checkpoint %s: %llu updates, policy v%llu, %llu training env steps\n", files.checkpoint.c_str(),
+              static_cast<unsigned long long>(counters.updates), static_cast<unsigned long long>(counters.policy_version),
+              static_cast<unsigned long long>(counters.training_env_steps));
+  std::printf("method %s, graph %s\n", config::MethodName(config.run.method), graph_text.c_str());
+  if (gl) std::printf("renderer: %s\n", gl->description().c_str());
+
+  // one CSV row per episode
+  const std::vector<int> subgoals = structure.SubgoalEntities();
+  std::ofstream csv(fs::path(out_dir) / "episodes.csv");
+  csv << "episode,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity";
+  for (int e = 0; e < num_entities; ++e) csv << ",distance_" << e;
+  for (int e : subgoals) csv << ",subgoal_success_" << e;
+  csv << ",video\n";
+  rl::EvaluationSummary summary;
+  int unstable = 0;
+  for (int i = 0; i < episodes; ++i) {
+    const uint64_t seed = rl::EvalEpisodeSeed(config.run.seed, i);
+    std::optional<env::VideoWriter> writer;
+    std::optional<EpisodeRecorder> recorder;
+    std::string video_name;
+    if (renderer) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "episode-%03d", i);
+      video_name = name;
+      if (video.format != env::VideoFormat::kPng) video_name += "." + env::VideoExtension(video.format);
+      writer.emplace((fs::path(out_dir) / video_name).string(), args.render.width, args.render.height, video);
+      recorder.emplace(*renderer, *writer, i);
+    }
+    const auto metrics = actor::RunEvaluationEpisode(environment, &policy, structure, actor.eval, seed, high.get(),
+                                                     recorder ? &*recorder : nullptr);
+    if (writer) writer->Close();
+    const int frames = writer ? writer->frames() : 0;
+    if (environment.layout().num_entities != num_entities)
+      throw std::runtime_error("episode " + std::to_string(i) + " has another number of entities");
+    csv << i << "," << seed << "," << (metrics ? "ok" : "unstable") << "," << environment.steps() << "," << frames;
+    if (metrics) {
+      summary.Add(*metrics, actor.eval.threshold);
+      csv << "," << metrics->avg_distance << "," << metrics->avg_object_distance << "," << (metrics->success ? 1 : 0)
+          << "," << metrics->selectivity;
+      for (double d : metrics->entity_distance) csv << "," << d;
+      for (int e : subgoals) csv << "," << (metrics->entity_distance[e] < actor.eval.threshold ? 1 : 0);
+      std::printf("episode %d: %d steps, avg distance %.4f, avg object distance %.4f, success %d%s%s\n", i,
+                  environment.steps(), metrics->avg_distance, metrics->avg_object_distance, metrics->success ? 1 : 0,
+                  video_name.empty() ? "" : " -> ", video_name.c_str());
+    } else {
+      ++unstable;
+      csv << ",,,,";
+      for (int e = 0; e < num_entities + static_cast<int>(subgoals.size()); ++e) csv << ",";
+      std::printf("episode %d: the physics became unstable after %d steps\n", i, environment.steps());
+    }
+    csv << "," << video_name << "\n";
+    csv.flush();
+  }
+  if (!csv) throw std::runtime_error("cannot write " + (fs::path(out_dir) / "episodes.csv").string());
+  std::printf("%d episodes (%d unstable): avg distance %.4f, avg object distance %.4f, success rate %.2f\n", episodes,
+              unstable, summary.avg_distance, summary.avg_object_distance, summary.success_rate);
+  std::printf("wrote %s/episodes.csv\n", out_dir.c_str());
+  return 0;
+}
+
+}  // namespace srics::launcher

@@ -1,0 +1,45 @@
+#pragma once
+// `srics eval RUN_DIR|CHECKPOINT [--episodes N] [--out DIR] ...`: watches a trained policy.
+// Loads the run's effective config (config.yaml beside the checkpoint, or --config), the
+// learner checkpoint's policy (HAC: both levels) and, for the methods that use one, the run's
+// interaction graph (graph.json); then plays the evaluation protocol of the evaluating actors
+// (actor::RunEvaluationEpisode with the run's evaluation seeds: the goals of eval.csv, the
+// full goal split into subgoals in graph-depth order for SRICS) and writes to DIR:
+//   episodes.csv         per episode: steps, frames, distances (average, objects, per entity),
+//                        success, selectivity, per-subgoal success, the video's file
+//   episode-NNN.mp4      the episode as MuJoCo renders it (headless EGL), goals drawn as
+//                        translucent markers, one frame per env step plus the first state;
+//                        .gif, or a folder of PNG frames (--format png, or without ffmpeg)
+// Exit codes: 0 done, 1 a run folder without checkpoint or graph, a corrupt checkpoint, no
+// renderer, ffmpeg failing; 2 bad arguments or config (the message names the argument).
+
+#include <string>
+#include <vector>
+
+#include "actor/env/render/episode_renderer.h"
+#include "actor/env/render/video_writer.h"
+
+namespace srics::launcher {
+
+struct EvalArgs {
+  std::string target;                  // RUN_DIR or CHECKPOINT
+  int episodes = -1;                   // --episodes (-1: actors.eval_episodes of the config)
+  std::string out_dir;                 // --out ("" = <run folder>/eval)
+  std::string config_file;             // --config ("" = config.yaml beside the checkpoint)
+  std::string graph_file;              // --graph ("" = graph.json beside the checkpoint)
+  std::vector<std::string> overrides;  // --set key.path=value (on top of the run's config)
+  bool video = true;                   // --no-video: metrics only
+  std::string format;                  // --format mp4|gif|png ("" = mp4 with ffmpeg, else png)
+  env::RenderOptions render;           // --width, --height
+  int fps = 10;                        // --fps (10 = real time: an env step is 0.1 s)
+};
+
+// Parses the arguments after `srics eval`; throws std::invalid_argument naming the argument.
+EvalArgs ParseEvalArgs(const std::vector<std::string>& args);
+extern const char* const kEvalUsage;
+
+// Runs the evaluation; returns 0. Throws std::invalid_argument (bad arguments: exit 2),
+// config::ConfigError (exit 2), nn::CheckpointError and std::runtime_error (exit 1).
+int Eval(const EvalArgs& args);
+
+}  // namespace srics::launcher

@@ -1,0 +1,159 @@
+// The offscreen renderer draws the simulator's state (hand and objects where the physics has
+// them, goals as markers that leave the physics alone) and the video writer's files hold
+// exactly the frames given.
+
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <vector>
+
+#include "actor/env/render/episode_renderer.h"
+#include "actor/env/render/gl_context.h"
+#include "actor/env/render/video_writer.h"
+#include "tests/actor/env/env_presets.h"
+#include "tests/actor/env/render/frames_testing.h"
+
+namespace srics::env {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::DecodeVideo;
+using testing::DifferingPixels;
+using testing::FindHand;
+using testing::PixelStdDev;
+using testing::ReadPng;
+
+class RenderTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { gl_ = new GlContext(); }
+  static void TearDownTestSuite() {
+    delete gl_;
+    gl_ = nullptr;
+  }
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("srics_render_test_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static GlContext* gl_;
+  fs::path dir_;
+};
+GlContext* RenderTest::gl_ = nullptr;
+
+TEST_F(RenderTest, ContextSaysWhatRendersIt) { EXPECT_NE(gl_->description().find("EGL"), std::string::npos); }
+
+TEST_F(RenderTest, FrameShowsTheTableHandAndGoalsWithoutChangingThePhysics) {
+  RearrangeEnv env(testing::Preset("relational-4"));
+  env.Reset(3);
+  const std::vector<double> qpos_before(env.data()->qpos, env.data()->qpos + env.model()->nq);
+  RenderOptions options;
+  options.caption = false;
+  EpisodeRenderer renderer(env, *gl_, options);
+  const Image with_goals = renderer.Render(-1, "");
+  ASSERT_EQ(with_goals.width, 640);
+  ASSERT_EQ(with_goals.rgb.size(), 640u * 480 * 3);
+  EXPECT_GT(PixelStdDev(with_goals), 20) << "a blank frame";
+  EXPECT_TRUE(FindHand(with_goals).has_value()) << "no hand in the frame";
+
+  // the goal markers are only in the picture: the simulation state is the same
+  options.draw_goals = false;
+  EpisodeRenderer plain(env, *gl_, options);
+  const Image without_goals = plain.Render(-1, "");
+  EXPECT_GT(DifferingPixels(with_goals, without_goals), 500) << "goal markers not drawn";
+  EXPECT_EQ(qpos_before, std::vector<double>(env.data()->qpos, env.data()->qpos + env.model()->nq));
+  WritePng((dir_ / "frame.png").string(), with_goals.rgb.data(), with_goals.width, with_goals.height);
+  EXPECT_TRUE(ReadPng((dir_ / "frame.png").string()).has_value());
+}
+
+TEST_F(RenderTest, HandMovingRightMovesItsPixelsRight) {
+  RearrangeEnv env(testing::Preset("rearrange-1"));
+  env.Reset(1);
+  RenderOptions options;
+  options.caption = false;
+  EpisodeRenderer renderer(env, *gl_, options);
+  const auto before = FindHand(renderer.Render(-1, ""));
+  const double x0 = env.Positions()[0][0];
+  for (int t = 0; t < 2; ++t) env.Step(std::vector<double>{1.0, 0.0});
+  const double moved = env.Positions()[0][0] - x0;
+  ASSERT_GT(moved, 0.1);
+  const auto after = FindHand(renderer.Render(-1, ""));
+  ASSERT_TRUE(before && after);
+  // +x is to the right in the picture (the camera looks along +y), about 600 px per metre
+  EXPECT_GT(after->x - before->x, 100 * moved);
+  EXPECT_LT(std::abs(after->y - before->y), 20);
+}
+
+TEST_F(RenderTest, RendersAnyEvenSizeAndRejectsOthers) {
+  RenderOptions odd;
+  odd.width = 641;
+  EXPECT_THROW(CheckRenderOptions(odd), std::invalid_argument);
+  RenderOptions tiny;
+  tiny.height = 8;
+  EXPECT_THROW(CheckRenderOptions(tiny), std::invalid_argument);
+  // beyond the model's own offscreen buffer (640 x 480): the renderer makes a larger one
+  RearrangeEnv env(testing::Preset("rearrange-1"));
+  RenderOptions large;
+  large.width = 1280;
+  large.height = 720;
+  large.caption = false;
+  EpisodeRenderer renderer(env, *gl_, large);
+  const Image& frame = renderer.Render(-1, "");
+  EXPECT_EQ(frame.rgb.size(), 1280u * 720 * 3);
+  EXPECT_GT(PixelStdDev(frame), 20);
+  EXPECT_TRUE(FindHand(frame).has_value());
+}
+
+// Frames of one colour each, so a decoded frame tells which one it is.
+std::vector<uint8_t> Solid(int width, int height, uint8_t r, uint8_t g, uint8_t b) {
+  std::vector<uint8_t> rgb(static_cast<size_t>(width) * height * 3);
+  for (size_t p = 0; p < rgb.size(); p += 3) rgb[p] = r, rgb[p + 1] = g, rgb[p + 2] = b;
+  return rgb;
+}
+
+TEST_F(RenderTest, PngFramesHoldEveryFrame) {
+  VideoWriter video((dir_ / "frames").string(), 32, 16, {.format = VideoFormat::kPng});
+  for (int i = 0; i < 3; ++i) video.Write(Solid(32, 16, static_cast<uint8_t>(80 * i), 10, 200).data());
+  video.Close();
+  EXPECT_EQ(video.frames(), 3);
+  for (int i = 0; i < 3; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame-%05d.png", i);
+    const auto image = ReadPng((dir_ / "frames" / name).string());
+    ASSERT_TRUE(image.has_value()) << name;
+    EXPECT_EQ(image->rgb, Solid(32, 16, static_cast<uint8_t>(80 * i), 10, 200));
+  }
+}
+
+TEST_F(RenderTest, Mp4HoldsTheFramesInOrder) {
+  if (!FfmpegAvailable()) GTEST_SKIP() << "ffmpeg is not installed (deploy/install-deps.sh video)";
+  const std::string path = (dir_ / "clip.mp4").string();
+  VideoWriter video(path, 64, 48, {.format = VideoFormat::kMp4, .fps = 10});
+  const uint8_t reds[] = {20, 120, 220, 120, 20};
+  for (uint8_t r : reds) video.Write(Solid(64, 48, r, 60, 60).data());
+  video.Close();
+  EXPECT_FALSE(fs::exists(path + ".log"));
+  const auto frames = DecodeVideo(path, 64, 48, (dir_ / "clip.rgb").string());
+  ASSERT_EQ(frames.size(), 5u);
+  for (size_t i = 0; i < frames.size(); ++i) EXPECT_NEAR(frames[i].rgb[3 * (24 * 64 + 32)], reds[i], 12) << i;
+}
+
+TEST_F(RenderTest, FfmpegFailuresAreErrorsWithItsMessage) {
+  EXPECT_THROW(VideoWriter((dir_ / "x.mp4").string(), 64, 48, {.ffmpeg = "/nonexistent/ffmpeg"}), VideoError);
+  if (!FfmpegAvailable()) GTEST_SKIP() << "ffmpeg is not installed";
+  // a folder where the file should be: ffmpeg cannot write it
+  fs::create_directories(dir_ / "taken.mp4");
+  VideoWriter video((dir_ / "taken.mp4").string(), 64, 48, {});
+  try {
+    for (int i = 0; i < 50; ++i) video.Write(Solid(64, 48, 1, 2, 3).data());
+    video.Close();
+    FAIL() << "no error";
+  } catch (const VideoError& e) {
+    EXPECT_NE(std::string(e.what()).find("taken.mp4"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace srics::env

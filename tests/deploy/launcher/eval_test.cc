@@ -1,0 +1,234 @@
+// `srics eval` on the checkpoint of a tiny in-process run made here: the metrics file has a row
+// per episode with the protocol's figures, and each video holds one frame per env step plus
+// the first state, decoded again and looked at (not blank, changing, the hand moving). Bad
+// arguments exit 2 naming the argument; a missing or corrupt checkpoint exits 1 saying so.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "actor/env/render/video_writer.h"
+#include "deploy/launcher/child_process.h"
+#include "deploy/launcher/launcher.h"
+#include "deploy/launcher/run_folder.h"
+#include "tests/actor/env/render/frames_testing.h"
+#include "tests/deploy/launcher/sweep_testing.h"
+#include "tests/deploy/test_files.h"
+
+namespace srics::launcher {
+namespace {
+
+namespace fs = std::filesystem;
+using deploy::testing::ReadFile;
+using env::testing::DecodeVideo;
+using env::testing::DifferingPixels;
+using env::testing::FindHand;
+using env::testing::PixelStdDev;
+using env::testing::ReadPng;
+using ::testing::HasSubstr;
+
+// `srics eval ARGS...`: the exit code and the output.
+std::pair<int, std::string> SricsEval(const fs::path& root, std::vector<std::string> args) {
+  args.insert(args.begin(), {SRICS_LAUNCHER, "eval"});
+  const std::string out = (root / "eval.out").string();
+  fs::remove(out);
+  ChildProcess child = ChildProcess::Spawn(args, {.output_file = out});
+  const auto status = child.WaitFor(std::chrono::seconds(240));
+  if (!status) return {-1, "timeout"};
+  return {status->signaled ? -status->code : status->code, deploy::testing::ReadFile(out)};
+}
+
+// episodes.csv as rows of column -> value.
+std::vector<std::map<std::string, std::string>> ReadCsv(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::map<std::string, std::string>> rows;
+  if (!std::getline(in, line)) return rows;
+  const std::vector<std::string> header = SplitCsvLine(line);
+  while (std::getline(in, line)) {
+    const std::vector<std::string> fields = SplitCsvLine(line);
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < header.size() && i < fields.size(); ++i) row[header[i]] = fields[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// The tiny SRICS run (learned graph, checkpoint) every test evaluates. ctest runs each test in
+// its own process, maybe two at once: the first makes the run under a lock, the others reuse
+// it while it is newer than the srics program.
+int MakeOrReuseTinyRun(const fs::path& dir) {
+  fs::create_directories(dir.parent_path());
+  const int lock = open((dir.string() + ".lock").c_str(), O_CREAT | O_RDWR, 0644);
+  if (lock < 0 || flock(lock, LOCK_EX) != 0) return -1;
+  const auto outcome = ReadRunOutcome(dir.string());
+  std::error_code error;
+  const bool fresh = outcome && outcome->state == "finished" &&
+                     fs::last_write_time(dir / "outcome.yaml", error) > fs::last_write_time(SRICS_LAUNCHER, error);
+  int code = kExitDone;
+  if (!fresh) {
+    fs::remove_all(dir);
+    LaunchOptions options;
+    options.config_file = testing::kConfig;
+    options.overrides = testing::kTinyRun;
+    options.run_dir = dir.string();
+    options.display = DisplayMode::kNone;
+    options.in_process = true;
+    code = Run(options);
+  }
+  close(lock);  // releases the lock
+  return code;
+}
+
+class EvalTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() / ("srics_eval_test_" + std::to_string(getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+    run_ = fs::path(SRICS_BINARY_DIR) / "test-data" / "eval_test_run";
+    ASSERT_EQ(MakeOrReuseTinyRun(run_), kExitDone) << "the tiny run failed";
+  }
+  void TearDown() override { fs::remove_all(root_); }
+  fs::path run() const { return run_; }
+
+  fs::path root_;
+  fs::path run_;
+};
+
+TEST_F(EvalTest, WritesMetricsAndAVideoOfEveryStep) {
+  if (!env::FfmpegAvailable()) GTEST_SKIP() << "ffmpeg is not installed (deploy/install-deps.sh video)";
+  const fs::path out = root_ / "eval-mp4";
+  const auto [code, output] = SricsEval(root_, {run().string(), "--episodes", "2", "--out", out.string()});
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_THAT(output, HasSubstr("graph action->0"));
+  const auto rows = ReadCsv(out / "episodes.csv");
+  ASSERT_EQ(rows.size(), 2u) << ReadFile(out / "episodes.csv");
+  for (const auto& row : rows) {
+    SCOPED_TRACE("episode " + row.at("episode"));
+    ASSERT_EQ(row.at("status"), "ok");
+    for (const char* column : {"avg_distance", "avg_object_distance", "distance_0", "distance_1", "success",
+                               "subgoal_success_0", "subgoal_success_1"})
+      ASSERT_TRUE(row.count(column)) << column;
+    // the average of the per-entity distances (arm and one puck)
+    EXPECT_NEAR(std::stod(row.at("avg_distance")),
+                (std::stod(row.at("distance_0")) + std::stod(row.at("distance_1"))) / 2, 1e-5);
+    EXPECT_EQ(row.at("subgoal_success_1"), std::stod(row.at("distance_1")) < 0.05 ? "1" : "0");
+    // the protocol: at most 2N - 1 = 3 attempts of 20 steps
+    const int steps = std::stoi(row.at("steps"));
+    EXPECT_GT(steps, 0);
+    EXPECT_LE(steps, 60);
+    EXPECT_EQ(std::stoi(row.at("frames")), steps + 1);
+
+    // the video, decoded: one frame per state, a picture in each, and a moving hand
+    const fs::path video = out / row.at("video");
+    ASSERT_EQ(video.extension(), ".mp4");
+    const auto frames = DecodeVideo(video.string(), 640, 480, (root_ / "frames.rgb").string());
+    ASSERT_EQ(static_cast<int>(frames.size()), steps + 1);
+    EXPECT_GT(PixelStdDev(frames.front()), 20) << "blank first frame";
+    EXPECT_GT(PixelStdDev(frames.back()), 20) << "blank last frame";
+    EXPECT_GT(DifferingPixels(frames.front(), frames.back()), 50) << "the first and last frames are the same";
+    const auto start = FindHand(frames.front());
+    ASSERT_TRUE(start.has_value()) << "no hand in the first frame";
+    double farthest = 0;
+    for (const auto& frame : frames)
+      if (const auto hand = FindHand(frame)) farthest = std::max(farthest, std::hypot(hand->x - start->x, hand->y - start->y));
+    EXPECT_GT(farthest, 10) << "the hand never moved in the video";
+  }
+}
+
+TEST_F(EvalTest, PngFramesWithoutFfmpegAndTheSameMetrics) {
+  const fs::path out = root_ / "eval-png";
+  const auto [code, output] =
+      SricsEval(root_, {run().string(), "--episodes", "1", "--out", out.string(), "--format", "png"});
+  ASSERT_EQ(code, 0) << output;
+  const auto rows = ReadCsv(out / "episodes.csv");
+  ASSERT_EQ(rows.size(), 1u);
+  const int steps = std::stoi(rows[0].at("steps"));
+  const fs::path frames = out / rows[0].at("video");
+  ASSERT_TRUE(fs::is_directory(frames)) << frames;
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(frames)) count += entry.path().extension() == ".png";
+  EXPECT_EQ(count, steps + 1);
+  const auto first = ReadPng((frames / "frame-00000.png").string());
+  char last_name[32];
+  std::snprintf(last_name, sizeof(last_name), "frame-%05d.png", steps);
+  const auto last = ReadPng((frames / last_name).string());
+  ASSERT_TRUE(first && last);
+  EXPECT_GT(DifferingPixels(*first, *last), 50);
+  // the same episode as the first of the MP4 evaluation (the protocol's seeds)
+  const fs::path other = root_ / "eval-metrics-only";
+  ASSERT_EQ(SricsEval(root_, {run().string(), "--episodes", "1", "--out", other.string(), "--no-video"}).first, 0);
+  const auto again = ReadCsv(other / "episodes.csv");
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_EQ(again[0].at("avg_distance"), rows[0].at("avg_distance"));
+  EXPECT_EQ(again[0].at("steps"), rows[0].at("steps"));
+  EXPECT_EQ(again[0].at("frames"), "0");
+}
+
+TEST_F(EvalTest, BadArgumentsExitTwoNamingTheArgument) {
+  const std::string dir = run().string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{}, "RUN_DIR|CHECKPOINT"},
+      {{(root_ / "nowhere").string()}, "RUN_DIR|CHECKPOINT"},
+      {{dir, "--episodes", "0"}, "--episodes"},
+      {{dir, "--episodes", "three"}, "--episodes"},
+      {{dir, "--format", "avi"}, "--format"},
+      {{dir, "--width", "641"}, "--width"},
+      {{dir, "--fps"}, "--fps"},
+      {{dir, "--frobnicate", "1"}, "--frobnicate"},
+      {{dir, "--config", (root_ / "none.yaml").string()}, "--config"},
+      {{dir, "--set", "run.method=dqn"}, "run.method"},
+  };
+  for (const auto& [args, named] : cases) {
+    const auto [code, output] = SricsEval(root_, args);
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_THAT(output, HasSubstr(named));
+  }
+}
+
+TEST_F(EvalTest, MissingOrCorruptCheckpointSaysSo) {
+  // a run folder that has not checkpointed yet
+  const fs::path empty = root_ / "no-checkpoint";
+  fs::create_directories(empty);
+  fs::copy_file(run() / "config.yaml", empty / "config.yaml");
+  auto [code, output] = SricsEval(root_, {empty.string(), "--no-video"});
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_THAT(output, HasSubstr("no checkpoint"));
+  EXPECT_THAT(output, HasSubstr((empty / "checkpoint.srics").string()));
+
+  // a truncated checkpoint, given as a file
+  const fs::path broken = root_ / "broken";
+  fs::create_directories(broken);
+  fs::copy_file(run() / "config.yaml", broken / "config.yaml");
+  fs::copy_file(run() / "graph.json", broken / "graph.json");
+  const std::string bytes = ReadFile(run() / "checkpoint.srics");
+  std::ofstream(broken / "checkpoint.srics", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  std::tie(code, output) = SricsEval(root_, {(broken / "checkpoint.srics").string(), "--no-video"});
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_THAT(output, HasSubstr((broken / "checkpoint.srics").string()));
+  EXPECT_THAT(output, HasSubstr("truncated"));
+
+  // not a checkpoint at all
+  std::ofstream(broken / "checkpoint.srics", std::ios::binary | std::ios::trunc) << "hello";
+  std::tie(code, output) = SricsEval(root_, {broken.string(), "--no-video"});
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_THAT(output, HasSubstr("checkpoint.srics"));
+
+  // SRICS without its graph
+  fs::remove(broken / "graph.json");
+  fs::copy_file(run() / "checkpoint.srics", broken / "checkpoint.srics", fs::copy_options::overwrite_existing);
+  std::tie(code, output) = SricsEval(root_, {broken.string(), "--no-video"});
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_THAT(output, HasSubstr("no graph"));
+}
+
+}  // namespace
+}  // namespace srics::launcher
