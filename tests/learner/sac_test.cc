@@ -69,31 +69,38 @@ TEST(SacTest, CriticsConvergeToTheDiscountedReturnOfAConstantReward) {
 // way) turned every weight into NaN and the learner published them. Now the update stops
 // before the optimizer step of the stage where it shows: no network changes.
 TEST(SacTest, NonFiniteBatchChangesNoNetwork) {
-  SacAgent agent(kShape, SmallConfig(), 1, 1);
-  std::mt19937_64 rng(3);
-  for (int i = 0; i < 5; ++i) EXPECT_FALSE(agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; })).non_finite);
-  const std::vector<float> policy_before = agent.PolicyWeights();
-  const std::vector<float> q1_before = nn::Flatten(agent.q1().Parameters());
-  const double alpha_before = agent.alpha();
+  // with 2 threads the poisoned samples lie in either shard (rows 0-31: the calling thread's)
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    SacAgent agent(kShape, SmallConfig(), 1, threads);
+    std::mt19937_64 rng(3);
+    for (int i = 0; i < 5; ++i) EXPECT_FALSE(agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; })).non_finite);
+    const std::vector<float> policy_before = agent.PolicyWeights();
+    const std::vector<float> q1_before = nn::Flatten(agent.q1().Parameters());
+    const double alpha_before = agent.alpha();
 
-  TrainingBatch poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
-  poisoned.reward[7] = std::numeric_limits<float>::quiet_NaN();  // the Bellman targets
-  EXPECT_TRUE(agent.Update(poisoned).non_finite);
-  poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
-  poisoned.entities[11] = std::numeric_limits<float>::infinity();  // the critics' loss and gradients
-  EXPECT_TRUE(agent.Update(poisoned).non_finite);
-  poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
-  poisoned.reward[3] = 3e38f;  // finite, but its square overflows the critics' loss
-  EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    TrainingBatch poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
+    poisoned.reward[7] = std::numeric_limits<float>::quiet_NaN();  // the Bellman targets
+    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
+    poisoned.entities[11] = std::numeric_limits<float>::infinity();  // the critics' loss and gradients
+    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
+    poisoned.reward[3] = 3e38f;  // finite, but its square overflows the critics' loss
+    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
+    poisoned.reward[50] = std::numeric_limits<float>::quiet_NaN();  // the second shard's targets
+    EXPECT_TRUE(agent.Update(poisoned).non_finite);
 
-  EXPECT_EQ(agent.PolicyWeights(), policy_before);
-  EXPECT_EQ(nn::Flatten(agent.q1().Parameters()), q1_before);
-  EXPECT_EQ(agent.alpha(), alpha_before);
-  // and the agent goes on learning from good batches
-  const UpdateStats next = agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; }));
-  EXPECT_FALSE(next.non_finite);
-  EXPECT_TRUE(std::isfinite(next.q_loss));
-  EXPECT_NE(agent.PolicyWeights(), policy_before);
+    EXPECT_EQ(agent.PolicyWeights(), policy_before);
+    EXPECT_EQ(nn::Flatten(agent.q1().Parameters()), q1_before);
+    EXPECT_EQ(agent.alpha(), alpha_before);
+    // and the agent goes on learning from good batches
+    const UpdateStats next = agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; }));
+    EXPECT_FALSE(next.non_finite);
+    EXPECT_TRUE(std::isfinite(next.q_loss));
+    EXPECT_NE(agent.PolicyWeights(), policy_before);
+  }
 }
 
 TEST(SacTest, PolicyMovesToTheBestActionOfTheCritic) {
