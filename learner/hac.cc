@@ -151,9 +151,10 @@ void TransitionReplay::Sample(int size, std::mt19937_64& rng, TrainingBatch* b) 
 }
 
 HacLevels::HacLevels(const HacOptions& options, const rl::AgentShape& low, const rl::AgentShape& high,
-                     const config::AgentConfig& agent, uint64_t capacity, int max_entities, uint64_t seed)
+                     const config::AgentConfig& agent, uint64_t capacity, int max_entities, uint64_t seed,
+                     int threads)
     : options_(options),
-      high_(high, rl::HighLevelAgentConfig(agent, low, high), seed),
+      high_(high, rl::HighLevelAgentConfig(agent, low, high), seed, threads),
       low_replay_(capacity, max_entities, low.entity_dim, low.goal_dim, low.action_dim),
       high_replay_(capacity, max_entities, high.entity_dim, high.goal_dim, high.action_dim),
       rng_(seed ^ 0x5bd1e995u) {}

@@ -88,7 +88,8 @@ class TransitionReplay {
 class HacLevels {
  public:
   HacLevels(const HacOptions& options, const rl::AgentShape& low, const rl::AgentShape& high,
-            const config::AgentConfig& agent, uint64_t capacity, int max_entities, uint64_t seed);
+            const config::AgentConfig& agent, uint64_t capacity, int max_entities, uint64_t seed,
+            int threads);
 
   // Builds and stores the episode's transitions (the episode is valid).
   void Add(const rl::Episode& episode);

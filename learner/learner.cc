@@ -32,12 +32,14 @@ Learner::Learner(const LearnerOptions& options)
       replay_(options.learner.replay_capacity),
       relabeler_(options.method, options.agent.reward, options.learner.relabel, options.goal_region,
                  rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerReplay)),
-      agent_(shape_, options.agent, rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent)),
+      agent_(shape_, options.agent, rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent),
+             options.learner.threads),
       limiter_(options.learner.updates_per_step, options.learner.warmup_steps, options.learner.rate_error_buffer) {
   if (options.method == config::Method::kHac)
     hac_ = std::make_unique<HacLevels>(options.hac, shape_, options.high_shape, options.agent,
                                        options.learner.replay_capacity, options.max_entities,
-                                       rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent, 1));
+                                       rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent, 1),
+                                       options.learner.threads);
 }
 
 std::string Learner::Ingest(rl::Episode episode) {

@@ -95,6 +95,8 @@ class Learner {
   // Exploration episodes not stored (learner.exploration_into_replay: false).
   uint64_t exploration_skipped() const { return exploration_skipped_; }
   const ReplayBuffer& replay() const { return replay_; }
+  // The batch of the last Update (not HAC's; benchmarks time the agent's update on it).
+  const TrainingBatch& last_batch() const { return batch_; }
   // The agent that acts (HAC: the low level).
   SacAgent& agent() { return agent_; }
   // HAC's levels (the high level and both transition replays); null for other methods.

@@ -1,5 +1,6 @@
 #include "learner/sac.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -57,7 +58,7 @@ LearnerCounters CheckpointCounters(const std::vector<nn::CheckpointSection>& sec
   return UnpackCounters(nn::FindSection(sections, "counters", path).values, path);
 }
 
-SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed)
+SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed, int threads)
     : shape_(shape),
       config_(config),
       net_config_(rl::MakeNetworkConfig(shape, config)),
@@ -67,7 +68,8 @@ SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, u
       q2_("q2", net_config_, rng_),
       q1_target_("q1_target", net_config_, rng_),
       q2_target_("q2_target", net_config_, rng_),
-      log_alpha_("log_alpha", 1, 1) {
+      log_alpha_("log_alpha", 1, 1),
+      pool_(threads) {
   nn::SoftUpdate(q1_target_.Parameters(), q1_.Parameters(), 1.0);
   nn::SoftUpdate(q2_target_.Parameters(), q2_.Parameters(), 1.0);
   log_alpha_.value(0, 0) = static_cast<float>(std::log(config.sac.initial_alpha));
@@ -77,6 +79,22 @@ SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, u
                                                    nn::Adam<float>::Options{config.sac.q_lr});
   alpha_optimizer_ = std::make_unique<nn::Adam<float>>(nn::ParameterList<float>{&log_alpha_},
                                                        nn::Adam<float>::Options{config.sac.alpha_lr});
+  const nn::ParameterList<float> trained = Join({policy_.Parameters(), q1_.Parameters(), q2_.Parameters()});
+  for (int k = 1; k < threads; ++k) {
+    shard_tapes_.push_back(std::make_unique<nn::Tape<float>>());
+    shard_grads_.push_back(std::make_unique<nn::GradientBuffer<float>>(trained));
+    shard_tapes_.back()->set_gradient_buffer(shard_grads_.back().get());
+  }
+}
+
+void SacAgent::ForEachShard(int batch, const std::function<void(nn::Tape<float>&, int, int, int)>& part) {
+  const int shards = std::min(pool_.size(), batch);
+  pool_.Run([&](int k) {
+    if (k >= shards) return;
+    const auto [begin, end] = nn::PartRows(batch, shards, k);
+    part(k == 0 ? tape_ : *shard_tapes_[k - 1], k, begin, end);
+  });
+  for (int k = 1; k < shards; ++k) shard_grads_[k - 1]->AddInto();
 }
 
 double SacAgent::alpha() const { return std::exp(static_cast<double>(log_alpha_.value(0, 0))); }
@@ -99,50 +117,80 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
   LoadBatch(batch);
   const auto& sac = config_.sac;
   const int size = batch.size;
+  const int ents = batch.max_entities;
   const float alpha = static_cast<float>(this->alpha());
   UpdateStats stats;
   stats.alpha = alpha;
   stats.mean_reward = rewards_.mean();
+  // One shard is the whole batch (the one-thread path: no copies, no loss scaling). With
+  // several, shard k sees rows [begin, end) of every batch matrix, and its loss is scaled by
+  // its share of the batch so that the shards' gradients add up to the whole batch's.
+  const bool whole = std::min(pool_.size(), size) == 1;
+  auto rows = [&](const nn::Tensor& m, int begin, int end, int per_sample) -> nn::Tensor {
+    return m.middleRows(static_cast<Eigen::Index>(begin) * per_sample,
+                        static_cast<Eigen::Index>(end - begin) * per_sample);
+  };
+  auto share = [&](nn::Tape<float>& tape, nn::Var<float> loss, int begin, int end) {
+    return whole ? loss : tape.MulScalar(loss, static_cast<float>(end - begin) / static_cast<float>(size));
+  };
+  const int shards = std::min(pool_.size(), size);
+  std::vector<double> loss_part(static_cast<size_t>(shards)), sum_part(static_cast<size_t>(shards));
+  auto total = [](const std::vector<double>& parts) {
+    double t = 0;
+    for (double p : parts) t += p;  // shard order: deterministic
+    return t;
+  };
 
   // bellman targets: y = scale * r + discount * (min target Q(s', a') - alpha log pi(a'|s'));
   // episodes end by time limit only, so every transition bootstraps unless the batch marks
-  // it terminal (HAC)
-  nn::Tensor targets;
+  // it terminal (HAC). Then the critics. A shard's targets are its own rows, so each shard
+  // goes from its targets to its critic gradients without waiting for the others.
   {
-    tape_.Reset();
-    auto ent = tape_.Constant(next_entities_);
-    auto mask = tape_.Constant(mask_);
-    auto goals = tape_.Constant(goals_);
-    auto next = policy_.Forward(tape_, ent, mask, goals,
-                                nn::RandomNormal<float>(size, shape_.action_dim, rng_), false);
-    auto t1 = q1_target_.Forward(tape_, ent, mask, goals, next.action, false);
-    auto t2 = q2_target_.Forward(tape_, ent, mask, goals, next.action, false);
-    targets = static_cast<float>(sac.reward_scale) * rewards_.array() +
-              static_cast<float>(sac.discount) * bootstraps_.array() *
-                  (t1.value().array().min(t2.value().array()) - alpha * next.log_prob.value().array());
-  }
-  if (!targets.allFinite()) {
-    stats.non_finite = true;
-    return stats;
-  }
-
-  // critics
-  {
-    tape_.Reset();
-    auto ent = tape_.Constant(entities_);
-    auto mask = tape_.Constant(mask_);
-    auto goals = tape_.Constant(goals_);
-    auto actions = tape_.Constant(actions_);
-    auto y = tape_.Constant(targets);
-    auto q1 = q1_.Forward(tape_, ent, mask, goals, actions);
-    auto q2 = q2_.Forward(tape_, ent, mask, goals, actions);
-    auto loss = tape_.Add(tape_.Mean(tape_.Square(tape_.Sub(q1, y))),
-                          tape_.Mean(tape_.Square(tape_.Sub(q2, y))));
+    const nn::Tensor noise = nn::RandomNormal<float>(size, shape_.action_dim, rng_);
+    std::vector<char> targets_non_finite(static_cast<size_t>(shards), 0);
     q_optimizer_->ZeroGrad();
-    tape_.Backward(loss);
+    ForEachShard(size, [&](nn::Tape<float>& tape, int k, int begin, int end) {
+      nn::Tensor targets;
+      {
+        tape.Reset();
+        auto ent = tape.Constant(whole ? next_entities_ : rows(next_entities_, begin, end, ents));
+        auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));
+        auto goals = tape.Constant(whole ? goals_ : rows(goals_, begin, end, 1));
+        auto next = policy_.Forward(tape, ent, mask, goals, whole ? noise : rows(noise, begin, end, 1), false);
+        auto t1 = q1_target_.Forward(tape, ent, mask, goals, next.action, false);
+        auto t2 = q2_target_.Forward(tape, ent, mask, goals, next.action, false);
+        const auto r = rewards_.middleRows(begin, end - begin).array();
+        const auto boot = bootstraps_.middleRows(begin, end - begin).array();
+        targets = static_cast<float>(sac.reward_scale) * r +
+                  static_cast<float>(sac.discount) * boot *
+                      (t1.value().array().min(t2.value().array()) - alpha * next.log_prob.value().array());
+      }
+      if (!targets.allFinite()) {  // no critic step on non-finite targets (checked below)
+        targets_non_finite[k] = 1;
+        return;
+      }
+      tape.Reset();
+      auto ent = tape.Constant(whole ? entities_ : rows(entities_, begin, end, ents));
+      auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));
+      auto goals = tape.Constant(whole ? goals_ : rows(goals_, begin, end, 1));
+      auto actions = tape.Constant(whole ? actions_ : rows(actions_, begin, end, 1));
+      auto y = tape.Constant(targets);
+      auto q1 = q1_.Forward(tape, ent, mask, goals, actions);
+      auto q2 = q2_.Forward(tape, ent, mask, goals, actions);
+      auto loss = share(tape,
+                        tape.Add(tape.Mean(tape.Square(tape.Sub(q1, y))), tape.Mean(tape.Square(tape.Sub(q2, y)))),
+                        begin, end);
+      tape.Backward(loss);
+      loss_part[k] = loss.value()(0, 0);
+      sum_part[k] = whole ? q1.value().mean() : q1.value().sum();
+    });
     if (sac.grad_clip_norm > 0) nn::ClipGradNorm(q_optimizer_->parameters(), sac.grad_clip_norm);
-    stats.q_loss = loss.value()(0, 0);
-    stats.mean_q = q1.value().mean();
+    if (std::find(targets_non_finite.begin(), targets_non_finite.end(), 1) != targets_non_finite.end()) {
+      stats.non_finite = true;
+      return stats;
+    }
+    stats.q_loss = total(loss_part);
+    stats.mean_q = whole ? sum_part[0] : total(sum_part) / size;
     if (!std::isfinite(stats.q_loss) || !GradientsFinite(q_optimizer_->parameters())) {
       stats.non_finite = true;
       return stats;
@@ -153,20 +201,24 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
   // policy: minimise alpha log pi - min Q over reparameterised actions (critics frozen)
   double mean_log_prob;
   {
-    tape_.Reset();
-    auto ent = tape_.Constant(entities_);
-    auto mask = tape_.Constant(mask_);
-    auto goals = tape_.Constant(goals_);
-    auto pi = policy_.Forward(tape_, ent, mask, goals,
-                              nn::RandomNormal<float>(size, shape_.action_dim, rng_));
-    auto q1 = q1_.Forward(tape_, ent, mask, goals, pi.action, false);
-    auto q2 = q2_.Forward(tape_, ent, mask, goals, pi.action, false);
-    auto loss = tape_.Mean(tape_.Sub(tape_.MulScalar(pi.log_prob, alpha), tape_.Min(q1, q2)));
+    const nn::Tensor noise = nn::RandomNormal<float>(size, shape_.action_dim, rng_);
     policy_optimizer_->ZeroGrad();
-    tape_.Backward(loss);
+    ForEachShard(size, [&](nn::Tape<float>& tape, int k, int begin, int end) {
+      tape.Reset();
+      auto ent = tape.Constant(whole ? entities_ : rows(entities_, begin, end, ents));
+      auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));
+      auto goals = tape.Constant(whole ? goals_ : rows(goals_, begin, end, 1));
+      auto pi = policy_.Forward(tape, ent, mask, goals, whole ? noise : rows(noise, begin, end, 1));
+      auto q1 = q1_.Forward(tape, ent, mask, goals, pi.action, false);
+      auto q2 = q2_.Forward(tape, ent, mask, goals, pi.action, false);
+      auto loss = share(tape, tape.Mean(tape.Sub(tape.MulScalar(pi.log_prob, alpha), tape.Min(q1, q2))), begin, end);
+      tape.Backward(loss);
+      loss_part[k] = loss.value()(0, 0);
+      sum_part[k] = whole ? pi.log_prob.value().mean() : pi.log_prob.value().sum();
+    });
     if (sac.grad_clip_norm > 0) nn::ClipGradNorm(policy_optimizer_->parameters(), sac.grad_clip_norm);
-    stats.policy_loss = loss.value()(0, 0);
-    mean_log_prob = pi.log_prob.value().mean();
+    stats.policy_loss = total(loss_part);
+    mean_log_prob = whole ? sum_part[0] : total(sum_part) / size;
     stats.entropy = -mean_log_prob;
     if (!std::isfinite(stats.policy_loss) || !std::isfinite(mean_log_prob) ||
         !GradientsFinite(policy_optimizer_->parameters())) {

@@ -3,14 +3,23 @@
 // target copies, automatic entropy tuning, every hyperparameter from config::AgentConfig.
 // One Update() is one gradient step of the critics, the policy and the temperature, then a
 // soft target update (srics-method.md section 3).
+//
+// With threads > 1 (learner.threads) each of the two phases of an update (Bellman targets
+// and critics; policy) splits the batch into one contiguous shard of samples per thread; each thread runs
+// forward and backward on its shard with its own tape, the per-thread gradients are added in
+// a fixed order, then one optimizer step: the same math as one thread up to the order of
+// float summation, and deterministic for a given thread count. The random noise is drawn for
+// the whole batch on the calling thread, as with one thread.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "common/config/agent_config.h"
 #include "common/nn/optim.h"
+#include "common/nn/parallel.h"
 #include "common/nn/serialize.h"
 #include "common/nn/tape.h"
 #include "common/rl/agent_shape.h"
@@ -47,7 +56,8 @@ struct LearnerCounters {
 
 class SacAgent {
  public:
-  SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed);
+  // threads >= 1: threads that share each update (learner.threads).
+  SacAgent(const AgentShape& shape, const config::AgentConfig& config, uint64_t seed, int threads);
 
   // One SAC update on a relabeled batch. A non-finite target, loss or gradient stops it
   // before that stage's optimizer step (UpdateStats::non_finite).
@@ -71,14 +81,21 @@ class SacAgent {
                                          const std::string& path);
 
   double alpha() const;
-  // Logs the shape of every matrix product of the following updates (benchmarks).
+  // Logs the shape of every matrix product of the following updates (benchmarks; with
+  // several threads only the calling thread's shard is logged).
   void set_gemm_log(std::vector<nn::GemmShape>* log) { tape_.set_gemm_log(log); }
   rl::PolicyNetwork<float>& policy() { return policy_; }
   rl::QNetwork<float>& q1() { return q1_; }
+  rl::QNetwork<float>& q2() { return q2_; }
   const AgentShape& shape() const { return shape_; }
+  int threads() const { return pool_.size(); }
 
  private:
   void LoadBatch(const TrainingBatch& batch);
+  // Runs part(tape, k, begin, end) for each shard k of the batch's samples [begin, end),
+  // shard 0 on the calling thread; tape k > 0 writes gradients into its own buffer, which
+  // is added into Parameter::grad (shard order) when all are done.
+  void ForEachShard(int batch, const std::function<void(nn::Tape<float>&, int, int, int)>& part);
 
   AgentShape shape_;
   config::AgentConfig config_;
@@ -89,6 +106,10 @@ class SacAgent {
   nn::Parameter<float> log_alpha_;
   std::unique_ptr<nn::Adam<float>> policy_optimizer_, q_optimizer_, alpha_optimizer_;
   nn::Tape<float> tape_;
+  nn::WorkerPool pool_;
+  // shards 1..threads-1: their tapes and gradient buffers (index k - 1)
+  std::vector<std::unique_ptr<nn::Tape<float>>> shard_tapes_;
+  std::vector<std::unique_ptr<nn::GradientBuffer<float>>> shard_grads_;
   // the current batch as matrices
   nn::Tensor entities_, next_entities_, mask_, goals_, actions_, rewards_;
   nn::Tensor bootstraps_;  // B x 1: 0 for terminal transitions, else 1

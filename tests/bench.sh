@@ -9,10 +9,15 @@ if [ $# -lt 1 ]; then
   exit 2
 fi
 name=$1; shift
+target="bench_${name//-/_}"
 if [ -x "$root/tests/bench/$name/run.sh" ]; then
-  "$root/tests/build.sh" >&2
+  # a script with its own executable builds just that; the others need the programs
+  if [ -f "$root/tests/bench/$name/CMakeLists.txt" ]; then
+    "$root/tests/build.sh" --target "$target" >&2
+  else
+    "$root/tests/build.sh" >&2
+  fi
   exec "$root/tests/bench/$name/run.sh" "$build" "$@"
 fi
-target="bench_${name//-/_}"
 "$root/tests/build.sh" --target "$target" >&2
 exec "$build/tests/bench/$name/$target" "$@"

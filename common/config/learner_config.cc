@@ -15,6 +15,7 @@ void ParseLearner(YamlSection s, LearnerConfig* out) {
   s.ReadInt("publish_every_updates", &out->publish_every_updates, 1, 1 << 30);
   s.ReadInt("checkpoint_every_updates", &out->checkpoint_every_updates, 1, 1 << 30);
   s.ReadBool("exploration_into_replay", &out->exploration_into_replay);
+  s.ReadInt("threads", &out->threads, 1, 64);
   YamlSection relabel = s.Child("relabel");
   RelabelConfig& r = out->relabel;
   relabel.ReadDouble("original", &r.original, 0, 1);

@@ -22,6 +22,12 @@ struct LearnerConfig {
   // methods, before the graph and first weights exist) also enter the RL replay; they always
   // reach the graph service. true: the behaviour before this setting existed
   bool exploration_into_replay = true;
+  // threads that share each SAC update (batch shards, gradients added in a fixed order: the
+  // same math as one thread up to float summation order, deterministic for a given count).
+  // Not a paper setting. 1: the behaviour before this setting existed, and the right choice
+  // when the learner shares its cores with actors, the graph service or parallel runs; 2 on a
+  // 2-core machine when the learner has both cores (docs/results.md, throughput)
+  int threads = 1;
   RelabelConfig relabel;
 };
 

@@ -1,5 +1,7 @@
 #include "common/nn/tape.h"
 
+#include "common/nn/parallel.h"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -633,7 +635,10 @@ void Tape<T>::BackwardNode(int id) {
     case Op::kConstant:
       break;
     case Op::kParam:
-      if (n.flag) n.param->grad += g;
+      if (n.flag) {
+        if (gradient_buffer_) gradient_buffer_->Add(n.param, g);
+        else n.param->grad += g;
+      }
       break;
     case Op::kMatMul:
     case Op::kLinear: {

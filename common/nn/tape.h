@@ -4,7 +4,8 @@
 // walks the nodes in reverse and accumulates gradients into the inputs and into the
 // Parameter::grad of every trainable parameter used. Reset() forgets the nodes but keeps their
 // buffers, so a training loop that builds the same graph each iteration stops allocating after
-// the first one. Single-threaded: a tape belongs to one thread.
+// the first one. Single-threaded: a tape belongs to one thread; several tapes may read the same
+// parameters at once when each writes its gradients to its own GradientBuffer.
 #ifndef SRICS_COMMON_NN_TAPE_H_
 #define SRICS_COMMON_NN_TAPE_H_
 
@@ -17,6 +18,8 @@ namespace srics::nn {
 
 template <typename T>
 class Tape;
+template <typename T>
+class GradientBuffer;  // common/nn/parallel.h
 
 // A handle to one node of a tape: cheap to copy, valid until the tape's next Reset().
 template <typename T>
@@ -141,6 +144,9 @@ class Tape {
 
   // When set, every matrix product executed (forward and backward) appends its shape here.
   void set_gemm_log(std::vector<GemmShape>* log) { gemm_log_ = log; }
+  // When set, Backward accumulates trainable parameters' gradients into `buffer` instead of
+  // Parameter::grad (tapes on several threads over the same parameters; common/nn/parallel.h).
+  void set_gradient_buffer(GradientBuffer<T>* buffer) { gradient_buffer_ = buffer; }
 
  private:
   struct Node {
@@ -180,6 +186,7 @@ class Tape {
   std::vector<Node> nodes_;
   int count_ = 0;
   std::vector<GemmShape>* gemm_log_ = nullptr;
+  GradientBuffer<T>* gradient_buffer_ = nullptr;
   Mat zero_grad_;
 };
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -55,7 +56,7 @@ TEST(SacTest, CriticsConvergeToTheDiscountedReturnOfAConstantReward) {
   c.sac.discount = 0.9;
   c.sac.auto_entropy = false;
   c.sac.initial_alpha = 1e-8;
-  SacAgent agent(kShape, c, 1);
+  SacAgent agent(kShape, c, 1, 1);
   std::mt19937_64 rng(2);
   UpdateStats stats;
   for (int i = 0; i < 1500; ++i)
@@ -68,38 +69,45 @@ TEST(SacTest, CriticsConvergeToTheDiscountedReturnOfAConstantReward) {
 // way) turned every weight into NaN and the learner published them. Now the update stops
 // before the optimizer step of the stage where it shows: no network changes.
 TEST(SacTest, NonFiniteBatchChangesNoNetwork) {
-  SacAgent agent(kShape, SmallConfig(), 1);
-  std::mt19937_64 rng(3);
-  for (int i = 0; i < 5; ++i) EXPECT_FALSE(agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; })).non_finite);
-  const std::vector<float> policy_before = agent.PolicyWeights();
-  const std::vector<float> q1_before = nn::Flatten(agent.q1().Parameters());
-  const double alpha_before = agent.alpha();
+  // with 2 threads the poisoned samples lie in either shard (rows 0-31: the calling thread's)
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    SacAgent agent(kShape, SmallConfig(), 1, threads);
+    std::mt19937_64 rng(3);
+    for (int i = 0; i < 5; ++i) EXPECT_FALSE(agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; })).non_finite);
+    const std::vector<float> policy_before = agent.PolicyWeights();
+    const std::vector<float> q1_before = nn::Flatten(agent.q1().Parameters());
+    const double alpha_before = agent.alpha();
 
-  TrainingBatch poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
-  poisoned.reward[7] = std::numeric_limits<float>::quiet_NaN();  // the Bellman targets
-  EXPECT_TRUE(agent.Update(poisoned).non_finite);
-  poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
-  poisoned.entities[11] = std::numeric_limits<float>::infinity();  // the critics' loss and gradients
-  EXPECT_TRUE(agent.Update(poisoned).non_finite);
-  poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
-  poisoned.reward[3] = 3e38f;  // finite, but its square overflows the critics' loss
-  EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    TrainingBatch poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
+    poisoned.reward[7] = std::numeric_limits<float>::quiet_NaN();  // the Bellman targets
+    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
+    poisoned.entities[11] = std::numeric_limits<float>::infinity();  // the critics' loss and gradients
+    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
+    poisoned.reward[3] = 3e38f;  // finite, but its square overflows the critics' loss
+    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
+    poisoned.reward[50] = std::numeric_limits<float>::quiet_NaN();  // the second shard's targets
+    EXPECT_TRUE(agent.Update(poisoned).non_finite);
 
-  EXPECT_EQ(agent.PolicyWeights(), policy_before);
-  EXPECT_EQ(nn::Flatten(agent.q1().Parameters()), q1_before);
-  EXPECT_EQ(agent.alpha(), alpha_before);
-  // and the agent goes on learning from good batches
-  const UpdateStats next = agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; }));
-  EXPECT_FALSE(next.non_finite);
-  EXPECT_TRUE(std::isfinite(next.q_loss));
-  EXPECT_NE(agent.PolicyWeights(), policy_before);
+    EXPECT_EQ(agent.PolicyWeights(), policy_before);
+    EXPECT_EQ(nn::Flatten(agent.q1().Parameters()), q1_before);
+    EXPECT_EQ(agent.alpha(), alpha_before);
+    // and the agent goes on learning from good batches
+    const UpdateStats next = agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; }));
+    EXPECT_FALSE(next.non_finite);
+    EXPECT_TRUE(std::isfinite(next.q_loss));
+    EXPECT_NE(agent.PolicyWeights(), policy_before);
+  }
 }
 
 TEST(SacTest, PolicyMovesToTheBestActionOfTheCritic) {
   // a one-step problem (discount 0): the best action is (0.5, -0.3)
   config::AgentConfig c = SmallConfig();
   c.sac.discount = 0.0;
-  SacAgent agent(kShape, c, 3);
+  SacAgent agent(kShape, c, 3, 1);
   std::mt19937_64 rng(4);
   auto reward = [](const float* a) {
     return -4.0 * ((a[0] - 0.5) * (a[0] - 0.5) + (a[1] + 0.3) * (a[1] + 0.3));
@@ -122,13 +130,13 @@ TEST(SacTest, PolicyMovesToTheBestActionOfTheCritic) {
 
 TEST(SacTest, CheckpointRoundTripRestoresNetworksOptimizersAndCounters) {
   const std::string path = ::testing::TempDir() + "/sac_round_trip.srics";
-  SacAgent a(kShape, SmallConfig(), 10);
+  SacAgent a(kShape, SmallConfig(), 10, 1);
   std::mt19937_64 rng(11);
   for (int i = 0; i < 30; ++i) a.Update(RandomBatch(rng, 64, [](const float* x) { return double(x[0]); }));
   const LearnerCounters counters{30, 12345678901ull, 77, 5};
   a.SaveCheckpoint(path, counters);
 
-  SacAgent b(kShape, SmallConfig(), 99);  // different initialisation
+  SacAgent b(kShape, SmallConfig(), 99, 1);  // different initialisation
   EXPECT_NE(a.PolicyWeights(), b.PolicyWeights());
   EXPECT_EQ(b.LoadCheckpoint(path), counters);
   EXPECT_EQ(a.PolicyWeights(), b.PolicyWeights());
@@ -148,7 +156,7 @@ TEST(SacTest, CheckpointRoundTripRestoresNetworksOptimizersAndCounters) {
 
 TEST(SacTest, ABadCheckpointIsRefusedAndChangesNothing) {
   const std::string path = ::testing::TempDir() + "/sac_bad.srics";
-  SacAgent a(kShape, SmallConfig(), 20);
+  SacAgent a(kShape, SmallConfig(), 20, 1);
   a.SaveCheckpoint(path, {});
   // flip one byte in the middle: the checksum catches it
   {
@@ -160,7 +168,7 @@ TEST(SacTest, ABadCheckpointIsRefusedAndChangesNothing) {
     c ^= 0x5a;
     f.write(&c, 1);
   }
-  SacAgent b(kShape, SmallConfig(), 21);
+  SacAgent b(kShape, SmallConfig(), 21, 1);
   const auto before = b.PolicyWeights();
   try {
     b.LoadCheckpoint(path);
@@ -172,7 +180,7 @@ TEST(SacTest, ABadCheckpointIsRefusedAndChangesNothing) {
   // another architecture: refused by name
   config::AgentConfig wider = SmallConfig();
   wider.network.policy_hidden = {48, 32};
-  SacAgent c(kShape, wider, 22);
+  SacAgent c(kShape, wider, 22, 1);
   a.SaveCheckpoint(path, {});
   try {
     c.LoadCheckpoint(path);
@@ -180,6 +188,83 @@ TEST(SacTest, ABadCheckpointIsRefusedAndChangesNothing) {
   } catch (const nn::CheckpointError& e) {
     EXPECT_NE(std::string(e.what()).find("architecture mismatch"), std::string::npos) << e.what();
   }
+}
+
+
+// Relative distance of two flat vectors: |a - b| / max(|a|, tiny).
+double RelativeDistance(const std::vector<float>& a, const std::vector<float>& b) {
+  double diff = 0, norm = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    diff += (double(a[i]) - b[i]) * (double(a[i]) - b[i]);
+    norm += double(a[i]) * a[i];
+  }
+  return std::sqrt(diff) / std::max(std::sqrt(norm), 1e-30);
+}
+
+std::vector<float> Grads(nn::ParameterList<float> params) {
+  std::vector<float> out;
+  for (const auto* p : params) out.insert(out.end(), p->grad.data(), p->grad.data() + p->grad.size());
+  return out;
+}
+
+TEST(SacTest, SeveralThreadsGiveTheUpdateOfOneThreadUpToSummationOrder) {
+  // the same agent (same seed) and the same batches with 1, 2 and 3 threads (64 samples split
+  // 32/32 and 21/21/22): gradients, statistics and weights agree to float rounding
+  for (int threads : {2, 3}) {
+    SacAgent one(kShape, SmallConfig(), 7, 1);
+    SacAgent many(kShape, SmallConfig(), 7, threads);
+    ASSERT_EQ(many.threads(), threads);
+    std::mt19937_64 rng(8);
+    for (int update = 0; update < 5; ++update) {
+      const TrainingBatch b = RandomBatch(rng, 64, [](const float* a) { return double(a[0] - a[1]); });
+      const UpdateStats s1 = one.Update(b);
+      const UpdateStats sn = many.Update(b);
+      EXPECT_NEAR(sn.q_loss, s1.q_loss, 1e-5 * std::abs(s1.q_loss) + 1e-7) << threads << " threads, update " << update;
+      EXPECT_NEAR(sn.policy_loss, s1.policy_loss, 1e-5 * std::abs(s1.policy_loss) + 1e-7);
+      EXPECT_NEAR(sn.entropy, s1.entropy, 1e-5 * std::abs(s1.entropy) + 1e-7);
+      EXPECT_NEAR(sn.mean_q, s1.mean_q, 1e-5 * std::abs(s1.mean_q) + 1e-7);
+      EXPECT_NEAR(sn.alpha, s1.alpha, 1e-6 * s1.alpha);
+      // the gradients of this update (left in Parameter::grad) are the whole batch's
+      EXPECT_LT(RelativeDistance(Grads(many.q1().Parameters()), Grads(one.q1().Parameters())), 1e-5);
+      EXPECT_LT(RelativeDistance(Grads(many.policy().Parameters()), Grads(one.policy().Parameters())), 1e-5);
+      // weights: Adam's first steps are about lr * sign(gradient), so an element whose gradient
+      // is near zero can move differently on rounding alone; the whole stays within 1e-4
+      EXPECT_LT(RelativeDistance(many.PolicyWeights(), one.PolicyWeights()), 1e-4);
+      EXPECT_LT(RelativeDistance(nn::Flatten(many.q1().Parameters()), nn::Flatten(one.q1().Parameters())), 1e-4);
+    }
+    // and the gradients are not trivially equal because nothing was computed: they are non-zero
+    double norm = 0;
+    for (float g : Grads(many.q1().Parameters())) norm += double(g) * g;
+    EXPECT_GT(norm, 0.0);
+  }
+}
+
+TEST(SacTest, UpdatesWithTwoThreadsAreDeterministic) {
+  SacAgent a(kShape, SmallConfig(), 12, 2);
+  SacAgent b(kShape, SmallConfig(), 12, 2);
+  std::mt19937_64 rng_a(13), rng_b(13);
+  for (int i = 0; i < 10; ++i) {
+    const UpdateStats sa = a.Update(RandomBatch(rng_a, 64, [](const float* x) { return double(x[1]); }));
+    const UpdateStats sb = b.Update(RandomBatch(rng_b, 64, [](const float* x) { return double(x[1]); }));
+    EXPECT_EQ(sa.q_loss, sb.q_loss);
+    EXPECT_EQ(sa.policy_loss, sb.policy_loss);
+  }
+  EXPECT_EQ(a.PolicyWeights(), b.PolicyWeights());
+  EXPECT_EQ(nn::Flatten(a.q2().Parameters()), nn::Flatten(b.q2().Parameters()));
+}
+
+TEST(SacTest, ABatchSmallerThanTheThreadCountStillUpdates) {
+  // 3 threads, 2 samples: one shard per sample, the third thread idles
+  SacAgent one(kShape, SmallConfig(), 14, 1);
+  SacAgent many(kShape, SmallConfig(), 14, 3);
+  std::mt19937_64 rng(15);
+  const TrainingBatch b = RandomBatch(rng, 2, [](const float*) { return 1.0; });
+  const UpdateStats s1 = one.Update(b);
+  const UpdateStats sn = many.Update(b);
+  EXPECT_NEAR(sn.q_loss, s1.q_loss, 1e-5 * std::abs(s1.q_loss) + 1e-7);
+  EXPECT_LT(RelativeDistance(Grads(many.q2().Parameters()), Grads(one.q2().Parameters())), 1e-5);
+  EXPECT_LT(RelativeDistance(Grads(many.policy().Parameters()), Grads(one.policy().Parameters())), 1e-5);
+  EXPECT_LT(RelativeDistance(many.PolicyWeights(), one.PolicyWeights()), 1e-4);
 }
 
 }  // namespace

@@ -1,10 +1,21 @@
 // ./tests/bench.sh sac-update: milliseconds per full SAC update (batch sampling and goal
 // relabeling, twin critics, policy, temperature, target update) with the paper's networks on
-// Rearrange 3 (4 entities), at batch 2048 and 256, one thread; and in the same run the GEMM
-// floor: the same matrix products as bare Eigen products.
+// Rearrange 3 (4 entities), at batch 2048 and 256, with 1 and 2 learner threads
+// (learner.threads); the agent's update alone on a fixed batch (what the PyTorch peer of
+// run.sh times); in the same run the GEMM floor (the same matrix products as bare Eigen
+// products) and Eigen's single-thread sgemm rate at 2048 x 2048 x 2048.
+//
+// bench_sac_update [--dump DIR]: DIR receives what the PyTorch peer needs to run the same
+// update: spec.json (sizes and SAC settings from the config) and batch<B>.bin (the batch).
 
+#include <algorithm>
+#include <chrono>
+#include <ctime>
 #include <cstdio>
+#include <fstream>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "actor/env/rearrange_env.h"
 #include "actor/rollout.h"
@@ -16,34 +27,154 @@ namespace {
 
 using namespace srics;
 
-struct Result {
-  int batch;
-  double update_ms, floor_ms;
-  size_t gemms;
+const char* kConfig = "/deploy/configs/rearrange-3.yaml";
+
+// Median wall ms of `repeats` calls after a warm-up, and over those calls the process's CPU
+// time per call and CPU time / wall time: the cores the process actually got (on a machine
+// shared with other work, a second thread helps only as far as this exceeds 1).
+struct Timing {
+  double ms = 0, cpu_ms = 0, cores = 0;
 };
 
-Result Measure(int batch, const std::vector<rl::Episode>& episodes, int repeats) {
-  config::Config c = config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-3.yaml",
-                                        {"agent.sac.batch_size=" + std::to_string(batch),
-                                         "learner.warmup_steps=0"});
+double ProcessCpuSeconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+template <typename F>
+Timing Time(int repeats, F&& f) {
+  const double cpu0 = ProcessCpuSeconds();
+  const auto wall0 = std::chrono::steady_clock::now();
+  Timing t;
+  t.ms = bench::MedianMs(repeats, f);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const double cpu = ProcessCpuSeconds() - cpu0;
+  t.cpu_ms = 1e3 * cpu / (repeats + 1);
+  t.cores = cpu / wall;
+  return t;
+}
+
+struct Result {
+  int batch = 0, threads = 0;
+  double update_ms = 0;  // Learner::Update: sampling, relabeling and the agent's update
+  double agent_ms = 0;   // SacAgent::Update on a fixed batch
+  Timing agent;          // the same with CPU time and cores obtained
+  double floor_ms = 0;   // one thread only: the GEMM floor
+  double gflop = 0;      // GEMM work of one update (from the layer shapes, forward + backward)
+  size_t gemms = 0;
+};
+
+config::Config LoadFor(int batch, int threads) {
+  return config::LoadConfig(std::string(SRICS_SOURCE_DIR) + kConfig,
+                            {"agent.sac.batch_size=" + std::to_string(batch), "learner.warmup_steps=0",
+                             "learner.threads=" + std::to_string(threads)});
+}
+
+// batch<B>.bin: int32 B, N, D, G, A; then float32 entities (B*N*D), next_entities, mask (B*N),
+// goal (B*G), action (B*A), reward (B), bootstrap (B: 1 - terminal)
+void DumpBatch(const std::string& path, const learner::TrainingBatch& b) {
+  std::ofstream f(path, std::ios::binary);
+  const int32_t head[5] = {b.size, b.max_entities, b.entity_dim, b.goal_dim, b.action_dim};
+  f.write(reinterpret_cast<const char*>(head), sizeof head);
+  auto put = [&](const std::vector<float>& v) { f.write(reinterpret_cast<const char*>(v.data()), v.size() * 4); };
+  put(b.entities);
+  put(b.next_entities);
+  put(b.mask);
+  put(b.goal);
+  put(b.action);
+  put(b.reward);
+  std::vector<float> boot(b.size, 1.0f);
+  for (size_t i = 0; i < b.terminal.size(); ++i) boot[i] = 1.0f - b.terminal[i];
+  put(boot);
+  if (!f) throw std::runtime_error("cannot write " + path);
+}
+
+void DumpSpec(const std::string& path, const config::Config& c, const learner::Learner& l) {
+  const auto& n = c.agent.network;
+  const auto& s = c.agent.sac;
+  auto list = [](const std::vector<int>& v) {
+    std::string out = "[";
+    for (size_t i = 0; i < v.size(); ++i) out += (i ? "," : "") + std::to_string(v[i]);
+    return out + "]";
+  };
+  std::ofstream f(path);
+  f << "{\"entity_dim\":" << l.shape().entity_dim << ",\"goal_dim\":" << l.shape().goal_dim
+    << ",\"action_dim\":" << l.shape().action_dim << ",\"embed_dim\":" << n.embed_dim << ",\"heads\":" << n.heads
+    << ",\"policy_hidden\":" << list(n.policy_hidden) << ",\"q_hidden\":" << list(n.q_hidden)
+    << ",\"log_std_min\":" << n.log_std_min << ",\"log_std_max\":" << n.log_std_max << ",\"discount\":" << s.discount
+    << ",\"tau\":" << s.tau << ",\"policy_lr\":" << s.policy_lr << ",\"q_lr\":" << s.q_lr
+    << ",\"alpha_lr\":" << s.alpha_lr << ",\"auto_entropy\":" << (s.auto_entropy ? "true" : "false")
+    << ",\"initial_alpha\":" << s.initial_alpha << ",\"target_entropy\":" << s.target_entropy
+    << ",\"reward_scale\":" << s.reward_scale << ",\"grad_clip_norm\":" << s.grad_clip_norm << "}\n";
+  if (!f) throw std::runtime_error("cannot write " + path);
+}
+
+Result Measure(int batch, int threads, const std::vector<rl::Episode>& episodes, int repeats,
+               const std::string& dump_dir) {
+  const config::Config c = LoadFor(batch, threads);
   learner::Learner learner(learner::LearnerOptionsFor(c));
   learner.SetGraph(rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(4)));
   for (const auto& e : episodes) learner.Ingest(e);
+  Result r;
+  r.batch = batch;
+  r.threads = threads;
   std::vector<nn::GemmShape> shapes;
-  learner.agent().set_gemm_log(&shapes);
+  if (threads == 1) learner.agent().set_gemm_log(&shapes);
   learner.Update();
   learner.agent().set_gemm_log(nullptr);
-  bench::GemmFloor floor(shapes);
-  Result r{batch, 0, 0, shapes.size()};
   r.update_ms = bench::MedianMs(repeats, [&] { learner.Update(); });
-  r.floor_ms = bench::MedianMs(repeats, [&] { floor.Run(); });
+  const learner::TrainingBatch fixed = learner.last_batch();
+  r.agent = Time(repeats, [&] { learner.agent().Update(fixed); });
+  r.agent_ms = r.agent.ms;
+  if (threads == 1) {
+    bench::GemmFloor floor(shapes);
+    r.floor_ms = bench::MedianMs(repeats, [&] { floor.Run(); });
+    r.gflop = floor.Flops() * 1e-9;
+    r.gemms = shapes.size();
+    if (!dump_dir.empty()) {
+      DumpBatch(dump_dir + "/batch" + std::to_string(batch) + ".bin", fixed);
+      DumpSpec(dump_dir + "/spec.json", c, learner);
+    }
+  }
   return r;
+}
+
+// Eigen's single-thread float GEMM rate, 2048 x 2048 x 2048, GFLOP/s: best of 5 by wall time
+// and by process CPU time (the latter holds on a machine shared with other work).
+struct Rate {
+  double wall = 0, cpu = 0;
+};
+Rate EigenSgemmGflops() {
+  const int n = 2048;
+  const nn::Tensor a = nn::Tensor::Random(n, n), b = nn::Tensor::Random(n, n);
+  nn::Tensor c(n, n);
+  double best_wall = 1e30, best_cpu = 1e30;
+  for (int i = 0; i < 5; ++i) {
+    const double cpu0 = ProcessCpuSeconds();
+    const auto start = std::chrono::steady_clock::now();
+    c.noalias() = a * b;
+    best_wall = std::min(best_wall, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    best_cpu = std::min(best_cpu, ProcessCpuSeconds() - cpu0);
+  }
+  const double flop = 2.0 * n * n * n;
+  return {flop / best_wall * 1e-9, flop / best_cpu * 1e-9};
 }
 
 }  // namespace
 
-int main() {
-  config::Config c = config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-3.yaml");
+int main(int argc, char** argv) {
+  std::string dump_dir;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--dump" && i + 1 < argc) {
+      dump_dir = argv[++i];
+    } else {
+      std::fprintf(stderr, "usage: %s [--dump DIR]\n", argv[0]);
+      return 2;
+    }
+  }
+  config::Config c = config::LoadConfig(std::string(SRICS_SOURCE_DIR) + kConfig);
   auto env = env::MakeRearrangeEnv(c.env);
   nn::Rng rng(1);
   std::vector<rl::Episode> episodes;
@@ -51,16 +182,47 @@ int main() {
     if (auto e = actor::RunExploreEpisode(*env, 50, 1000 + i, rng)) episodes.push_back(std::move(*e));
 
   std::printf("SAC update, paper networks (attention 80 = 5 x 16, policy [128,128], Q [128,128,128]),\n"
-              "Rearrange 3 (4 entities), one thread, median of repeats\n\n");
-  std::printf("%-8s %14s %14s %8s %8s\n", "batch", "update ms", "GEMM floor ms", "ratio", "gemms");
-  const Result big = Measure(2048, episodes, 11);
-  const Result small = Measure(256, episodes, 41);
-  for (const Result& r : {big, small})
-    std::printf("%-8d %14.2f %14.2f %8.2f %8zu\n", r.batch, r.update_ms, r.floor_ms, r.update_ms / r.floor_ms, r.gemms);
-  std::printf("\nupdates per second at batch 256: %.0f; at 2048: %.1f\n", 1000.0 / small.update_ms,
-              1000.0 / big.update_ms);
-  std::printf("{\"bench\":\"sac-update\",\"ms_batch2048\":%.3f,\"ms_batch256\":%.3f,\"floor_ms_batch2048\":%.3f,"
-              "\"floor_ms_batch256\":%.3f,\"ratio\":%.3f}\n",
-              big.update_ms, small.update_ms, big.floor_ms, small.floor_ms, big.update_ms / big.floor_ms);
+              "Rearrange 3 (4 entities), median of repeats. update = Learner::Update (sampling, relabeling,\n"
+              "SAC step); agent = SacAgent::Update on a fixed batch; floor = its matrix products as bare Eigen\n\n");
+  std::printf("%-6s %8s %11s %10s %12s %7s %14s %8s %7s\n", "batch", "threads", "update ms", "agent ms",
+              "agent cpu ms", "cores", "GEMM floor ms", "ratio", "gemms");
+  const Result big1 = Measure(2048, 1, episodes, 11, dump_dir);
+  const Result big2 = Measure(2048, 2, episodes, 11, "");
+  const Result small1 = Measure(256, 1, episodes, 41, dump_dir);
+  const Result small2 = Measure(256, 2, episodes, 41, "");
+  for (const Result& r : {big1, big2, small1, small2}) {
+    if (r.threads == 1)
+      std::printf("%-6d %8d %11.2f %10.2f %12.2f %7.2f %14.2f %8.2f %7zu\n", r.batch, r.threads, r.update_ms,
+                  r.agent_ms, r.agent.cpu_ms, r.agent.cores, r.floor_ms, r.update_ms / r.floor_ms, r.gemms);
+    else
+      std::printf("%-6d %8d %11.2f %10.2f %12.2f %7.2f %14s %8s %7s\n", r.batch, r.threads, r.update_ms, r.agent_ms,
+                  r.agent.cpu_ms, r.agent.cores, "", "", "");
+  }
+  const Rate eigen = EigenSgemmGflops();
+  const double eigen_gflops = eigen.wall;
+  std::printf("\nupdates per second, 1 thread: %.1f at batch 2048, %.0f at 256; 2 threads: %.1f, %.0f\n",
+              1000.0 / big1.update_ms, 1000.0 / small1.update_ms, 1000.0 / big2.update_ms, 1000.0 / small2.update_ms);
+  std::printf("2 threads vs 1 (updates/s): %.2fx at batch 2048, %.2fx at 256 (agent alone: %.2fx, %.2fx)\n",
+              big1.update_ms / big2.update_ms, small1.update_ms / small2.update_ms, big1.agent_ms / big2.agent_ms,
+              small1.agent_ms / small2.agent_ms);
+  std::printf("cores obtained by the 2-thread agent update (process CPU / wall): %.2f at 2048, %.2f at 256;\n"
+              "its CPU time over the 1-thread update's (the cost of sharding): %.2f at 2048, %.2f at 256\n",
+              big2.agent.cores, small2.agent.cores, big2.agent.cpu_ms / big1.agent.cpu_ms,
+              small2.agent.cpu_ms / small1.agent.cpu_ms);
+  std::printf("GEMM work per update (layer shapes, forward + backward): %.2f GFLOP at 2048, %.3f at 256;\n"
+              "Eigen sgemm 2048^3 one thread: %.1f GFLOP/s; the agent's update at 2048, 1 thread: %.1f GFLOP/s\n",
+              big1.gflop, small1.gflop, eigen_gflops, big1.gflop / (big1.agent_ms * 1e-3));
+  std::printf(
+      "{\"bench\":\"sac-update\",\"ms_batch2048\":%.3f,\"ms_batch256\":%.3f,\"floor_ms_batch2048\":%.3f,"
+      "\"floor_ms_batch256\":%.3f,\"agent_ms_batch2048\":%.3f,\"agent_ms_batch256\":%.3f,"
+      "\"ms_batch2048_2threads\":%.3f,\"ms_batch256_2threads\":%.3f,\"agent_ms_batch2048_2threads\":%.3f,"
+      "\"agent_ms_batch256_2threads\":%.3f,\"speedup_2_threads_2048\":%.3f,\"speedup_2_threads_256\":%.3f,"
+      "\"agent_cpu_ms_batch2048\":%.3f,\"agent_cpu_ms_batch256\":%.3f,\"cores_1thread_2048\":%.2f,"
+      "\"cores_2threads_2048\":%.2f,\"cores_2threads_256\":%.2f,\"cpu_ratio_2threads_2048\":%.3f,"
+      "\"cpu_ratio_2threads_256\":%.3f,\"gflop_update_2048\":%.4f,\"gflop_update_256\":%.5f,\"eigen_sgemm_gflops\":%.2f,\"eigen_sgemm_gflops_cpu\":%.2f,\"ratio\":%.3f}\n",
+      big1.update_ms, small1.update_ms, big1.floor_ms, small1.floor_ms, big1.agent_ms, small1.agent_ms, big2.update_ms,
+      small2.update_ms, big2.agent_ms, small2.agent_ms, big1.update_ms / big2.update_ms,
+      small1.update_ms / small2.update_ms, big1.agent.cpu_ms, small1.agent.cpu_ms, big1.agent.cores, big2.agent.cores, small2.agent.cores, big2.agent.cpu_ms / big1.agent.cpu_ms,
+      small2.agent.cpu_ms / small1.agent.cpu_ms, big1.gflop, small1.gflop, eigen_gflops, eigen.cpu, big1.update_ms / big1.floor_ms);
   return 0;
 }

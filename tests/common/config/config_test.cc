@@ -292,6 +292,15 @@ TEST_F(ConfigFiles, HacSettingsHaveDefaultsAndRanges) {
             std::string::npos);
 }
 
+TEST_F(ConfigFiles, LearnerThreadsDefaultToOneAndAreChecked) {
+  const std::string file = Write("threads.yaml", "");
+  EXPECT_EQ(LoadConfig(file).learner.threads, 1);
+  EXPECT_EQ(LoadConfig(file, {"learner.threads=2"}).learner.threads, 2);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"learner.threads=0"}); })
+                .find("learner.threads: expected an integer in [1, 64], got '0'"),
+            std::string::npos);
+}
+
 // ------------------------------------------------------------------------- ParseConfig
 
 TEST(ParseConfigTest, TextUsesTheGivenNameInErrors) {
