@@ -122,12 +122,16 @@ void LearnerLoop::LoadNewestCheckpoint() {
   }
   // none loaded: a run that had checkpoints must not start from scratch silently
   const std::string folder = std::filesystem::path(path).parent_path().string();
-  const std::string name = std::filesystem::path(path).filename().string() + ".corrupt";
+  const std::string name = std::filesystem::path(path).filename().string();
   std::error_code error;
-  if (set_aside.empty())
+  if (set_aside.empty())  // set aside by an earlier start: checkpoint.srics.corrupt, checkpoint.srics.1.corrupt, ...
     for (std::filesystem::directory_iterator it(folder.empty() ? "." : folder, error), end; !error && it != end;
-         it.increment(error))
-      if (it->path().filename().string().rfind(name, 0) == 0) set_aside.push_back(it->path().string());
+         it.increment(error)) {
+      const std::string file = it->path().filename().string();
+      if (file.rfind(name + ".", 0) == 0 && file.find(".corrupt", name.size()) != std::string::npos)
+        set_aside.push_back(it->path().string());
+    }
+  std::sort(set_aside.begin(), set_aside.end());
   if (set_aside.empty()) return;  // a new run
   std::string list;
   for (const std::string& file : set_aside) list += (list.empty() ? "" : ", ") + file;
