@@ -177,8 +177,8 @@ std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
   Reader r(data, data.size() - 8, path);
   r.Take(sizeof(kMagic));
   const auto version = r.Get<std::uint32_t>();
-  if (!checksum_ok && (version < kOldestCheckpointVersion || version > kCheckpointVersion))
-    throw CorruptCheckpointError("checkpoint " + path + ": checksum mismatch (corrupted)");
+  // another format version is not called corrupt (whatever its checksum): a newer build's
+  // checkpoint must not be set aside by an older build
   if (version < kOldestCheckpointVersion || version > kCheckpointVersion) {
     throw CheckpointError("checkpoint " + path + ": unsupported format version " +
                           std::to_string(version) + " (this build reads versions " +

@@ -15,7 +15,7 @@ namespace srics::process {
 
 // Exit codes of the role programs (besides 0, done, and 1, failed: a restart may help).
 inline constexpr int kExitConfig = 2;         // bad command line or config
-inline constexpr int kExitUnusableState = 3;  // state on disk it must not start over (unusable checkpoints)
+inline constexpr int kExitUnusableState = 65;  // state on disk it must not start over (unusable checkpoints; EX_DATAERR)
 
 // Thrown by a role body when its state on disk cannot be used and a restart cannot help:
 // RunRole logs it and exits with kExitUnusableState.

@@ -138,7 +138,7 @@ Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const confi
     v.insert(v.end(), extra.begin(), extra.end());
     return v;
   };
-  // a role that exits with 2 (config) or 3 (unusable state on disk) fails the run at once
+  // a role that exits with 2 (config) or 65 (unusable state on disk) fails the run at once
   const std::vector<int> finals = {process::kExitConfig, process::kExitUnusableState};
   Roles roles;
   roles.graph = supervisor->Add({.name = "graph", .argv = argv(graph_bin, {}), .output_file = dir + "/logs/graph.out",

@@ -174,13 +174,13 @@ TEST_F(SupervisorTest, NeverPolicyLeavesAFailedChildDown) {
 // times before the run failed.
 TEST_F(SupervisorTest, AFinalExitCodeIsNotRestarted) {
   Supervisor supervisor(options_);
-  ChildSpec spec = Spec("learner", {"fail", "3"});
+  ChildSpec spec = Spec("learner", {"fail", "65"});
   spec.max_restarts = 5;
-  spec.final_exit_codes = {2, 3};
+  spec.final_exit_codes = {2, 65};
   const size_t i = supervisor.Add(spec);
   ChildSpec other = Spec("graph", {"fail", "1"});
   other.max_restarts = 1;
-  other.final_exit_codes = {2, 3};
+  other.final_exit_codes = {2, 65};
   const size_t j = supervisor.Add(other);
   supervisor.StartAll();
   ASSERT_TRUE(TickUntil(&supervisor, [&] { return supervisor.status(i).phase == ChildPhase::kFailed; }));
