@@ -1,5 +1,7 @@
 #include "graph_service/learned_graph.h"
 
+#include "common/files/durable_file.h"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -263,17 +265,7 @@ LearnedGraph GraphFromJson(const std::string& text) {
 }
 
 void SaveGraph(const LearnedGraph& graph, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-    out << GraphToJson(graph);
-    out.flush();
-    if (!out) throw std::runtime_error("write failed: " + tmp);
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + ec.message());
+  files::WriteFileDurably(path, GraphToJson(graph));  // throws files::FileError (a runtime_error)
 }
 
 LearnedGraph LoadGraph(const std::string& path) {

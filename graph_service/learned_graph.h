@@ -51,7 +51,8 @@ std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, in
 // True when two graphs keep the same edges and action entity (weights may differ).
 bool SameStructure(const rl::InteractionGraph& a, const rl::InteractionGraph& b);
 
-// Writes `graph` as JSON to `path` atomically (temporary file and rename). The file carries a
+// Writes `graph` as JSON to `path` durably (files::WriteFileDurably: a temporary file, fsynced,
+// renamed into place, the folder fsynced). The file carries a
 // format tag and version and an FNV-1a checksum of its content. Throws std::runtime_error on
 // I/O failure.
 void SaveGraph(const LearnedGraph& graph, const std::string& path);

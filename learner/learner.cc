@@ -132,7 +132,7 @@ constexpr uint32_t kLearnerStateFormat = 1;
 
 }  // namespace
 
-void Learner::SaveCheckpoint(const std::string& path) {
+void Learner::SaveCheckpoint(const std::string& path, int keep, files::FileSystem& fs) {
   std::vector<nn::CheckpointSection> sections = agent_.CheckpointSections(counters_);
   if (hac_) hac_->AppendCheckpointSections(counters_, &sections);
   nn::ByteWriter state;
@@ -143,7 +143,7 @@ void Learner::SaveCheckpoint(const std::string& path) {
   state.PutString(nn::RngState(relabeler_.rng()));
   sections.push_back({"learner.state", "", {}, state.Take()});
   sections.push_back({"replay", "", {}, replay_.Serialize()});
-  nn::WriteCheckpoint(path, sections);
+  nn::WriteCheckpoint(path, sections, keep, fs);
 }
 
 void Learner::LoadCheckpoint(const std::string& path) {

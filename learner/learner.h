@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/config/config.h"
+#include "common/files/durable_file.h"
 #include "common/rl/episode.h"
 #include "common/rl/graph.h"
 #include "common/rl/rate_limiter.h"
@@ -76,7 +77,10 @@ class Learner {
   // atomically: networks, optimizers, temperature, counters, the replay (every stored episode
   // and its insert counters), the rate limiter's state and the random streams of sampling and
   // updates.
-  void SaveCheckpoint(const std::string& path);
+  // `keep` > 1 keeps that many generations (path the newest, path.1 the one before, ...).
+  // Throws nn::CheckpointError when the file cannot be written (the previous checkpoint is
+  // then kept as it was, and no temporary file is left).
+  void SaveCheckpoint(const std::string& path, int keep = 1, files::FileSystem& fs = files::FileSystem::Posix());
   // Restores what SaveCheckpoint wrote. A checkpoint of the format before the replay was saved
   // (nn format version 1) restores networks and counters with an empty replay (the warm-up
   // then refills it). Throws nn::CheckpointError (cannot open, truncated, corrupted, another

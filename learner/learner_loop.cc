@@ -105,18 +105,7 @@ void LearnerLoop::Report(bool force) {
 
 void LearnerLoop::Start() {
   started_ = true;
-  const std::string& path = options_.checkpoint_path;
-  if (!path.empty() && std::filesystem::exists(path)) {
-    learner_.LoadCheckpoint(path);
-    // weights published after that checkpoint carried higher versions than it records: skip
-    // past every version that can have been used, so versions keep increasing for actors
-    const auto& l = options_.learner.learner;
-    learner_.SkipPolicyVersions(l.checkpoint_every_updates / l.publish_every_updates + 2);
-    spdlog::info("resumed from {}: {} updates, {} transitions inserted, policy v{}, replay {} transitions{}", path,
-                 learner_.counters().updates, learner_.counters().transitions_inserted,
-                 learner_.counters().policy_version, learner_.replay().transitions(),
-                 learner_.replay_restored() ? "" : " (an older checkpoint without the replay: refilling it)");
-  }
+  if (!options_.checkpoint_path.empty()) LoadNewestCheckpoint();
   checkpointed_at_ = learner_.counters().updates;
   // rows of train.csv beyond the checkpoint are trained again: dropped
   training_log_.ResumeAt(learner_.counters().training_env_steps);
@@ -126,6 +115,60 @@ void LearnerLoop::Start() {
   updates_at_window_ = learner_.counters().updates;
   inserted_at_window_ = learner_.counters().transitions_inserted;
   Report(true);
+}
+
+void LearnerLoop::LoadNewestCheckpoint() {
+  const std::string& path = options_.checkpoint_path;
+  std::vector<std::string> set_aside;
+  for (const std::string& generation : files::Generations(path)) {
+    try {
+      learner_.LoadCheckpoint(generation);
+    } catch (const nn::CorruptCheckpointError& e) {
+      // kept for inspection under another name, so that the next start does not trip on it
+      const std::string aside = files::SetAside(generation, ".corrupt", *options_.file_system);
+      spdlog::error("checkpoint {} is corrupt ({}): set aside as {}; trying the one before", generation, e.what(), aside);
+      set_aside.push_back(aside);
+      continue;
+    }
+    // weights published after that checkpoint carried higher versions than it records: skip
+    // past every version that can have been used, so versions keep increasing for actors
+    const auto& l = options_.learner.learner;
+    learner_.SkipPolicyVersions(l.checkpoint_every_updates / l.publish_every_updates + 2);
+    spdlog::info("resumed from {}{}: {} updates, {} transitions inserted, policy v{}, replay {} transitions{}",
+                 generation, generation == path ? "" : " (an older checkpoint: the newer ones were corrupt)",
+                 learner_.counters().updates, learner_.counters().transitions_inserted,
+                 learner_.counters().policy_version, learner_.replay().transitions(),
+                 learner_.replay_restored() ? "" : " (an older checkpoint without the replay: refilling it)");
+    return;
+  }
+  // none loaded: a run that had checkpoints must not start from scratch silently
+  const std::string folder = std::filesystem::path(path).parent_path().string();
+  const std::string name = std::filesystem::path(path).filename().string();
+  std::error_code error;
+  if (set_aside.empty())  // set aside by an earlier start: checkpoint.srics.corrupt, checkpoint.srics.1.corrupt, ...
+    for (std::filesystem::directory_iterator it(folder.empty() ? "." : folder, error), end; !error && it != end;
+         it.increment(error)) {
+      const std::string file = it->path().filename().string();
+      if (file.rfind(name + ".", 0) == 0 && file.find(".corrupt", name.size()) != std::string::npos)
+        set_aside.push_back(it->path().string());
+    }
+  std::sort(set_aside.begin(), set_aside.end());
+  if (set_aside.empty()) return;  // a new run
+  std::string list;
+  for (const std::string& file : set_aside) list += (list.empty() ? "" : ", ") + file;
+  throw nn::CheckpointError("no usable checkpoint " + path + ": the run's checkpoints are corrupt (set aside: " + list +
+                            "); remove them to start this run from scratch");
+}
+
+void LearnerLoop::SaveCheckpoint() {
+  try {
+    learner_.SaveCheckpoint(options_.checkpoint_path, options_.learner.learner.keep_checkpoints, *options_.file_system);
+  } catch (const nn::CheckpointError& e) {
+    // a full disk is no reason to stop training: the previous checkpoint stays; next period again
+    ++checkpoint_failures_;
+    spdlog::error("{} (at {} updates; {} failed checkpoint writes so far)", e.what(), learner_.counters().updates,
+                  checkpoint_failures_);
+  }
 }
 
 void LearnerLoop::FollowGraph() {
@@ -176,7 +219,7 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
   if (learner_.counters().updates > 0 && learner_.PublishDue()) Publish();
   if (!options_.checkpoint_path.empty() &&
       learner_.counters().updates >= checkpointed_at_ + options_.learner.learner.checkpoint_every_updates) {
-    learner_.SaveCheckpoint(options_.checkpoint_path);
+    SaveCheckpoint();
     checkpointed_at_ = learner_.counters().updates;
   }
   training_log_.Advance(learner_.counters().training_env_steps);
@@ -196,7 +239,7 @@ void LearnerLoop::Finish() {
   training_log_.Advance(learner_.counters().training_env_steps, /*force=*/true);
   // final weights first, then the stats that tell actors the budget is done
   Publish();
-  if (!options_.checkpoint_path.empty()) learner_.SaveCheckpoint(options_.checkpoint_path);
+  if (!options_.checkpoint_path.empty()) SaveCheckpoint();
   if (options_.final_weights_grace.count() > 0) std::this_thread::sleep_for(options_.final_weights_grace);
   Report(true);
 }

@@ -26,7 +26,12 @@ namespace srics::learner {
 struct LearnerLoopOptions {
   LearnerOptions learner;
   int num_entities = 0;          // of the run's environment: graphs of another size are refused
-  std::string checkpoint_path;   // empty: no checkpoints; loaded at start if the file exists
+  // empty: no checkpoints. Written every learner.checkpoint_every_updates updates and at the
+  // end, keeping learner.keep_checkpoints generations (path, path.1, ...). At start the newest
+  // readable one is loaded: a corrupt one (truncated, checksum) is set aside as
+  // <file>.corrupt with an error naming it and what is wrong, and the next older one is tried.
+  std::string checkpoint_path;
+  files::FileSystem* file_system = &files::FileSystem::Posix();  // tests inject failures here
   int max_updates_per_step = 8;  // updates between two looks at the link (responsiveness)
   // stats and status this often; 0: after every step (the in-process run, so that actors see
   // exact progress and the run is deterministic)
@@ -48,9 +53,10 @@ class LearnerLoop {
  public:
   LearnerLoop(LearnerLoopOptions options, links::LearnerLink* link);
 
-  // Loads the checkpoint (if any) and publishes the first weights. Called by the first Step.
-  // Throws nn::CheckpointError when an existing checkpoint cannot be loaded: a learner never
-  // silently starts from scratch over a run's checkpoint.
+  // Loads the newest usable checkpoint (if any) and publishes the first weights. Called by
+  // the first Step. Throws nn::CheckpointError when no checkpoint can be loaded though the run
+  // has some (every generation corrupt or set aside before, or one of another architecture):
+  // a learner never silently starts from scratch over a run's checkpoint.
   void Start();
   // Takes episodes (waiting at most `wait` when there is no update to do), follows the
   // graph, does the updates the rate limiter allows (at most max_updates_per_step), publishes
@@ -73,6 +79,8 @@ class LearnerLoop {
   void Publish();
   void Report(bool force);
   void FollowGraph();
+  void LoadNewestCheckpoint();
+  void SaveCheckpoint();
 
   LearnerLoopOptions options_;
   links::LearnerLink* link_;
@@ -85,6 +93,7 @@ class LearnerLoop {
   uint64_t weights_withheld_ = 0;
   std::unique_ptr<logging::RateLimiter> refusals_log_;
   uint64_t checkpointed_at_ = 0;
+  uint64_t checkpoint_failures_ = 0;
   std::vector<rl::Episode> episodes_;
   TrainingLog training_log_;
   std::chrono::steady_clock::time_point last_report_, rate_window_start_;

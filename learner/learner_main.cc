@@ -25,6 +25,11 @@ int main(int argc, char** argv) {
     spdlog::info("learner started: {} ({}), domain {}, run id '{}', budget {} env steps",
                  config::MethodName(config.run.method), config.source_file, config.transport.domain_id,
                  config.transport.run_id, config.run.total_env_steps);
+    try {
+      loop.Start();  // the checkpoint: a run whose checkpoints are unusable is not restarted over them
+    } catch (const nn::CheckpointError& e) {
+      throw process::UnusableStateError(e.what());
+    }
     return loop.Run(transport::Shutdown::Process().flag());
   });
 }

@@ -1,5 +1,7 @@
 #include "learner/training_log.h"
 
+#include "common/files/durable_file.h"
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -74,13 +76,9 @@ void TrainingLog::ResumeAt(uint64_t env_steps) {
       if (steps <= env_steps) keep.push_back(line);
     }
   }
-  const std::string tmp = options_.path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    for (const std::string& line : keep) out << line << '\n';
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-  }
-  std::filesystem::rename(tmp, options_.path);
+  std::string text;
+  for (const std::string& line : keep) text += line + '\n';
+  files::WriteFileDurably(options_.path, text);
   Open();
 }
 

@@ -11,7 +11,7 @@ void ParseActors(YamlSection s, ActorConfig* out) {
   s.ReadInt("train_episode_steps", &out->train_episode_steps, 1, 100000);
   s.ReadInt("eval_attempt_steps", &out->eval_attempt_steps, 1, 100000);
   s.ReadInt("evaluators", &out->evaluators, 0, 1024);
-  s.ReadUint64("eval_every_env_steps", &out->eval_every_env_steps);
+  s.ReadUint64("eval_every_env_steps", &out->eval_every_env_steps, 1);
   s.ReadInt("eval_episodes", &out->eval_episodes, 1, 100000);
   if (out->evaluators > out->count && out->count > 0)
     s.FailRule("evaluators", "cannot exceed count (" + std::to_string(out->count) + ")");

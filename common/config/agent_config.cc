@@ -21,9 +21,9 @@ void ParseAgent(YamlSection s, AgentConfig* out) {
   SacConfig& c = out->sac;
   sac.ReadDouble("discount", &c.discount, 0, 1);
   sac.ReadDouble("tau", &c.tau, 0, 1);
-  sac.ReadDouble("policy_lr", &c.policy_lr, 0, 1);
-  sac.ReadDouble("q_lr", &c.q_lr, 0, 1);
-  sac.ReadDouble("alpha_lr", &c.alpha_lr, 0, 1);
+  sac.ReadDouble("policy_lr", &c.policy_lr, 1e-12, 1);
+  sac.ReadDouble("q_lr", &c.q_lr, 1e-12, 1);
+  sac.ReadDouble("alpha_lr", &c.alpha_lr, 1e-12, 1);
   sac.ReadBool("auto_entropy", &c.auto_entropy);
   sac.ReadDouble("initial_alpha", &c.initial_alpha, 0, 1e3);
   sac.ReadDouble("target_entropy", &c.target_entropy, -1e3, 1e3);

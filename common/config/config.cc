@@ -41,10 +41,26 @@ const char* MethodName(Method method) {
 }
 
 Config LoadConfig(const std::string& file, const std::vector<std::string>& overrides) {
-  auto origins = std::make_shared<OriginMap>();
-  YAML::Node root = LoadMergedYaml(file, origins.get());
-  for (const auto& assignment : overrides) ApplyOverride(&root, assignment, origins.get());
-  return ParseTree(root, origins, file);
+  try {
+    auto origins = std::make_shared<OriginMap>();
+    YAML::Node root = LoadMergedYaml(file, origins.get());
+    for (const auto& assignment : overrides) ApplyOverride(&root, assignment, origins.get());
+    return ParseTree(root, origins, file);
+  } catch (const YAML::Exception& e) {
+    // every check names file and key itself; this is the net under yaml-cpp's own errors
+    throw ConfigError(file + (e.mark.is_null() ? "" : ":" + std::to_string(e.mark.line + 1)) + ": " + e.msg);
+  }
+}
+
+std::string RecordedRunId(const std::string& config_yaml) {
+  try {
+    const YAML::Node root = YAML::LoadFile(config_yaml);
+    const YAML::Node id = root.IsMap() && root["transport"].IsMap() ? root["transport"]["run_id"] : YAML::Node();
+    if (!id.IsScalar() || id.Scalar().empty() || id.Scalar() == kAutoRunId) return "";
+    return id.Scalar();
+  } catch (const YAML::Exception&) {
+    return "";
+  }
 }
 
 Config ParseConfig(const std::string& yaml_text, const std::string& name) {
@@ -56,7 +72,12 @@ Config ParseConfig(const std::string& yaml_text, const std::string& name) {
   }
   if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) throw ConfigError(name + ": expected a mapping at the top level");
-  return ParseTree(root, std::make_shared<OriginMap>(), name);
+  CheckKeys(root, "", name, true);
+  try {
+    return ParseTree(root, std::make_shared<OriginMap>(), name);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(name + (e.mark.is_null() ? "" : ":" + std::to_string(e.mark.line + 1)) + ": " + e.msg);
+  }
 }
 
 }  // namespace srics::config

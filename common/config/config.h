@@ -35,6 +35,11 @@ struct Config {
 // Loads `file`, applies each "key.path=value" override, validates everything.
 Config LoadConfig(const std::string& file, const std::vector<std::string>& overrides = {});
 
+// The transport.run_id recorded in an effective configuration (a run folder's config.yaml),
+// or "" when the file does not exist, is not YAML or has no run id other than "auto". Throws
+// nothing: it only tells whether an earlier launch chose a run id.
+std::string RecordedRunId(const std::string& config_yaml);
+
 // Parses YAML text (for tests and for configs received from elsewhere); `name` is used in
 // error messages in place of a file name.
 Config ParseConfig(const std::string& yaml_text, const std::string& name);

@@ -12,7 +12,7 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadInt("mlp_hidden", &out->mlp_hidden, 1, 8192);
   s.ReadInt("window", &out->window, 2, 100000);
   s.ReadInt("batch_windows", &out->batch_windows, 1, 1 << 20);
-  s.ReadDouble("learning_rate", &out->learning_rate, 0, 1);
+  s.ReadDouble("learning_rate", &out->learning_rate, 1e-12, 1);
   s.ReadDouble("delta_scale", &out->delta_scale, 1e-6, 1e6);
   s.ReadBool("edge_node_inputs", &out->edge_node_inputs);
   s.ReadBool("normalize_per_entity", &out->normalize_per_entity);

@@ -5,8 +5,7 @@
 namespace srics::config {
 
 void ParseLearner(YamlSection s, LearnerConfig* out) {
-  s.ReadUint64("replay_capacity", &out->replay_capacity);
-  if (out->replay_capacity == 0) s.Fail("replay_capacity", "a positive number of transitions");
+  s.ReadUint64("replay_capacity", &out->replay_capacity, 1);
   s.ReadUint64("warmup_steps", &out->warmup_steps);
   if (out->warmup_steps > out->replay_capacity)
     s.FailRule("warmup_steps", "must not exceed replay_capacity (" + std::to_string(out->replay_capacity) + ")");
@@ -14,6 +13,7 @@ void ParseLearner(YamlSection s, LearnerConfig* out) {
   s.ReadDouble("rate_error_buffer", &out->rate_error_buffer, 1, 1e9);
   s.ReadInt("publish_every_updates", &out->publish_every_updates, 1, 1 << 30);
   s.ReadInt("checkpoint_every_updates", &out->checkpoint_every_updates, 1, 1 << 30);
+  s.ReadInt("keep_checkpoints", &out->keep_checkpoints, 1, 100);
   s.ReadBool("exploration_into_replay", &out->exploration_into_replay);
   s.ReadInt("threads", &out->threads, 1, 64);
   YamlSection relabel = s.Child("relabel");

@@ -18,6 +18,9 @@ struct LearnerConfig {
   double rate_error_buffer = 500;     // updates the learner may run ahead of (or behind) the ratio
   int publish_every_updates = 100;    // PolicyWeights period
   int checkpoint_every_updates = 5000;
+  // checkpoints kept: the newest (checkpoint.srics) and keep_checkpoints - 1 older ones
+  // (checkpoint.srics.1 the next older, ...), the fall-back when the newest is corrupt
+  int keep_checkpoints = 3;
   // whether the random exploration episodes collected for the interaction graph (graph
   // methods, before the graph and first weights exist) also enter the RL replay; they always
   // reach the graph service. true: the behaviour before this setting existed

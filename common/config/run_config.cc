@@ -12,7 +12,7 @@ void ParseRun(YamlSection s, RunConfig* out) {
               {"smorl", Method::kSmorl},
               {"sac_her", Method::kSacHer},
               {"hac", Method::kHac}});
-  s.ReadUint64("total_env_steps", &out->total_env_steps);
+  s.ReadUint64("total_env_steps", &out->total_env_steps, 1);
   s.ReadDouble("max_wall_minutes", &out->max_wall_minutes, 0, 1e6);
   s.ReadString("output_dir", &out->output_dir, false);
   s.ReadEnum("log_level", &out->log_level,

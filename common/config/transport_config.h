@@ -13,9 +13,15 @@ enum class CycloneProfile {
   kEnvironment,  // whatever CYCLONEDDS_URI says (Cyclone's own default if unset)
 };
 
+// transport.run_id's default: `srics run` (and `srics sweep`) choose a run id unique to the
+// launch (host, pid, time), recorded in the run folder's config.yaml so that a resumed run
+// keeps it. Role programs started by hand refuse it: their run id must be the same on every
+// host, so it is set explicitly.
+inline constexpr const char* kAutoRunId = "auto";
+
 struct TransportConfig {
   int domain_id = 42;
-  std::string run_id = "default";  // every topic carries it; two runs may share a domain
+  std::string run_id = kAutoRunId;  // every topic carries it; two runs may share a domain
   CycloneProfile profile = CycloneProfile::kLoopback;
   std::string cyclone_xml;          // for profile: file
   std::string network_interface;    // for lan/unicast, e.g. "eth0" (empty: Cyclone chooses)

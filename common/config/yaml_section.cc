@@ -37,12 +37,15 @@ std::string Join(const std::string& path, const std::string& key) {
   return path.empty() ? key : path + "." + key;
 }
 
+// The text of a mapping's key. Keys were checked by CheckKeys when the text was loaded.
+std::string KeyText(const YAML::Node& key) { return key.IsScalar() ? key.Scalar() : std::string(); }
+
 // Merges `top` into `base`; when `file` is given, records it as the origin of every key of
 // `top` (a base file's own origins were recorded when it was loaded, so it passes none).
 void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
                const std::string* file, OriginMap* origins) {
   for (auto it = top.begin(); it != top.end(); ++it) {
-    const std::string key = it->first.as<std::string>();
+    const std::string key = KeyText(it->first);
     const std::string key_path = Join(path, key);
     YAML::Node existing = base[key];
     if (existing.IsMap() && it->second.IsMap()) {
@@ -63,7 +66,7 @@ void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
             (*origins)[p] = Origin{*file, line};
             if (n.IsMap())
               for (auto c = n.begin(); c != n.end(); ++c)
-                mark(c->second, Join(p, c->first.as<std::string>()), line_of(c->second));
+                mark(c->second, Join(p, KeyText(c->first)), line_of(c->second));
             if (n.IsSequence())
               for (size_t i = 0; i < n.size(); ++i)
                 mark(n[i], p + "[" + std::to_string(i) + "]", line_of(n[i]));
@@ -85,6 +88,7 @@ YAML::Node LoadMergedYamlImpl(const std::filesystem::path& file, OriginMap* orig
   }
   if (top.IsNull()) top = YAML::Node(YAML::NodeType::Map);
   if (!top.IsMap()) throw ConfigError(file.string() + ": expected a mapping at the top level");
+  CheckKeys(top, "", file.string(), true);
   YAML::Node merged(YAML::NodeType::Map);
   if (top["extends"]) {
     // one base file or a list of them, merged in order (later ones win)
@@ -208,13 +212,13 @@ void YamlSection::ReadInt(const std::string& key, int* out, int64_t lo, int64_t 
   *out = static_cast<int>(*parsed);
 }
 
-void YamlSection::ReadUint64(const std::string& key, uint64_t* out) {
+void YamlSection::ReadUint64(const std::string& key, uint64_t* out, uint64_t lo) {
   if (!Has(key)) return;
   YAML::Node value = Get(key);
   uint64_t parsed = 0;
   if (!value.IsScalar() || value.Scalar().starts_with("-") ||
-      !YAML::convert<uint64_t>::decode(value, parsed))
-    Fail(key, "a non-negative integer");
+      !YAML::convert<uint64_t>::decode(value, parsed) || parsed < lo)
+    Fail(key, lo == 0 ? "a non-negative integer" : lo == 1 ? "a positive integer" : "an integer >= " + std::to_string(lo));
   *out = parsed;
 }
 
@@ -296,7 +300,7 @@ std::vector<YamlSection> YamlSection::ChildList(const std::string& key) {
 void YamlSection::Finish() const {
   if (!node_.IsMap()) return;
   for (auto it = node_.begin(); it != node_.end(); ++it) {
-    const std::string key = it->first.as<std::string>();
+    const std::string key = KeyText(it->first);
     if (consumed_.count(key)) continue;
     std::string best;
     size_t best_distance = 3;
@@ -311,6 +315,24 @@ void YamlSection::Finish() const {
     std::string message = Where(key) + ": " + KeyPath(key) + ": unknown key";
     if (!best.empty()) message += " (did you mean '" + best + "'?)";
     throw ConfigError(message);
+  }
+}
+
+void CheckKeys(const YAML::Node& node, const std::string& path, const std::string& file, bool has_lines) {
+  if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) CheckKeys(node[i], path + "[" + std::to_string(i) + "]", file, has_lines);
+    return;
+  }
+  if (!node.IsMap()) return;
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const YAML::Node& key = it->first;
+    if (!key.IsScalar() || key.Scalar().empty()) {
+      const std::string where = has_lines && key.Mark().line >= 0 ? file + ":" + std::to_string(key.Mark().line + 1) : file;
+      throw ConfigError(where + ": " + (path.empty() ? "<top>" : path) +
+                        ": expected a plain key (a name such as 'domain_id'), got " +
+                        (key.IsScalar() ? std::string("an empty key") : Describe(key) + " as a key"));
+    }
+    CheckKeys(it->second, Join(path, key.Scalar()), file, has_lines);
   }
 }
 
@@ -329,6 +351,7 @@ void ApplyOverride(YAML::Node* root, const std::string& assignment, OriginMap* o
   } catch (const YAML::Exception& e) {
     throw ConfigError("command line: " + path + ": value is not valid YAML: " + e.msg);
   }
+  CheckKeys(value, path, "command line", false);
   // walk down, creating mappings as needed
   std::vector<std::string> parts;
   std::stringstream ss(path);

@@ -42,7 +42,7 @@ class YamlSection {
   // Each Read* leaves *out untouched when the key is absent and throws ConfigError when the
   // value is of the wrong type or out of range. Ranges are inclusive.
   void ReadInt(const std::string& key, int* out, int64_t lo, int64_t hi);
-  void ReadUint64(const std::string& key, uint64_t* out);
+  void ReadUint64(const std::string& key, uint64_t* out, uint64_t lo = 0);
   void ReadDouble(const std::string& key, double* out, double lo, double hi);
   void ReadBool(const std::string& key, bool* out);
   void ReadString(const std::string& key, std::string* out, bool allow_empty = true);
@@ -105,6 +105,11 @@ void YamlSection::ReadEnum(const std::string& key, Enum* out,
 // merging mappings key by key (the extending file wins; sequences are replaced whole).
 // Records in *origins which file each key path came from.
 YAML::Node LoadMergedYaml(const std::string& file, OriginMap* origins);
+
+// Throws ConfigError "<file>:<line>: <path>: expected a plain key ..., got a list as a key" for
+// the first key of a mapping (at any depth below `node`) that is not a non-empty scalar: YAML
+// allows lists, mappings and nothing as keys; a config does not. `path` names `node`.
+void CheckKeys(const YAML::Node& node, const std::string& path, const std::string& file, bool has_lines);
 
 // Applies "a.b.c=value" (value parsed as YAML) on top of a loaded tree.
 void ApplyOverride(YAML::Node* root, const std::string& assignment, OriginMap* origins);

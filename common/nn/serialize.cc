@@ -30,7 +30,7 @@ class Reader {
   }
   const char* Take(size_t n) {
     if (n > end_ - pos_) {
-      throw CheckpointError("checkpoint " + path_ + ": truncated (needs " +
+      throw CorruptCheckpointError("checkpoint " + path_ + ": truncated (needs " +
                             std::to_string(pos_ + n) + " bytes, has " + std::to_string(end_) +
                             ")");
     }
@@ -130,7 +130,7 @@ void SetRngState(Rng* rng, const std::string& state, const std::string& what) {
   *rng = parsed;
 }
 
-void WriteCheckpoint(const std::string& path, const std::vector<CheckpointSection>& sections) {
+std::string CheckpointBytes(const std::vector<CheckpointSection>& sections) {
   std::string buf(kMagic, sizeof(kMagic));
   Put<std::uint32_t>(buf, kCheckpointVersion);
   Put<std::uint32_t>(buf, static_cast<std::uint32_t>(sections.size()));
@@ -145,16 +145,18 @@ void WriteCheckpoint(const std::string& path, const std::vector<CheckpointSectio
     buf += s.bytes;
   }
   Put<std::uint64_t>(buf, Fnv1a(buf.data(), buf.size()));
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw CheckpointError("checkpoint " + path + ": cannot open " + tmp + " for writing");
-    f.write(buf.data(), static_cast<std::streamsize>(buf.size()));
-    if (!f.flush()) throw CheckpointError("checkpoint " + path + ": write failed");
+  return buf;
+}
+
+void WriteCheckpoint(const std::string& path, const std::vector<CheckpointSection>& sections, int keep,
+                     files::FileSystem& fs) {
+  const std::string bytes = CheckpointBytes(sections);
+  try {
+    if (keep > 1) files::WriteGeneration(path, keep, bytes, fs);
+    else files::WriteFileDurably(path, bytes, fs);
+  } catch (const files::FileError& e) {
+    throw CheckpointError(std::string("checkpoint not written: ") + e.what());
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw CheckpointError("checkpoint " + path + ": rename failed: " + ec.message());
 }
 
 std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
@@ -162,16 +164,21 @@ std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
   if (!f) throw CheckpointError("checkpoint " + path + ": cannot open");
   const std::string data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   if (data.size() >= sizeof(kMagic) && std::memcmp(data.data(), kMagic, sizeof(kMagic)) != 0) {
-    throw CheckpointError("checkpoint " + path + ": not a checkpoint (bad magic)");
+    throw CorruptCheckpointError("checkpoint " + path + ": not a checkpoint (bad magic)");
   }
   const size_t min_size = sizeof(kMagic) + 8 + 8;
   if (data.size() < min_size) {
-    throw CheckpointError("checkpoint " + path + ": truncated (" + std::to_string(data.size()) +
-                          " bytes)");
+    throw CorruptCheckpointError("checkpoint " + path + ": truncated (" + std::to_string(data.size()) +
+                                 " bytes)");
   }
+  std::uint64_t stored;
+  std::memcpy(&stored, data.data() + data.size() - 8, 8);
+  const bool checksum_ok = stored == Fnv1a(data.data(), data.size() - 8);
   Reader r(data, data.size() - 8, path);
   r.Take(sizeof(kMagic));
   const auto version = r.Get<std::uint32_t>();
+  // another format version is not called corrupt (whatever its checksum): a newer build's
+  // checkpoint must not be set aside by an older build
   if (version < kOldestCheckpointVersion || version > kCheckpointVersion) {
     throw CheckpointError("checkpoint " + path + ": unsupported format version " +
                           std::to_string(version) + " (this build reads versions " +
@@ -198,10 +205,8 @@ std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
     }
     sections.push_back(std::move(s));
   }
-  std::uint64_t stored;
-  std::memcpy(&stored, data.data() + data.size() - 8, 8);
-  if (r.pos() != data.size() - 8 || stored != Fnv1a(data.data(), data.size() - 8)) {
-    throw CheckpointError("checkpoint " + path + ": checksum mismatch (corrupted)");
+  if (r.pos() != data.size() - 8 || !checksum_ok) {
+    throw CorruptCheckpointError("checkpoint " + path + ": checksum mismatch (corrupted)");
   }
   return sections;
 }

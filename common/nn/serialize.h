@@ -22,6 +22,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "common/files/durable_file.h"
 #include "common/nn/tensor.h"
 
 namespace srics::nn {
@@ -50,6 +51,14 @@ void LoadFlat(const ParameterList<T>& params, std::span<const float> flat);
 class CheckpointError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// A checkpoint file whose bytes are damaged: truncated, not a checkpoint (bad magic), or a
+// checksum mismatch. (A whole file of another architecture or a newer format is a
+// CheckpointError but not corrupt: an older generation would not fit better.)
+class CorruptCheckpointError : public CheckpointError {
+ public:
+  using CheckpointError::CheckpointError;
 };
 
 // One named block of a checkpoint: e.g. "policy" parameters, "policy.adam" optimizer state.
@@ -139,12 +148,20 @@ class ByteReader {
 std::string RngState(const Rng& rng);
 void SetRngState(Rng* rng, const std::string& state, const std::string& what);
 
-// Writes sections atomically (to path + ".tmp", then rename). Throws CheckpointError.
-void WriteCheckpoint(const std::string& path, const std::vector<CheckpointSection>& sections);
+// The bytes of a checkpoint file holding `sections`.
+std::string CheckpointBytes(const std::vector<CheckpointSection>& sections);
+
+// Writes sections durably (files::WriteFileDurably: to path + ".tmp", fsynced, renamed, the
+// folder fsynced); with keep > 1 as the newest of `keep` generations (files::WriteGeneration:
+// the previous one becomes path.1, ...). Throws CheckpointError naming the file and saying
+// that the previous checkpoint is kept and the temporary file removed.
+void WriteCheckpoint(const std::string& path, const std::vector<CheckpointSection>& sections, int keep = 1,
+                     files::FileSystem& fs = files::FileSystem::Posix());
 
 // Reads a checkpoint of any version from kOldestCheckpointVersion to kCheckpointVersion.
-// Throws CheckpointError saying "cannot open", "truncated", "not a checkpoint (bad magic)",
-// "unsupported format version", or "checksum mismatch (corrupted)".
+// Throws CheckpointError saying "cannot open" or "unsupported format version", or
+// CorruptCheckpointError saying "truncated", "not a checkpoint (bad magic)" or "checksum
+// mismatch (corrupted)".
 std::vector<CheckpointSection> ReadCheckpoint(const std::string& path);
 
 // Writes one section holding params (name "parameters").

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "common/files/durable_file.h"
 #include "common/logging/logging.h"
 
 namespace srics::process {
@@ -22,6 +23,11 @@ int StartRole(int argc, char** argv, const RoleProgram& program, Role* role) {
     if (program.needs_id && !role->command_line.id)
       throw config::ConfigError("--id K is required\nusage: " + usage);
     role->config = config::LoadConfig(role->command_line.config_path, role->command_line.overrides);
+    if (role->config.transport.run_id == config::kAutoRunId)
+      throw config::ConfigError(role->command_line.config_path +
+                                ": transport.run_id: expected the run's id (the same for every role of the run, "
+                                "e.g. --set transport.run_id=exp7), got 'auto', which only srics run and srics "
+                                "sweep resolve (they write it into the run folder's config.yaml)");
     role->name = program.needs_id ? program.base_name + "-" + std::to_string(*role->command_line.id)
                                   : program.base_name;
     logging::LogOptions log;
@@ -31,7 +37,7 @@ int StartRole(int argc, char** argv, const RoleProgram& program, Role* role) {
     logging::SetUpLogger(role->name, log);
   } catch (const std::exception& e) {
     std::cerr << program.program << ": " << e.what() << "\n";
-    return 2;
+    return kExitConfig;
   }
   return 0;
 }
@@ -42,6 +48,9 @@ int RunRole(int argc, char** argv, const RoleProgram& program,
   if (const int code = StartRole(argc, argv, program, &role)) return code;
   try {
     return body(role);
+  } catch (const UnusableStateError& e) {
+    spdlog::critical("{} cannot start: {}", role.name, e.what());
+    return kExitUnusableState;
   } catch (const std::exception& e) {
     spdlog::critical("{} failed: {}", role.name, e.what());
     return 1;
@@ -54,7 +63,8 @@ uint64_t NextActorFirstEpisodeId(const std::string& run_dir, const std::string& 
   const std::string path = run_dir + "/state/" + name + ".generation";
   uint64_t generation = 0;
   std::ifstream(path) >> generation;
-  std::ofstream(path) << generation + 1 << "\n";
+  // durable: a count lost in a crash would repeat the episode ids (and seeds) of a generation
+  files::WriteFileDurably(path, std::to_string(generation + 1) + "\n");
   return generation << 32;
 }
 

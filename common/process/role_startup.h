@@ -5,12 +5,24 @@
 
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <string>
 
 #include "common/config/command_line.h"
 #include "common/config/config.h"
 
 namespace srics::process {
+
+// Exit codes of the role programs (besides 0, done, and 1, failed: a restart may help).
+inline constexpr int kExitConfig = 2;         // bad command line or config
+inline constexpr int kExitUnusableState = 65;  // state on disk it must not start over (unusable checkpoints; EX_DATAERR)
+
+// Thrown by a role body when its state on disk cannot be used and a restart cannot help:
+// RunRole logs it and exits with kExitUnusableState.
+class UnusableStateError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 struct Role {
   config::CommandLine command_line;
@@ -33,7 +45,8 @@ std::string UsageOf(const RoleProgram& program);
 int StartRole(int argc, char** argv, const RoleProgram& program, Role* role);
 
 // StartRole, then body(role); an exception out of the body is logged as "<name> failed: ..."
-// and gives exit code 1. Returns the exit code of the process.
+// and gives exit code 1 (kExitUnusableState for an UnusableStateError). Returns the exit
+// code of the process.
 int RunRole(int argc, char** argv, const RoleProgram& program,
             const std::function<int(const Role&)>& body);
 

@@ -15,6 +15,7 @@
 #include "common/config/command_line.h"
 #include "common/config/config.h"
 #include "common/logging/logging.h"
+#include "common/process/role_startup.h"
 #include "common/transport/transport.h"
 #include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/run_folder.h"
@@ -137,15 +138,19 @@ Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const confi
     v.insert(v.end(), extra.begin(), extra.end());
     return v;
   };
+  // a role that exits with 2 (config) or 65 (unusable state on disk) fails the run at once
+  const std::vector<int> finals = {process::kExitConfig, process::kExitUnusableState};
   Roles roles;
   roles.graph = supervisor->Add({.name = "graph", .argv = argv(graph_bin, {}), .output_file = dir + "/logs/graph.out",
-                                 .max_restarts = options.max_restarts_service});
+                                 .max_restarts = options.max_restarts_service, .final_exit_codes = finals});
   roles.learner = supervisor->Add({.name = "learner", .argv = argv(learner_bin, {}),
-                                   .output_file = dir + "/logs/learner.out", .max_restarts = options.max_restarts_service});
+                                   .output_file = dir + "/logs/learner.out", .max_restarts = options.max_restarts_service,
+                                   .final_exit_codes = finals});
   for (int k = 0; k < config.actors.count; ++k)
     roles.actors.push_back(supervisor->Add({.name = "actor-" + std::to_string(k),
                                             .argv = argv(actor_bin, {"--id", std::to_string(k)}),
-                                            .output_file = dir + "/logs/actor-" + std::to_string(k) + ".out"}));
+                                            .output_file = dir + "/logs/actor-" + std::to_string(k) + ".out",
+                                            .final_exit_codes = finals}));
   return roles;
 }
 
@@ -243,7 +248,15 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
 
 int Run(const LaunchOptions& options) {
   // config first: a bad one stops everything before a folder or a process exists
-  const config::Config config = config::LoadConfig(options.config_file, options.overrides);
+  config::Config config = config::LoadConfig(options.config_file, options.overrides);
+  if (config.transport.run_id == config::kAutoRunId) {
+    // this launch's own run id (or the one the folder recorded), written into the run
+    // folder's config.yaml with the rest of the effective configuration; in process there is
+    // no DDS to share, and a fixed id keeps eval.csv the same from launch to launch
+    std::vector<std::string> overrides = options.overrides;
+    overrides.push_back("transport.run_id=" + (options.in_process ? std::string("in-process") : ChooseRunId(options.run_dir)));
+    config = config::LoadConfig(options.config_file, overrides);
+  }
   if (options.in_process) return RunInProcess(options, config);
   return RunProcesses(options, config);
 }

@@ -3,6 +3,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -10,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/files/durable_file.h"
 #include "common/rl/ground_truth.h"
 #include "graph_service/learned_graph.h"
 
@@ -42,6 +46,38 @@ void SeedGraphFile(const config::Config& config, const std::string& dir) {
   graph_service::SaveGraphWithPictures(learned, dir + "/graph");
 }
 namespace fs = std::filesystem;
+
+std::string NewRunId() {
+  char host[256] = {};
+  if (gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "host");
+  std::string name;
+  for (const char* c = host; *c && name.size() < 16; ++c)
+    name += std::isalnum(static_cast<unsigned char>(*c)) || *c == '-' || *c == '_' ? *c : '_';
+  if (name.empty()) name = "host";
+  // milliseconds since the epoch, strictly increasing within this process
+  static std::atomic<int64_t> last{0};
+  const int64_t now = std::chrono::duration_cast<std::chrono::milliseconds>(
+                          std::chrono::system_clock::now().time_since_epoch()).count();
+  int64_t previous = last.load(), ms = 0;
+  do {
+    ms = std::max(now, previous + 1);
+  } while (!last.compare_exchange_weak(previous, ms));
+  const std::time_t seconds = static_cast<std::time_t>(ms / 1000);
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%S", &utc);
+  char id[96];
+  std::snprintf(id, sizeof id, "%s-%d-%s.%03d", name.c_str(), static_cast<int>(getpid()), stamp,
+                static_cast<int>(ms % 1000));
+  return id;
+}
+
+std::string ChooseRunId(const std::string& run_dir) {
+  const std::string recorded = run_dir.empty() ? "" : config::RecordedRunId(run_dir + "/config.yaml");
+  return recorded.empty() ? NewRunId() : recorded;
+}
+
 namespace {
 
 std::string Timestamp() {
@@ -82,11 +118,10 @@ std::string PrepareRunFolder(const config::Config& config, const std::string& re
   std::error_code error;
   fs::create_directories(dir / "logs", error);
   if (error) throw std::runtime_error("cannot create run folder " + (dir / "logs").string() + ": " + error.message());
-  const fs::path config_path = dir / "config.yaml";
-  std::ofstream out(config_path);
-  out << "# effective configuration of this run (written by srics run from " << config.source_file << ")\n"
-      << config.effective_yaml << "\n";
-  if (!out) throw std::runtime_error("cannot write " + config_path.string());
+  // durable: it records the run id a resumed run goes on with
+  files::WriteFileDurably((dir / "config.yaml").string(),
+                          "# effective configuration of this run (written by srics run from " + config.source_file +
+                              ")\n" + config.effective_yaml + "\n");
   return fs::absolute(dir).lexically_normal().string();
 }
 
@@ -148,16 +183,11 @@ std::string UnquotedString(const std::string& text) {
 }  // namespace
 
 void WriteRunOutcome(const std::string& dir, const RunOutcome& outcome) {
-  const fs::path path = fs::path(dir) / "outcome.yaml";
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << "# how this run ended (srics run): finished, interrupted or failed\n"
-        << "state: " << outcome.state << "\nexit_code: " << outcome.exit_code
-        << "\nreason: " << QuotedString(outcome.reason) << "\n";
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
+  std::ostringstream out;
+  out << "# how this run ended (srics run): finished, interrupted or failed\n"
+      << "state: " << outcome.state << "\nexit_code: " << outcome.exit_code
+      << "\nreason: " << QuotedString(outcome.reason) << "\n";
+  files::WriteFileDurably((fs::path(dir) / "outcome.yaml").string(), out.str());
 }
 
 std::optional<RunOutcome> ReadRunOutcome(const std::string& dir) {

@@ -15,6 +15,15 @@ namespace srics::launcher {
 // (the effective configuration). Returns the folder's path. Throws std::runtime_error.
 std::string PrepareRunFolder(const config::Config& config, const std::string& requested);
 
+// A run id unique to this launch: "<host>-<pid>-<YYYYmmddTHHMMSS.mmm>" (the host name cut to
+// 16 characters); two calls in one process never give the same id.
+std::string NewRunId();
+
+// The run id of a run whose config says transport.run_id: auto: the one recorded in
+// <run_dir>/config.yaml by an earlier launch into that folder (a resumed run keeps its id),
+// else NewRunId().
+std::string ChooseRunId(const std::string& run_dir);
+
 // A run with a given graph (graph.ground_truth, or graph.file): writes it as <dir>/graph.json
 // (unless the folder has one already: a continued run keeps its graph), where the graph
 // service finds it and re-publishes it instead of learning. Does nothing otherwise. Throws

@@ -111,13 +111,15 @@ std::vector<size_t> Supervisor::Tick() {
       }
       if (now - s.started_at >= options_.backoff.reset_after) s.consecutive_failures = 0;
       ++s.consecutive_failures;
-      const bool allowed = child.spec.restart == RestartPolicy::kOnFailure &&
+      const auto& finals = child.spec.final_exit_codes;
+      const bool final_code = !exit->signaled && std::find(finals.begin(), finals.end(), exit->code) != finals.end();
+      const bool allowed = child.spec.restart == RestartPolicy::kOnFailure && !final_code &&
                            (child.spec.max_restarts < 0 || s.restarts < static_cast<uint32_t>(child.spec.max_restarts));
       if (!allowed) {
         s.phase = ChildPhase::kFailed;
-        Event(what + (child.spec.restart == RestartPolicy::kNever
-                          ? std::string("; not restarted")
-                          : "; gave up after " + std::to_string(s.restarts) + " restarts"));
+        Event(what + (child.spec.restart == RestartPolicy::kNever ? std::string("; not restarted")
+                      : final_code ? std::string("; not restarted (a restart cannot help: see its log)")
+                                   : "; gave up after " + std::to_string(s.restarts) + " restarts"));
         ended.push_back(i);
         continue;
       }

@@ -36,6 +36,10 @@ struct ChildSpec {
   std::string output_file;        // stdout + stderr appended here ("" = the launcher's)
   RestartPolicy restart = RestartPolicy::kOnFailure;
   int max_restarts = -1;          // restarts allowed in all (-1 = no limit)
+  // exit codes after which a restart cannot help (the role programs' 2: a bad config or
+  // command line; 65: state on disk it must not start over, e.g. unusable checkpoints): the
+  // child is failed at once
+  std::vector<int> final_exit_codes;
 };
 
 struct BackoffPolicy {

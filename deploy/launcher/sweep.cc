@@ -226,6 +226,7 @@ SweepPlan PlanSweep(const SweepOptions& options) {
   const std::string dir = options.out_dir.empty() ? base.run.output_dir + "/" + base.run.name + "-sweep" : options.out_dir;
   plan.dir = fs::absolute(dir).lexically_normal().string();
   plan.manifest = ManifestText(plan.config, options.methods, options.seeds, options.overrides);
+  std::string launch_id;  // NewRunId(), when a run needs one
   for (const std::string& method : options.methods) {
     for (uint64_t seed : options.seeds) {
       SweepRun run;
@@ -237,9 +238,19 @@ SweepPlan PlanSweep(const SweepOptions& options) {
       run.overrides.push_back("run.method=" + method);
       run.overrides.push_back("run.seed=" + std::to_string(seed));
       run.overrides.push_back("run.name=" + run.name);
-      // runs of one sweep may share a DDS domain (--parallel): each has its own run id
-      std::string run_id = base.transport.run_id + "-" + run.name;
-      if (run_id.size() > 64) run_id = run_id.substr(run_id.size() - 64);
+      // runs of one sweep may share a DDS domain (--parallel): each has its own run id. With
+      // transport.run_id: auto, a run keeps the id its folder recorded, else gets this
+      // launch's id and its name (two sweeps on one host never share a run id)
+      std::string run_id;
+      if (base.transport.run_id != config::kAutoRunId) {
+        run_id = base.transport.run_id + "-" + run.name;
+        if (run_id.size() > 64) run_id = run_id.substr(run_id.size() - 64);
+      } else {
+        if (launch_id.empty()) launch_id = NewRunId();
+        run_id = config::RecordedRunId(run.dir + "/config.yaml");
+        if (run_id.empty()) run_id = launch_id + "-" + run.name;
+        if (run_id.size() > 64) run_id = launch_id + "-r" + std::to_string(plan.runs.size() + 1);
+      }
       run.overrides.push_back("transport.run_id=" + run_id);
       // loading it checks the method name and every value (ConfigError names the key)
       run.effective_yaml = config::LoadConfig(plan.config, run.overrides).effective_yaml;

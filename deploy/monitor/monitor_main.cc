@@ -98,6 +98,9 @@ int main(int argc, char** argv) {
     std::cerr << "srics-monitor: " << e.what() << "\n" << kUsage;
     return 2;
   }
+  // the config's run id is chosen per launch (a config file, not a run folder's config.yaml):
+  // show every run on the domain
+  if (config.transport.run_id == srics::config::kAutoRunId) args.all_runs = true;
   const bool live = !args.once && isatty(STDOUT_FILENO);
   auto logger = srics::logging::SetUpLogger("monitor", {.level = config.run.log_level, .file = ""});
   // a refreshing screen and log lines on the same terminal do not mix: events go on screen

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "common/config/config.h"
 #include "deploy/launcher/child_process.h"
 #include "tests/deploy/test_files.h"
 
@@ -54,13 +55,14 @@ class LauncherTest : public ::testing::Test {
     fs::remove_all(root_);
   }
 
-  ChildProcess StartLauncher(std::vector<std::string> extra = {}) {
+  ChildProcess StartLauncher(std::vector<std::string> extra = {}, bool with_run_id = true,
+                             std::string config = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml") {
     std::vector<std::string> argv = {
-        SRICS_LAUNCHER, "run", std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+        SRICS_LAUNCHER, "run", config,
         "--actors", "2", "--bin-dir", (root_ / "bin").string(), "--run-dir", run_dir_.string(),
         "--display", "plain", "--stop-timeout", "5",
-        "--set", "transport.domain_id=" + std::to_string(150 + getpid() % 50),
-        "--set", "transport.run_id=launcher-test-" + std::to_string(getpid())};
+        "--set", "transport.domain_id=" + std::to_string(150 + getpid() % 50)};
+    if (with_run_id) argv.insert(argv.end(), {"--set", "transport.run_id=launcher-test-" + std::to_string(getpid())});
     argv.insert(argv.end(), extra.begin(), extra.end());
     return ChildProcess::Spawn(argv, {.output_file = (root_ / "launcher.out").string(),
                                       .own_process_group = true, .parent_death_signal = SIGKILL});
@@ -179,6 +181,51 @@ TEST_F(LauncherTest, MissingRoleProgramIsNamed) {
   ASSERT_TRUE(exit.has_value());
   EXPECT_EQ(exit->Describe(), "exit code 1");
   EXPECT_THAT(ReadFile(root_ / "launcher.out"), HasSubstr("cannot find the program srics-learner"));
+}
+
+// Issue 15: two runs launched with the default run id on one host (one DDS domain) used to
+// share run id "default" and merge. Each launch now gets its own, recorded in config.yaml,
+// and a run resumed in its folder keeps it.
+TEST_F(LauncherTest, TwoDefaultLaunchesGetDifferentRunIdsAndAResumedRunKeepsItsId) {
+  setenv("FAKE_LEARNER", "exit0-after:300", 1);
+  setenv("FAKE_ACTOR", "exit0-after:300", 1);
+  std::vector<std::string> ids;
+  const fs::path first_dir = run_dir_;
+  for (const char* name : {"a", "b", "a"}) {
+    run_dir_ = root_ / name;
+    ChildProcess launcher = StartLauncher({}, /*with_run_id=*/false);
+    const auto exit = launcher.WaitFor(milliseconds(30000));
+    ASSERT_TRUE(exit.has_value());
+    ASSERT_EQ(exit->Describe(), "exit code 0") << ReadFile(root_ / "launcher.out");
+    ids.push_back(config::RecordedRunId((run_dir_ / "config.yaml").string()));
+    ASSERT_FALSE(ids.back().empty()) << ReadFile(run_dir_ / "config.yaml");
+    EXPECT_NE(ids.back(), "auto");
+  }
+  EXPECT_NE(ids[0], ids[1]) << "two launches, one run id";
+  EXPECT_EQ(ids[2], ids[0]) << "the resumed run changed its run id";
+  run_dir_ = first_dir;
+}
+
+// Issue 15: a non-scalar key gave yaml-cpp's "bad conversion" and exit code 1.
+TEST_F(LauncherTest, ANonScalarKeyOrAZeroEvaluationPeriodExitsWithCode2NamingFileLineAndKey) {
+  const std::string config = (root_ / "bad.yaml").string();
+  std::ofstream(config) << "extends: " << SRICS_SOURCE_DIR << "/deploy/configs/rearrange-1-cpu.yaml\n"
+                        << "transport:\n  [domain_id, run_id]: 5\n";
+  ChildProcess launcher = StartLauncher({}, true, config);
+  auto exit = launcher.WaitFor(milliseconds(20000));
+  ASSERT_TRUE(exit.has_value());
+  EXPECT_EQ(exit->Describe(), "exit code 2");
+  EXPECT_THAT(ReadFile(root_ / "launcher.out"),
+              HasSubstr(config + ":3: transport: expected a plain key (a name such as 'domain_id'), got a list as a key"));
+  EXPECT_FALSE(fs::exists(run_dir_));
+
+  ChildProcess zero = StartLauncher({"--set", "actors.eval_every_env_steps=0"});
+  exit = zero.WaitFor(milliseconds(20000));
+  ASSERT_TRUE(exit.has_value());
+  EXPECT_EQ(exit->Describe(), "exit code 2");
+  EXPECT_THAT(ReadFile(root_ / "launcher.out"),
+              HasSubstr("command line: actors.eval_every_env_steps: expected a positive integer, got '0'"));
+  EXPECT_FALSE(fs::exists(run_dir_));
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include "deploy/launcher/run_folder.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -59,6 +60,23 @@ TEST(SeedGraphFileTest, BadInputIsNamed) {
   // nothing to do without a given graph
   SeedGraphFile(Load("rearrange-3.yaml", {}), dir);
   EXPECT_FALSE(fs::exists(dir + "/graph.json"));
+}
+
+// Issue 15: run ids unique per launch, kept by a resumed run.
+TEST(RunIdTest, EveryLaunchGetsItsOwnAndAFolderKeepsTheOneItRecorded) {
+  const std::string a = NewRunId(), b = NewRunId();
+  EXPECT_NE(a, b);
+  EXPECT_LE(a.size(), 64u);
+  EXPECT_NE(a.find("-" + std::to_string(getpid()) + "-"), std::string::npos) << a;
+  const std::string dir = ::testing::TempDir() + "/run_id_test_" + std::to_string(getpid());
+  std::filesystem::remove_all(dir);
+  EXPECT_NE(ChooseRunId(dir), ChooseRunId(dir)) << "no folder yet: a new id each time";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/config.yaml") << "# effective configuration\ntransport:\n  run_id: earlier-launch\n";
+  EXPECT_EQ(ChooseRunId(dir), "earlier-launch");
+  std::ofstream(dir + "/config.yaml") << "transport:\n  run_id: auto\n";
+  EXPECT_NE(ChooseRunId(dir), "auto");
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -170,6 +170,25 @@ TEST_F(SupervisorTest, NeverPolicyLeavesAFailedChildDown) {
   EXPECT_EQ(supervisor.status(i).restarts, 0u);
 }
 
+// Issue 15: a learner refusing its unusable checkpoints (or a bad config) was restarted five
+// times before the run failed.
+TEST_F(SupervisorTest, AFinalExitCodeIsNotRestarted) {
+  Supervisor supervisor(options_);
+  ChildSpec spec = Spec("learner", {"fail", "65"});
+  spec.max_restarts = 5;
+  spec.final_exit_codes = {2, 65};
+  const size_t i = supervisor.Add(spec);
+  ChildSpec other = Spec("graph", {"fail", "1"});
+  other.max_restarts = 1;
+  other.final_exit_codes = {2, 65};
+  const size_t j = supervisor.Add(other);
+  supervisor.StartAll();
+  ASSERT_TRUE(TickUntil(&supervisor, [&] { return supervisor.status(i).phase == ChildPhase::kFailed; }));
+  EXPECT_EQ(supervisor.status(i).restarts, 0u);
+  ASSERT_TRUE(TickUntil(&supervisor, [&] { return supervisor.status(j).phase == ChildPhase::kFailed; }));
+  EXPECT_EQ(supervisor.status(j).restarts, 1u) << "other codes are restarted as before";
+}
+
 TEST_F(SupervisorTest, StopAllStopsEveryChildWithOneSigintAndReapsThem) {
   options_.stop_timeout = milliseconds(5000);
   Supervisor supervisor(options_);

@@ -120,6 +120,29 @@ TEST_F(SweepTest, AnotherGridOrAChangedConfigInTheSameFolderIsRefused) {
   }
 }
 
+// Issue 15: two sweeps of the same grid on one host (transport.run_id: auto) must not share
+// run ids; a run resumed in its folder keeps the id it started with.
+TEST_F(SweepTest, TwoSweepLaunchesGetDifferentRunIdsAndAResumedRunKeepsItsOwn) {
+  auto run_id = [](const SweepRun& run) {
+    const std::string& last = run.overrides.back();
+    EXPECT_EQ(last.rfind("transport.run_id=", 0), 0u) << last;
+    return last.substr(last.find('=') + 1);
+  };
+  const SweepPlan first = PlanSweep(Options({"srics", "smorl"}, {1}));
+  const SweepPlan second = PlanSweep(Options({"srics", "smorl"}, {1}));
+  EXPECT_NE(run_id(first.runs[0]), run_id(second.runs[0]));
+  EXPECT_NE(run_id(first.runs[0]), run_id(first.runs[1]));
+  EXPECT_THAT(run_id(first.runs[0]), HasSubstr("-srics-seed1"));
+  // the first launch's run 0 started: its folder records its id, which the next launch keeps
+  CheckSweepFolder(first);
+  fs::create_directories(first.runs[0].dir);
+  std::ofstream(first.runs[0].dir + "/config.yaml") << "# header\n" << first.runs[0].effective_yaml << "\n";
+  const SweepPlan resumed = PlanSweep(Options({"srics", "smorl"}, {1}));
+  EXPECT_EQ(run_id(resumed.runs[0]), run_id(first.runs[0]));
+  EXPECT_NE(run_id(resumed.runs[1]), run_id(first.runs[1])) << "a run that never started gets this launch's id";
+  EXPECT_NO_THROW(CheckSweepFolder(resumed));
+}
+
 TEST_F(SweepTest, RunFinishedOnlyWhenTheOutcomeSaysSo) {
   const std::string dir = (root_ / "run").string();
   fs::create_directories(dir);
