@@ -38,7 +38,7 @@ class StatsGate : public links::ActorLink {
   void Deliver() {
     if (auto p = inner_->PollLearner(std::chrono::milliseconds(0))) delivered_ = p;
   }
-  std::optional<rl::WeightsUpdate> PollWeights() override { return inner_->PollWeights(); }
+  std::optional<rl::WeightsUpdate> PollWeights(uint64_t newer_than) override { return inner_->PollWeights(newer_than); }
   std::optional<rl::GraphUpdate> PollGraph() override { return inner_->PollGraph(); }
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds) override { return delivered_; }
   bool PublishEpisode(const rl::Episode& episode) override { return inner_->PublishEpisode(episode); }
