@@ -38,6 +38,15 @@ std::string HoursMinutesSeconds(double seconds) {
   return Format("%02" PRId64 ":%02" PRId64 ":%02" PRId64, s / 3600, s / 60 % 60, s % 60);
 }
 
+// "  310/s  ETA 00:12:30" (the ETA only with a budget still ahead; "" without a rate)
+std::string RateAndEta(const RunView& run, uint64_t steps, uint64_t budget, const char* unit) {
+  const std::optional<double> rate = EnvStepRate(run);
+  if (!rate) return "";
+  std::string out = Format("  %.0f%s", *rate, unit);
+  if (budget > steps && *rate > 0) out += "  ETA " + HoursMinutesSeconds(static_cast<double>(budget - steps) / *rate);
+  return out;
+}
+
 std::string ProgressBar(uint64_t done, uint64_t total, int width) {
   const double fraction = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
   const int filled = static_cast<int>(fraction * width + 0.5);
@@ -222,7 +231,7 @@ std::string Render(const MonitorState& state, Clock::time_point now, const Rende
     const uint64_t budget = BudgetEnvSteps(run) > 0 ? BudgetEnvSteps(run) : options.total_env_steps;
     out += "\nrun " + id + "   env steps " + Thousands(steps);
     if (budget > 0) out += " / " + Thousands(budget) + " " + ProgressBar(steps, budget, 30);
-    out += "\n";
+    out += RateAndEta(run, steps, budget, "/s") + "\n";
     RenderLearner(run, now, &out);
     RenderGraph(run, now, &out);
     RenderEval(run, options.history_rows, &out);
@@ -248,6 +257,7 @@ std::string RenderOneLine(const MonitorState& state, Clock::time_point now, cons
   std::string out = "steps " + Thousands(EnvSteps(run));
   if (BudgetEnvSteps(run) > 0) total_env_steps = BudgetEnvSteps(run);
   if (total_env_steps) out += "/" + Thousands(total_env_steps);
+  out += RateAndEta(run, EnvSteps(run), total_env_steps, " steps/s");
   out += "  updates " + Thousands(run.learner ? run.learner->updates : 0);
   if (const transport::EvalResult* e = LatestEval(run)) {
     out += Format("  eval v%" PRIu64 " obj.dist %.4f", e->policy_version, e->avg_object_distance);

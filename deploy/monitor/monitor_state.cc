@@ -39,11 +39,37 @@ void Apply(MonitorState* state, const transport::NodeStatus& received, Clock::ti
   ++node.statuses;
 }
 
+namespace {
+
+// Contract fields added in a later version of messages.h are read when they exist, so this
+// library builds against either.
+template <typename Stats>
+uint64_t TrainingSteps(const Stats& stats) {
+  if constexpr (requires { stats.training_env_steps; }) return stats.training_env_steps;
+  else return stats.transitions_inserted;
+}
+
+}  // namespace
+
 void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::time_point now) {
   RunView& run = state->runs[PrintableText(stats.run_id)];
   run.learner = stats;
   run.learner->run_id = PrintableText(stats.run_id);
   run.learner_received = now;
+  const uint64_t steps = TrainingSteps(stats);
+  if (!run.step_history.empty() && steps < run.step_history.back().second) run.step_history.clear();
+  run.step_history.emplace_back(now, steps);
+  while (run.step_history.size() > 2 && now - run.step_history.front().first > kRateWindow)
+    run.step_history.pop_front();
+}
+
+std::optional<double> EnvStepRate(const RunView& run) {
+  if (run.step_history.size() < 2) return std::nullopt;
+  const auto& [t0, s0] = run.step_history.front();
+  const auto& [t1, s1] = run.step_history.back();
+  const double seconds = std::chrono::duration<double>(t1 - t0).count();
+  if (seconds < 5) return std::nullopt;
+  return static_cast<double>(s1 - s0) / seconds;
 }
 
 void Apply(MonitorState* state, const transport::EvalResult& received, Clock::time_point /*now*/) {
@@ -107,14 +133,6 @@ std::vector<NodeKey> NewlyGone(const MonitorState& state, Clock::time_point now,
 }
 
 namespace {
-
-// Contract fields added in a later version of messages.h are read when they exist, so this
-// library builds against either.
-template <typename Stats>
-uint64_t TrainingSteps(const Stats& stats) {
-  if constexpr (requires { stats.training_env_steps; }) return stats.training_env_steps;
-  else return stats.transitions_inserted;
-}
 
 template <typename Stats>
 uint64_t Budget(const Stats& stats) {

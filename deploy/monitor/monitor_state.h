@@ -68,7 +68,13 @@ struct RunView {
   std::optional<transport::InteractionGraph> graph;
   Clock::time_point graph_received;
   std::optional<WeightsInfo> weights;
+  // (arrival, training env steps) of recent LearnerStats, for the rate and the ETA: the last
+  // kRateWindow of them, cleared when the count goes back (a learner restarted afresh)
+  std::deque<std::pair<Clock::time_point, uint64_t>> step_history;
 };
+
+// How far back the env-step rate looks.
+inline constexpr std::chrono::seconds kRateWindow{60};
 
 struct MonitorState {
   std::map<NodeKey, NodeEntry> nodes;
@@ -116,6 +122,9 @@ uint64_t EnvSteps(const RunView& run);
 
 // The budget the learner announces (LearnerStats.budget_env_steps), 0 when unknown.
 uint64_t BudgetEnvSteps(const RunView& run);
+// Training env steps per second over the last kRateWindow of learner stats; empty until
+// stats span at least 5 s.
+std::optional<double> EnvStepRate(const RunView& run);
 
 // The newest evaluation of a trained policy, or null.
 const transport::EvalResult* LatestEval(const RunView& run);

@@ -156,6 +156,31 @@ TEST_F(DisplayTest, OneLineSummary) {
   EXPECT_THAT(line, HasSubstr("nodes 3 alive, 2 gone"));
 }
 
+TEST_F(DisplayTest, RateAndEtaFromTheLastMinuteOfLearnerStats) {
+  RenderOptions options;
+  options.total_env_steps = 100000;
+  EXPECT_THAT(LineWith(Render(state_, now_, options), "run r1"), Not(HasSubstr("ETA")));  // one sample: no rate
+  // samples at 0, 10, 100 and 120 s: each time the oldest ones beyond the 60 s window go (two
+  // are always kept), so the rate is 7,000 / 90 s, then 6,000 / 20 s = 300/s
+  transport::LearnerStats stats = *state_.runs["r1"].learner;
+  testing::SetTrainingSteps(&stats, 53000);
+  Apply(&state_, stats, t0_ + std::chrono::seconds(10));
+  testing::SetTrainingSteps(&stats, 60000);
+  Apply(&state_, stats, t0_ + std::chrono::seconds(100));
+  EXPECT_NEAR(*EnvStepRate(state_.runs["r1"]), 7000.0 / 90.0, 1e-9);
+  testing::SetTrainingSteps(&stats, 66000);
+  Apply(&state_, stats, t0_ + std::chrono::seconds(120));
+  ASSERT_EQ(state_.runs["r1"].step_history.size(), 2u);  // the window keeps 100 s and 120 s
+  EXPECT_NEAR(*EnvStepRate(state_.runs["r1"]), 300.0, 1e-9);
+  const std::string line = LineWith(Render(state_, now_, options), "run r1");
+  EXPECT_THAT(line, HasSubstr("300/s  ETA 00:01:53")) << line;  // (100,000 - 66,000) / 300
+  EXPECT_THAT(RenderOneLine(state_, now_, "r1", 100000), HasSubstr("300 steps/s  ETA 00:01:53"));
+  // a learner that starts again from zero: the rate starts again too
+  testing::SetTrainingSteps(&stats, 100);
+  Apply(&state_, stats, t0_ + std::chrono::seconds(130));
+  EXPECT_FALSE(EnvStepRate(state_.runs["r1"]));
+}
+
 TEST_F(DisplayTest, RenderingIsPure) {
   EXPECT_EQ(Render(state_, now_, {}), Render(state_, now_, {}));
 }
