@@ -46,7 +46,9 @@ const char* const kRunUsage =
     "  --actors N      actor processes (default: actors.count of the config)\n"
     "  --set K=V       override a config value (recorded in the run folder's config.yaml)\n"
     "  --run-dir DIR   the run folder (default <run.output_dir>/<run.name>-<timestamp>); an existing\n"
-    "                  one is continued: the learner resumes from its checkpoint\n"
+    "                  one is continued: the learner resumes from its checkpoint, with the same config\n"
+    "  --allow-config-change  continue a run folder with a changed config (the change is recorded\n"
+    "                  in its config-changes.log, the old config.yaml kept beside it)\n"
     "  --bin-dir DIR   where srics-graph, srics-learner, srics-actor are (default: the build tree\n"
     "                  this program belongs to)\n"
     "  --display M     live (refreshing screen), plain (a line every 10 s), none, auto (live on a terminal)\n"
@@ -105,6 +107,7 @@ LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
     else if (arg == "--final-eval-grace") options.final_eval_grace_s = ParseNumber(arg, value(), 0);
     else if (arg == "--in-process") options.in_process = true;
     else if (arg == "--label") options.label = value();
+    else if (arg == "--allow-config-change") options.allow_config_change = true;
     else if (arg == "--display") {
       options.display = ParseDisplayMode(value());
     } else if (!arg.empty() && arg[0] == '-') {
@@ -257,6 +260,7 @@ int Run(const LaunchOptions& options) {
     overrides.push_back("transport.run_id=" + (options.in_process ? std::string("in-process") : ChooseRunId(options.run_dir)));
     config = config::LoadConfig(options.config_file, overrides);
   }
+  CheckResumedConfig(config, options.run_dir, options.allow_config_change);
   if (options.in_process) return RunInProcess(options, config);
   return RunProcesses(options, config);
 }

@@ -45,6 +45,7 @@ struct LaunchOptions {
   BackoffPolicy backoff;               // restarts of crashed processes
   int max_restarts_service = 5;        // learner and graph service (actors: no limit)
   std::string label;                   // --label: shown in the display's title ("sweep run 2/6")
+  bool allow_config_change = false;    // --allow-config-change: a continued run may take another config
 };
 
 // Exit codes of `srics run`.

@@ -106,6 +106,52 @@ std::vector<double> SplitList(const std::string& text) {
 
 }  // namespace
 
+// A file's lines that are not comments.
+std::string WithoutComments(const std::string& path) {
+  std::ifstream in(path);
+  std::string out;
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind('#', 0) != 0) out += line + "\n";
+  return out;
+}
+
+// The first line where two texts differ, for messages.
+std::string FirstDifference(const std::string& a, const std::string& b) {
+  std::stringstream x(a), y(b);
+  std::string la, lb;
+  for (int line = 1;; ++line) {
+    const bool ha = static_cast<bool>(std::getline(x, la)), hb = static_cast<bool>(std::getline(y, lb));
+    if (!ha && !hb) return "";
+    if (!ha) la = "<end>";
+    if (!hb) lb = "<end>";
+    if (la != lb) return "line " + std::to_string(line) + ": '" + la + "' now '" + lb + "'";
+  }
+}
+
+void CheckResumedConfig(const config::Config& config, const std::string& dir, bool allow_change) {
+  const fs::path path = fs::path(dir) / "config.yaml";
+  if (dir.empty() || !fs::exists(path)) return;
+  const std::string before = WithoutComments(path.string());
+  const std::string now = config.effective_yaml + "\n";
+  if (before == now) return;
+  const std::string difference = FirstDifference(before, now);
+  if (!allow_change)
+    throw std::invalid_argument("the configuration of " + dir + " changed since the run started (" + difference +
+                                "): a continued run goes on with the configuration it started with; restore it, "
+                                "or pass --allow-config-change (the change is then recorded in the folder)");
+  const std::time_t t = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&t, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &utc);
+  std::error_code error;
+  fs::copy_file(path, path.string() + "." + stamp, fs::copy_options::overwrite_existing, error);
+  if (error) throw std::runtime_error("cannot keep the previous " + path.string() + ": " + error.message());
+  std::ofstream log(fs::path(dir) / "config-changes.log", std::ios::app);
+  log << stamp << " --allow-config-change: " << difference << " (previous file: config.yaml." << stamp << ")\n";
+  if (!log) throw std::runtime_error("cannot write " + (fs::path(dir) / "config-changes.log").string());
+}
+
 std::string PrepareRunFolder(const config::Config& config, const std::string& requested) {
   fs::path dir;
   if (!requested.empty()) {

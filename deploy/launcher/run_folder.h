@@ -15,6 +15,18 @@ namespace srics::launcher {
 // (the effective configuration). Returns the folder's path. Throws std::runtime_error.
 std::string PrepareRunFolder(const config::Config& config, const std::string& requested);
 
+// A file's lines that are not comments ("" when it cannot be read).
+std::string WithoutComments(const std::string& path);
+
+// The first line where two texts differ ("line 3: 'a' now 'b'"), "" when equal; for messages.
+std::string FirstDifference(const std::string& a, const std::string& b);
+
+// A continued run keeps the configuration it started with: when <dir>/config.yaml exists and
+// its settings differ from `config`'s, throws std::invalid_argument naming the first
+// difference, unless `allow_change`; then the old file is kept as config.yaml.<UTC time> and
+// the change is appended to <dir>/config-changes.log. Nothing happens for a new folder.
+void CheckResumedConfig(const config::Config& config, const std::string& dir, bool allow_change);
+
 // A run id unique to this launch: "<host>-<pid>-<YYYYmmddTHHMMSS.mmm>" (the host name cut to
 // 16 characters); two calls in one process never give the same id.
 std::string NewRunId();

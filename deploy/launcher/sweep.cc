@@ -119,28 +119,6 @@ std::string ManifestText(const std::string& config, std::vector<std::string> met
   return out.str();
 }
 
-// A file's lines that are not comments.
-std::string WithoutComments(const std::string& path) {
-  std::ifstream in(path);
-  std::string out;
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind('#', 0) != 0) out += line + "\n";
-  return out;
-}
-
-// The first line where two texts differ, for messages.
-std::string FirstDifference(const std::string& a, const std::string& b) {
-  std::stringstream x(a), y(b);
-  std::string la, lb;
-  for (int line = 1;; ++line) {
-    const bool ha = static_cast<bool>(std::getline(x, la)), hb = static_cast<bool>(std::getline(y, lb));
-    if (!ha && !hb) return "";
-    if (!ha) la = "<end>";
-    if (!hb) lb = "<end>";
-    if (la != lb) return "line " + std::to_string(line) + ": '" + la + "' now '" + lb + "'";
-  }
-}
-
 std::string LastLine(const std::string& path) {
   std::ifstream in(path);
   std::string line, last;

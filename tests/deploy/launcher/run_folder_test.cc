@@ -79,5 +79,48 @@ TEST(RunIdTest, EveryLaunchGetsItsOwnAndAFolderKeepsTheOneItRecorded) {
   std::filesystem::remove_all(dir);
 }
 
+// A continued run keeps its configuration (issue 16): the folder's config.yaml is compared
+// with the new launch's effective configuration.
+TEST(CheckResumedConfigTest, ANewFolderAndTheSameConfigPass) {
+  const std::string dir = FreshDir("resume_same");
+  const config::Config config = Load("campaign/relational-4.yaml", {"run.seed=2"});
+  EXPECT_NO_THROW(CheckResumedConfig(config, dir, false));  // no config.yaml yet
+  EXPECT_EQ(PrepareRunFolder(config, dir), fs::absolute(dir).lexically_normal().string());
+  EXPECT_NO_THROW(CheckResumedConfig(Load("campaign/relational-4.yaml", {"run.seed=2"}), dir, false));
+  // resuming from the folder's own config.yaml is the same configuration
+  EXPECT_NO_THROW(CheckResumedConfig(config::LoadConfig(dir + "/config.yaml"), dir, false));
+  EXPECT_FALSE(fs::exists(dir + "/config-changes.log"));
+}
+
+TEST(CheckResumedConfigTest, AChangedConfigIsRefusedNamingTheChange) {
+  const std::string dir = FreshDir("resume_changed");
+  PrepareRunFolder(Load("campaign/relational-4.yaml", {"run.seed=2"}), dir);
+  const std::string before = WithoutComments(dir + "/config.yaml");
+  try {
+    CheckResumedConfig(Load("campaign/relational-4.yaml", {"run.seed=3"}), dir, false);
+    FAIL() << "a changed seed was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("seed: 2' now '  seed: 3'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--allow-config-change"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(WithoutComments(dir + "/config.yaml"), before);  // nothing written
+}
+
+TEST(CheckResumedConfigTest, AnAllowedChangeKeepsTheOldFileAndRecordsTheChange) {
+  const std::string dir = FreshDir("resume_allowed");
+  PrepareRunFolder(Load("campaign/relational-4.yaml", {"run.seed=2"}), dir);
+  const std::string before = WithoutComments(dir + "/config.yaml");
+  const config::Config changed = Load("campaign/relational-4.yaml", {"run.seed=3"});
+  CheckResumedConfig(changed, dir, true);
+  std::ifstream log(dir + "/config-changes.log");
+  std::string line;
+  ASSERT_TRUE(std::getline(log, line));
+  EXPECT_NE(line.find("seed: 2' now '  seed: 3'"), std::string::npos) << line;
+  const std::string kept = line.substr(line.find("config.yaml.") , std::string("config.yaml.20261202T004500Z").size());
+  EXPECT_EQ(WithoutComments(dir + "/" + kept), before) << kept;
+  PrepareRunFolder(changed, dir);  // then the launch writes the new one
+  EXPECT_NO_THROW(CheckResumedConfig(changed, dir, false));
+}
+
 }  // namespace
 }  // namespace srics::launcher
