@@ -35,11 +35,12 @@ status=0
 printf '%-12s %10s %8s %8s %s\n' harness runs cov ft findings
 for h in "${harnesses[@]}"; do
   corpus="$build/corpus/$h" findings="$build/findings/$h" log="$build/fuzz_$h.log"
+  rm -rf "$findings"
   mkdir -p "$corpus" "$findings"
   "$build/tests/fuzz/fuzz_$h" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -print_final_stats=1 -artifact_prefix="$findings/" "$corpus" "$root/tests/fuzz/corpus/$h" >"$log" 2>&1
   rc=$?
-  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$')
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | tail -1 | grep -o '[0-9]*$')
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*')
   ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*')
   found=$(ls -1 "$findings" | wc -l)

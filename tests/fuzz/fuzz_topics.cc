@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
+#include <cstring>
 #include <string>
+#include <type_traits>
 
 #include "common/rl/episode.h"
 #include "common/rl/graph.h"
@@ -23,9 +25,26 @@ using namespace srics::transport;
 
 template <typename V, typename C> void Visit(V& v, C& c);
 
+// An IDL enum: 4 bytes on the wire, which Cyclone's deserializer refuses beyond the enum's
+// largest value, so the sample carries one of its values (a C++ load of any other value of
+// the C enum type is undefined behaviour: UBSan's -fsanitize=enum reports it).
+template <typename V, typename E>
+void VisitEnum(V& v, E& e, uint32_t largest) {
+  static_assert(sizeof(E) == sizeof(uint32_t));
+  uint32_t raw = 0;
+  if constexpr (std::is_same_v<V, WireReader>) {
+    v(raw);
+    raw %= largest + 1;
+    std::memcpy(&e, &raw, sizeof raw);
+  } else {
+    std::memcpy(&raw, &e, sizeof raw);
+    v(raw);
+  }
+}
+
 template <typename V>
 void Visit(V& v, srics_Episode& c) {
-  v(c.contract_version); v(c.run_id); v(c.actor_id); v(c.episode_id); v(c.mode); v(c.policy_version);
+  v(c.contract_version); v(c.run_id); v(c.actor_id); v(c.episode_id); VisitEnum(v, c.mode, srics_EPISODE_EVAL); v(c.policy_version);
   v(c.graph_version); v(c.num_entities); v(c.entity_dim); v(c.action_dim); v(c.num_steps);
   v(c.entity_kinds); v(c.states); v(c.actions); v(c.subgoal_entity); v(c.goal); v(c.ancestor_mask);
   v(c.subgoal_starts); v(c.subgoals); v(c.subgoal_tests);
@@ -56,7 +75,7 @@ void Visit(V& v, srics_LearnerStats& c) {
 }
 template <typename V>
 void Visit(V& v, srics_NodeStatus& c) {
-  v(c.contract_version); v(c.run_id); v(c.role); v(c.node_id); v(c.host); v(c.pid); v(c.state);
+  v(c.contract_version); v(c.run_id); v(c.role); v(c.node_id); v(c.host); v(c.pid); VisitEnum(v, c.state, srics_NODE_FAILED);
   v(c.policy_version); v(c.graph_version); v(c.env_steps); v(c.dropped_samples); v(c.uptime_ms); v(c.detail);
 }
 
