@@ -6,8 +6,10 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -26,9 +28,17 @@ struct Layer {
   Layer() { linear.Parameters(params); }
 };
 
+// in memory when there is /dev/shm (35 times the runs of a file on disk); removed at exit
+// (a plain array: a static std::string would be destroyed before the atexit handler runs)
+char temp_path[128];
+
 std::string TempPath() {
-  static const std::string path = "/tmp/srics-fuzz-checkpoint-" + std::to_string(getpid()) + ".ckpt";
-  return path;
+  if (temp_path[0] == '\0') {
+    std::snprintf(temp_path, sizeof temp_path, "%s/srics-fuzz-checkpoint-%d.ckpt",
+                  std::filesystem::is_directory("/dev/shm") ? "/dev/shm" : "/tmp", static_cast<int>(getpid()));
+    std::atexit([] { std::remove(temp_path); });
+  }
+  return temp_path;
 }
 
 void ReadFrom(const std::string& bytes, Layer& layer) {
