@@ -30,3 +30,15 @@ if(SRICS_NATIVE)
 endif()
 # Release keeps assertions off; RelWithDebInfo is the profiling build.
 set(CMAKE_CXX_FLAGS_RELEASE "-O2 -DNDEBUG")
+
+# libFuzzer harnesses (tests/fuzz, ./tests/fuzz.sh): a separate build with clang, everything
+# instrumented for coverage, AddressSanitizer and UndefinedBehaviorSanitizer (any report aborts).
+option(SRICS_FUZZ "Build the libFuzzer harnesses of tests/fuzz (clang only; a separate build)" OFF)
+if(SRICS_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "SRICS_FUZZ needs clang: -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
+                      -fno-omit-frame-pointer -g -Wno-unknown-warning-option)
+  add_link_options(-fsanitize=address,undefined)
+endif()

@@ -325,7 +325,7 @@ void CheckKeys(const YAML::Node& node, const std::string& path, const std::strin
   }
   if (!node.IsMap()) return;
   for (auto it = node.begin(); it != node.end(); ++it) {
-    const YAML::Node& key = it->first;
+    const YAML::Node key = it->first;  // a copy: it-> is a proxy that dies with this statement
     if (!key.IsScalar() || key.Scalar().empty()) {
       const std::string where = has_lines && key.Mark().line >= 0 ? file + ":" + std::to_string(key.Mark().line + 1) : file;
       throw ConfigError(where + ": " + (path.empty() ? "<top>" : path) +

@@ -197,7 +197,8 @@ std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
     const auto n = r.Get<std::uint64_t>();
     if (n > data.size() / sizeof(float)) r.Take(data.size());  // reports truncated
     s.values.resize(n);
-    std::memcpy(s.values.data(), r.Take(n * sizeof(float)), n * sizeof(float));
+    const char* values = r.Take(n * sizeof(float));
+    if (n > 0) std::memcpy(s.values.data(), values, n * sizeof(float));  // data() may be null for none
     if (version >= 2) {
       const auto b = r.Get<std::uint64_t>();
       if (b > data.size()) r.Take(data.size());  // reports truncated

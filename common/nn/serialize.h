@@ -115,7 +115,8 @@ class ByteReader {
     const auto count = Get<std::uint64_t>();
     if (count > remaining() / sizeof(V)) Fail(count * sizeof(V));
     std::vector<V> values(count);
-    std::memcpy(values.data(), Take(count * sizeof(V)), count * sizeof(V));
+    const char* bytes = Take(count * sizeof(V));
+    if (count > 0) std::memcpy(values.data(), bytes, count * sizeof(V));  // data() may be null for none
     return values;
   }
   std::string GetString() {

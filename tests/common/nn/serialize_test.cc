@@ -165,6 +165,21 @@ TEST_F(SerializeTest, ByteSectionsRoundTripAndReadersReportTruncation) {
   }
 }
 
+// Found by tests/fuzz (fuzz_checkpoint): a section without values and an empty ByteWriter
+// vector were read with memcpy into a null vector data() (undefined behaviour that UBSan
+// reports; the plain build shows nothing, ./tests/fuzz.sh does on its seed corpus).
+TEST_F(SerializeTest, EmptySectionsAndVectorsAreRead) {
+  ByteWriter w;
+  w.PutVector(std::vector<float>{});
+  WriteCheckpoint(path_, {{"empty", "", {}, {}}, {"blob", "", {}, w.Take()}});
+  const auto sections = ReadCheckpoint(path_);
+  ASSERT_EQ(sections.size(), 2u);
+  EXPECT_TRUE(sections[0].values.empty());
+  ByteReader r(sections[1].bytes, "blob");
+  EXPECT_TRUE(r.GetVector<float>().empty());
+  EXPECT_TRUE(r.done());
+}
+
 TEST_F(SerializeTest, RandomStreamStateRoundTrips) {
   Rng a(42);
   a();
