@@ -51,6 +51,55 @@ std::string GraphDataset::Add(const rl::Episode& episode) {
   return "";
 }
 
+void GraphDataset::Save(nn::ByteWriter& out) const {
+  out.Put<int32_t>(layout_.num_entities);
+  out.Put<int32_t>(layout_.num_kinds);
+  out.Put<uint8_t>(layout_.velocities ? 1 : 0);
+  out.PutVector(kinds_);
+  out.Put<int32_t>(action_dim_);
+  out.Put<int32_t>(steps_);
+  out.Put<uint64_t>(positions_.size());
+  for (size_t e = 0; e < positions_.size(); ++e) {
+    out.PutVector(positions_[e]);
+    out.PutVector(actions_[e]);
+  }
+}
+
+void GraphDataset::Load(nn::ByteReader& in) {
+  if (size() != 0) throw std::logic_error("GraphDataset::Load: the data set is not empty");
+  rl::EntityLayout layout;
+  layout.num_entities = in.Get<int32_t>();
+  layout.num_kinds = in.Get<int32_t>();
+  layout.velocities = in.Get<uint8_t>() != 0;
+  const std::vector<uint16_t> kinds = in.GetVector<uint16_t>();
+  const int action_dim = in.Get<int32_t>();
+  const int steps = in.Get<int32_t>();
+  auto differs = [](const std::string& what) {
+    return nn::CheckpointError("graph data set: " + what + " differs from this run's");
+  };
+  if (!(layout == layout_)) throw differs("entity layout");
+  if (kinds != kinds_) throw differs("entity kinds");
+  if (action_dim != action_dim_) throw differs("action size");
+  if (steps != steps_) throw differs("episode length");
+  const auto count = in.Get<uint64_t>();
+  const size_t xy_size = static_cast<size_t>(steps_ + 1) * layout_.num_entities * 2;
+  const size_t action_size = static_cast<size_t>(steps_) * action_dim_;
+  // each episode needs at least its two counts: a huge count fails here, not in a reserve
+  if (count > in.remaining() / 16) throw nn::CheckpointError("graph data set: episode count " + std::to_string(count) + " exceeds the bytes");
+  std::vector<std::vector<float>> positions, actions;
+  for (uint64_t e = 0; e < count; ++e) {
+    positions.push_back(in.GetVector<float>());
+    actions.push_back(in.GetVector<float>());
+    if (positions.back().size() != xy_size || actions.back().size() != action_size)
+      throw nn::CheckpointError("graph data set: episode " + std::to_string(e) + " has the wrong size");
+    for (const auto* values : {&positions.back(), &actions.back()})
+      for (float v : *values)
+        if (!std::isfinite(v)) throw nn::CheckpointError("graph data set: episode " + std::to_string(e) + " is not finite");
+  }
+  positions_ = std::move(positions);
+  actions_ = std::move(actions);
+}
+
 void GraphDataset::Split(double held_out_fraction, uint64_t seed) {
   std::vector<int> order(size());
   std::iota(order.begin(), order.end(), 0);

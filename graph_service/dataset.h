@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/nn/serialize.h"
 #include "common/nn/tensor.h"
 #include "common/rl/episode.h"
 
@@ -47,11 +48,18 @@ class GraphDataset {
   // mode or shape, inconsistent sizes, non-finite values). Never throws on bad input.
   std::string Add(const rl::Episode& episode);
 
+  // The episodes (not the split) as checkpoint bytes, and back. Load checks the bytes against
+  // this data set's shape and throws nn::CheckpointError naming what differs; on a throw the
+  // data set is unchanged. Only an empty data set can load.
+  void Save(nn::ByteWriter& out) const;
+  void Load(nn::ByteReader& in);
+
   // Fixes the split: the last round(fraction * size) episodes of a seeded shuffle are held
   // out. Call once all episodes are in; throws std::logic_error if a side would be empty.
   void Split(double held_out_fraction, uint64_t seed);
 
   int size() const { return static_cast<int>(actions_.size()); }
+  const rl::EntityLayout& layout() const { return layout_; }
   int num_entities() const { return layout_.num_entities; }
   int num_kinds() const { return layout_.num_kinds; }
   int action_dim() const { return action_dim_; }

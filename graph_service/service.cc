@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 
@@ -38,6 +39,10 @@ GraphService::GraphService(const config::GraphConfig& config, const ServiceOptio
 
 std::string GraphService::graph_path() const {
   return options_.state_dir.empty() ? "" : options_.state_dir + "/graph.json";
+}
+
+std::string GraphService::training_path() const {
+  return options_.state_dir.empty() ? "" : options_.state_dir + "/graph_training.srics";
 }
 
 void GraphService::Report() {
@@ -102,6 +107,7 @@ StepResult GraphService::Step(std::chrono::milliseconds wait) {
     PublishStatus(true);
     if (LoadSaved()) return StepResult::kWorked;
     progress_.phase = Progress::Phase::kCollecting;
+    if (LoadTraining()) return StepResult::kWorked;
     Report();
   }
   StepResult result = StepResult::kWorked;
@@ -174,6 +180,79 @@ bool GraphService::LoadSaved() {
   }
 }
 
+void GraphService::SaveTraining() {
+  const std::string path = training_path();
+  if (path.empty() || !data_) return;
+  nn::ByteWriter data, counters;
+  data_->Save(data);
+  counters.Put<int32_t>(progress_.dropped);
+  counters.Put<int32_t>(stable_);
+  std::vector<nn::CheckpointSection> sections = {{"graph.data", "", {}, data.Take()},
+                                                 {"graph.service", "", {}, counters.Take()}};
+  if (trainer_)
+    for (nn::CheckpointSection& section : trainer_->SaveState()) sections.push_back(std::move(section));
+  try {
+    std::filesystem::create_directories(options_.state_dir);
+    nn::WriteCheckpoint(path, sections);
+    saved_episodes_ = data_->size();
+  } catch (const std::exception& e) {
+    // the run goes on; a restart would only redo more work
+    spdlog::warn("graph service: saving the training state failed: {}", e.what());
+  }
+}
+
+bool GraphService::LoadTraining() {
+  const std::string path = training_path();
+  if (path.empty() || !data_ || !std::filesystem::exists(path)) return false;
+  try {
+    const std::vector<nn::CheckpointSection> sections = nn::ReadCheckpoint(path);
+    auto data = std::make_unique<GraphDataset>(data_->layout(), data_->entity_kinds(), data_->action_dim(),
+                                               data_->episode_steps());
+    nn::ByteReader data_bytes(nn::FindSection(sections, "graph.data", path).bytes, path + ": graph.data");
+    data->Load(data_bytes);
+    if (data->size() > config_.episodes)
+      throw nn::CheckpointError(path + ": " + std::to_string(data->size()) + " episodes, the run's graph.episodes is " +
+                                std::to_string(config_.episodes));
+    nn::ByteReader counters(nn::FindSection(sections, "graph.service", path).bytes, path + ": graph.service");
+    const int dropped = counters.Get<int32_t>();
+    const int stable = counters.Get<int32_t>();
+    const bool has_trainer =
+        std::any_of(sections.begin(), sections.end(), [](const nn::CheckpointSection& s) { return s.name == "gnn"; });
+    std::unique_ptr<GnnTrainer> trainer;
+    if (data->size() >= config_.episodes) {
+      data->Split(config_.held_out_fraction, options_.seed);
+      trainer = std::make_unique<GnnTrainer>(config_, *data, options_.seed);
+      if (has_trainer) trainer->LoadState(sections, path);
+    }
+    // everything fits: take it over
+    data_ = std::move(data);
+    saved_episodes_ = data_->size();
+    progress_.episodes = data_->size();
+    progress_.dropped = dropped;
+    if (trainer) {
+      progress_.phase = Progress::Phase::kTraining;
+      trainer_ = std::move(trainer);
+      action_entity_ = SelectActionEntity(*data_);
+      action_correlation_ = ActionCorrelations(*data_);
+      if (trainer_->updates() > 0) {
+        EvaluateGraph();  // the graph the saved state had, to compare the next one with
+        stable_ = stable;
+        progress_.stable_evaluations = stable_;
+      }
+    }
+    spdlog::info("graph service: resumed from {}: {} of {} episodes, {} GNN updates", path, data_->size(),
+                 config_.episodes, trainer_ ? trainer_->updates() : 0);
+    Report();
+    return true;
+  } catch (const std::exception& e) {
+    const std::string aside = path + ".rejected";
+    std::error_code ec;
+    std::filesystem::rename(path, aside, ec);
+    spdlog::warn("graph service: training state not resumed ({}); moved to {}, starting over", e.what(), aside);
+    return false;
+  }
+}
+
 StepResult GraphService::CollectStep(std::chrono::milliseconds wait) {
   std::vector<rl::Episode> batch;
   const bool open = source_->Poll(wait, &batch);
@@ -206,8 +285,11 @@ StepResult GraphService::CollectStep(std::chrono::milliseconds wait) {
   }
   if (progress_.episodes >= config_.episodes) {
     StartTraining();
+    SaveTraining();
     return StepResult::kWorked;
   }
+  // a tenth of the data set at a time: a restart collects at most that again
+  if (progress_.episodes - saved_episodes_ >= std::max(1, config_.episodes / 10)) SaveTraining();
   const auto now = std::chrono::steady_clock::now();
   if (now - last_report_ > std::chrono::seconds(1)) {
     Report();
@@ -244,6 +326,7 @@ void GraphService::TrainStep() {
   EvaluateGraph();
   const bool stable = stable_ >= config_.stable_evaluations && trainer_->updates() >= config_.min_updates;
   if (stable || trainer_->updates() >= config_.max_updates) Finish();
+  else SaveTraining();
 }
 
 void GraphService::EvaluateGraph() {
@@ -298,6 +381,11 @@ void GraphService::Finish() {
     }
   }
   sink_->Publish(ToGraphUpdate(graph));
+  if (!training_path().empty() && std::filesystem::exists(graph_path())) {
+    // graph.json is the product now; the training state is not needed again
+    std::error_code ec;
+    std::filesystem::remove(training_path(), ec);
+  }
   progress_.phase = Progress::Phase::kPublished;
   progress_.published_version = graph.version;
   published_ = std::move(graph);

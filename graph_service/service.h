@@ -105,9 +105,15 @@ class GraphService {
   const Progress& progress() const { return progress_; }
   // Path of the saved graph file ("" without a state directory).
   std::string graph_path() const;
+  // Path of the unfinished training's checkpoint ("" without a state directory): the data
+  // set while collecting, then also the GNN at every evaluation; removed once the graph is
+  // published. A restarted service resumes from it instead of starting over.
+  std::string training_path() const;
 
  private:
   bool LoadSaved();
+  bool LoadTraining();
+  void SaveTraining();
   StepResult CollectStep(std::chrono::milliseconds wait);
   void StartTraining();
   void TrainStep();
@@ -130,6 +136,7 @@ class GraphService {
   bool started_ = false;
   bool source_closed_ = false;
   int stable_ = 0;
+  int saved_episodes_ = 0;  // data set size at the last SaveTraining
   int action_entity_ = 0;
   std::vector<double> action_correlation_;
   std::chrono::steady_clock::time_point start_;

@@ -129,6 +129,46 @@ double GnnTrainer::Update() {
   return static_cast<double>(loss.total.value()(0, 0));
 }
 
+std::vector<nn::CheckpointSection> GnnTrainer::SaveState() const {
+  const std::string signature = nn::SignatureString(params_);
+  nn::ByteWriter counters;
+  counters.Put<int64_t>(updates_);
+  counters.Put<double>(last_mse_);
+  counters.Put<double>(last_kl_);
+  counters.PutString(nn::RngState(rng_));
+  return {{"gnn", signature, nn::Flatten(params_), ""},
+          {"gnn.rmsprop", signature, optimizer_.ExportState(), ""},
+          {"gnn.adam", signature, adam_.ExportState(), ""},
+          {"gnn.trainer", "", {}, counters.Take()}};
+}
+
+void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, const std::string& path) {
+  nn::LoadSection(nn::FindSection(sections, "gnn", path), params_, path);
+  nn::ByteReader counters(nn::FindSection(sections, "gnn.trainer", path).bytes, path + ": gnn.trainer");
+  const auto updates = counters.Get<int64_t>();
+  if (updates < 0 || updates > config_.max_updates)
+    throw nn::CheckpointError(path + ": " + std::to_string(updates) + " GNN updates, outside 0.." +
+                              std::to_string(config_.max_updates));
+  last_mse_ = counters.Get<double>();
+  last_kl_ = counters.Get<double>();
+  nn::SetRngState(&rng_, counters.GetString(), path + ": gnn.trainer");
+  if (config_.use_adam && config_.restart_adam_after_warmup && config_.warmup_updates > 0 &&
+      updates > config_.warmup_updates) {
+    // the optimiser Update restarts at the end of the warm-up, with its options
+    adam_ = nn::Adam<float>(params_, {.lr = config_.learning_rate, .beta2 = config_.adam_beta2_after_warmup});
+  }
+  for (const auto& [name, state] : {std::pair{"gnn.rmsprop", 0}, std::pair{"gnn.adam", 1}}) {
+    const nn::CheckpointSection& section = nn::FindSection(sections, name, path);
+    try {
+      if (state == 0) optimizer_.ImportState(section.values);
+      else adam_.ImportState(section.values);
+    } catch (const std::invalid_argument& e) {
+      throw nn::CheckpointError(path + ": " + name + ": " + e.what());
+    }
+  }
+  updates_ = updates;
+}
+
 EdgeStatistics GnnTrainer::Evaluate() {
   const int n = data_.num_entities();
   EdgeStatistics stats;

@@ -7,6 +7,7 @@
 
 #include "common/config/graph_config.h"
 #include "common/nn/optim.h"
+#include "common/nn/serialize.h"
 #include "graph_service/dataset.h"
 #include "graph_service/gnn_model.h"
 
@@ -63,6 +64,14 @@ class GnnTrainer {
   // Held-out squared error per entity and transition (per axis), with the edge
   // cut_sender -> cut_receiver cut (-1: nothing cut).
   std::vector<double> HeldOutEntityError(int cut_sender, int cut_receiver);
+
+  // The training state (parameters, both optimisers' moments, the batch stream, the update
+  // count) as checkpoint sections, and back: a trainer that loads continues exactly where the
+  // saved one was. LoadState throws nn::CheckpointError naming `path` and what does not fit
+  // (another architecture, a missing section); the trainer may be partly changed then and
+  // should be rebuilt.
+  std::vector<nn::CheckpointSection> SaveState() const;
+  void LoadState(const std::vector<nn::CheckpointSection>& sections, const std::string& path);
 
   int64_t updates() const { return updates_; }
   double last_mse() const { return last_mse_; }  // per transition, last batch

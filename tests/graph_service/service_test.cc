@@ -182,5 +182,113 @@ TEST(GraphServiceTest, StepsOnTheInMemoryBusUntilTheGraphReachesActorsAndLearner
   EXPECT_EQ(service.Step(), StepResult::kIdle);
 }
 
+// A service killed mid-training (the campaign's runs are stopped and resumed every session)
+// resumes from its training state and ends with exactly the graph of an uninterrupted one.
+config::GraphConfig ResumeConfig() {
+  config::GraphConfig c = TinyConfig();
+  c.max_updates = 40;
+  c.warmup_updates = 15;  // the resume falls after Adam's restart at the warm-up's end
+  c.kl_ramp_updates = 5;
+  c.use_adam = true;
+  c.restart_adam_after_warmup = true;
+  return c;
+}
+
+ServiceOptions ShapedOptions(ToyWorld& world, const std::string& dir) {
+  const rl::Episode e = world.RandomEpisode(0);
+  ServiceOptions o{.state_dir = dir, .seed = 5, .render_pictures = false};
+  o.shape = DatasetShape{e.layout, e.entity_kinds, e.action_dim};
+  return o;
+}
+
+TEST(GraphServiceTest, ResumesAnInterruptedTrainingAndEndsWithTheUninterruptedGraph) {
+  ToyWorld world({.num_pucks = 2, .steps = 10});
+  std::vector<rl::Episode> episodes;
+  for (int i = 0; i < 20; ++i) episodes.push_back(world.RandomEpisode(100 + i));
+  std::atomic<bool> stop{false};
+
+  const std::string reference_dir = FreshDir("service_resume_reference");
+  ListSource all(episodes);
+  RecordingSink reference;
+  GraphService uninterrupted(ResumeConfig(), ShapedOptions(world, reference_dir), &all, &reference, {});
+  ASSERT_EQ(uninterrupted.Run(stop), 0);
+  ASSERT_EQ(reference.graphs.size(), 1u);
+
+  const std::string dir = FreshDir("service_resume");
+  {
+    ListSource first(episodes);
+    RecordingSink sink;
+    GraphService killed(ResumeConfig(), ShapedOptions(world, dir), &first, &sink, {});
+    while (killed.progress().updates < 20) ASSERT_NE(killed.Step(), StepResult::kDone);
+    EXPECT_TRUE(sink.graphs.empty());
+  }  // killed at 20 of 40 updates
+  ASSERT_TRUE(std::filesystem::exists(dir + "/graph_training.srics"));
+
+  ListSource nothing({});
+  RecordingSink sink;
+  GraphService resumed(ResumeConfig(), ShapedOptions(world, dir), &nothing, &sink, {});
+  ASSERT_EQ(resumed.Run(stop), 0);
+  EXPECT_EQ(nothing.polls, 0) << "the data set came from the training state";
+  ASSERT_EQ(sink.graphs.size(), 1u);
+  EXPECT_EQ(sink.graphs[0].training_updates, 40u);
+  EXPECT_EQ(sink.graphs[0].episodes_used, 20u);
+  // the same parameters, optimiser moments and batches: the same numbers, not just close ones
+  EXPECT_EQ(sink.graphs[0].mean_weights, reference.graphs[0].mean_weights);
+  EXPECT_EQ(sink.graphs[0].held_out_loss, reference.graphs[0].held_out_loss);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/graph_training.srics")) << "removed once graph.json is saved";
+  EXPECT_TRUE(std::filesystem::exists(dir + "/graph.json"));
+}
+
+TEST(GraphServiceTest, ResumesAnInterruptedCollectionWithTheEpisodesItHad) {
+  ToyWorld world({.num_pucks = 2, .steps = 10});
+  std::vector<rl::Episode> episodes;
+  for (int i = 0; i < 20; ++i) episodes.push_back(world.RandomEpisode(200 + i));
+  std::atomic<bool> stop{false};
+  const std::string reference_dir = FreshDir("service_collect_reference");
+  ListSource all(episodes);
+  RecordingSink reference;
+  GraphService uninterrupted(ResumeConfig(), ShapedOptions(world, reference_dir), &all, &reference, {});
+  ASSERT_EQ(uninterrupted.Run(stop), 0);
+
+  const std::string dir = FreshDir("service_collect");
+  {
+    ListSource first_half({episodes.begin(), episodes.begin() + 12});
+    RecordingSink sink;
+    GraphService killed(ResumeConfig(), ShapedOptions(world, dir), &first_half, &sink, {});
+    EXPECT_EQ(killed.Run(stop), 1);  // the source closed at 12 of 20
+  }
+  ListSource second_half({episodes.begin() + 12, episodes.end()});
+  RecordingSink sink;
+  GraphService resumed(ResumeConfig(), ShapedOptions(world, dir), &second_half, &sink, {});
+  ASSERT_EQ(resumed.Run(stop), 0);
+  ASSERT_EQ(sink.graphs.size(), 1u);
+  EXPECT_EQ(sink.graphs[0].episodes_used, 20u);
+  EXPECT_EQ(sink.graphs[0].mean_weights, reference.graphs[0].mean_weights);
+}
+
+TEST(GraphServiceTest, TrainingStateOfAnotherModelIsSetAsideAndLearnedAgain) {
+  ToyWorld world({.num_pucks = 2, .steps = 10});
+  std::vector<rl::Episode> episodes;
+  for (int i = 0; i < 20; ++i) episodes.push_back(world.RandomEpisode(300 + i));
+  const std::string dir = FreshDir("service_other_model");
+  {
+    ListSource source(episodes);
+    RecordingSink sink;
+    GraphService killed(ResumeConfig(), ShapedOptions(world, dir), &source, &sink, {});
+    while (killed.progress().updates < 10) ASSERT_NE(killed.Step(), StepResult::kDone);
+  }
+  config::GraphConfig wider = ResumeConfig();
+  wider.hidden_dim = 6;  // the saved GNN does not fit this one
+  ListSource source(episodes);
+  RecordingSink sink;
+  GraphService restarted(wider, ShapedOptions(world, dir), &source, &sink, {});
+  std::atomic<bool> stop{false};
+  ASSERT_EQ(restarted.Run(stop), 0);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/graph_training.srics.rejected"));
+  EXPECT_GT(source.polls, 0) << "learned again from fresh episodes";
+  ASSERT_EQ(sink.graphs.size(), 1u);
+  EXPECT_EQ(sink.graphs[0].training_updates, 40u);
+}
+
 }  // namespace
 }  // namespace srics::graph_service
