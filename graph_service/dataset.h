@@ -1,7 +1,7 @@
 #pragma once
 // The graph service's data: whole random-action episodes reduced to what the dynamics model
 // needs (entity xy and actions), a deterministic train / held-out split, and batches of
-// training windows (srics-method.md section 2).
+// training windows (docs/method.md section 2).
 
 #include <cstdint>
 #include <string>

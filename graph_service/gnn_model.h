@@ -1,5 +1,5 @@
 #pragma once
-// The recurrent GNN dynamics model of SRICS (srics-method.md section 2). For every entity j
+// The recurrent GNN dynamics model of SRICS (docs/method.md section 2). For every entity j
 // at step t, with hidden states h(t) and node input x_j = [x, y, kind one-hot, action]:
 //   w_ij      = [softmax(d_pres([h_i, h_j]))]_0 sampled by (straight-through) Gumbel-softmax
 //   h_int_j   = sum_{i != j} w_ij d_eff([h_i, h_j])

@@ -1,5 +1,5 @@
 #pragma once
-// HAC's learning side (Levy et al. 2019, two levels; srics-method.md section 3). From each
+// HAC's learning side (Levy et al. 2019, two levels; docs/method.md section 3). From each
 // episode an actor recorded (the full goal, the high level's subgoals, where each started and
 // which were tests) it builds both levels' replay transitions with HAC's rules, keeps them in
 // one transition replay per level and trains one SAC agent per level. Rewards are HAC's:

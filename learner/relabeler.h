@@ -1,7 +1,7 @@
 #pragma once
 // Builds SAC training batches from the replay: samples transitions, relabels their goals
 // (original / future state of the same entity / sampled from the goal distribution) and
-// recomputes the method's reward for the new goal (srics-method.md section 3).
+// recomputes the method's reward for the new goal (docs/method.md section 3).
 
 #include <cstdint>
 #include <random>

@@ -2,7 +2,7 @@
 // Soft actor-critic on the goal-conditioned attention networks: twin Q functions with
 // target copies, automatic entropy tuning, every hyperparameter from config::AgentConfig.
 // One Update() is one gradient step of the critics, the policy and the temperature, then a
-// soft target update (srics-method.md section 3).
+// soft target update (docs/method.md section 3).
 //
 // With threads > 1 (learner.threads) each of the two phases of an update (Bellman targets
 // and critics; policy) splits the batch into one contiguous shard of samples per thread; each thread runs

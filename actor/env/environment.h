@@ -38,7 +38,7 @@ struct EntityLayout {
   int position_offset() const { return num_kinds; }
 };
 
-// Distances of the current step to the episode's goals (srics-method.md section 1).
+// Distances of the current step to the episode's goals (docs/method.md section 1).
 struct Metrics {
   std::vector<double> distances;    // per entity (arm first), size N
   double hand_distance = 0;         // distances[0]

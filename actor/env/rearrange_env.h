@@ -1,6 +1,6 @@
 #pragma once
 // The MuJoCo 2.2 implementation of Environment: the "Multi-Object Rearrange" family of
-// srics-method.md section 1, with its model generated from config (mjcf.h).
+// docs/method.md section 1, with its model generated from config (mjcf.h).
 //
 // Per env step: the action (clipped to [-1, 1]) moves the mocap to the hand's current xy +
 // action_scale * action, z held at hand.z, clipped to the mocap box; then frame_skip physics

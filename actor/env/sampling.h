@@ -1,6 +1,6 @@
 #pragma once
 // Initial positions, evaluation goals and subgoal goals as pure functions of a config and a
-// random generator (srics-method.md section 1). The environment uses them at Reset; the
+// random generator (docs/method.md section 1). The environment uses them at Reset; the
 // learner may use SampleSubgoal for relabeling.
 //
 // Spacing rules: object-object distances >= the configured minimum plus, for objects larger

@@ -1,5 +1,5 @@
 #pragma once
-// The agent: attention networks and SAC (srics-method.md section 3). Defaults are the paper's.
+// The agent: attention networks and SAC (docs/method.md section 3). Defaults are the paper's.
 
 #include <vector>
 

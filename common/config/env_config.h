@@ -1,5 +1,5 @@
 #pragma once
-// The rearrange environment family (srics-method.md section 1). Defaults: Rearrange 3.
+// The rearrange environment family (docs/method.md section 1). Defaults: Rearrange 3.
 // Owned by actor/env; parsed in env_config.cc. Every number of the environment lives here as
 // a default member initializer: the env code has no numbers of its own.
 //

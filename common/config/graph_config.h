@@ -1,5 +1,5 @@
 #pragma once
-// The graph service: random-action data, recurrent GNN, aggregation (srics-method.md section 2).
+// The graph service: random-action data, recurrent GNN, aggregation (docs/method.md section 2).
 
 #include <cstdint>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // The evaluation protocol: a full goal split into subgoals, attempted in depth order
-// (srics-method.md section 3), and the metrics gathered over evaluation episodes.
+// (docs/method.md section 3), and the metrics gathered over evaluation episodes.
 
 #include <random>
 #include <vector>

@@ -1,6 +1,6 @@
 #pragma once
 // Interaction graphs over entities and the independently controllable subgoals they imply
-// (srics-method.md sections 2-3). Shared by the graph service (which learns the graph) and
+// (docs/method.md sections 2-3). Shared by the graph service (which learns the graph) and
 // by actors and the learner (which use it); no DDS, no YAML.
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 #pragma once
 // What actors and the learner agree on for the HAC baseline (Levy et al. 2019, two levels;
-// srics-method.md section 3). The high level's action is a subgoal, the xy of every entity,
+// docs/method.md section 3). The high level's action is a subgoal, the xy of every entity,
 // mapped affinely from [-1, 1] onto the table inside its walls. Goals of both levels hold 2
 // floats per entity (the low level's is a subgoal, the high level's the full goal); a goal is
 // reached when every entity is within the threshold of its goal xy.

@@ -1,4 +1,4 @@
-// The goal-conditioned attention networks of SAC (srics-method.md section 3): a policy and a
+// The goal-conditioned attention networks of SAC (docs/method.md section 3): a policy and a
 // Q function, each with its own attention block over the entity set.
 //
 //   entity tokens (B*N x entity_dim) -> Linear(embed) -> keys, values

@@ -1,5 +1,5 @@
 #pragma once
-// The rewards of the methods (srics-method.md section 3), for one transition. All read
+// The rewards of the methods (docs/method.md section 3), for one transition. All read
 // positions through an EntityLayout; `goal` is an xy pair (subgoal) or 2N floats (full goal).
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Parsing of the `env` section: presets load, defaults match srics-method.md section 1, and
+// Parsing of the `env` section: presets load, defaults match docs/method.md section 1, and
 // every broken rule fails with file:line, key path and expectation.
 
 #include <gtest/gtest.h>

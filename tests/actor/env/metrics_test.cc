@@ -1,4 +1,4 @@
-// Metrics follow srics-method.md section 1 exactly.
+// Metrics follow docs/method.md section 1 exactly.
 
 #include <gtest/gtest.h>
 
