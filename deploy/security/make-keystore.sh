@@ -42,8 +42,8 @@ while [[ $# -gt 0 ]]; do
 done
 command -v openssl >/dev/null || { echo "$0: openssl not found (apt-get install openssl)" >&2; exit 1; }
 
-# the domain ids a config may use (transport.domain_id: 0..232)
-domains='<domains><id_range><min>0</min><max>232</max></id_range></domains>'
+# the domain ids (Cyclone 0.10's governance parser takes 0..230; transport.domain_id with a keystore too)
+domains='<domains><id_range><min>0</min><max>230</max></id_range></domains>'
 org=SRICS-DDS
 
 umask 077
