@@ -1,1 +1,248 @@
+// DDS Security (issue 15): a keystore made by deploy/security/make-keystore.sh in the test's
+// temporary folder, the participant of this process with one identity and every other
+// identity (or none) in a security_peer process of its own: Cyclone connects the endpoints of
+// one process directly, without the security plugins, so only processes test the access rules.
+
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/config/config.h"
+#include "common/config/config_error.h"
+#include "common/transport/endpoint.h"
+#include "common/transport/errors.h"
+#include "tests/common/transport/peer_process.h"
+#include "tests/common/transport/test_samples.h"
+
+namespace srics::transport {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::PeerProcess;
+
+namespace fs = std::filesystem;
+
+// The keystore of every test here: made once (about 2 s of openssl).
+class SecurityTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    keystore_ = new std::string(fs::temp_directory_path() / ("srics-keystore-" + std::to_string(getpid())));
+    fs::remove_all(*keystore_);
+    const std::string command = std::string(SRICS_SOURCE_DIR) + "/deploy/security/make-keystore.sh " + *keystore_ +
+                                " --actors 2 > " + *keystore_ + ".log 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*keystore_);
+    fs::remove(*keystore_ + ".log");
+    delete keystore_;
+  }
+
+  // This process's transport with `identity` of the keystore, on a domain of its own
+  // (220..229: other tests use 20..219; DDS Security takes domains up to 230).
+  config::TransportConfig Secured(const std::string& identity) const {
+    config::TransportConfig c = testing::IsolatedTransportConfig("security");
+    c.domain_id = 220 + static_cast<int>(getpid() % 10);
+    c.security = {*keystore_, identity};
+    return c;
+  }
+
+  // security_peer with `identity` ("" = no credentials at all) on this test's domain and run.
+  std::unique_ptr<PeerProcess> Peer(const std::string& identity, const std::vector<std::string>& mode) const {
+    const config::TransportConfig c = Secured(identity);
+    std::vector<std::string> args = {std::to_string(c.domain_id), c.run_id, identity.empty() ? "-" : *keystore_,
+                                     identity.empty() ? "-" : identity};
+    args.insert(args.end(), mode.begin(), mode.end());
+    return std::make_unique<PeerProcess>(SRICS_SECURITY_PEER, args);
+  }
+
+  static std::string* keystore_;
+};
+
+std::string* SecurityTest::keystore_ = nullptr;
+
+// Reads the peer's lines until one equals `expected`; the lines seen otherwise.
+::testing::AssertionResult SaysLine(PeerProcess& peer, const std::string& expected,
+                                    std::chrono::milliseconds timeout = 60s) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  std::string seen;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto line = peer.ReadLine(left);
+    if (!line) break;
+    if (*line == expected) return ::testing::AssertionSuccess();
+    seen += " [" + *line + "]";
+  }
+  return ::testing::AssertionFailure() << "expected '" << expected << "', the peer said:" << seen;
+}
+
+// Takes episodes until `count` arrived or `timeout` passed; how many arrived.
+size_t TakeEpisodes(Reader<rl::Episode>& reader, size_t count, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  size_t taken = 0;
+  rl::Episode episode;
+  while (taken < count && std::chrono::steady_clock::now() < deadline)
+    if (reader.Take(&episode, 200ms) == TakeStatus::kSample) ++taken;
+  return taken;
+}
+
+// Two identities of the keystore in two processes: the actor reads the learner's weights
+// (transient-local, through authentication, key exchange and encryption) and its episodes
+// reach the learner; the read-only monitor identity reads the weights as well.
+TEST_F(SecurityTest, SecuredProcessesExchangeWeightsAndEpisodes) {
+  Participant learner(Secured("learner"));
+  Writer<PolicyWeights> weights(learner);
+  Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+  const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), 5);
+  ASSERT_EQ(weights.Write(published), WriteResult::kSent);
+  const std::string got_weights = "weights " + std::to_string(published.version);
+
+  auto actor = Peer("actor-0", {"actor", "4", "60"});
+  EXPECT_TRUE(SaysLine(*actor, got_weights));
+  EXPECT_TRUE(SaysLine(*actor, "matched"));
+  EXPECT_TRUE(SaysLine(*actor, "wrote 4"));
+  EXPECT_EQ(TakeEpisodes(episodes, 4, 30s), 4u);
+  EXPECT_EQ(learner.counters(TopicId::kEpisode).accepted, 4u);
+  EXPECT_EQ(actor->Wait(30s), 0);
+
+  auto monitor = Peer("monitor", {"read-weights", "60"});
+  EXPECT_TRUE(SaysLine(*monitor, got_weights));
+  EXPECT_EQ(monitor->Wait(30s), 0);
+}
+
+// A participant without credentials on the same domain: it discovers no writer (no weights
+// arrive), no reader matches its episode writer, and the learner receives nothing from it,
+// not even a sample to reject (every counter stays 0). An actor with credentials, after it,
+// shows the learner was listening all along.
+TEST_F(SecurityTest, ParticipantWithoutCredentialsSeesNothingAndCannotInject) {
+  Participant learner(Secured("learner"));
+  Writer<PolicyWeights> weights(learner);
+  Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+  const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), 8);
+  ASSERT_EQ(weights.Write(published), WriteResult::kSent);
+
+  auto stranger = Peer("", {"actor", "20", "8"});
+  EXPECT_TRUE(SaysLine(*stranger, "no weights"));
+  EXPECT_TRUE(SaysLine(*stranger, "no reader"));
+  EXPECT_TRUE(SaysLine(*stranger, "wrote 20"));  // into the void
+  EXPECT_EQ(stranger->Wait(30s), 0);
+  EXPECT_EQ(TakeEpisodes(episodes, 1, 3s), 0u);
+  const SampleCounters counters = learner.counters(TopicId::kEpisode);
+  EXPECT_EQ(counters.accepted, 0u);
+  EXPECT_EQ(counters.rejected, 0u);
+  EXPECT_EQ(counters.other_run, 0u);
+  EXPECT_EQ(learner.total_rejected(), 0u);
+
+  auto actor = Peer("actor-1", {"actor", "2", "60"});
+  EXPECT_TRUE(SaysLine(*actor, "weights " + std::to_string(published.version)));
+  EXPECT_TRUE(SaysLine(*actor, "matched"));
+  EXPECT_EQ(TakeEpisodes(episodes, 2, 30s), 2u);
+  EXPECT_EQ(learner.counters(TopicId::kEpisode).accepted, 2u);
+}
+
+// Only the learner publishes PolicyWeights and LearnerStats: the read-only monitor identity
+// and an actor identity are refused a writer by DDS Security, and nothing of theirs reaches
+// an actor's readers; the learner identity's weights do.
+TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
+  Participant actor(Secured("actor-0"));
+  Reader<PolicyWeights> weights(actor);
+  Reader<LearnerStats> stats(actor);
+  for (const auto& [identity, mode] : std::vector<std::pair<std::string, std::string>>{
+           {"monitor", "write-weights"}, {"monitor", "write-stats"}, {"actor-1", "write-weights"},
+           {"actor-1", "write-stats"}}) {
+    SCOPED_TRACE(identity + " " + mode);
+    auto peer = Peer(identity, {mode, "9"});
+    EXPECT_TRUE(SaysLine(*peer, "refused"));
+    EXPECT_EQ(peer->Wait(30s), 7);
+  }
+  PolicyWeights got;
+  LearnerStats got_stats;
+  EXPECT_EQ(weights.Take(&got, 2s), TakeStatus::kTimeout);
+  EXPECT_EQ(stats.Take(&got_stats, 100ms), TakeStatus::kTimeout);
+  EXPECT_EQ(actor.counters(TopicId::kPolicyWeights).accepted + actor.counters(TopicId::kPolicyWeights).rejected, 0u);
+
+  auto learner = Peer("learner", {"write-weights", "9"});
+  EXPECT_TRUE(SaysLine(*learner, "published"));
+  ASSERT_EQ(weights.Take(&got, 60s), TakeStatus::kSample);
+  EXPECT_EQ(got.version, testing::MakePolicyWeights(actor.run_id(), 9).version);
+}
+
+// An identity's certificate with another identity's permissions (subject mismatch) and a
+// permissions document not signed by the keystore's CA: the participant is refused.
+TEST_F(SecurityTest, ForeignOrMismatchedPermissionsAreRefused) {
+  const std::string copy = *keystore_ + "-tampered";
+  fs::remove_all(copy);
+  fs::copy(*keystore_, copy, fs::copy_options::recursive);
+  fs::copy_file(copy + "/identities/learner/permissions.p7s", copy + "/identities/actor-0/permissions.p7s",
+                fs::copy_options::overwrite_existing);
+  // a second keystore's CA signs "learner" permissions for the monitor's subject name
+  const std::string other = *keystore_ + "-other";
+  fs::remove_all(other);
+  ASSERT_EQ(std::system((std::string(SRICS_SOURCE_DIR) + "/deploy/security/make-keystore.sh " + other +
+                         " --actors 0 > /dev/null 2>&1").c_str()), 0);
+  fs::copy_file(other + "/identities/monitor/permissions.p7s", copy + "/identities/monitor/permissions.p7s",
+                fs::copy_options::overwrite_existing);
+  for (const std::string identity : {"actor-0", "monitor"}) {
+    config::TransportConfig c = Secured(identity);
+    c.security.keystore = copy;
+    try {
+      Participant p(c);
+      ADD_FAILURE() << identity << ": a participant was created";
+    } catch (const DdsError& e) {
+      EXPECT_NE(std::string(e.what()).find("refused by DDS Security"), std::string::npos) << e.what();
+    }
+  }
+  fs::remove_all(copy);
+  fs::remove_all(other);
+}
+
+// transport.security in the config: the keys, the domain range, and the check of the files
+// before anything starts (the error names the missing file; role programs exit with 2).
+TEST_F(SecurityTest, KeystoreConfigIsCheckedBeforeAnythingStarts) {
+  const config::Config c = config::ParseConfig("transport:\n  security:\n    keystore: " + *keystore_ + "\n", "t.yaml");
+  EXPECT_EQ(c.transport.security.keystore, *keystore_);
+  EXPECT_EQ(config::CheckKeystore(c.transport.security, "actor-1"), "actor-1");
+  auto error_of = [](auto f) {
+    try {
+      f();
+    } catch (const config::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of([&] { config::CheckKeystore(c.transport.security, "actor-7"); })
+                .find(*keystore_ + "/identities/actor-7/cert.pem is missing"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { config::CheckKeystore({*keystore_ + "-nowhere", ""}, "learner"); }).find("is not a folder"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              config::ParseConfig("transport:\n  domain_id: 231\n  security:\n    keystore: x\n", "t.yaml");
+            }).find("0..230"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { config::ParseConfig("transport:\n  security:\n    keystor: x\n", "t.yaml"); }),
+            "no error");
+
+  // a role program whose identity is missing: exit 2 before DDS, naming the file
+  const std::string out = *keystore_ + ".actor-out";
+  const std::string command = std::string(SRICS_ACTOR_BIN) + " " + SRICS_SOURCE_DIR +
+                              "/deploy/configs/default.yaml --id 7 --set transport.run_id=x --set "
+                              "transport.security.keystore=" + *keystore_ + " > " + out + " 2>&1";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  std::stringstream text;
+  text << std::ifstream(out).rdbuf();
+  EXPECT_NE(text.str().find("identities/actor-7/cert.pem is missing"), std::string::npos) << text.str();
+  fs::remove(out);
+}
+
+}  // namespace
+}  // namespace srics::transport
