@@ -3,16 +3,28 @@
 // identity (or none) in a security_peer process of its own: Cyclone connects the endpoints of
 // one process directly, without the security plugins, so only processes test the access rules.
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <linux/if_ether.h>
+#include <linux/if_packet.h>
+#include <net/if.h>
+#include <poll.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
+#include <cstring>
 #include <cstdlib>
+#include <algorithm>
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "common/config/config.h"
@@ -94,6 +106,61 @@ size_t TakeEpisodes(Reader<rl::Episode>& reader, size_t count, std::chrono::mill
   return taken;
 }
 
+// Every frame on the loopback interface while it lives (an AF_PACKET socket: needs
+// CAP_NET_RAW, i.e. root). Other tests' traffic is captured too; callers look for their own bytes.
+class LoopbackCapture {
+ public:
+  // nullptr when this process may not capture.
+  static std::unique_ptr<LoopbackCapture> Start() {
+    const int fd = socket(AF_PACKET, SOCK_RAW, htons(ETH_P_ALL));
+    if (fd < 0) return nullptr;
+    const int buffer = 64 << 20;
+    setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &buffer, sizeof buffer);
+    sockaddr_ll address{};
+    address.sll_family = AF_PACKET;
+    address.sll_protocol = htons(ETH_P_ALL);
+    address.sll_ifindex = static_cast<int>(if_nametoindex("lo"));
+    if (bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+      close(fd);
+      return nullptr;
+    }
+    return std::unique_ptr<LoopbackCapture>(new LoopbackCapture(fd));
+  }
+  ~LoopbackCapture() {
+    stop_ = true;
+    thread_.join();
+    close(fd_);
+  }
+  // Whether `bytes` occurred in a frame so far.
+  bool Saw(const std::string& bytes) {
+    std::lock_guard lock(mutex_);
+    return std::search(frames_.begin(), frames_.end(), bytes.begin(), bytes.end()) != frames_.end();
+  }
+
+ private:
+  explicit LoopbackCapture(int fd) : fd_(fd), thread_([this] { Run(); }) {}
+  void Run() {
+    std::vector<char> frame(1 << 17);
+    while (!stop_) {
+      pollfd p{fd_, POLLIN, 0};
+      if (poll(&p, 1, 50) <= 0) continue;
+      const ssize_t n = recv(fd_, frame.data(), frame.size(), 0);
+      std::lock_guard lock(mutex_);
+      if (n > 0 && frames_.size() < (512u << 20)) frames_.append(frame.data(), static_cast<size_t>(n)).push_back('\0');
+    }
+  }
+  int fd_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::string frames_;
+  std::thread thread_;
+};
+
+// The bytes of floats [from, from + count) as they travel (XCDR, little-endian floats).
+std::string BytesOf(const std::vector<float>& values, size_t from, size_t count) {
+  return std::string(reinterpret_cast<const char*>(values.data() + from), count * sizeof(float));
+}
+
 // Two identities of the keystore in two processes: the actor reads the learner's weights
 // (transient-local, through authentication, key exchange and encryption) and its episodes
 // reach the learner; the read-only monitor identity reads the weights as well.
@@ -173,6 +240,45 @@ TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
   EXPECT_TRUE(SaysLine(*learner, "published"));
   ASSERT_EQ(weights.Take(&got, 60s), TakeStatus::kSample);
   EXPECT_EQ(got.version, testing::MakePolicyWeights(actor.run_id(), 9).version);
+}
+
+// A capture of the loopback traffic while the learner sends weights to an actor process and
+// the actor sends 20 episodes back holds none of their numbers with the keystore, and holds
+// them without it (the same exchange, open: the capture does see payloads). Root only.
+TEST_F(SecurityTest, LoopbackCaptureHoldsNoPlaintextWeightsOrEpisodes) {
+  if (!LoopbackCapture::Start()) GTEST_SKIP() << "capturing on lo needs CAP_NET_RAW (root)";
+  const std::string weights_bytes = BytesOf(testing::MakePolicyWeights("", 11).parameters, 100, 16);
+  std::vector<std::string> episode_bytes;
+  for (int i = 0; i < 20; ++i) episode_bytes.push_back(BytesOf(testing::MakeEpisode(1000 + i).actions, 0, 16));
+  for (const bool secured : {true, false}) {
+    SCOPED_TRACE(secured ? "with the keystore" : "open");
+    auto capture = LoopbackCapture::Start();
+    ASSERT_TRUE(capture);
+    config::TransportConfig c = Secured("learner");
+    if (!secured) c.security = {};
+    {
+      Participant learner(c);
+      Writer<PolicyWeights> weights(learner);
+      Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+      const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), 11);
+      ASSERT_EQ(weights.Write(published), WriteResult::kSent);
+      auto actor = Peer(secured ? "actor-0" : "", {"actor", "20", "60"});
+      EXPECT_TRUE(SaysLine(*actor, "weights " + std::to_string(published.version)));
+      EXPECT_TRUE(SaysLine(*actor, "wrote 20"));
+      EXPECT_EQ(TakeEpisodes(episodes, 20, 30s), 20u);
+      EXPECT_EQ(actor->Wait(30s), 0);
+    }
+    std::this_thread::sleep_for(200ms);  // the last frames reach the capture
+    size_t seen = 0;
+    for (const std::string& bytes : episode_bytes) seen += capture->Saw(bytes);
+    if (secured) {
+      EXPECT_FALSE(capture->Saw(weights_bytes)) << "plaintext weights on the wire";
+      EXPECT_EQ(seen, 0u) << "plaintext episodes on the wire";
+    } else {
+      EXPECT_GT(seen, 0u) << "the capture saw no episode of the open exchange";
+      if (!capture->Saw(weights_bytes)) std::cout << "(the capture missed the open weights sample)\n";
+    }
+  }
 }
 
 // An identity's certificate with another identity's permissions (subject mismatch) and a
