@@ -112,11 +112,12 @@ Participant::Participant(const config::TransportConfig& config, Shutdown& shutdo
     dds_qos_t* qos = SecurityQos(config.security);
     const dds_entity_t participant = dds_create_participant(config.domain_id, qos, nullptr);
     if (qos) dds_delete_qos(qos);
-    if (participant == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY || (qos && participant < 0))
+    // Cyclone reports most refusals of the security plugins as a plain error: name the identity
+    if (qos && participant < 0)
       throw DdsError("dds_create_participant with identity '" + config.security.identity + "' of keystore " +
                          config.security.keystore +
-                         " (refused by DDS Security: a certificate or permissions not signed by the keystore's CA, "
-                         "expired, or for another subject; Cyclone's log says which)",
+                         " (DDS Security refuses a certificate or permissions not signed by the keystore's CA, "
+                         "expired, or of another subject; Cyclone's log says which)",
                      participant);
     participant_ = internal::Check(participant, "dds_create_participant");
     guard_ = internal::Check(dds_create_guardcondition(participant_), "dds_create_guardcondition");
