@@ -348,6 +348,20 @@ TEST_F(SecurityTest, KeystoreConfigIsCheckedBeforeAnythingStarts) {
   std::stringstream text;
   text << std::ifstream(out).rdbuf();
   EXPECT_NE(text.str().find("identities/actor-7/cert.pem is missing"), std::string::npos) << text.str();
+
+  // srics run checks every process's identity before it starts any: three actors, two identities
+  const std::string run_dir = *keystore_ + ".run";
+  const std::string run = std::string(SRICS_LAUNCHER_BIN) + " run " + SRICS_SOURCE_DIR +
+                          "/deploy/configs/default.yaml --actors 3 --display none --run-dir " + run_dir +
+                          " --set transport.security.keystore=" + *keystore_ + " > " + out + " 2>&1";
+  const int run_status = std::system(run.c_str());
+  ASSERT_TRUE(WIFEXITED(run_status));
+  EXPECT_EQ(WEXITSTATUS(run_status), 2);
+  std::stringstream run_text;
+  run_text << std::ifstream(out).rdbuf();
+  EXPECT_NE(run_text.str().find("identities/actor-2/cert.pem is missing"), std::string::npos) << run_text.str();
+  EXPECT_FALSE(fs::exists(run_dir + "/logs/learner.log")) << "a process was started";
+  fs::remove_all(run_dir);
   fs::remove(out);
 }
 
