@@ -242,6 +242,39 @@ TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
   EXPECT_EQ(got.version, testing::MakePolicyWeights(actor.run_id(), 9).version);
 }
 
+// A monitor process whose own enforcement is bypassed (here: a governance without write access
+// control, signed with the CA key the test holds, so its writer is created and publishes)
+// still delivers nothing to an actor of the run: the run's side refuses to match it.
+TEST_F(SecurityTest, MonitorBypassingItsOwnChecksDeliversNothing) {
+  const std::string lenient = *keystore_ + "-lenient";
+  fs::remove_all(lenient);
+  fs::copy(*keystore_, lenient, fs::copy_options::recursive);
+  std::string governance;
+  {
+    std::stringstream text;
+    text << std::ifstream(lenient + "/governance.xml").rdbuf();
+    governance = text.str();
+  }
+  const std::string strict = "<enable_write_access_control>true";
+  ASSERT_NE(governance.find(strict), std::string::npos);
+  governance.replace(governance.find(strict), strict.size(), "<enable_write_access_control>false");
+  std::ofstream(lenient + "/governance.xml") << governance;
+  ASSERT_EQ(std::system(("openssl smime -sign -in " + lenient + "/governance.xml -text -out " + lenient +
+                         "/governance.p7s -signer " + lenient + "/ca.cert.pem -inkey " + lenient +
+                         "/private/ca.key.pem").c_str()), 0);
+
+  Participant actor(Secured("actor-0"));
+  Reader<PolicyWeights> weights(actor);
+  const config::TransportConfig c = Secured("monitor");
+  PeerProcess monitor(SRICS_SECURITY_PEER,
+                      {std::to_string(c.domain_id), c.run_id, lenient, "monitor", "write-weights", "12"});
+  EXPECT_TRUE(SaysLine(monitor, "published"));  // its own check let it through
+  PolicyWeights got;
+  EXPECT_EQ(weights.Take(&got, 5s), TakeStatus::kTimeout);
+  EXPECT_EQ(actor.counters(TopicId::kPolicyWeights).accepted + actor.counters(TopicId::kPolicyWeights).rejected, 0u);
+  fs::remove_all(lenient);
+}
+
 // A capture of the loopback traffic while the learner sends weights to an actor process and
 // the actor sends 20 episodes back holds none of their numbers with the keystore, and holds
 // them without it (the same exchange, open: the capture does see payloads). Root only.
