@@ -4,8 +4,9 @@
 // endpoints of one process directly), so every identity under test runs in its own process.
 //
 //   security_peer DOMAIN RUN_ID KEYSTORE IDENTITY MODE [ARGS...]     (KEYSTORE "-": no security)
-//     actor COUNT WAIT_S   read the latest PolicyWeights ("weights V" or "no weights"), then
-//                          write COUNT episodes: "matched" or "no reader" (after WAIT_S), "wrote N"
+//     actor COUNT WAIT_S [SEED]  read the latest PolicyWeights ("weights V" or "no weights"),
+//                          then write COUNT episodes MakeEpisode(SEED + i) (SEED 1000 by default):
+//                          "matched" or "no reader" (after WAIT_S), "wrote N"
 //     read-weights WAIT_S  "weights V" or "no weights"
 //     write-weights SEED   create a PolicyWeights writer ("refused" when DDS Security says no),
 //                          publish one sample and serve it until killed ("published")
@@ -75,15 +76,16 @@ int Run(int argc, char** argv) {
   const std::string mode = argv[5];
   Participant participant(config);
   Say("participant");
-  if (mode == "actor" && argc == 8) {
+  if (mode == "actor" && (argc == 8 || argc == 9)) {
     const int count = std::atoi(argv[6]);
     const seconds wait(std::atoi(argv[7]));
+    const uint64_t seed = argc == 9 ? std::strtoull(argv[8], nullptr, 10) : 1000;
     ReadWeights(participant, wait);
     Writer<srics::rl::Episode> writer(participant);
     Say(writer.WaitForReaders(1, wait) ? "matched" : "no reader");
     int sent = 0;
     for (int i = 0; i < count; ++i) {
-      srics::rl::Episode episode = MakeEpisode(1000 + i);
+      srics::rl::Episode episode = MakeEpisode(seed + static_cast<uint64_t>(i));
       // a writer without a matched reader "sends" into the void: count what DDS accepted
       if (writer.TryWrite(episode) == WriteResult::kSent) ++sent;
     }

@@ -280,9 +280,13 @@ TEST_F(SecurityTest, MonitorBypassingItsOwnChecksDeliversNothing) {
 // them without it (the same exchange, open: the capture does see payloads). Root only.
 TEST_F(SecurityTest, LoopbackCaptureHoldsNoPlaintextWeightsOrEpisodes) {
   if (!LoopbackCapture::Start()) GTEST_SKIP() << "capturing on lo needs CAP_NET_RAW (root)";
-  const std::string weights_bytes = BytesOf(testing::MakePolicyWeights("", 11).parameters, 100, 16);
+  // numbers no other test sends (their seeds come from this process's id)
+  const uint64_t weights_seed = 7'000'000'000ull + static_cast<uint64_t>(getpid());
+  const uint64_t episode_seed = 5'000'000'000ull + 100ull * static_cast<uint64_t>(getpid());
+  const std::string weights_bytes = BytesOf(testing::MakePolicyWeights("", weights_seed).parameters, 100, 16);
   std::vector<std::string> episode_bytes;
-  for (int i = 0; i < 20; ++i) episode_bytes.push_back(BytesOf(testing::MakeEpisode(1000 + i).actions, 0, 16));
+  for (uint64_t i = 0; i < 20; ++i)
+    episode_bytes.push_back(BytesOf(testing::MakeEpisode(episode_seed + i).actions, 0, 16));
   for (const bool secured : {true, false}) {
     SCOPED_TRACE(secured ? "with the keystore" : "open");
     auto capture = LoopbackCapture::Start();
@@ -293,9 +297,9 @@ TEST_F(SecurityTest, LoopbackCaptureHoldsNoPlaintextWeightsOrEpisodes) {
       Participant learner(c);
       Writer<PolicyWeights> weights(learner);
       Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
-      const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), 11);
+      const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), weights_seed);
       ASSERT_EQ(weights.Write(published), WriteResult::kSent);
-      auto actor = Peer(secured ? "actor-0" : "", {"actor", "20", "60"});
+      auto actor = Peer(secured ? "actor-0" : "", {"actor", "20", "60", std::to_string(episode_seed)});
       EXPECT_TRUE(SaysLine(*actor, "weights " + std::to_string(published.version)));
       EXPECT_TRUE(SaysLine(*actor, "wrote 20"));
       EXPECT_EQ(TakeEpisodes(episodes, 20, 30s), 20u);
