@@ -19,6 +19,7 @@ packages=(
   # MuJoCo's offscreen renderer without a display (srics eval): EGL with Mesa (llvmpipe)
   libegl-dev libegl-mesa0 libgl1-mesa-dri
   iproute2 procps
+  openssl  # the command line that makes DDS Security keystores (deploy/security/, security_test)
   python3 bc time  # the bench and acceptance scripts summarise and time with them
 )
 

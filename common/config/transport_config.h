@@ -19,6 +19,23 @@ enum class CycloneProfile {
 // host, so it is set explicitly.
 inline constexpr const char* kAutoRunId = "auto";
 
+// DDS Security (transport.security): a keystore made by deploy/security/make-keystore.sh.
+// Empty keystore: security off (anyone on the domain may read and write every topic).
+struct SecurityConfig {
+  std::string keystore;  // the keystore folder (relative paths: to the working directory)
+  std::string identity;  // identities/<identity>/ of the keystore; empty: the process's own
+                         // name (learner, graph, actor-K, monitor, launcher), filled in at start
+};
+
+// The files a participant of `identity` loads from the keystore (absolute paths).
+struct KeystoreFiles {
+  std::string ca_cert;          // identity CA and permissions CA: ca.cert.pem
+  std::string governance;       // governance.p7s
+  std::string identity_cert;    // identities/<identity>/cert.pem
+  std::string identity_key;     // identities/<identity>/key.pem
+  std::string permissions;      // identities/<identity>/permissions.p7s
+};
+
 struct TransportConfig {
   int domain_id = 42;
   std::string run_id = kAutoRunId;  // every topic carries it; two runs may share a domain
@@ -32,6 +49,16 @@ struct TransportConfig {
   double liveliness_lease_s = 2.0;   // NodeStatus writers: a dead peer is noticed after this
   double status_period_s = 1.0;      // NodeStatus and LearnerStats publishing period
   int rejected_log_interval_s = 5;   // rate limit for "dropped a malformed sample" warnings
+  SecurityConfig security;
 };
+
+// The keystore files of `identity` in `security.keystore` (no check that they exist).
+KeystoreFiles KeystoreFilesOf(const SecurityConfig& security, const std::string& identity);
+
+// With a keystore set: the identity the process uses (security.identity, or `own_name` when
+// that is empty), after checking that every file it needs is there and readable; throws
+// ConfigError "transport.security.keystore: <file> is missing ..." naming the file otherwise.
+// Without a keystore: "" (nothing to check).
+std::string CheckKeystore(const SecurityConfig& security, const std::string& own_name);
 
 }  // namespace srics::config

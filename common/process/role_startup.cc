@@ -30,6 +30,8 @@ int StartRole(int argc, char** argv, const RoleProgram& program, Role* role) {
                                 "sweep resolve (they write it into the run folder's config.yaml)");
     role->name = program.needs_id ? program.base_name + "-" + std::to_string(*role->command_line.id)
                                   : program.base_name;
+    // DDS Security: the process's own identity of the keystore, every file checked before DDS starts
+    role->config.transport.security.identity = config::CheckKeystore(role->config.transport.security, role->name);
     logging::LogOptions log;
     log.level = role->command_line.log_level.empty() ? role->config.run.log_level : role->command_line.log_level;
     if (!role->command_line.run_dir.empty() && role->config.run.log_to_file)

@@ -61,6 +61,34 @@ std::map<int, DomainEntry>& Domains() {
   return *domains;
 }
 
+// Participant QoS with the DDS Security properties of the keystore identity (nullptr without a
+// keystore): Cyclone's built-in plugins (Debian ships them in libddsc0debian/) and the files.
+dds_qos_t* SecurityQos(const config::SecurityConfig& security) {
+  const std::string identity = config::CheckKeystore(security, "");
+  if (identity.empty()) return nullptr;
+  const config::KeystoreFiles files = config::KeystoreFilesOf(security, identity);
+  dds_qos_t* qos = dds_create_qos();
+  const std::pair<const char*, std::string> properties[] = {
+      {"dds.sec.auth.library.path", "dds_security_auth"},
+      {"dds.sec.auth.library.init", "init_authentication"},
+      {"dds.sec.auth.library.finalize", "finalize_authentication"},
+      {"dds.sec.crypto.library.path", "dds_security_crypto"},
+      {"dds.sec.crypto.library.init", "init_crypto"},
+      {"dds.sec.crypto.library.finalize", "finalize_crypto"},
+      {"dds.sec.access.library.path", "dds_security_ac"},
+      {"dds.sec.access.library.init", "init_access_control"},
+      {"dds.sec.access.library.finalize", "finalize_access_control"},
+      {"dds.sec.auth.identity_ca", "file:" + files.ca_cert},
+      {"dds.sec.auth.identity_certificate", "file:" + files.identity_cert},
+      {"dds.sec.auth.private_key", "file:" + files.identity_key},
+      {"dds.sec.access.permissions_ca", "file:" + files.ca_cert},
+      {"dds.sec.access.governance", "file:" + files.governance},
+      {"dds.sec.access.permissions", "file:" + files.permissions},
+  };
+  for (const auto& [name, value] : properties) dds_qset_prop(qos, name, value.c_str());
+  return qos;
+}
+
 }  // namespace
 
 Participant::Participant(const config::TransportConfig& config, Shutdown& shutdown)
@@ -81,8 +109,17 @@ Participant::Participant(const config::TransportConfig& config, Shutdown& shutdo
     holds_domain_ = true;
   }
   try {
-    participant_ = internal::Check(dds_create_participant(config.domain_id, nullptr, nullptr),
-                                   "dds_create_participant");
+    dds_qos_t* qos = SecurityQos(config.security);
+    const dds_entity_t participant = dds_create_participant(config.domain_id, qos, nullptr);
+    if (qos) dds_delete_qos(qos);
+    // Cyclone reports most refusals of the security plugins as a plain error: name the identity
+    if (qos && participant < 0)
+      throw DdsError("dds_create_participant with identity '" + config.security.identity + "' of keystore " +
+                         config.security.keystore +
+                         " (DDS Security refuses a certificate or permissions not signed by the keystore's CA, "
+                         "expired, or of another subject; Cyclone's log says which)",
+                     participant);
+    participant_ = internal::Check(participant, "dds_create_participant");
     guard_ = internal::Check(dds_create_guardcondition(participant_), "dds_create_guardcondition");
     shutdown_->Register(guard_);
   } catch (...) {

@@ -262,6 +262,11 @@ int Run(const LaunchOptions& options) {
   }
   CheckResumedConfig(config, options.run_dir, options.allow_config_change);
   if (options.in_process) return RunInProcess(options, config);
+  // DDS Security: every process's identity is in the keystore before anything starts
+  config::SecurityConfig& security = config.transport.security;
+  for (const std::string& name : {std::string("learner"), std::string("graph")}) config::CheckKeystore(security, name);
+  for (int k = 0; k < config.actors.count; ++k) config::CheckKeystore(security, "actor-" + std::to_string(k));
+  security.identity = config::CheckKeystore(security, "launcher");
   return RunProcesses(options, config);
 }
 

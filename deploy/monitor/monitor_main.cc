@@ -94,6 +94,8 @@ int main(int argc, char** argv) {
   try {
     args = ParseArgs(argc, argv);
     config = srics::config::LoadConfig(args.config, args.overrides);
+    // DDS Security: the keystore's "monitor" identity (read-only) unless the config names another
+    config.transport.security.identity = srics::config::CheckKeystore(config.transport.security, "monitor");
   } catch (const std::exception& e) {
     std::cerr << "srics-monitor: " << e.what() << "\n" << kUsage;
     return 2;

@@ -12,7 +12,11 @@
 #   4. learning proceeds: SAC updates grow and newer weights are published (policy v >= 2)
 # and exits 0 when all hold, 1 when not (printing the tail of every log), 2 on bad usage.
 #
-#   sudo deploy/multihost/three_hosts.sh [CONFIG] [--time-limit SECONDS] [--keep] [--set key=value ...]
+#   sudo deploy/multihost/three_hosts.sh [CONFIG] [--time-limit SECONDS] [--keep] [--secure] [--set key=value ...]
+#
+# --secure: DDS Security on every host: a keystore made by deploy/security/make-keystore.sh
+# in the run folder, transport.security.keystore set for every process (each uses its own
+# identity: graph, learner, actor-0, actor-1, monitor).
 #
 # CONFIG defaults to deploy/configs/default.yaml (rearrange-1-cpu.yaml if that does not exist).
 # Needs root (ip netns), iproute2, and the built programs in ${SRICS_BUILD_DIR:-build}/ (it
@@ -24,13 +28,15 @@ build=${SRICS_BUILD_DIR:-$root/build}
 config=""
 time_limit=600
 keep=0
+secure=0
 sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --time-limit) time_limit=$2; shift 2 ;;
     --keep) keep=1; shift ;;
+    --secure) secure=1; shift ;;
     --set) sets+=(--set "$2"); shift 2 ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     -*) echo "three_hosts.sh: unknown option $1" >&2; exit 2 ;;
     *) config=$1; shift ;;
   esac
@@ -105,6 +111,10 @@ fi
 echo "hosts: A $addr_a (graph, learner)  B $addr_b (actor 0)  C $addr_c (actor 1, monitor)"
 
 # --- the same configuration everywhere: unicast discovery between the three addresses ---
+if [ "$secure" = 1 ]; then
+  "$root/deploy/security/make-keystore.sh" "$run/keystore" --actors 2 >"$run/keystore.log"
+  sets+=(--set "transport.security.keystore=$run/keystore")
+fi
 common=("$config" --set transport.profile=unicast --set "transport.peers=$addr_a,$addr_b,$addr_c"
         --set transport.network_interface=eth0 --set "transport.run_id=three-hosts-$$" "${sets[@]}")
 mkdir -p "$run"/a "$run"/b "$run"/c "$run"/monitor

@@ -3,8 +3,11 @@
 // PolicyWeights, and ddsperf (Cyclone's own tool, same XML profile) at the same payload sizes.
 // Prints a table, then one JSON line: {"bench":"transport", ..., "ratio": ours/ddsperf}.
 //
-//   bench_transport [--repeats N] [--episodes N] [--weights N] [--ddsperf-seconds S]
-//   bench_transport --reader KIND COUNT DOMAIN RUN_ID     (the child process)
+//   bench_transport [--repeats N] [--episodes N] [--weights N] [--ddsperf-seconds S] [--keystore DIR]
+//   bench_transport --reader KIND COUNT DOMAIN RUN_ID [KEYSTORE]    (the child process)
+//
+// --keystore DIR (deploy/security/make-keystore.sh): our rows with DDS Security, episodes from
+// identity actor-0 to learner, weights from learner to actor-0 (ddsperf stays open).
 
 #include <unistd.h>
 
@@ -38,6 +41,7 @@ struct Options {
   uint64_t episodes = 60000;
   uint64_t weights = 60;
   int ddsperf_seconds = 4;
+  std::string keystore;  // DDS Security for our rows (empty: open)
 };
 
 // One measured run: samples over the reader's first-to-last receive interval.
@@ -89,10 +93,18 @@ int RunReader(const Participant& participant, uint64_t count, size_t bytes_per_s
   return 0;
 }
 
-int ReaderMain(const std::string& kind, uint64_t count, int domain, const std::string& run) {
+// The identity of the writing (`writer`) or reading side of `kind` with a keystore.
+srics::config::SecurityConfig SecurityOf(const std::string& keystore, const std::string& kind, bool writer) {
+  if (keystore.empty()) return {};
+  return {keystore, (kind == "episode") == writer ? "actor-0" : "learner"};
+}
+
+int ReaderMain(const std::string& kind, uint64_t count, int domain, const std::string& run,
+               const std::string& keystore) {
   srics::config::TransportConfig config;
   config.domain_id = domain;
   config.run_id = run;
+  config.security = SecurityOf(keystore, kind, false);
   config.episode_history_depth = 1024;
   Participant participant(config);
   if (kind == "episode")
@@ -110,16 +122,19 @@ std::string Self() {
 
 template <typename T>
 std::optional<Figure> RunOnce(const std::string& kind, T sample, uint64_t count, int domain,
-                              bool batch) {
+                              bool batch, const std::string& keystore) {
   srics::config::TransportConfig config;
   config.domain_id = domain;
   config.run_id = "bench-" + std::to_string(getpid());
+  config.security = SecurityOf(keystore, kind, true);
   Participant participant(config);
   WriterOptions options;
   options.batch = batch;
   Writer<T> writer(participant, options);
-  testing::PeerProcess reader(Self(), {"--reader", kind, std::to_string(count),
-                                       std::to_string(domain), config.run_id});
+  std::vector<std::string> reader_args = {"--reader", kind, std::to_string(count), std::to_string(domain),
+                                          config.run_id};
+  if (!keystore.empty()) reader_args.push_back(keystore);
+  testing::PeerProcess reader(Self(), reader_args);
   if (reader.ReadLine(seconds(20)) != "ready" || !writer.WaitForReaders(1, seconds(20))) return {};
   const auto start = Clock::now();
   for (uint64_t i = 0; i < count; ++i) {
@@ -184,9 +199,9 @@ struct Row {
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.size() == 5 && args[0] == "--reader") {
+  if ((args.size() == 5 || args.size() == 6) && args[0] == "--reader") {
     try {
-      return ReaderMain(args[1], std::stoull(args[2]), std::stoi(args[3]), args[4]);
+      return ReaderMain(args[1], std::stoull(args[2]), std::stoi(args[3]), args[4], args.size() == 6 ? args[5] : "");
     } catch (const std::exception& e) {
       std::cerr << "reader: " << e.what() << "\n";
       return 6;
@@ -198,6 +213,7 @@ int main(int argc, char** argv) {
     else if (args[i] == "--episodes") o.episodes = std::stoull(args[i + 1]);
     else if (args[i] == "--weights") o.weights = std::stoull(args[i + 1]);
     else if (args[i] == "--ddsperf-seconds") o.ddsperf_seconds = std::stoi(args[i + 1]);
+    else if (args[i] == "--keystore") o.keystore = args[i + 1];
     else {
       std::cerr << "unknown option " << args[i] << "\n";
       return 2;
@@ -215,8 +231,8 @@ int main(int argc, char** argv) {
   int domain = 20 + static_cast<int>(getpid() % 150);
   for (int r = 0; r < o.repeats; ++r) {
     for (int k = 0; k < kRows; ++k) {
-      std::optional<Figure> f = k < 2 ? RunOnce("episode", episode, o.episodes, domain++, k == 0)
-                                      : RunOnce("weights", weights, o.weights, domain++, false);
+      std::optional<Figure> f = k < 2 ? RunOnce("episode", episode, o.episodes, domain++, k == 0, o.keystore)
+                                      : RunOnce("weights", weights, o.weights, domain++, false, o.keystore);
       if (f) std::fprintf(stderr, "%s: writer %.0f/s, reader %.0f/s, %.0f delivered\n", rows[k].name.c_str(), f->written_per_s, f->samples_per_s, f->delivered);
       if (f) {
         rows[k].ours.push_back(f->samples_per_s);
@@ -239,7 +255,8 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("transport benchmark: one writer process -> one reader process, loopback, reliable "
-              "keep-all, medians of %d runs\n", o.repeats);
+              "keep-all, medians of %d runs%s\n", o.repeats,
+              o.keystore.empty() ? "" : "; ours with DDS Security (encrypted payloads, signed submessages)");
   std::printf("%-32s %10s %14s %10s %14s %10s %7s\n", "payload", "bytes", "ours samples/s",
               "ours MB/s", "ddsperf smp/s", "ddsp MB/s", "ratio");
   double ratio[kRows];
@@ -258,10 +275,10 @@ int main(int argc, char** argv) {
               "\"unbatched_ratio\":%.3f,"
               "\"weights_bytes\":%zu,\"weights_per_s\":%.1f,\"weights_mb_per_s\":%.1f,"
               "\"ddsperf_weights_size_samples_per_s\":%.1f,\"weights_ratio\":%.3f,"
-              "\"repeats\":%d,\"ratio\":%.3f}\n",
+              "\"repeats\":%d,\"secured\":%s,\"ratio\":%.3f}\n",
               rows[0].bytes, Median(rows[0].ours), Median(rows[0].ours_mb), Median(rows[1].ours),
               Median(rows[0].ddsperf), Median(rows[0].ddsperf_mb), ratio[1],
               rows[2].bytes, Median(rows[2].ours), Median(rows[2].ours_mb), Median(rows[2].ddsperf),
-              ratio[2], o.repeats, ratio[0]);
+              ratio[2], o.repeats, o.keystore.empty() ? "false" : "true", ratio[0]);
   return 0;
 }

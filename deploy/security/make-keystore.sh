@@ -1,0 +1,180 @@
+#!/usr/bin/env bash
+# Creates (or completes) a DDS Security keystore for SRICS-DDS with the openssl command line:
+# one CA that is both identity CA and permissions CA, a signed governance document, and one
+# identity (EC prime256v1 key, certificate, signed permissions) per process name.
+#
+#   deploy/security/make-keystore.sh DIR [--actors N] [--add NAME=ROLE ...] [--days D]
+#
+# Identities made by default: learner, graph, actor-0 .. actor-(N-1) (N = 2), monitor and
+# launcher. --add NAME=ROLE adds one more (ROLE: learner, graph, actor, monitor, launcher),
+# e.g. --add monitor-lab=monitor. Running it again on DIR keeps the CA, the governance and every
+# identity that exists and adds the missing ones (so --actors 8 later adds actor-2 .. actor-7).
+#
+# Layout (what a host needs: ca.cert.pem, governance.p7s and identities/<its names>/):
+#   DIR/ca.cert.pem                       CA certificate (identity CA and permissions CA)
+#   DIR/private/ca.key.pem                CA private key: keep it off the run hosts
+#   DIR/governance.xml, governance.p7s    domain rules (signed by the CA)
+#   DIR/identities/NAME/cert.pem, key.pem the identity of process NAME
+#   DIR/identities/NAME/permissions.xml, permissions.p7s   what NAME may publish (signed)
+#
+# Who publishes what (permissions.xml, default DENY for everything else); every identity may
+# subscribe to every srics/ topic:
+#   learner  srics/policy_weights srics/learner_stats srics/node_status
+#   graph    srics/interaction_graph srics/node_status
+#   actor    srics/episode srics/eval_result srics/node_status
+#   monitor, launcher  nothing (read-only)
+set -euo pipefail
+
+usage() { echo "usage: $0 DIR [--actors N] [--add NAME=ROLE ...] [--days D]" >&2; exit 2; }
+
+[[ $# -ge 1 && "$1" != -* ]] || usage
+dir=$1; shift
+actors=2
+days=3650
+extra=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --actors) [[ $# -ge 2 && "$2" =~ ^[0-9]+$ ]] || usage; actors=$2; shift 2 ;;
+    --days) [[ $# -ge 2 && "$2" =~ ^[1-9][0-9]*$ ]] || usage; days=$2; shift 2 ;;
+    --add) [[ $# -ge 2 && "$2" == *=* ]] || usage; extra+=("$2"); shift 2 ;;
+    *) usage ;;
+  esac
+done
+command -v openssl >/dev/null || { echo "$0: openssl not found (apt-get install openssl)" >&2; exit 1; }
+
+# the domain ids (Cyclone 0.10's governance parser takes 0..230; transport.domain_id with a keystore too)
+domains='<domains><id_range><min>0</min><max>230</max></id_range></domains>'
+org=SRICS-DDS
+
+umask 077
+mkdir -p "$dir/private" "$dir/identities"
+ca_cert=$dir/ca.cert.pem
+ca_key=$dir/private/ca.key.pem
+
+# --- the CA -------------------------------------------------------------------------------
+if [[ ! -f $ca_cert ]]; then
+  openssl ecparam -name prime256v1 -genkey -noout -out "$ca_key"
+  openssl req -x509 -new -key "$ca_key" -sha256 -days "$days" -subj "/O=$org/CN=srics-ca" \
+    -out "$ca_cert" 2>/dev/null
+  chmod 644 "$ca_cert"
+elif [[ ! -f $ca_key ]]; then
+  echo "$0: $ca_cert exists but $ca_key does not: cannot sign new documents" >&2
+  exit 1
+fi
+
+sign() {  # sign IN.xml OUT.p7s: S/MIME signed by the CA, as DDS Security expects
+  openssl smime -sign -in "$1" -text -out "$2" -signer "$ca_cert" -inkey "$ca_key"
+  chmod 644 "$2"
+}
+
+# --- governance: who may join, what is protected -----------------------------------------
+if [[ ! -f $dir/governance.p7s ]]; then
+  cat > "$dir/governance.xml" <<XML
+<?xml version="1.0" encoding="UTF-8"?>
+<!-- SRICS-DDS domain rules (OMG DDS Security 1.1, 9.4.1.2): only participants with an
+     identity of this keystore's CA join; discovery and liveliness are encrypted; every topic
+     needs a permission to read or write it; payloads are encrypted, submessages signed. -->
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
+     xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_governance.xsd">
+  <domain_access_rules>
+    <domain_rule>
+      $domains
+      <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
+      <enable_join_access_control>true</enable_join_access_control>
+      <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
+      <liveliness_protection_kind>ENCRYPT</liveliness_protection_kind>
+      <rtps_protection_kind>NONE</rtps_protection_kind>
+      <topic_access_rules>
+        <topic_rule>
+          <topic_expression>*</topic_expression>
+          <enable_discovery_protection>true</enable_discovery_protection>
+          <enable_liveliness_protection>true</enable_liveliness_protection>
+          <enable_read_access_control>true</enable_read_access_control>
+          <enable_write_access_control>true</enable_write_access_control>
+          <metadata_protection_kind>SIGN</metadata_protection_kind>
+          <data_protection_kind>ENCRYPT</data_protection_kind>
+        </topic_rule>
+      </topic_access_rules>
+    </domain_rule>
+  </domain_access_rules>
+</dds>
+XML
+  chmod 644 "$dir/governance.xml"
+  sign "$dir/governance.xml" "$dir/governance.p7s"
+fi
+
+# --- identities ---------------------------------------------------------------------------
+publishes() {  # the topics ROLE may publish, one per line
+  case "$1" in
+    learner) printf '%s\n' srics/policy_weights srics/learner_stats srics/node_status ;;
+    graph) printf '%s\n' srics/interaction_graph srics/node_status ;;
+    actor) printf '%s\n' srics/episode srics/eval_result srics/node_status ;;
+    monitor|launcher) ;;
+    *) echo "$0: unknown role '$1' (learner, graph, actor, monitor, launcher)" >&2; exit 2 ;;
+  esac
+}
+
+make_identity() {  # make_identity NAME ROLE
+  local name=$1 role=$2 out=$dir/identities/$1
+  [[ $name =~ ^[A-Za-z0-9._-]+$ ]] || { echo "$0: bad identity name '$name'" >&2; exit 2; }
+  publishes "$role" >/dev/null
+  [[ -f $out/permissions.p7s ]] && return 0
+  mkdir -p "$out"
+  openssl ecparam -name prime256v1 -genkey -noout -out "$out/key.pem"
+  openssl req -new -key "$out/key.pem" -subj "/O=$org/CN=srics-$name" -out "$out/cert.csr"
+  openssl x509 -req -in "$out/cert.csr" -CA "$ca_cert" -CAkey "$ca_key" -sha256 \
+    -set_serial "0x$(openssl rand -hex 16)" -days "$days" -out "$out/cert.pem" 2>/dev/null
+  rm -f "$out/cert.csr"
+  chmod 644 "$out/cert.pem"
+  local subject not_before not_after publish=""
+  subject=$(openssl x509 -noout -subject -nameopt RFC2253 -in "$out/cert.pem" | sed 's/^subject=//')
+  # the permissions are valid as long as the certificate (from yesterday: clock skew)
+  not_before=$(date -u -d '-1 day' +%Y-%m-%dT%H:%M:%S)
+  not_after=$(date -u -d "+$days days" +%Y-%m-%dT%H:%M:%S)
+  local topics
+  topics=$(publishes "$role" | sed 's|.*|            <topic>&</topic>|')
+  if [[ -n $topics ]]; then
+    publish="
+        <publish>
+          <topics>
+$topics
+          </topics>
+        </publish>"
+  fi
+  cat > "$out/permissions.xml" <<XML
+<?xml version="1.0" encoding="UTF-8"?>
+<!-- SRICS-DDS permissions of '$name' (role $role), OMG DDS Security 1.1, 9.4.1.3 -->
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
+     xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">
+  <permissions>
+    <grant name="srics-$name">
+      <subject_name>$subject</subject_name>
+      <validity>
+        <not_before>$not_before</not_before>
+        <not_after>$not_after</not_after>
+      </validity>
+      <allow_rule>
+        $domains$publish
+        <subscribe>
+          <topics>
+            <topic>srics/*</topic>
+          </topics>
+        </subscribe>
+      </allow_rule>
+      <default>DENY</default>
+    </grant>
+  </permissions>
+</dds>
+XML
+  chmod 644 "$out/permissions.xml"
+  sign "$out/permissions.xml" "$out/permissions.p7s"
+  echo "identity $name ($role): $subject"
+}
+
+make_identity learner learner
+make_identity graph graph
+for ((k = 0; k < actors; k++)); do make_identity "actor-$k" actor; done
+make_identity monitor monitor
+make_identity launcher launcher
+for item in "${extra[@]}"; do make_identity "${item%%=*}" "${item#*=}"; done
+echo "keystore $dir: set transport.security.keystore: $(cd "$dir" && pwd)"

@@ -1,0 +1,406 @@
+// DDS Security (issue 15): a keystore made by deploy/security/make-keystore.sh in the test's
+// temporary folder, the participant of this process with one identity and every other
+// identity (or none) in a security_peer process of its own: Cyclone connects the endpoints of
+// one process directly, without the security plugins, so only processes test the access rules.
+
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <linux/if_ether.h>
+#include <linux/if_packet.h>
+#include <net/if.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <cstdlib>
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/config/config.h"
+#include "common/config/config_error.h"
+#include "common/transport/endpoint.h"
+#include "common/transport/errors.h"
+#include "tests/common/transport/peer_process.h"
+#include "tests/common/transport/test_samples.h"
+
+namespace srics::transport {
+namespace {
+
+using namespace std::chrono_literals;
+using testing::PeerProcess;
+
+namespace fs = std::filesystem;
+
+// The keystore of every test here: made once (about 2 s of openssl).
+class SecurityTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    keystore_ = new std::string(fs::temp_directory_path() / ("srics-keystore-" + std::to_string(getpid())));
+    fs::remove_all(*keystore_);
+    const std::string command = std::string(SRICS_SOURCE_DIR) + "/deploy/security/make-keystore.sh " + *keystore_ +
+                                " --actors 2 > " + *keystore_ + ".log 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*keystore_);
+    fs::remove(*keystore_ + ".log");
+    delete keystore_;
+  }
+
+  // This process's transport with `identity` of the keystore, on a domain of its own
+  // (220..229: other tests use 20..219; DDS Security takes domains up to 230).
+  config::TransportConfig Secured(const std::string& identity) const {
+    config::TransportConfig c = testing::IsolatedTransportConfig("security");
+    c.domain_id = 220 + static_cast<int>(getpid() % 10);
+    c.security = {*keystore_, identity};
+    return c;
+  }
+
+  // security_peer with `identity` ("" = no credentials at all) on this test's domain and run.
+  std::unique_ptr<PeerProcess> Peer(const std::string& identity, const std::vector<std::string>& mode) const {
+    const config::TransportConfig c = Secured(identity);
+    std::vector<std::string> args = {std::to_string(c.domain_id), c.run_id, identity.empty() ? "-" : *keystore_,
+                                     identity.empty() ? "-" : identity};
+    args.insert(args.end(), mode.begin(), mode.end());
+    return std::make_unique<PeerProcess>(SRICS_SECURITY_PEER, args);
+  }
+
+  static std::string* keystore_;
+};
+
+std::string* SecurityTest::keystore_ = nullptr;
+
+// Reads the peer's lines until one equals `expected`; the lines seen otherwise.
+::testing::AssertionResult SaysLine(PeerProcess& peer, const std::string& expected,
+                                    std::chrono::milliseconds timeout = 60s) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  std::string seen;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto line = peer.ReadLine(left);
+    if (!line) break;
+    if (*line == expected) return ::testing::AssertionSuccess();
+    seen += " [" + *line + "]";
+  }
+  return ::testing::AssertionFailure() << "expected '" << expected << "', the peer said:" << seen;
+}
+
+// Takes episodes until `count` arrived or `timeout` passed; how many arrived.
+size_t TakeEpisodes(Reader<rl::Episode>& reader, size_t count, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  size_t taken = 0;
+  rl::Episode episode;
+  while (taken < count && std::chrono::steady_clock::now() < deadline)
+    if (reader.Take(&episode, 200ms) == TakeStatus::kSample) ++taken;
+  return taken;
+}
+
+// Every frame on the loopback interface while it lives (an AF_PACKET socket: needs
+// CAP_NET_RAW, i.e. root). Other tests' traffic is captured too; callers look for their own bytes.
+class LoopbackCapture {
+ public:
+  // nullptr when this process may not capture.
+  static std::unique_ptr<LoopbackCapture> Start() {
+    const int fd = socket(AF_PACKET, SOCK_RAW, htons(ETH_P_ALL));
+    if (fd < 0) return nullptr;
+    const int buffer = 64 << 20;
+    setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &buffer, sizeof buffer);
+    sockaddr_ll address{};
+    address.sll_family = AF_PACKET;
+    address.sll_protocol = htons(ETH_P_ALL);
+    address.sll_ifindex = static_cast<int>(if_nametoindex("lo"));
+    if (bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+      close(fd);
+      return nullptr;
+    }
+    return std::unique_ptr<LoopbackCapture>(new LoopbackCapture(fd));
+  }
+  ~LoopbackCapture() {
+    stop_ = true;
+    thread_.join();
+    close(fd_);
+  }
+  // Whether `bytes` occurred in a frame so far.
+  bool Saw(const std::string& bytes) {
+    std::lock_guard lock(mutex_);
+    return std::search(frames_.begin(), frames_.end(), bytes.begin(), bytes.end()) != frames_.end();
+  }
+
+ private:
+  explicit LoopbackCapture(int fd) : fd_(fd), thread_([this] { Run(); }) {}
+  void Run() {
+    std::vector<char> frame(1 << 17);
+    while (!stop_) {
+      pollfd p{fd_, POLLIN, 0};
+      if (poll(&p, 1, 50) <= 0) continue;
+      const ssize_t n = recv(fd_, frame.data(), frame.size(), 0);
+      std::lock_guard lock(mutex_);
+      if (n > 0 && frames_.size() < (512u << 20)) frames_.append(frame.data(), static_cast<size_t>(n)).push_back('\0');
+    }
+  }
+  int fd_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::string frames_;
+  std::thread thread_;
+};
+
+// The bytes of floats [from, from + count) as they travel (XCDR, little-endian floats).
+std::string BytesOf(const std::vector<float>& values, size_t from, size_t count) {
+  return std::string(reinterpret_cast<const char*>(values.data() + from), count * sizeof(float));
+}
+
+// Two identities of the keystore in two processes: the actor reads the learner's weights
+// (transient-local, through authentication, key exchange and encryption) and its episodes
+// reach the learner; the read-only monitor identity reads the weights as well.
+TEST_F(SecurityTest, SecuredProcessesExchangeWeightsAndEpisodes) {
+  Participant learner(Secured("learner"));
+  Writer<PolicyWeights> weights(learner);
+  Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+  const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), 5);
+  ASSERT_EQ(weights.Write(published), WriteResult::kSent);
+  const std::string got_weights = "weights " + std::to_string(published.version);
+
+  auto actor = Peer("actor-0", {"actor", "4", "60"});
+  EXPECT_TRUE(SaysLine(*actor, got_weights));
+  EXPECT_TRUE(SaysLine(*actor, "matched"));
+  EXPECT_TRUE(SaysLine(*actor, "wrote 4"));
+  EXPECT_EQ(TakeEpisodes(episodes, 4, 30s), 4u);
+  EXPECT_EQ(learner.counters(TopicId::kEpisode).accepted, 4u);
+  EXPECT_EQ(actor->Wait(30s), 0);
+
+  auto monitor = Peer("monitor", {"read-weights", "60"});
+  EXPECT_TRUE(SaysLine(*monitor, got_weights));
+  EXPECT_EQ(monitor->Wait(30s), 0);
+}
+
+// A participant without credentials on the same domain: it discovers no writer (no weights
+// arrive), no reader matches its episode writer, and the learner receives nothing from it,
+// not even a sample to reject (every counter stays 0). An actor with credentials, after it,
+// shows the learner was listening all along.
+TEST_F(SecurityTest, ParticipantWithoutCredentialsSeesNothingAndCannotInject) {
+  Participant learner(Secured("learner"));
+  Writer<PolicyWeights> weights(learner);
+  Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+  const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), 8);
+  ASSERT_EQ(weights.Write(published), WriteResult::kSent);
+
+  auto stranger = Peer("", {"actor", "20", "8"});
+  EXPECT_TRUE(SaysLine(*stranger, "no weights"));
+  EXPECT_TRUE(SaysLine(*stranger, "no reader"));
+  EXPECT_TRUE(SaysLine(*stranger, "wrote 20"));  // into the void
+  EXPECT_EQ(stranger->Wait(30s), 0);
+  EXPECT_EQ(TakeEpisodes(episodes, 1, 3s), 0u);
+  const SampleCounters counters = learner.counters(TopicId::kEpisode);
+  EXPECT_EQ(counters.accepted, 0u);
+  EXPECT_EQ(counters.rejected, 0u);
+  EXPECT_EQ(counters.other_run, 0u);
+  EXPECT_EQ(learner.total_rejected(), 0u);
+
+  auto actor = Peer("actor-1", {"actor", "2", "60"});
+  EXPECT_TRUE(SaysLine(*actor, "weights " + std::to_string(published.version)));
+  EXPECT_TRUE(SaysLine(*actor, "matched"));
+  EXPECT_EQ(TakeEpisodes(episodes, 2, 30s), 2u);
+  EXPECT_EQ(learner.counters(TopicId::kEpisode).accepted, 2u);
+}
+
+// Only the learner publishes PolicyWeights and LearnerStats: the read-only monitor identity
+// and an actor identity are refused a writer by DDS Security, and nothing of theirs reaches
+// an actor's readers; the learner identity's weights do.
+TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
+  Participant actor(Secured("actor-0"));
+  Reader<PolicyWeights> weights(actor);
+  Reader<LearnerStats> stats(actor);
+  for (const auto& [identity, mode] : std::vector<std::pair<std::string, std::string>>{
+           {"monitor", "write-weights"}, {"monitor", "write-stats"}, {"actor-1", "write-weights"},
+           {"actor-1", "write-stats"}}) {
+    SCOPED_TRACE(identity + " " + mode);
+    auto peer = Peer(identity, {mode, "9"});
+    EXPECT_TRUE(SaysLine(*peer, "refused"));
+    EXPECT_EQ(peer->Wait(30s), 7);
+  }
+  PolicyWeights got;
+  LearnerStats got_stats;
+  EXPECT_EQ(weights.Take(&got, 2s), TakeStatus::kTimeout);
+  EXPECT_EQ(stats.Take(&got_stats, 100ms), TakeStatus::kTimeout);
+  EXPECT_EQ(actor.counters(TopicId::kPolicyWeights).accepted + actor.counters(TopicId::kPolicyWeights).rejected, 0u);
+
+  auto learner = Peer("learner", {"write-weights", "9"});
+  EXPECT_TRUE(SaysLine(*learner, "published"));
+  ASSERT_EQ(weights.Take(&got, 60s), TakeStatus::kSample);
+  EXPECT_EQ(got.version, testing::MakePolicyWeights(actor.run_id(), 9).version);
+}
+
+// A monitor process whose own enforcement is bypassed (here: a governance without write access
+// control, signed with the CA key the test holds, so its writer is created and publishes)
+// still delivers nothing to an actor of the run: the run's side refuses to match it.
+TEST_F(SecurityTest, MonitorBypassingItsOwnChecksDeliversNothing) {
+  const std::string lenient = *keystore_ + "-lenient";
+  fs::remove_all(lenient);
+  fs::copy(*keystore_, lenient, fs::copy_options::recursive);
+  std::string governance;
+  {
+    std::stringstream text;
+    text << std::ifstream(lenient + "/governance.xml").rdbuf();
+    governance = text.str();
+  }
+  const std::string strict = "<enable_write_access_control>true";
+  ASSERT_NE(governance.find(strict), std::string::npos);
+  governance.replace(governance.find(strict), strict.size(), "<enable_write_access_control>false");
+  std::ofstream(lenient + "/governance.xml") << governance;
+  ASSERT_EQ(std::system(("openssl smime -sign -in " + lenient + "/governance.xml -text -out " + lenient +
+                         "/governance.p7s -signer " + lenient + "/ca.cert.pem -inkey " + lenient +
+                         "/private/ca.key.pem").c_str()), 0);
+
+  Participant actor(Secured("actor-0"));
+  Reader<PolicyWeights> weights(actor);
+  const config::TransportConfig c = Secured("monitor");
+  PeerProcess monitor(SRICS_SECURITY_PEER,
+                      {std::to_string(c.domain_id), c.run_id, lenient, "monitor", "write-weights", "12"});
+  EXPECT_TRUE(SaysLine(monitor, "published"));  // its own check let it through
+  PolicyWeights got;
+  EXPECT_EQ(weights.Take(&got, 5s), TakeStatus::kTimeout);
+  EXPECT_EQ(actor.counters(TopicId::kPolicyWeights).accepted + actor.counters(TopicId::kPolicyWeights).rejected, 0u);
+  fs::remove_all(lenient);
+}
+
+// A capture of the loopback traffic while the learner sends weights to an actor process and
+// the actor sends 20 episodes back holds none of their numbers with the keystore, and holds
+// them without it (the same exchange, open: the capture does see payloads). Root only.
+TEST_F(SecurityTest, LoopbackCaptureHoldsNoPlaintextWeightsOrEpisodes) {
+  if (!LoopbackCapture::Start()) GTEST_SKIP() << "capturing on lo needs CAP_NET_RAW (root)";
+  // numbers no other test sends (their seeds come from this process's id)
+  const uint64_t weights_seed = 7'000'000'000ull + static_cast<uint64_t>(getpid());
+  const uint64_t episode_seed = 5'000'000'000ull + 100ull * static_cast<uint64_t>(getpid());
+  const std::string weights_bytes = BytesOf(testing::MakePolicyWeights("", weights_seed).parameters, 100, 16);
+  std::vector<std::string> episode_bytes;
+  for (uint64_t i = 0; i < 20; ++i)
+    episode_bytes.push_back(BytesOf(testing::MakeEpisode(episode_seed + i).actions, 0, 16));
+  for (const bool secured : {true, false}) {
+    SCOPED_TRACE(secured ? "with the keystore" : "open");
+    auto capture = LoopbackCapture::Start();
+    ASSERT_TRUE(capture);
+    config::TransportConfig c = Secured("learner");
+    if (!secured) c.security = {};
+    {
+      Participant learner(c);
+      Writer<PolicyWeights> weights(learner);
+      Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+      const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), weights_seed);
+      ASSERT_EQ(weights.Write(published), WriteResult::kSent);
+      auto actor = Peer(secured ? "actor-0" : "", {"actor", "20", "60", std::to_string(episode_seed)});
+      EXPECT_TRUE(SaysLine(*actor, "weights " + std::to_string(published.version)));
+      EXPECT_TRUE(SaysLine(*actor, "wrote 20"));
+      EXPECT_EQ(TakeEpisodes(episodes, 20, 30s), 20u);
+      EXPECT_EQ(actor->Wait(30s), 0);
+    }
+    std::this_thread::sleep_for(200ms);  // the last frames reach the capture
+    size_t seen = 0;
+    for (const std::string& bytes : episode_bytes) seen += capture->Saw(bytes);
+    if (secured) {
+      EXPECT_FALSE(capture->Saw(weights_bytes)) << "plaintext weights on the wire";
+      EXPECT_EQ(seen, 0u) << "plaintext episodes on the wire";
+    } else {
+      EXPECT_GT(seen, 0u) << "the capture saw no episode of the open exchange";
+      if (!capture->Saw(weights_bytes)) std::cout << "(the capture missed the open weights sample)\n";
+    }
+  }
+}
+
+// An identity's certificate with another identity's permissions (subject mismatch) and a
+// permissions document not signed by the keystore's CA: the participant is refused.
+TEST_F(SecurityTest, ForeignOrMismatchedPermissionsAreRefused) {
+  const std::string copy = *keystore_ + "-tampered";
+  fs::remove_all(copy);
+  fs::copy(*keystore_, copy, fs::copy_options::recursive);
+  fs::copy_file(copy + "/identities/learner/permissions.p7s", copy + "/identities/actor-0/permissions.p7s",
+                fs::copy_options::overwrite_existing);
+  // a second keystore's CA signs "learner" permissions for the monitor's subject name
+  const std::string other = *keystore_ + "-other";
+  fs::remove_all(other);
+  ASSERT_EQ(std::system((std::string(SRICS_SOURCE_DIR) + "/deploy/security/make-keystore.sh " + other +
+                         " --actors 0 > /dev/null 2>&1").c_str()), 0);
+  fs::copy_file(other + "/identities/monitor/permissions.p7s", copy + "/identities/monitor/permissions.p7s",
+                fs::copy_options::overwrite_existing);
+  for (const std::string identity : {"actor-0", "monitor"}) {
+    config::TransportConfig c = Secured(identity);
+    c.security.keystore = copy;
+    try {
+      Participant p(c);
+      ADD_FAILURE() << identity << ": a participant was created";
+    } catch (const DdsError& e) {
+      EXPECT_NE(std::string(e.what()).find("with identity '" + identity + "' of keystore " + copy), std::string::npos)
+          << e.what();
+    }
+  }
+  fs::remove_all(copy);
+  fs::remove_all(other);
+}
+
+// transport.security in the config: the keys, the domain range, and the check of the files
+// before anything starts (the error names the missing file; role programs exit with 2).
+TEST_F(SecurityTest, KeystoreConfigIsCheckedBeforeAnythingStarts) {
+  const config::Config c = config::ParseConfig("transport:\n  security:\n    keystore: " + *keystore_ + "\n", "t.yaml");
+  EXPECT_EQ(c.transport.security.keystore, *keystore_);
+  EXPECT_EQ(config::CheckKeystore(c.transport.security, "actor-1"), "actor-1");
+  auto error_of = [](auto f) {
+    try {
+      f();
+    } catch (const config::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of([&] { config::CheckKeystore(c.transport.security, "actor-7"); })
+                .find(*keystore_ + "/identities/actor-7/cert.pem is missing"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { config::CheckKeystore({*keystore_ + "-nowhere", ""}, "learner"); }).find("is not a folder"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              config::ParseConfig("transport:\n  domain_id: 231\n  security:\n    keystore: x\n", "t.yaml");
+            }).find("0..230"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { config::ParseConfig("transport:\n  security:\n    keystor: x\n", "t.yaml"); }),
+            "no error");
+
+  // a role program whose identity is missing: exit 2 before DDS, naming the file
+  const std::string out = *keystore_ + ".actor-out";
+  const std::string command = std::string(SRICS_ACTOR_BIN) + " " + SRICS_SOURCE_DIR +
+                              "/deploy/configs/default.yaml --id 7 --set transport.run_id=x --set "
+                              "transport.security.keystore=" + *keystore_ + " > " + out + " 2>&1";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  std::stringstream text;
+  text << std::ifstream(out).rdbuf();
+  EXPECT_NE(text.str().find("identities/actor-7/cert.pem is missing"), std::string::npos) << text.str();
+
+  // srics run checks every process's identity before it starts any: three actors, two identities
+  const std::string run_dir = *keystore_ + ".run";
+  const std::string run = std::string(SRICS_LAUNCHER_BIN) + " run " + SRICS_SOURCE_DIR +
+                          "/deploy/configs/default.yaml --actors 3 --display none --run-dir " + run_dir +
+                          " --set transport.security.keystore=" + *keystore_ + " > " + out + " 2>&1";
+  const int run_status = std::system(run.c_str());
+  ASSERT_TRUE(WIFEXITED(run_status));
+  EXPECT_EQ(WEXITSTATUS(run_status), 2);
+  std::stringstream run_text;
+  run_text << std::ifstream(out).rdbuf();
+  EXPECT_NE(run_text.str().find("identities/actor-2/cert.pem is missing"), std::string::npos) << run_text.str();
+  EXPECT_FALSE(fs::exists(run_dir + "/logs/learner.log")) << "a process was started";
+  fs::remove_all(run_dir);
+  fs::remove(out);
+}
+
+}  // namespace
+}  // namespace srics::transport
