@@ -3,8 +3,11 @@
 //
 //   srics-monitor CONFIG [--set key.path=value ...] [--csv DIR] [--once] [--all-runs]
 //                 [--no-weights] [--for SECONDS] [--wait SECONDS] [--refresh SECONDS]
+//                 [--http PORT [--http-bind ADDR]] [--json] [--run-dir DIR]
+//   srics-monitor --run-dir DIR [...]     a run folder's files instead of DDS (live or finished)
 //
-// Exit codes: 0 ok, 2 bad arguments or config, 1 DDS failure, 3 with --once: nothing received.
+// Exit codes: 0 ok, 2 bad arguments or config (or a port that cannot be served), 1 DDS
+// failure, 3 with --once: nothing received.
 
 #include <unistd.h>
 
@@ -12,7 +15,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
+#include <functional>
 #include <iostream>
+#include <memory>
+#include <optional>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -22,6 +29,8 @@
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/transport/transport.h"
+#include "deploy/dashboard/dashboard.h"
+#include "deploy/dashboard/run_folder_source.h"
 #include "deploy/monitor/display.h"
 #include "deploy/monitor/monitor.h"
 
@@ -33,7 +42,15 @@ namespace mon = srics::monitor;
 constexpr const char* kUsage =
     "usage: srics-monitor CONFIG [--set key.path=value ...] [--csv DIR] [--once] [--all-runs]\n"
     "                     [--no-weights] [--for SECONDS] [--wait SECONDS] [--refresh SECONDS]\n"
+    "                     [--http PORT [--http-bind ADDR]] [--json] [--run-dir DIR]\n"
+    "       srics-monitor --run-dir DIR [--http PORT] [--json] [--once] [--for S] [--refresh S]\n"
     "  CONFIG        the run's config (domain id, run id, Cyclone profile come from it)\n"
+    "  --run-dir DIR a run folder: without CONFIG, shows its files (eval.csv, learner.csv,\n"
+    "                nodes.csv, graph.json; a finished run or one going on) instead of DDS;\n"
+    "                with CONFIG, where the dashboard finds recorded episodes (DIR/eval/)\n"
+    "  --http PORT   serve the web dashboard on PORT (0: any free port; the URL is printed)\n"
+    "  --http-bind A its address (default 127.0.0.1, this host only; 0.0.0.0 = every interface)\n"
+    "  --json        print the dashboard's JSON document, one line per refresh, instead of the display\n"
     "  --set K=V     override a config value, as for the other srics programs\n"
     "  --csv DIR     append eval.csv, learner.csv, nodes.csv in DIR as samples arrive\n"
     "  --once        listen for --wait seconds (default 3), print one display and exit\n"
@@ -53,6 +70,10 @@ struct Args {
   double for_s = 0;
   double wait_s = 3;
   double refresh_s = 1;
+  std::string run_dir;
+  int http_port = -1;  // -1: no dashboard
+  std::string http_bind = "127.0.0.1";
+  bool json = false;
 };
 
 double ParseSeconds(const std::string& flag, const std::string& text) {
@@ -76,13 +97,41 @@ Args ParseArgs(int argc, char** argv) {
     else if (arg == "--for") args.for_s = ParseSeconds(arg, value());
     else if (arg == "--wait") args.wait_s = ParseSeconds(arg, value());
     else if (arg == "--refresh") args.refresh_s = std::max(0.1, ParseSeconds(arg, value()));
+    else if (arg == "--run-dir") args.run_dir = value();
+    else if (arg == "--http") args.http_port = srics::dashboard::ParseHttpPort(value());
+    else if (arg == "--http-bind") args.http_bind = value();
+    else if (arg == "--json") args.json = true;
     else if (arg == "-h" || arg == "--help") { std::cout << kUsage; std::exit(0); }
     else if (!arg.empty() && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);
     else if (args.config.empty()) args.config = arg;
     else throw std::invalid_argument("unexpected argument " + arg);
   }
-  if (args.config.empty()) throw std::invalid_argument("missing CONFIG");
+  if (args.config.empty() && args.run_dir.empty()) throw std::invalid_argument("missing CONFIG (or --run-dir DIR)");
   return args;
+}
+
+// Where the state comes from: DDS samples (a Monitor) or a run folder's files.
+struct Source {
+  std::function<size_t(std::chrono::milliseconds)> poll;  // returns the samples (or files) taken
+  std::function<const mon::MonitorState&()> state;
+  std::function<std::vector<std::string>()> events;
+};
+
+// A run folder as a source: re-read at most once per refresh period.
+Source FolderSource(srics::dashboard::RunFolderSource* folder, double refresh_s) {
+  auto next = std::make_shared<mon::Clock::time_point>();
+  return {.poll =
+              [folder, next, refresh_s](std::chrono::milliseconds timeout) -> size_t {
+                const auto now = mon::Clock::now();
+                if (now < *next) {
+                  std::this_thread::sleep_for(std::min<mon::Clock::duration>(timeout, *next - now));
+                  return 0;
+                }
+                *next = now + std::chrono::duration_cast<mon::Clock::duration>(std::chrono::duration<double>(refresh_s));
+                return folder->Refresh(now) ? 1 : 0;
+              },
+          .state = [folder]() -> const mon::MonitorState& { return folder->state(); },
+          .events = [] { return std::vector<std::string>(); }};
 }
 
 }  // namespace
@@ -91,9 +140,11 @@ int main(int argc, char** argv) {
   tr::Shutdown::InstallSignalHandlers();
   Args args;
   srics::config::Config config;
+  std::optional<srics::dashboard::RunFolderSource> folder;
   try {
     args = ParseArgs(argc, argv);
-    config = srics::config::LoadConfig(args.config, args.overrides);
+    if (!args.config.empty()) config = srics::config::LoadConfig(args.config, args.overrides);
+    else folder.emplace(args.run_dir);
   } catch (const std::exception& e) {
     std::cerr << "srics-monitor: " << e.what() << "\n" << kUsage;
     return 2;
@@ -101,48 +152,98 @@ int main(int argc, char** argv) {
   // the config's run id is chosen per launch (a config file, not a run folder's config.yaml):
   // show every run on the domain
   if (config.transport.run_id == srics::config::kAutoRunId) args.all_runs = true;
-  const bool live = !args.once && isatty(STDOUT_FILENO);
+  const bool live = !args.once && !args.json && isatty(STDOUT_FILENO);
   auto logger = srics::logging::SetUpLogger("monitor", {.level = config.run.log_level, .file = ""});
   // a refreshing screen and log lines on the same terminal do not mix: events go on screen
-  if (live) logger->sinks().front()->set_level(spdlog::level::off);
+  if (live || args.json) logger->sinks().front()->set_level(spdlog::level::off);
+
+  std::unique_ptr<srics::dashboard::Dashboard> dashboard;
+  try {
+    if (args.http_port >= 0) {
+      dashboard = std::make_unique<srics::dashboard::Dashboard>(srics::dashboard::DashboardOptions{
+          .bind = args.http_bind, .port = args.http_port, .source = folder ? "run folder" : "dds",
+          .run_dir = args.run_dir});
+      std::cerr << "srics-monitor: dashboard on " << dashboard->url() << std::endl;
+    }
+  } catch (const srics::dashboard::BindError& e) {
+    std::cerr << "srics-monitor: " << e.what() << "\n";
+    return 2;
+  }
 
   try {
-    tr::Participant participant(config.transport);
-    mon::Monitor monitor(participant, {.all_runs = args.all_runs, .weights = args.weights, .csv_dir = args.csv_dir, .csv_node_statuses = true});
+    std::optional<tr::Participant> participant;
+    std::optional<mon::Monitor> monitor;
     mon::RenderOptions render;
-    render.run_id = args.all_runs ? "" : config.transport.run_id;
-    render.total_env_steps = config.run.total_env_steps;
-    render.title = "srics-monitor  domain " + std::to_string(config.transport.domain_id) +
-                   (args.all_runs ? "  all runs" : "  run " + config.transport.run_id);
+    Source source;
+    if (folder) {
+      render = folder->render_options();
+      source = FolderSource(&*folder, args.refresh_s);
+    } else {
+      participant.emplace(config.transport);
+      monitor.emplace(*participant, mon::MonitorOptions{.all_runs = args.all_runs, .weights = args.weights,
+                                                        .csv_dir = args.csv_dir, .csv_node_statuses = true});
+      render.run_id = args.all_runs ? "" : config.transport.run_id;
+      render.total_env_steps = config.run.total_env_steps;
+      render.title = "srics-monitor  domain " + std::to_string(config.transport.domain_id) +
+                     (args.all_runs ? "  all runs" : "  run " + config.transport.run_id);
+      source = {.poll = [&](std::chrono::milliseconds timeout) { return monitor->Poll(timeout); },
+                .state = [&]() -> const mon::MonitorState& { return monitor->state(); },
+                .events = [&] { return monitor->TakeNodeEvents(); }};
+    }
+    // the run of the one-line summary: the config's, or the folder's (the one with most evaluations)
+    auto run_id = [&] {
+      if (!folder) return config.transport.run_id;
+      std::string id;
+      size_t most = 0;
+      for (const auto& [name, run] : folder->state().runs)
+        if (id.empty() || run.evals.size() > most) id = name, most = run.evals.size();
+      return id;
+    };
+    auto render_now = [&] {
+      if (folder) {  // the folder's config.yaml (re-read with its files) gives title and budget
+        const std::vector<std::string> events = render.events;
+        render = folder->render_options();
+        render.events = events;
+      }
+      return render;
+    };
+    auto json_line = [&] {
+      return srics::dashboard::DocumentFor(source.state(), mon::Clock::now(), render_now(),
+                                           folder ? "run folder" : "dds", args.run_dir);
+    };
     std::deque<std::string> events;
+    const auto& stop = tr::Shutdown::Process().flag();
 
     const auto start = mon::Clock::now();
     const auto refresh = std::chrono::duration_cast<mon::Clock::duration>(std::chrono::duration<double>(args.refresh_s));
     auto next_draw = start;
     size_t received = 0;
-    while (!participant.shutdown_requested()) {
+    while (!stop) {
       const auto now = mon::Clock::now();
       const double elapsed = std::chrono::duration<double>(now - start).count();
-      if (args.once && elapsed >= args.wait_s) break;
+      if (args.once && elapsed >= (folder ? 0.0 : args.wait_s)) break;
       if (args.for_s > 0 && elapsed >= args.for_s) break;
-      received += monitor.Poll(std::chrono::milliseconds(100));
-      for (std::string& event : monitor.TakeNodeEvents()) {
+      received += source.poll(std::chrono::milliseconds(100));
+      for (std::string& event : source.events()) {
         events.push_back(std::move(event));
         if (events.size() > 8) events.pop_front();
       }
-      if (args.once || mon::Clock::now() < next_draw) continue;
-      next_draw = mon::Clock::now() + (live ? refresh : refresh * 10);
       render.events.assign(events.begin(), events.end());
-      if (live) {
-        std::cout << "\033[H\033[2J" << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
+      if (dashboard && dashboard->Due(mon::Clock::now())) dashboard->Update(source.state(), mon::Clock::now(), render_now(), true);
+      if (args.once || mon::Clock::now() < next_draw) continue;
+      next_draw = mon::Clock::now() + (live || args.json ? refresh : refresh * 10);
+      if (args.json) {
+        std::cout << json_line() << std::endl;
+      } else if (live) {
+        std::cout << "\033[H\033[2J" << mon::Render(source.state(), mon::Clock::now(), render_now()) << std::flush;
       } else {
-        std::cout << mon::RenderOneLine(monitor.state(), mon::Clock::now(), config.transport.run_id,
-                                        config.run.total_env_steps)
-                  << std::endl;
+        std::cout << mon::RenderOneLine(source.state(), mon::Clock::now(), run_id(), render_now().total_env_steps) << std::endl;
       }
     }
     render.events.assign(events.begin(), events.end());
-    if (args.once || !live) std::cout << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
+    if (folder && received == 0) received = folder->Refresh(mon::Clock::now()) ? 1 : 0;
+    if (args.once && args.json) std::cout << json_line() << std::endl;
+    else if (!args.json && (args.once || !live)) std::cout << mon::Render(source.state(), mon::Clock::now(), render_now()) << std::flush;
     if (args.once && received == 0) return 3;
     return 0;
   } catch (const std::exception& e) {
