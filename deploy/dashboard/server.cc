@@ -73,7 +73,7 @@ HttpServer::HttpServer(ServerOptions options) : options_(std::move(options)), se
     const std::string dir = RunDir();
     std::ifstream in;
     if (!dir.empty() && IsEpisodeMediaPath(relative)) in.open(fs::path(dir) / relative, std::ios::binary);
-    if (!in) {
+    if (!in.is_open() || !in) {
       response.status = 404;
       response.set_content("not found\n", "text/plain");
       return;
