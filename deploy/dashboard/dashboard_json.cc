@@ -130,10 +130,12 @@ void Graph(JsonWriter* json, const mon::RunView& run, mon::Clock::time_point now
 }
 
 void Run(JsonWriter* json, const std::string& id, const mon::RunView& run, mon::Clock::time_point now,
-         const mon::RenderOptions& options) {
+         const mon::RenderOptions& options, std::chrono::milliseconds lost_after) {
   const uint64_t steps = mon::EnvSteps(run);
   const uint64_t budget = mon::BudgetEnvSteps(run) > 0 ? mon::BudgetEnvSteps(run) : options.total_env_steps;
-  const std::optional<double> rate = mon::EnvStepRate(run);
+  // a rate (and an ETA) only while the learner reports: not for a stopped run's folder
+  const bool reporting = run.learner && now - run.learner_received <= lost_after;
+  const std::optional<double> rate = reporting ? mon::EnvStepRate(run) : std::nullopt;
   json->BeginObject();
   json->Key("run_id").String(id);
   json->Key("env_steps").Unsigned(steps);
@@ -257,7 +259,7 @@ std::string DashboardJson(const mon::MonitorState& state, mon::Clock::time_point
   json.Key("runs").BeginArray();
   for (const std::string& id : run_ids) {
     auto it = state.runs.find(id);
-    Run(&json, id, it == state.runs.end() ? kEmpty : it->second, now, options);
+    Run(&json, id, it == state.runs.end() ? kEmpty : it->second, now, options, state.lost_after);
   }
   json.EndArray();
   Nodes(&json, state, now, options);

@@ -5,7 +5,8 @@
 //
 // Top level: schema ("srics-dashboard/1"), title, source, run_dir, poll_ms, wall_time,
 // elapsed_s, runs[], nodes[], node_counts, processes[], events[], episode.
-// Per run: run_id, env_steps, budget_env_steps, env_steps_per_second, eta_s, learner,
+// Per run: run_id, env_steps, budget_env_steps, env_steps_per_second and eta_s (null unless
+// the learner reported within the state's lost_after), learner,
 // learner_history (column arrays: updates, env_steps, q_loss, policy_loss, alpha, entropy,
 // mean_reward, updates_per_second, inserts_per_second), passive, latest_eval, evals[] (every
 // kept evaluation of a trained policy, oldest first), graph (matrices as rows, edges[]),

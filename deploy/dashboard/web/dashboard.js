@@ -144,7 +144,7 @@ function drawProgress(doc, run) {
     ['env steps / s', run.env_steps_per_second === null ? '–' : fixed(run.env_steps_per_second, 0)],
     ['ETA', hms(run.eta_s)],
     ['elapsed', doc.elapsed_s === null ? '–' : hms(doc.elapsed_s)],
-    ['object distance (vs passive)', e ? fixed(e.avg_object_distance, 4) + rel(e.avg_object_distance, p && p.avg_object_distance) : '–'],
+    ['object dist. (vs passive)', e ? fixed(e.avg_object_distance, 4) + rel(e.avg_object_distance, p && p.avg_object_distance) : '–'],
     ['distance (vs passive)', e ? fixed(e.avg_distance, 4) + rel(e.avg_distance, p && p.avg_distance) : '–'],
     ['success', e ? fixed(e.success_rate, 2) : '–'],
     ['policy', e ? 'v' + e.policy_version : (run.learner ? 'v' + run.learner.policy_version : '–')],
@@ -197,14 +197,14 @@ function drawLearner(run) {
   const h = run.learner_history;
   const col = name => h.updates.map((u, i) => [u, h[name][i]]);
   const trained = pts => pts.filter(p => p[0] > 0);
-  lineChart($('losses'), [
-    {name: 'q loss', color: COLORS[3], points: trained(col('q_loss'))},
-    {name: 'policy loss', color: COLORS[5], points: trained(col('policy_loss'))},
-  ], {xLabel: 'updates', height: 220, width: 400, empty: 'no updates yet'});
+  const small = {xLabel: 'updates', height: 170, empty: 'no updates yet'};
+  lineChart($('q-loss'), [{name: 'q loss', color: COLORS[3], points: trained(col('q_loss'))}], small);
+  lineChart($('policy-loss'), [{name: 'policy loss', color: COLORS[5], points: trained(col('policy_loss'))}], small);
+  lineChart($('alpha'), [{name: 'alpha (temperature)', color: COLORS[7], points: trained(col('alpha'))}], small);
   lineChart($('rates'), [
     {name: 'updates / s', color: COLORS[2], points: col('updates_per_second')},
     {name: 'inserts / s', color: COLORS[6], points: col('inserts_per_second')},
-  ], {xLabel: 'updates', height: 220, width: 400, yMin: 0});
+  ], Object.assign({}, small, {yMin: 0, empty: 'no stats yet'}));
 }
 
 function entityName(i) { return i === 0 ? 'arm' : 'e' + i; }
@@ -349,8 +349,12 @@ function drawEpisode(doc) {
   if (!ep) return;
   clear(box);
   const m = ep.metrics || {};
-  $('episode-meta').textContent = ep.name + (m.avg_distance ? ': distance ' + Number(m.avg_distance).toFixed(4) +
-      ', object distance ' + Number(m.avg_object_distance).toFixed(4) + ', success ' + m.success : '');
+  $('episode-meta').textContent = ep.name + ', written ' + new Date(ep.modified * 1000).toLocaleString();
+  const num = (k, d) => m[k] === undefined || m[k] === '' ? '–' : Number(m[k]).toFixed(d);
+  facts($('episode-facts'), m.episode === undefined ? [] : [
+    ['distance', num('avg_distance', 4)], ['object distance', num('avg_object_distance', 4)],
+    ['success', m.success === '1' ? 'yes' : m.success === '0' ? 'no' : '–'], ['steps', m.steps || '–'],
+    ['selectivity', num('selectivity', 3)]]);
   if (ep.kind === 'mp4') {
     box.appendChild(el('video', {src: ep.url, autoplay: '', loop: '', muted: '', controls: '', playsinline: ''}));
   } else if (ep.kind === 'gif') {

@@ -163,12 +163,13 @@ class RunFolderTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  // A run folder as the launcher leaves it: its config, the three CSV files, a graph.
-  void WriteRunFolder() {
+  // A run folder as the launcher leaves it: its config, the three CSV files, a graph. The
+  // rows span 61 s and the last learner row is `last_age_s` seconds old.
+  void WriteRunFolder(double last_age_s = 1.5) {
     const config::Config config = config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
                                                      {"run.total_env_steps=5000", "transport.run_id=folder-run"});
     std::ofstream(dir_ / "config.yaml") << config.effective_yaml;
-    const double t0 = mon::WallTimeNow() - 100;
+    const double t0 = mon::WallTimeNow() - 60.5 - last_age_s;
     mon::CsvSink sink(dir_.string());
     auto eval = [](uint64_t version, uint64_t steps, float object, float subgoal) {
       transport::EvalResult e = Eval(version, steps, object, "folder-run");
@@ -193,10 +194,10 @@ class RunFolderTest : public ::testing::Test {
       s.updates_per_second = 10;
       sink.Append(s, t0 + k + 0.5);
     }
-    sink.Append(mon::testing::Node("actor", 0, NodeState::kTraining, "folder-run"), t0 + 60);
-    sink.Append(mon::testing::Node("actor", 1, NodeState::kStopping, "folder-run"), t0 + 61);
-    sink.Append(mon::testing::Node("actor", 1, NodeState::kStopping, "folder-run"), t0 + 70, "exited");
-    sink.Append(mon::testing::Node("actor", 0, NodeState::kTraining, "folder-run"), t0 + 70, "lost");
+    sink.Append(mon::testing::Node("actor", 0, NodeState::kTraining, "folder-run"), t0 + 45);
+    sink.Append(mon::testing::Node("actor", 1, NodeState::kStopping, "folder-run"), t0 + 50);
+    sink.Append(mon::testing::Node("actor", 1, NodeState::kStopping, "folder-run"), t0 + 55, "exited");
+    sink.Append(mon::testing::Node("actor", 0, NodeState::kTraining, "folder-run"), t0 + 55, "lost");
     graph_service::LearnedGraph graph =
         graph_service::AggregateGraph(2, {0.0, 0.46, 0.01, 0.0}, 0.06, /*action_entity=*/0);
     graph.version = 4;
@@ -265,7 +266,19 @@ TEST_F(RunFolderTest, TheDocumentHoldsTheCsvFiguresRowByRow) {
     health[n["role"].as<std::string>() + std::to_string(n["id"].as<int>())] = n["health"].as<std::string>();
   EXPECT_EQ(health["actor0"], "LOST");
   EXPECT_EQ(health["actor1"], "exited");
-  EXPECT_EQ(health["learner0"], "LOST");  // quiet for 40 s without a goodbye
+  EXPECT_EQ(health["learner0"], "alive");  // its last row is 2 s old
+}
+
+TEST_F(RunFolderTest, AStoppedRunHasNoRateAndItsSilentNodesAreLost) {
+  WriteRunFolder(/*last_age_s=*/100);
+  RunFolderSource folder(dir_.string());
+  folder.Refresh(mon::Clock::now());
+  const Node doc = Parse(DashboardJson(folder.state(), mon::Clock::now(), folder.render_options(), {}));
+  EXPECT_TRUE(doc["runs"][0]["env_steps_per_second"].IsNull());
+  EXPECT_TRUE(doc["runs"][0]["eta_s"].IsNull());
+  EXPECT_EQ(doc["runs"][0]["env_steps"].as<uint64_t>(), 3000u);
+  EXPECT_EQ(doc["node_counts"]["lost"].as<int>(), 2);  // the learner and actor 0
+  EXPECT_EQ(doc["node_counts"]["exited"].as<int>(), 1);
 }
 
 TEST_F(RunFolderTest, RefreshSeesNewRowsAndIgnoresAHalfWrittenLine) {
