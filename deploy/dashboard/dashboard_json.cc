@@ -225,7 +225,7 @@ void Episode(JsonWriter* json, const std::optional<EpisodeMedia>& episode) {
   json->Key("kind").String(episode->kind);
   json->Key("url").String("/media/" + episode->path);
   json->Key("frames").Integer(episode->frames);
-  json->Key("modified").Number(episode->modified);
+  json->Key("modified").Number(episode->modified, 15);
   json->Key("metrics").BeginObject();
   for (const auto& [column, value] : episode->metrics) json->Key(column).String(value);
   json->EndObject();
@@ -243,7 +243,7 @@ std::string DashboardJson(const mon::MonitorState& state, mon::Clock::time_point
   json.Key("source").String(context.source);
   json.Key("run_dir").String(context.run_dir);
   json.Key("poll_ms").Integer(context.poll_ms);
-  json.Key("wall_time").Number(mon::WallTimeNow());
+  json.Key("wall_time").Number(mon::WallTimeNow(), 15);
   json.Key("elapsed_s");
   options.elapsed_s >= 0 ? json.Number(options.elapsed_s) : json.Null();
   json.Key("max_wall_minutes").Number(options.max_wall_minutes);

@@ -79,11 +79,11 @@ JsonWriter& JsonWriter::String(std::string_view text) {
   return *this;
 }
 
-JsonWriter& JsonWriter::Number(double value) {
+JsonWriter& JsonWriter::Number(double value, int digits) {
   if (!std::isfinite(value)) return Null();
   BeforeValue();
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.7g", value);
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
   out_ += buffer;
   return *this;
 }

@@ -26,7 +26,8 @@ class JsonWriter {
   // The key of the next value inside an object.
   JsonWriter& Key(std::string_view key);
   JsonWriter& String(std::string_view text);
-  JsonWriter& Number(double value);  // 7 significant digits; null when not finite
+  // `digits` significant digits (7: a float's; 15 for Unix times); null when not finite
+  JsonWriter& Number(double value, int digits = 7);
   JsonWriter& Integer(int64_t value);
   JsonWriter& Unsigned(uint64_t value);
   JsonWriter& Bool(bool value);

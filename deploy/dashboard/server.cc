@@ -45,7 +45,10 @@ HttpServer::HttpServer(ServerOptions options) : options_(std::move(options)), se
   });
   const int threads = std::max(1, options_.threads);
   server_->new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<size_t>(threads)); };
+  // a browser keeps its connections open and each holds a request thread while it does: let
+  // idle ones go soon, so a page's parallel requests never wait long for a thread
   server_->set_keep_alive_max_count(20);
+  server_->set_keep_alive_timeout(1);
   server_->set_read_timeout(std::chrono::seconds(5));
   server_->set_write_timeout(std::chrono::seconds(5));
   auto asset = [](const char* type, const char* text) {

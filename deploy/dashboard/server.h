@@ -37,7 +37,7 @@ struct ServerOptions {
   std::string bind = "127.0.0.1";  // --http-bind
   int port = 0;                    // --http; 0 = any free port (see port())
   std::string run_dir;             // where /media/ files come from ("" = none)
-  int threads = 2;                 // request threads
+  int threads = 4;                 // request threads (a browser opens several connections)
 };
 
 class HttpServer {

@@ -186,7 +186,7 @@ function drawSubgoals(run) {
 
 function drawLearner(run) {
   const s = run.learner;
-  $('learner-meta').textContent = s ? 'stats ' + fixed(s.age_s, 1) + ' s ago' + (run.weights ? ', weights v' + run.weights.version : '') : 'no stats yet';
+  $('learner-meta').textContent = s ? 'stats ' + (s.age_s < 60 ? fixed(s.age_s, 1) + ' s' : hms(s.age_s)) + ' ago' + (run.weights ? ', weights v' + run.weights.version : '') : 'no stats yet';
   facts($('learner-facts'), s ? [
     ['updates', thousands(s.updates)], ['updates / s', fixed(s.updates_per_second, 1)],
     ['inserts / s', fixed(s.inserts_per_second, 0)], ['replay', thousands(s.replay_size)],
@@ -349,7 +349,7 @@ function drawEpisode(doc) {
   if (!ep) return;
   clear(box);
   const m = ep.metrics || {};
-  $('episode-meta').textContent = ep.name + ', written ' + new Date(ep.modified * 1000).toLocaleString();
+  $('episode-meta').textContent = ep.name + ', written ' + new Date(ep.modified * 1000).toISOString().slice(0, 16).replace('T', ' ') + ' UTC';
   const num = (k, d) => m[k] === undefined || m[k] === '' ? '–' : Number(m[k]).toFixed(d);
   facts($('episode-facts'), m.episode === undefined ? [] : [
     ['distance', num('avg_distance', 4)], ['object distance', num('avg_object_distance', 4)],

@@ -136,6 +136,8 @@ TEST(DashboardJsonTest, RunsNodesGraphAndLearnerFromTheMonitorState) {
   EXPECT_EQ(doc["processes"][0]["restarts"].as<int>(), 2);
   EXPECT_EQ(doc["events"][0].as<std::string>(), "[00:00:01] started");
   EXPECT_TRUE(doc["episode"].IsNull());
+  // Unix times keep their seconds (a float's 7 digits would round them to 100 s)
+  EXPECT_NEAR(doc["wall_time"].as<double>(), mon::WallTimeNow(), 5.0);
 }
 
 TEST(DashboardJsonTest, LearnerHistoryIsThinnedEvenlyAndEndsAtTheLatest) {
@@ -332,6 +334,10 @@ TEST(EpisodeMediaTest, TheNewestEpisodeWithItsMetricsAndOnlyMediaPaths) {
   EXPECT_EQ(latest->kind, "frames");
   EXPECT_EQ(latest->frames, 3);
   EXPECT_EQ(latest->metrics.at("avg_distance"), "0.25");
+  const Node doc = Parse(DashboardJson({}, mon::Clock::now(), {}, {.episode = latest}));
+  EXPECT_EQ(doc["episode"]["url"].as<std::string>(), "/media/eval/episode-001");
+  EXPECT_EQ(doc["episode"]["frames"].as<int>(), 3);
+  EXPECT_NEAR(doc["episode"]["modified"].as<double>(), latest->modified, 0.01);
 
   EXPECT_TRUE(IsEpisodeMediaPath("eval/episode-000.gif"));
   EXPECT_TRUE(IsEpisodeMediaPath("eval/episode-012.mp4"));
