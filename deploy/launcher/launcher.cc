@@ -124,6 +124,8 @@ LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
     }
   }
   if (options.config_file.empty()) throw std::invalid_argument("missing CONFIG");
+  if (options.http_port < 0 && options.http_bind != "127.0.0.1")
+    throw std::invalid_argument("--http-bind needs --http PORT");
   if (options.actors > 0) options.overrides.push_back("actors.count=" + std::to_string(options.actors));
   return options;
 }

@@ -107,6 +107,7 @@ Args ParseArgs(int argc, char** argv) {
     else throw std::invalid_argument("unexpected argument " + arg);
   }
   if (args.config.empty() && args.run_dir.empty()) throw std::invalid_argument("missing CONFIG (or --run-dir DIR)");
+  if (args.http_port < 0 && args.http_bind != "127.0.0.1") throw std::invalid_argument("--http-bind needs --http PORT");
   return args;
 }
 

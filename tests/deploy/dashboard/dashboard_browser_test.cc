@@ -210,6 +210,7 @@ TEST(DashboardBrowserTest, ThePageShowsALiveRunsCurveUpdatesAndServesTheFinished
   monitor.Signal(SIGINT);
   EXPECT_TRUE(monitor.WaitFor(std::chrono::seconds(30)));
   fs::remove_all(root / "chromium-profile");
+  if (!HasFailure()) fs::remove_all(root);  // else the outputs and the screenshot stay for a look
 }
 
 }  // namespace
