@@ -83,7 +83,9 @@ HttpServer::HttpServer(ServerOptions options) : options_(std::move(options)), se
     }
     std::ostringstream bytes;
     bytes << in.rdbuf();
-    response.set_header("Cache-Control", "no-cache");
+    // the page asks for a new episode by another URL (?t=<its time>): frames played in a loop
+    // come from the browser's cache
+    response.set_header("Cache-Control", "max-age=300");
     response.set_content(bytes.str(), ContentType(relative).c_str());
   });
 

@@ -356,17 +356,19 @@ function drawEpisode(doc) {
     ['success', m.success === '1' ? 'yes' : m.success === '0' ? 'no' : '–'], ['steps', m.steps || '–'],
     ['selectivity', num('selectivity', 3)]]);
   if (ep.kind === 'mp4') {
-    box.appendChild(el('video', {src: ep.url, autoplay: '', loop: '', muted: '', controls: '', playsinline: ''}));
+    box.appendChild(el('video', {src: ep.url + '?t=' + ep.modified, autoplay: '', loop: '', muted: '', controls: '',
+                                 playsinline: ''}));
   } else if (ep.kind === 'gif') {
     box.appendChild(el('img', {src: ep.url + '?t=' + ep.modified, alt: ep.name}));
   } else {
     // a folder of PNG frames: played at 10 frames per second
-    const img = el('img', {alt: ep.name, src: ep.url + '/frame-00000.png'});
+    const frame = k => ep.url + '/frame-' + String(k).padStart(5, '0') + '.png?t=' + ep.modified;
+    const img = el('img', {alt: ep.name, src: frame(0)});
     box.appendChild(img);
     let k = 0;
     frameTimer = setInterval(() => {
       k = (k + 1) % ep.frames;
-      img.src = ep.url + '/frame-' + String(k).padStart(5, '0') + '.png';
+      img.src = frame(k);
     }, 100);
   }
 }
