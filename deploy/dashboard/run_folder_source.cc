@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 namespace mon = srics::monitor;
 namespace tr = srics::transport;
 
-constexpr const char* kFiles[] = {"eval.csv", "learner.csv", "nodes.csv", "config.yaml", "graph.json"};
+constexpr const char* kFiles[] = {"eval.csv", "learner.csv", "nodes.csv", "config.yaml", "graph.json", "outcome.yaml"};
 
 // One CSV line into fields (quoted fields with doubled quotes, as CsvField writes them).
 std::vector<std::string> Fields(const std::string& line) {
@@ -277,6 +277,15 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
       ++skipped;  // a graph that does not load is not shown
     }
   }
+  // how the run ended, when it did (outcome.yaml: state and reason lines)
+  std::ifstream outcome(dir / "outcome.yaml");
+  std::string ended, reason;
+  for (std::string line; std::getline(outcome, line);) {
+    if (line.rfind("state: ", 0) == 0) ended = line.substr(7);
+    if (line.rfind("reason: ", 0) == 0) reason = line.substr(8);
+  }
+  if (reason.size() >= 2 && reason.front() == '"' && reason.back() == '"') reason = reason.substr(1, reason.size() - 2);
+  if (!ended.empty()) render_.title += "  (" + ended + (reason.empty() ? "" : ": " + reason) + ")";
   state_ = std::move(state);
   skipped_rows_ = skipped;
 }

@@ -281,6 +281,10 @@ TEST_F(RunFolderTest, AStoppedRunHasNoRateAndItsSilentNodesAreLost) {
   EXPECT_EQ(doc["runs"][0]["env_steps"].as<uint64_t>(), 3000u);
   EXPECT_EQ(doc["node_counts"]["lost"].as<int>(), 2);  // the learner and actor 0
   EXPECT_EQ(doc["node_counts"]["exited"].as<int>(), 1);
+  EXPECT_THAT(doc["title"].as<std::string>(), ::testing::Not(::testing::HasSubstr("finished")));
+  std::ofstream(dir_ / "outcome.yaml") << "# how this run ended\nstate: finished\nexit_code: 0\nreason: \"the budget is done\"\n";
+  ASSERT_TRUE(folder.Refresh(mon::Clock::now()));
+  EXPECT_THAT(folder.render_options().title, ::testing::HasSubstr("(finished: the budget is done)"));
 }
 
 TEST_F(RunFolderTest, RefreshSeesNewRowsAndIgnoresAHalfWrittenLine) {
