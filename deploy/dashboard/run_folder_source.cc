@@ -277,6 +277,10 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
       ++skipped;  // a graph that does not load is not shown
     }
   }
+  // a learner that stopped reporting has no rate (the display would show its last minute's)
+  for (auto& [id, run] : state.runs)
+    if (now - run.learner_received > state.lost_after) run.step_history.clear();
+
   // how the run ended, when it did (outcome.yaml: state and reason lines)
   std::ifstream outcome(dir / "outcome.yaml");
   std::string ended, reason;
