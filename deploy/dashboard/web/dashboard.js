@@ -219,27 +219,29 @@ function drawGraph(run) {
   }
   $('graph-meta').textContent = 'v' + g.version + ', ' + g.edge_count + ' edges, threshold ' + fixed(g.threshold, 2) +
       ', held-out loss ' + sig(g.held_out_loss) + ', ' + thousands(g.episodes_used) + ' episodes';
-  const n = g.num_entities, W = 380, H = 320, cx = W / 2, cy = H / 2 + 12, R = Math.min(W, H) / 2 - 48;
+  const n = g.num_entities, W = 400, H = 340, cx = W / 2, cy = H / 2 + 4, R = Math.min(W, H) / 2 - 42;
   const root = svg('svg', {viewBox: `0 0 ${W} ${H}`, id: 'graph-svg'});
   const defs = svg('defs');
-  const marker = svg('marker', {id: 'arrow', viewBox: '0 0 10 10', refX: 10, refY: 5, markerWidth: 7, markerHeight: 7, orient: 'auto-start-reverse'});
+  const marker = svg('marker', {id: 'arrow', viewBox: '0 0 10 10', refX: 9, refY: 5, markerWidth: 9, markerHeight: 9,
+                                markerUnits: 'userSpaceOnUse', orient: 'auto-start-reverse'});
   marker.appendChild(svg('path', {d: 'M0 0 L10 5 L0 10 z', fill: '#4b5563'}));
   defs.appendChild(marker);
   root.appendChild(defs);
-  // the action node on top, the entities around a circle below it
+  // the action node at the top of a regular (n + 1)-gon, the entities on its other corners
+  const corner = k => {
+    const a = -Math.PI / 2 + k * 2 * Math.PI / (n + 1);
+    return [cx + R * Math.cos(a), cy + R * Math.sin(a), a];
+  };
+  const action = corner(0);
   const pos = [];
-  for (let i = 0; i < n; ++i) {
-    const a = Math.PI / 2 + (i + 0.5) * 2 * Math.PI / (n + 1);
-    pos.push([cx + R * Math.cos(a + Math.PI / (n + 1) - Math.PI / 2 - Math.PI / 2), cy + R * Math.sin(a + Math.PI / (n + 1) - Math.PI)]);
-  }
-  const action = [cx, 22];
+  for (let i = 0; i < n; ++i) pos.push(corner(i + 1));
   const nodeR = 18;
   const arrow = (from, to, weight, bend, cls) => {
     const dx = to[0] - from[0], dy = to[1] - from[1], len = Math.hypot(dx, dy) || 1;
     const ux = dx / len, uy = dy / len;
     const a = [from[0] + ux * nodeR, from[1] + uy * nodeR], b = [to[0] - ux * (nodeR + 2), to[1] - uy * (nodeR + 2)];
     const mx = (a[0] + b[0]) / 2 - uy * bend, my = (a[1] + b[1]) / 2 + ux * bend;
-    const width = weight === null ? 1.6 : 1 + 4 * Math.max(0, Math.min(1, weight));
+    const width = weight === null ? 1.6 : 1 + 3 * Math.max(0, Math.min(1, weight));
     root.appendChild(svg('path', {class: cls, d: `M${a[0]} ${a[1]} Q${mx} ${my} ${b[0]} ${b[1]}`, fill: 'none',
                                   stroke: '#4b5563', 'stroke-width': width, 'marker-end': 'url(#arrow)'}));
     if (weight !== null)
@@ -249,7 +251,7 @@ function drawGraph(run) {
   if (g.action_entity >= 0 && g.action_entity < n) arrow(action, pos[g.action_entity], null, 0, 'edge action-edge');
   for (const e of g.edges) {
     const reciprocal = g.edges.some(o => o.from === e.to && o.to === e.from);
-    arrow(pos[e.from], pos[e.to], e.weight, reciprocal ? 18 : 0, 'edge');
+    arrow(pos[e.from], pos[e.to], e.weight, reciprocal ? 30 : 0, 'edge');
   }
   const node = (p, label, color, title) => {
     const gEl = svg('g', {class: 'node'});
@@ -263,7 +265,11 @@ function drawGraph(run) {
     const depth = g.depths[i];
     node(pos[i], i === 0 ? 'arm' : 'e' + i, depth < 0 ? COLORS[4] : COLORS[i % COLORS.length],
          entityName(i) + ': depth ' + (depth < 0 ? '– (not controllable)' : depth));
-    root.appendChild(svg('text', {x: pos[i][0], y: pos[i][1] + nodeR + 13, 'text-anchor': 'middle'},
+    // the depth outside the polygon, beyond the node
+    const a = pos[i][2], c = Math.cos(a), side = Math.abs(c) > 0.35;
+    const out = R + nodeR + (side ? 5 : 13);
+    root.appendChild(svg('text', {x: cx + out * c, y: cy + out * Math.sin(a) + 4,
+                                  'text-anchor': side ? (c > 0 ? 'start' : 'end') : 'middle'},
                          'depth ' + (depth < 0 ? '–' : depth)));
   }
   box.appendChild(root);
