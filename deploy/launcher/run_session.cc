@@ -98,7 +98,9 @@ void RunSession::Show(const mon::MonitorState& state, std::vector<mon::ProcessRo
   if (dashboard_ && dashboard_->Due(now)) dashboard_->Update(state, now, Render(rows), /*force=*/true);
   if (display_ == DisplayMode::kLive && now >= next_draw_) {
     next_draw_ = now + std::chrono::seconds(1);
-    std::cout << "\033[H\033[2J" << mon::Render(state, mon::Clock::now(), Render(std::move(rows))) << std::flush;
+    mon::RenderOptions render = Render(std::move(rows));
+    if (dashboard_) render.title += "  dashboard " + dashboard_->url();  // the screen hides the printed URL
+    std::cout << "\033[H\033[2J" << mon::Render(state, mon::Clock::now(), render) << std::flush;
   } else if (display_ == DisplayMode::kPlain && now >= next_line_) {
     next_line_ = now + std::chrono::seconds(10);
     std::cout << "[" << ClockText(elapsed_s()) << "] " << (label_.empty() ? "" : label_ + " ")

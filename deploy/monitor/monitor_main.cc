@@ -236,7 +236,9 @@ int main(int argc, char** argv) {
       if (args.json) {
         std::cout << json_line() << std::endl;
       } else if (live) {
-        std::cout << "\033[H\033[2J" << mon::Render(source.state(), mon::Clock::now(), render_now()) << std::flush;
+        mon::RenderOptions shown = render_now();
+        if (dashboard) shown.title += "  dashboard " + dashboard->url();  // the screen hides the printed URL
+        std::cout << "\033[H\033[2J" << mon::Render(source.state(), mon::Clock::now(), shown) << std::flush;
       } else {
         std::cout << mon::RenderOneLine(source.state(), mon::Clock::now(), run_id(), render_now().total_env_steps) << std::endl;
       }
