@@ -3,7 +3,7 @@
 //
 //   srics-monitor CONFIG [--set key.path=value ...] [--csv DIR] [--once] [--all-runs]
 //                 [--no-weights] [--for SECONDS] [--wait SECONDS] [--refresh SECONDS]
-//                 [--http PORT [--http-bind ADDR]] [--json] [--run-dir DIR]
+//                 [--http PORT [--http-bind ADDR]] [--json]
 //   srics-monitor --run-dir DIR [...]     a run folder's files instead of DDS (live or finished)
 //
 // Exit codes: 0 ok, 2 bad arguments or config (or a port that cannot be served), 1 DDS
@@ -15,11 +15,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
-#include <functional>
 #include <iostream>
 #include <memory>
-#include <optional>
-#include <thread>
 #include <string>
 #include <vector>
 
@@ -30,7 +27,7 @@
 #include "common/logging/logging.h"
 #include "common/transport/transport.h"
 #include "deploy/dashboard/dashboard.h"
-#include "deploy/dashboard/run_folder_source.h"
+#include "deploy/dashboard/run_folder_watch.h"
 #include "deploy/monitor/display.h"
 #include "deploy/monitor/monitor.h"
 
@@ -42,12 +39,11 @@ namespace mon = srics::monitor;
 constexpr const char* kUsage =
     "usage: srics-monitor CONFIG [--set key.path=value ...] [--csv DIR] [--once] [--all-runs]\n"
     "                     [--no-weights] [--for SECONDS] [--wait SECONDS] [--refresh SECONDS]\n"
-    "                     [--http PORT [--http-bind ADDR]] [--json] [--run-dir DIR]\n"
-    "       srics-monitor --run-dir DIR [--http PORT] [--json] [--once] [--for S] [--refresh S]\n"
+    "                     [--http PORT [--http-bind ADDR]] [--json]\n"
+    "       srics-monitor --run-dir DIR [--http PORT [--http-bind ADDR]] [--json] [--once] [--for S] [--refresh S]\n"
     "  CONFIG        the run's config (domain id, run id, Cyclone profile come from it)\n"
-    "  --run-dir DIR a run folder: without CONFIG, shows its files (eval.csv, learner.csv,\n"
-    "                nodes.csv, graph.json; a finished run or one going on) instead of DDS;\n"
-    "                with CONFIG, where the dashboard finds recorded episodes (DIR/eval/)\n"
+    "  --run-dir DIR a run folder's files (eval.csv, learner.csv, nodes.csv, graph.json; a finished\n"
+    "                run or one going on) instead of DDS; with CONFIG: where recorded episodes are\n"
     "  --http PORT   serve the web dashboard on PORT (0: any free port; the URL is printed)\n"
     "  --http-bind A its address (default 127.0.0.1, this host only; 0.0.0.0 = every interface)\n"
     "  --json        print the dashboard's JSON document, one line per refresh, instead of the display\n"
@@ -70,10 +66,10 @@ struct Args {
   double for_s = 0;
   double wait_s = 3;
   double refresh_s = 1;
-  std::string run_dir;
-  int http_port = -1;  // -1: no dashboard
-  std::string http_bind = "127.0.0.1";
-  bool json = false;
+  std::string run_dir;                  // --run-dir
+  int http_port = -1;                   // --http (-1: no dashboard)
+  std::string http_bind = "127.0.0.1";  // --http-bind
+  bool json = false;                    // --json
 };
 
 double ParseSeconds(const std::string& flag, const std::string& text) {
@@ -111,41 +107,19 @@ Args ParseArgs(int argc, char** argv) {
   return args;
 }
 
-// Where the state comes from: DDS samples (a Monitor) or a run folder's files.
-struct Source {
-  std::function<size_t(std::chrono::milliseconds)> poll;  // returns the samples (or files) taken
-  std::function<const mon::MonitorState&()> state;
-  std::function<std::vector<std::string>()> events;
-};
-
-// A run folder as a source: re-read at most once per refresh period.
-Source FolderSource(srics::dashboard::RunFolderSource* folder, double refresh_s) {
-  auto next = std::make_shared<mon::Clock::time_point>();
-  return {.poll =
-              [folder, next, refresh_s](std::chrono::milliseconds timeout) -> size_t {
-                const auto now = mon::Clock::now();
-                if (now < *next) {
-                  std::this_thread::sleep_for(std::min<mon::Clock::duration>(timeout, *next - now));
-                  return 0;
-                }
-                *next = now + std::chrono::duration_cast<mon::Clock::duration>(std::chrono::duration<double>(refresh_s));
-                return folder->Refresh(now) ? 1 : 0;
-              },
-          .state = [folder]() -> const mon::MonitorState& { return folder->state(); },
-          .events = [] { return std::vector<std::string>(); }};
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   tr::Shutdown::InstallSignalHandlers();
   Args args;
   srics::config::Config config;
-  std::optional<srics::dashboard::RunFolderSource> folder;
   try {
     args = ParseArgs(argc, argv);
-    if (!args.config.empty()) config = srics::config::LoadConfig(args.config, args.overrides);
-    else folder.emplace(args.run_dir);
+    if (args.config.empty())  // --run-dir alone: the folder's files, not DDS
+      return srics::dashboard::WatchRunFolder({.run_dir = args.run_dir, .http_port = args.http_port,
+                                               .http_bind = args.http_bind, .json = args.json, .once = args.once,
+                                               .for_s = args.for_s, .refresh_s = args.refresh_s});
+    config = srics::config::LoadConfig(args.config, args.overrides);
   } catch (const std::exception& e) {
     std::cerr << "srics-monitor: " << e.what() << "\n" << kUsage;
     return 2;
@@ -157,96 +131,63 @@ int main(int argc, char** argv) {
   auto logger = srics::logging::SetUpLogger("monitor", {.level = config.run.log_level, .file = ""});
   // a refreshing screen and log lines on the same terminal do not mix: events go on screen
   if (live || args.json) logger->sinks().front()->set_level(spdlog::level::off);
-
   std::unique_ptr<srics::dashboard::Dashboard> dashboard;
   try {
-    if (args.http_port >= 0) {
+    if (args.http_port >= 0)
       dashboard = std::make_unique<srics::dashboard::Dashboard>(srics::dashboard::DashboardOptions{
-          .bind = args.http_bind, .port = args.http_port, .source = folder ? "run folder" : "dds",
-          .run_dir = args.run_dir});
-      std::cerr << "srics-monitor: dashboard on " << dashboard->url() << std::endl;
-    }
+          .bind = args.http_bind, .port = args.http_port, .source = "dds", .run_dir = args.run_dir});
   } catch (const srics::dashboard::BindError& e) {
     std::cerr << "srics-monitor: " << e.what() << "\n";
     return 2;
   }
+  if (dashboard) std::cerr << "srics-monitor: dashboard on " << dashboard->url() << std::endl;
+  auto json_line = [&](const srics::monitor::MonitorState& state, const srics::monitor::RenderOptions& render) {
+    return srics::dashboard::DocumentFor(state, srics::monitor::Clock::now(), render, "dds", args.run_dir);
+  };
 
   try {
-    std::optional<tr::Participant> participant;
-    std::optional<mon::Monitor> monitor;
+    tr::Participant participant(config.transport);
+    mon::Monitor monitor(participant, {.all_runs = args.all_runs, .weights = args.weights, .csv_dir = args.csv_dir, .csv_node_statuses = true});
     mon::RenderOptions render;
-    Source source;
-    if (folder) {
-      render = folder->render_options();
-      source = FolderSource(&*folder, args.refresh_s);
-    } else {
-      participant.emplace(config.transport);
-      monitor.emplace(*participant, mon::MonitorOptions{.all_runs = args.all_runs, .weights = args.weights,
-                                                        .csv_dir = args.csv_dir, .csv_node_statuses = true});
-      render.run_id = args.all_runs ? "" : config.transport.run_id;
-      render.total_env_steps = config.run.total_env_steps;
-      render.title = "srics-monitor  domain " + std::to_string(config.transport.domain_id) +
-                     (args.all_runs ? "  all runs" : "  run " + config.transport.run_id);
-      source = {.poll = [&](std::chrono::milliseconds timeout) { return monitor->Poll(timeout); },
-                .state = [&]() -> const mon::MonitorState& { return monitor->state(); },
-                .events = [&] { return monitor->TakeNodeEvents(); }};
-    }
-    // the run of the one-line summary: the config's, or the folder's (the one with most evaluations)
-    auto run_id = [&] {
-      if (!folder) return config.transport.run_id;
-      std::string id;
-      size_t most = 0;
-      for (const auto& [name, run] : folder->state().runs)
-        if (id.empty() || run.evals.size() > most) id = name, most = run.evals.size();
-      return id;
-    };
-    auto render_now = [&] {
-      if (folder) {  // the folder's config.yaml (re-read with its files) gives title and budget
-        const std::vector<std::string> events = render.events;
-        render = folder->render_options();
-        render.events = events;
-      }
-      return render;
-    };
-    auto json_line = [&] {
-      return srics::dashboard::DocumentFor(source.state(), mon::Clock::now(), render_now(),
-                                           folder ? "run folder" : "dds", args.run_dir);
-    };
+    render.run_id = args.all_runs ? "" : config.transport.run_id;
+    render.total_env_steps = config.run.total_env_steps;
+    render.title = "srics-monitor  domain " + std::to_string(config.transport.domain_id) +
+                   (args.all_runs ? "  all runs" : "  run " + config.transport.run_id);
     std::deque<std::string> events;
-    const auto& stop = tr::Shutdown::Process().flag();
 
     const auto start = mon::Clock::now();
     const auto refresh = std::chrono::duration_cast<mon::Clock::duration>(std::chrono::duration<double>(args.refresh_s));
     auto next_draw = start;
     size_t received = 0;
-    while (!stop) {
+    while (!participant.shutdown_requested()) {
       const auto now = mon::Clock::now();
       const double elapsed = std::chrono::duration<double>(now - start).count();
-      if (args.once && elapsed >= (folder ? 0.0 : args.wait_s)) break;
+      if (args.once && elapsed >= args.wait_s) break;
       if (args.for_s > 0 && elapsed >= args.for_s) break;
-      received += source.poll(std::chrono::milliseconds(100));
-      for (std::string& event : source.events()) {
+      received += monitor.Poll(std::chrono::milliseconds(100));
+      for (std::string& event : monitor.TakeNodeEvents()) {
         events.push_back(std::move(event));
         if (events.size() > 8) events.pop_front();
       }
       render.events.assign(events.begin(), events.end());
-      if (dashboard && dashboard->Due(mon::Clock::now())) dashboard->Update(source.state(), mon::Clock::now(), render_now(), true);
+      if (dashboard) dashboard->Update(monitor.state(), mon::Clock::now(), render);
       if (args.once || mon::Clock::now() < next_draw) continue;
       next_draw = mon::Clock::now() + (live || args.json ? refresh : refresh * 10);
       if (args.json) {
-        std::cout << json_line() << std::endl;
+        std::cout << json_line(monitor.state(), render) << std::endl;
       } else if (live) {
-        mon::RenderOptions shown = render_now();
+        mon::RenderOptions shown = render;
         if (dashboard) shown.title += "  dashboard " + dashboard->url();  // the screen hides the printed URL
-        std::cout << "\033[H\033[2J" << mon::Render(source.state(), mon::Clock::now(), shown) << std::flush;
+        std::cout << "\033[H\033[2J" << mon::Render(monitor.state(), mon::Clock::now(), shown) << std::flush;
       } else {
-        std::cout << mon::RenderOneLine(source.state(), mon::Clock::now(), run_id(), render_now().total_env_steps) << std::endl;
+        std::cout << mon::RenderOneLine(monitor.state(), mon::Clock::now(), config.transport.run_id,
+                                        config.run.total_env_steps)
+                  << std::endl;
       }
     }
     render.events.assign(events.begin(), events.end());
-    if (folder && received == 0) received = folder->Refresh(mon::Clock::now()) ? 1 : 0;
-    if (args.once && args.json) std::cout << json_line() << std::endl;
-    else if (!args.json && (args.once || !live)) std::cout << mon::Render(source.state(), mon::Clock::now(), render_now()) << std::flush;
+    if (args.json && args.once) std::cout << json_line(monitor.state(), render) << std::endl;
+    else if (!args.json && (args.once || !live)) std::cout << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
     if (args.once && received == 0) return 3;
     return 0;
   } catch (const std::exception& e) {
