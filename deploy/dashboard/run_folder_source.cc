@@ -250,12 +250,11 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
         mon::Apply(&state, n->status, at);
         continue;
       }
-      // the monitor saw the node go: its last status stands; "exited" means it said goodbye
+      // the monitor saw the node go: its last status stands (and with it the health the display
+      // computes: LOST after a quiet without goodbye); "exited" means it said goodbye
       auto it = state.nodes.find({mon::PrintableText(n->status.run_id), mon::PrintableText(n->status.role),
                                   n->status.node_id});
-      if (it == state.nodes.end()) continue;
-      if (n->event == "exited") it->second.status.state = tr::NodeState::kStopping;
-      else if (it->second.status.state == tr::NodeState::kStopping) it->second.status.state = tr::NodeState::kFailed;
+      if (it != state.nodes.end() && n->event == "exited") it->second.status.state = tr::NodeState::kStopping;
     }
   }
 
