@@ -16,6 +16,7 @@ packages=(
   libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox graphviz libqhull-dev
+  libcpp-httplib-dev  # the web dashboard's HTTP server (srics run --http, srics-monitor --http)
   # MuJoCo's offscreen renderer without a display (srics eval): EGL with Mesa (llvmpipe)
   libegl-dev libegl-mesa0 libgl1-mesa-dri
   iproute2 procps

@@ -17,6 +17,7 @@
 #include "common/logging/logging.h"
 #include "common/process/role_startup.h"
 #include "common/transport/transport.h"
+#include "deploy/dashboard/server.h"
 #include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/launcher/run_session.h"
@@ -56,6 +57,8 @@ const char* const kRunUsage =
     "  --final-eval-grace S  once the learner finished, wait this long for the actors' final\n"
     "                        evaluation and exit before stopping them (default 180)\n"
     "  --label TEXT    shown in the display's title (srics sweep: which run of how many)\n"
+    "  --http PORT     serve the live web dashboard on PORT (127.0.0.1 only unless --http-bind)\n"
+    "  --http-bind A   the address to serve it on (default 127.0.0.1; 0.0.0.0 = every interface)\n"
     "the run folder's outcome.yaml says how the run ended (finished, interrupted, failed)\n"
     "exit codes: 0 run finished, 1 a role failed for good, 2 bad arguments/config, 130 interrupted\n";
 
@@ -108,6 +111,8 @@ LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
     else if (arg == "--in-process") options.in_process = true;
     else if (arg == "--label") options.label = value();
     else if (arg == "--allow-config-change") options.allow_config_change = true;
+    else if (arg == "--http") options.http_port = dashboard::ParseHttpPort(value());
+    else if (arg == "--http-bind") options.http_bind = value();
     else if (arg == "--display") {
       options.display = ParseDisplayMode(value());
     } else if (!arg.empty() && arg[0] == '-') {
@@ -119,6 +124,8 @@ LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
     }
   }
   if (options.config_file.empty()) throw std::invalid_argument("missing CONFIG");
+  if (options.http_port < 0 && options.http_bind != "127.0.0.1")
+    throw std::invalid_argument("--http-bind needs --http PORT");
   if (options.actors > 0) options.overrides.push_back("actors.count=" + std::to_string(options.actors));
   return options;
 }
@@ -261,13 +268,20 @@ int Run(const LaunchOptions& options) {
     config = config::LoadConfig(options.config_file, overrides);
   }
   CheckResumedConfig(config, options.run_dir, options.allow_config_change);
-  if (options.in_process) return RunInProcess(options, config);
-  // DDS Security: every process's identity is in the keystore before anything starts
-  config::SecurityConfig& security = config.transport.security;
-  for (const std::string& name : {std::string("learner"), std::string("graph")}) config::CheckKeystore(security, name);
-  for (int k = 0; k < config.actors.count; ++k) config::CheckKeystore(security, "actor-" + std::to_string(k));
-  security.identity = config::CheckKeystore(security, "launcher");
-  return RunProcesses(options, config);
+  try {
+    if (options.in_process) return RunInProcess(options, config);
+    // DDS Security: every process's identity is in the keystore before anything starts
+    config::SecurityConfig& security = config.transport.security;
+    for (const std::string& name : {std::string("learner"), std::string("graph")}) config::CheckKeystore(security, name);
+    for (int k = 0; k < config.actors.count; ++k) config::CheckKeystore(security, "actor-" + std::to_string(k));
+    security.identity = config::CheckKeystore(security, "launcher");
+    return RunProcesses(options, config);
+  } catch (const dashboard::BindError& e) {
+    // thrown before the run folder or any process exists (RunSession binds first)
+    std::cerr << "srics run: " << e.what() << "
+";
+    return kExitUsage;
+  }
 }
 
 }  // namespace srics::launcher

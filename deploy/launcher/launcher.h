@@ -46,6 +46,8 @@ struct LaunchOptions {
   int max_restarts_service = 5;        // learner and graph service (actors: no limit)
   std::string label;                   // --label: shown in the display's title ("sweep run 2/6")
   bool allow_config_change = false;    // --allow-config-change: a continued run may take another config
+  int http_port = -1;                  // --http PORT: serve the web dashboard (-1 = none, 0 = any free port)
+  std::string http_bind = "127.0.0.1";  // --http-bind ADDR
 };
 
 // Exit codes of `srics run`.

@@ -34,14 +34,33 @@ std::string WallLimitReason(const config::Config& config, double elapsed_s) {
   return text;
 }
 
+namespace {
+
+std::unique_ptr<dashboard::Dashboard> ServeDashboard(const LaunchOptions& options) {
+  if (options.http_port < 0) return nullptr;
+  return std::make_unique<dashboard::Dashboard>(dashboard::DashboardOptions{
+      .bind = options.http_bind, .port = options.http_port, .source = options.in_process ? "in-process" : "dds"});
+}
+
+}  // namespace
+
 RunSession::RunSession(const LaunchOptions& options, const config::Config& config)
-    : config_(config), dir_(PrepareRunFolder(config, options.run_dir)), label_(options.label), display_(options.display) {
+    : config_(config),
+      dashboard_(ServeDashboard(options)),
+      dir_(PrepareRunFolder(config, options.run_dir)),
+      label_(options.label),
+      display_(options.display) {
   RemoveRunOutcome(dir_);  // the run goes on: no longer ended
   if (display_ == DisplayMode::kAuto) display_ = isatty(STDOUT_FILENO) ? DisplayMode::kLive : DisplayMode::kPlain;
   auto logger = logging::SetUpLogger("launcher", {.level = config.run.log_level, .file = dir_ + "/logs/launcher.log"});
   if (display_ == DisplayMode::kLive) logger->sinks().front()->set_level(spdlog::level::off);
   logger->flush_on(spdlog::level::info);
   std::cout << "srics run: run folder " << dir_ << "\n" << std::flush;
+  if (dashboard_) {
+    dashboard_->SetRunDir(dir_);
+    std::cout << "srics run: dashboard on " << dashboard_->url() << "\n" << std::flush;
+    spdlog::info("dashboard on {}", dashboard_->url());
+  }
   spdlog::info("run folder {}, config {}, {} actors{}", dir_, options.config_file, config.actors.count,
                options.in_process ? ", in process" : "");
   start_ = next_draw_ = SteadyClock::now();
@@ -76,9 +95,12 @@ mon::RenderOptions RunSession::Render(std::vector<mon::ProcessRow> rows) const {
 
 void RunSession::Show(const mon::MonitorState& state, std::vector<mon::ProcessRow> rows, uint32_t restarts) {
   const auto now = SteadyClock::now();
+  if (dashboard_ && dashboard_->Due(now)) dashboard_->Update(state, now, Render(rows), /*force=*/true);
   if (display_ == DisplayMode::kLive && now >= next_draw_) {
     next_draw_ = now + std::chrono::seconds(1);
-    std::cout << "\033[H\033[2J" << mon::Render(state, mon::Clock::now(), Render(std::move(rows))) << std::flush;
+    mon::RenderOptions render = Render(std::move(rows));
+    if (dashboard_) render.title += "  dashboard " + dashboard_->url();  // the screen hides the printed URL
+    std::cout << "\033[H\033[2J" << mon::Render(state, mon::Clock::now(), render) << std::flush;
   } else if (display_ == DisplayMode::kPlain && now >= next_line_) {
     next_line_ = now + std::chrono::seconds(10);
     std::cout << "[" << ClockText(elapsed_s()) << "] " << (label_.empty() ? "" : label_ + " ")
@@ -97,6 +119,7 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
   render.title = "srics run  " + dir_ + "  finished: " + reason;
   const std::string summary = mon::Render(state, mon::Clock::now(), render);
   std::ofstream(dir_ + "/summary.txt") << summary;
+  if (dashboard_) dashboard_->Update(state, mon::Clock::now(), render, /*force=*/true);
 
   std::string files;
   for (const char* name : {"config.yaml", "eval.csv", "learner.csv", "train.csv", "nodes.csv", "curve.png",

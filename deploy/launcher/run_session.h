@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/config/config.h"
+#include "deploy/dashboard/dashboard.h"
 #include "deploy/launcher/launcher.h"
 #include "deploy/monitor/display.h"
 #include "deploy/monitor/monitor_state.h"
@@ -21,6 +22,7 @@ class RunSession {
  public:
   // Prepares the run folder (config.yaml, logs/), the log file and the display mode, and
   // says where the run folder is. Throws std::runtime_error.
+  // Throws dashboard::BindError when --http's port cannot be listened on.
   RunSession(const LaunchOptions& options, const config::Config& config);
 
   const std::string& dir() const { return dir_; }
@@ -29,7 +31,8 @@ class RunSession {
   void Event(const std::string& text);
   // On the display only (the monitor has logged it).
   void Note(const std::string& text);
-  // Redraws the live display (at most once a second) or prints a plain line (every 10 s).
+  // Redraws the live display (at most once a second) or prints a plain line (every 10 s),
+  // and the web dashboard's document (at most once a second) when it is served.
   void Show(const monitor::MonitorState& state, std::vector<monitor::ProcessRow> rows, uint32_t restarts);
   // Plots the curves, writes summary.txt and outcome.yaml (how the run ended) and prints the
   // closing lines. Returns exit_code.
@@ -41,6 +44,9 @@ class RunSession {
   void Remember(const std::string& text);
 
   const config::Config& config_;
+  // --http: listening before the run folder is made (a taken port stops the run before
+  // anything exists: BindError from the constructor)
+  std::unique_ptr<dashboard::Dashboard> dashboard_;
   std::string dir_;
   std::string label_;
   DisplayMode display_;

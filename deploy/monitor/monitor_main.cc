@@ -3,8 +3,11 @@
 //
 //   srics-monitor CONFIG [--set key.path=value ...] [--csv DIR] [--once] [--all-runs]
 //                 [--no-weights] [--for SECONDS] [--wait SECONDS] [--refresh SECONDS]
+//                 [--http PORT [--http-bind ADDR]] [--json]
+//   srics-monitor --run-dir DIR [...]     a run folder's files instead of DDS (live or finished)
 //
-// Exit codes: 0 ok, 2 bad arguments or config, 1 DDS failure, 3 with --once: nothing received.
+// Exit codes: 0 ok, 2 bad arguments or config (or a port that cannot be served), 1 DDS
+// failure, 3 with --once: nothing received.
 
 #include <unistd.h>
 
@@ -13,6 +16,7 @@
 #include <cstdlib>
 #include <deque>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,6 +26,8 @@
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/transport/transport.h"
+#include "deploy/dashboard/dashboard.h"
+#include "deploy/dashboard/run_folder_watch.h"
 #include "deploy/monitor/display.h"
 #include "deploy/monitor/monitor.h"
 
@@ -33,7 +39,14 @@ namespace mon = srics::monitor;
 constexpr const char* kUsage =
     "usage: srics-monitor CONFIG [--set key.path=value ...] [--csv DIR] [--once] [--all-runs]\n"
     "                     [--no-weights] [--for SECONDS] [--wait SECONDS] [--refresh SECONDS]\n"
+    "                     [--http PORT [--http-bind ADDR]] [--json]\n"
+    "       srics-monitor --run-dir DIR [--http PORT [--http-bind ADDR]] [--json] [--once] [--for S] [--refresh S]\n"
     "  CONFIG        the run's config (domain id, run id, Cyclone profile come from it)\n"
+    "  --run-dir DIR a run folder's files (eval.csv, learner.csv, nodes.csv, graph.json; a finished\n"
+    "                run or one going on) instead of DDS; with CONFIG: where recorded episodes are\n"
+    "  --http PORT   serve the web dashboard on PORT (0: any free port; the URL is printed)\n"
+    "  --http-bind A its address (default 127.0.0.1, this host only; 0.0.0.0 = every interface)\n"
+    "  --json        print the dashboard's JSON document, one line per refresh, instead of the display\n"
     "  --set K=V     override a config value, as for the other srics programs\n"
     "  --csv DIR     append eval.csv, learner.csv, nodes.csv in DIR as samples arrive\n"
     "  --once        listen for --wait seconds (default 3), print one display and exit\n"
@@ -53,6 +66,10 @@ struct Args {
   double for_s = 0;
   double wait_s = 3;
   double refresh_s = 1;
+  std::string run_dir;                  // --run-dir
+  int http_port = -1;                   // --http (-1: no dashboard)
+  std::string http_bind = "127.0.0.1";  // --http-bind
+  bool json = false;                    // --json
 };
 
 double ParseSeconds(const std::string& flag, const std::string& text) {
@@ -76,12 +93,17 @@ Args ParseArgs(int argc, char** argv) {
     else if (arg == "--for") args.for_s = ParseSeconds(arg, value());
     else if (arg == "--wait") args.wait_s = ParseSeconds(arg, value());
     else if (arg == "--refresh") args.refresh_s = std::max(0.1, ParseSeconds(arg, value()));
+    else if (arg == "--run-dir") args.run_dir = value();
+    else if (arg == "--http") args.http_port = srics::dashboard::ParseHttpPort(value());
+    else if (arg == "--http-bind") args.http_bind = value();
+    else if (arg == "--json") args.json = true;
     else if (arg == "-h" || arg == "--help") { std::cout << kUsage; std::exit(0); }
     else if (!arg.empty() && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);
     else if (args.config.empty()) args.config = arg;
     else throw std::invalid_argument("unexpected argument " + arg);
   }
-  if (args.config.empty()) throw std::invalid_argument("missing CONFIG");
+  if (args.config.empty() && args.run_dir.empty()) throw std::invalid_argument("missing CONFIG (or --run-dir DIR)");
+  if (args.http_port < 0 && args.http_bind != "127.0.0.1") throw std::invalid_argument("--http-bind needs --http PORT");
   return args;
 }
 
@@ -93,6 +115,10 @@ int main(int argc, char** argv) {
   srics::config::Config config;
   try {
     args = ParseArgs(argc, argv);
+    if (args.config.empty())  // --run-dir alone: the folder's files, not DDS
+      return srics::dashboard::WatchRunFolder({.run_dir = args.run_dir, .http_port = args.http_port,
+                                               .http_bind = args.http_bind, .json = args.json, .once = args.once,
+                                               .for_s = args.for_s, .refresh_s = args.refresh_s});
     config = srics::config::LoadConfig(args.config, args.overrides);
     // DDS Security: the keystore's "monitor" identity (read-only) unless the config names another
     config.transport.security.identity = srics::config::CheckKeystore(config.transport.security, "monitor");
@@ -103,10 +129,23 @@ int main(int argc, char** argv) {
   // the config's run id is chosen per launch (a config file, not a run folder's config.yaml):
   // show every run on the domain
   if (config.transport.run_id == srics::config::kAutoRunId) args.all_runs = true;
-  const bool live = !args.once && isatty(STDOUT_FILENO);
+  const bool live = !args.once && !args.json && isatty(STDOUT_FILENO);
   auto logger = srics::logging::SetUpLogger("monitor", {.level = config.run.log_level, .file = ""});
   // a refreshing screen and log lines on the same terminal do not mix: events go on screen
-  if (live) logger->sinks().front()->set_level(spdlog::level::off);
+  if (live || args.json) logger->sinks().front()->set_level(spdlog::level::off);
+  std::unique_ptr<srics::dashboard::Dashboard> dashboard;
+  try {
+    if (args.http_port >= 0)
+      dashboard = std::make_unique<srics::dashboard::Dashboard>(srics::dashboard::DashboardOptions{
+          .bind = args.http_bind, .port = args.http_port, .source = "dds", .run_dir = args.run_dir});
+  } catch (const srics::dashboard::BindError& e) {
+    std::cerr << "srics-monitor: " << e.what() << "\n";
+    return 2;
+  }
+  if (dashboard) std::cerr << "srics-monitor: dashboard on " << dashboard->url() << std::endl;
+  auto json_line = [&](const srics::monitor::MonitorState& state, const srics::monitor::RenderOptions& render) {
+    return srics::dashboard::DocumentFor(state, srics::monitor::Clock::now(), render, "dds", args.run_dir);
+  };
 
   try {
     tr::Participant participant(config.transport);
@@ -132,11 +171,16 @@ int main(int argc, char** argv) {
         events.push_back(std::move(event));
         if (events.size() > 8) events.pop_front();
       }
-      if (args.once || mon::Clock::now() < next_draw) continue;
-      next_draw = mon::Clock::now() + (live ? refresh : refresh * 10);
       render.events.assign(events.begin(), events.end());
-      if (live) {
-        std::cout << "\033[H\033[2J" << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
+      if (dashboard) dashboard->Update(monitor.state(), mon::Clock::now(), render);
+      if (args.once || mon::Clock::now() < next_draw) continue;
+      next_draw = mon::Clock::now() + (live || args.json ? refresh : refresh * 10);
+      if (args.json) {
+        std::cout << json_line(monitor.state(), render) << std::endl;
+      } else if (live) {
+        mon::RenderOptions shown = render;
+        if (dashboard) shown.title += "  dashboard " + dashboard->url();  // the screen hides the printed URL
+        std::cout << "\033[H\033[2J" << mon::Render(monitor.state(), mon::Clock::now(), shown) << std::flush;
       } else {
         std::cout << mon::RenderOneLine(monitor.state(), mon::Clock::now(), config.transport.run_id,
                                         config.run.total_env_steps)
@@ -144,7 +188,8 @@ int main(int argc, char** argv) {
       }
     }
     render.events.assign(events.begin(), events.end());
-    if (args.once || !live) std::cout << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
+    if (args.json && args.once) std::cout << json_line(monitor.state(), render) << std::endl;
+    else if (!args.json && (args.once || !live)) std::cout << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
     if (args.once && received == 0) return 3;
     return 0;
   } catch (const std::exception& e) {

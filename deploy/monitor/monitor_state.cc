@@ -57,10 +57,29 @@ void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::tim
   run.learner->run_id = PrintableText(stats.run_id);
   run.learner_received = now;
   const uint64_t steps = TrainingSteps(stats);
-  if (!run.step_history.empty() && steps < run.step_history.back().second) run.step_history.clear();
+  if (!run.step_history.empty() && steps < run.step_history.back().second) {
+    run.step_history.clear();
+    run.learner_history = LearnerHistory{.max_points = run.learner_history.max_points};
+  }
+  Add(&run.learner_history, {.updates = stats.updates, .env_steps = steps, .q_loss = stats.q_loss,
+                             .policy_loss = stats.policy_loss, .alpha = stats.alpha, .entropy = stats.entropy,
+                             .mean_reward = stats.mean_reward, .updates_per_second = stats.updates_per_second,
+                             .inserts_per_second = stats.inserts_per_second});
   run.step_history.emplace_back(now, steps);
   while (run.step_history.size() > 2 && now - run.step_history.front().first > kRateWindow)
     run.step_history.pop_front();
+}
+
+void Add(LearnerHistory* history, const LearnerPoint& point) {
+  history->latest = point;
+  if (history->seen++ % history->stride != 0) return;
+  history->points.push_back(point);
+  if (history->points.size() <= std::max<size_t>(history->max_points, 2)) return;
+  // keep points 0, 2, 4, ...: the stride doubles, so the kept ones stay evenly spaced
+  size_t kept = 0;
+  for (size_t i = 0; i < history->points.size(); i += 2) history->points[kept++] = history->points[i];
+  history->points.resize(kept);
+  history->stride *= 2;
 }
 
 std::optional<double> EnvStepRate(const RunView& run) {

@@ -59,6 +59,26 @@ struct WeightsInfo {
   Clock::time_point received;
 };
 
+// One LearnerStats as a point of the learner's history (the dashboard's loss and rate charts).
+struct LearnerPoint {
+  uint64_t updates = 0;
+  uint64_t env_steps = 0;  // training env steps (transitions inserted where the contract lacks them)
+  float q_loss = 0, policy_loss = 0, alpha = 0, entropy = 0, mean_reward = 0;
+  float updates_per_second = 0, inserts_per_second = 0;
+};
+
+// A bounded, evenly thinned history: every `stride`-th point is kept; when more than
+// `max_points` are held, every other one is dropped and the stride doubles. The newest point
+// is always `latest` (so a chart ends where the learner is).
+struct LearnerHistory {
+  std::vector<LearnerPoint> points;
+  std::optional<LearnerPoint> latest;
+  uint64_t stride = 1;
+  uint64_t seen = 0;
+  size_t max_points = 600;
+};
+void Add(LearnerHistory* history, const LearnerPoint& point);
+
 // Everything about one run id.
 struct RunView {
   std::optional<transport::LearnerStats> learner;
@@ -71,6 +91,8 @@ struct RunView {
   // (arrival, training env steps) of recent LearnerStats, for the rate and the ETA: the last
   // kRateWindow of them, cleared when the count goes back (a learner restarted afresh)
   std::deque<std::pair<Clock::time_point, uint64_t>> step_history;
+  // every LearnerStats, thinned (cleared with step_history when the learner starts afresh)
+  LearnerHistory learner_history;
 };
 
 // How far back the env-step rate looks.

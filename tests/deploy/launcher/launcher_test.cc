@@ -93,6 +93,19 @@ TEST(ParseRunArgsTest, ActorsBecomeAnOverrideAndBadValuesAreRejected) {
   EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--frobnicate"}), std::invalid_argument);
 }
 
+TEST(ParseRunArgsTest, HttpTakesAPortAndItsBindAddress) {
+  EXPECT_EQ(ParseRunArgs({"cfg.yaml"}).http_port, -1);  // no dashboard unless asked
+  const LaunchOptions options = ParseRunArgs({"cfg.yaml", "--http", "8080", "--http-bind", "0.0.0.0"});
+  EXPECT_EQ(options.http_port, 8080);
+  EXPECT_EQ(options.http_bind, "0.0.0.0");
+  EXPECT_EQ(ParseRunArgs({"cfg.yaml", "--http", "8080"}).http_bind, "127.0.0.1");
+  EXPECT_EQ(ParseRunArgs({"cfg.yaml", "--http", "0"}).http_port, 0);
+  EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--http", "70000"}), std::invalid_argument);
+  EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--http", "-1"}), std::invalid_argument);
+  EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--http"}), std::invalid_argument);
+  EXPECT_THROW(ParseRunArgs({"cfg.yaml", "--http-bind", "0.0.0.0"}), std::invalid_argument);  // without --http
+}
+
 TEST_F(LauncherTest, RunEndsWhenLearnerAndActorsFinishAndACrashedActorIsRestarted) {
   // the lead's protocol: the learner exits 0 at the budget, then the actors (after a last
   // evaluation); actor 0 crashes once on the way

@@ -156,6 +156,29 @@ TEST(MonitorStateTest, EnvStepsIsTheLargerOfLearnerAndEvaluation) {
   EXPECT_EQ(EnvSteps(state.runs.at("r1")), 9000u);
 }
 
+TEST(MonitorStateTest, LearnerHistoryKeepsEveryStatsAndStartsOverWithAFreshLearner) {
+  MonitorState state;
+  transport::LearnerStats stats;
+  stats.run_id = "r1";
+  for (uint64_t k = 1; k <= 5; ++k) {
+    stats.updates = 100 * k;
+    stats.q_loss = static_cast<float>(k);
+    SetTrainingSteps(&stats, 1000 * k);
+    Apply(&state, stats, {});
+  }
+  const LearnerHistory& history = state.runs.at("r1").learner_history;
+  ASSERT_EQ(history.points.size(), 5u);
+  EXPECT_EQ(history.points[2].updates, 300u);
+  EXPECT_EQ(history.points[2].env_steps, 3000u);
+  EXPECT_EQ(history.points[4].q_loss, 5.0f);
+  // a learner that started afresh (its count went back): the history starts over
+  stats.updates = 10;
+  SetTrainingSteps(&stats, 50);
+  Apply(&state, stats, {});
+  ASSERT_EQ(state.runs.at("r1").learner_history.points.size(), 1u);
+  EXPECT_EQ(state.runs.at("r1").learner_history.points[0].updates, 10u);
+}
+
 TEST(MonitorStateTest, WeightsKeepVersionAndSizeOnly) {
   MonitorState state;
   transport::PolicyWeights weights;

@@ -1,0 +1,84 @@
+#include "deploy/dashboard/episode_media.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <vector>
+
+namespace srics::dashboard {
+namespace {
+
+namespace fs = std::filesystem;
+
+double UnixTime(fs::file_time_type time) {
+  const auto system = std::chrono::file_clock::to_sys(time);
+  return std::chrono::duration<double>(system.time_since_epoch()).count();
+}
+
+std::vector<std::string> SplitCommas(const std::string& line) {
+  std::vector<std::string> fields(1);
+  for (char c : line) {
+    if (c == ',') fields.emplace_back();
+    else fields.back() += c;
+  }
+  return fields;
+}
+
+// The row of episodes.csv whose "video" column is `name`.
+std::map<std::string, std::string> MetricsOf(const fs::path& csv_path, const std::string& name) {
+  std::ifstream in(csv_path);
+  std::string header_line, line;
+  if (!std::getline(in, header_line)) return {};
+  const std::vector<std::string> header = SplitCommas(header_line);
+  while (std::getline(in, line)) {
+    const std::vector<std::string> fields = SplitCommas(line);
+    if (fields.size() != header.size() || fields.back() != name) continue;
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < header.size(); ++i) row[header[i]] = fields[i];
+    return row;
+  }
+  return {};
+}
+
+}  // namespace
+
+bool IsEpisodeMediaPath(const std::string& relative) {
+  static const std::regex kMedia("eval/episode-[0-9]{3,6}(\\.gif|\\.mp4|/frame-[0-9]{5}\\.png)");
+  return std::regex_match(relative, kMedia);
+}
+
+std::optional<EpisodeMedia> FindLatestEpisode(const std::string& run_dir) {
+  static const std::regex kName("episode-[0-9]{3,6}(\\.gif|\\.mp4)?");
+  std::error_code error;
+  const fs::path eval_dir = fs::path(run_dir) / "eval";
+  std::optional<EpisodeMedia> latest;
+  for (fs::directory_iterator it(eval_dir, error), end; !error && it != end; it.increment(error)) {
+    const std::string name = it->path().filename().string();
+    if (!std::regex_match(name, kName)) continue;
+    EpisodeMedia media;
+    media.name = name;
+    media.path = "eval/" + name;
+    const fs::file_time_type time = it->last_write_time(error);
+    if (error) continue;
+    media.modified = UnixTime(time);
+    if (it->is_directory(error)) {
+      media.kind = "frames";
+      char frame[32];
+      while (std::snprintf(frame, sizeof frame, "frame-%05d.png", media.frames),
+             fs::exists(it->path() / frame, error))
+        ++media.frames;
+      if (media.frames == 0) continue;
+    } else {
+      media.kind = name.substr(name.size() - 3);
+    }
+    // the newest; among equal times the highest number (one `srics eval` writes them in order)
+    if (!latest || media.modified > latest->modified ||
+        (media.modified == latest->modified && media.name > latest->name))
+      latest = std::move(media);
+  }
+  if (latest) latest->metrics = MetricsOf(eval_dir / "episodes.csv", latest->name);
+  return latest;
+}
+
+}  // namespace srics::dashboard
