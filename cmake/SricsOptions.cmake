@@ -42,3 +42,11 @@ if(SRICS_FUZZ)
                       -fno-omit-frame-pointer -g -Wno-unknown-warning-option)
   add_link_options(-fsanitize=address,undefined)
 endif()
+
+# AddressSanitizer (with LeakSanitizer) and UndefinedBehaviorSanitizer over the whole build, for
+# ./tests/sanitize.sh (a separate build folder; any report fails the test that caused it).
+option(SRICS_SANITIZE "Build everything with ASan + UBSan (./tests/sanitize.sh)" OFF)
+if(SRICS_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g)
+  add_link_options(-fsanitize=address,undefined)
+endif()

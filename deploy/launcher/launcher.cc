@@ -278,8 +278,7 @@ int Run(const LaunchOptions& options) {
     return RunProcesses(options, config);
   } catch (const dashboard::BindError& e) {
     // thrown before the run folder or any process exists (RunSession binds first)
-    std::cerr << "srics run: " << e.what() << "
-";
+    std::cerr << "srics run: " << e.what() << "\n";
     return kExitUsage;
   }
 }
