@@ -12,7 +12,6 @@
 
 #include <spdlog/sinks/sink.h>
 
-#include "common/config/command_line.h"
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/process/role_startup.h"
@@ -25,50 +24,11 @@
 
 namespace srics::launcher {
 
-DisplayMode ParseDisplayMode(const std::string& mode) {
-  if (mode == "auto") return DisplayMode::kAuto;
-  if (mode == "live") return DisplayMode::kLive;
-  if (mode == "plain") return DisplayMode::kPlain;
-  if (mode == "none") return DisplayMode::kNone;
-  throw std::invalid_argument("--display expects auto, live, plain or none, got '" + mode + "'");
-}
-
 namespace tr = srics::transport;
 namespace mon = srics::monitor;
 namespace fs = std::filesystem;
 
-const char* const kRunUsage =
-    "usage: srics run CONFIG [--in-process] [--actors N] [--set key.path=value ...] [--run-dir DIR] [--bin-dir DIR]\n"
-    "                 [--display auto|live|plain|none] [--stop-timeout S] [--final-eval-grace S]\n"
-    "  CONFIG          the run's config (e.g. deploy/configs/default.yaml)\n"
-    "  --in-process    the same loops in one process and one thread, wired in memory (no DDS):\n"
-    "                  deterministic, the same run folder\n"
-    "  --actors N      actor processes (default: actors.count of the config)\n"
-    "  --set K=V       override a config value (recorded in the run folder's config.yaml)\n"
-    "  --run-dir DIR   the run folder (default <run.output_dir>/<run.name>-<timestamp>); an existing\n"
-    "                  one is continued: the learner resumes from its checkpoint, with the same config\n"
-    "  --allow-config-change  continue a run folder with a changed config (the change is recorded\n"
-    "                  in its config-changes.log, the old config.yaml kept beside it)\n"
-    "  --bin-dir DIR   where srics-graph, srics-learner, srics-actor are (default: the build tree\n"
-    "                  this program belongs to)\n"
-    "  --display M     live (refreshing screen), plain (a line every 10 s), none, auto (live on a terminal)\n"
-    "  --stop-timeout S      seconds between SIGINT and SIGKILL when stopping (default 15)\n"
-    "  --final-eval-grace S  once the learner finished, wait this long for the actors' final\n"
-    "                        evaluation and exit before stopping them (default 180)\n"
-    "  --label TEXT    shown in the display's title (srics sweep: which run of how many)\n"
-    "the run folder's outcome.yaml says how the run ended (finished, interrupted, failed)\n"
-    "exit codes: 0 run finished, 1 a role failed for good, 2 bad arguments/config, 130 interrupted\n";
-
 namespace {
-
-double ParseNumber(const std::string& flag, const std::string& text, double min) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !(value >= min))
-    throw std::invalid_argument(flag + " expects a number >= " + std::to_string(static_cast<int>(min)) +
-                                ", got '" + text + "'");
-  return value;
-}
 
 // The launcher's view of its children for the display.
 std::vector<mon::ProcessRow> ProcessRows(const Supervisor& supervisor, SteadyClock::time_point now) {
@@ -93,35 +53,6 @@ std::vector<mon::ProcessRow> ProcessRows(const Supervisor& supervisor, SteadyClo
 }
 
 }  // namespace
-
-LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
-  LaunchOptions options;
-  for (config::ArgumentReader r(args); r.Next();) {
-    const std::string& arg = r.arg();
-    auto value = [&r]() -> const std::string& { return r.Value(); };
-    if (arg == "--set") options.overrides.push_back(value());
-    else if (arg == "--actors") options.actors = static_cast<int>(ParseNumber(arg, value(), 1));
-    else if (arg == "--run-dir") options.run_dir = value();
-    else if (arg == "--bin-dir") options.bin_dir = value();
-    else if (arg == "--stop-timeout") options.stop_timeout_s = ParseNumber(arg, value(), 0);
-    else if (arg == "--final-eval-grace") options.final_eval_grace_s = ParseNumber(arg, value(), 0);
-    else if (arg == "--in-process") options.in_process = true;
-    else if (arg == "--label") options.label = value();
-    else if (arg == "--allow-config-change") options.allow_config_change = true;
-    else if (arg == "--display") {
-      options.display = ParseDisplayMode(value());
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw std::invalid_argument("unknown option " + arg);
-    } else if (options.config_file.empty()) {
-      options.config_file = arg;
-    } else {
-      throw std::invalid_argument("unexpected argument " + arg);
-    }
-  }
-  if (options.config_file.empty()) throw std::invalid_argument("missing CONFIG");
-  if (options.actors > 0) options.overrides.push_back("actors.count=" + std::to_string(options.actors));
-  return options;
-}
 
 namespace {
 

@@ -29,9 +29,7 @@ enum class DisplayMode {
   kNone,   // nothing but the final summary
 };
 
-// The value of --display (srics run and srics sweep); throws std::invalid_argument otherwise.
-DisplayMode ParseDisplayMode(const std::string& mode);
-
+// What `srics run` was asked (its command line: command_line.cc).
 struct LaunchOptions {
   std::string config_file;
   std::vector<std::string> overrides;  // --set key.path=value
@@ -53,10 +51,6 @@ inline constexpr int kExitDone = 0;         // the run finished (budget, learner
 inline constexpr int kExitFailed = 1;       // a role failed for good, or no child could start
 inline constexpr int kExitUsage = 2;        // bad arguments or config
 inline constexpr int kExitInterrupted = 130;  // stopped by SIGINT/SIGTERM
-
-// Parses the arguments after `srics run`. Throws std::invalid_argument.
-LaunchOptions ParseRunArgs(const std::vector<std::string>& args);
-extern const char* const kRunUsage;
 
 // Runs to the end; returns one of the exit codes above. Config errors throw ConfigError
 // before anything is started.

@@ -13,12 +13,13 @@
 #include <cstdlib>
 #include <deque>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <spdlog/sinks/sink.h>
 
-#include "common/config/command_line.h"
+#include "common/cli/cli.h"
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/transport/transport.h"
@@ -29,19 +30,6 @@ namespace {
 
 namespace tr = srics::transport;
 namespace mon = srics::monitor;
-
-constexpr const char* kUsage =
-    "usage: srics-monitor CONFIG [--set key.path=value ...] [--csv DIR] [--once] [--all-runs]\n"
-    "                     [--no-weights] [--for SECONDS] [--wait SECONDS] [--refresh SECONDS]\n"
-    "  CONFIG        the run's config (domain id, run id, Cyclone profile come from it)\n"
-    "  --set K=V     override a config value, as for the other srics programs\n"
-    "  --csv DIR     append eval.csv, learner.csv, nodes.csv in DIR as samples arrive\n"
-    "  --once        listen for --wait seconds (default 3), print one display and exit\n"
-    "                (exit code 3 when nothing at all was received)\n"
-    "  --all-runs    show every run id on the domain, not only the config's\n"
-    "  --no-weights  do not subscribe to PolicyWeights (saves 5 MB per publication per host)\n"
-    "  --for S       stop after S seconds (default: until Ctrl-C)\n"
-    "  --refresh S   display refresh period (default 1)\n";
 
 struct Args {
   std::string config;
@@ -55,34 +43,32 @@ struct Args {
   double refresh_s = 1;
 };
 
-double ParseSeconds(const std::string& flag, const std::string& text) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !(value >= 0))
-    throw std::invalid_argument(flag + " expects a number of seconds >= 0, got '" + text + "'");
-  return value;
-}
-
-Args ParseArgs(int argc, char** argv) {
-  Args args;
-  for (srics::config::ArgumentReader r(argc, argv); r.Next();) {
-    const std::string& arg = r.arg();
-    auto value = [&r] { return r.Value(); };
-    if (arg == "--set") args.overrides.push_back(value());
-    else if (arg == "--csv") args.csv_dir = value();
-    else if (arg == "--once") args.once = true;
-    else if (arg == "--all-runs") args.all_runs = true;
-    else if (arg == "--no-weights") args.weights = false;
-    else if (arg == "--for") args.for_s = ParseSeconds(arg, value());
-    else if (arg == "--wait") args.wait_s = ParseSeconds(arg, value());
-    else if (arg == "--refresh") args.refresh_s = std::max(0.1, ParseSeconds(arg, value()));
-    else if (arg == "-h" || arg == "--help") { std::cout << kUsage; std::exit(0); }
-    else if (!arg.empty() && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);
-    else if (args.config.empty()) args.config = arg;
-    else throw std::invalid_argument("unexpected argument " + arg);
-  }
-  if (args.config.empty()) throw std::invalid_argument("missing CONFIG");
-  return args;
+// Parses the command line into *args: nothing when the program goes on, else its exit code
+// (0 after --help or --version, 2 for a bad argument).
+std::optional<int> ParseArgs(int argc, char** argv, Args* args) {
+  CLI::App app{"attaches to a running system (this host or another) and shows nodes, learner stats, evaluations and "
+               "the graph live; optionally appends everything to CSV files. Exit codes: 0 ok, 1 DDS failure, 2 bad "
+               "arguments or config, 3 with --once: nothing received",
+               "srics-monitor"};
+  srics::cli::Configure(app);
+  app.add_option("CONFIG", args->config, "the run's config (domain id, run id, Cyclone profile come from it)")
+      ->required();
+  app.add_option("--set", args->overrides, "override a config value, as for the other srics programs")
+      ->allow_extra_args(false)
+      ->type_name("K=V")->default_str("");
+  app.add_option("--csv", args->csv_dir, "append eval.csv, learner.csv, nodes.csv in DIR as samples arrive");
+  app.add_flag("--once", args->once,
+               "listen for --wait seconds, print one display and exit (exit code 3 when nothing at all was received)");
+  app.add_flag("--all-runs", args->all_runs, "show every run id on the domain, not only the config's");
+  app.add_flag("!--no-weights", args->weights,
+               "do not subscribe to PolicyWeights (saves 5 MB per publication per host)");
+  app.add_option("--for", args->for_s, "stop after S seconds (0: until Ctrl-C)")->check(srics::cli::Number(0));
+  app.add_option("--wait", args->wait_s, "with --once: seconds to listen")->check(srics::cli::Number(0));
+  app.add_option("--refresh", args->refresh_s, "display refresh period in seconds (at least 0.1)")
+      ->check(srics::cli::Number(0));
+  if (const auto code = srics::cli::Parse(app, argc, argv)) return code;
+  args->refresh_s = std::max(0.1, args->refresh_s);
+  return std::nullopt;
 }
 
 }  // namespace
@@ -90,13 +76,13 @@ Args ParseArgs(int argc, char** argv) {
 int main(int argc, char** argv) {
   tr::Shutdown::InstallSignalHandlers();
   Args args;
+  if (const auto code = ParseArgs(argc, argv, &args)) return *code;
   srics::config::Config config;
   try {
-    args = ParseArgs(argc, argv);
     config = srics::config::LoadConfig(args.config, args.overrides);
   } catch (const std::exception& e) {
-    std::cerr << "srics-monitor: " << e.what() << "\n" << kUsage;
-    return 2;
+    std::cerr << "srics-monitor: " << e.what() << "\n";
+    return srics::cli::kExitUsage;
   }
   // the config's run id is chosen per launch (a config file, not a run folder's config.yaml):
   // show every run on the domain
