@@ -75,7 +75,9 @@ void RefuseDuplicates(const std::string& flag, const std::vector<T>& values) {
 }
 
 // ---- srics run
-struct RunText {};
+struct RunText {
+  std::string roles, ids;  // --roles, --ids as given
+};
 
 void AddRunOptions(CLI::App& app, LaunchOptions* o, RunText* text) {
   app.description(
@@ -103,10 +105,33 @@ void AddRunOptions(CLI::App& app, LaunchOptions* o, RunText* text) {
                  "once the learner finished, seconds to wait for the actors' final evaluation and exit before stopping them")
       ->check(cli::Number(0));
   app.add_option("--label", o->label, "shown in the display's title (srics sweep: which run of how many)");
+  app.add_option("--roles", text->roles,
+                 "this host's share of a run on several hosts: graph, learner, actor, comma-separated (default: all); "
+                 "every host needs the same explicit transport.run_id")
+      ->type_name("LIST");
+  app.add_option("--ids", text->ids, "with --roles actor: this host's actor ids, comma-separated, A-B for a range "
+                                     "(default: 0 to actors.count - 1)")
+      ->type_name("LIST");
 }
 
 void FinishRunOptions(LaunchOptions* o, const RunText& text) {
   if (o->actors > 0) o->overrides.push_back("actors.count=" + std::to_string(o->actors));
+  if (!text.roles.empty()) {
+    o->roles = SplitList("--roles", text.roles);
+    for (const std::string& role : o->roles)
+      if (role != "graph" && role != "learner" && role != "actor")
+        throw std::invalid_argument("--roles: expected graph, learner or actor, got '" + role + "'");
+    RefuseDuplicates("--roles", o->roles);
+  }
+  if (!text.ids.empty()) {
+    if (std::find(o->roles.begin(), o->roles.end(), "actor") == o->roles.end())
+      throw std::invalid_argument("--ids: only with --roles including actor (the actors of this host)");
+    for (uint64_t id : ParseNumbers("--ids", text.ids)) {
+      if (id > 100000) throw std::invalid_argument("--ids: expected actor ids up to 100000, got " + std::to_string(id));
+      o->actor_ids.push_back(static_cast<int>(id));
+    }
+    RefuseDuplicates("--ids", o->actor_ids);
+  }
 }
 
 // ---- srics sweep

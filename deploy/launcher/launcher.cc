@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -56,17 +57,13 @@ std::vector<mon::ProcessRow> ProcessRows(const Supervisor& supervisor, SteadyClo
 
 namespace {
 
-// The role processes of one run under a supervisor.
+// The role processes of this host under a supervisor.
 struct Roles {
-  size_t graph = 0, learner = 0;
+  std::optional<size_t> graph, learner;
   std::vector<size_t> actors;
 };
 
-Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const config::Config& config,
-               const std::string& dir) {
-  const std::string graph_bin = FindProgram("srics-graph", "graph_service", options.bin_dir);
-  const std::string learner_bin = FindProgram("srics-learner", "learner", options.bin_dir);
-  const std::string actor_bin = FindProgram("srics-actor", "actor", options.bin_dir);
+Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const RoleShare& share, const std::string& dir) {
   auto argv = [&](const std::string& bin, std::vector<std::string> extra) {
     std::vector<std::string> v = {bin, dir + "/config.yaml", "--run-dir", dir};
     v.insert(v.end(), extra.begin(), extra.end());
@@ -75,16 +72,26 @@ Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const confi
   // a role that exits with 2 (config) or 65 (unusable state on disk) fails the run at once
   const std::vector<int> finals = {process::kExitConfig, process::kExitUnusableState};
   Roles roles;
-  roles.graph = supervisor->Add({.name = "graph", .argv = argv(graph_bin, {}), .output_file = dir + "/logs/graph.out",
-                                 .max_restarts = options.max_restarts_service, .final_exit_codes = finals});
-  roles.learner = supervisor->Add({.name = "learner", .argv = argv(learner_bin, {}),
-                                   .output_file = dir + "/logs/learner.out", .max_restarts = options.max_restarts_service,
+  if (share.graph)
+    roles.graph = supervisor->Add({.name = "graph",
+                                   .argv = argv(FindProgram("srics-graph", "graph_service", options.bin_dir), {}),
+                                   .output_file = dir + "/logs/graph.out",
+                                   .max_restarts = options.max_restarts_service,
                                    .final_exit_codes = finals});
-  for (int k = 0; k < config.actors.count; ++k)
-    roles.actors.push_back(supervisor->Add({.name = "actor-" + std::to_string(k),
-                                            .argv = argv(actor_bin, {"--id", std::to_string(k)}),
-                                            .output_file = dir + "/logs/actor-" + std::to_string(k) + ".out",
-                                            .final_exit_codes = finals}));
+  if (share.learner)
+    roles.learner = supervisor->Add({.name = "learner",
+                                     .argv = argv(FindProgram("srics-learner", "learner", options.bin_dir), {}),
+                                     .output_file = dir + "/logs/learner.out",
+                                     .max_restarts = options.max_restarts_service,
+                                     .final_exit_codes = finals});
+  if (!share.actor_ids.empty()) {
+    const std::string actor_bin = FindProgram("srics-actor", "actor", options.bin_dir);
+    for (int k : share.actor_ids)
+      roles.actors.push_back(supervisor->Add({.name = "actor-" + std::to_string(k),
+                                              .argv = argv(actor_bin, {"--id", std::to_string(k)}),
+                                              .output_file = dir + "/logs/actor-" + std::to_string(k) + ".out",
+                                              .final_exit_codes = finals}));
+  }
   return roles;
 }
 
@@ -99,7 +106,7 @@ class EndWatch {
   EndWatch(const LaunchOptions& options, const config::Config& config, const Roles& roles)
       : options_(options), config_(config), roles_(roles) {}
 
-  Ending Check(Supervisor& supervisor, RunSession& session) {
+  Ending Check(Supervisor& supervisor, RunSession& session, const monitor::MonitorState& state) {
     for (size_t i : supervisor.Tick()) {
       const ChildStatus& s = supervisor.status(i);
       if (i == roles_.learner && s.phase == ChildPhase::kFinished) {
@@ -108,6 +115,11 @@ class EndWatch {
       } else if ((i == roles_.learner || i == roles_.graph) && s.phase == ChildPhase::kFailed) {
         return {s.name + " failed for good (" + (s.last_exit ? s.last_exit->Describe() : "?") + ")", kExitFailed};
       }
+    }
+    // a share without the learner: its stats say when the budget is done
+    if (!roles_.learner && !learner_done_ && BudgetDone(state)) {
+      learner_done_ = SteadyClock::now();
+      session.Event("the learner (on another host) finished its budget");
     }
     bool actors_down = true, actor_failed = false;
     for (size_t i : roles_.actors) {
@@ -122,6 +134,8 @@ class EndWatch {
       return actor_failed ? Ending{"the budget is done, but actors failed", kExitFailed} : Ending{"the budget is done"};
     if (learner_done_ && now - *learner_done_ >= grace)
       return {"the budget is done (actors did not finish within the grace period)"};
+    if (!learner_done_ && !roles_.actors.empty() && actors_down && !roles_.learner && !actor_failed)
+      return {"the budget is done (every actor of this host finished)"};
     if (!learner_done_ && !roles_.actors.empty() && actors_down && now - *actors_down_at_ >= grace)
       return {"every actor ended but the learner did not finish", kExitFailed};
     return {WallLimitReason(config_, session.elapsed_s())};
@@ -129,6 +143,14 @@ class EndWatch {
 
 
  private:
+  // The run's learner stats say its budget is done.
+  bool BudgetDone(const monitor::MonitorState& state) const {
+    const auto it = state.runs.find(config_.transport.run_id);
+    if (it == state.runs.end()) return false;
+    const uint64_t budget = monitor::BudgetEnvSteps(it->second);
+    return budget > 0 && monitor::EnvSteps(it->second) >= budget;
+  }
+
   const LaunchOptions& options_;
   const config::Config& config_;
   const Roles& roles_;
@@ -149,7 +171,15 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
   supervisor_options.stop_timeout = std::chrono::milliseconds(static_cast<int64_t>(options.stop_timeout_s * 1000));
   supervisor_options.on_event = [&](const std::string& text) { session.Event(text); };
   Supervisor supervisor(supervisor_options);
-  const Roles roles = AddRoles(&supervisor, options, config, dir);
+  const RoleShare share = ShareOf(options, config);
+  Roles roles;
+  try {
+    roles = AddRoles(&supervisor, options, share, dir);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    std::cerr << "srics run: " << e.what() << "\n";
+    return kExitFailed;
+  }
   try {
     supervisor.StartAll();
   } catch (const std::exception& e) {
@@ -167,7 +197,7 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
     }
     monitor.Poll(std::chrono::milliseconds(200));
     for (const std::string& text : monitor.TakeNodeEvents()) session.Note(text);  // the monitor logged it
-    ending = watch.Check(supervisor, session);
+    ending = watch.Check(supervisor, session, monitor.state());
     if (ending.reason.empty())
       session.Show(monitor.state(), ProcessRows(supervisor, SteadyClock::now()), supervisor.total_restarts());
   }
@@ -180,9 +210,32 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
 
 }  // namespace
 
+RoleShare ShareOf(const LaunchOptions& options, const config::Config& config) {
+  RoleShare share;
+  const auto has = [&](const char* role) {
+    return options.roles.empty() || std::find(options.roles.begin(), options.roles.end(), role) != options.roles.end();
+  };
+  share.graph = has("graph");
+  share.learner = has("learner");
+  if (has("actor")) {
+    share.actor_ids = options.actor_ids;
+    if (share.actor_ids.empty())
+      for (int k = 0; k < config.actors.count; ++k) share.actor_ids.push_back(k);
+  }
+  share.whole_run = options.roles.empty() && options.actor_ids.empty();
+  return share;
+}
+
 int Run(const LaunchOptions& options) {
   // config first: a bad one stops everything before a folder or a process exists
   config::Config config = config::LoadConfig(options.config_file, options.overrides);
+  if (!ShareOf(options, config).whole_run) {
+    if (options.in_process) throw std::invalid_argument("--roles, --ids: not with --in-process (one process runs every role)");
+    if (config.transport.run_id == config::kAutoRunId)
+      throw std::invalid_argument(
+          "--roles, --ids: a share of a run needs the run's id, the same on every host (e.g. --set "
+          "transport.run_id=exp7); transport.run_id 'auto' would pick one per host");
+  }
   if (config.transport.run_id == config::kAutoRunId) {
     // this launch's own run id (or the one the folder recorded), written into the run
     // folder's config.yaml with the rest of the effective configuration; in process there is

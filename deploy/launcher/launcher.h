@@ -13,11 +13,18 @@
 // (the learner checkpoints on SIGINT). Crashed processes (a signal or a non-zero exit) are
 // restarted with backoff; the learner and the graph service at most max_restarts_service
 // times (the learner resumes from its checkpoint, the graph service from graph.json).
+//
+// Several hosts: `--roles learner,graph` on one host and `--roles actor --ids 2-5` on another
+// give each host the same supervisor, restarts and display for its share of the roles (the
+// display shows every node of the run, from DDS). A host without the learner learns that the
+// budget is done from the learner's stats; its actors then end by themselves (final
+// evaluation included) and a host without actors stops its graph service.
 
 #include <chrono>
 #include <string>
 #include <vector>
 
+#include "common/config/config.h"
 #include "deploy/launcher/supervisor.h"
 
 namespace srics::launcher {
@@ -44,7 +51,21 @@ struct LaunchOptions {
   int max_restarts_service = 5;        // learner and graph service (actors: no limit)
   std::string label;                   // --label: shown in the display's title ("sweep run 2/6")
   bool allow_config_change = false;    // --allow-config-change: a continued run may take another config
+  // --roles graph,learner,actor: this host's share of a run on several hosts (empty: every
+  // role, the whole run here); --ids 2-5: its actors (empty: 0 .. actors.count - 1)
+  std::vector<std::string> roles;
+  std::vector<int> actor_ids;
 };
+
+// The roles a launch runs on this host: graph, learner and the actor ids.
+struct RoleShare {
+  bool graph = true;
+  bool learner = true;
+  std::vector<int> actor_ids;
+  bool whole_run = true;  // every role and actor of the config: not a share
+};
+// The share that options.roles and options.actor_ids ask for, with the config's actors.count.
+RoleShare ShareOf(const LaunchOptions& options, const config::Config& config);
 
 // Exit codes of `srics run`.
 inline constexpr int kExitDone = 0;         // the run finished (budget, learner, wall time)
@@ -53,7 +74,8 @@ inline constexpr int kExitUsage = 2;        // bad arguments or config
 inline constexpr int kExitInterrupted = 130;  // stopped by SIGINT/SIGTERM
 
 // Runs to the end; returns one of the exit codes above. Config errors throw ConfigError
-// before anything is started.
+// before anything is started; a share of a run (--roles) without an explicit
+// transport.run_id throws std::invalid_argument (every host must use the same id).
 int Run(const LaunchOptions& options);
 
 }  // namespace srics::launcher

@@ -76,14 +76,20 @@ mon::RenderOptions RunSession::Render(std::vector<mon::ProcessRow> rows) const {
 
 void RunSession::Show(const mon::MonitorState& state, std::vector<mon::ProcessRow> rows, uint32_t restarts) {
   const auto now = SteadyClock::now();
+  // lines clipped to the terminal's width (not in files and pipes)
   if (display_ == DisplayMode::kLive && now >= next_draw_) {
     next_draw_ = now + std::chrono::seconds(1);
-    std::cout << "\033[H\033[2J" << mon::Render(state, mon::Clock::now(), Render(std::move(rows))) << std::flush;
+    std::cout << "\033[H\033[2J"
+              << mon::ClipLines(mon::Render(state, mon::Clock::now(), Render(std::move(rows))),
+                                mon::OutputWidth(STDOUT_FILENO))
+              << std::flush;
   } else if (display_ == DisplayMode::kPlain && now >= next_line_) {
     next_line_ = now + std::chrono::seconds(10);
-    std::cout << "[" << ClockText(elapsed_s()) << "] " << (label_.empty() ? "" : label_ + " ")
-              << mon::RenderOneLine(state, mon::Clock::now(), config_.transport.run_id, config_.run.total_env_steps)
-              << "  restarts " << restarts << std::endl;
+    const std::string line =
+        "[" + ClockText(elapsed_s()) + "] " + (label_.empty() ? "" : label_ + " ") +
+        mon::RenderOneLine(state, mon::Clock::now(), config_.transport.run_id, config_.run.total_env_steps) +
+        "  restarts " + std::to_string(restarts);
+    std::cout << mon::ClipLines(line, mon::OutputWidth(STDOUT_FILENO)) << std::endl;
   }
 }
 
@@ -112,7 +118,8 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
   }
-  std::cout << (display_ == DisplayMode::kLive ? "\033[H\033[2J" : "\n") << summary << "\n"
+  std::cout << (display_ == DisplayMode::kLive ? "\033[H\033[2J" : "\n")
+            << mon::ClipLines(summary, mon::OutputWidth(STDOUT_FILENO)) << "\n"
             << "run " << outcome << ": " << reason << (clean ? "" : " (some processes had to be killed)")
             << "; restarts " << restarts << "\nrun folder " << dir_ << ": " << files << "\n"
             << std::flush;

@@ -119,16 +119,23 @@ int main(int argc, char** argv) {
       if (args.once || mon::Clock::now() < next_draw) continue;
       next_draw = mon::Clock::now() + (live ? refresh : refresh * 10);
       render.events.assign(events.begin(), events.end());
+      // lines clipped to the terminal's width (not in files and pipes)
+      const size_t width = mon::OutputWidth(STDOUT_FILENO);
       if (live) {
-        std::cout << "\033[H\033[2J" << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
+        std::cout << "\033[H\033[2J" << mon::ClipLines(mon::Render(monitor.state(), mon::Clock::now(), render), width)
+                  << std::flush;
       } else {
-        std::cout << mon::RenderOneLine(monitor.state(), mon::Clock::now(), config.transport.run_id,
-                                        config.run.total_env_steps)
+        std::cout << mon::ClipLines(mon::RenderOneLine(monitor.state(), mon::Clock::now(), config.transport.run_id,
+                                                       config.run.total_env_steps),
+                                    width)
                   << std::endl;
       }
     }
     render.events.assign(events.begin(), events.end());
-    if (args.once || !live) std::cout << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
+    if (args.once || !live)
+      std::cout << mon::ClipLines(mon::Render(monitor.state(), mon::Clock::now(), render),
+                                  mon::OutputWidth(STDOUT_FILENO))
+                << std::flush;
     if (args.once && received == 0) return 3;
     return 0;
   } catch (const std::exception& e) {
