@@ -42,8 +42,8 @@ constexpr uint64_t kStallRounds = 10000;
 // The monitor's view of the bus: the same MonitorState and CSV files a DDS monitor builds.
 class MonitorObserver : public links::BusObserver {
  public:
-  MonitorObserver(const config::Config& config, const std::string& csv_dir)
-      : run_id_(config.transport.run_id), start_(mon::Clock::now()) {
+  MonitorObserver(const config::Config& config, const std::string& csv_dir, RunSession* session = nullptr)
+      : run_id_(config.transport.run_id), start_(mon::Clock::now()), session_(session) {
     if (!csv_dir.empty()) csv_.emplace(csv_dir);
     char name[256] = {};
     if (gethostname(name, sizeof name - 1) == 0) host_ = name;
@@ -53,6 +53,7 @@ class MonitorObserver : public links::BusObserver {
     m.run_id = run_id_;
     mon::Apply(&state_, m, mon::Clock::now());
     if (csv_) csv_->Append(m, mon::WallTimeNow());
+    if (session_) session_->OnEval(m.policy_version, m.env_steps, m.avg_distance);
   }
   void OnLearnerStats(const rl::LearnerReport& report) override {
     tr::LearnerStats m = tr::ToMessage(report);
@@ -78,6 +79,7 @@ class MonitorObserver : public links::BusObserver {
     m.architecture = weights.architecture;
     m.parameters = weights.parameters;  // the monitor keeps only their number
     mon::Apply(&state_, m, mon::Clock::now());
+    if (session_) session_->OnWeights(weights.version, weights.update_count, weights.architecture, weights.parameters);
   }
   void OnStatus(const std::string& role, uint32_t id, const rl::NodeReport& report) override {
     tr::NodeStatus m = tr::ToMessage(report, role, id);
@@ -98,6 +100,7 @@ class MonitorObserver : public links::BusObserver {
   std::string run_id_;
   std::string host_;
   mon::Clock::time_point start_;
+  RunSession* session_;  // null: no run folder (learn-graph)
   std::optional<mon::CsvSink> csv_;
   mon::MonitorState state_;
   mon::Clock::time_point last_stats_row_;
@@ -202,7 +205,7 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
   transport::Shutdown::InstallSignalHandlers();
   const auto& stop = transport::Shutdown::Process().flag();
   RunSession session(options, config);
-  MonitorObserver observer(config, session.dir());
+  MonitorObserver observer(config, session.dir(), &session);
   InProcessRun run(config, session.dir(), &observer);
   std::string reason;
   int exit_code = kExitDone;

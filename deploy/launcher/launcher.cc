@@ -164,7 +164,12 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
   SeedGraphFile(config, dir);  // a given graph is re-published by srics-graph
   // what the processes publish, to the display and to eval.csv, learner.csv, nodes.csv
   tr::Participant participant(config.transport);
-  mon::Monitor monitor(participant, {.all_runs = false, .weights = true, .csv_dir = dir, .csv_node_statuses = true});
+  mon::MonitorOptions monitor_options{.all_runs = false, .weights = true, .csv_dir = dir, .csv_node_statuses = true};
+  monitor_options.on_eval = [&](const tr::EvalResult& e) { session.OnEval(e.policy_version, e.env_steps, e.avg_distance); };
+  monitor_options.on_weights = [&](const tr::PolicyWeights& w) {
+    session.OnWeights(w.version, w.update_count, w.architecture, w.parameters);
+  };
+  mon::Monitor monitor(participant, monitor_options);
 
   SupervisorOptions supervisor_options;
   supervisor_options.backoff = options.backoff;

@@ -46,6 +46,26 @@ RunSession::RunSession(const LaunchOptions& options, const config::Config& confi
                options.in_process ? ", in process" : "");
   start_ = next_draw_ = SteadyClock::now();
   next_line_ = start_ + std::chrono::seconds(10);
+  best_ = std::make_unique<BestPolicy>(config, dir_);
+}
+
+void RunSession::OnWeights(uint64_t version, uint64_t update_count, const std::string& architecture,
+                           const std::vector<float>& parameters) {
+  best_->OnWeights(version, update_count, architecture, parameters);
+}
+
+void RunSession::OnEval(uint64_t policy_version, uint64_t env_steps, double avg_distance) {
+  try {
+    if (const auto best = best_->OnEval(policy_version, env_steps, avg_distance)) {
+      char text[160];
+      std::snprintf(text, sizeof text, "best evaluation so far: avg distance %.4f (policy v%llu, %llu env steps): best.srics",
+                    best->avg_distance, static_cast<unsigned long long>(best->policy_version),
+                    static_cast<unsigned long long>(best->env_steps));
+      Event(text);
+    }
+  } catch (const std::exception& e) {
+    Event(std::string("best.srics not written: ") + e.what());
+  }
 }
 
 double RunSession::elapsed_s() const { return std::chrono::duration<double>(SteadyClock::now() - start_).count(); }
@@ -106,7 +126,7 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
 
   std::string files;
   for (const char* name : {"config.yaml", "eval.csv", "learner.csv", "train.csv", "nodes.csv", "curve.png",
-                           "subgoal_success.png", "graph.json", "graph.png", "checkpoint.srics", "summary.txt",
+                           "subgoal_success.png", "graph.json", "graph.png", "checkpoint.srics", "best.srics", "summary.txt",
                            "outcome.yaml", "logs"})
     if (fs::exists(fs::path(dir_) / name)) files += std::string(files.empty() ? "" : ", ") + name;
   const char* outcome = exit_code == kExitDone ? "finished" : exit_code == kExitInterrupted ? "interrupted" : "FAILED";
