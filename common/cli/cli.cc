@@ -1,6 +1,9 @@
 #include "common/cli/cli.h"
 
+#include <unistd.h>
+
 #include <cerrno>
+#include <filesystem>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -91,6 +94,35 @@ std::string Shown(double value) {
 }
 
 }  // namespace
+
+std::string InstalledDataDir() {
+  std::error_code error;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) return "";
+  const std::filesystem::path data = exe.parent_path().parent_path() / "share" / "srics-dds";
+  return std::filesystem::is_directory(data / "configs", error) ? data.string() : "";
+}
+
+std::string FindConfig(const std::string& given) {
+  std::error_code error;
+  if (given.empty() || std::filesystem::exists(given, error)) return given;
+  const std::string data = InstalledDataDir();
+  if (data.empty() || std::filesystem::path(given).is_absolute()) return given;
+  std::string name = given;
+  for (const char* prefix : {"./", "deploy/configs/", "configs/"})
+    if (name.rfind(prefix, 0) == 0) name = name.substr(std::string(prefix).size());
+  const std::filesystem::path installed = std::filesystem::path(data) / "configs" / name;
+  return std::filesystem::is_regular_file(installed, error) ? installed.string() : given;
+}
+
+CLI::Validator InstalledConfig() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        text = FindConfig(text);
+        return "";
+      },
+      "");
+}
 
 CLI::Validator Integer(int64_t min, int64_t max) {
   // no upper bound worth naming at the int limit

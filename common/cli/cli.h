@@ -48,6 +48,17 @@ int UsageError(const std::string& program, const std::string& message);
 // The name a subcommand error is reported under: "srics run", or the app's own name.
 std::string CommandName(const CLI::App& app);
 
+// A CONFIG argument as given when that file exists, else the installed config of that name:
+// <prefix>/share/srics-dds/configs/<name> beside the program's <prefix>/bin (cmake --install,
+// the .deb), so `srics run default.yaml` works from any folder. "deploy/configs/x.yaml", as
+// the checkout's READMEs write it, is looked up as "x.yaml" there. Unchanged when neither
+// exists (loading it then names the file).
+std::string FindConfig(const std::string& given);
+// The same as a CLI11 transform: app.add_option("CONFIG", file)->transform(cli::InstalledConfig()).
+CLI::Validator InstalledConfig();
+// <prefix>/share/srics-dds of the running program ("" when it is not installed so).
+std::string InstalledDataDir();
+
 // Validators of option text, run before conversion; the error names the option
 // ("--actors: expected a positive integer, got '0'"); a max at or above INT_MAX is no bound.
 CLI::Validator Integer(int64_t min, int64_t max = std::numeric_limits<int64_t>::max());

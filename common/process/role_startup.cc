@@ -16,7 +16,9 @@ namespace srics::process {
 std::optional<int> ParseRoleCommandLine(int argc, char** argv, const RoleProgram& program, CommandLine* cl) {
   CLI::App app{program.description, program.program};
   cli::Configure(app);
-  app.add_option("CONFIG", cl->config_path, "the run's config file (YAML)")->required();
+  app.add_option("CONFIG", cl->config_path, "the run's config file (YAML)")
+      ->required()
+      ->transform(cli::InstalledConfig());
   app.add_option("--set", cl->overrides, "override a config value, key.path=value (repeatable)")
       ->allow_extra_args(false)
       ->type_name("K=V")

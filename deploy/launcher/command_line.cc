@@ -84,7 +84,11 @@ void AddRunOptions(CLI::App& app, LaunchOptions* o, RunText* text) {
       "one training run on this machine: the graph service, the learner and the actors as processes over DDS\n"
       "(or --in-process), one live display, restarts of crashed processes; the run folder's outcome.yaml says\n"
       "how it ended. Exit codes: 0 run finished, 1 a role failed for good, 2 bad arguments/config, 130 interrupted");
-  app.add_option("CONFIG", o->config_file, "the run's config (e.g. deploy/configs/default.yaml)")->required();
+  app.add_option("CONFIG", o->config_file,
+                 "the run's config (e.g. deploy/configs/default.yaml; installed: default.yaml finds "
+                 "<prefix>/share/srics-dds/configs/default.yaml)")
+      ->required()
+      ->transform(cli::InstalledConfig());
   app.add_flag("--in-process", o->in_process,
                "the same loops in one process and one thread, wired in memory (no DDS): deterministic, the same run folder");
   app.add_option("--actors", o->actors, "actor processes (default: actors.count of the config)")
@@ -145,7 +149,9 @@ void AddSweepOptions(CLI::App& app, SweepOptions* o, SweepText* text) {
       "command again resumes: finished runs are skipped, the others continue from their checkpoints.\n"
       "Exit codes: 0 every run finished, 1 a run failed (the others ran; run again to retry),\n"
       "2 bad arguments/config or another grid in DIR, 130 interrupted");
-  app.add_option("CONFIG", o->config_file, "the config every run starts from")->required();
+  app.add_option("CONFIG", o->config_file, "the config every run starts from")
+      ->required()
+      ->transform(cli::InstalledConfig());
   app.add_option("--methods", text->methods, "run.method names, comma-separated (srics, smorl, sac_her, ...)")
       ->required()->type_name("LIST");
   app.add_option("--seeds", text->seeds, "run.seed values, comma-separated; A-B for a range (1-3)")
@@ -231,7 +237,8 @@ void AddLearnGraphOptions(CLI::App& app, LearnGraphOptions* o) {
       "learns the interaction graph of an environment preset (or any run config) in process: actors explore at\n"
       "random, the graph service trains its GNN; DIR gets graph.json and its pictures. The last line compares the\n"
       "learned graph with the one by construction");
-  CLI::Option* env = app.add_option("--env", o->env_file, "an environment preset or run config");
+  CLI::Option* env =
+      app.add_option("--env", o->env_file, "an environment preset or run config")->transform(cli::InstalledConfig());
   CLI::Option* table = app.add_option_function<uint64_t>(
       "--random-table", [o](uint64_t seed) { o->table_seed = seed; },
       "a random table (objects, shapes, masses, static objects, ropes and springs drawn from seed N) instead of a "

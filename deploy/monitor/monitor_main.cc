@@ -52,7 +52,8 @@ std::optional<int> ParseArgs(int argc, char** argv, Args* args) {
                "srics-monitor"};
   srics::cli::Configure(app);
   app.add_option("CONFIG", args->config, "the run's config (domain id, run id, Cyclone profile come from it)")
-      ->required();
+      ->required()
+      ->transform(srics::cli::InstalledConfig());
   app.add_option("--set", args->overrides, "override a config value, as for the other srics programs")
       ->allow_extra_args(false)
       ->type_name("K=V")->default_str("");

@@ -47,7 +47,9 @@ std::optional<int> Parse(int argc, char** argv, Args* a) {
       ->check(CLI::IsMember({"push", "random"}));
   app.add_flag("--eval", a->eval, "the evaluation split of initial states and goals");
   app.add_option("--out", a->out, "the picture: FILE.png or FILE.svg");
-  return srics::cli::Parse(app, argc, argv);
+  if (const auto code = srics::cli::Parse(app, argc, argv)) return code;
+  a->config = srics::cli::FindConfig(a->config);  // the default too, when installed
+  return std::nullopt;
 }
 
 }  // namespace
