@@ -23,8 +23,10 @@ std::optional<int> ParseRoleCommandLine(int argc, char** argv, const RoleProgram
       ->allow_extra_args(false)
       ->type_name("K=V")
       ->default_str("");
-  app.add_option("--run-dir", cl->run_dir, "the run folder: logs, state files, checkpoints (default: none)");
-  app.add_option("--log-level", cl->log_level, "trace, debug, info, warn, error (default: the config's run.log_level)");
+  app.add_option("--run-dir", cl->run_dir, "the run folder: logs, state files, checkpoints (default: none)")
+      ->type_name("DIR");
+  app.add_option("--log-level", cl->log_level, "trace, debug, info, warn, error (default: the config's run.log_level)")
+      ->type_name("LEVEL");
   CLI::Option* id = nullptr;
   if (program.needs_id) {
     id = app.add_option_function<int>("--id", [cl](int k) { cl->id = k; }, "which actor: seed, evaluator or not, log name")

@@ -96,19 +96,20 @@ void AddRunOptions(CLI::App& app, LaunchOptions* o, RunText* text) {
   AddSetOption(app, &o->overrides, "override a config value (recorded in the run folder's config.yaml)");
   app.add_option("--run-dir", o->run_dir,
                  "the run folder (default <run.output_dir>/<run.name>-<timestamp>); an existing one is continued: the "
-                 "learner resumes from its checkpoint, with the same config");
+                 "learner resumes from its checkpoint, with the same config")
+      ->type_name("DIR");
   app.add_flag("--allow-config-change", o->allow_config_change,
                "continue a run folder with a changed config (the change is recorded in its config-changes.log, the old "
                "config.yaml kept beside it)");
   app.add_option("--bin-dir", o->bin_dir,
-                 "where srics-graph, srics-learner, srics-actor are (default: beside this program, or its build tree)");
+                 "where srics-graph, srics-learner, srics-actor are (default: beside this program, or its build tree)")->type_name("DIR");
   AddDisplayOption(app, &o->display, "live (refreshing screen), plain (a line every 10 s), none, auto (live on a terminal)");
   app.add_option("--stop-timeout", o->stop_timeout_s, "seconds between SIGINT and SIGKILL when stopping")
       ->check(cli::Number(0));
   app.add_option("--final-eval-grace", o->final_eval_grace_s,
                  "once the learner finished, seconds to wait for the actors' final evaluation and exit before stopping them")
       ->check(cli::Number(0));
-  app.add_option("--label", o->label, "shown in the display's title (srics sweep: which run of how many)");
+  app.add_option("--label", o->label, "shown in the display's title (srics sweep: which run of how many)")->type_name("TEXT");
   app.add_option("--roles", text->roles,
                  "this host's share of a run on several hosts: graph, learner, actor, comma-separated (default: all); "
                  "every host needs the same explicit transport.run_id")
@@ -159,7 +160,8 @@ void AddSweepOptions(CLI::App& app, SweepOptions* o, SweepText* text) {
   AddSetOption(app, &o->overrides, "a config override for every run");
   app.add_option("--out", o->out_dir,
                  "the sweep folder (default <run.output_dir>/<run.name>-sweep); DIR/sweep.yaml records the grid and "
-                 "another grid into the same folder is refused");
+                 "another grid into the same folder is refused")
+      ->type_name("DIR");
   app.add_flag("--in-process", o->in_process, "each run in one process (srics run --in-process)");
   app.add_option("--parallel", o->parallel, "runs at a time (one per core at most)")->check(cli::Integer(1, 64));
   AddDisplayOption(app, &o->display,
@@ -188,7 +190,8 @@ void AddCompareOptions(CLI::App& app, CompareOptions* o) {
   app.add_option("DIR", o->dirs, "sweep folders (srics sweep) or run folders; their eval.csv and train.csv are read")
       ->required();
   app.add_option("--out", o->out_dir,
-                 "where the figures and results.md go (default DIR/compare for one DIR, ./compare for several)");
+                 "where the figures and results.md go (default DIR/compare for one DIR, ./compare for several)")
+      ->type_name("DIR");
 }
 
 // ---- srics eval
@@ -204,7 +207,7 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
       ->required();
   app.add_option("--episodes", a->episodes, "evaluation episodes (default: the config's actors.eval_episodes)")
       ->check(cli::Integer(1, 100000))->default_str("");
-  app.add_option("--out", a->out_dir, "default: <run folder>/eval");
+  app.add_option("--out", a->out_dir, "default: <run folder>/eval")->type_name("DIR");
   app.add_option("--format", a->format,
                  "mp4 (ffmpeg), gif (ffmpeg) or png (frames; no ffmpeg needed); default mp4 when ffmpeg is installed "
                  "(deploy/install-deps.sh video), else png")
@@ -214,8 +217,8 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
           },
           ""));
   app.add_flag("--no-video", *no_video, "write the metrics only");
-  app.add_option("--config", a->config_file, "the run's config (default: config.yaml beside the checkpoint)");
-  app.add_option("--graph", a->graph_file, "the run's graph (default: graph.json beside the checkpoint)");
+  app.add_option("--config", a->config_file, "the run's config (default: config.yaml beside the checkpoint)")->type_name("FILE");
+  app.add_option("--graph", a->graph_file, "the run's graph (default: graph.json beside the checkpoint)")->type_name("FILE");
   AddSetOption(app, &a->overrides, "override a value of the run's config");
   app.add_option("--width", a->render.width, "frame width in pixels (even, 16 to 4096)")->check(cli::Integer(1, 4096));
   app.add_option("--height", a->render.height, "frame height in pixels (even, 16 to 4096)")->check(cli::Integer(1, 4096));
@@ -237,15 +240,16 @@ void AddLearnGraphOptions(CLI::App& app, LearnGraphOptions* o) {
       "learns the interaction graph of an environment preset (or any run config) in process: actors explore at\n"
       "random, the graph service trains its GNN; DIR gets graph.json and its pictures. The last line compares the\n"
       "learned graph with the one by construction");
-  CLI::Option* env =
-      app.add_option("--env", o->env_file, "an environment preset or run config")->transform(cli::InstalledConfig());
+  CLI::Option* env = app.add_option("--env", o->env_file, "an environment preset or run config")
+                          ->transform(cli::InstalledConfig())
+                          ->type_name("FILE");
   CLI::Option* table = app.add_option_function<uint64_t>(
       "--random-table", [o](uint64_t seed) { o->table_seed = seed; },
       "a random table (objects, shapes, masses, static objects, ropes and springs drawn from seed N) instead of a "
       "file; written to DIR/env.yaml");
   table->check(cli::Integer(0))->type_name("N");
   env->excludes(table);
-  app.add_option("--out", o->out_dir, "the folder for graph.json and its pictures");
+  app.add_option("--out", o->out_dir, "the folder for graph.json and its pictures")->type_name("DIR");
   app.add_option_function<uint64_t>(
          "--seed", [o](uint64_t seed) { o->overrides.push_back("run.seed=" + std::to_string(seed)); },
          "run.seed (the actors' and the graph service's random streams)")

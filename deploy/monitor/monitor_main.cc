@@ -57,12 +57,13 @@ std::optional<int> ParseArgs(int argc, char** argv, Args* args) {
   app.add_option("--set", args->overrides, "override a config value, as for the other srics programs")
       ->allow_extra_args(false)
       ->type_name("K=V")->default_str("");
-  app.add_option("--csv", args->csv_dir, "append eval.csv, learner.csv, nodes.csv in DIR as samples arrive");
+  app.add_option("--csv", args->csv_dir, "append eval.csv, learner.csv, nodes.csv in DIR as samples arrive")
+      ->type_name("DIR");
   app.add_flag("--once", args->once,
                "listen for --wait seconds, print one display and exit (exit code 3 when nothing at all was received)");
   app.add_flag("--all-runs", args->all_runs, "show every run id on the domain, not only the config's");
-  app.add_flag("!--no-weights", args->weights,
-               "do not subscribe to PolicyWeights (saves 5 MB per publication per host)");
+  app.add_flag_callback("--no-weights", [args] { args->weights = false; },
+                        "do not subscribe to PolicyWeights (saves 5 MB per publication per host)");
   app.add_option("--for", args->for_s, "stop after S seconds (0: until Ctrl-C)")->check(srics::cli::Number(0));
   app.add_option("--wait", args->wait_s, "with --once: seconds to listen")->check(srics::cli::Number(0));
   app.add_option("--refresh", args->refresh_s, "display refresh period in seconds (at least 0.1)")
