@@ -83,10 +83,13 @@ if [ $debootstrap = 1 ]; then
   mkdir -p "$root/.deb-check"
   trap 'rm -rf "$scratch" "$root/.deb-check"' EXIT
   cp "$deb" "$root/.deb-check/"
-  "$root/tests/fresh-debian.sh" "apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+  # (a work folder of its own: another fresh-debian.sh may be using the default one)
+  SRICS_FRESH_WORK=${SRICS_FRESH_WORK:-/var/tmp/srics-deb-check} \
+    "$root/tests/fresh-debian.sh" "apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
     --no-install-recommends ./.deb-check/$(basename "$deb") >/dev/null && mkdir -p /tmp/w && cd /tmp/w && \
     srics --version && srics run default.yaml --display plain --set run.name=deb-check \
-    --set run.max_wall_minutes=$(awk -v s="$seconds" 'BEGIN { print s / 60 }') && grep -q 'state: finished' runs/deb-check-*/outcome.yaml" ||
+    --set transport.domain_id=$domain --set run.max_wall_minutes=$(awk -v s="$seconds" 'BEGIN { print s / 60 }') && \
+    grep -q 'state: finished' runs/deb-check-*/outcome.yaml" ||
     fail "apt install or srics run in a minimal Debian root"
   echo "deb-check: apt install into a minimal Debian 12 root: srics run finished"
 fi
