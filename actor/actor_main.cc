@@ -12,8 +12,10 @@
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  return process::RunRole(argc, argv, {"srics-actor", "actor", /*needs_id=*/true}, [](const process::Role& role) {
-    const config::CommandLine& cl = role.command_line;
+  const process::RoleProgram program{"srics-actor", "actor", /*needs_id=*/true,
+      "one actor process (MuJoCo environments, the latest policy, whole episodes over DDS)"};
+  return process::RunRole(argc, argv, program, [](const process::Role& role) {
+    const process::CommandLine& cl = role.command_line;
     const config::Config& config = role.config;
     const uint32_t id = static_cast<uint32_t>(*cl.id);
     const std::string& name = role.name;

@@ -14,6 +14,7 @@ packages=(
   # development files (a minimal Debian 12 root lacks them: tests/fresh-debian.sh)
   libgl-dev libglx-dev libopengl-dev
   libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
+  libcli11-dev  # the one argument parser of every program (common/cli)
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox graphviz libqhull-dev
   libcpp-httplib-dev  # the web dashboard's HTTP server (srics run --http, srics-monitor --http)

@@ -15,7 +15,9 @@
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  return process::RunRole(argc, argv, {"srics-graph", "graph"}, [](const process::Role& role) {
+  const process::RoleProgram program{"srics-graph", "graph", false,
+      "the graph service (learns the interaction graph from explore episodes, publishes it)"};
+  return process::RunRole(argc, argv, program, [](const process::Role& role) {
     const config::Config& config = role.config;
     transport::Participant participant(config.transport);
     transport::DdsEpisodeSource source(participant, rl::EpisodeLimitsFor(config.env),

@@ -15,4 +15,15 @@ LearnerCounters LoadActingPolicies(const std::string& path, rl::PolicyNetwork<fl
   return counters;
 }
 
+std::string ActingPoliciesBytes(rl::PolicyNetwork<float>& policy, rl::PolicyNetwork<float>* high,
+                                const LearnerCounters& counters) {
+  auto section = [](const std::string& name, const auto& params) {
+    return nn::CheckpointSection{name, nn::SignatureString(params), nn::Flatten(params), {}};
+  };
+  std::vector<nn::CheckpointSection> sections = {section(kPolicySection, policy.Parameters())};
+  if (high) sections.push_back(section(std::string(kHacHighPrefix) + kPolicySection, high->Parameters()));
+  sections.push_back(CountersSection(counters));
+  return nn::CheckpointBytes(sections);
+}
+
 }  // namespace srics::learner

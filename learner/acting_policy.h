@@ -3,6 +3,7 @@
 // the policy (and HAC's high-level policy) without the critics, optimizers or replay.
 
 #include <string>
+#include <vector>
 
 #include "common/rl/networks.h"
 #include "learner/sac.h"
@@ -22,5 +23,13 @@ LearnerCounters LoadActingPolicies(const std::string& path, rl::PolicyNetwork<fl
 
 // The counters section of a checkpoint's sections (sac.cc's layout). Throws nn::CheckpointError.
 LearnerCounters CheckpointCounters(const std::vector<nn::CheckpointSection>& sections, const std::string& path);
+// The counters as a checkpoint section (sac.cc's layout).
+nn::CheckpointSection CountersSection(const LearnerCounters& counters);
+
+// A file of the acting networks alone, in the learner checkpoint's format and section names
+// (LoadActingPolicies and `srics eval` read it): the policy, HAC's high-level policy when
+// `high` is not null, and the counters.
+std::string ActingPoliciesBytes(rl::PolicyNetwork<float>& policy, rl::PolicyNetwork<float>* high,
+                                const LearnerCounters& counters);
 
 }  // namespace srics::learner

@@ -15,7 +15,9 @@
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  return process::RunRole(argc, argv, {"srics-learner", "learner"}, [](const process::Role& role) {
+  const process::RoleProgram program{"srics-learner", "learner", false,
+      "the learner (replay, relabeling, SAC; publishes weights and stats, checkpoints)"};
+  return process::RunRole(argc, argv, program, [](const process::Role& role) {
     const config::Config& config = role.config;
     const std::string& run_dir = role.command_line.run_dir;
     transport::Participant participant(config.transport);

@@ -54,6 +54,10 @@ bool GradientsFinite(const nn::ParameterList<float>& params) {
 
 }  // namespace
 
+nn::CheckpointSection CountersSection(const LearnerCounters& counters) {
+  return {"counters", "", PackCounters(counters), {}};
+}
+
 LearnerCounters CheckpointCounters(const std::vector<nn::CheckpointSection>& sections, const std::string& path) {
   return UnpackCounters(nn::FindSection(sections, "counters", path).values, path);
 }
@@ -265,7 +269,7 @@ std::vector<nn::CheckpointSection> SacAgent::CheckpointSections(const LearnerCou
       {"policy.adam", "", policy_optimizer_->ExportState(), {}},
       {"q.adam", "", q_optimizer_->ExportState(), {}},
       {"alpha.adam", "", alpha_optimizer_->ExportState(), {}},
-      {"counters", "", PackCounters(counters), {}},
+      CountersSection(counters),
       {"agent.rng", "", {}, nn::RngState(rng_)},
   };
 }

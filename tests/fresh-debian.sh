@@ -114,6 +114,6 @@ mkdir -p "$work"
   echo "command: $command"
   echo "exit code: $rc"
   echo "total seconds: $total"
-  [ -f "$dest/phase-times.txt" ] && cat "$dest/phase-times.txt"
+  if [ -f "$dest/phase-times.txt" ]; then cat "$dest/phase-times.txt"; fi
 } | tee "$work/fresh-debian-times.txt"
 exit $rc

@@ -5,23 +5,41 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 
+#include "common/cli/cli.h"
 #include "common/files/durable_file.h"
 #include "common/logging/logging.h"
 
 namespace srics::process {
 
-std::string UsageOf(const RoleProgram& program) {
-  return program.program + (program.needs_id ? " CONFIG --id K" : " CONFIG") +
-         " [--set key.path=value ...] [--run-dir DIR] [--log-level LEVEL]";
+std::optional<int> ParseRoleCommandLine(int argc, char** argv, const RoleProgram& program, CommandLine* cl) {
+  CLI::App app{program.description, program.program};
+  cli::Configure(app);
+  app.add_option("CONFIG", cl->config_path, "the run's config file (YAML)")
+      ->required()
+      ->transform(cli::InstalledConfig());
+  app.add_option("--set", cl->overrides, "override a config value, key.path=value (repeatable)")
+      ->allow_extra_args(false)
+      ->type_name("K=V")
+      ->default_str("");
+  app.add_option("--run-dir", cl->run_dir, "the run folder: logs, state files, checkpoints (default: none)")
+      ->type_name("DIR");
+  app.add_option("--log-level", cl->log_level, "trace, debug, info, warn, error (default: the config's run.log_level)")
+      ->type_name("LEVEL");
+  CLI::Option* id = nullptr;
+  if (program.needs_id) {
+    id = app.add_option_function<int>("--id", [cl](int k) { cl->id = k; }, "which actor: seed, evaluator or not, log name")
+             ->check(cli::Integer(0, std::numeric_limits<int>::max()));
+  }
+  if (const auto code = cli::Parse(app, argc, argv)) return *code;
+  if (id != nullptr && !cl->id) return cli::UsageError(program.program, "--id K is required");
+  return std::nullopt;
 }
 
-int StartRole(int argc, char** argv, const RoleProgram& program, Role* role) {
-  const std::string usage = UsageOf(program);
+std::optional<int> StartRole(int argc, char** argv, const RoleProgram& program, Role* role) {
+  if (const auto code = ParseRoleCommandLine(argc, argv, program, &role->command_line)) return code;
   try {
-    role->command_line = config::ParseCommandLine(argc, argv, usage);
-    if (program.needs_id && !role->command_line.id)
-      throw config::ConfigError("--id K is required\nusage: " + usage);
     role->config = config::LoadConfig(role->command_line.config_path, role->command_line.overrides);
     if (role->config.transport.run_id == config::kAutoRunId)
       throw config::ConfigError(role->command_line.config_path +
@@ -41,13 +59,13 @@ int StartRole(int argc, char** argv, const RoleProgram& program, Role* role) {
     std::cerr << program.program << ": " << e.what() << "\n";
     return kExitConfig;
   }
-  return 0;
+  return std::nullopt;
 }
 
 int RunRole(int argc, char** argv, const RoleProgram& program,
             const std::function<int(const Role&)>& body) {
   Role role;
-  if (const int code = StartRole(argc, argv, program, &role)) return code;
+  if (const auto code = StartRole(argc, argv, program, &role)) return *code;
   try {
     return body(role);
   } catch (const UnusableStateError& e) {

@@ -5,13 +5,24 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
-#include "common/config/command_line.h"
 #include "common/config/config.h"
 
 namespace srics::process {
+
+// The command line every role process shares:
+//   PROGRAM CONFIG [--set key.path=value ...] [--run-dir DIR] [--id K] [--log-level LEVEL]
+struct CommandLine {
+  std::string config_path;
+  std::vector<std::string> overrides;  // "key.path=value"
+  std::string run_dir;                 // empty: no files (logs to the console only)
+  std::optional<int> id;               // actors: which one
+  std::string log_level;               // empty: the config's run.log_level
+};
 
 // Exit codes of the role programs (besides 0, done, and 1, failed: a restart may help).
 inline constexpr int kExitConfig = 2;         // bad command line or config
@@ -25,7 +36,7 @@ class UnusableStateError : public std::runtime_error {
 };
 
 struct Role {
-  config::CommandLine command_line;
+  CommandLine command_line;
   config::Config config;
   std::string name;  // logger and log-file name: "learner", "graph", "actor-3"
 };
@@ -35,16 +46,20 @@ struct RoleProgram {
   std::string program;    // "srics-actor"
   std::string base_name;  // "actor"
   bool needs_id = false;  // --id K required, appended to the name ("actor-3")
+  std::string description;  // the first line of --help
 };
 
-// The usage line of a role program: "srics-actor CONFIG --id K [--set ...] ...".
-std::string UsageOf(const RoleProgram& program);
+// Parses a role program's command line (argv[0] is the program). Returns nothing when the
+// program goes on; else the exit code after printing the help or the version (0) or what is
+// wrong with the arguments, naming the argument (kExitConfig).
+std::optional<int> ParseRoleCommandLine(int argc, char** argv, const RoleProgram& program, CommandLine* command_line);
 
-// Fills *role and returns 0, or prints "<program>: <what is wrong>" to stderr and returns the
-// exit code (2) when the command line, the config or the log level is bad.
-int StartRole(int argc, char** argv, const RoleProgram& program, Role* role);
+// Fills *role and returns nothing; or returns the exit code of the program: 0 after printing
+// --help or --version, kExitConfig after printing "<program>: <what is wrong>" to stderr when
+// the command line, the config or the log level is bad.
+std::optional<int> StartRole(int argc, char** argv, const RoleProgram& program, Role* role);
 
-// StartRole, then body(role); an exception out of the body is logged as "<name> failed: ..."
+// StartRole, then body(role) (not after --help or --version: exit 0); an exception out of the body is logged as "<name> failed: ..."
 // and gives exit code 1 (kExitUnusableState for an UnusableStateError). Returns the exit
 // code of the process.
 int RunRole(int argc, char** argv, const RoleProgram& program,

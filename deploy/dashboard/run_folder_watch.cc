@@ -54,7 +54,8 @@ int WatchRunFolder(const RunFolderWatch& options) {
     auto screen = [&] {
       mon::RenderOptions render = folder->render_options();
       if (dashboard) render.title += "  dashboard " + dashboard->url();  // the refreshing screen hides the printed URL
-      return mon::Render(folder->state(), mon::Clock::now(), render);
+      // lines clipped to the terminal's width (not in files and pipes), as srics-monitor's display
+      return mon::ClipLines(mon::Render(folder->state(), mon::Clock::now(), render), mon::OutputWidth(STDOUT_FILENO));
     };
     folder->Refresh(mon::Clock::now());
     // every refresh period: re-read the folder, publish, draw (a plain line every 10th time)
@@ -74,8 +75,9 @@ int WatchRunFolder(const RunFolderWatch& options) {
       } else if (live) {
         std::cout << "\033[H\033[2J" << screen() << std::flush;
       } else if (tick % 10 == 0) {
-        std::cout << mon::RenderOneLine(folder->state(), now, MainRun(folder->state()),
-                                        folder->render_options().total_env_steps)
+        std::cout << mon::ClipLines(mon::RenderOneLine(folder->state(), now, MainRun(folder->state()),
+                                                       folder->render_options().total_env_steps),
+                                    mon::OutputWidth(STDOUT_FILENO))
                   << std::endl;
       }
       ++tick;

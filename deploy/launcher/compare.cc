@@ -14,7 +14,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "common/config/command_line.h"
 #include "common/config/config.h"
 #include "common/rl/ground_truth.h"
 #include "graph_service/learned_graph.h"
@@ -24,26 +23,6 @@
 namespace srics::launcher {
 
 namespace fs = std::filesystem;
-
-const char* const kCompareUsage =
-    "usage: srics compare DIR... [--out DIR]\n"
-    "  DIR       sweep folders (srics sweep) or run folders; their eval.csv and train.csv are read\n"
-    "  --out DIR where the figures and results.md go (default DIR/compare for one DIR, ./compare for several)\n"
-    "  per environment: <env>-distance.png, <env>-object_distance.png, <env>-subgoal_success.png,\n"
-    "  <env>-selectivity.png (mean over seeds, band min-max), <env>-<run>-graph.png (learned graphs);\n"
-    "  results.md: final figures, mean ± std over seeds, each run's learned graph against the one by construction\n";
-
-CompareOptions ParseCompareArgs(const std::vector<std::string>& args) {
-  CompareOptions options;
-  for (config::ArgumentReader r(args); r.Next();) {
-    const std::string& arg = r.arg();
-    if (arg == "--out") options.out_dir = r.Value();
-    else if (!arg.empty() && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);
-    else options.dirs.push_back(arg);
-  }
-  if (options.dirs.empty()) throw std::invalid_argument("missing DIR");
-  return options;
-}
 
 namespace {
 

@@ -31,10 +31,6 @@ struct CompareOptions {
   std::string out_dir;  // "" = DIR/compare for one DIR, ./compare for several
 };
 
-// Parses the arguments after `srics compare`. Throws std::invalid_argument.
-CompareOptions ParseCompareArgs(const std::vector<std::string>& args);
-extern const char* const kCompareUsage;
-
 // One evaluation of a run (the rows of eval.csv at one env-step count, averaged).
 struct EvalPoint {
   double env_steps = 0;

@@ -12,7 +12,6 @@
 #include "actor/env/rearrange_env.h"
 #include "actor/env/render/gl_context.h"
 #include "actor/rollout.h"
-#include "common/config/command_line.h"
 #include "common/config/config.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/evaluation.h"
@@ -24,36 +23,7 @@ namespace srics::launcher {
 
 namespace fs = std::filesystem;
 
-const char* const kEvalUsage =
-    "usage: srics eval RUN_DIR|CHECKPOINT [--episodes N] [--out DIR] [--format mp4|gif|png] [--no-video]\n"
-    "                  [--config FILE] [--graph FILE] [--set key.path=value ...]\n"
-    "                  [--width PX] [--height PX] [--fps N]\n"
-    "  plays the run's evaluation protocol with the checkpoint's policy (the evaluating actors' code and\n"
-    "  seeds) and writes DIR/episodes.csv (per-episode distances, success, per-subgoal success) and a video\n"
-    "  of each episode (MuJoCo's renderer, headless EGL; goals as translucent markers).\n"
-    "  RUN_DIR          a run folder: its checkpoint.srics, config.yaml and (SRICS) graph.json\n"
-    "  CHECKPOINT       a checkpoint file; config.yaml and graph.json are taken from its folder\n"
-    "  --episodes N     evaluation episodes (default: the config's actors.eval_episodes)\n"
-    "  --out DIR        default: <run folder>/eval\n"
-    "  --format F       mp4 (ffmpeg), gif (ffmpeg) or png (frames; no ffmpeg needed);\n"
-    "                   default mp4 when ffmpeg is installed (deploy/install-deps.sh video), else png\n"
-    "  --width/--height frame size in pixels (even, 16 to 4096; default 640 x 480); --fps default 10\n";
-
 namespace {
-
-int ParsePositive(const std::string& option, const std::string& text, int max) {
-  size_t used = 0;
-  long value = 0;
-  try {
-    value = std::stol(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || value < 1 || value > max)
-    throw std::invalid_argument(option + ": expected an integer from 1 to " + std::to_string(max) + ", got '" +
-                                text + "'");
-  return static_cast<int>(value);
-}
 
 // The name of an entity in captions.
 std::string EntityName(int entity) { return entity == 0 ? "arm" : "object " + std::to_string(entity); }
@@ -109,44 +79,6 @@ RunFiles Locate(const EvalArgs& args) {
 }
 
 }  // namespace
-
-EvalArgs ParseEvalArgs(const std::vector<std::string>& args) {
-  EvalArgs a;
-  for (config::ArgumentReader r(args); r.Next();) {
-    const std::string& arg = r.arg();
-    if (arg == "--no-video") {
-      a.video = false;
-      continue;
-    }
-    if (arg.rfind("--", 0) != 0) {
-      if (!a.target.empty()) throw std::invalid_argument("RUN_DIR|CHECKPOINT: given twice ('" + a.target + "', '" + arg + "')");
-      a.target = arg;
-      continue;
-    }
-    const std::string& value = r.Value();
-    if (arg == "--episodes") a.episodes = ParsePositive(arg, value, 100000);
-    else if (arg == "--out") a.out_dir = value;
-    else if (arg == "--config") a.config_file = value;
-    else if (arg == "--graph") a.graph_file = value;
-    else if (arg == "--set") a.overrides.push_back(value);
-    else if (arg == "--width") a.render.width = ParsePositive(arg, value, 4096);
-    else if (arg == "--height") a.render.height = ParsePositive(arg, value, 4096);
-    else if (arg == "--fps") a.fps = ParsePositive(arg, value, 240);
-    else if (arg == "--format") {
-      if (!env::ParseVideoFormat(value)) throw std::invalid_argument("--format: expected mp4, gif or png, got '" + value + "'");
-      a.format = value;
-    } else {
-      throw std::invalid_argument("unknown option " + arg);
-    }
-  }
-  if (a.target.empty()) throw std::invalid_argument("RUN_DIR|CHECKPOINT: missing");
-  try {
-    env::CheckRenderOptions(a.render);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument("--" + std::string(e.what()));
-  }
-  return a;
-}
 
 int Eval(const EvalArgs& args) {
   const RunFiles files = Locate(args);

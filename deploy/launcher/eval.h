@@ -34,10 +34,6 @@ struct EvalArgs {
   int fps = 10;                        // --fps (10 = real time: an env step is 0.1 s)
 };
 
-// Parses the arguments after `srics eval`; throws std::invalid_argument naming the argument.
-EvalArgs ParseEvalArgs(const std::vector<std::string>& args);
-extern const char* const kEvalUsage;
-
 // Runs the evaluation; returns 0. Throws std::invalid_argument (bad arguments: exit 2),
 // config::ConfigError (exit 2), nn::CheckpointError and std::runtime_error (exit 1).
 int Eval(const EvalArgs& args);

@@ -17,7 +17,6 @@
 #include "actor/actor_loop.h"
 #include "actor/env/random_table.h"
 #include "common/rl/ground_truth.h"
-#include "common/config/command_line.h"
 #include "common/process/role_startup.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/seeds.h"
@@ -43,8 +42,8 @@ constexpr uint64_t kStallRounds = 10000;
 // The monitor's view of the bus: the same MonitorState and CSV files a DDS monitor builds.
 class MonitorObserver : public links::BusObserver {
  public:
-  MonitorObserver(const config::Config& config, const std::string& csv_dir)
-      : run_id_(config.transport.run_id), start_(mon::Clock::now()) {
+  MonitorObserver(const config::Config& config, const std::string& csv_dir, RunSession* session = nullptr)
+      : run_id_(config.transport.run_id), start_(mon::Clock::now()), session_(session) {
     if (!csv_dir.empty()) csv_.emplace(csv_dir);
     char name[256] = {};
     if (gethostname(name, sizeof name - 1) == 0) host_ = name;
@@ -54,6 +53,7 @@ class MonitorObserver : public links::BusObserver {
     m.run_id = run_id_;
     mon::Apply(&state_, m, mon::Clock::now());
     if (csv_) csv_->Append(m, mon::WallTimeNow());
+    if (session_) session_->OnEval(m.policy_version, m.env_steps, m.avg_distance);
   }
   void OnLearnerStats(const rl::LearnerReport& report) override {
     tr::LearnerStats m = tr::ToMessage(report);
@@ -79,6 +79,7 @@ class MonitorObserver : public links::BusObserver {
     m.architecture = weights.architecture;
     m.parameters = weights.parameters;  // the monitor keeps only their number
     mon::Apply(&state_, m, mon::Clock::now());
+    if (session_) session_->OnWeights(weights.version, weights.update_count, weights.architecture, weights.parameters);
   }
   void OnStatus(const std::string& role, uint32_t id, const rl::NodeReport& report) override {
     tr::NodeStatus m = tr::ToMessage(report, role, id);
@@ -99,6 +100,7 @@ class MonitorObserver : public links::BusObserver {
   std::string run_id_;
   std::string host_;
   mon::Clock::time_point start_;
+  RunSession* session_;  // null: no run folder (learn-graph)
   std::optional<mon::CsvSink> csv_;
   mon::MonitorState state_;
   mon::Clock::time_point last_stats_row_;
@@ -203,7 +205,7 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
   transport::Shutdown::InstallSignalHandlers();
   const auto& stop = transport::Shutdown::Process().flag();
   RunSession session(options, config);
-  MonitorObserver observer(config, session.dir());
+  MonitorObserver observer(config, session.dir(), &session);
   InProcessRun run(config, session.dir(), &observer);
   std::string reason;
   int exit_code = kExitDone;
@@ -234,70 +236,21 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
                         true, 0);
 }
 
-const char* const kLearnGraphUsage =
-    "usage: srics learn-graph (--env FILE | --random-table N) --out DIR [--seed N] [--set key.path=value ...]\n"
-    "       srics learn-graph (--env FILE | --random-table N) --expected\n"
-    "  learns the interaction graph of an environment preset (or any run config) in process:\n"
-    "  actors explore at random, the graph service trains its GNN; DIR gets graph.json and its pictures.\n"
-    "  --random-table N   a random table (objects, shapes, masses, static objects, ropes and springs\n"
-    "                     drawn from seed N) instead of a file; written to DIR/env.yaml\n"
-    "  --expected         print the graph the table implies by construction and exit\n"
-    "  The last line compares the learned graph with the one by construction.\n";
-
-namespace {
-
-uint64_t ParseTableSeed(const std::string& text) {
-  size_t used = 0;
-  unsigned long long v = 0;
-  try {
-    v = std::stoull(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || text[0] == '-')
-    throw std::invalid_argument("--random-table: expected a non-negative integer seed, got '" + text + "'");
-  return v;
-}
-
-}  // namespace
-
-int LearnGraph(const std::vector<std::string>& args) {
-  std::string env_file, out_dir, table_seed;
-  bool expected_only = false;
-  std::vector<std::string> overrides;
-  for (config::ArgumentReader r(args); r.Next();) {
-    const std::string& arg = r.arg();
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kLearnGraphUsage;
-      return 0;
-    }
-    if (arg == "--expected") {
-      expected_only = true;
-      continue;
-    }
-    const std::string& value = r.Value();
-    if (arg == "--env") env_file = value;
-    else if (arg == "--random-table") table_seed = value;
-    else if (arg == "--out") out_dir = value;
-    else if (arg == "--seed") overrides.push_back("run.seed=" + value);
-    else if (arg == "--set") overrides.push_back(value);
-    else throw std::invalid_argument("unknown option " + arg);
-  }
-  if (env_file.empty() == table_seed.empty())
-    throw std::invalid_argument("give one of --env FILE and --random-table N");
-  if (out_dir.empty() && !expected_only) throw std::invalid_argument("--out is required");
-  if (!table_seed.empty()) {
+int LearnGraph(const LearnGraphOptions& o) {
+  std::string env_file = o.env_file;
+  const std::string& out_dir = o.out_dir;
+  if (o.table_seed) {
     // the table is written as a preset file, so the run and a later rerun read the same file
-    const uint64_t seed = ParseTableSeed(table_seed);
+    const uint64_t seed = *o.table_seed;
     const config::EnvConfig table = env::RandomTable(seed);
     const std::string dir = out_dir.empty() ? std::filesystem::temp_directory_path().string() : out_dir;
     std::filesystem::create_directories(dir);
     env_file = dir + "/env.yaml";
     std::ofstream(env_file) << env::RandomTableYaml(table, seed, rl::DescribeGraph(rl::GroundTruthGraph(table)));
   }
-  const config::Config config = config::LoadConfig(env_file, overrides);
+  const config::Config config = config::LoadConfig(env_file, o.overrides);
   const std::string expected = rl::DescribeGraph(rl::GroundTruthGraph(config.env));
-  if (expected_only) {
+  if (o.expected_only) {
     std::printf("%s\n", expected.c_str());
     return kExitDone;
   }

@@ -7,6 +7,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "common/config/config.h"
 #include "common/links/in_memory_bus.h"
@@ -54,10 +57,16 @@ class InProcessRun {
 
 int RunInProcess(const LaunchOptions& options, const config::Config& config);
 
-// `srics learn-graph --env FILE --out DIR [--seed N] [--set ...]`: learns the interaction
-// graph of an environment preset in process (exploring actors and the graph service) and
-// leaves DIR/graph.json, graph.png, graph_weights.png. Returns an exit code.
-int LearnGraph(const std::vector<std::string>& args);
-extern const char* const kLearnGraphUsage;
+// `srics learn-graph (--env FILE | --random-table N) --out DIR [--seed N] [--set ...]`: learns
+// the interaction graph of an environment preset in process (exploring actors and the graph
+// service) and leaves DIR/graph.json, graph.png, graph_weights.png. Returns an exit code.
+struct LearnGraphOptions {
+  std::string env_file;                // --env
+  std::optional<uint64_t> table_seed;  // --random-table N: a random table instead of a file
+  std::string out_dir;                 // --out
+  std::vector<std::string> overrides;  // --seed N (run.seed=N) and --set, in order
+  bool expected_only = false;          // --expected: print the graph by construction and exit
+};
+int LearnGraph(const LearnGraphOptions& options);
 
 }  // namespace srics::launcher

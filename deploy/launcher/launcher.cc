@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -12,7 +13,6 @@
 
 #include <spdlog/sinks/sink.h>
 
-#include "common/config/command_line.h"
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/process/role_startup.h"
@@ -26,52 +26,11 @@
 
 namespace srics::launcher {
 
-DisplayMode ParseDisplayMode(const std::string& mode) {
-  if (mode == "auto") return DisplayMode::kAuto;
-  if (mode == "live") return DisplayMode::kLive;
-  if (mode == "plain") return DisplayMode::kPlain;
-  if (mode == "none") return DisplayMode::kNone;
-  throw std::invalid_argument("--display expects auto, live, plain or none, got '" + mode + "'");
-}
-
 namespace tr = srics::transport;
 namespace mon = srics::monitor;
 namespace fs = std::filesystem;
 
-const char* const kRunUsage =
-    "usage: srics run CONFIG [--in-process] [--actors N] [--set key.path=value ...] [--run-dir DIR] [--bin-dir DIR]\n"
-    "                 [--display auto|live|plain|none] [--stop-timeout S] [--final-eval-grace S]\n"
-    "  CONFIG          the run's config (e.g. deploy/configs/default.yaml)\n"
-    "  --in-process    the same loops in one process and one thread, wired in memory (no DDS):\n"
-    "                  deterministic, the same run folder\n"
-    "  --actors N      actor processes (default: actors.count of the config)\n"
-    "  --set K=V       override a config value (recorded in the run folder's config.yaml)\n"
-    "  --run-dir DIR   the run folder (default <run.output_dir>/<run.name>-<timestamp>); an existing\n"
-    "                  one is continued: the learner resumes from its checkpoint, with the same config\n"
-    "  --allow-config-change  continue a run folder with a changed config (the change is recorded\n"
-    "                  in its config-changes.log, the old config.yaml kept beside it)\n"
-    "  --bin-dir DIR   where srics-graph, srics-learner, srics-actor are (default: the build tree\n"
-    "                  this program belongs to)\n"
-    "  --display M     live (refreshing screen), plain (a line every 10 s), none, auto (live on a terminal)\n"
-    "  --stop-timeout S      seconds between SIGINT and SIGKILL when stopping (default 15)\n"
-    "  --final-eval-grace S  once the learner finished, wait this long for the actors' final\n"
-    "                        evaluation and exit before stopping them (default 180)\n"
-    "  --label TEXT    shown in the display's title (srics sweep: which run of how many)\n"
-    "  --http PORT     serve the live web dashboard on PORT (127.0.0.1 only unless --http-bind)\n"
-    "  --http-bind A   the address to serve it on (default 127.0.0.1; 0.0.0.0 = every interface)\n"
-    "the run folder's outcome.yaml says how the run ended (finished, interrupted, failed)\n"
-    "exit codes: 0 run finished, 1 a role failed for good, 2 bad arguments/config, 130 interrupted\n";
-
 namespace {
-
-double ParseNumber(const std::string& flag, const std::string& text, double min) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !(value >= min))
-    throw std::invalid_argument(flag + " expects a number >= " + std::to_string(static_cast<int>(min)) +
-                                ", got '" + text + "'");
-  return value;
-}
 
 // The launcher's view of its children for the display.
 std::vector<mon::ProcessRow> ProcessRows(const Supervisor& supervisor, SteadyClock::time_point now) {
@@ -97,52 +56,15 @@ std::vector<mon::ProcessRow> ProcessRows(const Supervisor& supervisor, SteadyClo
 
 }  // namespace
 
-LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
-  LaunchOptions options;
-  for (config::ArgumentReader r(args); r.Next();) {
-    const std::string& arg = r.arg();
-    auto value = [&r]() -> const std::string& { return r.Value(); };
-    if (arg == "--set") options.overrides.push_back(value());
-    else if (arg == "--actors") options.actors = static_cast<int>(ParseNumber(arg, value(), 1));
-    else if (arg == "--run-dir") options.run_dir = value();
-    else if (arg == "--bin-dir") options.bin_dir = value();
-    else if (arg == "--stop-timeout") options.stop_timeout_s = ParseNumber(arg, value(), 0);
-    else if (arg == "--final-eval-grace") options.final_eval_grace_s = ParseNumber(arg, value(), 0);
-    else if (arg == "--in-process") options.in_process = true;
-    else if (arg == "--label") options.label = value();
-    else if (arg == "--allow-config-change") options.allow_config_change = true;
-    else if (arg == "--http") options.http_port = dashboard::ParseHttpPort(value());
-    else if (arg == "--http-bind") options.http_bind = value();
-    else if (arg == "--display") {
-      options.display = ParseDisplayMode(value());
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw std::invalid_argument("unknown option " + arg);
-    } else if (options.config_file.empty()) {
-      options.config_file = arg;
-    } else {
-      throw std::invalid_argument("unexpected argument " + arg);
-    }
-  }
-  if (options.config_file.empty()) throw std::invalid_argument("missing CONFIG");
-  if (options.http_port < 0 && options.http_bind != "127.0.0.1")
-    throw std::invalid_argument("--http-bind needs --http PORT");
-  if (options.actors > 0) options.overrides.push_back("actors.count=" + std::to_string(options.actors));
-  return options;
-}
-
 namespace {
 
-// The role processes of one run under a supervisor.
+// The role processes of this host under a supervisor.
 struct Roles {
-  size_t graph = 0, learner = 0;
+  std::optional<size_t> graph, learner;
   std::vector<size_t> actors;
 };
 
-Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const config::Config& config,
-               const std::string& dir) {
-  const std::string graph_bin = FindProgram("srics-graph", "graph_service", options.bin_dir);
-  const std::string learner_bin = FindProgram("srics-learner", "learner", options.bin_dir);
-  const std::string actor_bin = FindProgram("srics-actor", "actor", options.bin_dir);
+Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const RoleShare& share, const std::string& dir) {
   auto argv = [&](const std::string& bin, std::vector<std::string> extra) {
     std::vector<std::string> v = {bin, dir + "/config.yaml", "--run-dir", dir};
     v.insert(v.end(), extra.begin(), extra.end());
@@ -151,16 +73,26 @@ Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const confi
   // a role that exits with 2 (config) or 65 (unusable state on disk) fails the run at once
   const std::vector<int> finals = {process::kExitConfig, process::kExitUnusableState};
   Roles roles;
-  roles.graph = supervisor->Add({.name = "graph", .argv = argv(graph_bin, {}), .output_file = dir + "/logs/graph.out",
-                                 .max_restarts = options.max_restarts_service, .final_exit_codes = finals});
-  roles.learner = supervisor->Add({.name = "learner", .argv = argv(learner_bin, {}),
-                                   .output_file = dir + "/logs/learner.out", .max_restarts = options.max_restarts_service,
+  if (share.graph)
+    roles.graph = supervisor->Add({.name = "graph",
+                                   .argv = argv(FindProgram("srics-graph", "graph_service", options.bin_dir), {}),
+                                   .output_file = dir + "/logs/graph.out",
+                                   .max_restarts = options.max_restarts_service,
                                    .final_exit_codes = finals});
-  for (int k = 0; k < config.actors.count; ++k)
-    roles.actors.push_back(supervisor->Add({.name = "actor-" + std::to_string(k),
-                                            .argv = argv(actor_bin, {"--id", std::to_string(k)}),
-                                            .output_file = dir + "/logs/actor-" + std::to_string(k) + ".out",
-                                            .final_exit_codes = finals}));
+  if (share.learner)
+    roles.learner = supervisor->Add({.name = "learner",
+                                     .argv = argv(FindProgram("srics-learner", "learner", options.bin_dir), {}),
+                                     .output_file = dir + "/logs/learner.out",
+                                     .max_restarts = options.max_restarts_service,
+                                     .final_exit_codes = finals});
+  if (!share.actor_ids.empty()) {
+    const std::string actor_bin = FindProgram("srics-actor", "actor", options.bin_dir);
+    for (int k : share.actor_ids)
+      roles.actors.push_back(supervisor->Add({.name = "actor-" + std::to_string(k),
+                                              .argv = argv(actor_bin, {"--id", std::to_string(k)}),
+                                              .output_file = dir + "/logs/actor-" + std::to_string(k) + ".out",
+                                              .final_exit_codes = finals}));
+  }
   return roles;
 }
 
@@ -175,7 +107,7 @@ class EndWatch {
   EndWatch(const LaunchOptions& options, const config::Config& config, const Roles& roles)
       : options_(options), config_(config), roles_(roles) {}
 
-  Ending Check(Supervisor& supervisor, RunSession& session) {
+  Ending Check(Supervisor& supervisor, RunSession& session, const monitor::MonitorState& state) {
     for (size_t i : supervisor.Tick()) {
       const ChildStatus& s = supervisor.status(i);
       if (i == roles_.learner && s.phase == ChildPhase::kFinished) {
@@ -184,6 +116,11 @@ class EndWatch {
       } else if ((i == roles_.learner || i == roles_.graph) && s.phase == ChildPhase::kFailed) {
         return {s.name + " failed for good (" + (s.last_exit ? s.last_exit->Describe() : "?") + ")", kExitFailed};
       }
+    }
+    // a share without the learner: its stats say when the budget is done
+    if (!roles_.learner && !learner_done_ && BudgetDone(state)) {
+      learner_done_ = SteadyClock::now();
+      session.Event("the learner (on another host) finished its budget");
     }
     bool actors_down = true, actor_failed = false;
     for (size_t i : roles_.actors) {
@@ -198,6 +135,8 @@ class EndWatch {
       return actor_failed ? Ending{"the budget is done, but actors failed", kExitFailed} : Ending{"the budget is done"};
     if (learner_done_ && now - *learner_done_ >= grace)
       return {"the budget is done (actors did not finish within the grace period)"};
+    if (!learner_done_ && !roles_.actors.empty() && actors_down && !roles_.learner && !actor_failed)
+      return {"the budget is done (every actor of this host finished)"};
     if (!learner_done_ && !roles_.actors.empty() && actors_down && now - *actors_down_at_ >= grace)
       return {"every actor ended but the learner did not finish", kExitFailed};
     return {WallLimitReason(config_, session.elapsed_s())};
@@ -205,6 +144,14 @@ class EndWatch {
 
 
  private:
+  // The run's learner stats say its budget is done.
+  bool BudgetDone(const monitor::MonitorState& state) const {
+    const auto it = state.runs.find(config_.transport.run_id);
+    if (it == state.runs.end()) return false;
+    const uint64_t budget = monitor::BudgetEnvSteps(it->second);
+    return budget > 0 && monitor::EnvSteps(it->second) >= budget;
+  }
+
   const LaunchOptions& options_;
   const config::Config& config_;
   const Roles& roles_;
@@ -218,14 +165,27 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
   SeedGraphFile(config, dir);  // a given graph is re-published by srics-graph
   // what the processes publish, to the display and to eval.csv, learner.csv, nodes.csv
   tr::Participant participant(config.transport);
-  mon::Monitor monitor(participant, {.all_runs = false, .weights = true, .csv_dir = dir, .csv_node_statuses = true});
+  mon::MonitorOptions monitor_options{.all_runs = false, .weights = true, .csv_dir = dir, .csv_node_statuses = true};
+  monitor_options.on_eval = [&](const tr::EvalResult& e) { session.OnEval(e.policy_version, e.env_steps, e.avg_distance); };
+  monitor_options.on_weights = [&](const tr::PolicyWeights& w) {
+    session.OnWeights(w.version, w.update_count, w.architecture, w.parameters);
+  };
+  mon::Monitor monitor(participant, monitor_options);
 
   SupervisorOptions supervisor_options;
   supervisor_options.backoff = options.backoff;
   supervisor_options.stop_timeout = std::chrono::milliseconds(static_cast<int64_t>(options.stop_timeout_s * 1000));
   supervisor_options.on_event = [&](const std::string& text) { session.Event(text); };
   Supervisor supervisor(supervisor_options);
-  const Roles roles = AddRoles(&supervisor, options, config, dir);
+  const RoleShare share = ShareOf(options, config);
+  Roles roles;
+  try {
+    roles = AddRoles(&supervisor, options, share, dir);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    std::cerr << "srics run: " << e.what() << "\n";
+    return kExitFailed;
+  }
   try {
     supervisor.StartAll();
   } catch (const std::exception& e) {
@@ -243,7 +203,7 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
     }
     monitor.Poll(std::chrono::milliseconds(200));
     for (const std::string& text : monitor.TakeNodeEvents()) session.Note(text);  // the monitor logged it
-    ending = watch.Check(supervisor, session);
+    ending = watch.Check(supervisor, session, monitor.state());
     if (ending.reason.empty())
       session.Show(monitor.state(), ProcessRows(supervisor, SteadyClock::now()), supervisor.total_restarts());
   }
@@ -256,9 +216,32 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
 
 }  // namespace
 
+RoleShare ShareOf(const LaunchOptions& options, const config::Config& config) {
+  RoleShare share;
+  const auto has = [&](const char* role) {
+    return options.roles.empty() || std::find(options.roles.begin(), options.roles.end(), role) != options.roles.end();
+  };
+  share.graph = has("graph");
+  share.learner = has("learner");
+  if (has("actor")) {
+    share.actor_ids = options.actor_ids;
+    if (share.actor_ids.empty())
+      for (int k = 0; k < config.actors.count; ++k) share.actor_ids.push_back(k);
+  }
+  share.whole_run = options.roles.empty() && options.actor_ids.empty();
+  return share;
+}
+
 int Run(const LaunchOptions& options) {
   // config first: a bad one stops everything before a folder or a process exists
   config::Config config = config::LoadConfig(options.config_file, options.overrides);
+  if (!ShareOf(options, config).whole_run) {
+    if (options.in_process) throw std::invalid_argument("--roles, --ids: not with --in-process (one process runs every role)");
+    if (config.transport.run_id == config::kAutoRunId)
+      throw std::invalid_argument(
+          "--roles, --ids: a share of a run needs the run's id, the same on every host (e.g. --set "
+          "transport.run_id=exp7); transport.run_id 'auto' would pick one per host");
+  }
   if (config.transport.run_id == config::kAutoRunId) {
     // this launch's own run id (or the one the folder recorded), written into the run
     // folder's config.yaml with the rest of the effective configuration; in process there is
@@ -270,10 +253,14 @@ int Run(const LaunchOptions& options) {
   CheckResumedConfig(config, options.run_dir, options.allow_config_change);
   try {
     if (options.in_process) return RunInProcess(options, config);
-    // DDS Security: every process's identity is in the keystore before anything starts
+    // DDS Security: the identity of every process this host starts (with --roles, its share
+    // only: a host's keystore copy holds its own identities) is in the keystore before
+    // anything starts
     config::SecurityConfig& security = config.transport.security;
-    for (const std::string& name : {std::string("learner"), std::string("graph")}) config::CheckKeystore(security, name);
-    for (int k = 0; k < config.actors.count; ++k) config::CheckKeystore(security, "actor-" + std::to_string(k));
+    const RoleShare share = ShareOf(options, config);
+    if (share.learner) config::CheckKeystore(security, "learner");
+    if (share.graph) config::CheckKeystore(security, "graph");
+    for (int k : share.actor_ids) config::CheckKeystore(security, "actor-" + std::to_string(k));
     security.identity = config::CheckKeystore(security, "launcher");
     return RunProcesses(options, config);
   } catch (const dashboard::BindError& e) {

@@ -13,11 +13,18 @@
 // (the learner checkpoints on SIGINT). Crashed processes (a signal or a non-zero exit) are
 // restarted with backoff; the learner and the graph service at most max_restarts_service
 // times (the learner resumes from its checkpoint, the graph service from graph.json).
+//
+// Several hosts: `--roles learner,graph` on one host and `--roles actor --ids 2-5` on another
+// give each host the same supervisor, restarts and display for its share of the roles (the
+// display shows every node of the run, from DDS). A host without the learner learns that the
+// budget is done from the learner's stats; its actors then end by themselves (final
+// evaluation included) and a host without actors stops its graph service.
 
 #include <chrono>
 #include <string>
 #include <vector>
 
+#include "common/config/config.h"
 #include "deploy/launcher/supervisor.h"
 
 namespace srics::launcher {
@@ -29,9 +36,7 @@ enum class DisplayMode {
   kNone,   // nothing but the final summary
 };
 
-// The value of --display (srics run and srics sweep); throws std::invalid_argument otherwise.
-DisplayMode ParseDisplayMode(const std::string& mode);
-
+// What `srics run` was asked (its command line: command_line.cc).
 struct LaunchOptions {
   std::string config_file;
   std::vector<std::string> overrides;  // --set key.path=value
@@ -48,7 +53,21 @@ struct LaunchOptions {
   bool allow_config_change = false;    // --allow-config-change: a continued run may take another config
   int http_port = -1;                  // --http PORT: serve the web dashboard (-1 = none, 0 = any free port)
   std::string http_bind = "127.0.0.1";  // --http-bind ADDR
+  // --roles graph,learner,actor: this host's share of a run on several hosts (empty: every
+  // role, the whole run here); --ids 2-5: its actors (empty: 0 .. actors.count - 1)
+  std::vector<std::string> roles;
+  std::vector<int> actor_ids;
 };
+
+// The roles a launch runs on this host: graph, learner and the actor ids.
+struct RoleShare {
+  bool graph = true;
+  bool learner = true;
+  std::vector<int> actor_ids;
+  bool whole_run = true;  // every role and actor of the config: not a share
+};
+// The share that options.roles and options.actor_ids ask for, with the config's actors.count.
+RoleShare ShareOf(const LaunchOptions& options, const config::Config& config);
 
 // Exit codes of `srics run`.
 inline constexpr int kExitDone = 0;         // the run finished (budget, learner, wall time)
@@ -56,12 +75,9 @@ inline constexpr int kExitFailed = 1;       // a role failed for good, or no chi
 inline constexpr int kExitUsage = 2;        // bad arguments or config
 inline constexpr int kExitInterrupted = 130;  // stopped by SIGINT/SIGTERM
 
-// Parses the arguments after `srics run`. Throws std::invalid_argument.
-LaunchOptions ParseRunArgs(const std::vector<std::string>& args);
-extern const char* const kRunUsage;
-
 // Runs to the end; returns one of the exit codes above. Config errors throw ConfigError
-// before anything is started.
+// before anything is started; a share of a run (--roles) without an explicit
+// transport.run_id throws std::invalid_argument (every host must use the same id).
 int Run(const LaunchOptions& options);
 
 }  // namespace srics::launcher

@@ -65,6 +65,26 @@ RunSession::RunSession(const LaunchOptions& options, const config::Config& confi
                options.in_process ? ", in process" : "");
   start_ = next_draw_ = SteadyClock::now();
   next_line_ = start_ + std::chrono::seconds(10);
+  best_ = std::make_unique<BestPolicy>(config, dir_);
+}
+
+void RunSession::OnWeights(uint64_t version, uint64_t update_count, const std::string& architecture,
+                           const std::vector<float>& parameters) {
+  best_->OnWeights(version, update_count, architecture, parameters);
+}
+
+void RunSession::OnEval(uint64_t policy_version, uint64_t env_steps, double avg_distance) {
+  try {
+    if (const auto best = best_->OnEval(policy_version, env_steps, avg_distance)) {
+      char text[160];
+      std::snprintf(text, sizeof text, "best evaluation so far: avg distance %.4f (policy v%llu, %llu env steps): best.srics",
+                    best->avg_distance, static_cast<unsigned long long>(best->policy_version),
+                    static_cast<unsigned long long>(best->env_steps));
+      Event(text);
+    }
+  } catch (const std::exception& e) {
+    Event(std::string("best.srics not written: ") + e.what());
+  }
 }
 
 double RunSession::elapsed_s() const { return std::chrono::duration<double>(SteadyClock::now() - start_).count(); }
@@ -96,16 +116,20 @@ mon::RenderOptions RunSession::Render(std::vector<mon::ProcessRow> rows) const {
 void RunSession::Show(const mon::MonitorState& state, std::vector<mon::ProcessRow> rows, uint32_t restarts) {
   const auto now = SteadyClock::now();
   if (dashboard_ && dashboard_->Due(now)) dashboard_->Update(state, now, Render(rows), /*force=*/true);
+  // lines clipped to the terminal's width (not in files and pipes)
   if (display_ == DisplayMode::kLive && now >= next_draw_) {
     next_draw_ = now + std::chrono::seconds(1);
     mon::RenderOptions render = Render(std::move(rows));
     if (dashboard_) render.title += "  dashboard " + dashboard_->url();  // the screen hides the printed URL
-    std::cout << "\033[H\033[2J" << mon::Render(state, mon::Clock::now(), render) << std::flush;
+    std::cout << "\033[H\033[2J" << mon::ClipLines(mon::Render(state, mon::Clock::now(), render), mon::OutputWidth(STDOUT_FILENO))
+              << std::flush;
   } else if (display_ == DisplayMode::kPlain && now >= next_line_) {
     next_line_ = now + std::chrono::seconds(10);
-    std::cout << "[" << ClockText(elapsed_s()) << "] " << (label_.empty() ? "" : label_ + " ")
-              << mon::RenderOneLine(state, mon::Clock::now(), config_.transport.run_id, config_.run.total_env_steps)
-              << "  restarts " << restarts << std::endl;
+    const std::string line =
+        "[" + ClockText(elapsed_s()) + "] " + (label_.empty() ? "" : label_ + " ") +
+        mon::RenderOneLine(state, mon::Clock::now(), config_.transport.run_id, config_.run.total_env_steps) +
+        "  restarts " + std::to_string(restarts);
+    std::cout << mon::ClipLines(line, mon::OutputWidth(STDOUT_FILENO)) << std::endl;
   }
 }
 
@@ -123,7 +147,7 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
 
   std::string files;
   for (const char* name : {"config.yaml", "eval.csv", "learner.csv", "train.csv", "nodes.csv", "curve.png",
-                           "subgoal_success.png", "graph.json", "graph.png", "checkpoint.srics", "summary.txt",
+                           "subgoal_success.png", "graph.json", "graph.png", "checkpoint.srics", "best.srics", "summary.txt",
                            "outcome.yaml", "logs"})
     if (fs::exists(fs::path(dir_) / name)) files += std::string(files.empty() ? "" : ", ") + name;
   const char* outcome = exit_code == kExitDone ? "finished" : exit_code == kExitInterrupted ? "interrupted" : "FAILED";
@@ -135,7 +159,8 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
   }
-  std::cout << (display_ == DisplayMode::kLive ? "\033[H\033[2J" : "\n") << summary << "\n"
+  std::cout << (display_ == DisplayMode::kLive ? "\033[H\033[2J" : "\n")
+            << mon::ClipLines(summary, mon::OutputWidth(STDOUT_FILENO)) << "\n"
             << "run " << outcome << ": " << reason << (clean ? "" : " (some processes had to be killed)")
             << "; restarts " << restarts << "\nrun folder " << dir_ << ": " << files << "\n"
             << std::flush;

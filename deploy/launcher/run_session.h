@@ -12,6 +12,7 @@
 
 #include "common/config/config.h"
 #include "deploy/dashboard/dashboard.h"
+#include "deploy/launcher/best_policy.h"
 #include "deploy/launcher/launcher.h"
 #include "deploy/monitor/display.h"
 #include "deploy/monitor/monitor_state.h"
@@ -34,6 +35,11 @@ class RunSession {
   // Redraws the live display (at most once a second) or prints a plain line (every 10 s),
   // and the web dashboard's document (at most once a second) when it is served.
   void Show(const monitor::MonitorState& state, std::vector<monitor::ProcessRow> rows, uint32_t restarts);
+  // What the run published, for best.srics (best_policy.h): weights and evaluations.
+  void OnWeights(uint64_t version, uint64_t update_count, const std::string& architecture,
+                 const std::vector<float>& parameters);
+  void OnEval(uint64_t policy_version, uint64_t env_steps, double avg_distance);
+
   // Plots the curves, writes summary.txt and outcome.yaml (how the run ended) and prints the
   // closing lines. Returns exit_code.
   int Finish(const monitor::MonitorState& state, std::vector<monitor::ProcessRow> rows, const std::string& reason,
@@ -52,6 +58,7 @@ class RunSession {
   DisplayMode display_;
   std::chrono::steady_clock::time_point start_, next_draw_, next_line_;
   std::deque<std::string> events_;
+  std::unique_ptr<BestPolicy> best_;
 };
 
 // "wall-clock limit of 27 minutes reached" once run.max_wall_minutes (> 0) has passed, else "".

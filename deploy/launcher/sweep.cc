@@ -16,7 +16,6 @@
 #include <stdexcept>
 #include <thread>
 
-#include "common/config/command_line.h"
 #include "common/config/config.h"
 #include "common/transport/shutdown.h"
 #include "deploy/launcher/child_process.h"
@@ -28,71 +27,7 @@ namespace srics::launcher {
 namespace fs = std::filesystem;
 using SteadyClock = std::chrono::steady_clock;
 
-const char* const kSweepUsage =
-    "usage: srics sweep CONFIG --methods M1,M2,... --seeds S1,S2,... [--set key.path=value ...] [--out DIR]\n"
-    "                   [--in-process] [--parallel N] [--display auto|live|plain|none] [--stop-timeout S]\n"
-    "  runs every method with every seed (run folders DIR/<method>-seed<seed>), one after another;\n"
-    "  the same command again resumes: finished runs are skipped, the others continue from their checkpoints\n"
-    "  --methods LIST  run.method names, comma-separated (srics, smorl, sac_her, ...)\n"
-    "  --seeds LIST    run.seed values, comma-separated; A-B for a range (1-3)\n"
-    "  --set K=V       a config override for every run\n"
-    "  --out DIR       the sweep folder (default <run.output_dir>/<run.name>-sweep); DIR/sweep.yaml records\n"
-    "                  the grid and another grid into the same folder is refused\n"
-    "  --in-process    each run in one process (srics run --in-process)\n"
-    "  --parallel N    runs at a time (default 1; one per core at most)\n"
-    "  --display M     each run's display: live, plain, none, auto (with --parallel > 1: plain lines in\n"
-    "                  DIR/logs/<run>.out, the sweep prints each run's latest line every 10 s)\n"
-    "  --stop-timeout S  on Ctrl-C, seconds a run has to checkpoint and exit before it is killed (180)\n"
-    "exit codes: 0 every run finished, 1 a run failed (the others ran; run again to retry),\n"
-    "            2 bad arguments/config or another grid in DIR, 130 interrupted\n";
-
 namespace {
-
-std::vector<std::string> SplitList(const std::string& flag, const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (item.empty()) throw std::invalid_argument(flag + ": an empty item in '" + text + "'");
-    items.push_back(item);
-  }
-  if (items.empty()) throw std::invalid_argument(flag + " needs at least one value");
-  return items;
-}
-
-uint64_t ParseSeed(const std::string& text) {
-  char* end = nullptr;
-  const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
-  if (text.empty() || text[0] == '-' || end == text.c_str() || *end != '\0')
-    throw std::invalid_argument("--seeds expects non-negative integers, got '" + text + "'");
-  return value;
-}
-
-std::vector<uint64_t> ParseSeeds(const std::string& text) {
-  std::vector<uint64_t> seeds;
-  for (const std::string& item : SplitList("--seeds", text)) {
-    const size_t dash = item.find('-', 1);
-    if (dash == std::string::npos) {
-      seeds.push_back(ParseSeed(item));
-      continue;
-    }
-    const uint64_t first = ParseSeed(item.substr(0, dash)), last = ParseSeed(item.substr(dash + 1));
-    if (last < first || last - first > 1000) throw std::invalid_argument("--seeds: bad range '" + item + "'");
-    for (uint64_t s = first; s <= last; ++s) seeds.push_back(s);
-  }
-  return seeds;
-}
-
-template <typename T>
-void RefuseDuplicates(const std::string& flag, const std::vector<T>& values) {
-  std::set<T> seen;
-  for (const T& v : values) {
-    if (!seen.insert(v).second) {
-      std::ostringstream text;
-      text << flag << " lists " << v << " twice";
-      throw std::invalid_argument(text.str());
-    }
-  }
-}
 
 std::string Now() {
   const std::time_t t = std::time(nullptr);
@@ -143,53 +78,6 @@ class SweepLog {
 };
 
 }  // namespace
-
-SweepOptions ParseSweepArgs(const std::vector<std::string>& args) {
-  SweepOptions options;
-  for (config::ArgumentReader r(args); r.Next();) {
-    const std::string& arg = r.arg();
-    if (arg == "--methods") {
-      options.methods = SplitList(arg, r.Value());
-    } else if (arg == "--seeds") {
-      options.seeds = ParseSeeds(r.Value());
-    } else if (arg == "--set") {
-      options.overrides.push_back(r.Value());
-    } else if (arg == "--out") {
-      options.out_dir = r.Value();
-    } else if (arg == "--in-process") {
-      options.in_process = true;
-    } else if (arg == "--program") {
-      options.program = r.Value();
-    } else if (arg == "--parallel") {
-      const std::string& v = r.Value();
-      char* end = nullptr;
-      const long n = std::strtol(v.c_str(), &end, 10);
-      if (end == v.c_str() || *end != '\0' || n < 1 || n > 64)
-        throw std::invalid_argument("--parallel expects a number from 1 to 64, got '" + v + "'");
-      options.parallel = static_cast<int>(n);
-    } else if (arg == "--stop-timeout") {
-      const std::string& v = r.Value();
-      char* end = nullptr;
-      options.stop_timeout_s = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end != '\0' || !(options.stop_timeout_s >= 0))
-        throw std::invalid_argument("--stop-timeout expects seconds >= 0, got '" + v + "'");
-    } else if (arg == "--display") {
-      options.display = ParseDisplayMode(r.Value());
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw std::invalid_argument("unknown option " + arg);
-    } else if (options.config_file.empty()) {
-      options.config_file = arg;
-    } else {
-      throw std::invalid_argument("unexpected argument " + arg);
-    }
-  }
-  if (options.config_file.empty()) throw std::invalid_argument("missing CONFIG");
-  if (options.methods.empty()) throw std::invalid_argument("missing --methods");
-  if (options.seeds.empty()) throw std::invalid_argument("missing --seeds");
-  RefuseDuplicates("--methods", options.methods);
-  RefuseDuplicates("--seeds", options.seeds);
-  return options;
-}
 
 SweepPlan PlanSweep(const SweepOptions& options) {
   for (const std::string& o : options.overrides) {

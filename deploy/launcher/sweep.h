@@ -37,10 +37,6 @@ struct SweepOptions {
   double stop_timeout_s = 180;         // after the SIGINT, the time a run has to checkpoint and exit
 };
 
-// Parses the arguments after `srics sweep`. Throws std::invalid_argument.
-SweepOptions ParseSweepArgs(const std::vector<std::string>& args);
-extern const char* const kSweepUsage;
-
 // One cell of the grid.
 struct SweepRun {
   std::string method;

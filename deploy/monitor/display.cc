@@ -1,6 +1,10 @@
 #include "deploy/monitor/display.h"
 
+#include <sys/ioctl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdlib>
 #include <cinttypes>
 #include <cstdarg>
 #include <cstdio>
@@ -275,6 +279,56 @@ std::string RenderOneLine(const MonitorState& state, Clock::time_point now, cons
   }
   out += Format("  nodes %zu alive", alive);
   if (gone) out += Format(", %zu gone", gone);
+  return out;
+}
+
+size_t ChooseOutputWidth(bool is_terminal, int terminal_columns, const char* columns_env) {
+  if (!is_terminal) return 0;
+  if (terminal_columns > 0) return static_cast<size_t>(terminal_columns);
+  if (columns_env != nullptr) {
+    char* end = nullptr;
+    const long columns = std::strtol(columns_env, &end, 10);
+    if (end != columns_env && *end == '\0' && columns > 0 && columns < 100000) return static_cast<size_t>(columns);
+  }
+  return 0;
+}
+
+size_t OutputWidth(int fd) {
+  const bool terminal = isatty(fd) == 1;
+  winsize size{};
+  const int columns = terminal && ioctl(fd, TIOCGWINSZ, &size) == 0 ? size.ws_col : 0;
+  return ChooseOutputWidth(terminal, columns, std::getenv("COLUMNS"));
+}
+
+std::string ClipLines(const std::string& text, size_t width) {
+  if (width == 0) return text;
+  std::string out;
+  out.reserve(text.size());
+  size_t column = 0;     // characters of the current line so far
+  bool cutting = false;  // the current line is past the width
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      out += c;
+      column = 0;
+      cutting = false;
+      continue;
+    }
+    if (cutting) continue;
+    const bool continuation = (static_cast<unsigned char>(c) & 0xC0) == 0x80;  // inside a UTF-8 character
+    if (!continuation && column == width) {
+      // the line is longer: its last column becomes the mark (a byte-wise cut of the last
+      // character may leave its first byte only: drop the character)
+      size_t back = out.size();
+      while (back > 0 && (static_cast<unsigned char>(out[back - 1]) & 0xC0) == 0x80) --back;
+      if (back > 0) out.resize(back - 1);
+      out += '~';
+      cutting = true;
+      continue;
+    }
+    if (!continuation) ++column;
+    out += c;
+  }
   return out;
 }
 

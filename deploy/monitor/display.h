@@ -37,4 +37,17 @@ std::string Render(const MonitorState& state, Clock::time_point now, const Rende
 std::string RenderOneLine(const MonitorState& state, Clock::time_point now, const std::string& run_id,
                           uint64_t total_env_steps);
 
+// The width, in columns, that lines written to the file descriptor fd are clipped to: the
+// terminal's own width (TIOCGWINSZ) when fd is a terminal, the COLUMNS variable when the
+// terminal does not say; 0 (no clipping) when fd is not a terminal (files, pipes, logs).
+// Asked at every redraw, so a resized terminal is followed.
+size_t OutputWidth(int fd);
+// The rule of OutputWidth: terminal_columns is what TIOCGWINSZ said (0: nothing), columns_env
+// the COLUMNS variable (null: unset).
+size_t ChooseOutputWidth(bool is_terminal, int terminal_columns, const char* columns_env);
+
+// Every line of text cut to at most `width` characters (UTF-8 code points; a cut line ends in
+// '~' in its last column); width 0 leaves the text as it is.
+std::string ClipLines(const std::string& text, size_t width);
+
 }  // namespace srics::monitor

@@ -57,6 +57,7 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   for (size_t i = 0; i < kMaxPerTopic && readers_->evals.Take(&result, kNoWait) == tr::TakeStatus::kSample; ++i) {
     Apply(&state_, result, Clock::now());
     if (csv_) csv_->Append(result, wall);
+    if (options_.on_eval) options_.on_eval(result);
     ++taken;
   }
   tr::InteractionGraph graph;
@@ -69,6 +70,7 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
     for (size_t i = 0; i < kMaxPerTopic && readers_->weights->Take(&weights, kNoWait) == tr::TakeStatus::kSample;
          ++i) {
       Apply(&state_, weights, Clock::now());
+      if (options_.on_weights) options_.on_weights(weights);
       ++taken;
     }
     // the parameters are not needed here: give the megabytes back

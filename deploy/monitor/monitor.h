@@ -13,6 +13,7 @@
 // Threading: one thread calls Poll and reads state().
 
 #include <chrono>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -29,6 +30,10 @@ struct MonitorOptions {
   bool weights = true;       // subscribe to PolicyWeights (5 MB per publication over the wire)
   std::string csv_dir;       // append eval.csv, learner.csv, nodes.csv here ("" = no CSV)
   bool csv_node_statuses = true;  // every NodeStatus as a row (else only lost/exited events)
+  // Called with every evaluation and every weights sample taken (may be empty): for what a
+  // program keeps besides the state (the launcher: the best evaluation's weights).
+  std::function<void(const transport::EvalResult&)> on_eval;
+  std::function<void(const transport::PolicyWeights&)> on_weights;
 };
 
 class Monitor {

@@ -17,12 +17,13 @@
 #include <deque>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <spdlog/sinks/sink.h>
 
-#include "common/config/command_line.h"
+#include "common/cli/cli.h"
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/transport/transport.h"
@@ -35,26 +36,6 @@ namespace {
 
 namespace tr = srics::transport;
 namespace mon = srics::monitor;
-
-constexpr const char* kUsage =
-    "usage: srics-monitor CONFIG [--set key.path=value ...] [--csv DIR] [--once] [--all-runs]\n"
-    "                     [--no-weights] [--for SECONDS] [--wait SECONDS] [--refresh SECONDS]\n"
-    "                     [--http PORT [--http-bind ADDR]] [--json]\n"
-    "       srics-monitor --run-dir DIR [--http PORT [--http-bind ADDR]] [--json] [--once] [--for S] [--refresh S]\n"
-    "  CONFIG        the run's config (domain id, run id, Cyclone profile come from it)\n"
-    "  --run-dir DIR a run folder's files (eval.csv, learner.csv, nodes.csv, graph.json; a finished\n"
-    "                run or one going on) instead of DDS; with CONFIG: where recorded episodes are\n"
-    "  --http PORT   serve the web dashboard on PORT (0: any free port; the URL is printed)\n"
-    "  --http-bind A its address (default 127.0.0.1, this host only; 0.0.0.0 = every interface)\n"
-    "  --json        print the dashboard's JSON document, one line per refresh, instead of the display\n"
-    "  --set K=V     override a config value, as for the other srics programs\n"
-    "  --csv DIR     append eval.csv, learner.csv, nodes.csv in DIR as samples arrive\n"
-    "  --once        listen for --wait seconds (default 3), print one display and exit\n"
-    "                (exit code 3 when nothing at all was received)\n"
-    "  --all-runs    show every run id on the domain, not only the config's\n"
-    "  --no-weights  do not subscribe to PolicyWeights (saves 5 MB per publication per host)\n"
-    "  --for S       stop after S seconds (default: until Ctrl-C)\n"
-    "  --refresh S   display refresh period (default 1)\n";
 
 struct Args {
   std::string config;
@@ -72,39 +53,46 @@ struct Args {
   bool json = false;                    // --json
 };
 
-double ParseSeconds(const std::string& flag, const std::string& text) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !(value >= 0))
-    throw std::invalid_argument(flag + " expects a number of seconds >= 0, got '" + text + "'");
-  return value;
-}
-
-Args ParseArgs(int argc, char** argv) {
-  Args args;
-  for (srics::config::ArgumentReader r(argc, argv); r.Next();) {
-    const std::string& arg = r.arg();
-    auto value = [&r] { return r.Value(); };
-    if (arg == "--set") args.overrides.push_back(value());
-    else if (arg == "--csv") args.csv_dir = value();
-    else if (arg == "--once") args.once = true;
-    else if (arg == "--all-runs") args.all_runs = true;
-    else if (arg == "--no-weights") args.weights = false;
-    else if (arg == "--for") args.for_s = ParseSeconds(arg, value());
-    else if (arg == "--wait") args.wait_s = ParseSeconds(arg, value());
-    else if (arg == "--refresh") args.refresh_s = std::max(0.1, ParseSeconds(arg, value()));
-    else if (arg == "--run-dir") args.run_dir = value();
-    else if (arg == "--http") args.http_port = srics::dashboard::ParseHttpPort(value());
-    else if (arg == "--http-bind") args.http_bind = value();
-    else if (arg == "--json") args.json = true;
-    else if (arg == "-h" || arg == "--help") { std::cout << kUsage; std::exit(0); }
-    else if (!arg.empty() && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);
-    else if (args.config.empty()) args.config = arg;
-    else throw std::invalid_argument("unexpected argument " + arg);
-  }
-  if (args.config.empty() && args.run_dir.empty()) throw std::invalid_argument("missing CONFIG (or --run-dir DIR)");
-  if (args.http_port < 0 && args.http_bind != "127.0.0.1") throw std::invalid_argument("--http-bind needs --http PORT");
-  return args;
+// Parses the command line into *args: nothing when the program goes on, else its exit code
+// (0 after --help or --version, 2 for a bad argument).
+std::optional<int> ParseArgs(int argc, char** argv, Args* args) {
+  CLI::App app{"attaches to a running system (this host or another) and shows nodes, learner stats, evaluations and "
+               "the graph live; optionally appends everything to CSV files. Exit codes: 0 ok, 1 DDS failure, 2 bad "
+               "arguments or config, 3 with --once: nothing received",
+               "srics-monitor"};
+  srics::cli::Configure(app);
+  app.add_option("CONFIG", args->config,
+                 "the run's config (domain id, run id, Cyclone profile come from it); optional with --run-dir")
+      ->transform(srics::cli::InstalledConfig());
+  app.add_option("--set", args->overrides, "override a config value, as for the other srics programs")
+      ->allow_extra_args(false)
+      ->type_name("K=V")->default_str("");
+  app.add_option("--csv", args->csv_dir, "append eval.csv, learner.csv, nodes.csv in DIR as samples arrive")
+      ->type_name("DIR");
+  app.add_flag("--once", args->once,
+               "listen for --wait seconds, print one display and exit (exit code 3 when nothing at all was received)");
+  app.add_flag("--all-runs", args->all_runs, "show every run id on the domain, not only the config's");
+  app.add_flag_callback("--no-weights", [args] { args->weights = false; },
+                        "do not subscribe to PolicyWeights (saves 5 MB per publication per host)");
+  app.add_option("--for", args->for_s, "stop after S seconds (0: until Ctrl-C)")->check(srics::cli::Number(0));
+  app.add_option("--wait", args->wait_s, "with --once: seconds to listen")->check(srics::cli::Number(0));
+  app.add_option("--refresh", args->refresh_s, "display refresh period in seconds (at least 0.1)")
+      ->check(srics::cli::Number(0));
+  app.add_option("--run-dir", args->run_dir,
+                 "a run folder's files (eval.csv, learner.csv, nodes.csv, graph.json; a finished run or one going on) "
+                 "instead of DDS; with CONFIG: where recorded episodes are")
+      ->type_name("DIR");
+  CLI::Option* http =
+      app.add_option("--http", args->http_port, "serve the web dashboard on PORT (0: any free port; the URL is printed)")
+          ->check(srics::cli::Integer(0, 65535))->type_name("PORT")->default_str("");
+  app.add_option("--http-bind", args->http_bind, "the dashboard's address (127.0.0.1: this host only; 0.0.0.0 = every interface)")
+      ->needs(http)->type_name("ADDR");
+  app.add_flag("--json", args->json, "print the dashboard's JSON document, one line per refresh, instead of the display");
+  if (const auto code = srics::cli::Parse(app, argc, argv)) return code;
+  if (args->config.empty() && args->run_dir.empty())
+    return srics::cli::UsageError("srics-monitor", "missing CONFIG (or --run-dir DIR)");
+  args->refresh_s = std::max(0.1, args->refresh_s);
+  return std::nullopt;
 }
 
 }  // namespace
@@ -112,9 +100,9 @@ Args ParseArgs(int argc, char** argv) {
 int main(int argc, char** argv) {
   tr::Shutdown::InstallSignalHandlers();
   Args args;
+  if (const auto code = ParseArgs(argc, argv, &args)) return *code;
   srics::config::Config config;
   try {
-    args = ParseArgs(argc, argv);
     if (args.config.empty())  // --run-dir alone: the folder's files, not DDS
       return srics::dashboard::WatchRunFolder({.run_dir = args.run_dir, .http_port = args.http_port,
                                                .http_bind = args.http_bind, .json = args.json, .once = args.once,
@@ -123,8 +111,8 @@ int main(int argc, char** argv) {
     // DDS Security: the keystore's "monitor" identity (read-only) unless the config names another
     config.transport.security.identity = srics::config::CheckKeystore(config.transport.security, "monitor");
   } catch (const std::exception& e) {
-    std::cerr << "srics-monitor: " << e.what() << "\n" << kUsage;
-    return 2;
+    std::cerr << "srics-monitor: " << e.what() << "\n";
+    return srics::cli::kExitUsage;
   }
   // the config's run id is chosen per launch (a config file, not a run folder's config.yaml):
   // show every run on the domain
@@ -175,21 +163,28 @@ int main(int argc, char** argv) {
       if (dashboard) dashboard->Update(monitor.state(), mon::Clock::now(), render);
       if (args.once || mon::Clock::now() < next_draw) continue;
       next_draw = mon::Clock::now() + (live || args.json ? refresh : refresh * 10);
+      // lines clipped to the terminal's width (not in files and pipes); JSON lines never
+      const size_t width = mon::OutputWidth(STDOUT_FILENO);
       if (args.json) {
         std::cout << json_line(monitor.state(), render) << std::endl;
       } else if (live) {
         mon::RenderOptions shown = render;
         if (dashboard) shown.title += "  dashboard " + dashboard->url();  // the screen hides the printed URL
-        std::cout << "\033[H\033[2J" << mon::Render(monitor.state(), mon::Clock::now(), shown) << std::flush;
+        std::cout << "\033[H\033[2J" << mon::ClipLines(mon::Render(monitor.state(), mon::Clock::now(), shown), width)
+                  << std::flush;
       } else {
-        std::cout << mon::RenderOneLine(monitor.state(), mon::Clock::now(), config.transport.run_id,
-                                        config.run.total_env_steps)
+        std::cout << mon::ClipLines(mon::RenderOneLine(monitor.state(), mon::Clock::now(), config.transport.run_id,
+                                                       config.run.total_env_steps),
+                                    width)
                   << std::endl;
       }
     }
     render.events.assign(events.begin(), events.end());
     if (args.json && args.once) std::cout << json_line(monitor.state(), render) << std::endl;
-    else if (!args.json && (args.once || !live)) std::cout << mon::Render(monitor.state(), mon::Clock::now(), render) << std::flush;
+    else if (!args.json && (args.once || !live))
+      std::cout << mon::ClipLines(mon::Render(monitor.state(), mon::Clock::now(), render),
+                                  mon::OutputWidth(STDOUT_FILENO))
+                << std::flush;
     if (args.once && received == 0) return 3;
     return 0;
   } catch (const std::exception& e) {

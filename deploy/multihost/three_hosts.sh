@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Three "hosts" on this machine: network namespaces joined by veth pairs to a bridge (in a
-# fourth namespace, so the machine's own network is left alone). Host A runs the graph service
-# and the learner, hosts B and C one actor each, all with the Cyclone profile `unicast` whose
-# peers are the three veth addresses (each namespace has its own loopback: 127.0.0.1 is never
-# a peer). srics-monitor runs on host C, i.e. it watches A's learner from another host.
+# fourth namespace, so the machine's own network is left alone). Each host runs `srics run
+# --roles` for its share of the run, with the launcher's supervisor, restarts and display:
+# host A `--roles learner,graph`, hosts B and C `--roles actor --ids 0` and `--ids 1`, all with
+# the Cyclone profile `unicast` whose peers are the three veth addresses (each namespace has
+# its own loopback: 127.0.0.1 is never a peer). srics-monitor runs on host C, i.e. it watches
+# A's learner from another host.
 #
 # It checks, within a time limit, that
 #   1. episodes flow:   the learner accepted episodes from the actors on B and C
@@ -13,15 +15,19 @@
 # and exits 0 when all hold, 1 when not (printing the tail of every log), 2 on bad usage.
 #
 #   sudo deploy/multihost/three_hosts.sh [CONFIG] [--time-limit SECONDS] [--keep] [--secure] [--set key=value ...]
+#                                        [--installed]
 #
 # --secure: DDS Security on every host: a keystore made by deploy/security/make-keystore.sh
 # in the run folder, transport.security.keystore set for every process (each uses its own
-# identity: graph, learner, actor-0, actor-1, monitor).
+# identity: launcher, graph, learner, actor-0, actor-1, monitor).
 #
 # CONFIG defaults to deploy/configs/default.yaml (rearrange-1-cpu.yaml if that does not exist).
 # Needs root (ip netns), iproute2, and the built programs in ${SRICS_BUILD_DIR:-build}/ (it
-# builds them with tests/build.sh when missing). Everything it creates is removed on exit
-# (trap), except the run folder (logs, CSV), whose path it prints.
+# builds them with tests/build.sh when missing); with --installed, the programs of the
+# installed package (srics and srics-monitor on the PATH, e.g. /usr/bin from the .deb) and
+# CONFIG by default its share/srics-dds/configs/default.yaml. Everything it creates is removed
+# on exit (trap), except the run folder (a subfolder per host: the launcher's run folder with
+# logs and CSV files), whose path it prints.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${SRICS_BUILD_DIR:-$root/build}
@@ -29,6 +35,7 @@ config=""
 time_limit=600
 keep=0
 secure=0
+installed=0
 sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -36,26 +43,35 @@ while [ $# -gt 0 ]; do
     --keep) keep=1; shift ;;
     --secure) secure=1; shift ;;
     --set) sets+=(--set "$2"); shift 2 ;;
-    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
+    --installed) installed=1; shift ;;
+    -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
     -*) echo "three_hosts.sh: unknown option $1" >&2; exit 2 ;;
     *) config=$1; shift ;;
   esac
 done
+[ "$(id -u)" = 0 ] || { echo "three_hosts.sh: needs root for ip netns (sudo $0)" >&2; exit 2; }
+command -v ip >/dev/null || { echo "three_hosts.sh: needs iproute2 (ip)" >&2; exit 2; }
+
+if [ $installed = 1 ]; then
+  srics=$(command -v srics) || { echo "three_hosts.sh: --installed: no srics on the PATH" >&2; exit 2; }
+  monitor=$(command -v srics-monitor) || { echo "three_hosts.sh: --installed: no srics-monitor on the PATH" >&2; exit 2; }
+  share=$(cd "$(dirname "$srics")/../share/srics-dds" && pwd)
+  [ -n "$config" ] || config=$share/configs/default.yaml
+else
+  srics=$build/deploy/launcher/srics
+  monitor=$build/deploy/monitor/srics-monitor
+  for b in "$srics" "$build/graph_service/srics-graph" "$build/learner/srics-learner" "$build/actor/srics-actor" \
+           "$monitor"; do
+    if [ ! -x "$b" ]; then
+      "$root/tests/build.sh" --target srics srics-graph srics-learner srics-actor srics-monitor
+      break
+    fi
+  done
+fi
 if [ -z "$config" ]; then
   config=$root/deploy/configs/default.yaml
   [ -f "$config" ] || config=$root/deploy/configs/rearrange-1-cpu.yaml
 fi
-[ "$(id -u)" = 0 ] || { echo "three_hosts.sh: needs root for ip netns (sudo $0)" >&2; exit 2; }
-command -v ip >/dev/null || { echo "three_hosts.sh: needs iproute2 (ip)" >&2; exit 2; }
-
-bins=("$build/graph_service/srics-graph" "$build/learner/srics-learner" "$build/actor/srics-actor"
-      "$build/deploy/monitor/srics-monitor")
-for b in "${bins[@]}"; do
-  if [ ! -x "$b" ]; then
-    "$root/tests/build.sh" --target srics-graph srics-learner srics-actor srics-monitor
-    break
-  fi
-done
 
 tag=s$$                      # unique names: several copies may run at once
 ns_a=$tag-a ns_b=$tag-b ns_c=$tag-c ns_br=$tag-br
@@ -67,9 +83,10 @@ pids=()
 cleanup() {
   local status=$?
   trap - EXIT INT TERM
-  # SIGINT to every process, a grace period, then SIGKILL
+  # SIGINT to every process (a launcher stops its roles: the learner checkpoints), a grace
+  # period, then SIGKILL (a launcher's roles then get SIGTERM from the parent-death signal)
   for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done
-  for _ in $(seq 50); do
+  for _ in $(seq 250); do
     local alive=0
     for pid in "${pids[@]}"; do kill -0 "$pid" 2>/dev/null && alive=1; done
     [ $alive = 0 ] && break
@@ -117,18 +134,18 @@ if [ "$secure" = 1 ]; then
 fi
 common=("$config" --set transport.profile=unicast --set "transport.peers=$addr_a,$addr_b,$addr_c"
         --set transport.network_interface=eth0 --set "transport.run_id=three-hosts-$$" "${sets[@]}")
-mkdir -p "$run"/a "$run"/b "$run"/c "$run"/monitor
-start() {  # start NS DIR NAME PROGRAM ARGS...
-  local ns=$1 dir=$2 name=$3
-  shift 3
-  ip netns exec "$ns" "$@" --run-dir "$dir" >"$dir/$name.out" 2>&1 &
+mkdir -p "$run"/monitor
+start() {  # start HOST ROLES...: `srics run` with this host's share, its run folder $run/HOST
+  local host=$1
+  shift
+  ip netns exec "$tag-$host" "$srics" run "${common[@]}" --run-dir "$run/$host" --display plain --stop-timeout 15 \
+    --roles "$@" >"$run/$host.out" 2>&1 &
   pids+=($!)
 }
-start "$ns_a" "$run/a" graph "${bins[0]}" "${common[@]}"
-start "$ns_a" "$run/a" learner "${bins[1]}" "${common[@]}"
-start "$ns_b" "$run/b" actor-0 "${bins[2]}" "${common[@]}" --id 0
-start "$ns_c" "$run/c" actor-1 "${bins[2]}" "${common[@]}" --id 1
-ip netns exec "$ns_c" "${bins[3]}" "${common[@]}" --csv "$run/monitor" --no-weights --for "$time_limit" \
+start a learner,graph
+start b actor --ids 0
+start c actor --ids 1
+ip netns exec "$ns_c" "$monitor" "${common[@]}" --csv "$run/monitor" --no-weights --for "$time_limit" \
   >"$run/monitor/monitor.out" 2>&1 &
 pids+=($!)
 
@@ -149,8 +166,8 @@ deadline=$((SECONDS + time_limit))
 ok=0
 while [ $SECONDS -lt $deadline ]; do
   sleep 3
-  for pid in "${pids[@]:0:4}"; do
-    kill -0 "$pid" 2>/dev/null || { echo "a role process exited early (pid $pid)"; break 2; }
+  for pid in "${pids[@]:0:3}"; do
+    kill -0 "$pid" 2>/dev/null || { echo "a host's srics run exited early (pid $pid)"; break 2; }
   done
   episodes=$(learner_max 6); updates=$(learner_max 3); policy=$(learner_max 8)
   [ -z "$first_updates" ] && [ "$updates" -gt 0 ] && first_updates=$updates
@@ -173,7 +190,7 @@ if [ $ok = 1 ]; then
   exit 0
 fi
 echo "FAIL: not all checks passed within ${time_limit}s" >&2
-for f in "$run"/a/*.out "$run"/b/*.out "$run"/c/*.out "$run"/monitor/monitor.out; do
+for f in "$run"/*.out "$run"/a/logs/*.out "$run"/b/logs/*.out "$run"/c/logs/*.out "$run"/monitor/monitor.out; do
   echo "--- $f" >&2
   tail -n 15 "$f" >&2 || true
 done

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,9 @@
 #include "actor/env/metrics.h"
 #include "actor/env/rearrange_env.h"
 #include "actor/env/scripted_policy.h"
-#include "common/config/command_line.h"
+#include "common/cli/cli.h"
 #include "common/config/config.h"
+#include "common/config/config_error.h"
 
 namespace {
 
@@ -31,35 +33,32 @@ struct Args {
   bool eval = false;
 };
 
-void Usage() {
-  std::fprintf(stderr,
-               "usage: srics-draw-episode [--config FILE] [--set key=value]... [--seed N]\n"
-               "         [--steps T] [--policy push|random] [--eval] [--out FILE.png|.svg]\n");
-}
-
-Args Parse(int argc, char** argv) {
-  Args a;
-  for (srics::config::ArgumentReader r(argc, argv); r.Next();) {
-    const std::string& flag = r.arg();
-    if (flag == "--config") a.config = r.Value();
-    else if (flag == "--set") a.overrides.push_back(r.Value());
-    else if (flag == "--seed") a.seed = std::stoull(r.Value());
-    else if (flag == "--steps") a.steps = std::stoi(r.Value());
-    else if (flag == "--policy") a.policy = r.Value();
-    else if (flag == "--out") a.out = r.Value();
-    else if (flag == "--eval") a.eval = true;
-    else throw std::runtime_error("unknown argument " + flag);
-  }
-  if (a.policy != "push" && a.policy != "random") throw std::runtime_error("unknown policy " + a.policy);
-  return a;
+// Parses the command line into *a: nothing when the program goes on, else its exit code (0
+// after --help or --version, 2 for a bad argument).
+std::optional<int> Parse(int argc, char** argv, Args* a) {
+  CLI::App app{"runs one episode of a rearrange environment and draws it from above", "srics-draw-episode"};
+  srics::cli::Configure(app);
+  app.add_option("--config", a->config, "an environment preset or run config");
+  app.add_option("--set", a->overrides, "override a config value")->allow_extra_args(false)->type_name("K=V")->default_str("");
+  app.add_option("--seed", a->seed, "the episode's seed (initial state and goals)")->check(srics::cli::Integer(0));
+  app.add_option("--steps", a->steps, "env steps")->check(srics::cli::Integer(1, 100000));
+  app.add_option("--policy", a->policy,
+                 "push (scripted: pushes each object to its goal in turn, then returns the hand) or random")
+      ->check(CLI::IsMember({"push", "random"}));
+  app.add_flag("--eval", a->eval, "the evaluation split of initial states and goals");
+  app.add_option("--out", a->out, "the picture: FILE.png or FILE.svg");
+  if (const auto code = srics::cli::Parse(app, argc, argv)) return code;
+  a->config = srics::cli::FindConfig(a->config);  // the default too, when installed
+  return std::nullopt;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace srics;
+  Args args;
+  if (const auto code = Parse(argc, argv, &args)) return *code;
   try {
-    const Args args = Parse(argc, argv);
     const config::Config cfg = config::LoadConfig(args.config, args.overrides);
     env::RearrangeEnv environment(cfg.env);
     environment.Reset(args.seed, args.eval ? env::Split::kEval : env::Split::kTrain);
@@ -104,9 +103,11 @@ int main(int argc, char** argv) {
     env::DrawEpisode(trace, args.out);
     std::printf("%s\nwrote %s\n", title, args.out.c_str());
     return 0;
+  } catch (const config::ConfigError& e) {  // names the file, line and key
+    std::fprintf(stderr, "srics-draw-episode: %s\n", e.what());
+    return cli::kExitUsage;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "srics-draw-episode: %s\n", e.what());
-    Usage();
     return 1;
   }
 }

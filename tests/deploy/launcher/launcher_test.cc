@@ -18,6 +18,7 @@
 
 #include "common/config/config.h"
 #include "deploy/launcher/child_process.h"
+#include "deploy/launcher/command_line.h"
 #include "tests/deploy/test_files.h"
 
 namespace srics::launcher {

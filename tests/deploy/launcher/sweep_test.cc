@@ -16,6 +16,7 @@
 #include "common/config/config.h"
 #include "common/config/config_error.h"
 #include "deploy/launcher/child_process.h"
+#include "deploy/launcher/command_line.h"
 #include "deploy/launcher/run_folder.h"
 #include "tests/deploy/launcher/sweep_testing.h"
 #include "tests/deploy/test_files.h"

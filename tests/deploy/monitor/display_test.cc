@@ -1,5 +1,12 @@
 #include "deploy/monitor/display.h"
 
+#include <pty.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <sstream>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -183,6 +190,65 @@ TEST_F(DisplayTest, RateAndEtaFromTheLastMinuteOfLearnerStats) {
 
 TEST_F(DisplayTest, RenderingIsPure) {
   EXPECT_EQ(Render(state_, now_, {}), Render(state_, now_, {}));
+}
+
+// Characters (UTF-8 code points) of the longest line.
+size_t LongestLine(const std::string& text) {
+  size_t longest = 0;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    size_t n = 0;
+    for (char c : line) n += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+    longest = std::max(longest, n);
+  }
+  return longest;
+}
+
+TEST_F(DisplayTest, LinesAreClippedToTheWidthWithAMark) {
+  EXPECT_EQ(ClipLines("abcdef\nab\nabcd\n", 4), "abc~\nab\nabcd\n");
+  EXPECT_EQ(ClipLines("abcdef", 0), "abcdef") << "width 0: no clipping";
+  // multi-byte characters count as one column and are never cut in half
+  EXPECT_EQ(ClipLines("\u00b1\u00b1\u00b1\u00b1\u00b1\n", 3), "\u00b1\u00b1~\n");
+  RenderOptions options;
+  options.title = "srics run  " + std::string(200, 'x');
+  options.processes = {{"actor-0", 4242, "running", 3, "signal 9 (Killed), a very long description of the end"}};
+  options.events = {std::string(150, 'e')};
+  const std::string full = Render(state_, now_, options);
+  ASSERT_GT(LongestLine(full), 100u);
+  for (size_t width : {40, 80, 100}) {
+    const std::string clipped = ClipLines(full, width);
+    EXPECT_EQ(LongestLine(clipped), width);
+    EXPECT_EQ(std::count(clipped.begin(), clipped.end(), '\n'), std::count(full.begin(), full.end(), '\n'));
+  }
+  const std::string line = RenderOneLine(state_, now_, "r1", 100000);
+  EXPECT_EQ(ClipLines(line, 30), line.substr(0, 29) + "~");
+}
+
+TEST(OutputWidthTest, TerminalWidthThenColumnsAndNoClippingOutsideATerminal) {
+  EXPECT_EQ(ChooseOutputWidth(true, 120, "80"), 120u) << "the terminal's own width first";
+  EXPECT_EQ(ChooseOutputWidth(true, 0, "80"), 80u) << "COLUMNS when the terminal does not say";
+  EXPECT_EQ(ChooseOutputWidth(true, 0, nullptr), 0u);
+  EXPECT_EQ(ChooseOutputWidth(true, 0, "wide"), 0u);
+  EXPECT_EQ(ChooseOutputWidth(false, 0, "80"), 0u) << "files and pipes are not clipped";
+  EXPECT_EQ(ChooseOutputWidth(false, 120, "80"), 0u);
+
+  // a real terminal (a pseudo-terminal 57 columns wide), a pipe
+  int master = -1, slave = -1;
+  winsize size{};
+  size.ws_row = 24;
+  size.ws_col = 57;
+  ASSERT_EQ(openpty(&master, &slave, nullptr, nullptr, &size), 0);
+  EXPECT_EQ(OutputWidth(slave), 57u);
+  size.ws_col = 91;  // resized: asked again at every redraw
+  ASSERT_EQ(ioctl(slave, TIOCSWINSZ, &size), 0);
+  EXPECT_EQ(OutputWidth(slave), 91u);
+  close(slave);
+  close(master);
+  int pipe_fds[2];
+  ASSERT_EQ(pipe(pipe_fds), 0);
+  EXPECT_EQ(OutputWidth(pipe_fds[1]), 0u);
+  close(pipe_fds[0]);
+  close(pipe_fds[1]);
 }
 
 }  // namespace
