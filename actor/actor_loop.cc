@@ -224,6 +224,10 @@ bool ActorLoop::RateLimited() {
   return true;
 }
 
+env::Environment& ActorLoop::environment() { return *state_->env; }
+
+void ActorLoop::set_eval_recorder(std::unique_ptr<EvalRecorder> recorder) { recorder_ = std::move(recorder); }
+
 void ActorLoop::Evaluate(bool passive) {
   State& s = *state_;
   Status(rl::NodePhase::kEvaluating, passive ? "passive baseline" : "evaluating", true);
@@ -234,7 +238,7 @@ void ActorLoop::Evaluate(bool passive) {
   report.env_steps = s.learner ? s.learner->training_env_steps : 0;
   report.summary = EvaluatePolicy(*s.env, passive ? nullptr : s.policy.get(), s.structure, options_.eval,
                                   options_.eval_episodes, options_.run_seed, &counters_.unstable_episodes,
-                                  s.high.get());
+                                  s.high.get(), passive ? nullptr : recorder_.get(), s.policy_version);
   ++counters_.evaluations;
   if (!passive) s.evaluated_version = s.policy_version;
   link_->PublishEval(report);

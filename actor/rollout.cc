@@ -385,11 +385,14 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
 rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
                                      const rl::SubgoalStructure& structure, const EvalOptions& options,
                                      int episodes, uint64_t run_seed, uint64_t* unstable,
-                                     rl::PolicyNetwork<float>* high_policy) {
+                                     rl::PolicyNetwork<float>* high_policy, EvalRecorder* recorder,
+                                     uint64_t policy_version) {
   rl::EvaluationSummary summary;
   for (int i = 0; i < episodes; ++i) {
-    const auto metrics =
-        RunEvaluationEpisode(env, policy, structure, options, rl::EvalEpisodeSeed(run_seed, i), high_policy);
+    const uint64_t seed = rl::EvalEpisodeSeed(run_seed, i);
+    EvalEpisodeObserver* observer = recorder ? recorder->Begin(policy_version, i, seed) : nullptr;
+    const auto metrics = RunEvaluationEpisode(env, policy, structure, options, seed, high_policy, observer);
+    if (observer) recorder->End(metrics, env.steps());
     if (metrics) summary.Add(*metrics, options.threshold);
     else ++*unstable;
   }

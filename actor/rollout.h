@@ -116,6 +116,17 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                                                        rl::PolicyNetwork<float>* high_policy = nullptr,
                                                        EvalEpisodeObserver* observer = nullptr);
 
+// Draws some evaluation episodes (videos for people): Begin says whether episode `episode` of
+// an evaluation of policy `policy_version` is recorded (its observer, or null); End follows
+// every recorded episode with its metrics (empty: unstable). Implemented outside the actor
+// library (actor/recording), so the loops need no renderer.
+class EvalRecorder {
+ public:
+  virtual ~EvalRecorder() = default;
+  virtual EvalEpisodeObserver* Begin(uint64_t policy_version, int episode, uint64_t seed) = 0;
+  virtual void End(const std::optional<rl::EpisodeMetrics>& metrics, int steps) = 0;
+};
+
 // The evaluation protocol of every mode (actors, the in-process run, `srics eval`): `episodes`
 // evaluation episodes with the run's evaluation seeds (rl::EvalEpisodeSeed: the same goals
 // at every evaluation, for the policy and the passive baseline alike). Unstable episodes are
@@ -123,6 +134,7 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
 rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
                                      const rl::SubgoalStructure& structure, const EvalOptions& options,
                                      int episodes, uint64_t run_seed, uint64_t* unstable,
-                                     rl::PolicyNetwork<float>* high_policy = nullptr);
+                                     rl::PolicyNetwork<float>* high_policy = nullptr,
+                                     EvalRecorder* recorder = nullptr, uint64_t policy_version = 0);
 
 }  // namespace srics::actor
