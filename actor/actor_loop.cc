@@ -238,8 +238,13 @@ void ActorLoop::Evaluate(bool passive) {
   ++counters_.evaluations;
   if (!passive) s.evaluated_version = s.policy_version;
   link_->PublishEval(report);
-  spdlog::info("evaluation ({}) at {} env steps: avg_object_distance {:.4f}, avg_distance {:.4f}, success {:.2f}",
-               passive ? "passive" : "policy v" + std::to_string(s.policy_version), report.env_steps,
+  // which catalogue entities the (last) evaluation episode presented: with eval_object_sets the
+  // held-out combination, visible in the log
+  std::string present;
+  for (int kind : s.env->layout().kinds) present += (present.empty() ? "" : ", ") + std::to_string(kind);
+  spdlog::info("evaluation ({}) at {} env steps on catalogue entities [{}]: avg_object_distance {:.4f}, "
+               "avg_distance {:.4f}, success {:.2f}",
+               passive ? "passive" : "policy v" + std::to_string(s.policy_version), report.env_steps, present,
                report.summary.avg_object_distance, report.summary.avg_distance, report.summary.success_rate);
 }
 
