@@ -19,11 +19,19 @@ std::vector<uint16_t> FlatKinds(const std::vector<std::vector<uint16_t>>& sets) 
 
 GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds,
                            int action_dim, int episode_steps)
-    : GraphDataset(layout, std::vector<std::vector<uint16_t>>{std::move(entity_kinds)}, action_dim, episode_steps) {}
+    : layout_(layout), kind_sets_{std::move(entity_kinds)}, by_identity_(false), action_dim_(action_dim),
+      steps_(episode_steps) {
+  CheckShape();
+}
 
 GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<std::vector<uint16_t>> kind_sets,
                            int action_dim, int episode_steps)
-    : layout_(layout), kind_sets_(std::move(kind_sets)), action_dim_(action_dim), steps_(episode_steps) {
+    : layout_(layout), kind_sets_(std::move(kind_sets)), by_identity_(true), action_dim_(action_dim),
+      steps_(episode_steps) {
+  CheckShape();
+}
+
+void GraphDataset::CheckShape() const {
   if (kind_sets_.empty() || kind_sets_.size() > 255)
     throw std::invalid_argument("GraphDataset: between 1 and 255 kind lists");
   for (const auto& kinds : kind_sets_) {
@@ -32,10 +40,10 @@ GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<std::vect
     for (uint16_t k : kinds)
       if (k >= layout_.num_kinds)
         throw std::invalid_argument("GraphDataset: entity kind outside the one-hot width");
-    // the graph of combinations is indexed by kind: a kind twice in an episode is ambiguous
-    if (kind_sets_.size() > 1)
-      for (size_t i = 0; i < kinds.size(); ++i)
-        if (std::count(kinds.begin(), kinds.end(), kinds[i]) > 1)
+    // a graph over the catalogue is indexed by kind: a kind twice in an episode is ambiguous
+    if (by_identity_)
+      for (uint16_t k : kinds)
+        if (std::count(kinds.begin(), kinds.end(), k) > 1)
           throw std::invalid_argument("GraphDataset: a kind list of combinations repeats a kind");
   }
   if (action_dim_ < 1 || steps_ < 1)
@@ -48,6 +56,16 @@ GraphDataset GraphDataset::ForShape(const DatasetShape& shape, int episode_steps
   rl::EntityLayout layout = shape.layout;
   layout.num_entities = static_cast<int>(shape.episode_kinds.front().size());
   return GraphDataset(layout, shape.episode_kinds, shape.action_dim, episode_steps);
+}
+
+GraphDataset GraphDataset::EmptyCopy() const {
+  GraphDataset empty = *this;
+  empty.positions_.clear();
+  empty.actions_.clear();
+  empty.set_of_.clear();
+  empty.train_.clear();
+  empty.held_out_.clear();
+  return empty;
 }
 
 std::vector<uint16_t> GraphDataset::graph_kinds() const {

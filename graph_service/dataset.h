@@ -50,11 +50,14 @@ class GraphDataset {
   GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds,
                int action_dim, int episode_steps);
   // Episodes may have any one of `kind_sets` (each of N kinds, distinct, below K, at least one
-  // set); with more than one the graph is over the K catalogue entities.
+  // set), and the graph is over the K catalogue entities (even with one set: an environment
+  // whose object_sets has one combination still publishes the catalogue's graph).
   GraphDataset(const rl::EntityLayout& layout, std::vector<std::vector<uint16_t>> kind_sets,
                int action_dim, int episode_steps);
   // The data set a run's shape implies (one of the constructors above).
   static GraphDataset ForShape(const DatasetShape& shape, int episode_steps);
+  // A data set of the same shape without episodes.
+  GraphDataset EmptyCopy() const;
 
   // Makes a dataset shaped like `episode` (which is not added).
   static GraphDataset ShapedLike(const rl::Episode& episode);
@@ -87,7 +90,7 @@ class GraphDataset {
   // kinds of episode ep's entities
   const std::vector<uint16_t>& episode_kinds(int episode) const { return kind_sets_[set_of_[episode]]; }
   // the graph's entities: the catalogue for combinations, else the episodes' own
-  bool combinations() const { return kind_sets_.size() > 1; }
+  bool combinations() const { return by_identity_; }
   int graph_entities() const { return combinations() ? layout_.num_kinds : layout_.num_entities; }
   int graph_entity(int episode, int entity) const {
     return combinations() ? episode_kinds(episode)[entity] : entity;
@@ -120,8 +123,11 @@ class GraphDataset {
   void Fill(const std::vector<int>& episodes, const std::vector<int>& starts, int window,
             WindowBatch<T>* out) const;
 
+  void CheckShape() const;  // throws std::invalid_argument naming what does not fit
+
   rl::EntityLayout layout_;
   std::vector<std::vector<uint16_t>> kind_sets_;
+  bool by_identity_;             // graph entities are catalogue kinds (the kind-lists constructor)
   std::vector<uint8_t> set_of_;  // per episode: index into kind_sets_
   int action_dim_;
   int steps_;

@@ -210,8 +210,7 @@ bool GraphService::LoadTraining() {
   if (path.empty() || !data_ || !std::filesystem::exists(path)) return false;
   try {
     const std::vector<nn::CheckpointSection> sections = nn::ReadCheckpoint(path);
-    auto data = std::make_unique<GraphDataset>(data_->layout(), data_->kind_sets(), data_->action_dim(),
-                                               data_->episode_steps());
+    auto data = std::make_unique<GraphDataset>(data_->EmptyCopy());
     nn::ByteReader data_bytes(nn::FindSection(sections, "graph.data", path).bytes, path + ": graph.data");
     data->Load(data_bytes);
     if (data->size() > config_.episodes)

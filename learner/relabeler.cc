@@ -1,6 +1,7 @@
 #include "learner/relabeler.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "common/rl/goal_token.h"
 #include "common/rl/rewards.h"

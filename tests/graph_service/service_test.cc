@@ -296,12 +296,11 @@ TEST(GraphServiceTest, TrainingStateOfAnotherModelIsSetAsideAndLearnedAgain) {
 TEST(GraphServiceTest, LearnsOneCatalogueGraphFromEveryTrainingCombination) {
   ToyWorld world({.num_pucks = 2, .steps = 10});
   const std::vector<std::vector<uint16_t>> sets = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}};
-  std::vector<rl::Episode> episodes;
-  for (int i = 0; i < 21; ++i) episodes.push_back(testing::AsCombination(world.RandomEpisode(i), 4, sets[i % 3]));
   // kinds in another order and a catalogue-sized episode are not training combinations
-  episodes.push_back(testing::AsCombination(world.RandomEpisode(90), 4, {0, 3, 1}));
+  std::vector<rl::Episode> episodes = {testing::AsCombination(world.RandomEpisode(90), 4, {0, 3, 1})};
   ToyWorld full({.num_pucks = 3, .steps = 10});
   episodes.push_back(full.RandomEpisode(91));
+  for (int i = 0; i < 21; ++i) episodes.push_back(testing::AsCombination(world.RandomEpisode(i), 4, sets[i % 3]));
   ListSource source(episodes);
   RecordingSink sink;
   ServiceOptions o{.seed = 5, .render_pictures = false};
