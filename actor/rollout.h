@@ -58,11 +58,11 @@ struct TrainOptions {
   std::optional<HacActOptions> hac; // set for HAC: two levels on the full goal
 };
 
-// One training episode: a subgoal entity drawn uniformly among the structure's subgoal
-// entities, its goal from the subgoal region, actions sampled from the policy. The episode
+// One training episode: a subgoal entity drawn uniformly among the subgoal entities of this
+// episode's structure (subgoals.For the present entities' catalogue identities), its goal from the subgoal region, actions sampled from the policy. The episode
 // records the subgoal, goal and ancestor mask. Empty if the physics became unstable.
 std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& policy,
-                                           const rl::SubgoalStructure& structure,
+                                           const rl::CatalogueSubgoals& subgoals,
                                            const TrainOptions& options, uint64_t seed,
                                            nn::Rng& rng);
 
@@ -111,7 +111,7 @@ EvalOptions EvalOptionsFor(const config::Config& config);
 // null) sees every state of the episode.
 std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                                                        rl::PolicyNetwork<float>* policy,
-                                                       const rl::SubgoalStructure& structure,
+                                                       const rl::CatalogueSubgoals& subgoals,
                                                        const EvalOptions& options, uint64_t seed,
                                                        rl::PolicyNetwork<float>* high_policy = nullptr,
                                                        EvalEpisodeObserver* observer = nullptr);
@@ -132,7 +132,7 @@ class EvalRecorder {
 // at every evaluation, for the policy and the passive baseline alike). Unstable episodes are
 // left out of the summary and counted in *unstable.
 rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
-                                     const rl::SubgoalStructure& structure, const EvalOptions& options,
+                                     const rl::CatalogueSubgoals& subgoals, const EvalOptions& options,
                                      int episodes, uint64_t run_seed, uint64_t* unstable,
                                      rl::PolicyNetwork<float>* high_policy = nullptr,
                                      EvalRecorder* recorder = nullptr, uint64_t policy_version = 0);

@@ -138,7 +138,7 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
     options.status_period_s = config.transport.status_period_s;
     options.limits = rl::EpisodeLimitsFor(config.env);
     const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(config.env);
-    options.shape = graph_service::DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim};
+    options.shape = graph_service::DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim, shape.episode_kinds};
     l.graph = std::make_unique<graph_service::GraphService>(config.graph, options, l.graph_source.get(), l.graph_sink.get(),
                                                     options_.on_graph_progress);
   }
