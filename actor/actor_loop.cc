@@ -51,13 +51,13 @@ struct ActorLoop::State {
   std::unique_ptr<rl::PolicyNetwork<float>> policy;
   std::unique_ptr<rl::PolicyNetwork<float>> high;  // HAC's high level, else null
   std::string signature;
-  int num_entities = 0;
+  int num_entities = 0;  // the catalogue's (arm + every object): the size of the run's graphs
   nn::Rng rng;
   bool have_weights = false;
   uint64_t policy_version = 0;
   bool have_graph = false;
   uint64_t graph_version = 0;
-  rl::SubgoalStructure structure;
+  rl::CatalogueSubgoals subgoals;  // each episode maps it onto the objects it presents
   std::optional<rl::LearnerProgress> learner;
   // learner progress when this actor started counting for the rate limit
   std::optional<rl::LearnerProgress> baseline;
@@ -84,15 +84,15 @@ ActorLoop::ActorLoop(ActorOptions options, links::ActorLink* link)
       next_episode_id_(options_.first_episode_id) {
   State& s = *state_;
   s.env = env::MakeRearrangeEnv(options_.env);
-  s.num_entities = s.env->layout().num_entities;
+  // graphs are over the catalogue, whichever objects an episode presents
+  s.num_entities = 1 + static_cast<int>(config::EffectiveObjects(options_.env).size());
   s.rng.seed(rl::DeriveSeed(options_.run_seed, rl::SeedPurpose::kActorRng, options_.actor_id,
                             options_.first_episode_id));
   s.policy = std::make_unique<rl::PolicyNetwork<float>>("policy", options_.policy, s.rng);
   if (options_.high_policy) s.high = std::make_unique<rl::PolicyNetwork<float>>("policy", *options_.high_policy, s.rng);
   s.signature = s.high ? rl::HacPolicySignature(*s.high, *s.policy) : rl::PolicySignature(*s.policy);
   if (!options_.uses_graph) {
-    s.structure = rl::AllEntitiesStructure(s.num_entities);
-    s.have_graph = true;
+    s.have_graph = true;  // no graph: every present entity is a subgoal
   }
   if (options_.evaluator && options_.eval_every_env_steps == 0)
     throw std::invalid_argument("actor " + std::to_string(options_.actor_id) +
@@ -137,7 +137,7 @@ void ActorLoop::PollUpdates() {
       ++counters_.graphs_rejected;
       Refuse("graph.entities", "graph v" + std::to_string(g->version) + ": " + problem);
     } else if (options_.uses_graph) {
-      s.structure = g->structure;
+      s.subgoals.graph = g->graph;
       s.have_graph = true;
       s.graph_version = g->version;
       spdlog::info("graph v{}: {}", g->version, rl::DescribeGraph(g->graph));
@@ -224,6 +224,10 @@ bool ActorLoop::RateLimited() {
   return true;
 }
 
+env::Environment& ActorLoop::environment() { return *state_->env; }
+
+void ActorLoop::set_eval_recorder(std::unique_ptr<EvalRecorder> recorder) { recorder_ = std::move(recorder); }
+
 void ActorLoop::Evaluate(bool passive) {
   State& s = *state_;
   Status(rl::NodePhase::kEvaluating, passive ? "passive baseline" : "evaluating", true);
@@ -232,14 +236,19 @@ void ActorLoop::Evaluate(bool passive) {
   report.policy_version = passive ? 0 : s.policy_version;
   report.graph_version = s.graph_version;
   report.env_steps = s.learner ? s.learner->training_env_steps : 0;
-  report.summary = EvaluatePolicy(*s.env, passive ? nullptr : s.policy.get(), s.structure, options_.eval,
+  report.summary = EvaluatePolicy(*s.env, passive ? nullptr : s.policy.get(), s.subgoals, options_.eval,
                                   options_.eval_episodes, options_.run_seed, &counters_.unstable_episodes,
-                                  s.high.get());
+                                  s.high.get(), passive ? nullptr : recorder_.get(), s.policy_version);
   ++counters_.evaluations;
   if (!passive) s.evaluated_version = s.policy_version;
   link_->PublishEval(report);
-  spdlog::info("evaluation ({}) at {} env steps: avg_object_distance {:.4f}, avg_distance {:.4f}, success {:.2f}",
-               passive ? "passive" : "policy v" + std::to_string(s.policy_version), report.env_steps,
+  // which catalogue entities the (last) evaluation episode presented: with eval_object_sets the
+  // held-out combination, visible in the log
+  std::string present;
+  for (int kind : s.env->layout().kinds) present += (present.empty() ? "" : ", ") + std::to_string(kind);
+  spdlog::info("evaluation ({}) at {} env steps on catalogue entities [{}]: avg_object_distance {:.4f}, "
+               "avg_distance {:.4f}, success {:.2f}",
+               passive ? "passive" : "policy v" + std::to_string(s.policy_version), report.env_steps, present,
                report.summary.avg_object_distance, report.summary.avg_distance, report.summary.success_rate);
 }
 
@@ -250,7 +259,7 @@ void ActorLoop::RunEpisode(bool training) {
   if (training) {
     Status(rl::NodePhase::kTraining, "", false);
     episode = s.high ? RunHacTrainEpisode(*s.env, *s.high, *s.policy, *options_.train.hac, seed, s.rng)
-                     : RunTrainEpisode(*s.env, *s.policy, s.structure, options_.train, seed, s.rng);
+                     : RunTrainEpisode(*s.env, *s.policy, s.subgoals, options_.train, seed, s.rng);
   } else {
     Status(rl::NodePhase::kExploring, s.have_graph ? "waiting for weights" : "waiting for the graph", false);
     episode = RunExploreEpisode(*s.env, options_.explore, seed, s.rng);

@@ -91,6 +91,10 @@ class ActorLoop {
 
   const ActorCounters& counters() const { return counters_; }
   uint64_t next_episode_id() const { return next_episode_id_; }
+  // The environment this actor steps (for a recorder that draws it).
+  env::Environment& environment();
+  // Evaluations of a trained policy go through `recorder` (actors.record_eval_episodes).
+  void set_eval_recorder(std::unique_ptr<EvalRecorder> recorder);
   uint64_t policy_version() const;
   uint64_t graph_version() const;
 
@@ -109,6 +113,7 @@ class ActorLoop {
   links::ActorLink* link_;
   uint64_t next_episode_id_;
   ActorCounters counters_;
+  std::unique_ptr<EvalRecorder> recorder_;
 };
 
 }  // namespace srics::actor

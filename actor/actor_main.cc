@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include "actor/actor_loop.h"
+#include "actor/recording/video_recorder.h"
 #include "common/process/role_startup.h"
 #include "common/rl/agent_shape.h"
 #include "common/transport/dds_links.h"
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
     transport::Participant participant(config.transport);
     transport::DdsActorLink link(participant, id, rl::EpisodeLimitsFor(config.env), config.run.total_env_steps);
     actor::ActorLoop loop(actor::ActorOptionsFor(config, id, first_id), &link);
+    loop.set_eval_recorder(actor::RecorderFor(config, loop.environment(), id, cl.run_dir));
     spdlog::info("{} started: {} ({}), domain {}, run id '{}', first episode id {}", name,
                  config::MethodName(config.run.method), config.source_file, config.transport.domain_id,
                  config.transport.run_id, first_id);

@@ -235,7 +235,7 @@ std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const Explor
 }
 
 std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& policy,
-                                           const rl::SubgoalStructure& structure,
+                                           const rl::CatalogueSubgoals& subgoals,
                                            const TrainOptions& options, uint64_t seed,
                                            nn::Rng& rng) {
   env.Reset(seed);
@@ -244,6 +244,8 @@ std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetw
   rl::Episode episode = StartEpisode(env, layout);
   episode.mode = rl::EpisodeMode::kTrain;
   episode.num_steps = options.steps;
+  // the catalogue graph mapped onto the objects this reset drew: indices are the episode's
+  const rl::SubgoalStructure structure = subgoals.For(episode.entity_kinds);
   nn::Tensor goal;
   if (options.full_goal) {
     goal = FullGoalToken(env);
@@ -308,7 +310,7 @@ std::optional<rl::Episode> RunHacTrainEpisode(env::Environment& env, rl::PolicyN
 
 std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                                                        rl::PolicyNetwork<float>* policy,
-                                                       const rl::SubgoalStructure& structure,
+                                                       const rl::CatalogueSubgoals& subgoals,
                                                        const EvalOptions& options, uint64_t seed,
                                                        rl::PolicyNetwork<float>* high_policy,
                                                        EvalEpisodeObserver* watcher) {
@@ -316,6 +318,8 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
   if (watcher) watcher->OnState(env, -1);
   Observer observer(env);
   const rl::EntityLayout& layout = observer.layout();
+  // the held-out combination's own structure, from the catalogue graph
+  const rl::SubgoalStructure structure = subgoals.For(env.layout().kinds);
   nn::Rng rng(seed ^ 0x9e3779b97f4a7c15ull);
   std::vector<float> zero(env.action_dim(), 0.0f);
   std::vector<float> before;
@@ -383,13 +387,16 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
 }
 
 rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
-                                     const rl::SubgoalStructure& structure, const EvalOptions& options,
+                                     const rl::CatalogueSubgoals& subgoals, const EvalOptions& options,
                                      int episodes, uint64_t run_seed, uint64_t* unstable,
-                                     rl::PolicyNetwork<float>* high_policy) {
+                                     rl::PolicyNetwork<float>* high_policy, EvalRecorder* recorder,
+                                     uint64_t policy_version) {
   rl::EvaluationSummary summary;
   for (int i = 0; i < episodes; ++i) {
-    const auto metrics =
-        RunEvaluationEpisode(env, policy, structure, options, rl::EvalEpisodeSeed(run_seed, i), high_policy);
+    const uint64_t seed = rl::EvalEpisodeSeed(run_seed, i);
+    EvalEpisodeObserver* observer = recorder ? recorder->Begin(policy_version, i, seed) : nullptr;
+    const auto metrics = RunEvaluationEpisode(env, policy, subgoals, options, seed, high_policy, observer);
+    if (observer) recorder->End(metrics, env.steps());
     if (metrics) summary.Add(*metrics, options.threshold);
     else ++*unstable;
   }

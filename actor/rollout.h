@@ -58,11 +58,11 @@ struct TrainOptions {
   std::optional<HacActOptions> hac; // set for HAC: two levels on the full goal
 };
 
-// One training episode: a subgoal entity drawn uniformly among the structure's subgoal
-// entities, its goal from the subgoal region, actions sampled from the policy. The episode
+// One training episode: a subgoal entity drawn uniformly among the subgoal entities of this
+// episode's structure (subgoals.For the present entities' catalogue identities), its goal from the subgoal region, actions sampled from the policy. The episode
 // records the subgoal, goal and ancestor mask. Empty if the physics became unstable.
 std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& policy,
-                                           const rl::SubgoalStructure& structure,
+                                           const rl::CatalogueSubgoals& subgoals,
                                            const TrainOptions& options, uint64_t seed,
                                            nn::Rng& rng);
 
@@ -111,18 +111,30 @@ EvalOptions EvalOptionsFor(const config::Config& config);
 // null) sees every state of the episode.
 std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                                                        rl::PolicyNetwork<float>* policy,
-                                                       const rl::SubgoalStructure& structure,
+                                                       const rl::CatalogueSubgoals& subgoals,
                                                        const EvalOptions& options, uint64_t seed,
                                                        rl::PolicyNetwork<float>* high_policy = nullptr,
                                                        EvalEpisodeObserver* observer = nullptr);
+
+// Draws some evaluation episodes (videos for people): Begin says whether episode `episode` of
+// an evaluation of policy `policy_version` is recorded (its observer, or null); End follows
+// every recorded episode with its metrics (empty: unstable). Implemented outside the actor
+// library (actor/recording), so the loops need no renderer.
+class EvalRecorder {
+ public:
+  virtual ~EvalRecorder() = default;
+  virtual EvalEpisodeObserver* Begin(uint64_t policy_version, int episode, uint64_t seed) = 0;
+  virtual void End(const std::optional<rl::EpisodeMetrics>& metrics, int steps) = 0;
+};
 
 // The evaluation protocol of every mode (actors, the in-process run, `srics eval`): `episodes`
 // evaluation episodes with the run's evaluation seeds (rl::EvalEpisodeSeed: the same goals
 // at every evaluation, for the policy and the passive baseline alike). Unstable episodes are
 // left out of the summary and counted in *unstable.
 rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
-                                     const rl::SubgoalStructure& structure, const EvalOptions& options,
+                                     const rl::CatalogueSubgoals& subgoals, const EvalOptions& options,
                                      int episodes, uint64_t run_seed, uint64_t* unstable,
-                                     rl::PolicyNetwork<float>* high_policy = nullptr);
+                                     rl::PolicyNetwork<float>* high_policy = nullptr,
+                                     EvalRecorder* recorder = nullptr, uint64_t policy_version = 0);
 
 }  // namespace srics::actor

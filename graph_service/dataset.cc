@@ -6,18 +6,73 @@
 #include <stdexcept>
 
 namespace srics::graph_service {
+namespace {
+
+// every kind list, one after the other (one list: itself, the checkpoint format of before)
+std::vector<uint16_t> FlatKinds(const std::vector<std::vector<uint16_t>>& sets) {
+  std::vector<uint16_t> flat;
+  for (const auto& set : sets) flat.insert(flat.end(), set.begin(), set.end());
+  return flat;
+}
+
+}  // namespace
 
 GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds,
                            int action_dim, int episode_steps)
-    : layout_(layout), kinds_(std::move(entity_kinds)), action_dim_(action_dim),
+    : layout_(layout), kind_sets_{std::move(entity_kinds)}, by_identity_(false), action_dim_(action_dim),
       steps_(episode_steps) {
-  if (layout_.num_entities < 1 || static_cast<int>(kinds_.size()) != layout_.num_entities)
-    throw std::invalid_argument("GraphDataset: entity kinds do not match the layout");
-  for (uint16_t k : kinds_)
-    if (k >= layout_.num_kinds)
-      throw std::invalid_argument("GraphDataset: entity kind outside the one-hot width");
+  CheckShape();
+}
+
+GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<std::vector<uint16_t>> kind_sets,
+                           int action_dim, int episode_steps)
+    : layout_(layout), kind_sets_(std::move(kind_sets)), by_identity_(true), action_dim_(action_dim),
+      steps_(episode_steps) {
+  CheckShape();
+}
+
+void GraphDataset::CheckShape() const {
+  if (kind_sets_.empty() || kind_sets_.size() > 255)
+    throw std::invalid_argument("GraphDataset: between 1 and 255 kind lists");
+  for (const auto& kinds : kind_sets_) {
+    if (layout_.num_entities < 1 || static_cast<int>(kinds.size()) != layout_.num_entities)
+      throw std::invalid_argument("GraphDataset: entity kinds do not match the layout");
+    for (uint16_t k : kinds)
+      if (k >= layout_.num_kinds)
+        throw std::invalid_argument("GraphDataset: entity kind outside the one-hot width");
+    // a graph over the catalogue is indexed by kind: a kind twice in an episode is ambiguous
+    if (by_identity_)
+      for (uint16_t k : kinds)
+        if (std::count(kinds.begin(), kinds.end(), k) > 1)
+          throw std::invalid_argument("GraphDataset: a kind list of combinations repeats a kind");
+  }
   if (action_dim_ < 1 || steps_ < 1)
     throw std::invalid_argument("GraphDataset: action_dim and episode_steps must be positive");
+}
+
+GraphDataset GraphDataset::ForShape(const DatasetShape& shape, int episode_steps) {
+  if (shape.episode_kinds.empty())
+    return GraphDataset(shape.layout, shape.entity_kinds, shape.action_dim, episode_steps);
+  rl::EntityLayout layout = shape.layout;
+  layout.num_entities = static_cast<int>(shape.episode_kinds.front().size());
+  return GraphDataset(layout, shape.episode_kinds, shape.action_dim, episode_steps);
+}
+
+GraphDataset GraphDataset::EmptyCopy() const {
+  GraphDataset empty = *this;
+  empty.positions_.clear();
+  empty.actions_.clear();
+  empty.set_of_.clear();
+  empty.train_.clear();
+  empty.held_out_.clear();
+  return empty;
+}
+
+std::vector<uint16_t> GraphDataset::graph_kinds() const {
+  if (!combinations()) return entity_kinds();
+  std::vector<uint16_t> kinds;
+  for (int k = 0; k < layout_.num_kinds; ++k) kinds.push_back(static_cast<uint16_t>(k));
+  return kinds;
 }
 
 GraphDataset GraphDataset::ShapedLike(const rl::Episode& episode) {
@@ -28,7 +83,10 @@ GraphDataset GraphDataset::ShapedLike(const rl::Episode& episode) {
 std::string GraphDataset::Add(const rl::Episode& episode) {
   if (episode.mode != rl::EpisodeMode::kExplore) return "not an explore episode";
   if (!(episode.layout == layout_)) return "entity layout differs from the data set's";
-  if (episode.entity_kinds != kinds_) return "entity kinds differ from the data set's";
+  const auto set = std::find(kind_sets_.begin(), kind_sets_.end(), episode.entity_kinds);
+  if (set == kind_sets_.end())
+    return combinations() ? "entity kinds are none of the training object sets"
+                          : "entity kinds differ from the data set's";
   if (episode.action_dim != action_dim_) return "action size differs from the data set's";
   if (episode.num_steps != steps_)
     return "episode has " + std::to_string(episode.num_steps) + " steps, expected " +
@@ -46,6 +104,7 @@ std::string GraphDataset::Add(const rl::Episode& episode) {
     }
   }
   positions_.push_back(std::move(xy));
+  set_of_.push_back(static_cast<uint8_t>(set - kind_sets_.begin()));
   actions_.emplace_back(episode.actions.begin(),
                         episode.actions.begin() + static_cast<size_t>(steps_) * action_dim_);
   return "";
@@ -55,7 +114,7 @@ void GraphDataset::Save(nn::ByteWriter& out) const {
   out.Put<int32_t>(layout_.num_entities);
   out.Put<int32_t>(layout_.num_kinds);
   out.Put<uint8_t>(layout_.velocities ? 1 : 0);
-  out.PutVector(kinds_);
+  out.PutVector(FlatKinds(kind_sets_));
   out.Put<int32_t>(action_dim_);
   out.Put<int32_t>(steps_);
   out.Put<uint64_t>(positions_.size());
@@ -63,6 +122,8 @@ void GraphDataset::Save(nn::ByteWriter& out) const {
     out.PutVector(positions_[e]);
     out.PutVector(actions_[e]);
   }
+  // which combination each episode is (one kind list: the format of before, nothing more)
+  if (combinations()) out.PutVector(set_of_);
 }
 
 void GraphDataset::Load(nn::ByteReader& in) {
@@ -78,7 +139,7 @@ void GraphDataset::Load(nn::ByteReader& in) {
     return nn::CheckpointError("graph data set: " + what + " differs from this run's");
   };
   if (!(layout == layout_)) throw differs("entity layout");
-  if (kinds != kinds_) throw differs("entity kinds");
+  if (kinds != FlatKinds(kind_sets_)) throw differs("entity kinds");
   if (action_dim != action_dim_) throw differs("action size");
   if (steps != steps_) throw differs("episode length");
   const auto count = in.Get<uint64_t>();
@@ -96,8 +157,16 @@ void GraphDataset::Load(nn::ByteReader& in) {
       for (float v : *values)
         if (!std::isfinite(v)) throw nn::CheckpointError("graph data set: episode " + std::to_string(e) + " is not finite");
   }
+  std::vector<uint8_t> set_of(count, 0);
+  if (combinations()) {
+    set_of = in.GetVector<uint8_t>();
+    if (set_of.size() != count) throw nn::CheckpointError("graph data set: combinations of the wrong size");
+    for (uint8_t s : set_of)
+      if (s >= kind_sets_.size()) throw nn::CheckpointError("graph data set: an episode of an unknown combination");
+  }
   positions_ = std::move(positions);
   actions_ = std::move(actions);
+  set_of_ = std::move(set_of);
 }
 
 void GraphDataset::Split(double held_out_fraction, uint64_t seed) {
@@ -155,13 +224,14 @@ void GraphDataset::Fill(const std::vector<int>& episodes, const std::vector<int>
     for (int b = 0; b < batch; ++b) {
       const int ep = episodes[b], step = starts[b] + t;
       const float* act = action(ep, step);
+      const std::vector<uint16_t>& kinds = episode_kinds(ep);
       for (int e = 0; e < n; ++e) {
         const Eigen::Index row = static_cast<Eigen::Index>(b) * n + e;
         const float* now = position(ep, step, e);
         const float* next = position(ep, step + 1, e);
         x(row, 0) = now[0];
         x(row, 1) = now[1];
-        x(row, 2 + kinds_[e]) = T(1);
+        x(row, 2 + kinds[e]) = T(1);
         for (int i = 0; i < a; ++i) x(row, 2 + k + i) = act[i];
         d(row, 0) = T(next[0]) - T(now[0]);
         d(row, 1) = T(next[1]) - T(now[1]);
@@ -179,15 +249,23 @@ template void GraphDataset::EpisodeBatch<double>(const std::vector<int>&,
                                                  WindowBatch<double>*) const;
 
 std::vector<double> ActionCorrelations(const GraphDataset& data) {
-  const int n = data.num_entities(), a = data.action_dim();
+  const int n = data.graph_entities(), a = data.action_dim();
   std::vector<double> score(n, 0.0);
-  for (int e = 0; e < n; ++e) {
+  // position of graph entity g in each episode (-1: absent)
+  auto position = [&](int ep, int g) {
+    for (int e = 0; e < data.num_entities(); ++e)
+      if (data.graph_entity(ep, e) == g) return e;
+    return -1;
+  };
+  for (int g = 0; g < n; ++g) {
     for (int i = 0; i < a; ++i) {
       double best = 0;
       for (int axis = 0; axis < 2; ++axis) {
         // one pass of sums for the Pearson correlation of action i and the axis change
         double su = 0, sv = 0, suu = 0, svv = 0, suv = 0, count = 0;
         for (int ep = 0; ep < data.size(); ++ep) {
+          const int e = position(ep, g);
+          if (e < 0) continue;
           for (int t = 0; t < data.episode_steps(); ++t) {
             const double u = data.action(ep, t)[i];
             const double v = data.position(ep, t + 1, e)[axis] - data.position(ep, t, e)[axis];
@@ -202,7 +280,7 @@ std::vector<double> ActionCorrelations(const GraphDataset& data) {
         if (var_u <= 1e-18 || var_v <= 1e-18) continue;
         best = std::max(best, std::abs(cov) / std::sqrt(var_u * var_v));
       }
-      score[e] += best / a;
+      score[g] += best / a;
     }
   }
   return score;

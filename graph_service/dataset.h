@@ -29,9 +29,18 @@ struct DatasetShape {
   rl::EntityLayout layout;
   std::vector<uint16_t> entity_kinds;
   int action_dim = 0;
+  // Training combinations (rl::EnvironmentShape::episode_kinds): when set, episodes present
+  // one of these kind lists (all of one size) instead of `entity_kinds`, and the graph is over
+  // the catalogue (`layout.num_kinds` entities).
+  std::vector<std::vector<uint16_t>> episode_kinds;
 };
 
 // Episodes of one entity layout, stored as xy per entity and step plus actions.
+//
+// A data set of combinations holds episodes of several kind lists (training combinations of
+// an environment with object_sets: the same N, different objects). Its graph entities are the
+// catalogue's (entity e of episode ep is graph entity kinds[e]); with one kind list they are
+// the episode's entities.
 //
 // Not thread-safe; the service owns it on one thread.
 class GraphDataset {
@@ -40,6 +49,15 @@ class GraphDataset {
   // and number of steps; others are refused by Add.
   GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds,
                int action_dim, int episode_steps);
+  // Episodes may have any one of `kind_sets` (each of N kinds, distinct, below K, at least one
+  // set), and the graph is over the K catalogue entities (even with one set: an environment
+  // whose object_sets has one combination still publishes the catalogue's graph).
+  GraphDataset(const rl::EntityLayout& layout, std::vector<std::vector<uint16_t>> kind_sets,
+               int action_dim, int episode_steps);
+  // The data set a run's shape implies (one of the constructors above).
+  static GraphDataset ForShape(const DatasetShape& shape, int episode_steps);
+  // A data set of the same shape without episodes.
+  GraphDataset EmptyCopy() const;
 
   // Makes a dataset shaped like `episode` (which is not added).
   static GraphDataset ShapedLike(const rl::Episode& episode);
@@ -66,7 +84,19 @@ class GraphDataset {
   int episode_steps() const { return steps_; }
   // input features per node: x, y, kind one-hot, action
   int input_dim() const { return 2 + layout_.num_kinds + action_dim_; }
-  const std::vector<uint16_t>& entity_kinds() const { return kinds_; }
+  // the (first) kind list of the episodes
+  const std::vector<uint16_t>& entity_kinds() const { return kind_sets_.front(); }
+  const std::vector<std::vector<uint16_t>>& kind_sets() const { return kind_sets_; }
+  // kinds of episode ep's entities
+  const std::vector<uint16_t>& episode_kinds(int episode) const { return kind_sets_[set_of_[episode]]; }
+  // the graph's entities: the catalogue for combinations, else the episodes' own
+  bool combinations() const { return by_identity_; }
+  int graph_entities() const { return combinations() ? layout_.num_kinds : layout_.num_entities; }
+  int graph_entity(int episode, int entity) const {
+    return combinations() ? episode_kinds(episode)[entity] : entity;
+  }
+  // kind of each graph entity
+  std::vector<uint16_t> graph_kinds() const;
   const std::vector<int>& train_episodes() const { return train_; }
   const std::vector<int>& held_out_episodes() const { return held_out_; }
 
@@ -93,8 +123,12 @@ class GraphDataset {
   void Fill(const std::vector<int>& episodes, const std::vector<int>& starts, int window,
             WindowBatch<T>* out) const;
 
+  void CheckShape() const;  // throws std::invalid_argument naming what does not fit
+
   rl::EntityLayout layout_;
-  std::vector<uint16_t> kinds_;
+  std::vector<std::vector<uint16_t>> kind_sets_;
+  bool by_identity_;             // graph entities are catalogue kinds (the kind-lists constructor)
+  std::vector<uint8_t> set_of_;  // per episode: index into kind_sets_
   int action_dim_;
   int steps_;
   std::vector<std::vector<float>> positions_;  // per episode (T+1) x N x 2
@@ -104,10 +138,10 @@ class GraphDataset {
 
 // How strongly each entity's motion follows the action: the mean over action components of
 // the largest absolute Pearson correlation between that component and the entity's x or y
-// change, over every transition of the data set. Size N.
+// change, over every transition of the data set where it is present. Per graph entity.
 std::vector<double> ActionCorrelations(const GraphDataset& data);
 
-// The entity the action node attaches to: the one with the largest ActionCorrelations.
+// The graph entity the action node attaches to: the one with the largest ActionCorrelations.
 int SelectActionEntity(const GraphDataset& data);
 
 }  // namespace srics::graph_service

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
     options.seed = rl::DeriveSeed(config.run.seed, rl::SeedPurpose::kGraphService);
     options.limits = rl::EpisodeLimitsFor(config.env);
     const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(config.env);
-    options.shape = graph_service::DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim};
+    options.shape = graph_service::DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim, shape.episode_kinds};
     options.status_period_s = config.transport.status_period_s;
     graph_service::GraphService service(config.graph, options, &source, &sink, nullptr);
     spdlog::info("graph service started: domain {}, run id '{}', {} explore episodes wanted",

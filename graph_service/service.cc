@@ -33,7 +33,11 @@ GraphService::GraphService(const config::GraphConfig& config, const ServiceOptio
     const DatasetShape& shape = *options_.shape;
     if (shape.layout.num_entities < 2)
       throw std::invalid_argument("GraphService: the environment needs at least 2 entities");
-    data_ = std::make_unique<GraphDataset>(shape.layout, shape.entity_kinds, shape.action_dim, config_.episode_steps);
+    data_ = std::make_unique<GraphDataset>(GraphDataset::ForShape(shape, config_.episode_steps));
+    // the cut read-out swaps senders between episodes by position, which mixes identities
+    // when episodes present different objects
+    if (data_->combinations() && config_.readout == config::GraphReadout::kCut)
+      throw std::invalid_argument("graph.readout: cut is not built for environments with object_sets (use mean_weight)");
   }
 }
 
@@ -206,8 +210,7 @@ bool GraphService::LoadTraining() {
   if (path.empty() || !data_ || !std::filesystem::exists(path)) return false;
   try {
     const std::vector<nn::CheckpointSection> sections = nn::ReadCheckpoint(path);
-    auto data = std::make_unique<GraphDataset>(data_->layout(), data_->entity_kinds(), data_->action_dim(),
-                                               data_->episode_steps());
+    auto data = std::make_unique<GraphDataset>(data_->EmptyCopy());
     nn::ByteReader data_bytes(nn::FindSection(sections, "graph.data", path).bytes, path + ": graph.data");
     data->Load(data_bytes);
     if (data->size() > config_.episodes)
@@ -336,7 +339,7 @@ void GraphService::EvaluateGraph() {
   std::vector<double> scores = cut ? stats.cut_score : stats.mean_weight;
   if (cut && config_.reciprocal_object_edges)
     scores = ReciprocalObjectScores(scores, action_entity_, MovingEntities(stats.held_out_entity_zero_mse, config_.static_variance_fraction));
-  LearnedGraph graph = AggregateGraph(data_->num_entities(), scores,
+  LearnedGraph graph = AggregateGraph(data_->graph_entities(), scores,
                                       cut ? config_.cut_threshold : config_.threshold, action_entity_);
   graph.readout = cut ? "cut" : "mean_weight";
   graph.mean_weights = stats.mean_weight;
@@ -344,7 +347,8 @@ void GraphService::EvaluateGraph() {
   graph.updates = trainer_->updates();
   graph.episodes = data_->size();
   graph.action_correlation = action_correlation_;
-  graph.entity_kinds.assign(data_->entity_kinds().begin(), data_->entity_kinds().end());
+  const std::vector<uint16_t> kinds = data_->graph_kinds();
+  graph.entity_kinds.assign(kinds.begin(), kinds.end());
   // graphs of the warm-up and the KL ramp (edges open or not yet pruned) never count as
   // stable: only evaluations after the full KL weight is reached are compared
   const bool gated = trainer_->updates() > static_cast<int64_t>(config_.warmup_updates) + config_.kl_ramp_updates;

@@ -171,11 +171,14 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
 
 EdgeStatistics GnnTrainer::Evaluate() {
   const int n = data_.num_entities();
+  // statistics are per graph entity: the catalogue's identities for a data set of
+  // combinations (a pair's weight is its mean over the steps where both are present)
+  const int g = data_.graph_entities();
   EdgeStatistics stats;
-  stats.num_entities = n;
-  std::vector<double> sum(static_cast<size_t>(n) * n, 0.0);
-  double count = 0, mse = 0, zero_mse = 0, transitions = 0;
-  std::vector<double> entity_mse(n, 0.0), entity_zero(n, 0.0);
+  stats.num_entities = g;
+  std::vector<double> sum(static_cast<size_t>(g) * g, 0.0), pair_count(sum.size(), 0.0);
+  double mse = 0, zero_mse = 0, transitions = 0;
+  std::vector<double> entity_mse(g, 0.0), entity_zero(g, 0.0), entity_transitions(g, 0.0);
   // the same noise at every evaluation, so that successive graphs differ by training only
   nn::Rng noise_rng(0x5eed);
   nn::Tape<float> tape;
@@ -198,15 +201,18 @@ EdgeStatistics GnnTrainer::Evaluate() {
                                    noise);
         h = step.hidden.value();
         const nn::Matrix<float>& logits = step.edge_logits.value();
+        const Eigen::Index per_sample = static_cast<Eigen::Index>(n) * (n - 1);
         for (Eigen::Index e = 0; e < logits.rows(); ++e) {
           // probability of class 0 (edge) of the 2-way softmax
           const double p = 1.0 / (1.0 + std::exp(static_cast<double>(logits(e, 1)) -
                                                  static_cast<double>(logits(e, 0))));
-          const int local = static_cast<int>(e % (static_cast<Eigen::Index>(n) * (n - 1)));
-          sum[static_cast<size_t>(model_.edge_sender_entity(local)) * n +
-              model_.edge_receiver_entity(local)] += p;
+          const int local = static_cast<int>(e % per_sample);
+          const int ep = chunk[static_cast<size_t>(e / per_sample)];
+          const size_t pair = static_cast<size_t>(data_.graph_entity(ep, model_.edge_sender_entity(local))) * g +
+                              data_.graph_entity(ep, model_.edge_receiver_entity(local));
+          sum[pair] += p;
+          pair_count[pair] += 1;
         }
-        count += b;
         if (held_out) {
           const nn::Matrix<float>& target = batch.deltas[t];
           // per transition: mean over the entities and axes of one window
@@ -214,21 +220,24 @@ EdgeStatistics GnnTrainer::Evaluate() {
           zero_mse += target.squaredNorm() / (2.0 * n);
           transitions += b;
           for (Eigen::Index r = 0; r < target.rows(); ++r) {
-            entity_mse[r % n] += (step.delta.value().row(r) - target.row(r)).squaredNorm() / 2;
-            entity_zero[r % n] += target.row(r).squaredNorm() / 2;
+            const int entity = data_.graph_entity(chunk[static_cast<size_t>(r / n)], static_cast<int>(r % n));
+            entity_mse[entity] += (step.delta.value().row(r) - target.row(r)).squaredNorm() / 2;
+            entity_zero[entity] += target.row(r).squaredNorm() / 2;
+            entity_transitions[entity] += 1;
           }
         }
       }
     }
   }
+  // a pair never present together has no evidence: weight 0 (no edge)
   stats.mean_weight.resize(sum.size());
-  for (size_t i = 0; i < sum.size(); ++i) stats.mean_weight[i] = count > 0 ? sum[i] / count : 0;
+  for (size_t i = 0; i < sum.size(); ++i) stats.mean_weight[i] = pair_count[i] > 0 ? sum[i] / pair_count[i] : 0;
   if (config_.readout == config::GraphReadout::kCut) stats.cut_score = EdgeCutScores();
   stats.held_out_mse = transitions > 0 ? mse / transitions : 0;
   stats.held_out_zero_mse = transitions > 0 ? zero_mse / transitions : 0;
-  for (int e = 0; e < n; ++e) {
-    stats.held_out_entity_mse.push_back(transitions > 0 ? entity_mse[e] / transitions : 0);
-    stats.held_out_entity_zero_mse.push_back(transitions > 0 ? entity_zero[e] / transitions : 0);
+  for (int e = 0; e < g; ++e) {
+    stats.held_out_entity_mse.push_back(entity_transitions[e] > 0 ? entity_mse[e] / entity_transitions[e] : 0);
+    stats.held_out_entity_zero_mse.push_back(entity_transitions[e] > 0 ? entity_zero[e] / entity_transitions[e] : 0);
   }
   return stats;
 }

@@ -80,6 +80,11 @@ std::string Learner::Ingest(rl::Episode episode) {
   return "";
 }
 
+void Learner::SetGraph(const rl::InteractionGraph& catalogue) {
+  relabeler_.SetGraph(catalogue);
+  has_graph_ = true;
+}
+
 void Learner::SetGraph(const rl::SubgoalStructure& structure) {
   relabeler_.SetSubgoalStructure(structure);
   has_graph_ = true;

@@ -53,6 +53,8 @@ class Learner {
   // Uses a new interaction graph for rewards and subgoal choice. Methods that use the graph
   // do no updates before the first one arrives.
   void SetGraph(const rl::SubgoalStructure& structure);
+  // The run's catalogue graph; each episode's ancestor sets are derived from its entity kinds.
+  void SetGraph(const rl::InteractionGraph& catalogue);
   bool has_graph() const { return has_graph_; }
 
   // True when the rate limiter allows one more update now.

@@ -181,7 +181,7 @@ void LearnerLoop::FollowGraph() {
       spdlog::warn("graph v{} ignored: {} ({} warnings suppressed)", g->version, problem, suppressed);
     return;
   }
-  learner_.SetGraph(g->structure);
+  learner_.SetGraph(g->graph);  // over the catalogue: mapped per episode
   graph_version_ = g->version;
   spdlog::info("graph v{}: {}", g->version, rl::DescribeGraph(g->graph));
 }

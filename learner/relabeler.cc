@@ -1,6 +1,7 @@
 #include "learner/relabeler.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "common/rl/goal_token.h"
 #include "common/rl/rewards.h"
@@ -14,20 +15,48 @@ Relabeler::Relabeler(config::Method method, const config::RewardConfig& reward,
 void Relabeler::SetSubgoalStructure(const rl::SubgoalStructure& structure) {
   structure_ = structure;
   have_structure_ = true;
+  catalogue_.graph.reset();
+  by_kinds_.clear();
+}
+
+void Relabeler::SetGraph(const rl::InteractionGraph& catalogue) {
+  catalogue_.graph = catalogue;
+  have_structure_ = false;
+  by_kinds_.clear();
+}
+
+const rl::SubgoalStructure* Relabeler::StructureOf(const rl::Episode& episode) {
+  if (have_structure_) return &structure_;
+  if (!catalogue_.graph) return nullptr;
+  auto it = by_kinds_.find(episode.entity_kinds);
+  if (it == by_kinds_.end()) {
+    // stored episodes were validated against the run's catalogue; a kind outside the graph
+    // (a graph of another run) leaves the episode without ancestors rather than throwing
+    rl::SubgoalStructure structure;
+    try {
+      structure = catalogue_.For(episode.entity_kinds);
+    } catch (const std::invalid_argument&) {
+      structure = rl::CatalogueSubgoals{}.For(episode.entity_kinds);
+    }
+    it = by_kinds_.emplace(episode.entity_kinds, std::move(structure)).first;
+  }
+  return &it->second;
 }
 
 int Relabeler::PickSubgoalEntity(const rl::Episode& episode) {
   if (episode.subgoal_entity >= 0) return episode.subgoal_entity;
   // explore episodes carry no subgoal: pick one the current graph allows
+  const rl::SubgoalStructure* structure = StructureOf(episode);
   std::vector<int> candidates;
   for (int i = 0; i < episode.layout.num_entities; ++i)
-    if (!have_structure_ || i >= structure_.num_entities() || structure_.has_subgoal(i))
+    if (!structure || i >= structure->num_entities() || structure->has_subgoal(i))
       candidates.push_back(i);
   if (candidates.empty()) candidates.push_back(0);
   return candidates[std::uniform_int_distribution<size_t>(0, candidates.size() - 1)(rng_)];
 }
 
-double Relabeler::Reward(const rl::Episode& e, int t, int entity, const float* goal) const {
+double Relabeler::Reward(const rl::Episode& e, const rl::SubgoalStructure* structure, int t, int entity,
+                         const float* goal) const {
   const float* before = e.state(t);
   const float* after = e.state(t + 1);
   switch (method_) {
@@ -35,7 +64,7 @@ double Relabeler::Reward(const rl::Episode& e, int t, int entity, const float* g
       return rl::FullGoalReward(e.layout, after, goal);
     case config::Method::kSrics: {
       const uint64_t ancestors =
-          have_structure_ && entity < structure_.num_entities() ? structure_.ancestor_mask[entity] : 0;
+          structure && entity < structure->num_entities() ? structure->ancestor_mask[entity] : 0;
       return rl::SelectivityReward(e.layout, before, after, entity, goal, ancestors, reward_);
     }
     default:
@@ -111,7 +140,7 @@ void Relabeler::Sample(const ReplayBuffer& replay, int size, TrainingBatch* batc
       }
     }
     if (sources) (*sources)[b] = source;
-    batch->reward[b] = static_cast<float>(Reward(e, t, entity, goal.data()));
+    batch->reward[b] = static_cast<float>(Reward(e, StructureOf(e), t, entity, goal.data()));
     batch->subgoal_entity[b] = entity;
     float* g = batch->goal.data() + static_cast<size_t>(b) * batch->goal_dim;
     if (full_goal()) {

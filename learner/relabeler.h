@@ -4,6 +4,7 @@
 // recomputes the method's reward for the new goal (docs/method.md section 3).
 
 #include <cstdint>
+#include <map>
 #include <random>
 #include <vector>
 
@@ -50,7 +51,11 @@ class Relabeler {
 
   // The ancestor sets used for rewards and for picking subgoals of episodes that have none
   // (explore episodes). Until called, every entity is a subgoal with no ancestors.
+  // (A fixed structure, indexed by the episode's entities: for episodes of every entity.)
   void SetSubgoalStructure(const rl::SubgoalStructure& structure);
+  // The run's catalogue graph: each episode's ancestor sets follow from it and the episode's
+  // entity_kinds (rl::EpisodeSubgoalStructure), so a subset of the objects is indexed right.
+  void SetGraph(const rl::InteractionGraph& catalogue);
 
   // Fills *batch with `size` relabeled transitions. Precondition: !replay.empty().
   void Sample(const ReplayBuffer& replay, int size, TrainingBatch* batch,
@@ -63,8 +68,11 @@ class Relabeler {
   std::mt19937_64& rng() { return rng_; }
 
  private:
+  // the structure of this episode's entities (the fixed one, or the graph's mapped; cached)
+  const rl::SubgoalStructure* StructureOf(const rl::Episode& episode);
   int PickSubgoalEntity(const rl::Episode& episode);
-  double Reward(const rl::Episode& episode, int t, int entity, const float* goal) const;
+  double Reward(const rl::Episode& episode, const rl::SubgoalStructure* structure, int t, int entity,
+                const float* goal) const;
 
   config::Method method_;
   config::RewardConfig reward_;
@@ -73,6 +81,9 @@ class Relabeler {
   std::mt19937_64 rng_;
   rl::SubgoalStructure structure_;
   bool have_structure_ = false;
+  rl::CatalogueSubgoals catalogue_;
+  // per combination of present entities (a handful per run): its structure
+  std::map<std::vector<uint16_t>, rl::SubgoalStructure> by_kinds_;
 };
 
 }  // namespace srics::learner

@@ -13,6 +13,11 @@ void ParseActors(YamlSection s, ActorConfig* out) {
   s.ReadInt("evaluators", &out->evaluators, 0, 1024);
   s.ReadUint64("eval_every_env_steps", &out->eval_every_env_steps, 1);
   s.ReadInt("eval_episodes", &out->eval_episodes, 1, 100000);
+  s.ReadInt("record_eval_episodes", &out->record_eval_episodes, 0, 10);
+  s.ReadInt("record_width", &out->record_width, 16, 4096);
+  s.ReadInt("record_height", &out->record_height, 16, 4096);
+  if (out->record_width % 2 != 0) s.Fail("record_width", "an even number of pixels (video encoders need it)");
+  if (out->record_height % 2 != 0) s.Fail("record_height", "an even number of pixels (video encoders need it)");
   if (out->evaluators > out->count && out->count > 0)
     s.FailRule("evaluators", "cannot exceed count (" + std::to_string(out->count) + ")");
   s.Finish();

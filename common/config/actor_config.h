@@ -22,6 +22,12 @@ struct ActorConfig {
   int evaluators = 1;                  // actors 0..evaluators-1 also evaluate
   uint64_t eval_every_env_steps = 10000;  // per evaluating actor
   int eval_episodes = 10;              // episodes per evaluation
+  // the first K episodes of every evaluation of a trained policy are drawn into the run
+  // folder's eval/ (GIF with ffmpeg, else PNG frames), for people and the web dashboard; 0 =
+  // none. Software rendering costs ~1-2 s per episode here
+  int record_eval_episodes = 0;
+  int record_width = 320;              // pixels, even
+  int record_height = 240;
 };
 
 }  // namespace srics::config

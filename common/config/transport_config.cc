@@ -25,6 +25,7 @@ void ParseTransport(YamlSection s, TransportConfig* out) {
   s.ReadInt("writer_max_blocking_ms", &out->writer_max_blocking_ms, 1, 600000);
   s.ReadDouble("liveliness_lease_s", &out->liveliness_lease_s, 0.05, 3600);
   s.ReadDouble("status_period_s", &out->status_period_s, 0.01, 3600);
+  s.ReadDouble("stalled_node_restart_s", &out->stalled_node_restart_s, 0, 86400);
   s.ReadInt("rejected_log_interval_s", &out->rejected_log_interval_s, 0, 3600);
   YamlSection security = s.Child("security");
   security.ReadString("keystore", &out->security.keystore);

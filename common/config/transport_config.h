@@ -48,6 +48,10 @@ struct TransportConfig {
   int writer_max_blocking_ms = 100;  // after this a full writer reports back-pressure
   double liveliness_lease_s = 2.0;   // NodeStatus writers: a dead peer is noticed after this
   double status_period_s = 1.0;      // NodeStatus and LearnerStats publishing period
+  // srics run kills (and so restarts) a role process whose NodeStatus stopped for this long
+  // while the process still runs: hung, not dead (0 = never). Generous: a process starved of
+  // CPU by other work also goes quiet, and a restart costs it its unsaved work
+  double stalled_node_restart_s = 300;
   int rejected_log_interval_s = 5;   // rate limit for "dropped a malformed sample" warnings
   SecurityConfig security;
 };

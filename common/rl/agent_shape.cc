@@ -55,6 +55,12 @@ EnvironmentShape FullEnvironmentShapeFor(const config::EnvConfig& env) {
   shape.layout = {1 + objects, 1 + objects, env.velocities};
   for (int kind = 0; kind <= objects; ++kind) shape.entity_kinds.push_back(static_cast<uint16_t>(kind));
   shape.action_dim = AgentShapeFor(env, config::Method::kSrics).action_dim;
+  for (std::vector<int> set : env.object_sets) {
+    std::sort(set.begin(), set.end());  // the order the environment presents them in
+    std::vector<uint16_t> kinds = {0};
+    for (int object : set) kinds.push_back(static_cast<uint16_t>(object));
+    shape.episode_kinds.push_back(std::move(kinds));
+  }
   return shape;
 }
 

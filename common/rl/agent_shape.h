@@ -43,6 +43,10 @@ struct EnvironmentShape {
   EntityLayout layout;
   std::vector<uint16_t> entity_kinds;
   int action_dim = 0;
+  // With object_sets: the entity kinds of each training combination's episodes (the arm, then
+  // the set's objects in increasing order, as the environment presents them). Empty: every
+  // episode presents the whole catalogue (`entity_kinds`).
+  std::vector<std::vector<uint16_t>> episode_kinds;
 };
 EnvironmentShape FullEnvironmentShapeFor(const config::EnvConfig& env);
 

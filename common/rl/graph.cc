@@ -76,6 +76,51 @@ SubgoalStructure ComputeSubgoalStructure(const InteractionGraph& graph) {
   return out;
 }
 
+SubgoalStructure EpisodeSubgoalStructure(const InteractionGraph& catalogue, std::span<const uint16_t> kinds) {
+  const std::string problem = ValidateGraph(catalogue);
+  if (!problem.empty()) throw std::invalid_argument("interaction graph: " + problem);
+  const int n = static_cast<int>(kinds.size());
+  std::vector<int> position(catalogue.num_entities, -1);
+  for (int e = 0; e < n; ++e) {
+    if (kinds[e] >= catalogue.num_entities)
+      throw std::invalid_argument("entity kind " + std::to_string(kinds[e]) + " is not in the " +
+                                  std::to_string(catalogue.num_entities) + "-entity graph");
+    if (position[kinds[e]] >= 0)
+      throw std::invalid_argument("entity kind " + std::to_string(kinds[e]) + " is present twice");
+    position[kinds[e]] = e;
+  }
+  SubgoalStructure out;
+  out.ancestor_mask.assign(n, 0);
+  out.depth.assign(n, -1);
+  const int driven = position[catalogue.action_entity];
+  if (driven < 0) return out;  // nothing the action moves is here
+  // the catalogue graph induced on the present entities, in the episode's indices
+  InteractionGraph present;
+  present.num_entities = n;
+  present.action_entity = driven;
+  present.adjacency.assign(static_cast<size_t>(n) * n, 0);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) present.adjacency[i * n + j] = i != j && catalogue.edge(kinds[i], kinds[j]) ? 1 : 0;
+  return ComputeSubgoalStructure(present);
+}
+
+SubgoalStructure CatalogueSubgoals::For(std::span<const uint16_t> kinds) const {
+  if (graph) return EpisodeSubgoalStructure(*graph, kinds);
+  SubgoalStructure all;
+  all.ancestor_mask.assign(kinds.size(), 0);
+  all.depth.assign(kinds.size(), 1);
+  return all;
+}
+
+SubgoalStructure CatalogueSubgoals::For(std::span<const int> kinds) const {
+  std::vector<uint16_t> k;
+  for (int kind : kinds) {
+    if (kind < 0 || kind > 0xffff) throw std::invalid_argument("entity kind " + std::to_string(kind) + " out of range");
+    k.push_back(static_cast<uint16_t>(kind));
+  }
+  return For(std::span<const uint16_t>(k));
+}
+
 std::string DescribeGraph(const InteractionGraph& graph) {
   std::string text = "action->" + std::to_string(graph.action_entity);
   for (int i = 0; i < graph.num_entities; ++i)

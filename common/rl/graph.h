@@ -4,7 +4,9 @@
 // by actors and the learner (which use it); no DDS, no YAML.
 
 #include <cstdint>
+#include <optional>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -48,6 +50,24 @@ constexpr int kMaxGraphEntities = 16;
 // entity out of range, more than kMaxGraphEntities entities), checked before any search.
 // At most ~2^N * N steps: a complete graph of 16 entities takes milliseconds.
 SubgoalStructure ComputeSubgoalStructure(const InteractionGraph& graph);
+
+// The subgoal structure of one episode from the run's catalogue graph (the arm and every object
+// of the environment config): entity e of the episode is catalogue entity kinds[e] (its
+// Episode::entity_kinds). The graph is restricted to the present entities before the search,
+// since an absent object passes nothing on: a path through it does not exist in this episode.
+// With every entity present (kinds = 0..N-1) it equals ComputeSubgoalStructure(catalogue).
+// Without the action entity present no entity has a subgoal. Throws std::invalid_argument for
+// a malformed graph, a kind outside it or a kind present twice.
+SubgoalStructure EpisodeSubgoalStructure(const InteractionGraph& catalogue, std::span<const uint16_t> kinds);
+
+// What actors and the learner act on: the catalogue graph (methods that use one), from which
+// every episode's structure is derived, or none (every present entity is a subgoal with no
+// ancestors: SMORL, SAC+HER, HAC).
+struct CatalogueSubgoals {
+  std::optional<InteractionGraph> graph;
+  SubgoalStructure For(std::span<const uint16_t> kinds) const;
+  SubgoalStructure For(std::span<const int> kinds) const;
+};
 
 // Validates a graph; returns an empty string when fine, else what is wrong.
 std::string ValidateGraph(const InteractionGraph& graph);

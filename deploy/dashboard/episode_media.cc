@@ -77,7 +77,11 @@ std::optional<EpisodeMedia> FindLatestEpisode(const std::string& run_dir) {
         (media.modified == latest->modified && media.name > latest->name))
       latest = std::move(media);
   }
-  if (latest) latest->metrics = MetricsOf(eval_dir / "episodes.csv", latest->name);
+  if (latest) {
+    // `srics eval` lists its episodes in episodes.csv, recording actors theirs in recorded.csv
+    latest->metrics = MetricsOf(eval_dir / "episodes.csv", latest->name);
+    if (latest->metrics.empty()) latest->metrics = MetricsOf(eval_dir / "recorded.csv", latest->name);
+  }
   return latest;
 }
 

@@ -99,7 +99,9 @@ int Eval(const EvalArgs& args) {
 
   // the subgoals and their order: the run's graph, or every entity for methods without one
   const int num_entities = environment.layout().num_entities;
-  rl::SubgoalStructure structure = rl::AllEntitiesStructure(num_entities);
+  // graphs are over the catalogue; each episode maps it onto the objects it presents
+  const int catalogue_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
+  rl::CatalogueSubgoals subgoals;
   std::string graph_text = "none (" + std::string(config::MethodName(config.run.method)) + " uses no graph)";
   if (actor.uses_graph) {
     if (!fs::exists(files.graph))
@@ -107,9 +109,9 @@ int Eval(const EvalArgs& args) {
                                config::MethodName(config.run.method) +
                                " evaluates in the order of the run's interaction graph (give --graph FILE)");
     const graph_service::LearnedGraph graph = graph_service::LoadGraph(files.graph);
-    if (const std::string problem = rl::GraphMismatch(graph.graph, num_entities); !problem.empty())
+    if (const std::string problem = rl::GraphMismatch(graph.graph, catalogue_entities); !problem.empty())
       throw std::runtime_error(files.graph + ": " + problem);
-    structure = graph.structure;
+    subgoals.graph = graph.graph;
     graph_text = rl::DescribeGraph(graph.graph) + " (" + files.graph + ")";
   }
 
@@ -137,11 +139,13 @@ int Eval(const EvalArgs& args) {
   if (gl) std::printf("renderer: %s\n", gl->description().c_str());
 
   // one CSV row per episode
-  const std::vector<int> subgoals = structure.SubgoalEntities();
+  // the subgoal columns: the structure of the first evaluation episode's objects
+  environment.Reset(rl::EvalEpisodeSeed(config.run.seed, 0), env::Split::kEval);
+  const std::vector<int> subgoal_entities = subgoals.For(environment.layout().kinds).SubgoalEntities();
   std::ofstream csv(fs::path(out_dir) / "episodes.csv");
   csv << "episode,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity";
   for (int e = 0; e < num_entities; ++e) csv << ",distance_" << e;
-  for (int e : subgoals) csv << ",subgoal_success_" << e;
+  for (int e : subgoal_entities) csv << ",subgoal_success_" << e;
   csv << ",video\n";
   rl::EvaluationSummary summary;
   int unstable = 0;
@@ -158,7 +162,7 @@ int Eval(const EvalArgs& args) {
       writer.emplace((fs::path(out_dir) / video_name).string(), args.render.width, args.render.height, video);
       recorder.emplace(*renderer, *writer, i);
     }
-    const auto metrics = actor::RunEvaluationEpisode(environment, &policy, structure, actor.eval, seed, high.get(),
+    const auto metrics = actor::RunEvaluationEpisode(environment, &policy, subgoals, actor.eval, seed, high.get(),
                                                      recorder ? &*recorder : nullptr);
     if (writer) writer->Close();
     const int frames = writer ? writer->frames() : 0;
@@ -170,14 +174,14 @@ int Eval(const EvalArgs& args) {
       csv << "," << metrics->avg_distance << "," << metrics->avg_object_distance << "," << (metrics->success ? 1 : 0)
           << "," << metrics->selectivity;
       for (double d : metrics->entity_distance) csv << "," << d;
-      for (int e : subgoals) csv << "," << (metrics->entity_distance[e] < actor.eval.threshold ? 1 : 0);
+      for (int e : subgoal_entities) csv << "," << (metrics->entity_distance[e] < actor.eval.threshold ? 1 : 0);
       std::printf("episode %d: %d steps, avg distance %.4f, avg object distance %.4f, success %d%s%s\n", i,
                   environment.steps(), metrics->avg_distance, metrics->avg_object_distance, metrics->success ? 1 : 0,
                   video_name.empty() ? "" : " -> ", video_name.c_str());
     } else {
       ++unstable;
       csv << ",,,,";
-      for (int e = 0; e < num_entities + static_cast<int>(subgoals.size()); ++e) csv << ",";
+      for (int e = 0; e < num_entities + static_cast<int>(subgoal_entities.size()); ++e) csv << ",";
       std::printf("episode %d: the physics became unstable after %d steps\n", i, environment.steps());
     }
     csv << "," << video_name << "\n";

@@ -1,5 +1,7 @@
 #include "deploy/launcher/in_process_run.h"
 
+#include "actor/recording/video_recorder.h"
+
 #include <unistd.h>
 
 #include <cmath>
@@ -138,7 +140,7 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
     options.status_period_s = config.transport.status_period_s;
     options.limits = rl::EpisodeLimitsFor(config.env);
     const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(config.env);
-    options.shape = graph_service::DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim};
+    options.shape = graph_service::DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim, shape.episode_kinds};
     l.graph = std::make_unique<graph_service::GraphService>(config.graph, options, l.graph_source.get(), l.graph_sink.get(),
                                                     options_.on_graph_progress);
   }
@@ -157,6 +159,8 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
     options.explore_while_waiting_s = 0;  // nothing is lost in memory: exactly the share
     l.actor_links.push_back(l.bus.ActorEnd(static_cast<uint32_t>(k)));
     l.actors.push_back(std::make_unique<actor::ActorLoop>(options, l.actor_links.back().get()));
+    if (!options_.graph_only)
+      l.actors.back()->set_eval_recorder(actor::RecorderFor(config, l.actors.back()->environment(), k, dir));
     l.actor_done.push_back(false);
   }
 }

@@ -21,6 +21,7 @@
 #include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/launcher/run_session.h"
+#include "deploy/launcher/stall_watch.h"
 #include "deploy/monitor/display.h"
 #include "deploy/monitor/monitor.h"
 
@@ -195,6 +196,14 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
   }
 
   EndWatch watch(options, config, roles);
+  // this host's roles only (with --roles, a share): the actors' node ids are their actor ids
+  std::vector<WatchedNode> watched;
+  if (roles.graph) watched.push_back({*roles.graph, "graph", 0});
+  if (roles.learner) watched.push_back({*roles.learner, "learner", 0});
+  for (size_t k = 0; k < roles.actors.size(); ++k)
+    watched.push_back({roles.actors[k], "actor", static_cast<uint32_t>(share.actor_ids[k])});
+  StallWatch stalls(std::chrono::milliseconds(static_cast<int64_t>(config.transport.stalled_node_restart_s * 1000)),
+                    config.transport.run_id, std::move(watched));
   Ending ending;
   while (ending.reason.empty()) {
     if (participant.shutdown_requested()) {
@@ -204,6 +213,8 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
     monitor.Poll(std::chrono::milliseconds(200));
     for (const std::string& text : monitor.TakeNodeEvents()) session.Note(text);  // the monitor logged it
     ending = watch.Check(supervisor, session, monitor.state());
+    for (const auto& [child, why] : stalls.Check(supervisor, monitor.state(), SteadyClock::now()))
+      supervisor.Kill(child, why);
     if (ending.reason.empty())
       session.Show(monitor.state(), ProcessRows(supervisor, SteadyClock::now()), supervisor.total_restarts());
   }

@@ -91,6 +91,13 @@ std::chrono::milliseconds Supervisor::BackoffDelay(const BackoffPolicy& policy, 
   return std::chrono::milliseconds(static_cast<int64_t>(std::min(ms, static_cast<double>(policy.max.count()))));
 }
 
+bool Supervisor::Kill(size_t index, const std::string& why) {
+  Child& child = children_.at(index);
+  if (child.status.phase != ChildPhase::kRunning) return false;
+  Event(child.spec.name + " " + why + "; killing it (SIGKILL) so that it restarts");
+  return child.process.Signal(SIGKILL);
+}
+
 std::vector<size_t> Supervisor::Tick() {
   std::vector<size_t> ended;
   const auto now = SteadyClock::now();

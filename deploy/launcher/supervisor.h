@@ -101,6 +101,9 @@ class Supervisor {
   bool StopAll();
   // The same for one child (e.g. to stop a finished run's other roles selectively).
   bool Stop(size_t index);
+  // SIGKILLs a running child that is hung (`why` goes into the event); the next Tick sees it
+  // end by a signal and restarts it under its policy. False if it was not running.
+  bool Kill(size_t index, const std::string& why);
 
   size_t size() const { return children_.size(); }
   const ChildStatus& status(size_t index) const { return children_[index].status; }

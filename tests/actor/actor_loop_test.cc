@@ -224,9 +224,9 @@ TEST(ActorLoopTest, NonFiniteActionsDropTheEpisodeInsteadOfThrowing) {
   std::vector<float> flat = nn::Flatten(policy.Parameters());
   std::fill(flat.begin(), flat.end(), std::numeric_limits<float>::quiet_NaN());
   nn::LoadFlat(policy.Parameters(), flat);
-  const rl::SubgoalStructure structure = rl::ComputeSubgoalStructure(rl::GroundTruthGraph(config.env));
+  const rl::CatalogueSubgoals subgoals{rl::GroundTruthGraph(config.env)};
   std::optional<rl::Episode> episode;
-  EXPECT_NO_THROW(episode = RunTrainEpisode(*env, policy, structure, options.train, 1, rng));
+  EXPECT_NO_THROW(episode = RunTrainEpisode(*env, policy, subgoals, options.train, 1, rng));
   EXPECT_FALSE(episode.has_value());
   // the environment is usable for the next episode
   std::optional<rl::Episode> explore;

@@ -94,7 +94,7 @@ TEST(HacRolloutTest, ActorSplitsTheWeightsIntoBothLevelsAndEvaluatesOnTheFullGoa
   // evaluation with both levels: deterministic, finite, and it moves the arm (passive does not)
   auto env = env::MakeRearrangeEnv(config.env);
   uint64_t unstable = 0;
-  const rl::SubgoalStructure all = rl::AllEntitiesStructure(2);
+  const rl::CatalogueSubgoals all;  // no graph: every entity
   const auto a = EvaluatePolicy(*env, &low, all, options.eval, 2, 1, &unstable, &high);
   const auto b = EvaluatePolicy(*env, &low, all, options.eval, 2, 1, &unstable, &high);
   const auto passive = EvaluatePolicy(*env, nullptr, all, options.eval, 2, 1, &unstable);

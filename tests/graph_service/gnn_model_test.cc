@@ -134,5 +134,58 @@ TEST(GnnTrainerTest, EvaluationAveragesEdgeProbabilities) {
   EXPECT_NE(trainer.Evaluate().mean_weight, a.mean_weight);
 }
 
+// Per-identity averaging over training combinations, where the truth is known: with open
+// edges (every message passed unweighted) an episode's hidden states, and so its edge
+// probabilities, do not depend on the Gumbel noise, and the same seed builds the same model.
+// So a pair's weight over the combinations must be the step-weighted mean of its weights in
+// the data sets of the combinations alone, a pair of one combination only must be that
+// combination's, and a pair never present together must be 0.
+TEST(GnnTrainerTest, CombinationsAverageEachIdentityPairOverTheEpisodesWhereBothArePresent) {
+  ToyWorld world({.num_pucks = 2, .steps = 10});
+  const std::vector<uint16_t> a_kinds = {0, 1, 2}, b_kinds = {0, 1, 3};
+  const rl::EntityLayout layout{3, 4, false};
+  GraphDataset all(layout, std::vector<std::vector<uint16_t>>{a_kinds, b_kinds}, 2, 10);
+  GraphDataset only_a(layout, a_kinds, 2, 10), only_b(layout, b_kinds, 2, 10);
+  // 6 episodes of combination a, 4 of b: unequal counts make the weighting visible
+  for (int e = 0; e < 10; ++e) {
+    const bool a = e < 6;
+    const rl::Episode episode = testing::AsCombination(world.RandomEpisode(e), 4, a ? a_kinds : b_kinds);
+    ASSERT_EQ(all.Add(episode), "");
+    ASSERT_EQ((a ? only_a : only_b).Add(episode), "");
+  }
+  for (GraphDataset* d : {&all, &only_a, &only_b}) d->Split(0.34, 1);
+  config::GraphConfig config;
+  config.hidden_dim = 6;
+  config.mlp_hidden = 12;
+  config.standardize_inputs = false;  // the same inputs in every data set
+  config.eval_chunk_episodes = 3;
+  auto evaluate = [&](const GraphDataset& d) {
+    GnnTrainer trainer(config, d, 9);
+    trainer.model().set_open_edges(true);
+    return trainer.Evaluate();
+  };
+  const EdgeStatistics s = evaluate(all), sa = evaluate(only_a), sb = evaluate(only_b);
+  ASSERT_EQ(s.num_entities, 4);
+  ASSERT_EQ(s.mean_weight.size(), 16u);
+  ASSERT_EQ(sa.num_entities, 3);
+  // the model runs in float, on batches of other episodes: sums agree to float precision
+  constexpr double kFloat = 1e-6;
+  auto w = [](const EdgeStatistics& st, int i, int j) { return st.mean_weight[i * st.num_entities + j]; };
+  // arm <-> object 1: in both combinations, 6 : 4 episodes of equal length
+  EXPECT_NEAR(w(s, 0, 1), (6 * w(sa, 0, 1) + 4 * w(sb, 0, 1)) / 10, kFloat);
+  EXPECT_NEAR(w(s, 1, 0), (6 * w(sa, 1, 0) + 4 * w(sb, 1, 0)) / 10, kFloat);
+  // object 2 only in a (its entity 2), object 3 only in b (also its entity 2)
+  EXPECT_NEAR(w(s, 0, 2), w(sa, 0, 2), kFloat);
+  EXPECT_NEAR(w(s, 1, 2), w(sa, 1, 2), kFloat);
+  EXPECT_NEAR(w(s, 0, 3), w(sb, 0, 2), kFloat);
+  EXPECT_NEAR(w(s, 3, 1), w(sb, 2, 1), kFloat);
+  // objects 2 and 3 never meet: no evidence, no edge
+  EXPECT_EQ(w(s, 2, 3), 0.0);
+  EXPECT_EQ(w(s, 3, 2), 0.0);
+  EXPECT_GT(w(s, 0, 3), 0.0);
+  // held-out error per identity: 4 entries, object 3's from b's held-out episodes
+  EXPECT_EQ(s.held_out_entity_mse.size(), 4u);
+}
+
 }  // namespace
 }  // namespace srics::graph_service

@@ -290,5 +290,40 @@ TEST(GraphServiceTest, TrainingStateOfAnotherModelIsSetAsideAndLearnedAgain) {
   EXPECT_EQ(sink.graphs[0].training_updates, 40u);
 }
 
+// An environment with object_sets: explore episodes of every training combination feed one
+// model, the published graph is over the catalogue, and an episode of another combination is
+// dropped and counted.
+TEST(GraphServiceTest, LearnsOneCatalogueGraphFromEveryTrainingCombination) {
+  ToyWorld world({.num_pucks = 2, .steps = 10});
+  const std::vector<std::vector<uint16_t>> sets = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}};
+  // kinds in another order and a catalogue-sized episode are not training combinations
+  std::vector<rl::Episode> episodes = {testing::AsCombination(world.RandomEpisode(90), 4, {0, 3, 1})};
+  ToyWorld full({.num_pucks = 3, .steps = 10});
+  episodes.push_back(full.RandomEpisode(91));
+  for (int i = 0; i < 21; ++i) episodes.push_back(testing::AsCombination(world.RandomEpisode(i), 4, sets[i % 3]));
+  ListSource source(episodes);
+  RecordingSink sink;
+  ServiceOptions o{.seed = 5, .render_pictures = false};
+  const rl::Episode catalogue = full.RandomEpisode(0);
+  o.shape = DatasetShape{catalogue.layout, catalogue.entity_kinds, catalogue.action_dim, sets};
+  config::GraphConfig c = TinyConfig();
+  c.episodes = 21;
+  GraphService service(c, o, &source, &sink, nullptr);
+  std::atomic<bool> stop{false};
+  ASSERT_EQ(service.Run(stop), 0);
+  EXPECT_EQ(service.progress().dropped, 2);
+  ASSERT_EQ(sink.graphs.size(), 1u);
+  const rl::GraphUpdate& g = sink.graphs[0];
+  EXPECT_EQ(g.graph.num_entities, 4);
+  EXPECT_EQ(g.structure.num_entities(), 4);
+  EXPECT_EQ(rl::GraphMismatch(g.graph, 4), "");
+  EXPECT_EQ(service.published()->entity_kinds, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(service.published()->graph.action_entity, 0);
+  // the cut read-out swaps senders by position: refused for combinations
+  config::GraphConfig cut = c;
+  cut.readout = config::GraphReadout::kCut;
+  EXPECT_THROW(GraphService(cut, o, &source, &sink, nullptr), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace srics::graph_service

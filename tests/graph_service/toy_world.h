@@ -155,6 +155,24 @@ class ToySource : public EpisodeSource {
   uint64_t seed_;
 };
 
+// The episode as one training combination of a catalogue of `num_kinds` entities presents it:
+// entity e becomes catalogue entity kinds[e] (its one-hot rewritten), positions unchanged.
+// The toy physics of the episode's own pucks is the combination's.
+inline rl::Episode AsCombination(const rl::Episode& episode, int num_kinds, const std::vector<uint16_t>& kinds) {
+  rl::Episode out = episode;
+  const int n = episode.layout.num_entities;
+  out.layout = {n, num_kinds, false};
+  out.entity_kinds = kinds;
+  out.states.clear();
+  for (int t = 0; t <= episode.num_steps; ++t)
+    for (int e = 0; e < n; ++e) {
+      for (int k = 0; k < num_kinds; ++k) out.states.push_back(k == kinds[e] ? 1.f : 0.f);
+      out.states.push_back(episode.layout.x(episode.state(t), e));
+      out.states.push_back(episode.layout.y(episode.state(t), e));
+    }
+  return out;
+}
+
 // A GraphSink that remembers what it was given.
 class RecordingSink : public GraphSink {
  public:

@@ -30,7 +30,9 @@ inline std::string SourceDir() { return SRICS_SOURCE_DIR; }
 class System {
  public:
   // `name` makes the run folder and run id unique; extra overrides apply to every process.
-  explicit System(const std::string& name, std::vector<std::string> overrides = {}) {
+  // `config` (relative to the source tree): the run's config, by default the small system.
+  explicit System(const std::string& name, std::vector<std::string> overrides = {},
+                  const std::string& config = "tests/integration/system-test.yaml") {
     static int counter = 0;
     const int index = counter++;
     run_id_ = name + "-" + std::to_string(getpid()) + "-" + std::to_string(index);
@@ -38,7 +40,7 @@ class System {
     run_dir_ = ::testing::TempDir() + "/srics-system/" + run_id_;
     std::filesystem::remove_all(run_dir_);
     std::filesystem::create_directories(run_dir_);
-    config_path_ = SourceDir() + "/tests/integration/system-test.yaml";
+    config_path_ = SourceDir() + "/" + config;
     overrides_ = std::move(overrides);
     overrides_.push_back("transport.domain_id=" + std::to_string(domain_));
     overrides_.push_back("transport.run_id=" + run_id_);

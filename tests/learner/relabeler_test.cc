@@ -118,6 +118,46 @@ TEST_F(RelabelerTest, ExploreEpisodesGetSubgoalsTheGraphAllows) {
   for (int i : {0, 2, 3}) EXPECT_NEAR(per_entity[i], 2000 / 3.0, 120) << i;
 }
 
+// An episode of a training combination: 4 of a catalogue of 5 entities, entity e is kinds[e].
+rl::Episode CombinationEpisode(uint64_t seed, const std::vector<uint16_t>& kinds) {
+  rl::Episode e = MakeEpisode(4, 20, seed, -1, 5);
+  e.entity_kinds = kinds;
+  const int d = e.layout.entity_dim();
+  for (int t = 0; t <= e.num_steps; ++t)
+    for (int i = 0; i < 4; ++i) {
+      float* token = e.states.data() + (static_cast<size_t>(t) * 4 + i) * d;
+      std::fill(token, token + 5, 0.0f);
+      token[kinds[i]] = 1.0f;
+    }
+  return e;
+}
+
+TEST_F(RelabelerTest, TheCatalogueGraphIsMappedOntoEachEpisodesObjects) {
+  // catalogue: arm -> objects 2, 3, 4; object 1 unreachable (a static puck)
+  rl::InteractionGraph graph = rl::InteractionGraph::Star(5);
+  graph.adjacency[0 * 5 + 1] = 0;
+  // with object 1 absent every entity of the episode has a subgoal; indexing the catalogue's
+  // structure by the episode's positions would wrongly exclude entity 1 (object 2)
+  ReplayBuffer without_1{100000}, with_1{100000};
+  for (int i = 0; i < 5; ++i) {
+    without_1.Insert(CombinationEpisode(i, {0, 2, 3, 4}));
+    with_1.Insert(CombinationEpisode(i, {0, 1, 3, 4}));
+  }
+  Relabeler relabeler(config::Method::kSrics, reward_, relabel_, {}, 8);
+  relabeler.SetGraph(graph);
+  TrainingBatch batch;
+  relabeler.Sample(without_1, 2000, &batch);
+  int per_entity[4] = {0, 0, 0, 0};
+  for (int b = 0; b < batch.size; ++b) ++per_entity[batch.subgoal_entity[b]];
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(per_entity[i], 500, 90) << i;
+  // object 1 present (entity 1): never a subgoal; its goal token names kind 1 nowhere
+  relabeler.Sample(with_1, 2000, &batch);
+  for (int b = 0; b < batch.size; ++b) {
+    EXPECT_NE(batch.subgoal_entity[b], 1);
+    EXPECT_EQ(batch.goal[b * batch.goal_dim + 1], 0.0f);
+  }
+}
+
 TEST_F(RelabelerTest, FullGoalForSacHer) {
   Fill(5, -1);
   Relabeler relabeler(config::Method::kSacHer, reward_, relabel_, {}, 7);

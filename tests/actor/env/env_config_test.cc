@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 
 #include "actor/env/rearrange_env.h"
@@ -68,6 +69,25 @@ TEST(EnvConfigTest, EveryPresetLoadsAndBuildsAnEnvironment) {
     ++count;
   }
   EXPECT_GE(count, 10);
+}
+
+// The paper's generalization split: Rearrange 4's pucks, one removed per training episode,
+// evaluation on the combination never trained on.
+TEST(EnvConfigTest, UnseenPresetTrainsOnThreeCombinationsAndEvaluatesOnTheFourth) {
+  const EnvConfig unseen = LoadConfig(PresetPath("rearrange-4-unseen")).env;
+  EXPECT_EQ(unseen.num_pucks, 4);
+  EXPECT_TRUE(unseen.objects.empty());  // four identical pucks
+  EXPECT_EQ(unseen.object_sets, (std::vector<std::vector<int>>{{1, 2, 3}, {1, 2, 4}, {1, 3, 4}}));
+  EXPECT_EQ(unseen.eval_object_sets, (std::vector<std::vector<int>>{{2, 3, 4}}));
+  env::RearrangeEnv environment(unseen);
+  std::set<std::vector<int>> trained;
+  for (uint64_t seed = 0; seed < 60; ++seed) {
+    environment.Reset(seed, env::Split::kTrain);
+    trained.insert(environment.layout().kinds);
+    environment.Reset(seed, env::Split::kEval);
+    EXPECT_EQ(environment.layout().kinds, (std::vector<int>{0, 2, 3, 4}));
+  }
+  EXPECT_EQ(trained, (std::set<std::vector<int>>{{0, 1, 2, 3}, {0, 1, 2, 4}, {0, 1, 3, 4}}));
 }
 
 TEST(EnvConfigTest, PresetsSayWhatTheirNamesSay) {

@@ -143,5 +143,69 @@ TEST(GraphTest, DescribeListsEdges) {
   EXPECT_EQ(DescribeGraph(FromEdges(3, {{0, 1}, {1, 2}})), "action->0, 0->1, 1->2");
 }
 
+
+// Relational Rearrange 4's shape with a tie both ways: action -> arm 0, 0 -> 2, 0 -> 3, 0 -> 4,
+// 2 <-> 3; object 1 has no edge (the static puck).
+InteractionGraph TiedCatalogue() { return FromEdges(5, {{0, 2}, {0, 3}, {0, 4}, {2, 3}, {3, 2}}); }
+
+TEST(EpisodeSubgoalStructureTest, EveryEntityPresentIsTheCatalogueStructure) {
+  const std::vector<uint16_t> kinds = {0, 1, 2, 3, 4};
+  const SubgoalStructure s = EpisodeSubgoalStructure(TiedCatalogue(), kinds);
+  // by hand: 2 is reached by a->0->2 and a->0->3->2, so P = {0, 3} and depth 3; 3 likewise
+  EXPECT_EQ(s.depth, (std::vector<int>{1, -1, 3, 3, 2}));
+  EXPECT_EQ(s.ancestor_mask, (std::vector<uint64_t>{0, 0, 0b01001, 0b00101, 0b00001}));
+  const SubgoalStructure c = ComputeSubgoalStructure(TiedCatalogue());
+  EXPECT_EQ(s.depth, c.depth);
+  EXPECT_EQ(s.ancestor_mask, c.ancestor_mask);
+}
+
+TEST(EpisodeSubgoalStructureTest, AnAbsentObjectBreaksThePathsThroughIt) {
+  // object 3 absent: episode entities 0, 1, 2, 3 are catalogue 0, 1, 2, 4; object 2 loses
+  // the path through 3 (depth 2, P = {arm}), object 4 keeps its own
+  const std::vector<uint16_t> kinds = {0, 1, 2, 4};
+  const SubgoalStructure s = EpisodeSubgoalStructure(TiedCatalogue(), kinds);
+  EXPECT_EQ(s.depth, (std::vector<int>{1, -1, 2, 2}));
+  EXPECT_EQ(s.ancestor_mask, (std::vector<uint64_t>{0, 0, 0b0001, 0b0001}));
+  EXPECT_EQ(s.SubgoalEntities(), (std::vector<int>{0, 2, 3}));
+}
+
+TEST(EpisodeSubgoalStructureTest, IndicesAreTheEpisodesBitsTooWhenObjectOneIsAbsent) {
+  // object 1 absent: catalogue 2 and 3 are episode entities 1 and 2, and each other's ancestor
+  const std::vector<uint16_t> kinds = {0, 2, 3, 4};
+  const SubgoalStructure s = EpisodeSubgoalStructure(TiedCatalogue(), kinds);
+  EXPECT_EQ(s.depth, (std::vector<int>{1, 3, 3, 2}));
+  EXPECT_EQ(s.ancestor_mask, (std::vector<uint64_t>{0, 0b0101, 0b0011, 0b0001}));
+}
+
+TEST(EpisodeSubgoalStructureTest, OrderOfKindsIsTheEpisodes) {
+  const std::vector<uint16_t> kinds = {0, 4, 2};
+  const SubgoalStructure s = EpisodeSubgoalStructure(TiedCatalogue(), kinds);
+  EXPECT_EQ(s.depth, (std::vector<int>{1, 2, 2}));
+  EXPECT_EQ(s.ancestor_mask, (std::vector<uint64_t>{0, 0b001, 0b001}));
+}
+
+TEST(EpisodeSubgoalStructureTest, WithoutTheDrivenEntityNothingIsASubgoal) {
+  const std::vector<uint16_t> kinds = {2, 3};
+  const SubgoalStructure s = EpisodeSubgoalStructure(TiedCatalogue(), kinds);
+  EXPECT_EQ(s.depth, (std::vector<int>{-1, -1}));
+  EXPECT_TRUE(s.SubgoalEntities().empty());
+}
+
+TEST(EpisodeSubgoalStructureTest, RefusesKindsOutsideTheGraphOrRepeated) {
+  const std::vector<uint16_t> outside = {0, 5}, twice = {0, 2, 2};
+  EXPECT_THROW(EpisodeSubgoalStructure(TiedCatalogue(), outside), std::invalid_argument);
+  EXPECT_THROW(EpisodeSubgoalStructure(TiedCatalogue(), twice), std::invalid_argument);
+}
+
+TEST(CatalogueSubgoalsTest, WithoutAGraphEveryPresentEntityIsASubgoal) {
+  const CatalogueSubgoals none;
+  const std::vector<int> kinds = {0, 2, 4};
+  const SubgoalStructure s = none.For(kinds);
+  EXPECT_EQ(s.depth, (std::vector<int>{1, 1, 1}));
+  EXPECT_EQ(s.ancestor_mask, (std::vector<uint64_t>{0, 0, 0}));
+  const CatalogueSubgoals tied{TiedCatalogue()};
+  EXPECT_EQ(tied.For(kinds).depth, (std::vector<int>{1, 2, 2}));
+}
+
 }  // namespace
 }  // namespace srics::rl

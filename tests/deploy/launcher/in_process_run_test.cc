@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
+#include <vector>
 #include <fstream>
 #include <sstream>
 
@@ -81,6 +83,60 @@ TEST(InProcessRunTest, TheLastEvaluationUsesTheFinalWeights) {
   const auto stats = last_row(dir + "/learner.csv");
   EXPECT_EQ(column(eval, "policy_version"), column(stats, "policy_version"));
   EXPECT_EQ(column(eval, "env_steps"), "1200");
+}
+
+// actors.record_eval_episodes: every evaluation of a trained policy leaves its first episode
+// drawn in eval/ (GIF or PNG frames), listed in eval/recorded.csv with the metrics the
+// evaluation reported for it (a drawn episode is the same episode), one frame per state.
+TEST(InProcessRunTest, EvaluationsRecordTheirFirstEpisodeIntoTheRunFolder) {
+  const std::string dir = ::testing::TempDir() + "/in_process_record";
+  fs::remove_all(dir);
+  LaunchOptions options;
+  options.config_file = Config("rearrange-1-cpu.yaml");
+  options.overrides = kSmallRun;
+  for (const char* o : {"actors.eval_episodes=1", "actors.record_eval_episodes=1", "actors.record_width=64",
+                        "actors.record_height=48"})
+    options.overrides.push_back(o);
+  options.run_dir = dir;
+  options.display = DisplayMode::kNone;
+  options.in_process = true;
+  ASSERT_EQ(launcher::Run(options), kExitDone);
+
+  // eval.csv: policy_version (col 3) -> avg_distance (col 7) of the evaluation's one episode
+  std::map<std::string, double> evaluated;
+  {
+    std::ifstream in(dir + "/eval.csv");
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      std::vector<std::string> f;
+      std::stringstream row(line);
+      for (std::string v; std::getline(row, v, ',');) f.push_back(v);
+      if (f.size() > 7 && f[3] != "0") evaluated[f[3]] = std::stod(f[7]);
+    }
+  }
+  ASSERT_GE(evaluated.size(), 2u);
+  std::ifstream in(dir + "/eval/recorded.csv");
+  std::string header, line;
+  ASSERT_TRUE(std::getline(in, header)) << "no eval/recorded.csv";
+  EXPECT_EQ(header, "policy_version,actor_id,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity,video");
+  size_t rows = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::stringstream row(line);
+    for (std::string v; std::getline(row, v, ',');) f.push_back(v);
+    ASSERT_EQ(f.size(), 11u) << line;
+    ++rows;
+    EXPECT_EQ(f[3], "ok");
+    EXPECT_EQ(std::stoi(f[5]), std::stoi(f[4]) + 1) << "one frame per state, the reset's included";
+    ASSERT_TRUE(evaluated.count(f[0])) << "recorded a version that was not evaluated: " << f[0];
+    EXPECT_NEAR(std::stod(f[6]), evaluated[f[0]], 1e-5) << "the drawn episode is the evaluated one";
+    const fs::path media = fs::path(dir) / "eval" / f[10];
+    ASSERT_TRUE(fs::exists(media)) << media;
+    if (fs::is_directory(media)) EXPECT_TRUE(fs::exists(media / "frame-00000.png"));
+    else EXPECT_GT(fs::file_size(media), 100u);
+  }
+  EXPECT_EQ(rows, evaluated.size()) << "one recorded episode per evaluation of a trained policy";
 }
 
 }  // namespace

@@ -242,5 +242,39 @@ TEST_F(LauncherTest, ANonScalarKeyOrAZeroEvaluationPeriodExitsWithCode2NamingFil
   EXPECT_FALSE(fs::exists(run_dir_));
 }
 
+// Issue 15: a role that hangs (here an actor stopped with SIGSTOP: alive for the kernel and
+// for DDS liveliness, silent otherwise) used to stall the run forever. The real role programs:
+// the launcher kills the silent actor after transport.stalled_node_restart_s, restarts it, and
+// the run finishes.
+TEST_F(LauncherTest, AHungActorIsKilledRestartedAndTheRunFinishes) {
+  const std::string config = std::string(SRICS_SOURCE_DIR) + "/tests/integration/system-test.yaml";
+  ChildProcess launcher = ChildProcess::Spawn(
+      {SRICS_LAUNCHER, "run", config, "--run-dir", run_dir_.string(), "--display", "plain", "--stop-timeout", "5",
+       "--set", "transport.domain_id=" + std::to_string(150 + getpid() % 50),
+       "--set", "transport.run_id=hung-test-" + std::to_string(getpid()), "--set", "transport.stalled_node_restart_s=8"},
+      {.output_file = (root_ / "launcher.out").string(), .own_process_group = true, .parent_death_signal = SIGKILL});
+  // actor 0's pid, once it is under way (its NodeStatus rows in nodes.csv)
+  pid_t actor = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (actor == 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(milliseconds(200));
+    const std::string log = fs::exists(run_dir_ / "logs/launcher.log") ? ReadFile(run_dir_ / "logs/launcher.log") : "";
+    const size_t at = log.find("actor-0 started (pid ");
+    if (at != std::string::npos && ReadFile(run_dir_ / "nodes.csv").find(",actor,0,") != std::string::npos)
+      actor = std::atoi(log.c_str() + at + std::string("actor-0 started (pid ").size());
+  }
+  ASSERT_GT(actor, 0) << ReadFile(root_ / "launcher.out");
+  ASSERT_EQ(kill(actor, SIGSTOP), 0);
+  const auto exit = launcher.WaitFor(milliseconds(300000));
+  ASSERT_TRUE(exit.has_value()) << ReadFile(root_ / "launcher.out");
+  EXPECT_EQ(exit->Describe(), "exit code 0") << ReadFile(root_ / "launcher.out");
+  const std::string log = ReadFile(run_dir_ / "logs/launcher.log");
+  EXPECT_THAT(log, HasSubstr("actor-0 hung: no NodeStatus for"));
+  EXPECT_THAT(log, HasSubstr("actor-0 ended: signal 9"));
+  EXPECT_THAT(log, HasSubstr("actor-0 restarted"));
+  EXPECT_THAT(log, HasSubstr("stopping: the budget is done"));
+  EXPECT_FALSE(ProcessExists(actor));
+}
+
 }  // namespace
 }  // namespace srics::launcher
