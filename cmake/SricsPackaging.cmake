@@ -4,6 +4,8 @@
 #
 # Build it with -DSRICS_NATIVE=OFF: with -march=native the programs only run on CPUs with this
 # host's vector instructions (the file name then says "native" so it is not handed around).
+# The networks' matrix products still use the installing host's widest vectors: oneDNN
+# (libdnnl2, found by dpkg-shlibdeps) chooses its kernels at run time (common/nn/gemm.h).
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME srics-dds)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})

@@ -14,6 +14,7 @@ packages=(
   # development files (a minimal Debian 12 root lacks them: tests/fresh-debian.sh)
   libgl-dev libglx-dev libopengl-dev
   libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
+  libdnnl-dev  # oneDNN: the float matrix products of the networks (common/nn/gemm.h)
   libcli11-dev  # the one argument parser of every program (common/cli)
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox graphviz libqhull-dev

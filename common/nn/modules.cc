@@ -1,5 +1,7 @@
 #include "common/nn/modules.h"
 
+#include "common/nn/gemm.h"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -48,8 +50,7 @@ Var<T> Linear<T>::Forward(Tape<T>& tape, Var<T> x, bool trainable) {
 
 template <typename T>
 void Linear<T>::Apply(const Eigen::Ref<const Matrix<T>>& x, Matrix<T>& y) const {
-  y.resize(x.rows(), out_);
-  y.noalias() = x * w_->value;
+  Gemm<T>(false, false, x, w_->value, T(0), y);
   if (b_) y.rowwise() += b_->value.row(0);
 }
 

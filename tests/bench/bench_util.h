@@ -7,6 +7,7 @@
 #include <chrono>
 #include <vector>
 
+#include "common/nn/gemm.h"
 #include "common/nn/tape.h"
 #include "common/nn/tensor.h"
 
@@ -42,9 +43,7 @@ class GemmFloor {
   }
   void Run() {
     for (size_t i = 0; i < shapes_.size(); ++i) {
-      if (shapes_[i].transpose_a) c_[i].noalias() = a_[i].transpose() * b_[i];
-      else if (shapes_[i].transpose_b) c_[i].noalias() = a_[i] * b_[i].transpose();
-      else c_[i].noalias() = a_[i] * b_[i];
+      nn::Gemm<float>(shapes_[i].transpose_a, shapes_[i].transpose_b, a_[i], b_[i], 0.0f, c_[i]);
     }
   }
   size_t size() const { return shapes_.size(); }

@@ -2,8 +2,9 @@
 // relabeling, twin critics, policy, temperature, target update) with the paper's networks on
 // Rearrange 3 (4 entities), at batch 2048 and 256, with 1 and 2 learner threads
 // (learner.threads); the agent's update alone on a fixed batch (what the PyTorch peer of
-// run.sh times); in the same run the GEMM floor (the same matrix products as bare Eigen
-// products) and Eigen's single-thread sgemm rate at 2048 x 2048 x 2048.
+// run.sh times), also with Eigen's GEMM instead of oneDNN's (common/nn/gemm.h); in the same run
+// the GEMM floor (the same matrix products, bare, through the same GEMM) and the single-thread
+// sgemm rate of Eigen and of oneDNN at 2048 x 2048 x 2048.
 //
 // bench_sac_update [--dump DIR]: DIR receives what the PyTorch peer needs to run the same
 // update: spec.json (sizes and SAC settings from the config) and batch<B>.bin (the batch).
@@ -20,6 +21,7 @@
 #include "actor/env/rearrange_env.h"
 #include "actor/rollout.h"
 #include "common/config/config.h"
+#include "common/nn/gemm.h"
 #include "learner/learner.h"
 #include "tests/bench/bench_util.h"
 
@@ -60,6 +62,7 @@ struct Result {
   double update_ms = 0;  // Learner::Update: sampling, relabeling and the agent's update
   double agent_ms = 0;   // SacAgent::Update on a fixed batch
   Timing agent;          // the same with CPU time and cores obtained
+  Timing agent_eigen;    // one thread only: the agent's update with Eigen's GEMM
   double floor_ms = 0;   // one thread only: the GEMM floor
   double gflop = 0;      // GEMM work of one update (from the layer shapes, forward + backward)
   size_t gemms = 0;
@@ -128,6 +131,10 @@ Result Measure(int batch, int threads, const std::vector<rl::Episode>& episodes,
   r.agent = Time(repeats, [&] { learner.agent().Update(fixed); });
   r.agent_ms = r.agent.ms;
   if (threads == 1) {
+    const nn::GemmBackend active = nn::ActiveGemmBackend();
+    nn::SetGemmBackend(nn::GemmBackend::kEigen);
+    r.agent_eigen = Time(repeats, [&] { learner.agent().Update(fixed); });
+    nn::SetGemmBackend(active);
     bench::GemmFloor floor(shapes);
     r.floor_ms = bench::MedianMs(repeats, [&] { floor.Run(); });
     r.gflop = floor.Flops() * 1e-9;
@@ -140,12 +147,14 @@ Result Measure(int batch, int threads, const std::vector<rl::Episode>& episodes,
   return r;
 }
 
-// Eigen's single-thread float GEMM rate, 2048 x 2048 x 2048, GFLOP/s: best of 5 by wall time
-// and by process CPU time (the latter holds on a machine shared with other work).
+// A backend's single-thread float GEMM rate, 2048 x 2048 x 2048, GFLOP/s: best of 5 by wall
+// time and by process CPU time (the latter holds on a machine shared with other work).
 struct Rate {
   double wall = 0, cpu = 0;
 };
-Rate EigenSgemmGflops() {
+Rate SgemmGflops(nn::GemmBackend backend) {
+  const nn::GemmBackend active = nn::ActiveGemmBackend();
+  nn::SetGemmBackend(backend);
   const int n = 2048;
   const nn::Tensor a = nn::Tensor::Random(n, n), b = nn::Tensor::Random(n, n);
   nn::Tensor c(n, n);
@@ -153,10 +162,11 @@ Rate EigenSgemmGflops() {
   for (int i = 0; i < 5; ++i) {
     const double cpu0 = ProcessCpuSeconds();
     const auto start = std::chrono::steady_clock::now();
-    c.noalias() = a * b;
+    nn::Gemm<float>(false, false, a, b, 0.0f, c);
     best_wall = std::min(best_wall, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     best_cpu = std::min(best_cpu, ProcessCpuSeconds() - cpu0);
   }
+  nn::SetGemmBackend(active);
   const double flop = 2.0 * n * n * n;
   return {flop / best_wall * 1e-9, flop / best_cpu * 1e-9};
 }
@@ -198,8 +208,14 @@ int main(int argc, char** argv) {
       std::printf("%-6d %8d %11.2f %10.2f %12.2f %7.2f %14s %8s %7s\n", r.batch, r.threads, r.update_ms, r.agent_ms,
                   r.agent.cpu_ms, r.agent.cores, "", "", "");
   }
-  const Rate eigen = EigenSgemmGflops();
+  const Rate eigen = SgemmGflops(nn::GemmBackend::kEigen);
   const double eigen_gflops = eigen.wall;
+  const bool have_onednn = nn::GemmBackendAvailable(nn::GemmBackend::kOneDnn);
+  const Rate onednn = have_onednn ? SgemmGflops(nn::GemmBackend::kOneDnn) : Rate{};
+  std::printf("\nGEMM in use: %s; the agent's update with Eigen's GEMM instead, CPU ms: %.2f at 2048, %.2f at 256\n"
+              "(this GEMM over Eigen's, by CPU time: %.2fx at 2048, %.2fx at 256)\n",
+              nn::GemmBackendDescription().c_str(), big1.agent_eigen.cpu_ms, small1.agent_eigen.cpu_ms,
+              big1.agent_eigen.cpu_ms / big1.agent.cpu_ms, small1.agent_eigen.cpu_ms / small1.agent.cpu_ms);
   std::printf("\nupdates per second, 1 thread: %.1f at batch 2048, %.0f at 256; 2 threads: %.1f, %.0f\n",
               1000.0 / big1.update_ms, 1000.0 / small1.update_ms, 1000.0 / big2.update_ms, 1000.0 / small2.update_ms);
   std::printf("2 threads vs 1 (updates/s): %.2fx at batch 2048, %.2fx at 256 (agent alone: %.2fx, %.2fx)\n",
@@ -210,8 +226,8 @@ int main(int argc, char** argv) {
               big2.agent.cores, small2.agent.cores, big2.agent.cpu_ms / big1.agent.cpu_ms,
               small2.agent.cpu_ms / small1.agent.cpu_ms);
   std::printf("GEMM work per update (layer shapes, forward + backward): %.2f GFLOP at 2048, %.3f at 256;\n"
-              "Eigen sgemm 2048^3 one thread: %.1f GFLOP/s; the agent's update at 2048, 1 thread: %.1f GFLOP/s\n",
-              big1.gflop, small1.gflop, eigen_gflops, big1.gflop / (big1.agent_ms * 1e-3));
+              "sgemm 2048^3 one thread: Eigen %.1f, oneDNN %.1f GFLOP/s; the agent's update at 2048, 1 thread: %.1f GFLOP/s\n",
+              big1.gflop, small1.gflop, eigen_gflops, onednn.wall, big1.gflop / (big1.agent_ms * 1e-3));
   std::printf(
       "{\"bench\":\"sac-update\",\"ms_batch2048\":%.3f,\"ms_batch256\":%.3f,\"floor_ms_batch2048\":%.3f,"
       "\"floor_ms_batch256\":%.3f,\"agent_ms_batch2048\":%.3f,\"agent_ms_batch256\":%.3f,"
@@ -219,10 +235,16 @@ int main(int argc, char** argv) {
       "\"agent_ms_batch256_2threads\":%.3f,\"speedup_2_threads_2048\":%.3f,\"speedup_2_threads_256\":%.3f,"
       "\"agent_cpu_ms_batch2048\":%.3f,\"agent_cpu_ms_batch256\":%.3f,\"cores_1thread_2048\":%.2f,"
       "\"cores_2threads_2048\":%.2f,\"cores_2threads_256\":%.2f,\"cpu_ratio_2threads_2048\":%.3f,"
-      "\"cpu_ratio_2threads_256\":%.3f,\"gflop_update_2048\":%.4f,\"gflop_update_256\":%.5f,\"eigen_sgemm_gflops\":%.2f,\"eigen_sgemm_gflops_cpu\":%.2f,\"ratio\":%.3f}\n",
+      "\"cpu_ratio_2threads_256\":%.3f,\"gflop_update_2048\":%.4f,\"gflop_update_256\":%.5f,\"eigen_sgemm_gflops\":%.2f,\"eigen_sgemm_gflops_cpu\":%.2f,"
+      "\"onednn_sgemm_gflops\":%.2f,\"onednn_sgemm_gflops_cpu\":%.2f,\"gemm_backend\":\"%s\","
+      "\"agent_cpu_ms_batch2048_eigen\":%.3f,\"agent_cpu_ms_batch256_eigen\":%.3f,"
+      "\"speedup_vs_eigen_cpu_2048\":%.3f,\"speedup_vs_eigen_cpu_256\":%.3f,\"ratio\":%.3f}\n",
       big1.update_ms, small1.update_ms, big1.floor_ms, small1.floor_ms, big1.agent_ms, small1.agent_ms, big2.update_ms,
       small2.update_ms, big2.agent_ms, small2.agent_ms, big1.update_ms / big2.update_ms,
       small1.update_ms / small2.update_ms, big1.agent.cpu_ms, small1.agent.cpu_ms, big1.agent.cores, big2.agent.cores, small2.agent.cores, big2.agent.cpu_ms / big1.agent.cpu_ms,
-      small2.agent.cpu_ms / small1.agent.cpu_ms, big1.gflop, small1.gflop, eigen_gflops, eigen.cpu, big1.update_ms / big1.floor_ms);
+      small2.agent.cpu_ms / small1.agent.cpu_ms, big1.gflop, small1.gflop, eigen_gflops, eigen.cpu,
+      onednn.wall, onednn.cpu, nn::GemmBackendDescription().c_str(), big1.agent_eigen.cpu_ms,
+      small1.agent_eigen.cpu_ms, big1.agent_eigen.cpu_ms / big1.agent.cpu_ms,
+      small1.agent_eigen.cpu_ms / small1.agent.cpu_ms, big1.update_ms / big1.floor_ms);
   return 0;
 }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ./tests/bench.sh sac-update: the SAC update of learner/sac.cc (bench_sac_update: 1 and 2
-# learner threads, GEMM floor, Eigen's sgemm rate) and, in the same invocation, its PyTorch
+# learner threads, oneDNN vs Eigen GEMM, GEMM floor, sgemm rates) and, in the same invocation, its PyTorch
 # peer (torch_peer.py: the same networks, SAC settings and batch, which the C++ bench writes
 # out) pinned to the same thread count: torch.set_num_threads and the OpenMP / OpenBLAS
 # thread counts, with passive OpenMP waiting (spinning OpenMP threads lose their time slices
@@ -11,7 +11,7 @@
 # Prints the C++ table, the PyTorch table and, as its last line, one JSON object: the C++
 # figures, torch_ms_batch2048/256 (one thread), speedup_vs_torch_2048/256 (PyTorch's update
 # time over the agent's update on the same batch, one thread each), the same including our
-# batch sampling and relabeling (..._with_sampling), the sgemm peak (the best of Eigen,
+# batch sampling and relabeling (..._with_sampling), the sgemm peak (the best of Eigen, oneDNN,
 # torch.mm and numpy at 2048^3, one thread), the update's GEMM rate as fraction_of_peak_2048,
 # and PyTorch with 2 threads beside our 2-thread update. Beside the wall times, CPU times per
 # update (speedup_vs_torch_cpu_*) and the cores the process obtained (cores_*): on a shared
@@ -65,9 +65,9 @@ for b in (2048, 256):
     out[f"speedup_vs_torch_{b}_2threads"] = round(t2[f"torch_ms_batch{b}"] / cpp[f"agent_ms_batch{b}_2threads"], 3)
 # the peak and the update's rate by CPU time (one thread each: CPU time is the work, whatever
 # share of the machine the process got); the wall-time figures beside them
-peaks = {"eigen": cpp["eigen_sgemm_gflops_cpu"], "torch.mm": t1["torch_sgemm_gflops_cpu"],
+peaks = {"eigen": cpp["eigen_sgemm_gflops_cpu"], "onednn": cpp["onednn_sgemm_gflops_cpu"], "torch.mm": t1["torch_sgemm_gflops_cpu"],
          "numpy": t1["numpy_sgemm_gflops_cpu"]}
-peaks_wall = {"eigen": cpp["eigen_sgemm_gflops"], "torch.mm": t1["torch_sgemm_gflops"], "numpy": t1["numpy_sgemm_gflops"]}
+peaks_wall = {"eigen": cpp["eigen_sgemm_gflops"], "onednn": cpp["onednn_sgemm_gflops"], "torch.mm": t1["torch_sgemm_gflops"], "numpy": t1["numpy_sgemm_gflops"]}
 source = max(peaks, key=peaks.get)
 out["sgemm_peak_gflops"] = peaks[source]
 out["sgemm_peak_source"] = source

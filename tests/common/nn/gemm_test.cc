@@ -1,0 +1,180 @@
+// Products of every backend against a double-precision loop, in every transposition, with
+// strides and both betas. CMake runs this file three times: as is (oneDNN's best kernels for
+// this CPU) and under DNNL_MAX_CPU_ISA=AVX2 and =SSE41 (its other kernels), so that on an
+// AVX-512 machine the AVX2 path is checked too.
+#include "common/nn/gemm.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <dirent.h>
+#include <limits>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace srics::nn {
+namespace {
+
+struct Shape {
+  Eigen::Index m, k, n;
+};
+
+// shapes of the networks (entity tokens x embedding, MLP layers, their backward products) and
+// odd ones that leave remainders in every kernel tile
+const std::vector<Shape> kShapes = {{1, 1, 1},     {3, 7, 5},      {17, 33, 9},  {1280, 80, 80},
+                                    {1280, 15, 80}, {256, 128, 128}, {80, 1280, 80},
+                                    {257, 129, 65}, {2048, 208, 128}};
+
+std::vector<GemmBackend> Backends() {
+  std::vector<GemmBackend> out = {GemmBackend::kEigen};
+  if (GemmBackendAvailable(GemmBackend::kOneDnn)) out.push_back(GemmBackend::kOneDnn);
+  return out;
+}
+
+class BackendGuard {
+ public:
+  BackendGuard() : saved_(ActiveGemmBackend()) {}
+  ~BackendGuard() { SetGemmBackend(saved_); }
+
+ private:
+  GemmBackend saved_;
+};
+
+Matrix<float> Random(Eigen::Index rows, Eigen::Index cols, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  Matrix<float> x(rows, cols);
+  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = u(rng);
+  return x;
+}
+
+// op(a)(i, p) read through the stored matrix
+double At(const Eigen::Ref<const Matrix<float>>& x, bool trans, Eigen::Index i, Eigen::Index p) {
+  return trans ? x(p, i) : x(i, p);
+}
+
+TEST(GemmTest, EveryBackendMatchesADoubleLoopInEveryTranspositionWithBothBetas) {
+  BackendGuard guard;
+  std::mt19937 rng(7);
+  for (GemmBackend backend : Backends()) {
+    SetGemmBackend(backend);
+    for (const Shape& s : kShapes) {
+      for (int t = 0; t < 4; ++t) {
+        const bool ta = t & 1, tb = t & 2;
+        const Matrix<float> a = ta ? Random(s.k, s.m, rng) : Random(s.m, s.k, rng);
+        const Matrix<float> b = tb ? Random(s.n, s.k, rng) : Random(s.k, s.n, rng);
+        const Matrix<float> c0 = Random(s.m, s.n, rng);
+        // beta 0 must ignore what C holds, NaN included
+        Matrix<float> c = Matrix<float>::Constant(s.m, s.n, std::numeric_limits<float>::quiet_NaN());
+        Gemm<float>(ta, tb, a, b, 0.0f, c);
+        Matrix<float> acc = c0;
+        Gemm<float>(ta, tb, a, b, 1.0f, acc);
+        ASSERT_EQ(c.rows(), s.m);
+        ASSERT_EQ(c.cols(), s.n);
+        double worst = 0;
+        for (Eigen::Index i = 0; i < s.m; ++i) {
+          for (Eigen::Index j = 0; j < s.n; ++j) {
+            double want = 0;
+            for (Eigen::Index p = 0; p < s.k; ++p) want += At(a, ta, i, p) * At(b, tb, p, j);
+            worst = std::max(worst, std::abs(c(i, j) - want));
+            worst = std::max(worst, std::abs(acc(i, j) - (want + c0(i, j))));
+          }
+        }
+        // float rounding of k products of numbers under 1: a few ulps times sqrt(k)
+        EXPECT_LT(worst, 2e-6 * std::sqrt(double(s.k)) * 8)
+            << GemmBackendDescription() << " " << s.m << "x" << s.k << "x" << s.n << " ta " << ta
+            << " tb " << tb;
+      }
+    }
+  }
+}
+
+TEST(GemmTest, ReadsOperandsThroughTheirRowStride) {
+  BackendGuard guard;
+  std::mt19937 rng(3);
+  const Matrix<float> big_a = Random(40, 50, rng), big_b = Random(60, 30, rng);
+  const auto a = big_a.block(2, 5, 21, 13);  // 21 x 13, row stride 50
+  const auto b = big_b.block(7, 1, 13, 11);  // 13 x 11, row stride 30
+  const Matrix<float> want = Matrix<float>(a) * Matrix<float>(b);
+  for (GemmBackend backend : Backends()) {
+    SetGemmBackend(backend);
+    Matrix<float> c;
+    Gemm<float>(false, false, a, b, 0.0f, c);
+    EXPECT_LT((c - want).cwiseAbs().maxCoeff(), 1e-5f) << GemmBackendDescription();
+  }
+}
+
+TEST(GemmTest, DoublesGoThroughEigenExactlyAsItsOwnProduct) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n01;
+  Matrix<double> a(9, 4), b(9, 6);
+  for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = n01(rng);
+  for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = n01(rng);
+  Matrix<double> c;
+  Gemm<double>(true, false, a, b, 0.0, c);
+  const Matrix<double> want = a.transpose() * b;
+  EXPECT_LT((c - want).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(GemmTest, RefusesMismatchedShapes) {
+  Matrix<float> a(3, 4), b(5, 2), c(3, 2);
+  a.setOnes();
+  b.setOnes();
+  EXPECT_THROW(Gemm<float>(false, false, a, b, 0.0f, c), std::invalid_argument);
+  Matrix<float> b2(4, 2), wrong(2, 2);
+  b2.setOnes();
+  EXPECT_THROW(Gemm<float>(false, false, a, b2, 1.0f, wrong), std::invalid_argument);
+}
+
+int ThreadCount() {
+  int n = 0;
+  if (DIR* d = opendir("/proc/self/task")) {
+    while (dirent* e = readdir(d)) n += e->d_name[0] != '.';
+    closedir(d);
+  }
+  return n;
+}
+
+// oneDNN threads with OpenMP, which by default starts a team of every core: the learner's own
+// worker threads would then each start one more (oversubscribing the machine)
+TEST(GemmTest, ProductsStartNoThreadsOfTheirOwn) {
+  BackendGuard guard;
+  std::mt19937 rng(11);
+  const Matrix<float> a = Random(512, 512, rng), b = Random(512, 512, rng);
+  for (GemmBackend backend : Backends()) {
+    SetGemmBackend(backend);
+    const int before = ThreadCount();
+    Matrix<float> c;
+    Gemm<float>(false, false, a, b, 0.0f, c);
+    std::thread other([&] {
+      Matrix<float> d;
+      Gemm<float>(false, false, a, b, 0.0f, d);
+    });
+    other.join();
+    EXPECT_EQ(ThreadCount(), before) << GemmBackendDescription();
+  }
+}
+
+TEST(GemmTest, DescribesTheBackendAndTheInstructionSetInUse) {
+  BackendGuard guard;
+  SetGemmBackend(GemmBackend::kEigen);
+  EXPECT_EQ(GemmBackendDescription(), "eigen");
+  if (!GemmBackendAvailable(GemmBackend::kOneDnn)) {
+    EXPECT_THROW(SetGemmBackend(GemmBackend::kOneDnn), std::invalid_argument);
+    GTEST_SKIP() << "this build has no oneDNN";
+  }
+  SetGemmBackend(GemmBackend::kOneDnn);
+  const std::string d = GemmBackendDescription();
+  EXPECT_EQ(d.rfind("onednn (", 0), 0u) << d;
+  // under a cap, the kernels in use are the capped ones (DNNL_MAX_CPU_ISA is oneDNN's own)
+  if (const char* cap = std::getenv("DNNL_MAX_CPU_ISA")) {
+    std::string want = cap;
+    for (char& ch : want) ch = static_cast<char>(std::tolower(ch));
+    EXPECT_EQ(d, "onednn (" + want + ")");
+  }
+}
+
+}  // namespace
+}  // namespace srics::nn
