@@ -10,6 +10,7 @@
 #include "common/rl/agent_shape.h"
 #include "common/transport/dds_links.h"
 #include "common/transport/transport.h"
+#include "common/nn/gemm.h"
 #include "learner/learner_loop.h"
 
 int main(int argc, char** argv) {
@@ -24,9 +25,10 @@ int main(int argc, char** argv) {
     transport::DdsLearnerLink link(participant, rl::EpisodeLimitsFor(config.env));
     learner::LearnerLoop loop(
         learner::LearnerLoopOptionsFor(config, run_dir.empty() ? "" : run_dir + "/checkpoint.srics"), &link);
-    spdlog::info("learner started: {} ({}), domain {}, run id '{}', budget {} env steps",
+    spdlog::info("learner started: {} ({}), domain {}, run id '{}', budget {} env steps, "
+                 "matrix products on {}",
                  config::MethodName(config.run.method), config.source_file, config.transport.domain_id,
-                 config.transport.run_id, config.run.total_env_steps);
+                 config.transport.run_id, config.run.total_env_steps, nn::GemmBackendDescription());
     try {
       loop.Start();  // the checkpoint: a run whose checkpoints are unusable is not restarted over them
     } catch (const nn::CheckpointError& e) {

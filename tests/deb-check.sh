@@ -72,6 +72,13 @@ grep -q "state: finished" "$run_dir/outcome.yaml" || fail "outcome.yaml: $(cat "
 for role in graph learner actor-0 actor-1; do
   grep -q "started" "$run_dir/logs/$role.out" || fail "$role did not start (logs/$role.out)"
 done
+# a portable build still multiplies with the host's vector instructions: oneDNN picks them at
+# run time (common/nn/gemm.h); the learner names them when it starts
+products=$(sed -n "s/.*matrix products on \(.*\)$/\1/p" "$run_dir/logs/learner.out" | head -1)
+case "$products" in
+  "onednn ("*) echo "deb-check: the learner's matrix products: $products" ;;
+  *) fail "the learner does not multiply on oneDNN: '${products:-no line in logs/learner.out}'" ;;
+esac
 episodes=$(awk -F, 'NR > 1 && $6 + 0 > m { m = $6 + 0 } END { print m + 0 }' "$run_dir/learner.csv")
 [ "$episodes" -gt 0 ] || fail "the learner accepted no episode (learner.csv)"
 echo "deb-check: dpkg -x: srics run from $scratch/work: finished, 4 roles, $episodes episodes accepted"
