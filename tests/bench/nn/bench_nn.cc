@@ -1,13 +1,16 @@
 // ./tests/bench.sh nn: forward + backward of the SAC attention policy and one Q network
 // against the "GEMM floor" (the very matrix products the tape executed, as bare Eigen
-// products of the same shapes and storage order), and the single-observation action time.
-// One thread; medians over repeats. Last line: one JSON object.
+// products of the same shapes and storage order, through the same GEMM), the single-observation
+// action time, and the products of these networks on each GEMM backend (common/nn/gemm.h):
+// GFLOP/s per distinct shape, Eigen against oneDNN. One thread; medians over repeats. Last
+// line: one JSON object.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "common/nn/gemm.h"
 #include "common/nn/tape.h"
 #include "tests/bench/bench_util.h"
 #include "common/rl/networks.h"
@@ -28,6 +31,7 @@ using srics::rl::testing::PaperNetworkConfig;
 struct Case {
   int batch, entities;
   double policy_ms, q_ms, floor_ms;
+  std::vector<GemmShape> shapes;
 };
 
 Case RunCase(int batch, int entities, int repeats) {
@@ -58,7 +62,7 @@ Case RunCase(int batch, int entities, int repeats) {
   q_step();
   tape.set_gemm_log(nullptr);
   GemmFloor floor(shapes);
-  Case c{batch, entities, 0, 0, 0};
+  Case c{batch, entities, 0, 0, 0, shapes};
   c.policy_ms = MedianMs(repeats, policy_step);
   c.q_ms = MedianMs(repeats, q_step);
   c.floor_ms = MedianMs(repeats, [&] { floor.Run(); });
@@ -78,6 +82,47 @@ double ActMicros(int entities) {
   });
   if (sink == 12345.f) std::printf(" ");
   return ms * 1000.0 / calls;
+}
+
+// GFLOP/s of one product shape on the backend in use (median of repeats)
+double ShapeGflops(const GemmShape& s) {
+  const Tensor a = s.transpose_a ? Tensor::Random(s.k, s.m) : Tensor::Random(s.m, s.k);
+  const Tensor b = s.transpose_b ? Tensor::Random(s.n, s.k) : Tensor::Random(s.k, s.n);
+  Tensor c;
+  const double flop = 2.0 * s.m * s.k * s.n;
+  const int calls = std::max(1, static_cast<int>(2e8 / flop));
+  const double ms = MedianMs(9, [&] {
+    for (int i = 0; i < calls; ++i) srics::nn::Gemm<float>(s.transpose_a, s.transpose_b, a, b, 0.0f, c);
+  });
+  return flop * calls / (ms * 1e6);
+}
+
+struct ShapeRate {
+  GemmShape shape;
+  double eigen = 0, onednn = 0;
+};
+
+// the distinct product shapes of a case, each on Eigen and (when built in) on oneDNN
+std::vector<ShapeRate> ShapeRates(const std::vector<GemmShape>& shapes) {
+  std::vector<ShapeRate> out;
+  for (const GemmShape& s : shapes) {
+    const bool seen = std::any_of(out.begin(), out.end(), [&](const ShapeRate& r) {
+      return r.shape.m == s.m && r.shape.k == s.k && r.shape.n == s.n &&
+             r.shape.transpose_a == s.transpose_a && r.shape.transpose_b == s.transpose_b;
+    });
+    if (!seen) out.push_back({s});
+  }
+  const srics::nn::GemmBackend active = srics::nn::ActiveGemmBackend();
+  for (ShapeRate& r : out) {
+    srics::nn::SetGemmBackend(srics::nn::GemmBackend::kEigen);
+    r.eigen = ShapeGflops(r.shape);
+    if (srics::nn::GemmBackendAvailable(srics::nn::GemmBackend::kOneDnn)) {
+      srics::nn::SetGemmBackend(srics::nn::GemmBackend::kOneDnn);
+      r.onednn = ShapeGflops(r.shape);
+    }
+  }
+  srics::nn::SetGemmBackend(active);
+  return out;
 }
 
 }  // namespace
@@ -121,6 +166,26 @@ int main() {
               act4, act7);
   std::snprintf(buf, sizeof(buf), ",\"act_us_n4\":%.2f,\"act_us_n7\":%.2f,\"ratio\":%.3f}", act4,
                 act7, ratio);
+  json += buf;
+  // products of batch 256 with 4 entities (the CPU profile's SAC batch)
+  const std::vector<ShapeRate> rates = ShapeRates(cases[2].shapes);
+  std::printf("\nproducts of policy + Q at batch 256, 4 entities, GFLOP/s per distinct shape "
+              "(matrix products now on %s)\n%22s %8s %8s %8s\n", srics::nn::GemmBackendDescription().c_str(),
+              "m x k x n (ta tb)", "Eigen", "oneDNN", "ratio");
+  double eigen_ms = 0, onednn_ms = 0;
+  for (const ShapeRate& r : rates) {
+    const GemmShape& g = r.shape;
+    std::printf("%5ld x%5ld x%5ld (%d %d) %8.1f %8.1f %8.2f\n", static_cast<long>(g.m),
+                static_cast<long>(g.k), static_cast<long>(g.n), g.transpose_a, g.transpose_b, r.eigen,
+                r.onednn, r.onednn / r.eigen);
+    const double flop = 2.0 * g.m * g.k * g.n;
+    eigen_ms += flop / (r.eigen * 1e6);
+    onednn_ms += r.onednn > 0 ? flop / (r.onednn * 1e6) : 0;
+  }
+  const double onednn_over_eigen = onednn_ms > 0 ? eigen_ms / onednn_ms : 0;
+  std::printf("all distinct shapes once: oneDNN %.2fx Eigen's speed\n", onednn_over_eigen);
+  json.pop_back();
+  std::snprintf(buf, sizeof(buf), ",\"onednn_over_eigen_products_b256\":%.3f}", onednn_over_eigen);
   json += buf;
   std::printf("%s\n", json.c_str());
   return 0;
