@@ -18,6 +18,11 @@ int64_t JsonValue::AsInt() const {
   return static_cast<int64_t>(v);
 }
 
+bool JsonValue::AsBool() const {
+  if (kind_ != Kind::kBool) throw std::runtime_error("expected true or false");
+  return boolean_;
+}
+
 const std::string& JsonValue::AsString() const {
   if (kind_ != Kind::kString) throw std::runtime_error("expected a string");
   return string_;
@@ -26,6 +31,11 @@ const std::string& JsonValue::AsString() const {
 const std::vector<JsonValue>& JsonValue::AsArray() const {
   if (kind_ != Kind::kArray) throw std::runtime_error("expected an array");
   return array_;
+}
+
+const std::map<std::string, JsonValue>& JsonValue::AsObject() const {
+  if (kind_ != Kind::kObject) throw std::runtime_error("expected an object");
+  return object_;
 }
 
 const JsonValue& JsonValue::Get(const std::string& key) const {

@@ -21,8 +21,10 @@ class JsonValue {
   double AsDouble() const;
   // A number that is an integer in [-2^53, 2^53].
   int64_t AsInt() const;
+  bool AsBool() const;
   const std::string& AsString() const;
   const std::vector<JsonValue>& AsArray() const;
+  const std::map<std::string, JsonValue>& AsObject() const;
   // Member of an object; throws std::runtime_error naming the key when it is missing.
   const JsonValue& Get(const std::string& key) const;
 

@@ -173,16 +173,12 @@ void Run(JsonWriter* json, const std::string& id, const mon::RunView& run, mon::
   json->EndObject();
 }
 
-bool Shown(const std::string& run_id, const mon::RenderOptions& options) {
-  return options.run_id.empty() || options.run_id == run_id;
-}
-
 void Nodes(JsonWriter* json, const mon::MonitorState& state, mon::Clock::time_point now,
            const mon::RenderOptions& options) {
   size_t counts[4] = {};
   json->Key("nodes").BeginArray();
   for (const auto& [key, node] : state.nodes) {
-    if (!Shown(key.run_id, options)) continue;
+    if (!mon::Shown(key.run_id, options)) continue;
     const mon::NodeHealth health = mon::HealthOf(state, node, now);
     ++counts[static_cast<int>(health)];
     const tr::NodeStatus& s = node.status;
@@ -247,14 +243,8 @@ std::string DashboardJson(const mon::MonitorState& state, mon::Clock::time_point
   json.Key("elapsed_s");
   options.elapsed_s >= 0 ? json.Number(options.elapsed_s) : json.Null();
   json.Key("max_wall_minutes").Number(options.max_wall_minutes);
-  // runs known from any topic, in name order (as the display lists them)
-  std::vector<std::string> run_ids;
-  for (const auto& [id, run] : state.runs)
-    if (Shown(id, options)) run_ids.push_back(id);
-  for (const auto& [key, node] : state.nodes)
-    if (Shown(key.run_id, options) && std::find(run_ids.begin(), run_ids.end(), key.run_id) == run_ids.end())
-      run_ids.push_back(key.run_id);
-  std::sort(run_ids.begin(), run_ids.end());
+  // the runs the display lists, in its order
+  const std::vector<std::string> run_ids = mon::ShownRunIds(state, options);
   static const mon::RunView kEmpty;
   json.Key("runs").BeginArray();
   for (const std::string& id : run_ids) {

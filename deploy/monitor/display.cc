@@ -74,10 +74,6 @@ std::string PerEntity(const std::vector<float>& values, const char* format) {
   return out.empty() ? "-" : out;
 }
 
-bool Shown(const std::string& run_id, const RenderOptions& options) {
-  return options.run_id.empty() || options.run_id == run_id;
-}
-
 void RenderLearner(const RunView& run, Clock::time_point now, std::string* out) {
   if (!run.learner) {
     *out += "learner   no stats yet\n";
@@ -211,14 +207,11 @@ void RenderProcesses(const RenderOptions& options, std::string* out) {
 
 }  // namespace
 
-std::string Render(const MonitorState& state, Clock::time_point now, const RenderOptions& options) {
-  std::string out = options.title;
-  if (options.elapsed_s >= 0) {
-    out += "   elapsed " + HoursMinutesSeconds(options.elapsed_s);
-    if (options.max_wall_minutes > 0) out += " / " + HoursMinutesSeconds(options.max_wall_minutes * 60.0);
-  }
-  out += "\n";
-  // runs known from any topic, in name order
+bool Shown(const std::string& run_id, const RenderOptions& options) {
+  return options.run_id.empty() || options.run_id == run_id;
+}
+
+std::vector<std::string> ShownRunIds(const MonitorState& state, const RenderOptions& options) {
   std::vector<std::string> run_ids;
   for (const auto& [id, run] : state.runs)
     if (Shown(id, options)) run_ids.push_back(id);
@@ -226,6 +219,17 @@ std::string Render(const MonitorState& state, Clock::time_point now, const Rende
     if (Shown(key.run_id, options) && std::find(run_ids.begin(), run_ids.end(), key.run_id) == run_ids.end())
       run_ids.push_back(key.run_id);
   std::sort(run_ids.begin(), run_ids.end());
+  return run_ids;
+}
+
+std::string Render(const MonitorState& state, Clock::time_point now, const RenderOptions& options) {
+  std::string out = options.title;
+  if (options.elapsed_s >= 0) {
+    out += "   elapsed " + HoursMinutesSeconds(options.elapsed_s);
+    if (options.max_wall_minutes > 0) out += " / " + HoursMinutesSeconds(options.max_wall_minutes * 60.0);
+  }
+  out += "\n";
+  const std::vector<std::string> run_ids = ShownRunIds(state, options);
   if (run_ids.empty()) out += "\nnothing received yet (same domain id, run id and Cyclone profile?)\n";
   static const RunView kEmpty;
   for (const std::string& id : run_ids) {

@@ -30,6 +30,12 @@ struct RenderOptions {
   size_t history_rows = 5;         // evaluations listed under "history"
 };
 
+// Whether options show the run run_id: every run when options.run_id is "".
+bool Shown(const std::string& run_id, const RenderOptions& options);
+// The runs known from any topic (run views and node statuses) that options show, in name
+// order: the runs the display and the dashboard list.
+std::vector<std::string> ShownRunIds(const MonitorState& state, const RenderOptions& options);
+
 // The whole screen as text lines ending in '\n' (no terminal control sequences).
 std::string Render(const MonitorState& state, Clock::time_point now, const RenderOptions& options);
 

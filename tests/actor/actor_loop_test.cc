@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <memory>
 
 #include "actor/env/rearrange_env.h"
 #include "common/links/in_memory_bus.h"
@@ -53,6 +54,32 @@ class CountingObserver : public links::BusObserver {
   void OnEval(const rl::EvalReport& report) override { evals.push_back(report); }
   std::vector<rl::EvalReport> evals;
 };
+
+// Actor 0 (an evaluator) on a bus that records the evaluations, with the ground-truth graph
+// (version 1) and weights of version 1 published from the start.
+struct EvaluatorOnBus {
+  EvaluatorOnBus()
+      : config(SmallConfig()), bus(&observer), link(bus.ActorEnd(0)), learner(bus.LearnerEnd()),
+        options(ActorOptionsFor(config, 0)), actor(options, link.get()) {
+    bus.PublishGraph(GroundTruth(config, 1));
+    learner->PublishWeights(WeightsFor(options, 1, 21));
+  }
+  const config::Config config;
+  CountingObserver observer;
+  links::InMemoryBus bus;
+  std::unique_ptr<links::ActorLink> link;
+  std::unique_ptr<links::LearnerLink> learner;
+  const ActorOptions options;
+  ActorLoop actor;
+};
+
+// The stats of a learner past its warm-up: 100 transitions in, 60 updates done.
+rl::LearnerReport PastWarmUp() {
+  rl::LearnerReport stats;
+  stats.replay_size = stats.transitions_inserted = 100;
+  stats.updates = 60;
+  return stats;
+}
 
 TEST(ActorLoopTest, ExploresUntilGraphAndWeightsThenTrainsWithTheNewestWeights) {
   const config::Config config = SmallConfig();
@@ -126,91 +153,70 @@ TEST(ActorLoopTest, ExploresUntilGraphAndWeightsThenTrainsWithTheNewestWeights) 
 }
 
 TEST(ActorLoopTest, HoldsBackWhenAheadOfTheLearnerAndEndsWithTheBudget) {
-  const config::Config config = SmallConfig();
-  CountingObserver observer;
-  links::InMemoryBus bus(&observer);
-  auto link = bus.ActorEnd(0);
-  auto learner = bus.LearnerEnd();
-  ActorOptions options = ActorOptionsFor(config, 0);
-  ASSERT_TRUE(options.evaluator);
-  ActorLoop actor(options, link.get());
-  bus.PublishGraph(GroundTruth(config, 1));
-  learner->PublishWeights(WeightsFor(options, 1, 21));
+  EvaluatorOnBus evaluator;
+  ASSERT_TRUE(evaluator.options.evaluator);
 
   // a learner past its warm-up: the first look sets the baseline
-  rl::LearnerReport stats;
-  stats.replay_size = 100;
-  stats.transitions_inserted = 100;
-  stats.updates = 60;
+  rl::LearnerReport stats = PastWarmUp();
   stats.budget_env_steps = 1000;
-  learner->PublishStats(stats);
+  evaluator.learner->PublishStats(stats);
   // an evaluator first evaluates the passive policy
-  ASSERT_EQ(actor.Step(), StepResult::kWorked);
-  ASSERT_EQ(observer.evals.size(), 1u);
-  EXPECT_EQ(observer.evals[0].policy_version, 0u);
-  EXPECT_EQ(observer.evals[0].summary.episodes, 2);
-  ASSERT_EQ(actor.Step(), StepResult::kWorked);  // a training episode
+  ASSERT_EQ(evaluator.actor.Step(), StepResult::kWorked);
+  ASSERT_EQ(evaluator.observer.evals.size(), 1u);
+  EXPECT_EQ(evaluator.observer.evals[0].policy_version, 0u);
+  EXPECT_EQ(evaluator.observer.evals[0].summary.episodes, 2);
+  ASSERT_EQ(evaluator.actor.Step(), StepResult::kWorked);  // a training episode
   // 20 more transitions in and no update: 20 > error buffer (10): wait
   stats.transitions_inserted = 120;
-  learner->PublishStats(stats);
-  EXPECT_EQ(actor.Step(), StepResult::kIdle);
-  EXPECT_EQ(actor.counters().waits, 1u);
+  evaluator.learner->PublishStats(stats);
+  EXPECT_EQ(evaluator.actor.Step(), StepResult::kIdle);
+  EXPECT_EQ(evaluator.actor.counters().waits, 1u);
   // the learner catches up: go on
   stats.updates = 80;
-  learner->PublishStats(stats);
-  EXPECT_EQ(actor.Step(), StepResult::kWorked);
+  evaluator.learner->PublishStats(stats);
+  EXPECT_EQ(evaluator.actor.Step(), StepResult::kWorked);
 
   // the evaluation schedule follows the learner's env steps (every 100)
   stats.training_env_steps = 150;
   stats.updates = 100;
-  learner->PublishStats(stats);
-  ASSERT_EQ(actor.Step(), StepResult::kWorked);
-  ASSERT_EQ(observer.evals.size(), 2u);
-  EXPECT_EQ(observer.evals[1].policy_version, 1u);
-  EXPECT_EQ(observer.evals[1].env_steps, 150u);
+  evaluator.learner->PublishStats(stats);
+  ASSERT_EQ(evaluator.actor.Step(), StepResult::kWorked);
+  ASSERT_EQ(evaluator.observer.evals.size(), 2u);
+  EXPECT_EQ(evaluator.observer.evals[1].policy_version, 1u);
+  EXPECT_EQ(evaluator.observer.evals[1].env_steps, 150u);
 
   // the budget is done: one more look for the final weights, a last evaluation, the end
-  learner->PublishWeights(WeightsFor(options, 2, 22));
+  evaluator.learner->PublishWeights(WeightsFor(evaluator.options, 2, 22));
   stats.training_env_steps = 1000;
-  learner->PublishStats(stats);
-  EXPECT_EQ(actor.Step(), StepResult::kIdle);
-  EXPECT_EQ(actor.Step(), StepResult::kDone);
-  ASSERT_EQ(observer.evals.size(), 3u);
-  EXPECT_EQ(observer.evals[2].policy_version, 2u);
+  evaluator.learner->PublishStats(stats);
+  EXPECT_EQ(evaluator.actor.Step(), StepResult::kIdle);
+  EXPECT_EQ(evaluator.actor.Step(), StepResult::kDone);
+  ASSERT_EQ(evaluator.observer.evals.size(), 3u);
+  EXPECT_EQ(evaluator.observer.evals[2].policy_version, 2u);
 }
 
 // Issue 15: the next evaluation was found by adding the interval until it passed the
 // learner's step count: a count of 2^62 (one stray LearnerStats sample) kept an evaluating
 // actor in that loop for good, and counters below the rate limiter's baseline wrapped around.
 TEST(ActorLoopTest, HugeStepCountsNeitherHangTheScheduleNorWrapTheRateLimit) {
-  const config::Config config = SmallConfig();
-  CountingObserver observer;
-  links::InMemoryBus bus(&observer);
-  auto link = bus.ActorEnd(0);
-  auto learner = bus.LearnerEnd();
-  ActorOptions options = ActorOptionsFor(config, 0);
-  ActorLoop actor(options, link.get());
-  bus.PublishGraph(GroundTruth(config, 1));
-  learner->PublishWeights(WeightsFor(options, 1, 21));
-  rl::LearnerReport stats;
-  stats.replay_size = stats.transitions_inserted = 100;
-  stats.updates = 60;
-  learner->PublishStats(stats);
-  ASSERT_EQ(actor.Step(), StepResult::kWorked);  // the passive evaluation
+  EvaluatorOnBus evaluator;
+  rl::LearnerReport stats = PastWarmUp();
+  evaluator.learner->PublishStats(stats);
+  ASSERT_EQ(evaluator.actor.Step(), StepResult::kWorked);  // the passive evaluation
   stats.training_env_steps = uint64_t{1} << 62;
   stats.transitions_inserted = (uint64_t{1} << 62) + 100;
-  learner->PublishStats(stats);
+  evaluator.learner->PublishStats(stats);
   const auto start = std::chrono::steady_clock::now();
-  ASSERT_EQ(actor.Step(), StepResult::kWorked);  // evaluates once, at once
+  ASSERT_EQ(evaluator.actor.Step(), StepResult::kWorked);  // evaluates once, at once
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
-  ASSERT_EQ(observer.evals.size(), 2u);
+  ASSERT_EQ(evaluator.observer.evals.size(), 2u);
   // a learner that starts again from fewer inserted transitions: counted afresh, no wait
   stats.training_env_steps = 0;
   stats.transitions_inserted = 50;
   stats.updates = 60;
-  learner->PublishStats(stats);
-  EXPECT_EQ(actor.Step(), StepResult::kWorked);
-  EXPECT_EQ(actor.counters().waits, 0u);
+  evaluator.learner->PublishStats(stats);
+  EXPECT_EQ(evaluator.actor.Step(), StepResult::kWorked);
+  EXPECT_EQ(evaluator.actor.counters().waits, 0u);
 }
 
 // Issue 15: a policy whose output is not finite made the environment throw, which ended the

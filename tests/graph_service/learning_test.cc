@@ -48,22 +48,46 @@ class EnvSource : public EpisodeSource {
 
 using testing::RecordingSink;
 
-TEST(GraphLearningTest, RecoversArmFreePuckStaticPuck) {
-  config::EnvConfig env;
-  env.objects.resize(2);
-  env.objects[1].is_static = true;  // entity 2
-  config::GraphConfig c;            // the defaults, with a smaller budget
+// The default GraphConfig with the smaller data set and update budget of these tests.
+config::GraphConfig SmallBudget() {
+  config::GraphConfig c;
   c.episodes = 600;
   c.max_updates = 3000;
   c.min_updates = 3000;
   c.eval_every_updates = 1000;
-  EnvSource source(env, c.episodes, c.episode_steps, 7);
+  return c;
+}
+
+// What one run of the service published, how it ended and what it dropped.
+struct Learned {
+  int exit_code = -1;
+  std::vector<rl::GraphUpdate> graphs;
+  int dropped = 0;
+};
+
+// Runs the service with config c over explore episodes of env (source seeded with
+// source_seed) until it publishes a graph or the episodes run out.
+Learned LearnGraph(const config::EnvConfig& env, const config::GraphConfig& c, const ServiceOptions& options,
+                   uint64_t source_seed) {
+  EnvSource source(env, c.episodes, c.episode_steps, source_seed);
   RecordingSink sink;
-  GraphService service(c, {.seed = 1, .render_pictures = false}, &source, &sink, {});
+  GraphService service(c, options, &source, &sink, {});
   std::atomic<bool> stop{false};
-  ASSERT_EQ(service.Run(stop), 0);
-  ASSERT_EQ(sink.graphs.size(), 1u);
-  const rl::GraphUpdate& g = sink.graphs[0];
+  Learned learned;
+  learned.exit_code = service.Run(stop);
+  learned.graphs = sink.graphs;
+  learned.dropped = service.progress().dropped;
+  return learned;
+}
+
+TEST(GraphLearningTest, RecoversArmFreePuckStaticPuck) {
+  config::EnvConfig env;
+  env.objects.resize(2);
+  env.objects[1].is_static = true;  // entity 2
+  const Learned learned = LearnGraph(env, SmallBudget(), {.seed = 1, .render_pictures = false}, 7);
+  ASSERT_EQ(learned.exit_code, 0);
+  ASSERT_EQ(learned.graphs.size(), 1u);
+  const rl::GraphUpdate& g = learned.graphs[0];
   // the arm drives puck 1; nothing acts on the static puck 2; nothing acts on the arm
   EXPECT_EQ(rl::DescribeGraph(g.graph), "action->0, 0->1");
   EXPECT_EQ(g.graph.action_entity, 0);
@@ -83,24 +107,16 @@ TEST(GraphLearningTest, RecoversTheCatalogueGraphFromCombinationsOfTwoOfThreeObj
   env.objects.resize(3);
   env.objects[2].is_static = true;  // entity 3
   env.object_sets = {{1, 2}, {1, 3}, {2, 3}};
-  config::GraphConfig c;            // the defaults, with a smaller budget
-  c.episodes = 600;
-  c.max_updates = 3000;
-  c.min_updates = 3000;
-  c.eval_every_updates = 1000;
-  EnvSource source(env, c.episodes, c.episode_steps, 7);
-  RecordingSink sink;
   ServiceOptions options{.seed = 1, .render_pictures = false};
   const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(env);
   ASSERT_EQ(shape.episode_kinds.size(), 3u);
   options.shape = DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim, shape.episode_kinds};
   options.limits = rl::EpisodeLimitsFor(env);
-  GraphService service(c, options, &source, &sink, {});
-  std::atomic<bool> stop{false};
-  ASSERT_EQ(service.Run(stop), 0);
-  EXPECT_EQ(service.progress().dropped, 0);
-  ASSERT_EQ(sink.graphs.size(), 1u);
-  const rl::GraphUpdate& g = sink.graphs[0];
+  const Learned learned = LearnGraph(env, SmallBudget(), options, 7);
+  ASSERT_EQ(learned.exit_code, 0);
+  EXPECT_EQ(learned.dropped, 0);
+  ASSERT_EQ(learned.graphs.size(), 1u);
+  const rl::GraphUpdate& g = learned.graphs[0];
   ASSERT_EQ(g.graph.num_entities, 4);
   SCOPED_TRACE(rl::DescribeGraph(g.graph));
   EXPECT_EQ(g.graph.action_entity, 0);
@@ -128,19 +144,12 @@ TEST(GraphLearningTest, RecoversTheGraphOfAGeneratedTableWithTheCutReadout) {
   const config::EnvConfig env = env::RandomTable(1001);
   const std::string expected = rl::DescribeGraph(rl::GroundTruthGraph(env));
   ASSERT_EQ(expected, "action->0, 0->2, 0->3, 2->3, 3->2");
-  config::GraphConfig c;  // the defaults, with a smaller budget and the cut read-out
+  config::GraphConfig c = SmallBudget();  // with the cut read-out
   c.readout = config::GraphReadout::kCut;
-  c.episodes = 600;
-  c.max_updates = 3000;
-  c.min_updates = 3000;
-  c.eval_every_updates = 1000;
-  EnvSource source(env, c.episodes, c.episode_steps, 11);
-  RecordingSink sink;
-  GraphService service(c, {.seed = 2, .render_pictures = false}, &source, &sink, {});
-  std::atomic<bool> stop{false};
-  ASSERT_EQ(service.Run(stop), 0);
-  ASSERT_EQ(sink.graphs.size(), 1u);
-  EXPECT_EQ(rl::DescribeGraph(sink.graphs[0].graph), expected);
+  const Learned learned = LearnGraph(env, c, {.seed = 2, .render_pictures = false}, 11);
+  ASSERT_EQ(learned.exit_code, 0);
+  ASSERT_EQ(learned.graphs.size(), 1u);
+  EXPECT_EQ(rl::DescribeGraph(learned.graphs[0].graph), expected);
 }
 
 }  // namespace

@@ -11,10 +11,10 @@
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "common/links/in_memory_bus.h"
 #include "learner/learner_loop.h"
+#include "tests/common/files/test_files.h"
 #include "tests/learner/learner_testing.h"
 
 namespace srics::learner {
@@ -22,15 +22,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Read(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using files::testing::ReadFile;
 
 void FlipByte(const std::string& path, size_t from_end) {
-  std::string data = Read(path);
+  std::string data = ReadFile(path);
   data[data.size() - from_end] ^= 0x10;
   std::ofstream(path, std::ios::binary | std::ios::trunc) << data;
 }
@@ -180,13 +175,13 @@ TEST_F(LearnerCheckpointTest, AFullDiskKeepsThePreviousCheckpointAndTrainingGoes
   LearnerLoop loop(options, link.get());
   Train(loop, *actor, 0, 8);
   ASSERT_TRUE(fs::exists(path_));
-  const std::string before = Read(path_);
+  const std::string before = ReadFile(path_);
   const uint64_t updates_before = loop.learner().counters().updates;
 
   disk.full = true;
   ASSERT_NO_THROW(Train(loop, *actor, 8, 4));
   EXPECT_GT(loop.learner().counters().updates, updates_before + 20) << "training went on";
-  EXPECT_EQ(Read(path_), before) << "the previous checkpoint is intact";
+  EXPECT_EQ(ReadFile(path_), before) << "the previous checkpoint is intact";
   EXPECT_FALSE(fs::exists(path_ + ".tmp"));
   const std::string log = Log();
   EXPECT_NE(log.find("checkpoint not written: cannot write " + path_ + ": writing"), std::string::npos) << log;
@@ -196,7 +191,7 @@ TEST_F(LearnerCheckpointTest, AFullDiskKeepsThePreviousCheckpointAndTrainingGoes
 
   disk.full = false;  // space again: the next one is written
   Train(loop, *actor, 12, 2);
-  EXPECT_NE(Read(path_), before);
+  EXPECT_NE(ReadFile(path_), before);
   EXPECT_GT(UpdatesIn(path_), updates_before);
 }
 

@@ -3,12 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "actor/env/episode_drawing.h"
 #include "actor/env/rearrange_env.h"
 #include "common/config/config.h"
+#include "tests/common/files/test_files.h"
 
 namespace srics::env {
 namespace {
@@ -32,17 +31,14 @@ EpisodeTrace RelationalTrace() {
   return trace;
 }
 
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using files::testing::ReadFile;
 
 TEST(DrawingTest, WritesPngAndSvg) {
   const auto dir = std::filesystem::temp_directory_path() / "srics_drawing_test";
   std::filesystem::create_directories(dir);
   const EpisodeTrace trace = RelationalTrace();
   DrawEpisode(trace, (dir / "e.png").string());
-  const std::string png = ReadAll(dir / "e.png");
+  const std::string png = ReadFile(dir / "e.png");
   ASSERT_GT(png.size(), 1000u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
   // IHDR width and height (big endian) match 1200 px/m over the walls plus a 2 cm border
@@ -53,7 +49,7 @@ TEST(DrawingTest, WritesPngAndSvg) {
   EXPECT_EQ(be32(16), 660);  // (0.255 + 0.02) * 2 * 1200
   EXPECT_NEAR(be32(20), 552, 1);  // (0.765 - 0.345 + 0.04) * 1200
   DrawEpisode(trace, (dir / "e.svg").string());
-  const std::string svg = ReadAll(dir / "e.svg");
+  const std::string svg = ReadFile(dir / "e.svg");
   EXPECT_NE(svg.find("<svg"), std::string::npos);
   EXPECT_EQ(std::count(svg.begin(), svg.end(), '\n') > 10, true);
   EXPECT_NE(svg.find("<polyline"), std::string::npos);

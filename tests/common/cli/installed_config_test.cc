@@ -2,31 +2,22 @@
 // to their own folder: from any working folder, `srics learn-graph --expected --env NAME` reads
 // <prefix>/share/srics-dds/configs/NAME, and an unknown name is reported as given.
 
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <string>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "tests/common/cli/shell_testing.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-// Runs a shell command: the exit code and stdout + stderr.
-std::pair<int, std::string> Shell(const std::string& command) {
-  FILE* pipe = popen((command + " 2>&1 </dev/null").c_str(), "r");
-  if (pipe == nullptr) return {-1, "popen failed"};
-  std::string output;
-  char buffer[4096];
-  for (size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using srics::cli::testing::Shell;
 
 TEST(InstalledConfigTest, InstalledProgramsFindTheirConfigsFromAnyFolder) {
   const fs::path prefix = fs::temp_directory_path() / ("srics_install_test_" + std::to_string(getpid()));

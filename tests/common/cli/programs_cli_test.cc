@@ -2,16 +2,15 @@
 // code 0, a bad argument exits with 2 and the message names it. One parametrized test over
 // the programs and srics's subcommands.
 
-#include <sys/wait.h>
-
 #include <cctype>
-#include <cstdio>
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "tests/common/cli/shell_testing.h"
 
 namespace {
 
@@ -47,13 +46,7 @@ std::pair<int, std::string> RunProgram(std::vector<std::string> argv, const std:
   argv.insert(argv.end(), extra.begin(), extra.end());
   std::string line;
   for (const std::string& a : argv) line += "'" + a + "' ";
-  FILE* pipe = popen((line + "2>&1 </dev/null").c_str(), "r");
-  if (pipe == nullptr) return {-1, "popen failed"};
-  std::string output;
-  char buffer[4096];
-  for (size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return srics::cli::testing::Shell(line);
 }
 
 void PrintTo(const Program& p, std::ostream* out) { *out << p.name; }

@@ -16,20 +16,15 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+
+#include "tests/common/files/test_files.h"
 
 namespace srics::files {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string Read(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::ReadFile;
 
 class DurableFileTest : public ::testing::Test {
  protected:
@@ -91,7 +86,7 @@ class ScriptedFileSystem : public FileSystem {
 TEST_F(DurableFileTest, TheFileIsFlushedBeforeTheRenameAndTheFolderAfter) {
   ScriptedFileSystem scripted;
   WriteFileDurably(Path("graph.json"), "{\"v\": 1}", scripted);
-  EXPECT_EQ(Read(Path("graph.json")), "{\"v\": 1}");
+  EXPECT_EQ(ReadFile(Path("graph.json")), "{\"v\": 1}");
   EXPECT_FALSE(fs::exists(Path("graph.json.tmp")));
   const std::vector<std::string> expected = {"open graph.json.tmp", "write",      "fsync",
                                              "rename graph.json.tmp graph.json", "open-dir " + dir_.filename().string(),
@@ -116,7 +111,7 @@ TEST_F(DurableFileTest, AFullDiskKeepsThePreviousFileRemovesTheTemporaryOneAndSa
       EXPECT_NE(message.find("the previous " + Path("checkpoint.srics") + " is kept"), std::string::npos) << message;
       EXPECT_NE(message.find(Path("checkpoint.srics.tmp") + " removed"), std::string::npos) << message;
     }
-    EXPECT_EQ(Read(Path("checkpoint.srics")), "old content") << call;
+    EXPECT_EQ(ReadFile(Path("checkpoint.srics")), "old content") << call;
     EXPECT_FALSE(fs::exists(Path("checkpoint.srics.tmp"))) << call;
   }
 }
@@ -126,18 +121,18 @@ TEST_F(DurableFileTest, GenerationsKeepTheLastKNewestFirst) {
   for (int g = 1; g <= 5; ++g) WriteGeneration(path, 3, "generation " + std::to_string(g));
   const std::vector<std::string> expected = {path, path + ".1", path + ".2"};
   EXPECT_EQ(Generations(path), expected);
-  EXPECT_EQ(Read(path), "generation 5");
-  EXPECT_EQ(Read(path + ".1"), "generation 4");
-  EXPECT_EQ(Read(path + ".2"), "generation 3");
+  EXPECT_EQ(ReadFile(path), "generation 5");
+  EXPECT_EQ(ReadFile(path + ".1"), "generation 4");
+  EXPECT_EQ(ReadFile(path + ".2"), "generation 3");
   EXPECT_FALSE(fs::exists(path + ".3"));
   EXPECT_FALSE(fs::exists(path + ".tmp"));
   // fewer kept from now on: the older ones go
   WriteGeneration(path, 2, "generation 6");
   EXPECT_EQ(Generations(path), (std::vector<std::string>{path, path + ".1"}));
-  EXPECT_EQ(Read(path + ".1"), "generation 5");
+  EXPECT_EQ(ReadFile(path + ".1"), "generation 5");
   WriteGeneration(path, 1, "generation 7");
   EXPECT_EQ(Generations(path), std::vector<std::string>{path});
-  EXPECT_EQ(Read(path), "generation 7");
+  EXPECT_EQ(ReadFile(path), "generation 7");
 }
 
 TEST_F(DurableFileTest, AFailedGenerationChangesNoGeneration) {
@@ -147,9 +142,9 @@ TEST_F(DurableFileTest, AFailedGenerationChangesNoGeneration) {
   full.fail_call = "write";
   EXPECT_THROW(WriteGeneration(path, 3, std::string(100, 'x'), full), FileError);
   EXPECT_EQ(Generations(path), (std::vector<std::string>{path, path + ".1", path + ".2"}));
-  EXPECT_EQ(Read(path), "generation 3");
-  EXPECT_EQ(Read(path + ".1"), "generation 2");
-  EXPECT_EQ(Read(path + ".2"), "generation 1");
+  EXPECT_EQ(ReadFile(path), "generation 3");
+  EXPECT_EQ(ReadFile(path + ".1"), "generation 2");
+  EXPECT_EQ(ReadFile(path + ".2"), "generation 1");
   EXPECT_FALSE(fs::exists(path + ".tmp"));
 }
 
@@ -159,8 +154,8 @@ TEST_F(DurableFileTest, SetAsideRenamesWithoutOverwriting) {
   EXPECT_EQ(SetAside(path, ".corrupt"), path + ".corrupt");
   WriteFileDurably(path, "bad 2");
   EXPECT_EQ(SetAside(path, ".corrupt"), path + ".corrupt.2");
-  EXPECT_EQ(Read(path + ".corrupt"), "bad 1");
-  EXPECT_EQ(Read(path + ".corrupt.2"), "bad 2");
+  EXPECT_EQ(ReadFile(path + ".corrupt"), "bad 1");
+  EXPECT_EQ(ReadFile(path + ".corrupt.2"), "bad 2");
   EXPECT_TRUE(Generations(path).empty()) << "set-aside files are no generations";
 }
 
@@ -185,7 +180,7 @@ TEST_F(DurableFileTest, ARealFullDiskKeepsThePreviousCheckpoint) {
       if (e.error_number() != ENOSPC) _exit(2);
       if (std::string(e.what()).find("is kept") == std::string::npos) _exit(3);
     }
-    if (Read(path) != first) _exit(4);
+    if (ReadFile(path) != first) _exit(4);
     if (fs::exists(path + ".tmp")) _exit(5);
     if (Generations(path).size() != 1) _exit(6);
     _exit(0);

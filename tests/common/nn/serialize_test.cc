@@ -7,14 +7,12 @@
 #include <fstream>
 
 #include "common/nn/modules.h"
+#include "tests/common/files/test_files.h"
 
 namespace srics::nn {
 namespace {
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-}
+using files::testing::ReadFile;
 
 void WriteAll(const std::string& path, const std::string& data) {
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
@@ -93,7 +91,7 @@ TEST_F(SerializeTest, MissingFile) { ExpectFailure("cannot open", params_); }
 
 TEST_F(SerializeTest, TruncatedFile) {
   SaveParameters(path_, params_);
-  const std::string data = ReadAll(path_);
+  const std::string data = ReadFile(path_);
   for (size_t keep : {size_t{4}, size_t{20}, data.size() / 2, data.size() - 3}) {
     SCOPED_TRACE(keep);
     WriteAll(path_, data.substr(0, keep));
@@ -103,7 +101,7 @@ TEST_F(SerializeTest, TruncatedFile) {
 
 TEST_F(SerializeTest, CorruptedPayload) {
   SaveParameters(path_, params_);
-  std::string data = ReadAll(path_);
+  std::string data = ReadFile(path_);
   data[data.size() - 20] ^= 0x10;  // a bit inside the weights
   WriteAll(path_, data);
   ExpectFailure("checksum mismatch (corrupted)", params_);
@@ -116,7 +114,7 @@ TEST_F(SerializeTest, BadMagic) {
 
 TEST_F(SerializeTest, UnsupportedVersion) {
   SaveParameters(path_, params_);
-  std::string data = ReadAll(path_);
+  std::string data = ReadFile(path_);
   data[8] = 99;  // the version field follows the 8-byte magic
   WriteAll(path_, data);
   ExpectFailure("unsupported format version 99 (this build reads versions 1 to 2)", params_);

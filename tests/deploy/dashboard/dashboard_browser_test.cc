@@ -17,14 +17,14 @@
 #include <thread>
 
 #include "deploy/launcher/child_process.h"
+#include "tests/common/files/test_files.h"
 #include "tests/deploy/dashboard/json_reader.h"
-#include "tests/deploy/test_files.h"
 
 namespace srics::dashboard {
 namespace {
 
 namespace fs = std::filesystem;
-using deploy::testing::ReadFile;
+using files::testing::ReadFile;
 using launcher::ChildProcess;
 using ::testing::HasSubstr;
 using Json = testing::Json;

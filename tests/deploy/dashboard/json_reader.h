@@ -1,177 +1,61 @@
 #pragma once
-// A strict JSON reader for the dashboard tests: the document must be exactly JSON (RFC 8259:
-// no trailing commas, no NaN, one value, nothing after it), else Parse throws. Values are read
-// the way the tests use them: doc["runs"][0]["env_steps"].as<uint64_t>().
+// The dashboard tests read its documents with the project's own strict JSON parser
+// (graph_service/json.h: one value and nothing after it, no trailing commas, no NaN, else
+// Parse throws), the way the tests use them: doc["runs"][0]["env_steps"].as<uint64_t>().
 
-#include <cstdint>
-#include <cstdlib>
-#include <map>
+#include <cstddef>
 #include <memory>
-#include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
+
+#include "graph_service/json.h"
 
 namespace srics::dashboard::testing {
 
+// A value of a parsed document; it keeps the whole document alive.
 class Json {
  public:
-  enum class Type { kNull, kBool, kNumber, kString, kArray, kObject };
-
   static Json Parse(const std::string& text) {
-    size_t at = 0;
-    Json value = ParseValue(text, &at);
-    SkipSpace(text, &at);
-    if (at != text.size()) throw std::invalid_argument("JSON: text after the value at " + std::to_string(at));
-    return value;
+    auto document = std::make_shared<const graph_service::JsonValue>(graph_service::ParseJson(text));
+    const graph_service::JsonValue* value = document.get();
+    return Json(std::move(document), value);
   }
 
-  bool IsNull() const { return type_ == Type::kNull; }
-  Type type() const { return type_; }
-  size_t size() const { return type_ == Type::kArray ? items_.size() : fields_.size(); }
-  const Json& operator[](size_t i) const {
-    if (type_ != Type::kArray || i >= items_.size()) throw std::out_of_range("JSON: no item " + std::to_string(i));
-    return items_[i];
+  bool IsNull() const { return value_->kind() == Kind::kNull; }
+  // The items of an array, the members of an object, 0 for any other value.
+  size_t size() const {
+    if (value_->kind() == Kind::kArray) return value_->AsArray().size();
+    return value_->kind() == Kind::kObject ? value_->AsObject().size() : 0;
   }
-  const Json& operator[](int i) const { return (*this)[static_cast<size_t>(i)]; }
-  const Json& operator[](const std::string& key) const {
-    auto it = fields_.find(key);
-    if (type_ != Type::kObject || it == fields_.end()) throw std::out_of_range("JSON: no key " + key);
-    return it->second;
+  // Throws when this is not an array or has no item i / not an object or has no such key.
+  Json operator[](size_t i) const { return Json(document_, &value_->AsArray().at(i)); }
+  Json operator[](int i) const { return (*this)[static_cast<size_t>(i)]; }
+  Json operator[](const std::string& key) const { return Json(document_, &value_->Get(key)); }
+  std::vector<Json> items() const {
+    std::vector<Json> out;
+    for (const graph_service::JsonValue& item : value_->AsArray()) out.push_back(Json(document_, &item));
+    return out;
   }
-  const std::vector<Json>& items() const { return items_; }
-  bool has(const std::string& key) const { return fields_.count(key) > 0; }
 
+  // The value as a string, bool or number; throws when it is of another type (or, for an
+  // integer type, not an integer).
   template <typename T>
   T as() const {
-    if constexpr (std::is_same_v<T, std::string>) {
-      if (type_ != Type::kString) throw std::invalid_argument("JSON: not a string");
-      return text_;
-    } else if constexpr (std::is_same_v<T, bool>) {
-      if (type_ != Type::kBool) throw std::invalid_argument("JSON: not a bool");
-      return text_ == "true";
-    } else {
-      if (type_ != Type::kNumber) throw std::invalid_argument("JSON: not a number");
-      if constexpr (std::is_integral_v<T> && std::is_unsigned_v<T>) return static_cast<T>(std::strtoull(text_.c_str(), nullptr, 10));
-      else if constexpr (std::is_integral_v<T>) return static_cast<T>(std::strtoll(text_.c_str(), nullptr, 10));
-      else return static_cast<T>(std::strtod(text_.c_str(), nullptr));
-    }
+    if constexpr (std::is_same_v<T, std::string>) return value_->AsString();
+    else if constexpr (std::is_same_v<T, bool>) return value_->AsBool();
+    else if constexpr (std::is_integral_v<T>) return static_cast<T>(value_->AsInt());
+    else return static_cast<T>(value_->AsDouble());
   }
 
  private:
-  static void SkipSpace(const std::string& s, size_t* at) {
-    while (*at < s.size() && (s[*at] == ' ' || s[*at] == '\n' || s[*at] == '\r' || s[*at] == '\t')) ++*at;
-  }
-  static void Expect(const std::string& s, size_t* at, char c) {
-    if (*at >= s.size() || s[*at] != c)
-      throw std::invalid_argument(std::string("JSON: expected '") + c + "' at " + std::to_string(*at));
-    ++*at;
-  }
-  static std::string ParseString(const std::string& s, size_t* at) {
-    Expect(s, at, '"');
-    std::string out;
-    while (*at < s.size() && s[*at] != '"') {
-      char c = s[(*at)++];
-      if (static_cast<unsigned char>(c) < 0x20) throw std::invalid_argument("JSON: control character in a string");
-      if (c == '\\') {
-        if (*at >= s.size()) break;
-        const char e = s[(*at)++];
-        switch (e) {
-          case '"': case '\\': case '/': out += e; break;
-          case 'n': out += '\n'; break;
-          case 't': out += '\t'; break;
-          case 'r': out += '\r'; break;
-          case 'b': out += '\b'; break;
-          case 'f': out += '\f'; break;
-          case 'u': {
-            if (*at + 4 > s.size()) throw std::invalid_argument("JSON: short \\u escape");
-            const unsigned code = static_cast<unsigned>(std::stoul(s.substr(*at, 4), nullptr, 16));
-            *at += 4;
-            if (code < 0x80) out += static_cast<char>(code);
-            else out += '?';  // the tests only need ASCII
-            break;
-          }
-          default: throw std::invalid_argument("JSON: bad escape");
-        }
-      } else {
-        out += c;
-      }
-    }
-    Expect(s, at, '"');
-    return out;
-  }
-  static Json ParseValue(const std::string& s, size_t* at) {
-    SkipSpace(s, at);
-    if (*at >= s.size()) throw std::invalid_argument("JSON: unexpected end");
-    Json v;
-    const char c = s[*at];
-    if (c == '{') {
-      v.type_ = Type::kObject;
-      ++*at;
-      SkipSpace(s, at);
-      if (*at < s.size() && s[*at] == '}') return ++*at, v;
-      while (true) {
-        SkipSpace(s, at);
-        std::string key = ParseString(s, at);
-        SkipSpace(s, at);
-        Expect(s, at, ':');
-        v.fields_[key] = ParseValue(s, at);
-        SkipSpace(s, at);
-        if (*at < s.size() && s[*at] == ',') { ++*at; continue; }
-        Expect(s, at, '}');
-        return v;
-      }
-    }
-    if (c == '[') {
-      v.type_ = Type::kArray;
-      ++*at;
-      SkipSpace(s, at);
-      if (*at < s.size() && s[*at] == ']') return ++*at, v;
-      while (true) {
-        v.items_.push_back(ParseValue(s, at));
-        SkipSpace(s, at);
-        if (*at < s.size() && s[*at] == ',') { ++*at; continue; }
-        Expect(s, at, ']');
-        return v;
-      }
-    }
-    if (c == '"') {
-      v.type_ = Type::kString;
-      v.text_ = ParseString(s, at);
-      return v;
-    }
-    for (const char* word : {"null", "true", "false"}) {
-      if (s.compare(*at, std::string(word).size(), word) == 0) {
-        *at += std::string(word).size();
-        v.type_ = word[0] == 'n' ? Type::kNull : Type::kBool;
-        v.text_ = word;
-        return v;
-      }
-    }
-    // a number: -?(0|[1-9][0-9]*)(.[0-9]+)?([eE][+-]?[0-9]+)?
-    const size_t start = *at;
-    auto digits = [&] {
-      const size_t from = *at;
-      while (*at < s.size() && s[*at] >= '0' && s[*at] <= '9') ++*at;
-      if (*at == from) throw std::invalid_argument("JSON: bad value at " + std::to_string(from));
-    };
-    if (s[*at] == '-') ++*at;
-    if (*at < s.size() && s[*at] == '0') ++*at;
-    else digits();
-    if (*at < s.size() && s[*at] == '.') ++*at, digits();
-    if (*at < s.size() && (s[*at] == 'e' || s[*at] == 'E')) {
-      ++*at;
-      if (*at < s.size() && (s[*at] == '+' || s[*at] == '-')) ++*at;
-      digits();
-    }
-    v.type_ = Type::kNumber;
-    v.text_ = s.substr(start, *at - start);
-    return v;
-  }
+  using Kind = graph_service::JsonValue::Kind;
+  Json(std::shared_ptr<const graph_service::JsonValue> document, const graph_service::JsonValue* value)
+      : document_(std::move(document)), value_(value) {}
 
-  Type type_ = Type::kNull;
-  std::string text_;
-  std::vector<Json> items_;
-  std::map<std::string, Json> fields_;
+  std::shared_ptr<const graph_service::JsonValue> document_;
+  const graph_service::JsonValue* value_;
 };
 
 }  // namespace srics::dashboard::testing

@@ -14,13 +14,13 @@
 #include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"
 #include "learner/acting_policy.h"
-#include "tests/deploy/test_files.h"
+#include "tests/common/files/test_files.h"
 
 namespace srics::launcher {
 namespace {
 
 namespace fs = std::filesystem;
-using deploy::testing::ReadFile;
+using files::testing::ReadFile;
 
 class BestPolicyTest : public ::testing::Test {
  protected:

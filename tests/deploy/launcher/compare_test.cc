@@ -13,13 +13,13 @@
 
 #include "deploy/launcher/run_folder.h"
 #include "graph_service/learned_graph.h"
-#include "tests/deploy/test_files.h"
+#include "tests/common/files/test_files.h"
 
 namespace srics::launcher {
 namespace {
 
 namespace fs = std::filesystem;
-using deploy::testing::ReadFile;
+using files::testing::ReadFile;
 using ::testing::HasSubstr;
 using ::testing::Not;
 

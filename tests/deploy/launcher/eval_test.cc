@@ -19,14 +19,14 @@
 #include "deploy/launcher/launcher.h"
 #include "deploy/launcher/run_folder.h"
 #include "tests/actor/env/render/frames_testing.h"
+#include "tests/common/files/test_files.h"
 #include "tests/deploy/launcher/sweep_testing.h"
-#include "tests/deploy/test_files.h"
 
 namespace srics::launcher {
 namespace {
 
 namespace fs = std::filesystem;
-using deploy::testing::ReadFile;
+using files::testing::ReadFile;
 using env::testing::DecodeVideo;
 using env::testing::DifferingPixels;
 using env::testing::FindHand;
@@ -42,7 +42,7 @@ std::pair<int, std::string> SricsEval(const fs::path& root, std::vector<std::str
   ChildProcess child = ChildProcess::Spawn(args, {.output_file = out});
   const auto status = child.WaitFor(std::chrono::seconds(240));
   if (!status) return {-1, "timeout"};
-  return {status->signaled ? -status->code : status->code, deploy::testing::ReadFile(out)};
+  return {status->signaled ? -status->code : status->code, files::testing::ReadFile(out)};
 }
 
 // episodes.csv as rows of column -> value.

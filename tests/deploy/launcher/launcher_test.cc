@@ -19,7 +19,7 @@
 #include "common/config/config.h"
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/command_line.h"
-#include "tests/deploy/test_files.h"
+#include "tests/common/files/test_files.h"
 
 namespace srics::launcher {
 namespace {
@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 using std::chrono::milliseconds;
 using ::testing::HasSubstr;
 
-using deploy::testing::ReadFile;
+using files::testing::ReadFile;
 
 // pids a stand-in printed ("start <pid>") in its output file
 std::vector<pid_t> StartedPids(const fs::path& output_file) {

@@ -13,19 +13,15 @@
 
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/command_line.h"
+#include "tests/common/files/test_files.h"
 #include "tests/deploy/launcher/sweep_testing.h"
-#include "tests/deploy/test_files.h"
 
 namespace srics::launcher {
 namespace {
 
 namespace fs = std::filesystem;
-using deploy::testing::ReadFile;
-using testing::kConfig;
-using testing::kTinyRun;
-using testing::RunSrics;
+using files::testing::ReadFile;
 using ::testing::HasSubstr;
-using ::testing::Not;
 
 TEST(RolesArgsTest, RolesAndActorIdsOfAHostsShare) {
   LaunchOptions o = ParseRunArgs({"c.yaml", "--roles", "learner,graph"});
@@ -66,19 +62,15 @@ TEST(RolesArgsTest, RolesAndActorIdsOfAHostsShare) {
 
 class RolesTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() / ("srics_roles_test_" + std::to_string(getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
+  void SetUp() override { root_ = files::testing::FreshFolder("srics_roles_test"); }
   void TearDown() override { fs::remove_all(root_); }
 
   // `srics run CONFIG --roles ...` for one host of the run
   ChildProcess StartHost(const std::string& host, std::vector<std::string> share) {
-    std::vector<std::string> argv = {SRICS_LAUNCHER, "run", kConfig, "--run-dir", (root_ / host).string(),
+    std::vector<std::string> argv = {SRICS_LAUNCHER, "run", testing::kConfig, "--run-dir", (root_ / host).string(),
                                      "--display", "plain", "--stop-timeout", "20"};
     argv.insert(argv.end(), share.begin(), share.end());
-    std::vector<std::string> sets = kTinyRun;
+    std::vector<std::string> sets = testing::kTinyRun;
     sets.insert(sets.end(), {"actors.count=2", "transport.run_id=roles-test-" + std::to_string(getpid()),
                              "transport.domain_id=" + std::to_string(100 + getpid() % 50)});
     for (const std::string& s : sets) argv.insert(argv.end(), {"--set", s});
@@ -90,7 +82,8 @@ class RolesTest : public ::testing::Test {
 };
 
 TEST_F(RolesTest, AShareOfARunNeedsAnExplicitRunId) {
-  const auto [code, output] = RunSrics(root_, {"run", kConfig, "--roles", "actor", "--run-dir", (root_ / "b").string()});
+  const auto [code, output] =
+      testing::RunSrics(root_, {"run", testing::kConfig, "--roles", "actor", "--run-dir", (root_ / "b").string()});
   EXPECT_EQ(code, 2) << output;
   EXPECT_THAT(output, HasSubstr("--roles"));
   EXPECT_THAT(output, HasSubstr("transport.run_id"));
@@ -128,7 +121,7 @@ TEST_F(RolesTest, TwoHostsRunTheirSharesAndBothSeeTheRunToItsEnd) {
   EXPECT_THAT(out_b, HasSubstr("steps ")) << "plain progress lines";
   EXPECT_THAT(ReadFile(a_dir / "logs/launcher.log"), HasSubstr("stopping: the budget is done"));
   EXPECT_THAT(ReadFile(b_dir / "logs/launcher.log"), HasSubstr("stopping: the budget is done"));
-  EXPECT_THAT(ReadFile(b_dir / "logs/launcher.log"), Not(HasSubstr("restarted")));
+  EXPECT_THAT(ReadFile(b_dir / "logs/launcher.log"), ::testing::Not(HasSubstr("restarted")));
 }
 
 }  // namespace

@@ -5,7 +5,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -18,14 +17,14 @@
 #include "deploy/launcher/run_folder.h"
 #include "deploy/launcher/sweep.h"
 #include "learner/learner.h"
+#include "tests/common/files/test_files.h"
 #include "tests/deploy/launcher/sweep_testing.h"
-#include "tests/deploy/test_files.h"
 
 namespace srics::launcher {
 namespace {
 
 namespace fs = std::filesystem;
-using deploy::testing::ReadFile;
+using files::testing::ReadFile;
 using testing::kConfig;
 using testing::kTinyRun;
 using testing::RunSrics;
@@ -33,11 +32,7 @@ using ::testing::HasSubstr;
 
 class SweepTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() / ("srics_sweep_resume_test_" + std::to_string(getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
+  void SetUp() override { root_ = files::testing::FreshFolder("srics_sweep_resume_test"); }
   void TearDown() override { fs::remove_all(root_); }
   fs::path root_;
 };

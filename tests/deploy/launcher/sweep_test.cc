@@ -18,14 +18,14 @@
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/command_line.h"
 #include "deploy/launcher/run_folder.h"
+#include "tests/common/files/test_files.h"
 #include "tests/deploy/launcher/sweep_testing.h"
-#include "tests/deploy/test_files.h"
 
 namespace srics::launcher {
 namespace {
 
 namespace fs = std::filesystem;
-using deploy::testing::ReadFile;
+using files::testing::ReadFile;
 using ::testing::HasSubstr;
 using testing::kConfig;
 using testing::kTinyRun;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "deploy/launcher/child_process.h"
-#include "tests/deploy/test_files.h"
+#include "tests/common/files/test_files.h"
 
 namespace srics::launcher::testing {
 
@@ -31,7 +31,7 @@ inline std::pair<int, std::string> RunSrics(const std::filesystem::path& root, s
   ChildProcess child = ChildProcess::Spawn(args, {.output_file = out});
   const auto status = child.WaitFor(std::chrono::seconds(60));
   if (!status) return {-1, "timeout"};
-  return {status->signaled ? -status->code : status->code, deploy::testing::ReadFile(out)};
+  return {status->signaled ? -status->code : status->code, files::testing::ReadFile(out)};
 }
 
 }  // namespace srics::launcher::testing

@@ -12,8 +12,8 @@
 #include <optional>
 #include <sstream>
 
+#include "tests/common/files/test_files.h"
 #include "tests/common/transport/test_samples.h"
-#include "tests/deploy/test_files.h"
 
 namespace srics::monitor {
 namespace {
@@ -23,7 +23,7 @@ namespace tr = srics::transport;
 using std::chrono::milliseconds;
 using ::testing::HasSubstr;
 
-using deploy::testing::ReadFile;
+using files::testing::ReadFile;
 
 TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   config::TransportConfig transport;

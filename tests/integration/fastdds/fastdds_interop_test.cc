@@ -14,10 +14,13 @@
 #include <string>
 
 #include "deploy/launcher/run_folder.h"
+#include "tests/common/files/test_files.h"
 #include "tests/integration/system_harness.h"
 
 namespace srics::testing {
 namespace {
+
+using files::testing::ReadFile;
 
 // The probe's "topic=NAME key=value ..." lines, by topic.
 std::map<std::string, std::map<std::string, std::string>> ParseProbeOutput(const std::string& file) {
@@ -34,11 +37,6 @@ std::map<std::string, std::map<std::string, std::string>> ParseProbeOutput(const
     topics[values["topic"]] = values;
   }
   return topics;
-}
-
-std::string ReadFile(const std::string& file) {
-  std::ifstream in(file);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
 uint64_t Number(const std::map<std::string, std::string>& values, const std::string& key) {
