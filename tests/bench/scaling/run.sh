@@ -17,9 +17,9 @@
 #   SECONDS  default 60
 #   ACTORS   comma-separated, default 1,2,4
 # The low ratio is 0.01 rather than 0.05: at 0.05 the learner already capped 1 and 2 actors on
-# the 2-core development machine (achieved 0.040 and 0.025; a quiet 2-core machine runs ~80
-# updates/s at batch 256 and 1,000-1,500 env steps/s per actor, so 0.05 caps there too from
-# 2 actors). Whether a ratio was actor-bound is in the table: achieved ratio below the target
+# the loaded 2-core development machine (achieved 0.040 and 0.025; by estimate a quiet 2-core
+# machine, ~80 updates/s at batch 256 and 1,000-1,500 env steps/s per actor, caps at 0.05 too
+# from 2 actors). Whether a ratio was actor-bound is in the table: achieved ratio below the target
 # or actors waiting means the learner set the pace.
 # Environment: SRICS_SCALING_RATIOS (default 0.01,1), SRICS_SCALING_METHOD (default srics with
 # the graph by construction, graph.ground_truth, so no graph is learned; sac_her needs none),
