@@ -57,32 +57,57 @@ int Outside(const float* v, size_t n, const float* center, const float* toleranc
   return bad;
 }
 
-// Every state token against the pattern of one state (N x D): the one-hot columns equal their
-// identifier (tolerance 0), positions and velocities within their bounds (center 0). Sizes were
-// checked (CheckSizes).
+// Every state token against a pattern of the states (N x D, repeated for several steps): the
+// one-hot columns equal their identifier (tolerance 0), positions and velocities within their
+// bounds (center 0). The pattern is kept per thread and rebuilt only when the entity kinds,
+// layout or bounds change (an actor's episodes share them). Sizes were checked (CheckSizes).
 bool StatesLookRight(const Episode& e, const EpisodeLimits& limits) {
+  struct Pattern {
+    std::vector<uint16_t> kinds;
+    int num_kinds = -1;
+    bool velocities = false;
+    float position = 0, velocity = 0;
+    std::vector<float> center, tolerance;  // `steps` states
+    size_t steps = 0;
+  };
+  thread_local Pattern p;
   const EntityLayout& l = e.layout;
   const size_t d = static_cast<size_t>(l.entity_dim()), s = static_cast<size_t>(l.state_size());
-  thread_local std::vector<float> center, tolerance;
-  center.assign(s, 0.0f);
-  tolerance.resize(s);
-  for (size_t entity = 0; entity < static_cast<size_t>(l.num_entities); ++entity) {
-    float* c = center.data() + entity * d;
-    float* t = tolerance.data() + entity * d;
-    for (size_t column = 0; column < d; ++column) {
-      const int col = static_cast<int>(column);
-      if (col < l.num_kinds) {
-        c[column] = col == e.entity_kinds[entity] ? 1.0f : 0.0f;
-        t[column] = 0.0f;
-      } else {
-        t[column] = Tolerance(col < l.num_kinds + 2 ? limits.max_abs_position : limits.max_abs_velocity);
+  const float position = Tolerance(limits.max_abs_position), velocity = Tolerance(limits.max_abs_velocity);
+  // bit-exact comparison of the bounds (a NaN bound never matches: rebuilt each time)
+  if (p.kinds != e.entity_kinds || p.num_kinds != l.num_kinds || p.velocities != l.velocities ||
+      !(p.position == position) || !(p.velocity == velocity)) {
+    p.kinds = e.entity_kinds;
+    p.num_kinds = l.num_kinds;
+    p.velocities = l.velocities;
+    p.position = position;
+    p.velocity = velocity;
+    p.steps = std::max<size_t>(1, 512 / s);  // a few hundred values per pass
+    p.center.assign(s, 0.0f);
+    p.tolerance.resize(s);
+    for (size_t entity = 0; entity < static_cast<size_t>(l.num_entities); ++entity) {
+      for (size_t column = 0; column < d; ++column) {
+        const int col = static_cast<int>(column);
+        const size_t i = entity * d + column;
+        if (col < l.num_kinds) {
+          p.center[i] = col == e.entity_kinds[entity] ? 1.0f : 0.0f;
+          p.tolerance[i] = 0.0f;
+        } else {
+          p.tolerance[i] = col < l.num_kinds + 2 ? position : velocity;
+        }
       }
     }
+    p.center.resize(p.steps * s);
+    p.tolerance.resize(p.steps * s);
+    for (size_t step = 1; step < p.steps; ++step) {
+      std::copy_n(p.center.begin(), s, p.center.begin() + step * s);
+      std::copy_n(p.tolerance.begin(), s, p.tolerance.begin() + step * s);
+    }
   }
-  const float* c = center.data();
-  const float* t = tolerance.data();
-  for (size_t step = 0; step < static_cast<size_t>(e.num_steps) + 1; ++step)
-    if (Outside<true>(e.states.data() + step * s, s, c, t, 0.0f)) return false;
+  const size_t n = e.states.size(), chunk = p.steps * s;
+  for (size_t start = 0; start < n; start += chunk)
+    if (Outside<true>(e.states.data() + start, std::min(chunk, n - start), p.center.data(), p.tolerance.data(), 0.0f))
+      return false;
   return true;
 }
 

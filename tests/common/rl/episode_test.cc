@@ -343,6 +343,15 @@ TEST(EpisodeLimitsTest, EveryStateValueIsCheckedAndNamed) {
   EXPECT_VALID(e, limits);
   e.states[At(e, 7, 2, 0)] = 1.0f;
   EXPECT_REFUSED(e, limits, "identifier");
+  // the fast pass keeps its pattern between calls: other kinds with the states of the old
+  // ones, then other bounds, must not pass on the old pattern
+  e = good;
+  std::swap(e.entity_kinds[1], e.entity_kinds[2]);
+  EXPECT_REFUSED(e, limits, "identifier");
+  e = good;
+  e.states[At(e, 3, 0, 5)] = 0.5f;
+  limits.max_abs_position = 0.4f;
+  EXPECT_REFUSED(e, limits, "states[" + std::to_string(At(e, 3, 0, 5)) + "]");
   // an infinite position bound: huge positions pass, infinite ones do not
   limits.max_abs_position = kInf;
   e = good;
