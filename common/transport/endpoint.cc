@@ -330,7 +330,8 @@ struct Reader<T>::Impl {
 
   // Takes up to `max` samples now (no waiting); appends the valid ones to *out. DDS copies
   // into this reader's own C samples (`taken`), whose sequence buffers it grows and then
-  // reuses: no allocation per sample and sequence, as loaned samples would cost.
+  // reuses: no allocation per sample and sequence, as loaned samples would cost. Buffers are
+  // kept only for accepted samples (sizes within the contract's limits).
   size_t TakeNow(std::vector<T>* out, size_t max) {
     size_t appended = 0;
     while (appended < max) {
@@ -345,7 +346,14 @@ struct Reader<T>::Impl {
         // invalid_data samples only announce instance state changes (disposed, no writers)
         if (!infos[i].valid_data) continue;
         out->emplace_back();
-        if (Accept(Receive(taken[i], &out->back()))) ++appended; else out->pop_back();
+        if (Accept(Receive(taken[i], &out->back()))) {
+          ++appended;
+        } else {
+          out->pop_back();
+          // a refused sample leaves nothing behind, not even the buffers it made DDS grow
+          dds_sample_free(&taken[i], internal::CType<T>::Descriptor(), DDS_FREE_CONTENTS);
+          taken[i] = {};
+        }
       }
       if (static_cast<size_t>(n) < want) break;
     }
