@@ -48,7 +48,7 @@ void LearnerLoop::Publish() {
   w.version = learner_.counters().policy_version;
   w.update_count = learner_.counters().updates;
   w.architecture = learner_.PolicySignature();
-  link_->PublishWeights(w);
+  link_->PublishWeights(std::move(w));
 }
 
 void LearnerLoop::Report(bool force) {

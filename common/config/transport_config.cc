@@ -23,6 +23,7 @@ void ParseTransport(YamlSection s, TransportConfig* out) {
   s.ReadInt("max_participants_per_host", &out->max_participants_per_host, 1, 1000);
   s.ReadInt("episode_history_depth", &out->episode_history_depth, 1, 1 << 20);
   s.ReadInt("writer_max_blocking_ms", &out->writer_max_blocking_ms, 1, 600000);
+  s.ReadInt("episode_batch_ms", &out->episode_batch_ms, 0, 10000);
   s.ReadDouble("liveliness_lease_s", &out->liveliness_lease_s, 0.05, 3600);
   s.ReadDouble("status_period_s", &out->status_period_s, 0.01, 3600);
   s.ReadDouble("stalled_node_restart_s", &out->stalled_node_restart_s, 0, 86400);

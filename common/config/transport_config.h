@@ -46,6 +46,11 @@ struct TransportConfig {
   int max_participants_per_host = 64;  // Discovery/MaxAutoParticipantIndex on loopback
   int episode_history_depth = 256;  // reader-side keep-last depth for Episode (reliable)
   int writer_max_blocking_ms = 100;  // after this a full writer reports back-pressure
+  // Actors' episode writers pack episodes into shared datagrams and send each at most this
+  // long after it was written (0: one datagram per episode, sent at once). Batching is what
+  // lets one actor's writer reach ddsperf's rate (docs/results.md); the delay is a tenth of a
+  // 20-step episode's time.
+  int episode_batch_ms = 2;
   double liveliness_lease_s = 2.0;   // NodeStatus writers: a dead peer is noticed after this
   double status_period_s = 1.0;      // NodeStatus and LearnerStats publishing period
   // srics run kills (and so restarts) a role process whose NodeStatus stopped for this long

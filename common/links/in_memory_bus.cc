@@ -62,9 +62,9 @@ class InMemoryBus::Learner : public LearnerLink {
     return taken;
   }
   std::optional<rl::GraphUpdate> PollGraph() override { return Unseen(bus_->graph_, &graph_seen_); }
-  void PublishWeights(const rl::WeightsUpdate& weights) override {
-    bus_->weights_ = weights;
-    if (bus_->observer_) bus_->observer_->OnWeights(weights);
+  void PublishWeights(rl::WeightsUpdate weights) override {
+    bus_->weights_ = std::move(weights);
+    if (bus_->observer_) bus_->observer_->OnWeights(*bus_->weights_);
   }
   void PublishStats(const rl::LearnerReport& report) override {
     bus_->progress_ = report.progress();

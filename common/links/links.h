@@ -45,7 +45,8 @@ class LearnerLink {
   virtual size_t TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds wait) = 0;
   // The newest graph not returned before, if any (non-blocking).
   virtual std::optional<rl::GraphUpdate> PollGraph() = 0;
-  virtual void PublishWeights(const rl::WeightsUpdate& weights) = 0;
+  // By value: the parameters (megabytes) are moved through to the wire, not copied.
+  virtual void PublishWeights(rl::WeightsUpdate weights) = 0;
   virtual void PublishStats(const rl::LearnerReport& report) = 0;
   virtual void PublishStatus(const rl::NodeReport& report) = 0;
 };

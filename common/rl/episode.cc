@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace srics::rl {
 namespace {
@@ -27,6 +28,87 @@ std::string CheckBounded(float value, float bound, Where where) {
   if (std::isfinite(value) && std::fabs(value) <= bound) return "";
   return where() + " = " + Str(value) + (std::isfinite(value) ? " outside [-" + Str(bound) + ", " + Str(bound) + "]"
                                                               : " is not finite");
+}
+
+// The fast checks below answer only "all good?" in one branch-free pass over the values (the
+// compiler vectorizes them); when one says no, the detailed check that follows it names the
+// offender. They accept exactly what the detailed checks accept: |v - center| <= tolerance is
+// false for NaN and, with the tolerance capped at FLT_MAX, for infinities; with tolerance 0 it
+// is v == center.
+constexpr size_t kBlock = 4096;  // values per early-exit test
+
+float Tolerance(float bound) { return std::min(bound, std::numeric_limits<float>::max()); }
+
+// Nonzero when some |v[i] - center[i]| is not <= tolerance[i] (center and tolerance null: 0
+// and `bound`). Blocks of 8 with a fixed inner count, which GCC vectorizes at -O2 too.
+template <bool kPattern>
+int Outside(const float* v, size_t n, const float* center, const float* tolerance, float bound) {
+  auto outside = [&](size_t i) {
+    if constexpr (kPattern) return static_cast<int>(!(std::fabs(v[i] - center[i]) <= tolerance[i]));
+    else return static_cast<int>(!(std::fabs(v[i]) <= bound));
+  };
+  int lanes[8] = {};  // one accumulator per lane: no horizontal step inside the loop
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8)
+    for (size_t k = 0; k < 8; ++k) lanes[k] |= outside(i + k);
+  int bad = 0;
+  for (int lane : lanes) bad |= lane;
+  for (; i < n; ++i) bad |= outside(i);
+  return bad;
+}
+
+// Every state token against a pattern of the states (N x D, repeated for several steps): the
+// one-hot columns equal their identifier (tolerance 0), positions and velocities within their
+// bounds (center 0). The pattern is kept per thread and rebuilt only when the entity kinds,
+// layout or bounds change (an actor's episodes share them). Sizes were checked (CheckSizes).
+bool StatesLookRight(const Episode& e, const EpisodeLimits& limits) {
+  struct Pattern {
+    std::vector<uint16_t> kinds;
+    int num_kinds = -1;
+    bool velocities = false;
+    float position = 0, velocity = 0;
+    std::vector<float> center, tolerance;  // `steps` states
+    size_t steps = 0;
+  };
+  thread_local Pattern p;
+  const EntityLayout& l = e.layout;
+  const size_t d = static_cast<size_t>(l.entity_dim()), s = static_cast<size_t>(l.state_size());
+  const float position = Tolerance(limits.max_abs_position), velocity = Tolerance(limits.max_abs_velocity);
+  // bit-exact comparison of the bounds (a NaN bound never matches: rebuilt each time)
+  if (p.kinds != e.entity_kinds || p.num_kinds != l.num_kinds || p.velocities != l.velocities ||
+      !(p.position == position) || !(p.velocity == velocity)) {
+    p.kinds = e.entity_kinds;
+    p.num_kinds = l.num_kinds;
+    p.velocities = l.velocities;
+    p.position = position;
+    p.velocity = velocity;
+    p.steps = std::max<size_t>(1, 512 / s);  // a few hundred values per pass
+    p.center.assign(s, 0.0f);
+    p.tolerance.resize(s);
+    for (size_t entity = 0; entity < static_cast<size_t>(l.num_entities); ++entity) {
+      for (size_t column = 0; column < d; ++column) {
+        const int col = static_cast<int>(column);
+        const size_t i = entity * d + column;
+        if (col < l.num_kinds) {
+          p.center[i] = col == e.entity_kinds[entity] ? 1.0f : 0.0f;
+          p.tolerance[i] = 0.0f;
+        } else {
+          p.tolerance[i] = col < l.num_kinds + 2 ? position : velocity;
+        }
+      }
+    }
+    p.center.resize(p.steps * s);
+    p.tolerance.resize(p.steps * s);
+    for (size_t step = 1; step < p.steps; ++step) {
+      std::copy_n(p.center.begin(), s, p.center.begin() + step * s);
+      std::copy_n(p.tolerance.begin(), s, p.tolerance.begin() + step * s);
+    }
+  }
+  const size_t n = e.states.size(), chunk = p.steps * s;
+  for (size_t start = 0; start < n; start += chunk)
+    if (Outside<true>(e.states.data() + start, std::min(chunk, n - start), p.center.data(), p.tolerance.data(), 0.0f))
+      return false;
+  return true;
 }
 
 std::string CheckLayout(const Episode& e, const EpisodeLimits& limits) {
@@ -132,10 +214,18 @@ std::string CheckSubgoals(const Episode& e, const EpisodeLimits& limits) {
   for (size_t i = 0; i < k; ++i)
     if (e.subgoal_tests[i] > 1)
       return "subgoal_tests[" + std::to_string(i) + "] = " + std::to_string(e.subgoal_tests[i]) + ", must be 0 or 1";
+  if (AllFiniteWithin(e.subgoals.data(), e.subgoals.size(), limits.max_abs_position)) return "";
   return CheckValues(e.subgoals, "subgoals", limits.max_abs_position);
 }
 
 }  // namespace
+
+bool AllFiniteWithin(const float* values, size_t n, float bound) {
+  const float tolerance = Tolerance(bound);
+  for (size_t start = 0; start < n; start += kBlock)
+    if (Outside<false>(values + start, std::min(kBlock, n - start), nullptr, nullptr, tolerance)) return false;
+  return true;
+}
 
 EpisodeLimits LimitsOfLayout(const EntityLayout& layout, int action_dim) {
   EpisodeLimits limits;
@@ -149,9 +239,13 @@ EpisodeLimits LimitsOfLayout(const EntityLayout& layout, int action_dim) {
 std::string ValidateEpisode(const Episode& e, const EpisodeLimits& limits) {
   if (auto r = CheckLayout(e, limits); !r.empty()) return r;
   if (auto r = CheckSizes(e); !r.empty()) return r;
-  if (auto r = CheckStates(e, limits); !r.empty()) return r;
-  if (auto r = CheckValues(e.actions, "actions", limits.max_abs_action); !r.empty()) return r;
-  if (auto r = CheckValues(e.goal, "goal", limits.max_abs_position); !r.empty()) return r;
+  // the detailed value checks run only when a fast one found something (to name it)
+  if (!StatesLookRight(e, limits))
+    if (auto r = CheckStates(e, limits); !r.empty()) return r;
+  if (!AllFiniteWithin(e.actions.data(), e.actions.size(), limits.max_abs_action))
+    if (auto r = CheckValues(e.actions, "actions", limits.max_abs_action); !r.empty()) return r;
+  if (!AllFiniteWithin(e.goal.data(), e.goal.size(), limits.max_abs_position))
+    if (auto r = CheckValues(e.goal, "goal", limits.max_abs_position); !r.empty()) return r;
   return CheckSubgoals(e, limits);
 }
 

@@ -75,6 +75,11 @@ struct EpisodeLimits {
 };
 inline constexpr int kNoSubgoals = -1;
 
+// True when every value is finite and |value| <= bound: one branch-free (vectorized) pass, for
+// the hot paths that check megabytes of received values; a false answer is then explained by
+// the slower check that names the offender.
+bool AllFiniteWithin(const float* values, size_t n, float bound);
+
 // Limits that accept exactly one layout and action size (e.g. a data set's own).
 EpisodeLimits LimitsOfLayout(const EntityLayout& layout, int action_dim);
 

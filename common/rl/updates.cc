@@ -7,6 +7,7 @@
 namespace srics::rl {
 
 std::string ParameterProblem(const std::vector<float>& parameters) {
+  if (AllFiniteWithin(parameters.data(), parameters.size(), kMaxAbsParameter)) return "";
   for (size_t i = 0; i < parameters.size(); ++i) {
     const float v = parameters[i];
     if (!std::isfinite(v)) return "parameter " + std::to_string(i) + " is not finite";

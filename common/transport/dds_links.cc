@@ -15,17 +15,19 @@ ReaderOptions EpisodeReaderOptions(const rl::EpisodeLimits& limits) {
   return options;
 }
 
-WriterOptions CheckedByLink() {
-  WriterOptions options;
-  options.validate = false;  // the link checked the episode against the run's limits already
-  return options;
-}
-
 std::chrono::milliseconds LogInterval(const Participant& participant) {
   return std::chrono::seconds(participant.config().rejected_log_interval_s);
 }
 
 }  // namespace
+
+WriterOptions ActorEpisodeWriterOptions(const config::TransportConfig& config) {
+  WriterOptions options;
+  options.validate = false;  // the link checked the episode against the run's limits already
+  options.batch = config.episode_batch_ms > 0;
+  options.batch_delay = std::chrono::milliseconds(config.episode_batch_ms);
+  return options;
+}
 
 // ------------------------------------------------------------------------------ actor link
 
@@ -37,7 +39,7 @@ DdsActorLink::DdsActorLink(const Participant& participant, uint32_t actor_id, co
       weights_(participant),
       graphs_(participant, limits.num_kinds),
       stats_(participant),
-      episodes_(participant, CheckedByLink()),
+      episodes_(participant, ActorEpisodeWriterOptions(participant.config())),
       evals_(participant),
       status_(participant, "actor", actor_id),
       limiter_(LogInterval(participant)),
@@ -109,7 +111,8 @@ DdsLearnerLink::DdsLearnerLink(const Participant& participant, const rl::Episode
       graphs_(participant, limits.num_kinds),
       weights_(participant),
       stats_(participant),
-      status_(participant, "learner", 0) {}
+      status_(participant, "learner", 0),
+      run_id_(participant.run_id()) {}
 
 size_t DdsLearnerLink::TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds wait) {
   return episodes_.TakeMany(out, max, wait);
@@ -117,10 +120,12 @@ size_t DdsLearnerLink::TakeEpisodes(std::vector<rl::Episode>* out, size_t max, s
 
 std::optional<rl::GraphUpdate> DdsLearnerLink::PollGraph() { return graphs_.PollNewest(); }
 
-void DdsLearnerLink::PublishWeights(const rl::WeightsUpdate& weights) {
-  const PolicyWeights m = ToMessage(weights);
+void DdsLearnerLink::PublishWeights(rl::WeightsUpdate weights) {
+  const uint64_t version = weights.version;
+  PolicyWeights m = ToMessage(std::move(weights));
+  m.run_id = run_id_;  // stamped here, so the writer has nothing to copy the message for
   if (weights_.Write(m) != WriteResult::kSent && weights_.TryWrite(m) != WriteResult::kSent)
-    spdlog::info("weights v{} not sent: shutting down", weights.version);
+    spdlog::info("weights v{} not sent: shutting down", version);
 }
 
 void DdsLearnerLink::PublishStats(const rl::LearnerReport& report) {

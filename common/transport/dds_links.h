@@ -27,6 +27,11 @@
 
 namespace srics::transport {
 
+// The options of an actor's episode writer, shared with the transport bench so that it
+// measures this path: no validation in the writer (PublishEpisode checked the episode against
+// the run's limits), batched with transport.episode_batch_ms as the delay bound (0: unbatched).
+WriterOptions ActorEpisodeWriterOptions(const config::TransportConfig& config);
+
 // An actor's side: the newest weights, graph and learner stats in; episodes, evaluations and
 // status out.
 class DdsActorLink final : public links::ActorLink {
@@ -77,8 +82,10 @@ class DdsLearnerLink final : public links::LearnerLink {
 
   size_t TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds wait) override;
   std::optional<rl::GraphUpdate> PollGraph() override;
-  // Retries back-pressure; on the way out (shutdown) one plain attempt still goes out.
-  void PublishWeights(const rl::WeightsUpdate& weights) override;
+  // Retries back-pressure; on the way out (shutdown) one plain attempt still goes out. The
+  // parameters are moved into the message, which is stamped here (run id, contract version)
+  // and checksummed by the writer on the C sample: no copy of the megabytes on the way.
+  void PublishWeights(rl::WeightsUpdate weights) override;
   // episodes_rejected also counts the episodes this link refused.
   void PublishStats(const rl::LearnerReport& report) override;
   void PublishStatus(const rl::NodeReport& report) override;
@@ -92,6 +99,7 @@ class DdsLearnerLink final : public links::LearnerLink {
   Writer<PolicyWeights> weights_;
   Writer<LearnerStats> stats_;
   StatusPublisher status_;
+  std::string run_id_;
 };
 
 // The graph service's explore episodes. A thread keeps taking samples all the time, also

@@ -2,6 +2,12 @@
 
 #include <spdlog/spdlog.h>
 
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <thread>
 #include <type_traits>
 #include <utility>
 
@@ -105,10 +111,54 @@ struct Writer<T>::Impl {
     writer = dds_create_writer(participant, topic.handle(), qos.qos, nullptr);
     if (options.batch) dds_write_set_batch(false);
     Check(writer, ("dds_create_writer " + topic.name()).c_str());
+    if (options.batch && options.batch_delay.count() > 0) flusher = std::thread([this] { FlushLoop(); });
   }
   ~Impl() {
+    if (flusher.joinable()) {
+      {
+        std::lock_guard lock(flush_mutex);
+        stopping = true;
+      }
+      flush_wake.notify_one();
+      flusher.join();
+    }
     if (options.batch && writer > 0) dds_write_flush(writer);
     internal::DeleteEntity(&writer);
+  }
+
+  // A batching writer with a delay: notes the first held-back sample for the flusher.
+  void Held() {
+    if (!flusher.joinable()) return;
+    std::lock_guard lock(flush_mutex);
+    if (held_since) return;
+    held_since = Clock::now();
+    flush_wake.notify_one();
+  }
+
+  // Flushes held-back samples once the oldest waited batch_delay. dds_write and
+  // dds_write_flush both take the writer's lock, so this thread never races the writing one.
+  void FlushLoop() {
+    std::unique_lock lock(flush_mutex);
+    while (!stopping) {
+      if (!held_since) {
+        flush_wake.wait(lock, [&] { return stopping || held_since.has_value(); });
+        continue;
+      }
+      const auto due = *held_since + options.batch_delay;
+      if (flush_wake.wait_until(lock, due, [&] { return stopping || !held_since; })) continue;
+      held_since.reset();
+      lock.unlock();
+      dds_write_flush(writer);
+      timed_flushes.fetch_add(1, std::memory_order_relaxed);
+      lock.lock();
+    }
+  }
+
+  // Flush(): nothing is held back any more.
+  void Flushed() {
+    if (!flusher.joinable()) return;
+    std::lock_guard lock(flush_mutex);
+    held_since.reset();
   }
 
   // Stamps and validates as configured; returns what to send (msg itself or scratch).
@@ -129,17 +179,12 @@ struct Writer<T>::Impl {
   const M& PrepareMessage(const M& msg) {
     const M* result = &msg;
     if (options.stamp) {
-      bool differs = msg.contract_version != kContractVersion || msg.run_id != run_id;
-      uint32_t checksum = 0;
-      if constexpr (std::is_same_v<M, PolicyWeights>) {
-        checksum = ParameterChecksum(msg.parameters);
-        differs = differs || checksum != msg.checksum;
-      }
-      if (differs) {
+      // the weights' checksum goes onto the C sample (Send): megabytes are never copied for it
+      if constexpr (std::is_same_v<M, PolicyWeights>) checksum = ParameterChecksum(msg.parameters);
+      if (msg.contract_version != kContractVersion || msg.run_id != run_id) {
         scratch = msg;
         scratch.contract_version = kContractVersion;
         scratch.run_id = run_id;
-        if constexpr (std::is_same_v<M, PolicyWeights>) scratch.checksum = checksum;
         result = &scratch;
       }
     }
@@ -158,13 +203,17 @@ struct Writer<T>::Impl {
   // One dds_write; kBackPressure when it timed out.
   WriteResult Send(const T& msg) {
     typename internal::CType<T>::type sample;
-    if constexpr (std::is_same_v<T, rl::Episode>)
+    if constexpr (std::is_same_v<T, rl::Episode>) {
       internal::ToC(msg, envelope, &sample);
-    else
+    } else {
       internal::ToC(msg, &sample);
+      if constexpr (std::is_same_v<T, PolicyWeights>)
+        if (options.stamp) sample.checksum = checksum;
+    }
     const dds_return_t ret = dds_write(writer, &sample);
     if (ret == DDS_RETCODE_TIMEOUT) return WriteResult::kBackPressure;
     Check(ret, ("dds_write " + topic.name()).c_str());
+    Held();
     return WriteResult::kSent;
   }
 
@@ -176,7 +225,15 @@ struct Writer<T>::Impl {
   std::string run_id;
   int32_t writer = 0;
   T scratch;
+  uint32_t checksum = 0;  // PolicyWeights with stamp: of the prepared sample
   internal::Envelope envelope{options.episode_contract_version, run_id};
+  // the batch_delay flusher (batching writers with a delay only)
+  std::mutex flush_mutex;
+  std::condition_variable flush_wake;
+  std::optional<Clock::time_point> held_since;  // the oldest sample not yet flushed
+  bool stopping = false;
+  std::atomic<uint64_t> timed_flushes{0};
+  std::thread flusher;  // last: started once everything it uses exists
 };
 
 template <typename T>
@@ -210,7 +267,14 @@ WriteResult Writer<T>::Write(const T& msg) {
 
 template <typename T>
 void Writer<T>::Flush() {
-  if (impl_->options.batch) dds_write_flush(impl_->writer);
+  if (!impl_->options.batch) return;
+  impl_->Flushed();
+  dds_write_flush(impl_->writer);
+}
+
+template <typename T>
+uint64_t Writer<T>::timed_flushes() const {
+  return impl_->timed_flushes.load(std::memory_order_relaxed);
 }
 
 template <typename T>
@@ -259,14 +323,20 @@ struct Reader<T>::Impl {
   ~Impl() {
     internal::DeleteEntity(&waitset);
     internal::DeleteEntity(&reader);  // also deletes the read condition
+    for (auto& sample : taken) dds_sample_free(&sample, internal::CType<T>::Descriptor(), DDS_FREE_CONTENTS);
   }
 
-  // Takes up to `max` samples now (no waiting); appends the valid ones to *out.
+  static constexpr size_t kBatch = 16;
+
+  // Takes up to `max` samples now (no waiting); appends the valid ones to *out. DDS copies
+  // into this reader's own C samples (`taken`), whose sequence buffers it grows and then
+  // reuses: no allocation per sample and sequence, as loaned samples would cost. Buffers are
+  // kept only for accepted samples (sizes within the contract's limits).
   size_t TakeNow(std::vector<T>* out, size_t max) {
-    constexpr size_t kBatch = 16;
     size_t appended = 0;
     while (appended < max) {
-      void* samples[kBatch] = {};
+      void* samples[kBatch];
+      for (size_t i = 0; i < kBatch; ++i) samples[i] = &taken[i];
       dds_sample_info_t infos[kBatch];
       const size_t want = std::min(kBatch, max - appended);
       const int32_t n = Check(dds_take(reader, samples, infos, want, static_cast<uint32_t>(want)),
@@ -276,10 +346,15 @@ struct Reader<T>::Impl {
         // invalid_data samples only announce instance state changes (disposed, no writers)
         if (!infos[i].valid_data) continue;
         out->emplace_back();
-        const auto& sample = *static_cast<const typename internal::CType<T>::type*>(samples[i]);
-        if (Accept(Receive(sample, &out->back()))) ++appended; else out->pop_back();
+        if (Accept(Receive(taken[i], &out->back()))) {
+          ++appended;
+        } else {
+          out->pop_back();
+          // a refused sample leaves nothing behind, not even the buffers it made DDS grow
+          dds_sample_free(&taken[i], internal::CType<T>::Descriptor(), DDS_FREE_CONTENTS);
+          taken[i] = {};
+        }
       }
-      dds_return_loan(reader, samples, n);
       if (static_cast<size_t>(n) < want) break;
     }
     return appended;
@@ -347,6 +422,9 @@ struct Reader<T>::Impl {
   int32_t condition = 0;
   int32_t waitset = 0;
   std::vector<T> batch;  // reused by Take
+  // what dds_take copies into (zeroed: sequences start empty; DDS allocates them, they are
+  // freed with the reader)
+  std::array<typename internal::CType<T>::type, kBatch> taken{};
 };
 
 template <typename T>

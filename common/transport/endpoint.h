@@ -54,10 +54,15 @@ struct WriterOptions {
   std::string topic_name;  // empty: the table's name (tests isolate themselves with others)
   bool stamp = true;       // set contract_version, run_id (and the PolicyWeights checksum)
   bool validate = true;    // throw InvalidMessage for what a reader would reject
-  // Packs consecutive samples into shared datagrams (Cyclone write batching) for bulk
-  // producers: a written sample may wait in this process until Flush(), a full datagram or
-  // the writer's destruction. Leave off for writers that publish now and then.
+  // Packs consecutive samples into shared datagrams (Cyclone write batching): a written
+  // sample waits in this process until Flush(), a full datagram (64 KB on the loopback
+  // profile), `batch_delay` or the writer's destruction. A datagram per sample costs more than
+  // the sample itself for small samples (episodes): batching is what lets a writer reach
+  // ddsperf's rate, and with a delay bound it costs a rare writer no more than that delay.
   bool batch = false;
+  // With batch: the longest a written sample waits before it is sent (a thread of the writer
+  // flushes it); 0: it waits for Flush(), a full datagram or the destruction.
+  std::chrono::milliseconds batch_delay{0};
   // rl::Episode carries no envelope: an episode writer stamps this contract version and the
   // participant's run id. Tests set another version to check that readers refuse it.
   uint32_t episode_contract_version = kContractVersion;
@@ -112,6 +117,8 @@ class Writer {
 
   // Sends what a batching writer holds back (no effect without WriterOptions::batch).
   void Flush();
+  // Times the batch_delay flusher sent held-back samples (tests: 0 without a delay).
+  uint64_t timed_flushes() const;
 
   // Readers currently matched (subscription side of the same topic and compatible QoS).
   uint32_t matched_readers() const;

@@ -73,6 +73,13 @@ PolicyWeights ToMessage(const rl::WeightsUpdate& w) {
   return m;
 }
 
+PolicyWeights ToMessage(rl::WeightsUpdate&& w) {
+  PolicyWeights m;
+  WeightsFields(ToMessageOp{}, m, w);
+  m.parameters = std::move(w.parameters);  // megabytes: moved, not copied
+  return m;
+}
+
 rl::WeightsUpdate FromMessage(PolicyWeights m) {
   rl::WeightsUpdate w;
   WeightsFields(FromMessageOp{}, m, w);

@@ -14,6 +14,7 @@ namespace srics::transport {
 
 // contract_version and run_id are left for the writer to stamp.
 PolicyWeights ToMessage(const rl::WeightsUpdate& weights);
+PolicyWeights ToMessage(rl::WeightsUpdate&& weights);  // moves the parameters
 rl::WeightsUpdate FromMessage(PolicyWeights message);  // pass an rvalue to move the parameters
 
 // graph.structure is written as the ancestor masks and depths of the message.

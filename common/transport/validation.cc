@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstring>
 
-#include <zlib.h>
+#include <libdeflate.h>
 
 namespace srics::transport {
 namespace {
@@ -80,13 +80,16 @@ Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool veri
   if (msg.parameters.empty() || msg.parameters.size() > kMaxParameters)
     return Malformed("weights.size", "parameters: " + std::to_string(msg.parameters.size()) +
                                          " values, expected 1 to 64 Mi");
-  if (auto r = NonFinite("parameters", msg.parameters); !r.empty()) return Malformed("weights.nonfinite", r);
-  // finite but huge parameters overflow the policy's activations into NaN actions
-  for (size_t i = 0; i < msg.parameters.size(); ++i)
-    if (std::fabs(msg.parameters[i]) > rl::kMaxAbsParameter)
-      return Malformed("weights.magnitude", "parameters[" + std::to_string(i) + "] = " +
-                                                std::to_string(msg.parameters[i]) + " outside +-" +
-                                                std::to_string(rl::kMaxAbsParameter));
+  // one vectorized pass over the megabytes; the two named checks below only when it failed
+  if (!rl::AllFiniteWithin(msg.parameters.data(), msg.parameters.size(), rl::kMaxAbsParameter)) {
+    if (auto r = NonFinite("parameters", msg.parameters); !r.empty()) return Malformed("weights.nonfinite", r);
+    // finite but huge parameters overflow the policy's activations into NaN actions
+    for (size_t i = 0; i < msg.parameters.size(); ++i)
+      if (std::fabs(msg.parameters[i]) > rl::kMaxAbsParameter)
+        return Malformed("weights.magnitude", "parameters[" + std::to_string(i) + "] = " +
+                                                  std::to_string(msg.parameters[i]) + " outside +-" +
+                                                  std::to_string(rl::kMaxAbsParameter));
+  }
   if (const uint32_t crc = verify_checksum ? ParameterChecksum(msg.parameters) : msg.checksum;
       crc != msg.checksum)
     return Malformed("weights.checksum", "checksum " + std::to_string(msg.checksum) +
@@ -171,9 +174,9 @@ Validation Validate(const NodeStatus& msg, std::string_view run_id) {
 }
 
 uint32_t ParameterChecksum(const std::vector<float>& parameters) {
-  // zlib's CRC-32 runs at several GB/s; 5 MB weights are checked on every publication
-  const auto* bytes = reinterpret_cast<const Bytef*>(parameters.data());
-  return static_cast<uint32_t>(crc32_z(crc32_z(0, nullptr, 0), bytes, parameters.size() * sizeof(float)));
+  // zlib's CRC-32 (same polynomial and result); libdeflate's folds with carry-less multiplies,
+  // 3x zlib 1.2's speed here: 5 MB weights are summed by the learner and by every actor
+  return libdeflate_crc32(0, parameters.data(), parameters.size() * sizeof(float));
 }
 
 }  // namespace srics::transport

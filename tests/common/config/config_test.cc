@@ -66,7 +66,8 @@ TEST_F(ConfigFiles, ValuesAreParsedIntoTypedFields) {
                                  "  run_id: abc\n"
                                  "  profile: unicast\n"
                                  "  peers: 10.0.0.1,10.0.0.2\n"
-                                 "  liveliness_lease_s: 1.5\n");
+                                 "  liveliness_lease_s: 1.5\n"
+                                 "  episode_batch_ms: 0\n");
   const Config c = LoadConfig(file);
   EXPECT_EQ(c.run.name, "exp");
   EXPECT_EQ(c.run.seed, 12345678901ull);
@@ -77,6 +78,8 @@ TEST_F(ConfigFiles, ValuesAreParsedIntoTypedFields) {
   EXPECT_EQ(c.transport.profile, CycloneProfile::kUnicast);
   EXPECT_EQ(c.transport.peers, "10.0.0.1,10.0.0.2");
   EXPECT_DOUBLE_EQ(c.transport.liveliness_lease_s, 1.5);
+  EXPECT_EQ(c.transport.episode_batch_ms, 0);  // the default is 2
+  EXPECT_EQ(TransportConfig{}.episode_batch_ms, 2);
   EXPECT_EQ(c.source_file, file);
   EXPECT_NE(c.effective_yaml.find("domain_id: 7"), std::string::npos);
 }

@@ -98,6 +98,21 @@ class DdsLinksTest : public ::testing::Test {
   rl::EpisodeLimits limits_ = testing::SampleEpisodeLimits();
 };
 
+// Actors batch their episodes, each sent within transport.episode_batch_ms (0: unbatched); the
+// link checks them, so the writer does not check again.
+TEST(ActorEpisodeWriterOptionsTest, BatchedWithinTheConfiguredDelay) {
+  config::TransportConfig config;
+  WriterOptions options = ActorEpisodeWriterOptions(config);
+  EXPECT_TRUE(options.batch);
+  EXPECT_EQ(options.batch_delay, std::chrono::milliseconds(2));
+  EXPECT_FALSE(options.validate);
+  EXPECT_TRUE(options.stamp);
+  config.episode_batch_ms = 0;
+  options = ActorEpisodeWriterOptions(config);
+  EXPECT_FALSE(options.batch);
+  EXPECT_EQ(options.batch_delay, std::chrono::milliseconds(0));
+}
+
 TEST_F(DdsLinksTest, ActorEpisodesArriveWholeAtLearnerAndGraphSource) {
   Participant learner_side(config_), graph_side(config_), actor_side(config_);
   DdsLearnerLink learner(learner_side, limits_);

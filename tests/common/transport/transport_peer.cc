@@ -4,6 +4,7 @@
 //   transport_peer MODE DOMAIN RUN_ID [ARGS...]
 //     write TOPIC SEED        write one sample once a reader matched, wait for its ack
 //     read TOPIC SEED         print "ready", take one sample, exit 0 if it equals the expected
+//     count COUNT             print "ready", then "got ID" for each of COUNT episodes taken
 //     latest                  publish graph and weights versions 1 then 2, print
 //                             "published", serve them until SIGINT/SIGTERM
 //     big COUNT               write one PolicyWeights of COUNT floats
@@ -82,6 +83,18 @@ int BlockUntilShutdown(const Participant& participant, milliseconds limit) {
   const TakeStatus status = reader.Take(&unused, limit);
   if (status != TakeStatus::kShutdown) return 5;
   Say("shutdown");
+  return 0;
+}
+
+// Reports each episode as it arrives, so the test sees when it did.
+int CountEpisodes(const Participant& participant, uint64_t count) {
+  Reader<srics::rl::Episode> reader(participant, SampleEpisodeReader());
+  Say("ready");
+  for (uint64_t i = 0; i < count; ++i) {
+    srics::rl::Episode got;
+    if (reader.Take(&got, kMatchTimeout) != TakeStatus::kSample) return 4;
+    Say("got " + std::to_string(got.episode_id));
+  }
   return 0;
 }
 
@@ -165,6 +178,7 @@ int main(int argc, char** argv) {
       return WithSample(participant.run_id(), argv[4], std::stoull(argv[5]),
                         [&](const auto& sample) { return ReadOne(participant, sample); });
     if (mode == "latest") return Latest(participant);
+    if (mode == "count" && argc == 5) return CountEpisodes(participant, std::stoull(argv[4]));
     if (mode == "big" && argc == 5)
       return WriteOne(participant, MakePolicyWeights(config.run_id, 5, std::stoull(argv[4])));
     if (mode == "episodes" && argc == 6) return Episodes(participant, std::stoull(argv[4]));

@@ -168,6 +168,74 @@ TEST_F(TransportTest, FiveMegabyteWeightsArriveBitIdentical) {
   EXPECT_EQ(peer.Wait(30s), 0);
 }
 
+// ------------------------------------------------------------- batching and reused samples
+
+// A batching writer (actors' episodes) holds a sample written right after another (Cyclone
+// sends at once only a write that piggybacks a heartbeat, one after a pause) until its delay,
+// when its flusher sends it: the peer gets it, not before the delay and not never.
+TEST_F(TransportTest, BatchingWriterSendsHeldSamplesAfterItsDelay) {
+  Participant participant(config_);
+  WriterOptions options;
+  options.batch = true;
+  options.batch_delay = 400ms;
+  Writer<rl::Episode> writer(participant, options);
+  PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("count", {"2"}));
+  ASSERT_EQ(peer.ReadLine(20s), "ready");
+  ASSERT_TRUE(writer.WaitForReaders(1, 20s));
+  ASSERT_EQ(writer.Write(testing::MakeEpisode(100)), WriteResult::kSent);
+  ASSERT_EQ(writer.Write(testing::MakeEpisode(101)), WriteResult::kSent);
+  const auto written = std::chrono::steady_clock::now();
+  EXPECT_EQ(peer.ReadLine(20s), "got 100");
+  EXPECT_EQ(peer.ReadLine(20s), "got 101");
+  EXPECT_GE(std::chrono::steady_clock::now() - written, 390ms);
+  EXPECT_EQ(writer.timed_flushes(), 1u);
+  EXPECT_EQ(peer.Wait(20s), 0);
+}
+
+// Readers take into C samples of their own whose sequences DDS grows and reuses: samples that
+// grow, shrink and grow again arrive exactly, one by one and several at once.
+TEST_F(TransportTest, ReusedReaderSamplesCarryNothingOver) {
+  Participant participant(config_);
+  Reader<rl::Episode> reader(participant, testing::SampleEpisodeReader());
+  Writer<rl::Episode> writer(participant);
+  const std::vector<rl::Episode> sent = {testing::MakeEpisode(1, 20, 5), testing::MakeEpisode(2, 1, 2),
+                                         testing::MakeEpisode(3, 40, 8), testing::MakeEpisode(4, 3, 3)};
+  ASSERT_EQ(sent[1].subgoal_starts.size(), 1u);  // the subgoal sequences shrink too
+  for (const rl::Episode& e : sent) {
+    ASSERT_EQ(writer.Write(e), WriteResult::kSent);
+    rl::Episode got;
+    ASSERT_EQ(reader.Take(&got, 10s), TakeStatus::kSample);
+    EXPECT_TRUE(got == e) << "episode " << e.episode_id;
+  }
+  for (auto it = sent.rbegin(); it != sent.rend(); ++it) ASSERT_EQ(writer.Write(*it), WriteResult::kSent);
+  std::vector<rl::Episode> got;
+  for (auto deadline = std::chrono::steady_clock::now() + 10s;
+       got.size() < sent.size() && std::chrono::steady_clock::now() < deadline;)
+    reader.TakeMany(&got, sent.size() - got.size(), 1s);
+  ASSERT_EQ(got.size(), sent.size());
+  for (size_t i = 0; i < sent.size(); ++i) EXPECT_TRUE(got[i] == sent[sent.size() - 1 - i]) << i;
+
+  // weights: the writer stamps the checksum on the C sample (the message keeps its 0) and
+  // the reader, which verifies it, gets every size exactly
+  Reader<PolicyWeights> weights_reader(participant);
+  Writer<PolicyWeights> weights_writer(participant);
+  uint64_t version = 0;
+  for (size_t count : {1000, 10, 3000}) {
+    PolicyWeights w = testing::MakePolicyWeights(config_.run_id, count, count);
+    w.version = ++version;
+    w.checksum = 0;
+    ASSERT_EQ(weights_writer.Write(w), WriteResult::kSent);
+    EXPECT_EQ(w.checksum, 0u);
+    PolicyWeights received;
+    ASSERT_EQ(weights_reader.Take(&received, 10s), TakeStatus::kSample);
+    EXPECT_EQ(received.version, version);
+    EXPECT_EQ(received.parameters, w.parameters);
+    EXPECT_EQ(received.checksum, ParameterChecksum(w.parameters));
+  }
+  EXPECT_EQ(weights_reader.counters().rejected, 0u);
+  EXPECT_EQ(reader.counters().rejected, 0u);
+}
+
 // ------------------------------------------------------------------- flow control, no loss
 
 TEST_F(TransportTest, TenThousandEpisodesToSlowReaderNoneLostNoneDuplicated) {

@@ -104,6 +104,11 @@ TEST(ValidationTest, ChecksumIsZlibCrc32OfTheBytes) {
   EXPECT_EQ(ParameterChecksum({}), 0u);
   EXPECT_EQ(ParameterChecksum({1.0f}), 0xACA16A6Au);
   EXPECT_EQ(ParameterChecksum({1.0f, -2.5f, 3.25f}), 0x4E863144u);
+  // long enough for the folded (carry-less multiply) path, and not a multiple of its blocks:
+  // Python, v = [(i % 1000) * 0.5 - 250 for i in range(100003)], zlib.crc32 of '<100003f'
+  std::vector<float> v(100003);
+  for (size_t i = 0; i < v.size(); ++i) v[i] = static_cast<float>(i % 1000) * 0.5f - 250.0f;
+  EXPECT_EQ(ParameterChecksum(v), 0x425187F0u);
 }
 
 TEST(ValidationTest, GraphStructureIsChecked) {
