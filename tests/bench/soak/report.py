@@ -44,7 +44,13 @@ if pids:
     else:
         base = int(window[0]["rss_kb"]); top = max(int(r["rss_kb"]) for r in window)
         growth = (top - base) / base
+        # informative: the floor (lowest RSS) of the window's first and last thirds, which leaves
+        # out transient peaks (a checkpoint write holds the serialized state beside the state)
+        third = max(1, len(window) // 3)
+        floor_first = min(int(r["rss_kb"]) for r in window[:third])
+        floor_last = min(int(r["rss_kb"]) for r in window[-third:])
         memory = {"flat": growth <= 0.10, "growth": round(growth, 4), "rss_mib_start": round(base / 1024, 1),
+                  "floor_mib_first_third": round(floor_first / 1024, 1), "floor_mib_last_third": round(floor_last / 1024, 1),
                   "rss_mib_max": round(top / 1024, 1), "samples": len(window),
                   "seconds": int(window[-1]["t_s"]) - int(window[0]["t_s"]),
                   "replay_first": replay[0] if replay else None, "replay_last": replay[-1] if replay else None,
