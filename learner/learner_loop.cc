@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 namespace srics::learner {
@@ -48,7 +49,37 @@ void LearnerLoop::Publish() {
   w.version = learner_.counters().policy_version;
   w.update_count = learner_.counters().updates;
   w.architecture = learner_.PolicySignature();
+  ReserveVersions(w.version);
   link_->PublishWeights(std::move(w));
+}
+
+std::string LearnerLoop::VersionsPath() const { return options_.checkpoint_path + ".versions"; }
+
+void LearnerLoop::ReserveVersions(uint64_t version) {
+  if (options_.checkpoint_path.empty() || version <= versions_reserved_) return;
+  // a block at a time: one small durable write per kVersionBlock publications
+  const uint64_t reserved = version + kVersionBlock;
+  try {
+    files::WriteFileDurably(VersionsPath(), std::to_string(reserved) + "\n", *options_.file_system);
+    versions_reserved_ = reserved;
+  } catch (const std::exception& e) {
+    // publishing goes on; a restart may then repeat versions above the checkpoint's
+    uint64_t suppressed = 0;
+    if (refusals_log_->Allow(&suppressed))
+      spdlog::error("policy versions not reserved: {} ({} warnings suppressed)", e.what(), suppressed);
+  }
+}
+
+void LearnerLoop::ContinueVersions() {
+  std::ifstream in(VersionsPath());
+  uint64_t reserved = 0;
+  if (!(in >> reserved)) return;
+  versions_reserved_ = reserved;
+  const uint64_t current = learner_.counters().policy_version;
+  if (current >= reserved) return;
+  // every version up to `reserved` may have been published by a learner before this one
+  learner_.SkipPolicyVersions(reserved - current);
+  spdlog::info("policy versions continue above v{} (published before this start: {})", reserved, VersionsPath());
 }
 
 void LearnerLoop::Report(bool force) {
@@ -90,9 +121,10 @@ void LearnerLoop::Report(bool force) {
   status.policy_version = c.policy_version;
   status.graph_version = graph_version_;
   status.steps = c.updates;
-  status.dropped = r.episodes_rejected + graphs_rejected_;
+  status.dropped = r.episodes_rejected + duplicates_ + graphs_rejected_;
   for (auto [counter, count] : std::initializer_list<std::pair<const char*, uint64_t>>{
            {"episode.learner", r.episodes_rejected},
+           {"episode.duplicate", duplicates_},
            {"graph.entities", graphs_rejected_},
            {"update.nonfinite", learner_.non_finite_updates()},
            {"weights.withheld", weights_withheld_}})
@@ -105,7 +137,10 @@ void LearnerLoop::Report(bool force) {
 
 void LearnerLoop::Start() {
   started_ = true;
-  if (!options_.checkpoint_path.empty()) LoadNewestCheckpoint();
+  if (!options_.checkpoint_path.empty()) {
+    LoadNewestCheckpoint();
+    ContinueVersions();  // also without a checkpoint: a learner killed before its first one
+  }
   checkpointed_at_ = learner_.counters().updates;
   // rows of train.csv beyond the checkpoint are trained again: dropped
   training_log_.ResumeAt(learner_.counters().training_env_steps);
@@ -130,8 +165,11 @@ void LearnerLoop::LoadNewestCheckpoint() {
       set_aside.push_back(aside);
       continue;
     }
+    // the restored replay's episodes count as ingested: one delivered again is refused
+    for (const rl::Episode& e : learner_.replay().contents()) seen_.Remember(e.actor_id, e.episode_id);
     // weights published after that checkpoint carried higher versions than it records: skip
     // past every version that can have been used, so versions keep increasing for actors
+    // (ContinueVersions then skips past every version ever published)
     const auto& l = options_.learner.learner;
     learner_.SkipPolicyVersions(l.checkpoint_every_updates / l.publish_every_updates + 2);
     spdlog::info("resumed from {}{}: {} updates, {} transitions inserted, policy v{}, replay {} transitions{}",
@@ -196,8 +234,18 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
     // measured before Ingest takes the episode, counted only when it was stored
     const auto figures = training_log_.Measure(e);
     const uint64_t stored_before = learner_.counters().episodes_accepted;
-    const std::string problem = learner_.Ingest(std::move(e));
+    const uint32_t actor_id = e.actor_id;
+    const uint64_t episode_id = e.episode_id;
     uint64_t suppressed = 0;
+    if (seen_.Seen(actor_id, episode_id)) {  // delivered again: never trained on twice
+      ++duplicates_;
+      if (refusals_log_->Allow(&suppressed))
+        spdlog::warn("episode {} of actor {} refused: ingested before ({} duplicates so far, {} warnings suppressed)",
+                     episode_id, actor_id, duplicates_, suppressed);
+      continue;
+    }
+    const std::string problem = learner_.Ingest(std::move(e));
+    if (problem.empty()) seen_.Remember(actor_id, episode_id);  // a refused one burns no id
     if (!problem.empty() && refusals_log_->Allow(&suppressed))
       spdlog::warn("episode rejected: {} ({} rejected so far, {} warnings suppressed)", problem,
                    learner_.episodes_rejected(), suppressed);

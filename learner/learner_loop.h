@@ -18,6 +18,7 @@
 #include "common/config/config.h"
 #include "common/links/links.h"
 #include "common/logging/logging.h"
+#include "learner/episode_dedup.h"
 #include "learner/learner.h"
 #include "learner/training_log.h"
 
@@ -26,10 +27,11 @@ namespace srics::learner {
 struct LearnerLoopOptions {
   LearnerOptions learner;
   int num_entities = 0;          // of the run's environment: graphs of another size are refused
-  // empty: no checkpoints. Written every learner.checkpoint_every_updates updates and at the
-  // end, keeping learner.keep_checkpoints generations (path, path.1, ...). At start the newest
-  // readable one is loaded: a corrupt one (truncated, checksum) is set aside as
-  // <file>.corrupt with an error naming it and what is wrong, and the next older one is tried.
+  // empty: no checkpoints (and no <path>.versions, see ReserveVersions). Written every
+  // learner.checkpoint_every_updates updates and at the end, keeping learner.keep_checkpoints
+  // generations (path, path.1, ...). At start the newest readable one is loaded: a corrupt one
+  // (truncated, checksum) is set aside as <file>.corrupt with an error naming it and what is
+  // wrong, and the next older one is tried.
   std::string checkpoint_path;
   files::FileSystem* file_system = &files::FileSystem::Posix();  // tests inject failures here
   int max_updates_per_step = 8;  // updates between two looks at the link (responsiveness)
@@ -71,6 +73,9 @@ class LearnerLoop {
 
   Learner& learner() { return learner_; }
   uint64_t graphs_rejected() const { return graphs_rejected_; }
+  // Episodes refused because this learner had stored them before (EpisodeDedup; the restored
+  // replay's count as stored). NodeStatus: "episode.duplicate".
+  uint64_t duplicates_refused() const { return duplicates_; }
   // Weights not published because a parameter was not finite or beyond rl::kMaxAbsParameter.
   uint64_t weights_withheld() const { return weights_withheld_; }
   uint64_t graph_version() const { return graph_version_; }
@@ -81,6 +86,14 @@ class LearnerLoop {
   void FollowGraph();
   void LoadNewestCheckpoint();
   void SaveCheckpoint();
+  // Policy versions are reserved durably a block at a time (<checkpoint>.versions) before one
+  // of the block is published; a new start continues above the reservation, so a version is
+  // never published twice, whatever checkpoint the start resumes from (or none).
+  static constexpr uint64_t kVersionBlock = 64;
+  std::string VersionsPath() const;
+  void ReserveVersions(uint64_t version);
+  void ContinueVersions();
+  uint64_t versions_reserved_ = 0;
 
   LearnerLoopOptions options_;
   links::LearnerLink* link_;
@@ -90,6 +103,8 @@ class LearnerLoop {
   UpdateStats last_update_;
   uint64_t graph_version_ = 0;
   uint64_t graphs_rejected_ = 0;
+  EpisodeDedup seen_;
+  uint64_t duplicates_ = 0;
   uint64_t weights_withheld_ = 0;
   std::unique_ptr<logging::RateLimiter> refusals_log_;
   uint64_t checkpointed_at_ = 0;

@@ -1,5 +1,6 @@
 #include "common/transport/participant.h"
 
+#include <algorithm>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -16,6 +17,9 @@ DdsError::DdsError(const std::string& operation, int32_t retcode)
 
 namespace internal {
 
+// Samples per instance that readers of PolicyWeights and InteractionGraph keep (CreateQos).
+constexpr int32_t kLatestReaderDepth = 8;
+
 dds_qos_t* CreateQos(const TopicSpec& spec, Side side, const config::TransportConfig& config) {
   dds_qos_t* qos = dds_create_qos();
   // a blocked reliable write gives up after this and reports back-pressure
@@ -31,7 +35,13 @@ dds_qos_t* CreateQos(const TopicSpec& spec, Side side, const config::TransportCo
       dds_qset_resource_limits(qos, config.episode_history_depth, DDS_LENGTH_UNLIMITED,
                                DDS_LENGTH_UNLIMITED);
   } else {
-    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, spec.depth);
+    // Readers of the run's latest weights and graph keep a few samples of the one instance: a
+    // late joiner gets the newest sample of every matched writer, and with one slot a
+    // stranger's (refused afterwards) could displace the run's own, which is not sent again
+    // (the graph service publishes only on a change).
+    const bool latest = spec.id == TopicId::kPolicyWeights || spec.id == TopicId::kInteractionGraph;
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST,
+                     side == Side::kReader && latest ? std::max(spec.depth, kLatestReaderDepth) : spec.depth);
   }
   if (spec.liveliness_lease && side == Side::kWriter)
     dds_qset_liveliness(qos, DDS_LIVELINESS_AUTOMATIC,

@@ -167,6 +167,9 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
   // what the processes publish, to the display and to eval.csv, learner.csv, nodes.csv
   tr::Participant participant(config.transport);
   mon::MonitorOptions monitor_options{.all_runs = false, .weights = true, .csv_dir = dir, .csv_node_statuses = true};
+  // the run's own learner and graph only: a stray sample never reaches learner.csv or the display
+  monitor_options.budget_env_steps = config.run.total_env_steps;
+  monitor_options.num_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());  // as the learner
   monitor_options.on_eval = [&](const tr::EvalResult& e) { session.OnEval(e.policy_version, e.env_steps, e.avg_distance); };
   monitor_options.on_weights = [&](const tr::PolicyWeights& w) {
     session.OnWeights(w.version, w.update_count, w.architecture, w.parameters);

@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "common/transport/rl_convert.h"
+
 namespace srics::monitor {
 
 namespace tr = srics::transport;
@@ -49,6 +51,13 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   }
   tr::LearnerStats stats;
   for (size_t i = 0; i < kMaxPerTopic && readers_->learner.Take(&stats, kNoWait) == tr::TakeStatus::kSample; ++i) {
+    if (options_.budget_env_steps) {
+      const std::string problem = rl::ImplausibleProgress(tr::FromMessage(stats).progress(), *options_.budget_env_steps);
+      if (!problem.empty()) {
+        Refuse("stats.implausible", "learner stats refused: " + problem);
+        continue;
+      }
+    }
     Apply(&state_, stats, Clock::now());
     if (csv_) csv_->Append(stats, wall);
     ++taken;
@@ -62,6 +71,12 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   }
   tr::InteractionGraph graph;
   for (size_t i = 0; i < kMaxPerTopic && readers_->graph.Take(&graph, kNoWait) == tr::TakeStatus::kSample; ++i) {
+    if (options_.num_entities > 0 && graph.num_entities != options_.num_entities) {
+      Refuse("graph.entities", "graph v" + std::to_string(graph.version) + " refused: " +
+                                   std::to_string(graph.num_entities) + " entities, this run has " +
+                                   std::to_string(options_.num_entities));
+      continue;
+    }
     Apply(&state_, graph, Clock::now());
     ++taken;
   }
@@ -94,6 +109,12 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
     if (csv_) csv_->Append(node.status, wall, health == NodeHealth::kLost ? "lost" : "exited");
   }
   return taken;
+}
+
+void Monitor::Refuse(const char* counter, const std::string& why) {
+  participant_.CountRejection(counter);
+  uint64_t suppressed = 0;
+  if (refusals_log_.Allow(&suppressed)) spdlog::warn("{} ({} warnings suppressed)", why, suppressed);
 }
 
 std::vector<std::string> Monitor::TakeNodeEvents() {

@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 
+#include "common/logging/logging.h"
 #include "common/transport/transport.h"
 #include "deploy/monitor/csv_sink.h"
 #include "deploy/monitor/monitor_state.h"
@@ -30,6 +31,12 @@ struct MonitorOptions {
   bool weights = true;       // subscribe to PolicyWeights (5 MB per publication over the wire)
   std::string csv_dir;       // append eval.csv, learner.csv, nodes.csv here ("" = no CSV)
   bool csv_node_statuses = true;  // every NodeStatus as a row (else only lost/exited events)
+  // What the run's own samples look like, when the monitor knows its run (the launcher):
+  // LearnerStats that rl::ImplausibleProgress refuses for this budget ("stats.implausible")
+  // and graphs of another entity count ("graph.entities") are dropped and counted, never
+  // shown or written to learner.csv. Unset / 0: anything valid on the wire is taken.
+  std::optional<uint64_t> budget_env_steps;
+  int num_entities = 0;
   // Called with every evaluation and every weights sample taken (may be empty): for what a
   // program keeps besides the state (the launcher: the best evaluation's weights).
   std::function<void(const transport::EvalResult&)> on_eval;
@@ -57,6 +64,8 @@ class Monitor {
 
  private:
   struct Readers;
+  // counts a refused sample under `counter` and logs `why` at a limited rate
+  void Refuse(const char* counter, const std::string& why);
   transport::Participant& participant_;
   MonitorOptions options_;
   std::unique_ptr<Readers> readers_;
@@ -64,6 +73,7 @@ class Monitor {
   MonitorState state_;
   std::map<NodeKey, NodeHealth> known_gone_;
   std::vector<std::string> node_events_;
+  logging::RateLimiter refusals_log_{std::chrono::seconds(5)};
 };
 
 }  // namespace srics::monitor

@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -88,18 +90,6 @@ rl::GraphUpdate GroundTruth(const config::Config& config, uint64_t version) {
   return g;
 }
 
-// Every edge of 16 entities set, with its true ancestor sets and depths: well-formed.
-transport::InteractionGraph CompleteGraphOf16(uint64_t version) {
-  rl::GraphUpdate g;
-  g.version = version;
-  g.graph.num_entities = 16;
-  g.graph.adjacency.assign(16 * 16, 1);
-  g.structure = rl::ComputeSubgoalStructure(g.graph);
-  g.mean_weights.assign(16 * 16, 0.9);
-  g.threshold = 0.5;
-  return transport::ToMessage(g);
-}
-
 // Weights a learner of this run would publish for `options`' policy.
 rl::WeightsUpdate WeightsFor(const actor::ActorOptions& options, uint64_t version, uint64_t seed) {
   nn::Rng rng(seed);
@@ -145,7 +135,7 @@ TEST_F(ForeignSamplesTest, CompleteGraphOf16EntitiesIsRefusedAtOnceAndTheRunsGra
   transport::Reader<transport::NodeStatus> statuses(monitor_side);
   Writer<transport::InteractionGraph> raw(foreign, Raw());
   ASSERT_TRUE(raw.WaitForReaders(3, 10s));
-  ASSERT_EQ(raw.Write(CompleteGraphOf16(uint64_t{1} << 62)), WriteResult::kSent);
+  ASSERT_EQ(raw.Write(transport::testing::MakeCompleteGraph(16, uint64_t{1} << 62)), WriteResult::kSent);
 
   std::optional<rl::GraphUpdate> any_graph;
   double slowest_poll = 0;
@@ -383,6 +373,100 @@ TEST_F(ForeignSamplesTest, GraphServiceLayoutIsTheRunsNotTheFirstEpisodes) {
     return service.progress().episodes == config_.graph.episodes;
   })) << service.progress().episodes << " episodes, last drop: " << service.progress().last_drop_reason;
   EXPECT_EQ(service.progress().dropped, 1);
+}
+
+// Found by the soak: a learner or actor that (re)started after a stranger had published a
+// graph got the stranger's sample instead of the graph service's. Both are transient-local
+// samples of the run's one instance; with one history slot per instance in the reader, the
+// later of the two historical samples displaced the other, the stranger's was refused, and the
+// run's graph never came (the graph service publishes only on a change): the restarted learner
+// waited for the graph for the rest of the run. The same for the weights until the learner's
+// next publication. Each late joiner here must get the run's graph v1 and weights v1.
+TEST_F(ForeignSamplesTest, ALateJoinerGetsTheRunsGraphAndWeightsBesideAStrangersSamples) {
+  Participant foreign(config_.transport), graph_side(config_.transport), learner_side(config_.transport);
+  transport::DdsGraphSink sink(graph_side);
+  transport::DdsLearnerLink learner(learner_side, limits_);
+  const actor::ActorOptions options = actor::ActorOptionsFor(config_, 1);
+  sink.Publish(GroundTruth(config_, 1));
+  learner.PublishWeights(WeightsFor(options, 1, 11));
+  std::this_thread::sleep_for(200ms);
+  Writer<transport::InteractionGraph> raw_graph(foreign, Raw());
+  Writer<transport::PolicyWeights> raw_weights(foreign, Raw());
+  ASSERT_EQ(raw_graph.Write(transport::testing::MakeCompleteGraph(16, uint64_t{1} << 62)), WriteResult::kSent);
+  transport::PolicyWeights huge = transport::ToMessage(WeightsFor(options, uint64_t{1} << 62, 5));
+  huge.parameters[3] = 1e30f;
+  ASSERT_EQ(raw_weights.Write(huge), WriteResult::kSent);
+  std::this_thread::sleep_for(200ms);
+  for (int joiner = 0; joiner < 4; ++joiner) {
+    Participant actor_side(config_.transport);
+    transport::DdsActorLink actor(actor_side, 1, limits_, config_.run.total_env_steps, 0ms);
+    std::this_thread::sleep_for(300ms);  // both writers' historical samples are in the reader
+    std::optional<rl::GraphUpdate> graph;
+    std::optional<rl::WeightsUpdate> weights;
+    EXPECT_TRUE(Eventually([&] {
+      if (!graph) graph = actor.PollGraph();
+      if (!weights) weights = actor.PollWeights(0);
+      return graph && weights;
+    }, 5s)) << "joiner " << joiner << ": graph " << graph.has_value() << ", weights " << weights.has_value()
+            << ", graphs refused " << Rejections(actor_side, "graph.entities");
+    if (graph) EXPECT_EQ(graph->version, 1u);
+    if (weights) EXPECT_EQ(weights->version, 1u);
+  }
+}
+
+// The launcher's monitor wrote any LearnerStats of the run into learner.csv and showed any
+// graph (found by the soak: a stranger's stats with 2^62 steps and policy v10 between the
+// learner's v1 rows, a 16-entity graph at version 2^62 on the display). Told its run's budget
+// and entity count, it refuses both, counts them, and takes the run's own that follow.
+TEST_F(ForeignSamplesTest, LaunchersMonitorRefusesStatsAndGraphsThatCannotBeTheRuns) {
+  Participant foreign(config_.transport), learner_side(config_.transport), graph_side(config_.transport),
+      monitor_side(config_.transport);
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("monitor-" + config_.transport.run_id);
+  std::filesystem::create_directories(dir);
+  const uint64_t budget = config_.run.total_env_steps;
+  {
+    monitor::MonitorOptions options{.weights = false, .csv_dir = dir.string()};
+    options.budget_env_steps = budget;
+    options.num_entities = 2;
+    monitor::Monitor monitor(monitor_side, options);
+    transport::DdsLearnerLink learner(learner_side, limits_);
+    transport::DdsGraphSink sink(graph_side);
+    Writer<transport::LearnerStats> raw_stats(foreign, Raw());
+    Writer<transport::InteractionGraph> raw_graph(foreign, Raw());
+    ASSERT_TRUE(raw_stats.WaitForReaders(1, 10s));
+    ASSERT_TRUE(raw_graph.WaitForReaders(1, 10s));
+    transport::LearnerStats beyond = transport::testing::MakeLearnerStats(config_.transport.run_id, 1);
+    beyond.transitions_inserted = beyond.training_env_steps = uint64_t{1} << 62;
+    beyond.budget_env_steps = budget;
+    ASSERT_EQ(raw_stats.Write(beyond), WriteResult::kSent);
+    ASSERT_EQ(raw_graph.Write(transport::testing::MakeCompleteGraph(16, uint64_t{1} << 62)), WriteResult::kSent);
+    ASSERT_TRUE(Eventually([&] {
+      monitor.Poll(20ms);
+      return Rejections(monitor_side, "stats.implausible") == 1 && Rejections(monitor_side, "graph.entities") == 1;
+    })) << "stats " << Rejections(monitor_side, "stats.implausible") << ", graphs "
+        << Rejections(monitor_side, "graph.entities");
+    const auto& runs = monitor.state().runs;
+    auto run = runs.find(config_.transport.run_id);
+    EXPECT_TRUE(run == runs.end() || (!run->second.learner && !run->second.graph));
+
+    const rl::LearnerReport real{.updates = 10, .transitions_inserted = 200, .training_env_steps = 200,
+                                 .budget_env_steps = budget, .replay_size = 200, .policy_version = 2};
+    learner.PublishStats(real);
+    sink.Publish(GroundTruth(config_, 1));
+    ASSERT_TRUE(Eventually([&] {
+      monitor.Poll(20ms);
+      run = monitor.state().runs.find(config_.transport.run_id);
+      return run != monitor.state().runs.end() && run->second.learner && run->second.graph;
+    }));
+    EXPECT_EQ(run->second.learner->policy_version, 2u);
+    EXPECT_EQ(run->second.graph->version, 1u);
+  }
+  std::ifstream csv(dir / "learner.csv");
+  std::string line;
+  int rows = 0;
+  while (std::getline(csv, line)) rows += line.rfind("wall_time", 0) != 0;
+  EXPECT_EQ(rows, 1) << "only the run's learner in learner.csv";
+  std::filesystem::remove_all(dir);
 }
 
 // The monitor printed peer strings raw: a NodeStatus could drive the terminal (clear it, set

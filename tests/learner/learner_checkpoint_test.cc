@@ -145,6 +145,50 @@ TEST_F(LearnerCheckpointTest, ACorruptNewestIsSetAsideAndThePreviousOneLoaded) {
   EXPECT_GT(UpdatesIn(path_), previous_updates);
 }
 
+// After a restart from a checkpoint, the episodes of its replay count as ingested: one
+// delivered again (a foreign participant replaying a captured sample) is refused.
+TEST_F(LearnerCheckpointTest, AnEpisodeOfTheRestoredReplayIsNotIngestedAgain) {
+  TrainedRun();
+  links::InMemoryBus bus;
+  auto link = bus.LearnerEnd();
+  auto actor = bus.ActorEnd(0);
+  LearnerLoop loop(Options(), link.get());
+  loop.Start();
+  const uint64_t inserted = loop.learner().counters().transitions_inserted;
+  ASSERT_GT(inserted, 0u);
+  ASSERT_TRUE(actor->PublishEpisode(testing::MakeEpisode(3, 20, 0)));
+  loop.Step();
+  EXPECT_EQ(loop.duplicates_refused(), 1u);
+  EXPECT_EQ(loop.learner().counters().transitions_inserted, inserted);
+  ASSERT_TRUE(actor->PublishEpisode(testing::MakeEpisode(3, 20, 50)));
+  loop.Step();
+  EXPECT_EQ(loop.learner().counters().transitions_inserted, inserted + 20);
+}
+
+// Found by the soak: a learner killed before its first checkpoint started again at v1, and
+// one killed twice after the same checkpoint published the same versions twice (v79..v92, then
+// v79.. again): actors holding the higher version ignored the new weights, and two different
+// weights carried one version. Versions now continue above every one published before.
+TEST_F(LearnerCheckpointTest, PolicyVersionsNeverRepeatAcrossRestarts) {
+  LearnerLoopOptions options = Options();
+  options.learner.learner.checkpoint_every_updates = 100000;  // no checkpoint before the kills
+  uint64_t highest = 0;
+  for (int process = 0; process < 3; ++process) {
+    links::InMemoryBus bus;
+    auto link = bus.LearnerEnd();
+    auto actor = bus.ActorEnd(0);
+    LearnerLoop loop(options, link.get());
+    loop.Start();
+    const auto first = actor->PollWeights(0);
+    ASSERT_TRUE(first.has_value());
+    EXPECT_GT(first->version, highest) << "process " << process << " published a version seen before";
+    Train(loop, *actor, 100 * process, 15);
+    highest = actor->PollWeights(0)->version;
+    ASSERT_GT(highest, first->version + 5) << "process " << process << " published a few versions";
+  }  // killed: no final checkpoint
+  EXPECT_FALSE(fs::exists(path_));
+}
+
 TEST_F(LearnerCheckpointTest, ARunWhoseCheckpointsAreAllCorruptIsRefusedAtEveryStart) {
   TrainedRun();
   for (const std::string& file : files::Generations(path_)) FlipByte(file, 50);

@@ -100,5 +100,33 @@ TEST(LearnerLoopTest, KeepsTheRatioCountsRejectsAndEndsWithTheBudget) {
   EXPECT_TRUE(actor->PollLearner(std::chrono::milliseconds(0))->budget_done());
 }
 
+// No episode is ingested twice: one delivered again (a replay by a foreign participant, a
+// retransmission) is refused and counted under episode.duplicate; a refused malformed copy
+// does not burn the id of the good episode that follows.
+TEST(LearnerLoopTest, AnEpisodeDeliveredTwiceIsIngestedOnce) {
+  links::InMemoryBus bus;
+  auto link = bus.LearnerEnd();
+  auto actor = bus.ActorEnd(0);
+  LearnerLoop loop(SmallOptions(), link.get());
+  loop.Step();
+  const rl::Episode good = testing::MakeEpisode(3, 20, 5);
+  ASSERT_TRUE(actor->PublishEpisode(good));
+  ASSERT_TRUE(actor->PublishEpisode(good));
+  loop.Step();
+  EXPECT_EQ(loop.learner().counters().episodes_accepted, 1u);
+  EXPECT_EQ(loop.learner().counters().transitions_inserted, 20u);
+  EXPECT_EQ(loop.duplicates_refused(), 1u);
+
+  rl::Episode bad = testing::MakeEpisode(3, 20, 6);
+  bad.actions[3] = 5.0f;
+  ASSERT_TRUE(actor->PublishEpisode(bad));
+  ASSERT_TRUE(actor->PublishEpisode(testing::MakeEpisode(3, 20, 6)));
+  ASSERT_TRUE(actor->PublishEpisode(good));
+  loop.Step();
+  EXPECT_EQ(loop.learner().episodes_rejected(), 1u);
+  EXPECT_EQ(loop.learner().counters().episodes_accepted, 2u);
+  EXPECT_EQ(loop.duplicates_refused(), 2u);
+}
+
 }  // namespace
 }  // namespace srics::learner

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/rl/graph.h"
+#include "common/transport/rl_convert.h"
 #include "common/transport/validation.h"
 
 namespace srics::transport::testing {
@@ -174,6 +176,17 @@ NodeStatus MakeNodeStatus(const std::string& run_id, uint64_t seed) {
   s.uptime_ms = 3600000;
   s.detail = "episode 12 of subgoal 3";
   return s;
+}
+
+InteractionGraph MakeCompleteGraph(int entities, uint64_t version) {
+  rl::GraphUpdate g;
+  g.version = version;
+  g.graph.num_entities = entities;
+  g.graph.adjacency.assign(static_cast<size_t>(entities) * entities, 1);
+  g.structure = rl::ComputeSubgoalStructure(g.graph);
+  g.mean_weights.assign(static_cast<size_t>(entities) * entities, 0.9);
+  g.threshold = 0.5;
+  return ToMessage(g);
 }
 
 }  // namespace srics::transport::testing

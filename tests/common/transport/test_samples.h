@@ -31,4 +31,9 @@ EvalResult MakeEvalResult(const std::string& run_id, uint64_t seed);
 LearnerStats MakeLearnerStats(const std::string& run_id, uint64_t seed);
 NodeStatus MakeNodeStatus(const std::string& run_id, uint64_t seed);
 
+// A well-formed graph of `entities` with every edge set, its true ancestor sets and depths
+// (16 entities hung the learner and the actors before the entity count was checked first).
+// Run id left empty: a writer stamps its participant's.
+InteractionGraph MakeCompleteGraph(int entities, uint64_t version);
+
 }  // namespace srics::transport::testing
