@@ -188,6 +188,11 @@ TEST_F(TransportTest, BatchingWriterSendsHeldSamplesAfterItsDelay) {
   EXPECT_EQ(peer.ReadLine(20s), "got 100");
   EXPECT_EQ(peer.ReadLine(20s), "got 101");
   EXPECT_GE(std::chrono::steady_clock::now() - written, 390ms);
+  // the flusher counts its flush after dds_write_flush returns, which may be after the peer
+  // printed what that flush delivered (this failed once in a loaded suite)
+  const auto counted_by = std::chrono::steady_clock::now() + 5s;
+  while (writer.timed_flushes() == 0 && std::chrono::steady_clock::now() < counted_by)
+    std::this_thread::sleep_for(1ms);
   EXPECT_EQ(writer.timed_flushes(), 1u);
   EXPECT_EQ(peer.Wait(20s), 0);
 }
