@@ -1,5 +1,5 @@
 # Build options and compiler settings shared by every target.
-option(SRICS_NATIVE "Compile for this host's vector instructions (-march=native); the networks are ~6x slower without" ON)
+option(SRICS_NATIVE "Compile for this host's vector instructions (-march=native); without, the products still use them through oneDNN" ON)
 option(SRICS_ONEDNN "Multiply float matrices with oneDNN (kernels chosen at run time for the CPU); Eigen without" ON)
 option(SRICS_BUILD_TESTS "Build the test suite" ON)
 option(SRICS_BUILD_BENCHMARKS "Build the benchmarks" ON)
