@@ -70,6 +70,14 @@ rl::GraphUpdate ToGraphUpdate(const LearnedGraph& g) {
 
 namespace {
 
+// Renames an unusable file to <path>.rejected (kept for inspection); returns the new name.
+std::string SetAside(const std::string& path) {
+  const std::string aside = path + ".rejected";
+  std::error_code ec;
+  std::filesystem::rename(path, aside, ec);
+  return aside;
+}
+
 rl::NodePhase NodePhaseOf(Progress::Phase phase) {
   switch (phase) {
     case Progress::Phase::kLoading: return rl::NodePhase::kStarting;
@@ -175,9 +183,7 @@ bool GraphService::LoadSaved() {
     return true;
   } catch (const std::exception& e) {
     // an unusable file is kept aside for inspection and the graph is learned again
-    const std::string aside = path + ".rejected";
-    std::error_code ec;
-    std::filesystem::rename(path, aside, ec);
+    const std::string aside = SetAside(path);
     spdlog::warn("graph service: saved graph rejected ({}); moved to {}, learning again",
                  e.what(), aside);
     return false;
@@ -248,9 +254,7 @@ bool GraphService::LoadTraining() {
     Report();
     return true;
   } catch (const std::exception& e) {
-    const std::string aside = path + ".rejected";
-    std::error_code ec;
-    std::filesystem::rename(path, aside, ec);
+    const std::string aside = SetAside(path);
     spdlog::warn("graph service: training state not resumed ({}); moved to {}, starting over", e.what(), aside);
     return false;
   }

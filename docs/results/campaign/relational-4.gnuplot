@@ -28,4 +28,4 @@ set style data histograms
 set style histogram errorbars gap 2 lw 1
 set style fill solid 0.8 border -1
 set bars 2
-plot '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'hac (1 seed)', '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 5:6:7 lc rgb '#d62728' title 'sac_her (1 seed)'
+plot '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'hac (1 seed)', '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 5:6:7 lc rgb '#d62728' title 'sac_her (1 seed)', '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 8:9:10 lc rgb '#2ca02c' title 'srics (1 seed)'

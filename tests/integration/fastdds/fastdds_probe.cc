@@ -19,6 +19,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -70,19 +71,28 @@ int64_t WallClockNs() {
              std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-// Records when a reader first matched a writer: a sample written before then can only have
-// come from the writer's history (the writers are on the same host, same clock).
+// Records when a reader matched each writer: a sample written before its own writer matched can
+// only have come from that writer's history (the writers are on the same host, same clock).
+// Per writer, not per reader: under load two transient-local writers can match seconds apart,
+// and the second one's history sample may be younger than the first match.
 class MatchClock : public dds::DataReaderListener {
  public:
   void on_subscription_matched(dds::DataReader*, const dds::SubscriptionMatchedStatus& status) override {
-    int64_t unset = 0;
-    if (status.current_count_change > 0) first_match_ns_.compare_exchange_strong(unset, WallClockNs());
+    if (status.current_count_change <= 0) return;
+    const int64_t now = WallClockNs();
+    std::lock_guard<std::mutex> lock(mutex_);
+    matched_ns_.emplace(eprosima::fastrtps::rtps::iHandle2GUID(status.last_publication_handle), now);
   }
-  // 0 until the first match
-  int64_t first_match_ns() const { return first_match_ns_.load(); }
+  // when the writer of `info`'s sample matched (0: not seen yet)
+  int64_t matched_ns(const dds::SampleInfo& info) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = matched_ns_.find(eprosima::fastrtps::rtps::iHandle2GUID(info.publication_handle));
+    return it == matched_ns_.end() ? 0 : it->second;
+  }
 
  private:
-  std::atomic<int64_t> first_match_ns_{0};
+  mutable std::mutex mutex_;
+  std::map<eprosima::fastrtps::rtps::GUID_t, int64_t> matched_ns_;
 };
 
 // The participant and everything in it; deleted in the right order.
@@ -258,7 +268,7 @@ void Drain(dds::DataReader* reader, const MatchClock& clock, const Options& o, T
   while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
     if (!info.valid_data) continue;  // instance state changes (a node that left)
     if (!Envelope(sample, o, r)) continue;
-    if (info.source_timestamp.to_ns() < clock.first_match_ns()) ++r->historical;
+    if (info.source_timestamp.to_ns() < clock.matched_ns(info)) ++r->historical;
     check(sample, r);
   }
 }
