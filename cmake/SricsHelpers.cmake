@@ -7,6 +7,10 @@ function(srics_add_test)
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 120)
   endif()
+  if(SRICS_SANITIZE)
+    # instrumented code at -O1 runs a few times slower
+    math(EXPR T_TIMEOUT "${T_TIMEOUT} * 4")
+  endif()
   add_executable(${T_NAME} ${T_SOURCES})
   target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main Threads::Threads)
   target_compile_definitions(${T_NAME} PRIVATE
@@ -16,6 +20,11 @@ function(srics_add_test)
   # first label: join them into one ("integration-slow"), which `ctest -L slow` and
   # `ctest -L integration` both match (labels are regular expressions there)
   string(JOIN "-" joined_labels ${T_LABELS})
+  # every unit test is a dependency of one target, so `cmake --build --target srics_unit_tests`
+  # builds what `ctest -L unit` runs and nothing else (./tests/sanitize.sh --unit)
+  if("unit" IN_LIST T_LABELS)
+    add_dependencies(srics_unit_tests ${T_NAME})
+  endif()
   gtest_discover_tests(${T_NAME}
     DISCOVERY_TIMEOUT 60
     PROPERTIES LABELS "${joined_labels}" TIMEOUT ${T_TIMEOUT})

@@ -50,7 +50,9 @@ TEST(GnnModelTest, EdgeIndexingIsConsistent) {
 
 TEST(GnnModelTest, HardSamplesAreZeroOrOne) {
   ToyBatch<float> toy(4, 6, /*seed=*/2, 3, 4);
-  auto& [data, rng, batch] = toy;
+  auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
+  auto& rng = toy.rng;
+  auto& batch = toy.batch;
   GnnModel<float> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 6,
                          .mlp_hidden = 8, .hard = true}, rng);
   nn::Tape<float> tape;
@@ -68,7 +70,9 @@ TEST(GnnModelTest, HardSamplesAreZeroOrOne) {
 // Gradients of the whole model (soft edge samples, KL included) against central differences.
 TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
   ToyBatch<double> toy(4, 6, /*seed=*/3, 2, 3);
-  auto& [data, rng, batch] = toy;
+  auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
+  auto& rng = toy.rng;
+  auto& batch = toy.batch;
   GnnModel<double> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 3,
                           .mlp_hidden = 4, .kl_weight = 0.1, .hard = false}, rng);
   nn::ParameterList<double> params;
@@ -86,7 +90,9 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
 
 TEST(GnnModelTest, LossGoesDownOnAFixedBatch) {
   ToyBatch<float> toy(8, 20, /*seed=*/4, 20, 10);
-  auto& [data, rng, batch] = toy;
+  auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
+  auto& rng = toy.rng;
+  auto& batch = toy.batch;
   GnnModel<float> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 10,
                          .mlp_hidden = 32}, rng);
   nn::ParameterList<float> params;

@@ -9,6 +9,17 @@
 #include "common/config/config.h"
 #include "common/rl/episode.h"
 
+#if defined(__SANITIZE_ADDRESS__)
+#define SRICS_TESTING_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SRICS_TESTING_ASAN 1
+#endif
+#endif
+#ifdef SRICS_TESTING_ASAN
+#include <sanitizer/allocator_interface.h>
+#endif
+
 namespace srics::learner::testing {
 
 inline rl::Episode MakeEpisode(int num_entities, int num_steps, uint64_t seed,
@@ -68,6 +79,17 @@ inline long ResidentKb() {
   for (std::string line; std::getline(status, line);)
     if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
   return -1;
+}
+
+// The memory the process uses for its data: the resident size, or under AddressSanitizer
+// (./tests/sanitize.sh), whose redzones and quarantine of freed blocks inflate the resident
+// size several times over, the bytes of the live heap blocks as its allocator counts them.
+inline long MemoryInUseKb() {
+#ifdef SRICS_TESTING_ASAN
+  return static_cast<long>(__sanitizer_get_current_allocated_bytes() / 1024);
+#else
+  return ResidentKb();
+#endif
 }
 
 }  // namespace srics::learner::testing

@@ -11,7 +11,7 @@ namespace srics::learner {
 namespace {
 
 using testing::MakeEpisode;
-using testing::ResidentKb;
+using testing::MemoryInUseKb;
 
 TEST(ReplayBufferTest, EvictsWholeEpisodesOldestFirst) {
   ReplayBuffer replay(50);
@@ -60,11 +60,11 @@ TEST(ReplayBufferTest, SamplingStaysUniformAfterEvictions) {
 }
 
 TEST(ReplayBufferTest, FullReplayOfFiveEntitiesFitsWellUnder200MB) {
-  const long before = ResidentKb();
+  const long before = MemoryInUseKb();
   ReplayBuffer replay(250000);
   for (int i = 0; i < 12600; ++i) replay.Insert(MakeEpisode(5, 20, i));
   EXPECT_EQ(replay.transitions(), 250000u);
-  const long grown_mb = (ResidentKb() - before) / 1024;
+  const long grown_mb = (MemoryInUseKb() - before) / 1024;
   EXPECT_LT(replay.payload_bytes(), 50u << 20);
   EXPECT_LT(grown_mb, 100) << "resident growth for 250k transitions";
 }

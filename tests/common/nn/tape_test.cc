@@ -59,7 +59,8 @@ TEST_F(TapeGradTest, ElementwiseBinarySameShapeAndBroadcast) {
   const std::vector<std::pair<const char*, BinOp>> ops = {
       {"add", &Tape<D>::Add}, {"sub", &Tape<D>::Sub}, {"mul", &Tape<D>::Mul},
       {"div", &Tape<D>::Div}};
-  for (const auto& [name, op] : ops) {
+  for (const auto& [name, op_entry] : ops) {
+    const BinOp op = op_entry;  // a copy: clang 14 cannot capture a structured binding
     for (Parameter<D>* rhs : {&b, &row, &col, &scalar}) {
       SCOPED_TRACE(std::string(name) + " with " + rhs->name);
       EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return (t.*op)(t.Param(a), t.Param(*rhs)); }),
@@ -91,7 +92,8 @@ TEST_F(TapeGradTest, UnaryFunctions) {
       {"relu", &Tape<D>::Relu},      {"tanh", &Tape<D>::Tanh}, {"sigmoid", &Tape<D>::Sigmoid},
       {"exp", &Tape<D>::Exp},        {"softplus", &Tape<D>::Softplus},
       {"square", &Tape<D>::Square}};
-  for (const auto& [name, op] : ops) {
+  for (const auto& [name, op_entry] : ops) {
+    const UnOp op = op_entry;  // a copy: clang 14 cannot capture a structured binding
     SCOPED_TRACE(name);
     EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return (t.*op)(t.Param(a)); }), kTol);
   }
