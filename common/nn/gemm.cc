@@ -19,6 +19,9 @@ using Stride = Eigen::OuterStride<>;
 using ConstMap = Eigen::Map<const RowMajor, 0, Stride>;
 using Map = Eigen::Map<RowMajor, 0, Stride>;
 
+// multiply-adds below which a product runs on Eigen even when oneDNN is active (see Sgemm)
+constexpr Eigen::Index kSmallestOneDnnProduct = Eigen::Index(1) << 19;
+
 constexpr bool kHaveOneDnn =
 #ifdef SRICS_WITH_ONEDNN
     true;
@@ -137,7 +140,10 @@ void Sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::In
            float* c, Eigen::Index ldc) {
   if (m == 0 || n == 0) return;
 #ifdef SRICS_WITH_ONEDNN
-  if (Active() == GemmBackend::kOneDnn && k > 0) {
+  // oneDNN allocates its packing buffers on every call (posix_memalign): small products, such
+  // as the actors' single-observation path, which must not allocate, stay on Eigen (which
+  // blocks them on the stack); they are a negligible share of an update's time
+  if (Active() == GemmBackend::kOneDnn && k > 0 && m * n * k >= kSmallestOneDnnProduct) {
     OneDnnSgemm(trans_a, trans_b, m, n, k, a, lda, b, ldb, beta, c, ldc);
     return;
   }

@@ -41,6 +41,8 @@ std::string GemmBackendDescription();
 // C = op(A) * op(B) + beta * C for row-major float matrices, op(X) = X^T when trans_x is set.
 // op(A) is m x k, op(B) is k x n, C is m x n; lda, ldb, ldc are the row strides as stored.
 // beta 0 overwrites C (whatever it held, NaN included). Runs on the calling thread only.
+// Products of fewer than 2^19 multiply-adds run on Eigen whatever the backend: oneDNN
+// allocates heap buffers on every call, and the actors' action path must not allocate.
 void Sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::Index k,
            const float* a, Eigen::Index lda, const float* b, Eigen::Index ldb, float beta,
            float* c, Eigen::Index ldc);
