@@ -66,16 +66,7 @@ void EigenSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k
                 Eigen::Index ldc) {
   const ConstMap A(a, ta ? k : m, ta ? m : k, Stride(lda));
   const ConstMap B(b, tb ? n : k, tb ? k : n, Stride(ldb));
-  Map C(c, m, n, Stride(ldc));
-  if (beta == 0.0f) {
-    C.setZero();  // beta 0 ignores what C held (BLAS convention), NaN included
-  } else if (beta != 1.0f) {
-    C *= beta;
-  }
-  if (!ta && !tb) C.noalias() += A * B;
-  else if (ta && !tb) C.noalias() += A.transpose() * B;
-  else if (!ta && tb) C.noalias() += A * B.transpose();
-  else C.noalias() += A.transpose() * B.transpose();
+  EigenGemm(ta, tb, A, B, beta, Map(c, m, n, Stride(ldc)));
 }
 
 #ifdef SRICS_WITH_ONEDNN

@@ -47,6 +47,20 @@ void Sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::In
            const float* a, Eigen::Index lda, const float* b, Eigen::Index ldb, float beta,
            float* c, Eigen::Index ldc);
 
+// c = op(a) * op(b) + beta * c on Eigen's own product, any Eigen operands; c has the product's
+// shape. Eigen's path of Sgemm and of Gemm for doubles.
+template <typename A, typename B, typename C>
+void EigenGemm(bool trans_a, bool trans_b, const A& a, const B& b, typename std::decay_t<C>::Scalar beta,
+               C&& c) {
+  using T = typename std::decay_t<C>::Scalar;
+  if (beta == T(0)) c.setZero();  // beta 0 ignores what c held (BLAS convention), NaN included
+  else if (beta != T(1)) c *= beta;
+  if (!trans_a && !trans_b) c.noalias() += a * b;
+  else if (trans_a && !trans_b) c.noalias() += a.transpose() * b;
+  else if (!trans_a && trans_b) c.noalias() += a * b.transpose();
+  else c.noalias() += a.transpose() * b.transpose();
+}
+
 // c = op(a) * op(b) + beta * c for tensors: floats through Sgemm, other scalars (the double
 // gradient checks) through Eigen. beta 0 resizes c to the product's shape first; otherwise c
 // must have it.
@@ -66,12 +80,7 @@ void Gemm(bool trans_a, bool trans_b, const Eigen::Ref<const Matrix<T>>& a,
     Sgemm(trans_a, trans_b, m, n, k, a.data(), a.outerStride(), b.data(), b.outerStride(), beta,
           c.data(), c.cols());
   } else {
-    if (beta == T(0)) c.setZero();
-    else if (beta != T(1)) c *= beta;
-    if (!trans_a && !trans_b) c.noalias() += a * b;
-    else if (trans_a && !trans_b) c.noalias() += a.transpose() * b;
-    else if (!trans_a && trans_b) c.noalias() += a * b.transpose();
-    else c.noalias() += a.transpose() * b.transpose();
+    EigenGemm(trans_a, trans_b, a, b, beta, c);
   }
 }
 
