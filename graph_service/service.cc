@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
 
 #include "common/rl/graph.h"
 
@@ -203,7 +204,7 @@ void GraphService::SaveTraining() {
     for (nn::CheckpointSection& section : trainer_->SaveState()) sections.push_back(std::move(section));
   try {
     std::filesystem::create_directories(options_.state_dir);
-    nn::WriteCheckpoint(path, sections);
+    nn::WriteCheckpoint(path, std::move(sections));
     saved_episodes_ = data_->size();
   } catch (const std::exception& e) {
     // the run goes on; a restart would only redo more work

@@ -1,5 +1,7 @@
 #include "learner/learner.h"
 
+#include <utility>
+
 #include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/seeds.h"
@@ -148,7 +150,7 @@ void Learner::SaveCheckpoint(const std::string& path, int keep, files::FileSyste
   state.PutString(nn::RngState(relabeler_.rng()));
   sections.push_back({"learner.state", "", {}, state.Take()});
   sections.push_back({"replay", "", {}, replay_.Serialize()});
-  nn::WriteCheckpoint(path, sections, keep, fs);
+  nn::WriteCheckpoint(path, std::move(sections), keep, fs);
 }
 
 void Learner::LoadCheckpoint(const std::string& path) {

@@ -155,8 +155,11 @@ std::string CheckpointBytes(const std::vector<CheckpointSection>& sections);
 // Writes sections durably (files::WriteFileDurably: to path + ".tmp", fsynced, renamed, the
 // folder fsynced); with keep > 1 as the newest of `keep` generations (files::WriteGeneration:
 // the previous one becomes path.1, ...). Throws CheckpointError naming the file and saying
-// that the previous checkpoint is kept and the temporary file removed.
-void WriteCheckpoint(const std::string& path, const std::vector<CheckpointSection>& sections, int keep = 1,
+// that the previous checkpoint is kept and the temporary file removed. Takes the sections (move
+// them in): the sections and the file's bytes are freed before it returns and their pages given
+// back to the system, so a long-running process does not stay larger by twice a checkpoint
+// until its next one.
+void WriteCheckpoint(const std::string& path, std::vector<CheckpointSection> sections, int keep = 1,
                      files::FileSystem& fs = files::FileSystem::Posix());
 
 // Reads a checkpoint of any version from kOldestCheckpointVersion to kCheckpointVersion.

@@ -9,11 +9,15 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "common/config/config.h"
 #include "deploy/launcher/child_process.h"
@@ -114,6 +118,16 @@ class System {
     }
     Poll();
     return done();
+  }
+  // Waits for each named role to exit by itself within `timeout`, and expects success (gtest
+  // failures name the role and carry its output).
+  void ExpectRolesFinish(std::initializer_list<const char*> names, std::chrono::seconds timeout) {
+    for (const char* name : names) {
+      std::optional<launcher::ExitStatus> status;
+      ASSERT_TRUE(WaitUntil([&] { return (status = child(name).Poll()).has_value(); }, timeout))
+          << name << " did not finish\n" << Output(name);
+      EXPECT_TRUE(status->success()) << name << ": " << status->Describe() << "\n" << Output(name);
+    }
   }
   // Resident memory of a running child in MB (from /proc), -1 if unknown.
   double ResidentMb(const std::string& name) {

@@ -33,12 +33,7 @@ TEST(SystemTest, GraphServiceLearnerAndTwoActorsLearnAndFinish) {
     RecordProperty(std::string(actor) + "_rss_mb", std::to_string(mb));
   }
   // the run ends by itself: the learner reaches its budget, actors finish after a last evaluation
-  for (const char* name : {"learner", "actor-0", "actor-1"}) {
-    std::optional<launcher::ExitStatus> status;
-    ASSERT_TRUE(system.WaitUntil([&] { return (status = system.child(name).Poll()).has_value(); }, 240s))
-        << name << " did not finish\n" << system.Output(name);
-    EXPECT_TRUE(status->success()) << name << ": " << status->Describe() << "\n" << system.Output(name);
-  }
+  ASSERT_NO_FATAL_FAILURE(system.ExpectRolesFinish({"learner", "actor-0", "actor-1"}, 240s));
   system.WaitUntil([] { return false; }, 1s);
   EXPECT_GT(system.latest_weights, 1u);
   EXPECT_TRUE(Increasing(system.weight_versions));

@@ -41,12 +41,7 @@ TEST(UnseenCombinationTest, LearnedCatalogueGraphIsAcceptedAndEvaluationRunsOnTh
   EXPECT_EQ(system.graph->action_entity, 0);
   EXPECT_EQ(system.graph->episodes_used, 60u);
   // the run ends by itself
-  for (const char* name : {"learner", "actor-0", "actor-1"}) {
-    std::optional<launcher::ExitStatus> status;
-    ASSERT_TRUE(system.WaitUntil([&] { return (status = system.child(name).Poll()).has_value(); }, 400s))
-        << name << " did not finish\n" << system.Output(name);
-    EXPECT_TRUE(status->success()) << name << ": " << status->Describe() << "\n" << system.Output(name);
-  }
+  ASSERT_NO_FATAL_FAILURE(system.ExpectRolesFinish({"learner", "actor-0", "actor-1"}, 400s));
   system.WaitUntil([] { return false; }, 1s);
   // actors and learner accepted the graph: they follow its version and refused nothing
   for (const char* node : {"learner-0", "actor-0", "actor-1"}) {

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <thread>
 
 #include "common/nn/serialize.h"
 
@@ -189,6 +192,36 @@ TEST(LearnerMemoryTest, FullReplayOf250kTransitionsAndPaperBatchStayUnder1GB) {
   RecordProperty("learner_rss_mb", std::to_string(mb));
   std::printf("learner with a full replay after a batch-2048 update: %.0f MB resident\n", mb);
   EXPECT_LT(mb, 1024);
+}
+
+// Writing a checkpoint builds the file's bytes in memory (twice its size, briefly); the memory
+// goes back to the system afterwards instead of staying resident until the next checkpoint
+// (the soak saw a learner's RSS step up by that much between checkpoints: glibc keeps freed
+// blocks of its heap unless trimmed).
+TEST(LearnerCoreTest, ACheckpointsBuffersDoNotStayResident) {
+  // on a thread of its own, as the learner loop
+  std::thread([&] {
+    const std::string path = ::testing::TempDir() + "/learner_core_resident.srics";
+    config::Config config = SmallRun(config::Method::kSmorl);
+    config.learner.replay_capacity = 200000;
+    Learner learner(LearnerOptionsFor(config));
+    for (int i = 0; i < 10000; ++i) ASSERT_EQ(learner.Ingest(MakeEpisode(3, 20, i, 1)), "");
+    // a first round sizes what stays (the update's buffers; glibc mmaps the first big blocks)
+    learner.SaveCheckpoint(path);
+    for (int u = 0; u < 3 && learner.CanUpdate(); ++u) learner.Update();
+    const long file_kb = static_cast<long>(std::filesystem::file_size(path) / 1024);
+    ASSERT_GT(file_kb, 8 * 1024) << "the test needs a checkpoint of several MB";
+    const long before = testing::MemoryInUseKb();
+    long most = before;
+    for (int i = 0; i < 4; ++i) {
+      learner.SaveCheckpoint(path);
+      // the learner loop trains between checkpoints: its buffers land above the freed ones
+      for (int u = 0; u < 3 && learner.CanUpdate(); ++u) learner.Update();
+      most = std::max(most, testing::MemoryInUseKb());
+    }
+    EXPECT_LT(most - before, file_kb / 4) << "resident " << before << " kB before, up to " << most
+                                           << " kB after checkpoints of " << file_kb << " kB";
+  }).join();
 }
 
 }  // namespace
