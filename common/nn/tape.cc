@@ -25,8 +25,9 @@ void Acc(NodeT& n, const Expr& e) {
 }
 
 // n.grad (+)= op(l) * op(r): the first contribution assigns, later ones add
-template <typename NodeT, typename T>
-void AccProduct(NodeT& n, const Matrix<T>& l, bool trans_l, const Matrix<T>& r, bool trans_r) {
+template <typename T, typename NodeT>
+void AccProduct(NodeT& n, const Eigen::Ref<const Matrix<T>>& l, bool trans_l, const Matrix<T>& r,
+                bool trans_r) {
   const bool first = !n.has_grad;
   Gemm<T>(trans_l, trans_r, l, r, first ? T(0) : T(1), n.grad);
   n.has_grad = true;
@@ -153,13 +154,23 @@ Var<T> Tape<T>::Param(Parameter<T>& p, bool trainable) {
 }
 
 template <typename T>
-typename Tape<T>::Node& Tape<T>::Product(Op op, Var<T> a, Var<T> b, const char* what) {
+typename Tape<T>::Node& Tape<T>::Product(Op op, Var<T> a, Var<T> b, const char* what,
+                                         Index a_col) {
   Node& n = NewNode(op, a.id, b.id);
   const Mat& A = Val(a.id);
   const Mat& B = Val(b.id);
-  SRICS_NN_CHECK(A.cols() == B.rows(), what, Shape(A) + " * " + Shape(B));
-  Gemm<T>(false, false, A, B, T(0), n.value);
-  LogGemm(A.rows(), A.cols(), B.cols(), false, false);
+  if (a_col < 0) {
+    SRICS_NN_CHECK(A.cols() == B.rows(), what, Shape(A) + " * " + Shape(B));
+    a_col = 0;
+  } else {
+    SRICS_NN_CHECK(a_col + B.rows() <= A.cols(), what,
+                   "columns " + std::to_string(a_col) + ".. of " + Shape(A) + " * " + Shape(B));
+  }
+  // the block of a that is multiplied: columns i0 .. i0 + i1 - 1
+  n.i0 = a_col;
+  n.i1 = B.rows();
+  Gemm<T>(false, false, A.middleCols(a_col, B.rows()), B, T(0), n.value);
+  LogGemm(A.rows(), B.rows(), B.cols(), false, false);
   return n;
 }
 
@@ -170,7 +181,12 @@ Var<T> Tape<T>::MatMul(Var<T> a, Var<T> b) {
 
 template <typename T>
 Var<T> Tape<T>::Linear(Var<T> x, Var<T> w, Var<T> b) {
-  Node& n = Product(Op::kLinear, x, w, "Linear");
+  return Linear(x, w, b, -1);
+}
+
+template <typename T>
+Var<T> Tape<T>::Linear(Var<T> x, Var<T> w, Var<T> b, Index x_col) {
+  Node& n = Product(Op::kLinear, x, w, "Linear", x_col);
   n.c = b.id;
   n.needs_grad = n.needs_grad || Needs(b.id);
   if (b.id >= 0) {
@@ -439,17 +455,45 @@ Var<T> Tape<T>::Gather(Var<T> a, const std::vector<int>& index) {
 }
 
 template <typename T>
-Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_rows) {
-  Node& n = NewNode(Op::kScatterAdd, a.id);
+Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_rows,
+                           Var<T> weight) {
+  Node& n = NewNode(Op::kScatterAdd, a.id, weight.id);
   const Mat& A = Val(a.id);
   SRICS_NN_CHECK(static_cast<Index>(index.size()) == A.rows(), "ScatterAdd",
         std::to_string(index.size()) + " indices for " + Shape(A));
+  const Mat* W = weight.id >= 0 ? &Val(weight.id) : nullptr;
+  SRICS_NN_CHECK(!W || (W->rows() == A.rows() && W->cols() == 1), "ScatterAdd",
+                 "weight " + Shape(*W) + " for " + Shape(A));
   n.index = index;
   n.value.setZero(num_rows, A.cols());
   for (size_t i = 0; i < index.size(); ++i) {
     SRICS_NN_CHECK(index[i] >= 0 && index[i] < num_rows, "ScatterAdd",
           "index " + std::to_string(index[i]) + " of " + std::to_string(num_rows));
-    n.value.row(index[i]) += A.row(i);
+    if (W) n.value.row(index[i]) += (*W)(i, 0) * A.row(i);
+    else n.value.row(index[i]) += A.row(i);
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b,
+                              const std::vector<int>& b_index) {
+  Node& n = NewNode(Op::kGatherSumRelu, a.id, b.id);
+  const Mat& A = Val(a.id);
+  const Mat& B = Val(b.id);
+  SRICS_NN_CHECK(A.cols() == B.cols() && a_index.size() == b_index.size(), "GatherSumRelu",
+                 Shape(A) + " and " + Shape(B) + " with " + std::to_string(a_index.size()) +
+                     " and " + std::to_string(b_index.size()) + " indices");
+  n.index = a_index;
+  n.index_b = b_index;
+  n.value.resize(static_cast<Index>(a_index.size()), A.cols());
+  for (size_t i = 0; i < a_index.size(); ++i) {
+    SRICS_NN_CHECK(a_index[i] >= 0 && a_index[i] < A.rows() && b_index[i] >= 0 &&
+                       b_index[i] < B.rows(),
+                   "GatherSumRelu", "indices " + std::to_string(a_index[i]) + ", " +
+                                        std::to_string(b_index[i]) + " of " + Shape(A) + ", " +
+                                        Shape(B));
+    n.value.row(i) = (A.row(a_index[i]) + B.row(b_index[i])).cwiseMax(T(0));
   }
   return Out(n);
 }
@@ -647,12 +691,26 @@ void Tape<T>::BackwardNode(int id) {
     case Op::kLinear: {
       const Mat& A = Val(n.a);
       const Mat& B = Val(n.b);
+      const auto block = A.middleCols(n.i0, n.i1);
       if (Needs(n.b)) {
-        AccProduct(nodes_[n.b], A, true, g, false);
-        LogGemm(A.cols(), A.rows(), g.cols(), true, false);
+        AccProduct<T>(nodes_[n.b], block, true, g, false);
+        LogGemm(block.cols(), block.rows(), g.cols(), true, false);
       }
       if (Needs(n.a)) {
-        AccProduct(nodes_[n.a], g, false, B, true);
+        Node& in = nodes_[n.a];
+        if (n.i1 == A.cols()) {
+          AccProduct<T>(in, g, false, B, true);
+        } else {
+          // into the block's columns; a first contribution zeroes the others
+          const bool first = !in.has_grad;
+          if (first) {
+            in.grad.resize(A.rows(), A.cols());
+            in.grad.leftCols(n.i0).setZero();
+            in.grad.rightCols(A.cols() - n.i0 - n.i1).setZero();
+            in.has_grad = true;
+          }
+          GemmInto<T>(false, true, g, B, first ? T(0) : T(1), in.grad.middleCols(n.i0, n.i1));
+        }
         LogGemm(g.rows(), g.cols(), B.rows(), false, true);
       }
       if (n.op == Op::kLinear && Needs(n.c)) Acc(nodes_[n.c], g.colwise().sum());
@@ -774,9 +832,36 @@ void Tape<T>::BackwardNode(int id) {
     }
     case Op::kScatterAdd: {
       const Mat& A = Val(n.a);
-      Node& in = nodes_[n.a];
-      EnsureGrad(in, A.rows(), A.cols());
-      for (size_t i = 0; i < n.index.size(); ++i) in.grad.row(i) += g.row(n.index[i]);
+      const Mat* W = n.b >= 0 ? &Val(n.b) : nullptr;
+      if (Needs(n.a)) {
+        Node& in = nodes_[n.a];
+        EnsureGrad(in, A.rows(), A.cols());
+        for (size_t i = 0; i < n.index.size(); ++i) {
+          if (W) in.grad.row(i) += (*W)(i, 0) * g.row(n.index[i]);
+          else in.grad.row(i) += g.row(n.index[i]);
+        }
+      }
+      if (Needs(n.b)) {
+        Node& w = nodes_[n.b];
+        EnsureGrad(w, A.rows(), 1);
+        for (size_t i = 0; i < n.index.size(); ++i) w.grad(i, 0) += g.row(n.index[i]).dot(A.row(i));
+      }
+      break;
+    }
+    case Op::kGatherSumRelu: {
+      const Mat& A = Val(n.a);
+      const Mat& B = Val(n.b);
+      const bool na = Needs(n.a), nb = Needs(n.b);
+      if (na) EnsureGrad(nodes_[n.a], A.rows(), A.cols());
+      if (nb) EnsureGrad(nodes_[n.b], B.rows(), B.cols());
+      Mat gi(1, g.cols());
+      for (size_t i = 0; i < n.index.size(); ++i) {
+        // the relu's gradient of this pair (a product with the mask: a select branches on
+        // every entry, and half of them mispredict), added to both of its rows
+        gi = (g.row(i).array() * (n.value.row(i).array() > T(0)).template cast<T>()).matrix();
+        if (na) nodes_[n.a].grad.row(n.index[i]) += gi;
+        if (nb) nodes_[n.b].grad.row(n.index_b[i]) += gi;
+      }
       break;
     }
     case Op::kAttention:
