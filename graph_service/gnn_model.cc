@@ -100,17 +100,22 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
   if (input_mean_.size() > 0)
     x = tape.Mul(tape.Sub(x, tape.Constant(input_mean_)), tape.Constant(input_inv_std_));
   // first edge layer per node, then onto edges: relu(h_i W_s + h_j W_r + b)
-  nn::Var<T> node = options_.edge_node_inputs ? tape.Concat({h, x}, 1) : h;
-  nn::Var<T> send = edge_send_.Forward(tape, node);
-  nn::Var<T> recv = edge_recv_.Forward(tape, node);
+  std::vector<nn::Var<T>> node_parts = {h};
+  if (options_.edge_node_inputs) node_parts.push_back(x);
+  nn::Var<T> w_send = tape.Param(edge_send_.weight());
+  nn::Var<T> w_recv = tape.Param(edge_recv_.weight());
   if (edge_rel_) {
-    // (xy_i - xy_j) / scale through its own slice of the first layer, also per node: the
-    // layer is linear, so it is xy_i W / scale on the sender's side minus xy_j W / scale
-    nn::Var<T> xy = tape.MulScalar(tape.Slice(raw, 1, 0, 2), T(1.0 / options_.edge_relative_scale));
-    nn::Var<T> rel = edge_rel_->Forward(tape, xy);
-    send = tape.Add(send, rel);
-    recv = tape.Sub(recv, rel);
+    // (xy_i - xy_j) / scale through its own slice W_rel of the first layer, also per node
+    // (the layer is linear): [node, xy / scale] times [W_s; W_rel] and [W_r; -W_rel]
+    node_parts.push_back(
+        tape.MulScalar(tape.Slice(raw, 1, 0, 2), T(1.0 / options_.edge_relative_scale)));
+    nn::Var<T> w_rel = tape.Param(edge_rel_->weight());
+    w_send = tape.Concat({w_send, w_rel}, 0);
+    w_recv = tape.Concat({w_recv, tape.MulScalar(w_rel, T(-1))}, 0);
   }
+  nn::Var<T> node = node_parts.size() > 1 ? tape.Concat(node_parts, 1) : h;
+  nn::Var<T> send = tape.Linear(node, w_send, {});
+  nn::Var<T> recv = tape.Linear(node, w_recv, tape.Param(*edge_recv_.bias()));
   nn::Var<T> pre = tape.GatherSumRelu(send, senders, recv, receivers_);
   // columns [0, m) are d_eff's hidden layer, [m, 2m) d_pres's
   nn::Var<T> effect = eff_out_.ForwardColumns(tape, pre, 0);
