@@ -116,10 +116,12 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
   nn::Var<T> node = node_parts.size() > 1 ? tape.Concat(node_parts, 1) : h;
   nn::Var<T> send = tape.Linear(node, w_send, {});
   nn::Var<T> recv = tape.Linear(node, w_recv, tape.Param(*edge_recv_.bias()));
-  nn::Var<T> pre = tape.GatherSumRelu(send, senders, recv, receivers_);
-  // columns [0, m) are d_eff's hidden layer, [m, 2m) d_pres's
-  nn::Var<T> effect = eff_out_.ForwardColumns(tape, pre, 0);
-  nn::Var<T> logits = pres_out_.ForwardColumns(tape, pre, m);
+  // columns [0, m) are d_eff's hidden layer, [m, 2m) d_pres's: gathered apart, each layer's
+  // input and its gradient are whole matrices
+  nn::Var<T> effect =
+      eff_out_.Forward(tape, tape.GatherSumRelu(send, senders, recv, receivers_, 0, m));
+  nn::Var<T> logits =
+      pres_out_.Forward(tape, tape.GatherSumRelu(send, senders, recv, receivers_, m, m));
   // class 0 of the (straight-through) Gumbel-softmax sample is the edge
   nn::Var<T> sample = tape.GumbelSoftmax(logits, gumbel, T(options_.temperature), options_.hard);
   nn::Var<T> weight = tape.Slice(sample, 1, 0, 1);

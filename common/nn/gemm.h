@@ -61,32 +61,27 @@ void EigenGemm(bool trans_a, bool trans_b, const A& a, const B& b, typename std:
   else c.noalias() += a.transpose() * b.transpose();
 }
 
-// c = op(a) * op(b) + beta * c into a block of a tensor (e.g. some of its columns), which
-// must have the product's shape: floats through Sgemm, other scalars (the double gradient
-// checks) through Eigen.
+// c = op(a) * op(b) + beta * c for tensors: floats through Sgemm, other scalars (the double
+// gradient checks) through Eigen. beta 0 resizes c to the product's shape first; otherwise c
+// must have it.
 template <typename T>
-void GemmInto(bool trans_a, bool trans_b, const Eigen::Ref<const Matrix<T>>& a,
-              const Eigen::Ref<const Matrix<T>>& b, T beta, Eigen::Ref<Matrix<T>> c) {
+void Gemm(bool trans_a, bool trans_b, const Eigen::Ref<const Matrix<T>>& a,
+          const Eigen::Ref<const Matrix<T>>& b, T beta, Matrix<T>& c) {
   const Eigen::Index m = trans_a ? a.cols() : a.rows();
   const Eigen::Index k = trans_a ? a.rows() : a.cols();
   const Eigen::Index n = trans_b ? b.rows() : b.cols();
   if ((trans_b ? b.cols() : b.rows()) != k) throw std::invalid_argument("nn::Gemm: inner sizes differ");
-  if (c.rows() != m || c.cols() != n) throw std::invalid_argument("nn::Gemm: output has the wrong shape");
+  if (beta == T(0)) {
+    c.resize(m, n);
+  } else if (c.rows() != m || c.cols() != n) {
+    throw std::invalid_argument("nn::Gemm: accumulator has the wrong shape");
+  }
   if constexpr (std::is_same_v<T, float>) {
     Sgemm(trans_a, trans_b, m, n, k, a.data(), a.outerStride(), b.data(), b.outerStride(), beta,
-          c.data(), c.outerStride());
+          c.data(), c.cols());
   } else {
     EigenGemm(trans_a, trans_b, a, b, beta, c);
   }
-}
-
-// c = op(a) * op(b) + beta * c for tensors. beta 0 resizes c to the product's shape first;
-// otherwise c must have it.
-template <typename T>
-void Gemm(bool trans_a, bool trans_b, const Eigen::Ref<const Matrix<T>>& a,
-          const Eigen::Ref<const Matrix<T>>& b, T beta, Matrix<T>& c) {
-  if (beta == T(0)) c.resize(trans_a ? a.cols() : a.rows(), trans_b ? b.rows() : b.cols());
-  GemmInto<T>(trans_a, trans_b, a, b, beta, c);
 }
 
 }  // namespace srics::nn

@@ -43,14 +43,9 @@ Linear<T>::Linear(std::string name, int in, int out, bool bias, Rng& rng)
 
 template <typename T>
 Var<T> Linear<T>::Forward(Tape<T>& tape, Var<T> x, bool trainable) {
-  return ForwardColumns(tape, x, -1, trainable);
-}
-
-template <typename T>
-Var<T> Linear<T>::ForwardColumns(Tape<T>& tape, Var<T> x, Eigen::Index x_col, bool trainable) {
   Var<T> w = tape.Param(*w_, trainable);
   Var<T> b = b_ ? tape.Param(*b_, trainable) : Var<T>{&tape, -1};
-  return tape.Linear(x, w, b, x_col);
+  return tape.Linear(x, w, b);
 }
 
 template <typename T>

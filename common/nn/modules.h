@@ -26,9 +26,6 @@ class Linear {
 
   // Records y = x W (+ b) on the tape; x is batch x in.
   Var<T> Forward(Tape<T>& tape, Var<T> x, bool trainable = true);
-  // Records y = x.middleCols(x_col, in) W (+ b): the layer on a column block of a wider x,
-  // read in place.
-  Var<T> ForwardColumns(Tape<T>& tape, Var<T> x, Eigen::Index x_col, bool trainable = true);
   // Computes y = x W (+ b) into y (resized only if its shape differs) without a tape.
   void Apply(const Eigen::Ref<const Matrix<T>>& x, Matrix<T>& y) const;
 

@@ -25,9 +25,8 @@ void Acc(NodeT& n, const Expr& e) {
 }
 
 // n.grad (+)= op(l) * op(r): the first contribution assigns, later ones add
-template <typename T, typename NodeT>
-void AccProduct(NodeT& n, const Eigen::Ref<const Matrix<T>>& l, bool trans_l, const Matrix<T>& r,
-                bool trans_r) {
+template <typename NodeT, typename T>
+void AccProduct(NodeT& n, const Matrix<T>& l, bool trans_l, const Matrix<T>& r, bool trans_r) {
   const bool first = !n.has_grad;
   Gemm<T>(trans_l, trans_r, l, r, first ? T(0) : T(1), n.grad);
   n.has_grad = true;
@@ -180,23 +179,13 @@ Var<T> Tape<T>::Param(Parameter<T>& p, bool trainable) {
 }
 
 template <typename T>
-typename Tape<T>::Node& Tape<T>::Product(Op op, Var<T> a, Var<T> b, const char* what,
-                                         Index a_col) {
+typename Tape<T>::Node& Tape<T>::Product(Op op, Var<T> a, Var<T> b, const char* what) {
   Node& n = NewNode(op, a.id, b.id);
   const Mat& A = Val(a.id);
   const Mat& B = Val(b.id);
-  if (a_col < 0) {
-    SRICS_NN_CHECK(A.cols() == B.rows(), what, Shape(A) + " * " + Shape(B));
-    a_col = 0;
-  } else {
-    SRICS_NN_CHECK(a_col + B.rows() <= A.cols(), what,
-                   "columns " + std::to_string(a_col) + ".. of " + Shape(A) + " * " + Shape(B));
-  }
-  // the block of a that is multiplied: columns i0 .. i0 + i1 - 1
-  n.i0 = a_col;
-  n.i1 = B.rows();
-  Gemm<T>(false, false, A.middleCols(a_col, B.rows()), B, T(0), n.value);
-  LogGemm(A.rows(), B.rows(), B.cols(), false, false);
+  SRICS_NN_CHECK(A.cols() == B.rows(), what, Shape(A) + " * " + Shape(B));
+  Gemm<T>(false, false, A, B, T(0), n.value);
+  LogGemm(A.rows(), A.cols(), B.cols(), false, false);
   return n;
 }
 
@@ -207,12 +196,7 @@ Var<T> Tape<T>::MatMul(Var<T> a, Var<T> b) {
 
 template <typename T>
 Var<T> Tape<T>::Linear(Var<T> x, Var<T> w, Var<T> b) {
-  return Linear(x, w, b, -1);
-}
-
-template <typename T>
-Var<T> Tape<T>::Linear(Var<T> x, Var<T> w, Var<T> b, Index x_col) {
-  Node& n = Product(Op::kLinear, x, w, "Linear", x_col);
+  Node& n = Product(Op::kLinear, x, w, "Linear");
   n.c = b.id;
   n.needs_grad = n.needs_grad || Needs(b.id);
   if (b.id >= 0) {
@@ -503,23 +487,29 @@ Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_ro
 
 template <typename T>
 Var<T> Tape<T>::GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b,
-                              const std::vector<int>& b_index) {
+                              const std::vector<int>& b_index, Index col, Index width) {
   Node& n = NewNode(Op::kGatherSumRelu, a.id, b.id);
   const Mat& A = Val(a.id);
   const Mat& B = Val(b.id);
-  SRICS_NN_CHECK(A.cols() == B.cols() && a_index.size() == b_index.size(), "GatherSumRelu",
-                 Shape(A) + " and " + Shape(B) + " with " + std::to_string(a_index.size()) +
+  if (width < 0) width = A.cols() - col;
+  SRICS_NN_CHECK(A.cols() == B.cols() && a_index.size() == b_index.size() && col >= 0 &&
+                     col + width <= A.cols(),
+                 "GatherSumRelu",
+                 "columns " + std::to_string(col) + " +" + std::to_string(width) + " of " +
+                     Shape(A) + " and " + Shape(B) + " with " + std::to_string(a_index.size()) +
                      " and " + std::to_string(b_index.size()) + " indices");
   n.index = a_index;
   n.index_b = b_index;
-  n.value.resize(static_cast<Index>(a_index.size()), A.cols());
+  n.i0 = col;
+  n.value.resize(static_cast<Index>(a_index.size()), width);
   for (size_t i = 0; i < a_index.size(); ++i) {
     SRICS_NN_CHECK(a_index[i] >= 0 && a_index[i] < A.rows() && b_index[i] >= 0 &&
                        b_index[i] < B.rows(),
                    "GatherSumRelu", "indices " + std::to_string(a_index[i]) + ", " +
                                         std::to_string(b_index[i]) + " of " + Shape(A) + ", " +
                                         Shape(B));
-    n.value.row(i) = (A.row(a_index[i]) + B.row(b_index[i])).cwiseMax(T(0));
+    n.value.row(i) = (A.row(a_index[i]).segment(col, width) + B.row(b_index[i]).segment(col, width))
+                         .cwiseMax(T(0));
   }
   return Out(n);
 }
@@ -717,26 +707,12 @@ void Tape<T>::BackwardNode(int id) {
     case Op::kLinear: {
       const Mat& A = Val(n.a);
       const Mat& B = Val(n.b);
-      const auto block = A.middleCols(n.i0, n.i1);
       if (Needs(n.b)) {
-        AccProduct<T>(nodes_[n.b], block, true, g, false);
-        LogGemm(block.cols(), block.rows(), g.cols(), true, false);
+        AccProduct(nodes_[n.b], A, true, g, false);
+        LogGemm(A.cols(), A.rows(), g.cols(), true, false);
       }
       if (Needs(n.a)) {
-        Node& in = nodes_[n.a];
-        if (n.i1 == A.cols()) {
-          AccProduct<T>(in, g, false, B, true);
-        } else {
-          // into the block's columns; a first contribution zeroes the others
-          const bool first = !in.has_grad;
-          if (first) {
-            in.grad.resize(A.rows(), A.cols());
-            in.grad.leftCols(n.i0).setZero();
-            in.grad.rightCols(A.cols() - n.i0 - n.i1).setZero();
-            in.has_grad = true;
-          }
-          GemmInto<T>(false, true, g, B, first ? T(0) : T(1), in.grad.middleCols(n.i0, n.i1));
-        }
+        AccProduct(nodes_[n.a], g, false, B, true);
         LogGemm(g.rows(), g.cols(), B.rows(), false, true);
       }
       if (n.op == Op::kLinear && Needs(n.c)) Acc(nodes_[n.c], g.colwise().sum());
@@ -884,12 +860,12 @@ void Tape<T>::BackwardNode(int id) {
       const bool na = Needs(n.a), nb = Needs(n.b);
       if (na) EnsureGrad(nodes_[n.a], A.rows(), A.cols());
       if (nb) EnsureGrad(nodes_[n.b], B.rows(), B.cols());
-      Mat gi(1, g.cols());
       for (size_t i = 0; i < n.index.size(); ++i) {
         // the relu's gradient of this pair, added to both of its rows
-        ReluGradient(n.value.row(i).data(), g.row(i).data(), g.cols(), false, gi.data());
-        if (na) nodes_[n.a].grad.row(n.index[i]) += gi;
-        if (nb) nodes_[n.b].grad.row(n.index_b[i]) += gi;
+        const T* v = n.value.row(i).data();
+        const T* gi = g.row(i).data();
+        if (na) ReluGradient(v, gi, g.cols(), true, &nodes_[n.a].grad(n.index[i], n.i0));
+        if (nb) ReluGradient(v, gi, g.cols(), true, &nodes_[n.b].grad(n.index_b[i], n.i0));
       }
       break;
     }

@@ -76,9 +76,6 @@ class Tape {
   // Linear algebra.
   Var<T> MatMul(Var<T> a, Var<T> b);                 // a (m x k) * b (k x n)
   Var<T> Linear(Var<T> x, Var<T> w, Var<T> b);       // x w + b, b is 1 x n (b.id < 0: none)
-  // x.middleCols(x_col, w.rows()) w + b: a layer on a column block of x, read in place
-  // (x_col < 0: all of x)
-  Var<T> Linear(Var<T> x, Var<T> w, Var<T> b, Eigen::Index x_col);
   Var<T> AddBias(Var<T> x, Var<T> b);                // x + b broadcast over rows, b is 1 x n
 
   // Elementwise arithmetic. Either operand may broadcast: shape 1 x 1, 1 x n or m x 1.
@@ -128,11 +125,12 @@ class Tape {
   // weight (a.rows() x 1) is given; gradients gather back.
   Var<T> ScatterAdd(Var<T> a, const std::vector<int>& index, Eigen::Index num_rows,
                     Var<T> weight = {});
-  // out.row(i) = relu(a.row(a_index[i]) + b.row(b_index[i])): a first layer on pairs of rows
-  // (graph edges) from its per-row halves in one pass, without pair-sized temporaries;
-  // gradients scatter-add back.
+  // out.row(i) = relu(a.row(a_index[i]) + b.row(b_index[i])) over the columns col ..
+  // col + width - 1 (width < 0: all): a first layer on pairs of rows (graph edges) from its
+  // per-row halves in one pass, without pair-sized temporaries; gradients scatter-add back.
   Var<T> GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b,
-                       const std::vector<int>& b_index);
+                       const std::vector<int>& b_index, Eigen::Index col = 0,
+                       Eigen::Index width = -1);
 
   // Multi-head attention of one query per sample over that sample's entities.
   // q: B x E; k, v: (B*N) x E with row b*N + n holding entity n of sample b; mask: B x N
@@ -184,9 +182,8 @@ class Tape {
   }
   bool Needs(int id) const { return id >= 0 && nodes_[id].needs_grad; }
   Var<T> Binary(Op op, Var<T> a, Var<T> b);
-  // a new node holding a * b, or a's columns a_col.. times b when a_col >= 0 (checked
-  // shapes; `what` names the op in errors)
-  Node& Product(Op op, Var<T> a, Var<T> b, const char* what, Eigen::Index a_col = -1);
+  // a new node holding a * b (checked shapes; `what` names the op in errors)
+  Node& Product(Op op, Var<T> a, Var<T> b, const char* what);
   Var<T> Unary(Op op, Var<T> a);
   void BackwardNode(int id);
   void BackwardBinary(Node& n);     // Add, Sub, Mul, Div, Min (broadcast operands summed down)
