@@ -100,26 +100,35 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
   if (input_mean_.size() > 0)
     x = tape.Mul(tape.Sub(x, tape.Constant(input_mean_)), tape.Constant(input_inv_std_));
   // first edge layer per node, then onto edges: relu(h_i W_s + h_j W_r + b)
-  nn::Var<T> node = options_.edge_node_inputs ? tape.Concat({h, x}, 1) : h;
-  nn::Var<T> send = edge_send_.Forward(tape, node);
-  nn::Var<T> recv = edge_recv_.Forward(tape, node);
-  nn::Var<T> first = tape.Add(tape.Gather(send, senders), tape.Gather(recv, receivers_));
+  std::vector<nn::Var<T>> node_parts = {h};
+  if (options_.edge_node_inputs) node_parts.push_back(x);
+  nn::Var<T> w_send = tape.Param(edge_send_.weight());
+  nn::Var<T> w_recv = tape.Param(edge_recv_.weight());
   if (edge_rel_) {
-    // (xy_i - xy_j) / scale per edge, through its own slice of the first layer
-    nn::Var<T> xy = tape.Slice(raw, 1, 0, 2);
-    nn::Var<T> rel = tape.MulScalar(tape.Sub(tape.Gather(xy, senders), tape.Gather(xy, receivers_)),
-                                    T(1.0 / options_.edge_relative_scale));
-    first = tape.Add(first, edge_rel_->Forward(tape, rel));
+    // (xy_i - xy_j) / scale through its own slice W_rel of the first layer, also per node
+    // (the layer is linear): [node, xy / scale] times [W_s; W_rel] and [W_r; -W_rel]
+    node_parts.push_back(
+        tape.MulScalar(tape.Slice(raw, 1, 0, 2), T(1.0 / options_.edge_relative_scale)));
+    nn::Var<T> w_rel = tape.Param(edge_rel_->weight());
+    w_send = tape.Concat({w_send, w_rel}, 0);
+    w_recv = tape.Concat({w_recv, tape.MulScalar(w_rel, T(-1))}, 0);
   }
-  nn::Var<T> pre = tape.Relu(first);
-  nn::Var<T> effect = eff_out_.Forward(tape, tape.Slice(pre, 1, 0, m));
-  nn::Var<T> logits = pres_out_.Forward(tape, tape.Slice(pre, 1, m, m));
+  nn::Var<T> node = node_parts.size() > 1 ? tape.Concat(node_parts, 1) : h;
+  nn::Var<T> send = tape.Linear(node, w_send, {});
+  nn::Var<T> recv = tape.Linear(node, w_recv, tape.Param(*edge_recv_.bias()));
+  // columns [0, m) are d_eff's hidden layer, [m, 2m) d_pres's: gathered apart, each layer's
+  // input and its gradient are whole matrices
+  nn::Var<T> effect =
+      eff_out_.Forward(tape, tape.GatherSumRelu(send, senders, recv, receivers_, 0, m));
+  nn::Var<T> logits =
+      pres_out_.Forward(tape, tape.GatherSumRelu(send, senders, recv, receivers_, m, m));
   // class 0 of the (straight-through) Gumbel-softmax sample is the edge
   nn::Var<T> sample = tape.GumbelSoftmax(logits, gumbel, T(options_.temperature), options_.hard);
   nn::Var<T> weight = tape.Slice(sample, 1, 0, 1);
-  nn::Var<T> message = open_edges_ ? effect : tape.Mul(effect, weight);
   const Eigen::Index rows = static_cast<Eigen::Index>(batch) * options_.num_entities;
-  nn::Var<T> interaction = tape.ScatterAdd(message, receivers_, rows);
+  // the messages summed per receiver, each times its edge's weight
+  nn::Var<T> interaction = open_edges_ ? tape.ScatterAdd(effect, receivers_, rows)
+                                       : tape.ScatterAdd(effect, receivers_, rows, weight);
   nn::Var<T> own = act_.Forward(tape, x);
   nn::Var<T> next = gru_.Forward(tape, tape.Concat({interaction, own}, 1), h);
   nn::Var<T> delta = pred_.Forward(tape, next);

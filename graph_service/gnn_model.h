@@ -11,8 +11,10 @@
 // With edge_relative_scale > 0 the first edge layer also gets (xy_i - xy_j) / scale (contact
 // and rope effects depend on where the entities are relative to each other).
 // w_ij is "entity i acts on entity j". The first layer of d_eff and d_pres on [h_i, h_j] is
-// computed per node (h_i W_s + h_j W_r, the same linear map) before gathering onto edges, so
-// the per-edge work is one hidden layer and the two output layers.
+// computed per node (h_i W_s + h_j W_r, the same linear map; the relative position's part
+// likewise, as xy_i W / scale - xy_j W / scale) before gathering onto edges, so the per-edge
+// work is one pass for the sum and relu (Tape::GatherSumRelu, d_eff's and d_pres's columns
+// apart) and the two output layers.
 // The reference's batch norm in the MLPs is left out (its inputs are GRU states in [-1, 1]).
 
 #include <memory>

@@ -32,6 +32,32 @@ void AccProduct(NodeT& n, const Matrix<T>& l, bool trans_l, const Matrix<T>& r, 
   n.has_grad = true;
 }
 
+// out[c] (+)= g[c] where v[c] > 0, else 0 (+ 0): the relu's gradient from its output v. Eigen
+// compares entry by entry; this loop is vectorized (-fopenmp-simd)
+template <typename T>
+void ReluGradient(const T* v, const T* g, Index n, bool accumulate, T* out) {
+  if (accumulate) {
+#pragma omp simd
+    for (Index c = 0; c < n; ++c) out[c] += v[c] > T(0) ? g[c] : T(0);
+  } else {
+#pragma omp simd
+    for (Index c = 0; c < n; ++c) out[c] = v[c] > T(0) ? g[c] : T(0);
+  }
+}
+
+// y.row(i) += b.row(0) for every row i. Eigen's y.rowwise() += b runs entry by entry on
+// row-major matrices, 3-10x slower than this vectorized loop on the GNN's layer shapes
+template <typename T>
+void AddToEveryRow(const Matrix<T>& b, Matrix<T>& y) {
+  const Index n = y.cols();
+  const T* v = b.data();
+  for (Index i = 0; i < y.rows(); ++i) {
+    T* row = y.data() + i * n;
+#pragma omp simd
+    for (Index c = 0; c < n; ++c) row[c] += v[c];
+  }
+}
+
 // makes sure a node's gradient buffer exists (zeroed) before scattered updates
 template <typename NodeT>
 void EnsureGrad(NodeT& n, Index rows, Index cols) {
@@ -176,7 +202,7 @@ Var<T> Tape<T>::Linear(Var<T> x, Var<T> w, Var<T> b) {
   if (b.id >= 0) {
     const Mat& B = Val(b.id);
     SRICS_NN_CHECK(B.rows() == 1 && B.cols() == n.value.cols(), "Linear", "bias " + Shape(B));
-    n.value.rowwise() += B.row(0);
+    AddToEveryRow(B, n.value);
   }
   return Out(n);
 }
@@ -188,7 +214,7 @@ Var<T> Tape<T>::AddBias(Var<T> x, Var<T> b) {
   const Mat& B = Val(b.id);
   SRICS_NN_CHECK(B.rows() == 1 && B.cols() == X.cols(), "AddBias", Shape(X) + " + " + Shape(B));
   n.value = X;
-  n.value.rowwise() += B.row(0);
+  AddToEveryRow(B, n.value);
   return Out(n);
 }
 
@@ -439,17 +465,51 @@ Var<T> Tape<T>::Gather(Var<T> a, const std::vector<int>& index) {
 }
 
 template <typename T>
-Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_rows) {
-  Node& n = NewNode(Op::kScatterAdd, a.id);
+Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_rows,
+                           Var<T> weight) {
+  Node& n = NewNode(Op::kScatterAdd, a.id, weight.id);
   const Mat& A = Val(a.id);
   SRICS_NN_CHECK(static_cast<Index>(index.size()) == A.rows(), "ScatterAdd",
         std::to_string(index.size()) + " indices for " + Shape(A));
+  const Mat* W = weight.id >= 0 ? &Val(weight.id) : nullptr;
+  SRICS_NN_CHECK(!W || (W->rows() == A.rows() && W->cols() == 1), "ScatterAdd",
+                 "weight " + Shape(*W) + " for " + Shape(A));
   n.index = index;
   n.value.setZero(num_rows, A.cols());
   for (size_t i = 0; i < index.size(); ++i) {
     SRICS_NN_CHECK(index[i] >= 0 && index[i] < num_rows, "ScatterAdd",
           "index " + std::to_string(index[i]) + " of " + std::to_string(num_rows));
-    n.value.row(index[i]) += A.row(i);
+    if (W) n.value.row(index[i]) += (*W)(i, 0) * A.row(i);
+    else n.value.row(index[i]) += A.row(i);
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b,
+                              const std::vector<int>& b_index, Index col, Index width) {
+  Node& n = NewNode(Op::kGatherSumRelu, a.id, b.id);
+  const Mat& A = Val(a.id);
+  const Mat& B = Val(b.id);
+  if (width < 0) width = A.cols() - col;
+  SRICS_NN_CHECK(A.cols() == B.cols() && a_index.size() == b_index.size() && col >= 0 &&
+                     col + width <= A.cols(),
+                 "GatherSumRelu",
+                 "columns " + std::to_string(col) + " +" + std::to_string(width) + " of " +
+                     Shape(A) + " and " + Shape(B) + " with " + std::to_string(a_index.size()) +
+                     " and " + std::to_string(b_index.size()) + " indices");
+  n.index = a_index;
+  n.index_b = b_index;
+  n.i0 = col;
+  n.value.resize(static_cast<Index>(a_index.size()), width);
+  for (size_t i = 0; i < a_index.size(); ++i) {
+    SRICS_NN_CHECK(a_index[i] >= 0 && a_index[i] < A.rows() && b_index[i] >= 0 &&
+                       b_index[i] < B.rows(),
+                   "GatherSumRelu", "indices " + std::to_string(a_index[i]) + ", " +
+                                        std::to_string(b_index[i]) + " of " + Shape(A) + ", " +
+                                        Shape(B));
+    n.value.row(i) = (A.row(a_index[i]).segment(col, width) + B.row(b_index[i]).segment(col, width))
+                         .cwiseMax(T(0));
   }
   return Out(n);
 }
@@ -681,9 +741,13 @@ void Tape<T>::BackwardNode(int id) {
           (g.array() * ((x >= n.f0) && (x <= n.f1)).template cast<T>()).matrix());
       break;
     }
-    case Op::kRelu:
-      Acc(nodes_[n.a], (g.array() * (n.value.array() > T(0)).template cast<T>()).matrix());
+    case Op::kRelu: {
+      Node& in = nodes_[n.a];
+      if (!in.has_grad) in.grad.resize(g.rows(), g.cols());
+      ReluGradient(n.value.data(), g.data(), g.size(), in.has_grad, in.grad.data());
+      in.has_grad = true;
       break;
+    }
     case Op::kTanh:
       Acc(nodes_[n.a], (g.array() * (T(1) - n.value.array().square())).matrix());
       break;
@@ -774,9 +838,35 @@ void Tape<T>::BackwardNode(int id) {
     }
     case Op::kScatterAdd: {
       const Mat& A = Val(n.a);
-      Node& in = nodes_[n.a];
-      EnsureGrad(in, A.rows(), A.cols());
-      for (size_t i = 0; i < n.index.size(); ++i) in.grad.row(i) += g.row(n.index[i]);
+      const Mat* W = n.b >= 0 ? &Val(n.b) : nullptr;
+      if (Needs(n.a)) {
+        Node& in = nodes_[n.a];
+        EnsureGrad(in, A.rows(), A.cols());
+        for (size_t i = 0; i < n.index.size(); ++i) {
+          if (W) in.grad.row(i) += (*W)(i, 0) * g.row(n.index[i]);
+          else in.grad.row(i) += g.row(n.index[i]);
+        }
+      }
+      if (Needs(n.b)) {
+        Node& w = nodes_[n.b];
+        EnsureGrad(w, A.rows(), 1);
+        for (size_t i = 0; i < n.index.size(); ++i) w.grad(i, 0) += g.row(n.index[i]).dot(A.row(i));
+      }
+      break;
+    }
+    case Op::kGatherSumRelu: {
+      const Mat& A = Val(n.a);
+      const Mat& B = Val(n.b);
+      const bool na = Needs(n.a), nb = Needs(n.b);
+      if (na) EnsureGrad(nodes_[n.a], A.rows(), A.cols());
+      if (nb) EnsureGrad(nodes_[n.b], B.rows(), B.cols());
+      for (size_t i = 0; i < n.index.size(); ++i) {
+        // the relu's gradient of this pair, added to both of its rows
+        const T* v = n.value.row(i).data();
+        const T* gi = g.row(i).data();
+        if (na) ReluGradient(v, gi, g.cols(), true, &nodes_[n.a].grad(n.index[i], n.i0));
+        if (nb) ReluGradient(v, gi, g.cols(), true, &nodes_[n.b].grad(n.index_b[i], n.i0));
+      }
       break;
     }
     case Op::kAttention:

@@ -47,7 +47,7 @@ enum class Op : std::uint8_t {
   kConstant, kParam, kMatMul, kLinear, kAddBias, kAdd, kSub, kMul, kDiv, kAddScalar,
   kMulScalar, kRelu, kTanh, kSigmoid, kExp, kLog, kSoftplus, kSquare, kSum, kMean, kConcat,
   kSlice, kReshape, kTranspose, kMaskedSoftmax, kLogSoftmax, kMin, kClamp, kGumbelSoftmax,
-  kGather, kScatterAdd, kAttention,
+  kGather, kScatterAdd, kAttention, kGatherSumRelu,
 };
 
 template <typename T>
@@ -121,8 +121,16 @@ class Tape {
 
   // out.row(i) = a.row(index[i]); gradients scatter-add back.
   Var<T> Gather(Var<T> a, const std::vector<int>& index);
-  // out (num_rows x n) with out.row(index[i]) += a.row(i); gradients gather back.
-  Var<T> ScatterAdd(Var<T> a, const std::vector<int>& index, Eigen::Index num_rows);
+  // out (num_rows x n) with out.row(index[i]) += a.row(i), times weight(i, 0) when a
+  // weight (a.rows() x 1) is given; gradients gather back.
+  Var<T> ScatterAdd(Var<T> a, const std::vector<int>& index, Eigen::Index num_rows,
+                    Var<T> weight = {});
+  // out.row(i) = relu(a.row(a_index[i]) + b.row(b_index[i])) over the columns col ..
+  // col + width - 1 (width < 0: all): a first layer on pairs of rows (graph edges) from its
+  // per-row halves in one pass, without pair-sized temporaries; gradients scatter-add back.
+  Var<T> GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b,
+                       const std::vector<int>& b_index, Eigen::Index col = 0,
+                       Eigen::Index width = -1);
 
   // Multi-head attention of one query per sample over that sample's entities.
   // q: B x E; k, v: (B*N) x E with row b*N + n holding entity n of sample b; mask: B x N
@@ -159,6 +167,7 @@ class Tape {
     T f0 = 0, f1 = 0;
     std::vector<int> inputs;     // concat parts
     std::vector<int> index;      // gather / scatter
+    std::vector<int> index_b;    // second index of GatherSumRelu
     Parameter<T>* param = nullptr;
     Mat value, grad, aux;
   };

@@ -88,6 +88,30 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
   EXPECT_LT(err, 1e-6);
 }
 
+// The same with the options of the default GraphConfig: node inputs and relative positions
+// on the edges, standardised inputs, per-entity loss weights and the gate-logit decay.
+TEST(GnnModelTest, GradientsMatchFiniteDifferencesWithEdgeInputs) {
+  ToyBatch<double> toy(4, 6, /*seed=*/5, 2, 3);
+  auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
+  auto& rng = toy.rng;
+  auto& batch = toy.batch;
+  GnnModel<double> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 3,
+                          .mlp_hidden = 4, .edge_node_inputs = true, .edge_relative_scale = 0.2,
+                          .kl_weight = 0.1, .hard = false, .gate_logit_decay = 0.5},
+                         rng);
+  std::vector<double> mean(data.input_dim(), 0.1), inv_std(data.input_dim(), 2.0);
+  model.set_input_normalization(mean, inv_std);
+  model.set_entity_loss_weights({1.0, 2.0, 0.5});
+  nn::ParameterList<double> params;
+  model.Parameters(params);
+  for (nn::Parameter<double>* p : params) p->value += 0.3 * nn::RandomNormal<double>(p->value.rows(), p->value.cols(), rng);
+  const double err = nn::testing::GradCheck(params, [&](nn::Tape<double>& tape) {
+    nn::Rng noise(11);
+    return model.WindowLoss(tape, batch, noise).total;
+  });
+  EXPECT_LT(err, 1e-6);
+}
+
 TEST(GnnModelTest, LossGoesDownOnAFixedBatch) {
   ToyBatch<float> toy(8, 20, /*seed=*/4, 20, 10);
   auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one

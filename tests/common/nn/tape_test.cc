@@ -203,6 +203,45 @@ TEST_F(TapeGradTest, GatherScatter) {
   EXPECT_EQ(s(3, 0), 0.0);
 }
 
+TEST_F(TapeGradTest, WeightedScatterAddMatchesMulThenScatter) {
+  auto& a = NewVar(4, 3);
+  auto& w = NewVar(4, 1);
+  const std::vector<int> idx = {1, 1, 0, 4};
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
+              return t.ScatterAdd(t.Param(a), idx, 5, t.Param(w));
+            }),
+            kTol);
+  Tape<D> t;
+  const MatD fused = t.ScatterAdd(t.Param(a), idx, 5, t.Param(w)).value();
+  const MatD composed = t.ScatterAdd(t.Mul(t.Param(a), t.Param(w)), idx, 5).value();
+  EXPECT_LT((fused - composed).norm(), 1e-14);
+}
+
+TEST_F(TapeGradTest, GatherSumReluMatchesComposition) {
+  auto& a = NewVar(3, 4);
+  auto& b = NewVar(4, 4);
+  const std::vector<int> a_idx = {0, 2, 2, 1, 0};
+  const std::vector<int> b_idx = {3, 3, 0, 1, 2};
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
+              return t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx);
+            }),
+            kTol);
+  Tape<D> t;
+  const MatD fused = t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx).value();
+  const MatD composed =
+      t.Relu(t.Add(t.Gather(t.Param(a), a_idx), t.Gather(t.Param(b), b_idx))).value();
+  EXPECT_EQ(fused, composed);
+  EXPECT_GT((fused.array() == 0).count(), 0);  // the relu cuts some entries
+  // a column range, its gradient into those columns only
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
+              return t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 1, 2);
+            }),
+            kTol);
+  EXPECT_EQ(t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 1, 2).value(),
+            fused.middleCols(1, 2));
+  EXPECT_THROW(t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 3, 2), std::invalid_argument);
+}
+
 TEST_F(TapeGradTest, AttentionMatchesCompositionAndDifferences) {
   const int batch = 3, ents = 4, heads = 2, embed = 6, dh = embed / heads;
   auto& q = NewVar(batch, embed);
