@@ -1,12 +1,7 @@
 #include "common/nn/serialize.h"
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
-
 #include <cstdio>
 #include <cstring>
-#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -153,34 +148,16 @@ std::string CheckpointBytes(const std::vector<CheckpointSection>& sections) {
   return buf;
 }
 
-namespace {
-
-// Gives the pages of freed heap blocks back to the system. glibc raises its mmap threshold to
-// the size of the first big block freed, so a checkpoint's later buffers come from the heap,
-// and freed heap blocks under live ones stay resident: a learner's RSS stepped up by twice its
-// checkpoint for the whole period until the next checkpoint reused them.
-void ReturnFreedMemory() {
-#ifdef __GLIBC__
-  malloc_trim(0);
-#endif
-}
-
-}  // namespace
-
 void WriteCheckpoint(const std::string& path, std::vector<CheckpointSection> sections, int keep,
                      files::FileSystem& fs) {
-  std::string bytes = CheckpointBytes(sections);
+  const std::string bytes = CheckpointBytes(sections);
   std::vector<CheckpointSection>().swap(sections);
-  std::exception_ptr failure;
   try {
     if (keep > 1) files::WriteGeneration(path, keep, bytes, fs);
     else files::WriteFileDurably(path, bytes, fs);
   } catch (const files::FileError& e) {
-    failure = std::make_exception_ptr(CheckpointError(std::string("checkpoint not written: ") + e.what()));
+    throw CheckpointError(std::string("checkpoint not written: ") + e.what());
   }
-  std::string().swap(bytes);
-  ReturnFreedMemory();
-  if (failure) std::rethrow_exception(failure);
 }
 
 std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {

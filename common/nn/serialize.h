@@ -156,9 +156,9 @@ std::string CheckpointBytes(const std::vector<CheckpointSection>& sections);
 // folder fsynced); with keep > 1 as the newest of `keep` generations (files::WriteGeneration:
 // the previous one becomes path.1, ...). Throws CheckpointError naming the file and saying
 // that the previous checkpoint is kept and the temporary file removed. Takes the sections (move
-// them in): the sections and the file's bytes are freed before it returns and their pages given
-// back to the system, so a long-running process does not stay larger by twice a checkpoint
-// until its next one.
+// them in) and frees them once the file's bytes are built, so the process holds about one copy
+// of its state beside the state, not two, while the file is written
+// (process::ReturnBigBlocksToTheSystem says where that memory goes afterwards).
 void WriteCheckpoint(const std::string& path, std::vector<CheckpointSection> sections, int keep = 1,
                      files::FileSystem& fs = files::FileSystem::Posix());
 

@@ -10,6 +10,7 @@
 #include "common/cli/cli.h"
 #include "common/files/durable_file.h"
 #include "common/logging/logging.h"
+#include "common/process/memory.h"
 
 namespace srics::process {
 
@@ -38,6 +39,7 @@ std::optional<int> ParseRoleCommandLine(int argc, char** argv, const RoleProgram
 }
 
 std::optional<int> StartRole(int argc, char** argv, const RoleProgram& program, Role* role) {
+  ReturnBigBlocksToTheSystem();
   if (const auto code = ParseRoleCommandLine(argc, argv, program, &role->command_line)) return code;
   try {
     role->config = config::LoadConfig(role->command_line.config_path, role->command_line.overrides);

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/config/config_error.h"
+#include "common/process/memory.h"
 #include "common/transport/shutdown.h"
 #include "deploy/launcher/command_line.h"
 
@@ -30,6 +31,7 @@ int RunCommand(const launcher::SricsCommand& command) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  srics::process::ReturnBigBlocksToTheSystem();  // the in-process runs hold a learner
   srics::transport::Shutdown::InstallSignalHandlers();
   launcher::SricsCommand command;
   if (const auto code = launcher::ParseSricsCommandLine(argc, argv, &command)) return *code;
