@@ -243,6 +243,13 @@ using Group = std::vector<const RunData*>;
 // environment -> method -> runs (seed order)
 using Groups = std::map<std::string, std::map<std::string, Group>>;
 
+// The seeds a legend names: runs with at least one evaluation of a trained policy (a run just
+// started has none and draws nothing).
+size_t SeedsWithEvaluations(const Group& group) {
+  return static_cast<size_t>(
+      std::count_if(group.begin(), group.end(), [](const RunData* r) { return !r->evaluations.empty(); }));
+}
+
 Groups GroupRuns(const std::vector<RunData>& runs) {
   Groups groups;
   for (const RunData& r : runs) groups[r.environment][r.method].push_back(&r);
@@ -337,7 +344,7 @@ void PlotCurves(std::ostream& script, const std::string& png, const std::string&
          << "plot ";
   for (size_t i = 0; i < methods.size(); ++i) {
     const char* color = kColors[i % (sizeof kColors / sizeof *kColors)];
-    const size_t seeds = groups.at(methods[i]).size();
+    const size_t seeds = SeedsWithEvaluations(groups.at(methods[i]));
     script << (i ? ", " : "") << "'" << GnuplotQuote(dat) << "' index " << i
            << " using 1:3:4 with filledcurves lc rgb '" << color << "' notitle, '' index " << i
            << " using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '" << color << "' title '" << GnuplotQuote(methods[i])
@@ -516,7 +523,7 @@ int Compare(const CompareOptions& options) {
         script << (k ? ", " : "") << "'" << GnuplotQuote(base + "-subgoal_success.dat") << "' using " << column << ":"
                << column + 1 << ":" << column + 2 << (k ? "" : ":xtic(1)") << " lc rgb '"
                << kColors[k % (sizeof kColors / sizeof *kColors)] << "' title '" << GnuplotQuote(method) << " ("
-               << group.size() << (group.size() == 1 ? " seed" : " seeds") << ")'";
+               << SeedsWithEvaluations(group) << (SeedsWithEvaluations(group) == 1 ? " seed" : " seeds") << ")'";
         ++k;
       }
       script << "\n";

@@ -137,6 +137,21 @@ TEST_F(CompareTest, WritesCurvesWithMeanAndMinMaxAndPngFigures) {
   EXPECT_EQ(ReadFile(root_ / "out" / "relational-4-distance.png").substr(1, 3), "PNG");
 }
 
+// A run that has just started (only the passive policy evaluated) draws nothing, and the
+// legends name only the seeds they draw (the campaign's figure said "srics (2 seeds)" over one
+// curve while seed 2 was starting).
+TEST_F(CompareTest, LegendsCountOnlySeedsWithEvaluations) {
+  Write("smorl-seed2", Row(0, 0, 0.31, 0.29, "0;0"), "");
+  CompareOptions options;
+  options.dirs = {sweep_.string()};
+  options.out_dir = (root_ / "out").string();
+  ASSERT_EQ(Compare(options), 0);
+  const std::string script = ReadFile(root_ / "out" / "relational-4.gnuplot");
+  EXPECT_THAT(script, HasSubstr("title 'smorl (1 seed)'")) << script;
+  EXPECT_THAT(script, HasSubstr("title 'srics (2 seeds)'")) << script;
+  EXPECT_THAT(script, Not(HasSubstr("smorl (2 seeds)"))) << script;
+}
+
 // A learned graph as graph_service writes it: the given edges of 5 entities, action on the arm.
 void WriteGraph(const fs::path& run, const std::vector<std::pair<int, int>>& edges) {
   std::vector<double> scores(25, 0.0);
