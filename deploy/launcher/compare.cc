@@ -243,11 +243,12 @@ using Group = std::vector<const RunData*>;
 // environment -> method -> runs (seed order)
 using Groups = std::map<std::string, std::map<std::string, Group>>;
 
-// The seeds a legend names: runs with at least one evaluation of a trained policy (a run just
-// started has none and draws nothing).
-size_t SeedsWithEvaluations(const Group& group) {
-  return static_cast<size_t>(
-      std::count_if(group.begin(), group.end(), [](const RunData* r) { return !r->evaluations.empty(); }));
+// A legend's "method (N seeds)": N counts the runs with at least one evaluation of a trained
+// policy (a run just started has none and draws nothing).
+std::string LegendTitle(const std::string& method, const Group& group) {
+  const auto seeds =
+      std::count_if(group.begin(), group.end(), [](const RunData* r) { return !r->evaluations.empty(); });
+  return method + " (" + std::to_string(seeds) + (seeds == 1 ? " seed" : " seeds") + ")";
 }
 
 Groups GroupRuns(const std::vector<RunData>& runs) {
@@ -344,11 +345,10 @@ void PlotCurves(std::ostream& script, const std::string& png, const std::string&
          << "plot ";
   for (size_t i = 0; i < methods.size(); ++i) {
     const char* color = kColors[i % (sizeof kColors / sizeof *kColors)];
-    const size_t seeds = SeedsWithEvaluations(groups.at(methods[i]));
     script << (i ? ", " : "") << "'" << GnuplotQuote(dat) << "' index " << i
            << " using 1:3:4 with filledcurves lc rgb '" << color << "' notitle, '' index " << i
-           << " using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '" << color << "' title '" << GnuplotQuote(methods[i])
-           << " (" << seeds << (seeds == 1 ? " seed" : " seeds") << ")'";
+           << " using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '" << color << "' title '"
+           << GnuplotQuote(LegendTitle(methods[i], groups.at(methods[i]))) << "'";
   }
   int k = 0;
   for (const auto& [label, value] : passive)
@@ -522,8 +522,7 @@ int Compare(const CompareOptions& options) {
         const size_t column = 2 + 3 * k;
         script << (k ? ", " : "") << "'" << GnuplotQuote(base + "-subgoal_success.dat") << "' using " << column << ":"
                << column + 1 << ":" << column + 2 << (k ? "" : ":xtic(1)") << " lc rgb '"
-               << kColors[k % (sizeof kColors / sizeof *kColors)] << "' title '" << GnuplotQuote(method) << " ("
-               << SeedsWithEvaluations(group) << (SeedsWithEvaluations(group) == 1 ? " seed" : " seeds") << ")'";
+               << kColors[k % (sizeof kColors / sizeof *kColors)] << "' title '" << GnuplotQuote(LegendTitle(method, group)) << "'";
         ++k;
       }
       script << "\n";

@@ -67,6 +67,19 @@ TEST(GnnModelTest, HardSamplesAreZeroOrOne) {
   EXPECT_EQ(step.delta.cols(), 2);
 }
 
+// The largest gap between the window loss's gradients and central differences, after moving
+// every parameter off zero: with h(0) = 0 and zero biases every edge pre-activation would sit on
+// the relu kink, where finite differences are meaningless. The same Gumbel noise every time.
+double WindowLossGradientError(GnnModel<double>& model, const WindowBatch<double>& batch, nn::Rng& rng) {
+  nn::ParameterList<double> params;
+  model.Parameters(params);
+  for (nn::Parameter<double>* p : params) p->value += 0.3 * nn::RandomNormal<double>(p->value.rows(), p->value.cols(), rng);
+  return nn::testing::GradCheck(params, [&](nn::Tape<double>& tape) {
+    nn::Rng noise(11);
+    return model.WindowLoss(tape, batch, noise).total;
+  });
+}
+
 // Gradients of the whole model (soft edge samples, KL included) against central differences.
 TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
   ToyBatch<double> toy(4, 6, /*seed=*/3, 2, 3);
@@ -78,14 +91,7 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
   nn::ParameterList<double> params;
   model.Parameters(params);
   ASSERT_GT(params.size(), 10u);
-  // non-zero biases: with h(0) = 0 and zero biases every edge pre-activation would sit on the
-  // relu kink, where finite differences are meaningless
-  for (nn::Parameter<double>* p : params) p->value += 0.3 * nn::RandomNormal<double>(p->value.rows(), p->value.cols(), rng);
-  const double err = nn::testing::GradCheck(params, [&](nn::Tape<double>& tape) {
-    nn::Rng noise(11);  // the same Gumbel noise in every evaluation
-    return model.WindowLoss(tape, batch, noise).total;
-  });
-  EXPECT_LT(err, 1e-6);
+  EXPECT_LT(WindowLossGradientError(model, batch, rng), 1e-6);
 }
 
 // The same with the options of the default GraphConfig: node inputs and relative positions
@@ -102,14 +108,7 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferencesWithEdgeInputs) {
   std::vector<double> mean(data.input_dim(), 0.1), inv_std(data.input_dim(), 2.0);
   model.set_input_normalization(mean, inv_std);
   model.set_entity_loss_weights({1.0, 2.0, 0.5});
-  nn::ParameterList<double> params;
-  model.Parameters(params);
-  for (nn::Parameter<double>* p : params) p->value += 0.3 * nn::RandomNormal<double>(p->value.rows(), p->value.cols(), rng);
-  const double err = nn::testing::GradCheck(params, [&](nn::Tape<double>& tape) {
-    nn::Rng noise(11);
-    return model.WindowLoss(tape, batch, noise).total;
-  });
-  EXPECT_LT(err, 1e-6);
+  EXPECT_LT(WindowLossGradientError(model, batch, rng), 1e-6);
 }
 
 TEST(GnnModelTest, LossGoesDownOnAFixedBatch) {

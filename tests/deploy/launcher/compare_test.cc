@@ -58,6 +58,14 @@ class CompareTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(root_); }
 
+  // `srics compare` of the sweep folder into `out`: its exit code.
+  int CompareSweepInto(const fs::path& out) const {
+    CompareOptions options;
+    options.dirs = {sweep_.string()};
+    options.out_dir = out.string();
+    return Compare(options);
+  }
+
   void Write(const std::string& run, const std::string& eval_rows, const std::string& train) {
     fs::create_directories(sweep_ / run);
     std::ofstream(sweep_ / run / "eval.csv") << kEvalHeader << eval_rows;
@@ -118,10 +126,7 @@ TEST_F(CompareTest, TableHoldsFinalValuesAsMeanAndStdOverSeeds) {
 }
 
 TEST_F(CompareTest, WritesCurvesWithMeanAndMinMaxAndPngFigures) {
-  CompareOptions options;
-  options.dirs = {sweep_.string()};
-  options.out_dir = (root_ / "out").string();
-  ASSERT_EQ(Compare(options), 0);
+  ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
   // srics at 2000 steps: mean 0.12, min 0.10, max 0.14 over 2 seeds (blocks: smorl, then srics)
   const std::string dat = ReadFile(root_ / "out" / "relational-4-distance.dat");
   EXPECT_THAT(dat, HasSubstr("# srics\n1000 0.125 0.05 0.2 2\n2000 0.12 0.1 0.14 2\n")) << dat;
@@ -142,10 +147,7 @@ TEST_F(CompareTest, WritesCurvesWithMeanAndMinMaxAndPngFigures) {
 // curve while seed 2 was starting).
 TEST_F(CompareTest, LegendsCountOnlySeedsWithEvaluations) {
   Write("smorl-seed2", Row(0, 0, 0.31, 0.29, "0;0"), "");
-  CompareOptions options;
-  options.dirs = {sweep_.string()};
-  options.out_dir = (root_ / "out").string();
-  ASSERT_EQ(Compare(options), 0);
+  ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
   const std::string script = ReadFile(root_ / "out" / "relational-4.gnuplot");
   EXPECT_THAT(script, HasSubstr("title 'smorl (1 seed)'")) << script;
   EXPECT_THAT(script, HasSubstr("title 'srics (2 seeds)'")) << script;
