@@ -15,6 +15,9 @@ packages=(
   libgl-dev libglx-dev libopengl-dev
   libeigen3-dev libyaml-cpp-dev libspdlog-dev libfmt-dev
   libdnnl-dev  # oneDNN: the float matrix products of the networks (common/nn/gemm.h)
+  # oneDNN's CMake config requires OpenCL (Debian builds it with the OpenCL GPU runtime), but
+  # libdnnl-dev only recommends it, and we install without recommends
+  ocl-icd-opencl-dev
   libcli11-dev  # the one argument parser of every program (common/cli)
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox graphviz libqhull-dev
