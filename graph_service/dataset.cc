@@ -80,8 +80,10 @@ GraphDataset GraphDataset::ShapedLike(const rl::Episode& episode) {
                       episode.num_steps);
 }
 
-std::string GraphDataset::Add(const rl::Episode& episode) {
-  if (episode.mode != rl::EpisodeMode::kExplore) return "not an explore episode";
+std::string GraphDataset::Convert(const rl::Episode& episode, StoredEpisode* out) const {
+  const bool mode_ok = episode.mode == rl::EpisodeMode::kExplore ||
+                       (training_episodes_ && episode.mode == rl::EpisodeMode::kTrain);
+  if (!mode_ok) return training_episodes_ ? "neither an explore nor a training episode" : "not an explore episode";
   if (!(episode.layout == layout_)) return "entity layout differs from the data set's";
   const auto set = std::find(kind_sets_.begin(), kind_sets_.end(), episode.entity_kinds);
   if (set == kind_sets_.end())
@@ -95,19 +97,45 @@ std::string GraphDataset::Add(const rl::Episode& episode) {
     return problem;
   // keep xy only; the kind one-hot is rebuilt from entity_kinds
   const int n = layout_.num_entities;
-  std::vector<float> xy(static_cast<size_t>(steps_ + 1) * n * 2);
+  out->positions.assign(static_cast<size_t>(steps_ + 1) * n * 2, 0.f);
   for (int t = 0; t <= steps_; ++t) {
     const float* s = episode.state(t);
     for (int e = 0; e < n; ++e) {
-      xy[(static_cast<size_t>(t) * n + e) * 2] = layout_.x(s, e);
-      xy[(static_cast<size_t>(t) * n + e) * 2 + 1] = layout_.y(s, e);
+      out->positions[(static_cast<size_t>(t) * n + e) * 2] = layout_.x(s, e);
+      out->positions[(static_cast<size_t>(t) * n + e) * 2 + 1] = layout_.y(s, e);
     }
   }
-  positions_.push_back(std::move(xy));
-  set_of_.push_back(static_cast<uint8_t>(set - kind_sets_.begin()));
-  actions_.emplace_back(episode.actions.begin(),
-                        episode.actions.begin() + static_cast<size_t>(steps_) * action_dim_);
+  out->set = static_cast<uint8_t>(set - kind_sets_.begin());
+  out->actions.assign(episode.actions.begin(), episode.actions.begin() + static_cast<size_t>(steps_) * action_dim_);
   return "";
+}
+
+std::string GraphDataset::Add(const rl::Episode& episode) {
+  StoredEpisode stored;
+  if (std::string problem = Convert(episode, &stored); !problem.empty()) return problem;
+  positions_.push_back(std::move(stored.positions));
+  set_of_.push_back(stored.set);
+  actions_.push_back(std::move(stored.actions));
+  if (training_episodes_) train_.push_back(size() - 1);
+  return "";
+}
+
+std::string GraphDataset::Replace(int index, const rl::Episode& episode) {
+  if (index < 0 || index >= size()) throw std::out_of_range("GraphDataset::Replace: no episode " + std::to_string(index));
+  StoredEpisode stored;
+  if (std::string problem = Convert(episode, &stored); !problem.empty()) return problem;
+  positions_[index] = std::move(stored.positions);
+  set_of_[index] = stored.set;
+  actions_[index] = std::move(stored.actions);
+  return "";
+}
+
+GraphDataset GraphDataset::ForTrainingEpisodes(int episode_steps) const {
+  GraphDataset out = EmptyCopy();
+  out.steps_ = episode_steps;
+  out.CheckShape();
+  out.training_episodes_ = true;
+  return out;
 }
 
 void GraphDataset::Save(nn::ByteWriter& out) const {
@@ -167,6 +195,10 @@ void GraphDataset::Load(nn::ByteReader& in) {
   positions_ = std::move(positions);
   actions_ = std::move(actions);
   set_of_ = std::move(set_of);
+  if (training_episodes_) {
+    train_.resize(positions_.size());
+    std::iota(train_.begin(), train_.end(), 0);
+  }
 }
 
 void GraphDataset::Split(double held_out_fraction, uint64_t seed) {

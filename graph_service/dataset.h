@@ -62,9 +62,18 @@ class GraphDataset {
   // Makes a dataset shaped like `episode` (which is not added).
   static GraphDataset ShapedLike(const rl::Episode& episode);
 
+  // A data set of the same shape for the run's training episodes (graph refinement): episodes
+  // of `episode_steps` steps, explore or training mode, each in the training split as it is
+  // added (no Split, no held-out side).
+  GraphDataset ForTrainingEpisodes(int episode_steps) const;
+
   // Adds an episode; returns an empty string when accepted, else why it was refused (wrong
   // mode or shape, inconsistent sizes, non-finite values). Never throws on bad input.
   std::string Add(const rl::Episode& episode);
+  // Puts `episode` in the place of episode `index` (the same checks as Add; it keeps the
+  // place's side of the split); returns why it was refused, and nothing changes then.
+  // Throws std::out_of_range for an index outside the data set.
+  std::string Replace(int index, const rl::Episode& episode);
 
   // The episodes (not the split) as checkpoint bytes, and back. Load checks the bytes against
   // this data set's shape and throws nn::CheckpointError naming what differs; on a throw the
@@ -125,6 +134,13 @@ class GraphDataset {
 
   void CheckShape() const;  // throws std::invalid_argument naming what does not fit
 
+  struct StoredEpisode {
+    std::vector<float> positions, actions;
+    uint8_t set = 0;
+  };
+  // Checks an episode against the data set and converts it; returns why it does not fit.
+  std::string Convert(const rl::Episode& episode, StoredEpisode* out) const;
+
   rl::EntityLayout layout_;
   std::vector<std::vector<uint16_t>> kind_sets_;
   bool by_identity_;             // graph entities are catalogue kinds (the kind-lists constructor)
@@ -134,6 +150,7 @@ class GraphDataset {
   std::vector<std::vector<float>> positions_;  // per episode (T+1) x N x 2
   std::vector<std::vector<float>> actions_;    // per episode T x A
   std::vector<int> train_, held_out_;
+  bool training_episodes_ = false;  // ForTrainingEpisodes: training mode too, all in train_
 };
 
 // How strongly each entity's motion follows the action: the mean over action components of

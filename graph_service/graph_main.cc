@@ -23,13 +23,7 @@ int main(int argc, char** argv) {
     transport::DdsEpisodeSource source(participant, rl::EpisodeLimitsFor(config.env),
                                        static_cast<size_t>(config.graph.episodes));
     transport::DdsGraphSink sink(participant);
-    graph_service::ServiceOptions options;
-    options.state_dir = role.command_line.run_dir;
-    options.seed = rl::DeriveSeed(config.run.seed, rl::SeedPurpose::kGraphService);
-    options.limits = rl::EpisodeLimitsFor(config.env);
-    const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(config.env);
-    options.shape = graph_service::DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim, shape.episode_kinds};
-    options.status_period_s = config.transport.status_period_s;
+    const graph_service::ServiceOptions options = graph_service::ServiceOptionsFor(config, role.command_line.run_dir);
     graph_service::GraphService service(config.graph, options, &source, &sink, nullptr);
     spdlog::info("graph service started: domain {}, run id '{}', {} explore episodes wanted",
                  config.transport.domain_id, config.transport.run_id, config.graph.episodes);

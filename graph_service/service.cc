@@ -7,7 +7,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "common/rl/agent_shape.h"
 #include "common/rl/graph.h"
+#include "common/rl/seeds.h"
 
 namespace srics::graph_service {
 
@@ -54,6 +56,18 @@ void GraphService::Report() {
   progress_.elapsed_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   if (on_progress_) on_progress_(progress_);
+}
+
+ServiceOptions ServiceOptionsFor(const config::Config& config, const std::string& state_dir) {
+  ServiceOptions options;
+  options.state_dir = state_dir;
+  options.seed = rl::DeriveSeed(config.run.seed, rl::SeedPurpose::kGraphService);
+  options.limits = rl::EpisodeLimitsFor(config.env);
+  const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(config.env);
+  options.shape = DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim, shape.episode_kinds};
+  options.status_period_s = config.transport.status_period_s;
+  options.refine_episode_steps = config.actors.train_episode_steps;
+  return options;
 }
 
 rl::GraphUpdate ToGraphUpdate(const LearnedGraph& g) {
@@ -107,6 +121,7 @@ void GraphService::PublishStatus(bool force) {
   r.detail = std::string(PhaseName(p.phase)) + ": " + std::to_string(p.episodes) + "/" +
              std::to_string(p.target_episodes) + " episodes, " + std::to_string(p.updates) + " updates" +
              (p.held_out_loss >= 0 ? ", held-out " + std::to_string(p.held_out_loss) : "") +
+             (p.refining ? ", refining from " + std::to_string(p.refine_episodes) + " training episodes" : "") +
              (p.graph.empty() ? "" : ", " + p.graph);
   sink_->PublishStatus(r);
 }
@@ -118,7 +133,21 @@ StepResult GraphService::Step(std::chrono::milliseconds wait) {
     progress_.phase = Progress::Phase::kLoading;
     Report();
     PublishStatus(true);
-    if (LoadSaved()) return StepResult::kWorked;
+    if (LoadSaved()) {
+      if (config_.refine_after_publish) {
+        // the refinement goes on from its training state, towards the next version
+        next_version_ = published_->version + 1;
+        if (LoadTraining() && trainer_) {
+          progress_.phase = Progress::Phase::kPublished;
+          StartRefinement();
+        } else {
+          spdlog::warn("graph service: no training state in {} to refine from; graph v{} stays", options_.state_dir,
+                       published_->version);
+        }
+        Report();
+      }
+      return StepResult::kWorked;
+    }
     progress_.phase = Progress::Phase::kCollecting;
     if (LoadTraining()) return StepResult::kWorked;
     Report();
@@ -133,6 +162,10 @@ StepResult GraphService::Step(std::chrono::milliseconds wait) {
       TrainStep();
       break;
     case Progress::Phase::kPublished: {
+      if (refining_) {
+        result = RefineStep(wait);
+        break;
+      }
       // keep the episode topic flowing: what arrives now is not needed
       std::vector<rl::Episode> unused;
       source_closed_ |= !source_->Poll(wait, &unused);
@@ -198,8 +231,17 @@ void GraphService::SaveTraining() {
   data_->Save(data);
   counters.Put<int32_t>(progress_.dropped);
   counters.Put<int32_t>(stable_);
+  // the refinement's (absent from states written before it existed)
+  counters.Put<int32_t>(refine_cursor_);
+  counters.Put<int32_t>(progress_.refine_episodes);
+  counters.Put<uint8_t>(refine_decided_ ? 1 : 0);
   std::vector<nn::CheckpointSection> sections = {{"graph.data", "", {}, data.Take()},
                                                  {"graph.service", "", {}, counters.Take()}};
+  if (refine_data_) {
+    nn::ByteWriter refine;
+    refine_data_->Save(refine);
+    sections.push_back({"graph.refine_data", "", {}, refine.Take()});
+  }
   if (trainer_)
     for (nn::CheckpointSection& section : trainer_->SaveState()) sections.push_back(std::move(section));
   try {
@@ -226,6 +268,24 @@ bool GraphService::LoadTraining() {
     nn::ByteReader counters(nn::FindSection(sections, "graph.service", path).bytes, path + ": graph.service");
     const int dropped = counters.Get<int32_t>();
     const int stable = counters.Get<int32_t>();
+    int refine_cursor = 0, refine_episodes = 0;
+    bool refine_decided = false;
+    if (!counters.done()) {
+      refine_cursor = counters.Get<int32_t>();
+      refine_episodes = counters.Get<int32_t>();
+      refine_decided = counters.Get<uint8_t>() != 0;
+    }
+    std::unique_ptr<GraphDataset> refine;
+    if (const auto section = std::find_if(sections.begin(), sections.end(),
+                                          [](const nn::CheckpointSection& s) { return s.name == "graph.refine_data"; });
+        section != sections.end() && config_.refine_after_publish) {
+      refine = std::make_unique<GraphDataset>(data->ForTrainingEpisodes(options_.refine_episode_steps));
+      nn::ByteReader refine_bytes(section->bytes, path + ": graph.refine_data");
+      refine->Load(refine_bytes);
+      if (refine_cursor < 0 || refine_cursor >= std::max(1, refine->size()) || refine_episodes < refine->size())
+        throw nn::CheckpointError(path + ": the refinement's counters do not fit its " + std::to_string(refine->size()) +
+                                  " episodes");
+    }
     const bool has_trainer =
         std::any_of(sections.begin(), sections.end(), [](const nn::CheckpointSection& s) { return s.name == "gnn"; });
     std::unique_ptr<GnnTrainer> trainer;
@@ -236,6 +296,10 @@ bool GraphService::LoadTraining() {
     }
     // everything fits: take it over
     data_ = std::move(data);
+    refine_data_ = std::move(refine);
+    refine_cursor_ = refine_cursor;
+    refine_decided_ = refine_decided;
+    progress_.refine_episodes = refine_episodes;
     saved_episodes_ = data_->size();
     progress_.episodes = data_->size();
     progress_.dropped = dropped;
@@ -342,6 +406,12 @@ void GraphService::EvaluateGraph() {
   const EdgeStatistics stats = trainer_->Evaluate();
   const bool cut = config_.readout == config::GraphReadout::kCut;
   std::vector<double> scores = cut ? stats.cut_score : stats.mean_weight;
+  if (!cut && !stats.training_mean_weight.empty()) {
+    // refinement: an edge counts when it is used in random exploration or in the agent's own
+    // episodes (the larger mean), so a relation only the policy's pushes reveal joins the graph
+    // and an object the policy neglects keeps its edges
+    for (size_t i = 0; i < scores.size(); ++i) scores[i] = std::max(scores[i], stats.training_mean_weight[i]);
+  }
   if (cut && config_.reciprocal_object_edges)
     scores = ReciprocalObjectScores(scores, action_entity_, MovingEntities(stats.held_out_entity_zero_mse, config_.static_variance_fraction));
   LearnedGraph graph = AggregateGraph(data_->graph_entities(), scores,
@@ -356,7 +426,7 @@ void GraphService::EvaluateGraph() {
   graph.entity_kinds.assign(kinds.begin(), kinds.end());
   // graphs of the warm-up and the KL ramp (edges open or not yet pruned) never count as
   // stable: only evaluations after the full KL weight is reached are compared
-  const bool gated = trainer_->updates() > static_cast<int64_t>(config_.warmup_updates) + config_.kl_ramp_updates;
+  const bool gated = trainer_->Settled();
   stable_ = gated && current_ && SameStructure(current_->graph, graph.graph) ? stable_ + 1 : 0;
   current_ = std::move(graph);
   progress_.updates = trainer_->updates();
@@ -373,6 +443,18 @@ void GraphService::EvaluateGraph() {
 }
 
 void GraphService::Finish() {
+  PublishCurrent();
+  if (config_.refine_after_publish) {
+    StartRefinement();
+    SaveTraining();
+  } else if (!training_path().empty() && std::filesystem::exists(graph_path())) {
+    // graph.json is the product now; the training state is not needed again
+    std::error_code ec;
+    std::filesystem::remove(training_path(), ec);
+  }
+}
+
+void GraphService::PublishCurrent() {
   LearnedGraph graph = *current_;
   graph.version = next_version_++;
   if (!options_.state_dir.empty()) {
@@ -390,16 +472,84 @@ void GraphService::Finish() {
     }
   }
   sink_->Publish(ToGraphUpdate(graph));
-  if (!training_path().empty() && std::filesystem::exists(graph_path())) {
-    // graph.json is the product now; the training state is not needed again
-    std::error_code ec;
-    std::filesystem::remove(training_path(), ec);
-  }
   progress_.phase = Progress::Phase::kPublished;
   progress_.published_version = graph.version;
   published_ = std::move(graph);
   Report();
   PublishStatus(true);
+}
+
+double GraphService::RefineShare() const {
+  const double capacity = std::max<size_t>(1, data_->train_episodes().size());
+  return refine_data_ ? config_.refine_share * std::min(1.0, refine_data_->size() / capacity) : 0.0;
+}
+
+void GraphService::StartRefinement() {
+  if (options_.refine_episode_steps < config_.window) {
+    spdlog::warn("graph service: no refinement: training episodes of {} steps are shorter than a window ({})",
+                 options_.refine_episode_steps, config_.window);
+    return;
+  }
+  if (!refine_data_) refine_data_ = std::make_unique<GraphDataset>(data_->ForTrainingEpisodes(options_.refine_episode_steps));
+  trainer_->SetRefinementData(refine_data_.get(), RefineShare());
+  refining_ = true;
+  progress_.refining = true;
+  spdlog::info("graph service: refining graph v{} from the run's training episodes ({} so far)", published_->version,
+               progress_.refine_episodes);
+}
+
+StepResult GraphService::RefineStep(std::chrono::milliseconds wait) {
+  std::vector<rl::Episode> batch;
+  source_closed_ |= !source_->Poll(refine_budget_ > 0 ? std::chrono::milliseconds(0) : wait, &batch);
+  const int capacity = std::max<int>(1, static_cast<int>(data_->train_episodes().size()));
+  int taken = 0;
+  for (const rl::Episode& episode : batch) {
+    // training episodes only: late explore episodes are the first graph's kind of data
+    if (episode.mode != rl::EpisodeMode::kTrain) continue;
+    std::string problem = rl::ValidateEpisode(episode, options_.limits);
+    const bool full = refine_data_->size() >= capacity;
+    if (problem.empty()) problem = full ? refine_data_->Replace(refine_cursor_, episode) : refine_data_->Add(episode);
+    if (!problem.empty()) {
+      ++progress_.dropped;
+      progress_.last_drop_reason = problem;
+      continue;
+    }
+    if (full) refine_cursor_ = (refine_cursor_ + 1) % capacity;  // the oldest goes next
+    ++progress_.refine_episodes;
+    ++taken;
+    refine_budget_ += config_.refine_updates_per_episode;
+    if (progress_.refine_episodes % capacity == 0) {
+      // the ring holds a new set of training episodes: every gate is decided again on the
+      // mixed data (a closed gate would hardly reopen), and only graphs after the new
+      // warm-up and ramp count towards a publication
+      trainer_->RestartSchedule();
+      refine_decided_ = true;
+      stable_ = 0;
+      spdlog::info("graph service: {} training episodes in: the edges are decided again (warm-up and KL ramp)",
+                   progress_.refine_episodes);
+    }
+  }
+  if (taken > 0) trainer_->SetRefinementData(refine_data_.get(), RefineShare());
+  int done = 0;
+  while (done < options_.updates_per_step && refine_budget_ > 0) {
+    trainer_->Update();
+    --refine_budget_;
+    ++done;
+    if (trainer_->updates() % config_.eval_every_updates != 0) continue;
+    EvaluateGraph();
+    // only graphs of a decision on training episodes, not the drift of the first graph's model
+    if (refine_decided_ && !SameStructure(current_->graph, published_->graph) && stable_ >= config_.stable_evaluations) {
+      spdlog::info("graph service: the refined graph ({}) differs from v{} ({}) for {} evaluations: publishing v{}",
+                   rl::DescribeGraph(current_->graph), published_->version, rl::DescribeGraph(published_->graph),
+                   stable_, next_version_);
+      PublishCurrent();
+    }
+    SaveTraining();
+    break;
+  }
+  progress_.updates = trainer_->updates();
+  if (taken > 0 || done > 0) Report();
+  return taken > 0 || done > 0 ? StepResult::kWorked : StepResult::kIdle;
 }
 
 }  // namespace srics::graph_service

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "common/config/config.h"
 #include "common/config/graph_config.h"
 #include "common/links/links.h"
 #include "common/rl/episode.h"
@@ -49,6 +50,9 @@ struct Progress {
   std::vector<double> edge_scores;   // current read-out scores (N x N), thresholded
   std::vector<double> mean_weights;  // current mean weights (N x N)
   uint64_t published_version = 0;    // 0: nothing published yet
+  // graph.refine_after_publish: training episodes taken in since the first publication
+  bool refining = false;
+  int refine_episodes = 0;
   double elapsed_seconds = 0;  // since Run started
 };
 
@@ -67,8 +71,15 @@ struct ServiceOptions {
   // programs always set it. Unset (toy worlds in tests) the first valid episode fixes it.
   std::optional<DatasetShape> shape;
   int updates_per_step = 10;    // GNN updates per Step (each Step stays well under a second)
+  // the run's training episode length (actors.train_episode_steps): with
+  // graph.refine_after_publish the service refines from episodes of this length
+  int refine_episode_steps = 0;
   double status_period_s = 1;   // NodeStatus to the sink this often
 };
+
+// The options a run's config implies (both the srics-graph process and the in-process run):
+// its seed, shape, limits, status period and training episode length; state in `state_dir`.
+ServiceOptions ServiceOptionsFor(const config::Config& config, const std::string& state_dir);
 
 // Converts the graph service's product to what the sink publishes.
 rl::GraphUpdate ToGraphUpdate(const LearnedGraph& graph);
@@ -92,7 +103,10 @@ class GraphService {
   // then each Step collects the episodes the source has (waiting at most `wait`), or does
   // updates_per_step GNN updates (an evaluation at every eval_every_updates), or publishes.
   // After the publication Steps drain the source (the Episode topic must keep flowing) and
-  // return kIdle; kDone only when the source closed before a graph was published.
+  // return kIdle; with graph.refine_after_publish they take the run's training episodes in,
+  // train on (refine_updates_per_episode updates each) and publish the next version when
+  // the evaluated graph has differed from the published one for stable_evaluations
+  // evaluations. kDone only when the source closed before a graph was published.
   StepResult Step(std::chrono::milliseconds wait = std::chrono::milliseconds(0));
 
   // Steps until a graph is published (returns 0), `stop`, or the source closes (returns 1).
@@ -119,6 +133,10 @@ class GraphService {
   void TrainStep();
   void EvaluateGraph();
   void Finish();
+  void PublishCurrent();  // current_ as the next version: saved, published
+  void StartRefinement();
+  StepResult RefineStep(std::chrono::milliseconds wait);
+  double RefineShare() const;  // share of a batch's windows from training episodes now
   void Report();
   void PublishStatus(bool force);
 
@@ -138,6 +156,12 @@ class GraphService {
   int stable_ = 0;
   int saved_episodes_ = 0;  // data set size at the last SaveTraining
   int action_entity_ = 0;
+  // refinement: the run's training episodes (a ring as large as the training split)
+  std::unique_ptr<GraphDataset> refine_data_;
+  int refine_cursor_ = 0;       // the ring's next place once it is full
+  int64_t refine_budget_ = 0;   // updates owed to episodes taken in
+  bool refining_ = false;
+  bool refine_decided_ = false;  // the edges were decided again on training episodes
   std::vector<double> action_correlation_;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_report_, last_status_;

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
 
 namespace srics::graph_service {
 
@@ -33,6 +36,24 @@ namespace {
 
 // The model is built before the optimizer can list its parameters.
 nn::Rng& Seeded(nn::Rng& rng) { return rng; }
+
+// Appends the windows of `more` to `batch` (rows b * N + n stay in window order).
+template <typename T>
+void AppendWindows(const WindowBatch<T>& more, WindowBatch<T>* batch) {
+  if (more.batch == 0) return;
+  if (batch->batch == 0) {
+    *batch = more;
+    return;
+  }
+  for (int t = 0; t < batch->steps(); ++t) {
+    for (auto [into, from] : {std::pair{&batch->inputs[t], &more.inputs[t]}, std::pair{&batch->deltas[t], &more.deltas[t]}}) {
+      const Eigen::Index rows = into->rows();
+      into->conservativeResize(rows + from->rows(), Eigen::NoChange);
+      into->bottomRows(from->rows()) = *from;
+    }
+  }
+  batch->batch += more.batch;
+}
 
 }  // namespace
 
@@ -104,10 +125,12 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
 }
 
 double GnnTrainer::Update() {
-  model_.set_kl_weight(KlWeightAt(config_, updates_));
-  model_.set_open_edges(updates_ < config_.warmup_updates);
+  // where the update stands in the warm-up / KL ramp schedule (RestartSchedule starts it anew)
+  const int64_t phase = updates_ - schedule_start_;
+  model_.set_kl_weight(KlWeightAt(config_, phase));
+  model_.set_open_edges(phase < config_.warmup_updates);
   if (config_.use_adam && config_.restart_adam_after_warmup && config_.warmup_updates > 0 &&
-      updates_ == config_.warmup_updates) {
+      phase == config_.warmup_updates) {
     // the gates start: a fresh optimiser state. The gate parameters had no loss or KL
     // gradient during the warm-up (only gate_logit_decay's), so with the global step count
     // Adam's bias correction would make their first steps 3-6 times the learning rate, and
@@ -116,7 +139,18 @@ double GnnTrainer::Update() {
     adam_ = nn::Adam<float>(params_, {.lr = config_.learning_rate,
                                       .beta2 = config_.adam_beta2_after_warmup});
   }
-  data_.SampleWindows(config_.batch_windows, config_.window, rng_, &batch_);
+  const int from_refinement =
+      refine_ != nullptr && refine_->size() > 0
+          ? std::clamp(static_cast<int>(std::lround(config_.batch_windows * refine_share_)), 0, config_.batch_windows)
+          : 0;
+  if (from_refinement < config_.batch_windows)
+    data_.SampleWindows(config_.batch_windows - from_refinement, config_.window, rng_, &batch_);
+  else
+    batch_ = {};
+  if (from_refinement > 0) {
+    refine_->SampleWindows(from_refinement, config_.window, rng_, &refine_batch_);
+    AppendWindows(refine_batch_, &batch_);
+  }
   tape_.Reset();
   GnnModel<float>::Loss loss = model_.WindowLoss(tape_, batch_, rng_);
   optimizer_.ZeroGrad();
@@ -129,6 +163,14 @@ double GnnTrainer::Update() {
   return static_cast<double>(loss.total.value()(0, 0));
 }
 
+void GnnTrainer::SetRefinementData(const GraphDataset* data, double share) {
+  if (data != nullptr && (data->num_entities() != data_.num_entities() || data->input_dim() != data_.input_dim() ||
+                          data->episode_steps() < config_.window))
+    throw std::invalid_argument("GnnTrainer: refinement data of another shape, or episodes shorter than a window");
+  refine_ = data;
+  refine_share_ = std::clamp(share, 0.0, 1.0);
+}
+
 std::vector<nn::CheckpointSection> GnnTrainer::SaveState() const {
   const std::string signature = nn::SignatureString(params_);
   nn::ByteWriter counters;
@@ -136,6 +178,7 @@ std::vector<nn::CheckpointSection> GnnTrainer::SaveState() const {
   counters.Put<double>(last_mse_);
   counters.Put<double>(last_kl_);
   counters.PutString(nn::RngState(rng_));
+  counters.Put<int64_t>(schedule_start_);  // (absent from states written before refinement)
   return {{"gnn", signature, nn::Flatten(params_), ""},
           {"gnn.rmsprop", signature, optimizer_.ExportState(), ""},
           {"gnn.adam", signature, adam_.ExportState(), ""},
@@ -146,14 +189,18 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
   nn::LoadSection(nn::FindSection(sections, "gnn", path), params_, path);
   nn::ByteReader counters(nn::FindSection(sections, "gnn.trainer", path).bytes, path + ": gnn.trainer");
   const auto updates = counters.Get<int64_t>();
-  if (updates < 0 || updates > config_.max_updates)
-    throw nn::CheckpointError(path + ": " + std::to_string(updates) + " GNN updates, outside 0.." +
-                              std::to_string(config_.max_updates));
+  // refinement trains on after max_updates
+  const int64_t most = config_.refine_after_publish ? std::numeric_limits<int64_t>::max() : config_.max_updates;
+  if (updates < 0 || updates > most)
+    throw nn::CheckpointError(path + ": " + std::to_string(updates) + " GNN updates, outside 0.." + std::to_string(most));
   last_mse_ = counters.Get<double>();
   last_kl_ = counters.Get<double>();
   nn::SetRngState(&rng_, counters.GetString(), path + ": gnn.trainer");
+  const int64_t schedule_start = counters.done() ? 0 : counters.Get<int64_t>();
+  if (schedule_start < 0 || schedule_start > updates)
+    throw nn::CheckpointError(path + ": schedule start " + std::to_string(schedule_start) + " outside 0.." + std::to_string(updates));
   if (config_.use_adam && config_.restart_adam_after_warmup && config_.warmup_updates > 0 &&
-      updates > config_.warmup_updates) {
+      updates - schedule_start > config_.warmup_updates) {
     // the optimiser Update restarts at the end of the warm-up, with its options
     adam_ = nn::Adam<float>(params_, {.lr = config_.learning_rate, .beta2 = config_.adam_beta2_after_warmup});
   }
@@ -167,6 +214,13 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
     }
   }
   updates_ = updates;
+  schedule_start_ = schedule_start;
+}
+
+void GnnTrainer::RestartSchedule() { schedule_start_ = updates_; }
+
+bool GnnTrainer::Settled() const {
+  return updates_ - schedule_start_ > static_cast<int64_t>(config_.warmup_updates) + config_.kl_ramp_updates;
 }
 
 EdgeStatistics GnnTrainer::Evaluate() {
@@ -176,20 +230,30 @@ EdgeStatistics GnnTrainer::Evaluate() {
   const int g = data_.graph_entities();
   EdgeStatistics stats;
   stats.num_entities = g;
-  std::vector<double> sum(static_cast<size_t>(g) * g, 0.0), pair_count(sum.size(), 0.0);
+  // [0]: the random-action data set, [1]: the run's training episodes (refinement)
+  std::vector<double> sum[2], pair_count[2];
+  for (int d = 0; d < 2; ++d) sum[d].assign(static_cast<size_t>(g) * g, 0.0), pair_count[d].assign(sum[d].size(), 0.0);
   double mse = 0, zero_mse = 0, transitions = 0;
   std::vector<double> entity_mse(g, 0.0), entity_zero(g, 0.0), entity_transitions(g, 0.0);
   // the same noise at every evaluation, so that successive graphs differ by training only
   nn::Rng noise_rng(0x5eed);
   nn::Tape<float> tape;
   WindowBatch<float> batch;
-  for (const std::vector<int>* split : {&data_.train_episodes(), &data_.held_out_episodes()}) {
-    const bool held_out = split == &data_.held_out_episodes();
+  // the training and held-out splits, and the run's training episodes of a refinement (their
+  // own edge weights; the held-out error stays that of the random-action episodes)
+  struct Part {
+    const GraphDataset* data;
+    const std::vector<int>* episodes;
+    bool held_out;
+  };
+  std::vector<Part> parts = {{&data_, &data_.train_episodes(), false}, {&data_, &data_.held_out_episodes(), true}};
+  if (refine_ != nullptr && refine_->size() > 0) parts.push_back({refine_, &refine_->train_episodes(), false});
+  for (const auto& [data, split, held_out] : parts) {
     for (size_t first = 0; first < split->size();
          first += static_cast<size_t>(config_.eval_chunk_episodes)) {
       const size_t last = std::min(split->size(), first + config_.eval_chunk_episodes);
       const std::vector<int> chunk(split->begin() + first, split->begin() + last);
-      data_.EpisodeBatch(chunk, &batch);
+      data->EpisodeBatch(chunk, &batch);
       const int b = batch.batch;
       const Eigen::Index rows = static_cast<Eigen::Index>(b) * n;
       nn::Matrix<float> h = nn::Matrix<float>::Zero(rows, config_.hidden_dim);
@@ -208,10 +272,11 @@ EdgeStatistics GnnTrainer::Evaluate() {
                                                  static_cast<double>(logits(e, 0))));
           const int local = static_cast<int>(e % per_sample);
           const int ep = chunk[static_cast<size_t>(e / per_sample)];
-          const size_t pair = static_cast<size_t>(data_.graph_entity(ep, model_.edge_sender_entity(local))) * g +
-                              data_.graph_entity(ep, model_.edge_receiver_entity(local));
-          sum[pair] += p;
-          pair_count[pair] += 1;
+          const size_t pair = static_cast<size_t>(data->graph_entity(ep, model_.edge_sender_entity(local))) * g +
+                              data->graph_entity(ep, model_.edge_receiver_entity(local));
+          const int d = data == refine_ ? 1 : 0;
+          sum[d][pair] += p;
+          pair_count[d][pair] += 1;
         }
         if (held_out) {
           const nn::Matrix<float>& target = batch.deltas[t];
@@ -220,7 +285,7 @@ EdgeStatistics GnnTrainer::Evaluate() {
           zero_mse += target.squaredNorm() / (2.0 * n);
           transitions += b;
           for (Eigen::Index r = 0; r < target.rows(); ++r) {
-            const int entity = data_.graph_entity(chunk[static_cast<size_t>(r / n)], static_cast<int>(r % n));
+            const int entity = data->graph_entity(chunk[static_cast<size_t>(r / n)], static_cast<int>(r % n));
             entity_mse[entity] += (step.delta.value().row(r) - target.row(r)).squaredNorm() / 2;
             entity_zero[entity] += target.row(r).squaredNorm() / 2;
             entity_transitions[entity] += 1;
@@ -230,8 +295,13 @@ EdgeStatistics GnnTrainer::Evaluate() {
     }
   }
   // a pair never present together has no evidence: weight 0 (no edge)
-  stats.mean_weight.resize(sum.size());
-  for (size_t i = 0; i < sum.size(); ++i) stats.mean_weight[i] = pair_count[i] > 0 ? sum[i] / pair_count[i] : 0;
+  auto means = [](const std::vector<double>& total, const std::vector<double>& count) {
+    std::vector<double> mean(total.size(), 0.0);
+    for (size_t i = 0; i < total.size(); ++i) mean[i] = count[i] > 0 ? total[i] / count[i] : 0;
+    return mean;
+  };
+  stats.mean_weight = means(sum[0], pair_count[0]);
+  if (refine_ != nullptr && refine_->size() > 0) stats.training_mean_weight = means(sum[1], pair_count[1]);
   if (config_.readout == config::GraphReadout::kCut) stats.cut_score = EdgeCutScores();
   stats.held_out_mse = transitions > 0 ? mse / transitions : 0;
   stats.held_out_zero_mse = transitions > 0 ? zero_mse / transitions : 0;

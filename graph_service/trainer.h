@@ -19,6 +19,8 @@ struct EdgeStatistics {
   // mean_weight[i * N + j]: mean probability of the edge "i acts on j" over every step of
   // every episode of the data set (diagonal 0)
   std::vector<double> mean_weight;
+  // refinement only: the same over every step of the run's training episodes (empty without)
+  std::vector<double> training_mean_weight;
   // mean squared error of the position change per transition on the held-out episodes
   double held_out_mse = 0;
   // the same with a predicted change of zero (how much there is to predict)
@@ -49,6 +51,11 @@ class GnnTrainer {
   // `data` must outlive the trainer and be split already.
   GnnTrainer(const config::GraphConfig& config, const GraphDataset& data, uint64_t seed);
 
+  // Graph refinement: `share` of each batch's windows are drawn from `data` (the run's training
+  // episodes, every episode in its training split), and evaluations average the edge weights
+  // over its episodes too. null or a share of 0: none. `data` must outlive the trainer.
+  void SetRefinementData(const GraphDataset* data, double share);
+
   // One RMSprop update on a fresh batch of windows; returns the batch's loss
   // (sum over the window of MSE + kl_weight * KL).
   double Update();
@@ -73,6 +80,13 @@ class GnnTrainer {
   std::vector<nn::CheckpointSection> SaveState() const;
   void LoadState(const std::vector<nn::CheckpointSection>& sections, const std::string& path);
 
+  // Graph refinement: the warm-up (every edge open) and the KL ramp start again from the next
+  // update, so that every gate is decided anew on the data as it is now. A gate the KL has
+  // closed is sampled open about edge_prior of the time and hardly learns otherwise.
+  void RestartSchedule();
+  // past the warm-up and the KL ramp of the current schedule: its graphs may count as stable
+  bool Settled() const;
+
   int64_t updates() const { return updates_; }
   double last_mse() const { return last_mse_; }  // per transition, last batch
   double last_kl() const { return last_kl_; }    // per transition, last batch
@@ -89,8 +103,11 @@ class GnnTrainer {
   nn::RmsProp<float> optimizer_;
   nn::Adam<float> adam_;
   nn::Tape<float> tape_;
-  WindowBatch<float> batch_;
+  WindowBatch<float> batch_, refine_batch_;
+  const GraphDataset* refine_ = nullptr;
+  double refine_share_ = 0;
   int64_t updates_ = 0;
+  int64_t schedule_start_ = 0;  // the update the warm-up / KL ramp schedule counts from
   double last_mse_ = 0, last_kl_ = 0;
 };
 

@@ -1,6 +1,7 @@
 #include "common/config/config.h"
 
 #include <memory>
+#include <string>
 
 #include "common/config/sections.h"
 
@@ -19,6 +20,11 @@ Config ParseTree(const YAML::Node& root, std::shared_ptr<const OriginMap> origin
   ParseAgent(top.Child("agent"), &config.agent);
   ParseLearner(top.Child("learner"), &config.learner);
   ParseActors(top.Child("actors"), &config.actors);
+  // rules across sections
+  if (config.graph.refine_after_publish && config.actors.train_episode_steps < config.graph.window)
+    top.Child("graph").FailRule("window", "must not exceed actors.train_episode_steps (" +
+                                              std::to_string(config.actors.train_episode_steps) +
+                                              ") with refine_after_publish: refinement trains on windows of training episodes");
   top.Finish();
   YAML::Emitter emitter;
   emitter << root;

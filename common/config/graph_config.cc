@@ -40,8 +40,12 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadInt("stable_evaluations", &out->stable_evaluations, 1, 1 << 20);
   s.ReadInt("eval_chunk_episodes", &out->eval_chunk_episodes, 1, 1 << 20);
   s.ReadBool("refine_after_publish", &out->refine_after_publish);
-  if (out->refine_after_publish)
-    s.FailRule("refine_after_publish", "is not implemented: the service publishes one graph per data set");
+  s.ReadDouble("refine_share", &out->refine_share, 0, 1);
+  s.ReadInt("refine_updates_per_episode", &out->refine_updates_per_episode, 0, 1 << 20);
+  if (out->refine_after_publish && (out->ground_truth || !out->file.empty()))
+    s.FailRule("refine_after_publish", "needs a learned graph (graph.ground_truth and graph.file publish a fixed one)");
+  if (out->refine_after_publish && (out->refine_share <= 0 || out->refine_updates_per_episode <= 0))
+    s.FailRule("refine_after_publish", "needs refine_share and refine_updates_per_episode above 0");
   if (out->ground_truth && !out->file.empty())
     s.FailRule("file", "and graph.ground_truth both name the graph to use: set one");
   if (out->min_updates > out->max_updates)

@@ -103,8 +103,20 @@ struct GraphConfig {
   int eval_every_updates = 500;    // held-out loss and thresholded graph
   int stable_evaluations = 2;      // stop once the graph is unchanged this many times
   int eval_chunk_episodes = 100;   // episodes per forward pass when averaging edge weights
-  // continuing to learn after the first publication is not implemented: must stay false
+  // Refinement (not in the paper): after the first publication the service keeps training on
+  // the run's own training episodes, which hold the contacts and taut ropes that random
+  // actions rarely produce, and publishes a new graph version once the thresholded graph has
+  // differed from the published one for stable_evaluations evaluations in a row (learner and
+  // actors switch to it between updates and between episodes). Off by default: the paper
+  // learns one graph from random-action data only.
   bool refine_after_publish = false;
+  // the share of each batch's windows drawn from training episodes once their ring is full
+  // (it holds as many episodes as the training split; the share grows with its filling); the
+  // rest stay random-action windows, and the held-out error stays the random episodes'
+  double refine_share = 0.5;
+  // GNN updates per training episode taken in: the service's CPU follows the actors' output
+  // (the first graph's 4500 updates over 900 training episodes are 5 per episode)
+  int refine_updates_per_episode = 5;
 };
 
 }  // namespace srics::config

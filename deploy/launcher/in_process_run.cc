@@ -134,13 +134,7 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
   if (rl::UsesGraph(config.run.method) || options_.graph_only) {
     l.graph_source = l.bus.GraphSourceEnd();
     l.graph_sink = l.bus.GraphSinkEnd();
-    graph_service::ServiceOptions options;
-    options.state_dir = dir;
-    options.seed = rl::DeriveSeed(config.run.seed, rl::SeedPurpose::kGraphService);
-    options.status_period_s = config.transport.status_period_s;
-    options.limits = rl::EpisodeLimitsFor(config.env);
-    const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(config.env);
-    options.shape = graph_service::DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim, shape.episode_kinds};
+    const graph_service::ServiceOptions options = graph_service::ServiceOptionsFor(config, dir);
     l.graph = std::make_unique<graph_service::GraphService>(config.graph, options, l.graph_source.get(), l.graph_sink.get(),
                                                     options_.on_graph_progress);
   }

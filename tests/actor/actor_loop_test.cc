@@ -10,6 +10,7 @@
 #include <chrono>
 #include <limits>
 #include <memory>
+#include <set>
 
 #include "actor/env/rearrange_env.h"
 #include "common/links/in_memory_bus.h"
@@ -150,6 +151,40 @@ TEST(ActorLoopTest, ExploresUntilGraphAndWeightsThenTrainsWithTheNewestWeights) 
   EXPECT_EQ(episodes[0].graph_version, 1u);
   EXPECT_EQ(actor.counters().episodes, 6u);
   EXPECT_EQ(actor.counters().env_steps, 3u * 50 + 3u * 20);
+}
+
+// A refined graph (graph.refine_after_publish) arrives as a new version while the actor trains:
+// every episode runs on one structure, and the next one on the newest.
+TEST(ActorLoopTest, ANewGraphVersionChangesTheSubgoalsFromTheNextEpisode) {
+  const config::Config config = SmallConfig();
+  links::InMemoryBus bus;
+  auto link = bus.ActorEnd(1);
+  auto learner = bus.LearnerEnd();
+  ActorLoop actor(ActorOptionsFor(config, 1), link.get());
+  bus.PublishGraph(GroundTruth(config, 1));  // the arm drives the puck: both have subgoals
+  learner->PublishWeights(WeightsFor(ActorOptionsFor(config, 1), 1, 31));
+  auto subgoals_of_next_episodes = [&](int count, uint64_t version) {
+    std::set<int> entities;
+    for (int i = 0; i < count; ++i) {
+      EXPECT_EQ(actor.Step(), StepResult::kWorked);
+      for (const rl::Episode& e : Drain(*learner)) {
+        EXPECT_EQ(e.mode, rl::EpisodeMode::kTrain);
+        EXPECT_EQ(e.graph_version, version);
+        entities.insert(e.subgoal_entity);
+      }
+    }
+    return entities;
+  };
+  EXPECT_EQ(subgoals_of_next_episodes(12, 1), (std::set<int>{0, 1}));
+  // version 2: nothing acts on the puck any more, so it has no subgoal
+  rl::GraphUpdate v2 = GroundTruth(config, 2);
+  std::fill(v2.graph.adjacency.begin(), v2.graph.adjacency.end(), 0);
+  v2.structure = rl::ComputeSubgoalStructure(v2.graph);
+  ASSERT_FALSE(v2.structure.has_subgoal(1));
+  bus.PublishGraph(v2);
+  EXPECT_EQ(subgoals_of_next_episodes(12, 2), (std::set<int>{0}));
+  EXPECT_EQ(actor.graph_version(), 2u);
+  EXPECT_EQ(actor.counters().graphs_rejected, 0u);
 }
 
 TEST(ActorLoopTest, HoldsBackWhenAheadOfTheLearnerAndEndsWithTheBudget) {

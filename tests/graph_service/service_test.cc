@@ -11,6 +11,7 @@
 namespace srics::graph_service {
 namespace {
 
+using testing::FeedSource;
 using testing::RecordingSink;
 using testing::ToySource;
 using testing::ToyWorld;
@@ -323,6 +324,80 @@ TEST(GraphServiceTest, LearnsOneCatalogueGraphFromEveryTrainingCombination) {
   config::GraphConfig cut = c;
   cut.readout = config::GraphReadout::kCut;
   EXPECT_THROW(GraphService(cut, o, &source, &sink, nullptr), std::invalid_argument);
+}
+
+// Refinement (graph.refine_after_publish) on the tiny model: training episodes taken in and
+// trained on, others refused and counted, the state kept across a restart. (Whether it finds
+// what random actions missed: refinement_test.cc.)
+constexpr int kSteps = 20;
+
+config::GraphConfig TinyRefiningConfig() {
+  config::GraphConfig c;
+  c.episodes = 20;
+  c.episode_steps = kSteps;
+  c.window = 5;
+  c.batch_windows = 4;
+  c.hidden_dim = 4;
+  c.mlp_hidden = 8;
+  c.warmup_updates = 5;
+  c.kl_ramp_updates = 5;
+  c.max_updates = 30;
+  c.min_updates = 30;
+  c.eval_every_updates = 10;
+  c.refine_after_publish = true;
+  c.refine_updates_per_episode = 3;
+  return c;
+}
+
+ServiceOptions RefiningOptions(ToyWorld& world, const std::string& dir) {
+  ServiceOptions o = ShapedOptions(world, dir);
+  o.refine_episode_steps = kSteps;
+  return o;
+}
+
+TEST(GraphServiceTest, RefinementKeepsItsStateAcrossARestartAndRefusesWhatDoesNotFit) {
+  const std::string dir = FreshDir("service_refinement_restart");
+  ToyWorld world({.num_pucks = 2, .ropes = {{1, 2}}, .rope_length = 0.3, .slide = 0.8, .steps = kSteps});
+  FeedSource source;
+  for (int i = 0; i < 20; ++i) source.queue.push_back(world.RandomEpisode(i));
+  int taken = 0;
+  {
+    RecordingSink sink;
+    GraphService service(TinyRefiningConfig(), RefiningOptions(world, dir), &source, &sink, {});
+    std::atomic<bool> stop{false};
+    ASSERT_EQ(service.Run(stop), 0);
+    ASSERT_EQ(sink.graphs.size(), 1u);
+    // the training state stays: the refinement goes on from it
+    EXPECT_TRUE(std::filesystem::exists(dir + "/graph_training.srics"));
+    rl::Episode short_one = world.PushEpisode(1, 1, 2, 0.27, 6);
+    short_one.num_steps = kSteps - 1;  // not the run's training episode length
+    short_one.states.resize(short_one.states.size() - short_one.layout.state_size());
+    short_one.actions.resize(short_one.actions.size() - 2);
+    source.queue.push_back(short_one);
+    source.queue.push_back(world.RandomEpisode(77));  // explore episodes are the first graph's
+    for (int i = 0; i < 30; ++i) source.queue.push_back(world.PushEpisode(100 + i, 1, 2, 0.27, 6));
+    while (!source.queue.empty()) service.Step();
+    for (int i = 0; i < 50; ++i) service.Step();  // the updates owed to the last episodes
+    EXPECT_EQ(service.progress().refine_episodes, 30);
+    EXPECT_EQ(service.progress().dropped, 1);
+    EXPECT_NE(service.progress().last_drop_reason.find("steps"), std::string::npos) << service.progress().last_drop_reason;
+    EXPECT_EQ(service.progress().updates, 30 + 30 * 3) << "refine_updates_per_episode per training episode";
+    taken = service.progress().refine_episodes;
+  }  // killed; its state was saved at the last evaluation (update 120)
+  FeedSource nothing;
+  RecordingSink sink;
+  GraphService restarted(TinyRefiningConfig(), RefiningOptions(world, dir), &nothing, &sink, {});
+  std::atomic<bool> stop{false};
+  ASSERT_EQ(restarted.Run(stop), 0);
+  ASSERT_EQ(sink.graphs.size(), 1u) << "the saved graph is re-published, not learned again";
+  EXPECT_EQ(sink.graphs[0].version, 1u);
+  EXPECT_TRUE(restarted.progress().refining);
+  EXPECT_EQ(restarted.progress().refine_episodes, taken);
+  EXPECT_EQ(restarted.progress().updates, 120);
+  // and it goes on taking training episodes in
+  nothing.queue.push_back(world.PushEpisode(500, 2, 1, 0.27, 6));
+  restarted.Step();
+  EXPECT_EQ(restarted.progress().refine_episodes, taken + 1);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <random>
 #include <utility>
 #include <vector>
@@ -26,6 +27,8 @@ struct ToyWorldConfig {
   double puck_radius = 0.04;
   double arm_radius = 0.03;
   double action_scale = 0.1;
+  // a free puck keeps this fraction of its last step's displacement (0: pucks stop at once)
+  double slide = 0;
   int steps = 50;
 };
 
@@ -35,6 +38,45 @@ class ToyWorld {
 
   int num_entities() const { return c_.num_pucks + 1; }
 
+  // A training episode (mode kTrain) as a policy kicking puck `pushed` away from puck `other`
+  // would make: the two start `gap` apart in a random direction around the table's middle, the
+  // arm just behind `pushed`; the arm drives (with some noise) away from `other` for
+  // `push_steps` steps, then backs off. With `slide`, the puck slides on, and a rope between
+  // the two goes taut and drags `other` while the arm is away: what random actions rarely do.
+  // Other pucks start where RandomEpisode puts them.
+  rl::Episode PushEpisode(uint64_t seed, int pushed, int other, double gap, int push_steps) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> angle(0, 2 * 3.14159265358979), noise(-0.3, 0.3);
+    rl::Episode ep = RandomEpisode(seed);  // the other pucks' start
+    const double a = angle(rng), ux = std::cos(a), uy = std::sin(a);
+    const std::array<double, 2> middle = {0.0, 0.57};
+    pos_.resize(num_entities());
+    velocity_.assign(num_entities(), {0.0, 0.0});
+    pos_[other] = {middle[0] - ux * gap / 2, middle[1] - uy * gap / 2};
+    pos_[pushed] = {middle[0] + ux * gap / 2, middle[1] + uy * gap / 2};
+    const double behind = c_.arm_radius + c_.puck_radius + 0.002;
+    pos_[0] = {pos_[pushed][0] - ux * behind, pos_[pushed][1] - uy * behind};
+    for (int i = 1; i < num_entities(); ++i) {
+      if (i == pushed || i == other) continue;
+      pos_[i] = {ep.layout.x(ep.state(0), i), ep.layout.y(ep.state(0), i)};
+    }
+    ep.mode = rl::EpisodeMode::kTrain;
+    ep.subgoal_entity = pushed;  // where it ends up (the goal plays no part in the graph)
+    ep.states.clear();
+    ep.actions.clear();
+    Record(&ep);
+    for (int t = 0; t < c_.steps; ++t) {
+      const double sign = t < push_steps ? 1.0 : -1.0;
+      const double ax = std::clamp(sign * ux + noise(rng), -1.0, 1.0), ay = std::clamp(sign * uy + noise(rng), -1.0, 1.0);
+      ep.actions.push_back(static_cast<float>(ax));
+      ep.actions.push_back(static_cast<float>(ay));
+      Step(ax, ay);
+      Record(&ep);
+    }
+    ep.goal = {static_cast<float>(pos_[pushed][0]), static_cast<float>(pos_[pushed][1])};
+    return ep;
+  }
+
   // One episode of uniformly random actions from `seed`.
   rl::Episode RandomEpisode(uint64_t seed) {
     std::mt19937_64 rng(seed);
@@ -42,6 +84,7 @@ class ToyWorld {
     const int n = num_entities();
     // rejection sampling of the initial positions, as in the real environment
     pos_.assign(n, {0.0, 0.4});
+    velocity_.assign(n, {0.0, 0.0});
     for (int i = 1; i < n; ++i) {
       for (int attempt = 0; attempt < 10000; ++attempt) {
         pos_[i] = {ux(rng), uy(rng)};
@@ -102,11 +145,15 @@ class ToyWorld {
     pos_[a][1] -= dy / d * push * (1 - share_b);
   }
   void Step(double ax, double ay) {
+    const std::vector<std::array<double, 2>> before = pos_;
     const int n = num_entities();
     const int substeps = 10;
     ax = std::clamp(ax, -1.0, 1.0);
     ay = std::clamp(ay, -1.0, 1.0);
     for (int s = 0; s < substeps; ++s) {
+      for (int i = 1; i < n; ++i)
+        if (!IsStatic(i))
+          for (int a = 0; a < 2; ++a) pos_[i][a] += velocity_[i][a] / substeps;
       pos_[0][0] = std::clamp(pos_[0][0] + c_.action_scale * ax / substeps, -0.245, 0.245);
       pos_[0][1] = std::clamp(pos_[0][1] + c_.action_scale * ay / substeps, 0.40, 0.75);
       // the arm pushes pucks; it is never pushed back
@@ -131,10 +178,12 @@ class ToyWorld {
         pos_[i][1] = std::clamp(pos_[i][1], 0.37, 0.75);
       }
     }
+    for (int i = 1; i < n; ++i)
+      for (int a = 0; a < 2; ++a) velocity_[i][a] = c_.slide * (pos_[i][a] - before[i][a]);
   }
 
   ToyWorldConfig c_;
-  std::vector<std::array<double, 2>> pos_;
+  std::vector<std::array<double, 2>> pos_, velocity_;
 };
 
 // An EpisodeSource that produces `count` toy episodes (seeds base_seed, base_seed + 1, ...),
@@ -172,6 +221,21 @@ inline rl::Episode AsCombination(const rl::Episode& episode, int num_kinds, cons
     }
   return out;
 }
+
+// Episodes a test feeds in (push to `queue`), 20 per Poll; never closes.
+class FeedSource : public EpisodeSource {
+ public:
+  bool Poll(std::chrono::milliseconds, std::vector<rl::Episode>* out) override {
+    for (int i = 0; i < 20 && !queue.empty(); ++i) {
+      out->push_back(std::move(queue.front()));
+      queue.pop_front();
+    }
+    ++polls;
+    return true;
+  }
+  std::deque<rl::Episode> queue;
+  int polls = 0;
+};
 
 // A GraphSink that remembers what it was given.
 class RecordingSink : public GraphSink {

@@ -118,6 +118,24 @@ TEST_F(RelabelerTest, ExploreEpisodesGetSubgoalsTheGraphAllows) {
   for (int i : {0, 2, 3}) EXPECT_NEAR(per_entity[i], 2000 / 3.0, 120) << i;
 }
 
+// A refined graph (graph.refine_after_publish) replaces the structure of every stored episode
+// at once, including those whose structure was worked out (and cached) under the old graph.
+TEST_F(RelabelerTest, ANewGraphVersionAppliesToEveryStoredEpisodeFromTheNextBatch) {
+  Fill(10, -1);
+  Relabeler relabeler(config::Method::kSrics, reward_, relabel_, {}, 9);
+  relabeler.SetGraph(rl::InteractionGraph::Star(4));
+  TrainingBatch batch;
+  relabeler.Sample(replay_, 2000, &batch);
+  int entity_1 = 0;
+  for (int b = 0; b < batch.size; ++b) entity_1 += batch.subgoal_entity[b] == 1;
+  EXPECT_NEAR(entity_1, 500, 90);
+  rl::InteractionGraph refined = rl::InteractionGraph::Star(4);
+  refined.adjacency[0 * 4 + 1] = 0;  // entity 1 is no longer controllable
+  relabeler.SetGraph(refined);
+  relabeler.Sample(replay_, 2000, &batch);
+  for (int b = 0; b < batch.size; ++b) ASSERT_NE(batch.subgoal_entity[b], 1);
+}
+
 // An episode of a training combination: 4 of a catalogue of 5 entities, entity e is kinds[e].
 rl::Episode CombinationEpisode(uint64_t seed, const std::vector<uint16_t>& kinds) {
   rl::Episode e = MakeEpisode(4, 20, seed, -1, 5);

@@ -107,6 +107,19 @@ TEST_F(RejectedConfig, OtherZeroSizesPeriodsAndRates) {
   }
 }
 
+TEST_F(RejectedConfig, RefinementNeedsALearnedGraphAndWindowsThatFitTrainingEpisodes) {
+  const std::string fixed = Write("fixed.yaml", "graph:\n  ground_truth: true\n  refine_after_publish: true\n");
+  EXPECT_NE(ErrorOf(fixed).find("graph.refine_after_publish: needs a learned graph"), std::string::npos) << ErrorOf(fixed);
+  const std::string no_share = Write("share.yaml", "graph:\n  refine_after_publish: true\n  refine_share: 0\n");
+  EXPECT_NE(ErrorOf(no_share).find("needs refine_share and refine_updates_per_episode above 0"), std::string::npos);
+  // windows of 20 steps do not fit training episodes of 10
+  const std::string windows = Write("windows.yaml", "graph:\n  refine_after_publish: true\n  window: 20\nactors:\n  train_episode_steps: 10\n");
+  EXPECT_NE(ErrorOf(windows).find("graph.window: must not exceed actors.train_episode_steps (10) with refine_after_publish"),
+            std::string::npos) << ErrorOf(windows);
+  // the same without refinement is fine
+  EXPECT_NO_THROW(LoadConfig(windows, {"graph.refine_after_publish=false"}));
+}
+
 TEST_F(RejectedConfig, KeepCheckpointsDefaultsToThree) {
   EXPECT_EQ(LoadConfig(Write("empty.yaml", "")).learner.keep_checkpoints, 3);
   EXPECT_EQ(LoadConfig(Write("one.yaml", "learner:\n  keep_checkpoints: 1\n")).learner.keep_checkpoints, 1);
