@@ -9,13 +9,7 @@
 #include "common/config/config.h"
 #include "common/rl/episode.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define SRICS_TESTING_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SRICS_TESTING_ASAN 1
-#endif
-#endif
+#include "tests/sanitizer.h"
 #ifdef SRICS_TESTING_ASAN
 #include <sanitizer/allocator_interface.h>
 #endif

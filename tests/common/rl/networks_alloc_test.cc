@@ -12,20 +12,14 @@
 #include "common/rl/networks.h"
 #include "tests/common/rl/network_configs.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define SRICS_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SRICS_ASAN 1
-#endif
-#endif
+#include "tests/sanitizer.h"
 
 namespace {
 std::atomic<bool> g_counting{false};
 std::atomic<long> g_mallocs{0};
 }  // namespace
 
-#ifdef SRICS_ASAN
+#ifdef SRICS_TESTING_ASAN
 #include <sanitizer/allocator_interface.h>
 
 namespace {
@@ -71,7 +65,7 @@ TEST(PolicyActTest, NoHeapAllocationInSteadyState) {
   const nn::Tensor goal = nn::Tensor::Random(1, 10);
   float sink = policy.Act(ents, goal, false, rng)(0, 0);  // warm-up sizes the buffers
   // the counter works
-#ifdef SRICS_ASAN
+#ifdef SRICS_TESTING_ASAN
   ASSERT_NE(g_hooks_installed, 0);
 #endif
   g_counting = true;

@@ -20,6 +20,7 @@
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/command_line.h"
 #include "tests/common/files/test_files.h"
+#include "tests/sanitizer.h"
 
 namespace srics::launcher {
 namespace {
@@ -251,11 +252,13 @@ TEST_F(LauncherTest, AHungActorIsKilledRestartedAndTheRunFinishes) {
   ChildProcess launcher = ChildProcess::Spawn(
       {SRICS_LAUNCHER, "run", config, "--run-dir", run_dir_.string(), "--display", "plain", "--stop-timeout", "5",
        "--set", "transport.domain_id=" + std::to_string(150 + getpid() % 50),
-       "--set", "transport.run_id=hung-test-" + std::to_string(getpid()), "--set", "transport.stalled_node_restart_s=8"},
+       "--set", "transport.run_id=hung-test-" + std::to_string(getpid()),
+       // a sanitized role can be busy that long between its NodeStatus samples
+       "--set", "transport.stalled_node_restart_s=" + std::to_string(8 * testing::kSanitizerSlowdown)},
       {.output_file = (root_ / "launcher.out").string(), .own_process_group = true, .parent_death_signal = SIGKILL});
   // actor 0's pid, once it is under way (its NodeStatus rows in nodes.csv)
   pid_t actor = 0;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120 * testing::kSanitizerSlowdown);
   while (actor == 0 && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(milliseconds(200));
     const std::string log = fs::exists(run_dir_ / "logs/launcher.log") ? ReadFile(run_dir_ / "logs/launcher.log") : "";
@@ -265,7 +268,7 @@ TEST_F(LauncherTest, AHungActorIsKilledRestartedAndTheRunFinishes) {
   }
   ASSERT_GT(actor, 0) << ReadFile(root_ / "launcher.out");
   ASSERT_EQ(kill(actor, SIGSTOP), 0);
-  const auto exit = launcher.WaitFor(milliseconds(300000));
+  const auto exit = launcher.WaitFor(milliseconds(300000 * testing::kSanitizerSlowdown));
   ASSERT_TRUE(exit.has_value()) << ReadFile(root_ / "launcher.out");
   EXPECT_EQ(exit->Describe(), "exit code 0") << ReadFile(root_ / "launcher.out");
   const std::string log = ReadFile(run_dir_ / "logs/launcher.log");

@@ -15,14 +15,8 @@
 #include "tests/actor/env/env_presets.h"
 #include "tests/actor/env/render/frames_testing.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define SRICS_RENDER_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SRICS_RENDER_TEST_ASAN 1
-#endif
-#endif
-#ifdef SRICS_RENDER_TEST_ASAN
+#include "tests/sanitizer.h"
+#ifdef SRICS_TESTING_ASAN
 #include <dlfcn.h>
 
 #include <cstdlib>
