@@ -332,18 +332,11 @@ TEST(GraphServiceTest, LearnsOneCatalogueGraphFromEveryTrainingCombination) {
 constexpr int kSteps = 20;
 
 config::GraphConfig TinyRefiningConfig() {
-  config::GraphConfig c;
-  c.episodes = 20;
+  config::GraphConfig c = TinyConfig();
   c.episode_steps = kSteps;
-  c.window = 5;
-  c.batch_windows = 4;
-  c.hidden_dim = 4;
-  c.mlp_hidden = 8;
   c.warmup_updates = 5;
   c.kl_ramp_updates = 5;
-  c.max_updates = 30;
-  c.min_updates = 30;
-  c.eval_every_updates = 10;
+  c.min_updates = c.max_updates;
   c.refine_after_publish = true;
   c.refine_updates_per_episode = 3;
   return c;
