@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
     const config::Config& config = role.config;
     transport::Participant participant(config.transport);
     transport::DdsEpisodeSource source(participant, rl::EpisodeLimitsFor(config.env),
-                                       static_cast<size_t>(config.graph.episodes));
+                                       static_cast<size_t>(config.graph.episodes), config.graph.refine_after_publish);
     transport::DdsGraphSink sink(participant);
     const graph_service::ServiceOptions options = graph_service::ServiceOptionsFor(config, role.command_line.run_dir);
     graph_service::GraphService service(config.graph, options, &source, &sink, nullptr);

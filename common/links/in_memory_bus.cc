@@ -32,7 +32,9 @@ class InMemoryBus::Actor : public ActorLink {
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds) override { return bus_->progress_; }
   bool PublishEpisode(const rl::Episode& episode) override {
     ++bus_->episodes_published_;
-    if (episode.mode == rl::EpisodeMode::kExplore && bus_->graph_source_attached_) bus_->graph_queue_.push_back(episode);
+    const bool for_graph = episode.mode == rl::EpisodeMode::kExplore ||
+                           (bus_->graph_takes_training_ && episode.mode == rl::EpisodeMode::kTrain);
+    if (for_graph && bus_->graph_source_attached_) bus_->graph_queue_.push_back(episode);
     bus_->learner_queue_.push_back(episode);
     return true;
   }
@@ -108,9 +110,10 @@ std::unique_ptr<ActorLink> InMemoryBus::ActorEnd(uint32_t actor_id) { return std
 
 std::unique_ptr<LearnerLink> InMemoryBus::LearnerEnd() { return std::make_unique<Learner>(this); }
 
-std::unique_ptr<EpisodeSource> InMemoryBus::GraphSourceEnd() {
+std::unique_ptr<EpisodeSource> InMemoryBus::GraphSourceEnd(bool training_episodes) {
   if (graph_source_attached_) throw std::logic_error("InMemoryBus: one graph service per bus");
   graph_source_attached_ = true;
+  graph_takes_training_ = training_episodes;
   return std::make_unique<Source>(this);
 }
 

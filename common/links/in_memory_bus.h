@@ -46,8 +46,9 @@ class InMemoryBus {
 
   std::unique_ptr<ActorLink> ActorEnd(uint32_t actor_id);
   std::unique_ptr<LearnerLink> LearnerEnd();
-  // The graph service's two ends (one service per bus).
-  std::unique_ptr<EpisodeSource> GraphSourceEnd();
+  // The graph service's two ends (one service per bus). Its source gets the explore episodes,
+  // and the training episodes too with `training_episodes` (graph.refine_after_publish).
+  std::unique_ptr<EpisodeSource> GraphSourceEnd(bool training_episodes = false);
   std::unique_ptr<GraphSink> GraphSinkEnd();
   // Injects a graph as the graph service would publish it (a run with a given graph).
   void PublishGraph(const rl::GraphUpdate& graph);
@@ -66,6 +67,7 @@ class InMemoryBus {
   std::deque<rl::Episode> learner_queue_;
   std::deque<rl::Episode> graph_queue_;
   bool graph_source_attached_ = false;
+  bool graph_takes_training_ = false;
   std::optional<rl::WeightsUpdate> weights_;
   std::optional<rl::GraphUpdate> graph_;
   std::optional<rl::LearnerProgress> progress_;

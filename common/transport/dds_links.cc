@@ -141,9 +141,10 @@ void DdsLearnerLink::PublishStatus(const rl::NodeReport& report) {
 // -------------------------------------------------------------------------- episode source
 
 DdsEpisodeSource::DdsEpisodeSource(const Participant& participant, const rl::EpisodeLimits& limits,
-                                   size_t max_pending)
+                                   size_t max_pending, bool training_episodes)
     : participant_(participant),
       max_pending_(max_pending),
+      training_episodes_(training_episodes),
       reader_(participant, EpisodeReaderOptions(limits)),
       taker_([this] { TakeLoop(); }) {}
 
@@ -168,7 +169,7 @@ void DdsEpisodeSource::TakeLoop() {
     rejected_ = reader_.counters().rejected;
     std::lock_guard lock(mutex_);
     for (auto& e : taken) {
-      if (e.mode != rl::EpisodeMode::kExplore) continue;
+      if (e.mode != rl::EpisodeMode::kExplore && !(training_episodes_ && e.mode == rl::EpisodeMode::kTrain)) continue;
       if (pending_.size() >= max_pending_) {
         ++surplus_;
         continue;

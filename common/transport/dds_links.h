@@ -104,11 +104,13 @@ class DdsLearnerLink final : public links::LearnerLink {
 
 // The graph service's explore episodes. A thread keeps taking samples all the time, also
 // while the GNN trains: the Episode topic is reliable keep-all, so a reader that stops taking
-// would hold every actor back. Training episodes are for the learner and are skipped; explore
-// episodes beyond `max_pending` not yet polled are dropped (counted in surplus()).
+// would hold every actor back. Training episodes are for the learner and are skipped unless
+// `training_episodes` (graph.refine_after_publish); episodes beyond `max_pending` not yet
+// polled are dropped (counted in surplus()).
 class DdsEpisodeSource final : public links::EpisodeSource {
  public:
-  DdsEpisodeSource(const Participant& participant, const rl::EpisodeLimits& limits, size_t max_pending);
+  DdsEpisodeSource(const Participant& participant, const rl::EpisodeLimits& limits, size_t max_pending,
+                   bool training_episodes = false);
   ~DdsEpisodeSource() override;
   DdsEpisodeSource(const DdsEpisodeSource&) = delete;
   DdsEpisodeSource& operator=(const DdsEpisodeSource&) = delete;
@@ -123,6 +125,7 @@ class DdsEpisodeSource final : public links::EpisodeSource {
 
   const Participant& participant_;
   size_t max_pending_;
+  bool training_episodes_;
   Reader<rl::Episode> reader_;  // used by the taker thread only
   std::mutex mutex_;
   std::condition_variable arrived_;

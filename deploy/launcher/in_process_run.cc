@@ -132,7 +132,7 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
   Loops& l = *loops_;
   SeedGraphFile(config, dir);  // a given graph is re-published by the graph service
   if (rl::UsesGraph(config.run.method) || options_.graph_only) {
-    l.graph_source = l.bus.GraphSourceEnd();
+    l.graph_source = l.bus.GraphSourceEnd(config.graph.refine_after_publish);
     l.graph_sink = l.bus.GraphSinkEnd();
     const graph_service::ServiceOptions options = graph_service::ServiceOptionsFor(config, dir);
     l.graph = std::make_unique<graph_service::GraphService>(config.graph, options, l.graph_source.get(), l.graph_sink.get(),

@@ -138,6 +138,23 @@ TEST_F(DdsLinksTest, ActorEpisodesArriveWholeAtLearnerAndGraphSource) {
   EXPECT_EQ(source.rejected(), 0u);
 }
 
+// graph.refine_after_publish: the graph service's source takes training episodes too.
+TEST_F(DdsLinksTest, ARefiningGraphSourceGetsTrainingEpisodesToo) {
+  Participant learner_side(config_), graph_side(config_), actor_side(config_);
+  DdsLearnerLink learner(learner_side, limits_);
+  DdsEpisodeSource source(graph_side, limits_, 100, /*training_episodes=*/true);
+  DdsActorLink actor(actor_side, 4, limits_, kBudget, 10s);
+  const rl::Episode explore = ExploreEpisode(21);
+  const rl::Episode train = testing::MakeEpisode(22);
+  ASSERT_TRUE(actor.PublishEpisode(explore));
+  ASSERT_TRUE(actor.PublishEpisode(train));
+  const std::vector<rl::Episode> at_source = TakeFromSource(source, 2);
+  ASSERT_EQ(at_source.size(), 2u);
+  EXPECT_TRUE(at_source[0] == explore);
+  EXPECT_TRUE(at_source[1] == train);
+  EXPECT_EQ(TakeFromLearner(learner, 2).size(), 2u) << "the learner still gets both";
+}
+
 TEST_F(DdsLinksTest, WeightsGraphAndStatsArriveAsTheNewestOnly) {
   Participant learner_side(config_), graph_side(config_), actor_side(config_);
   DdsLearnerLink learner(learner_side, limits_);

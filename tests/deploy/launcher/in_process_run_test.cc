@@ -4,6 +4,9 @@
 
 #include "deploy/launcher/in_process_run.h"
 
+#include "common/config/config.h"
+#include "graph_service/service.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -137,6 +140,33 @@ TEST(InProcessRunTest, EvaluationsRecordTheirFirstEpisodeIntoTheRunFolder) {
     else EXPECT_GT(fs::file_size(media), 100u);
   }
   EXPECT_EQ(rows, evaluated.size()) << "one recorded episode per evaluation of a trained policy";
+}
+
+}  // namespace
+}  // namespace srics::launcher
+
+namespace srics::launcher {
+namespace {
+
+// graph.refine_after_publish in a real run: the graph service takes the MuJoCo actors' own
+// training episodes (none refused), trains on them, and the run ends as usual.
+TEST(InProcessRunTest, RefinementTakesInTheActorsTrainingEpisodes) {
+  std::vector<std::string> overrides = kSmallRun;
+  overrides.push_back("graph.refine_after_publish=true");
+  const config::Config config = config::LoadConfig(Config("rearrange-1-cpu.yaml"), overrides);
+  const std::string dir = ::testing::TempDir() + "/in_process_refine";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  InProcessRun run(config, dir, nullptr);
+  while (run.Round()) {
+  }
+  const graph_service::Progress& p = run.graph_service()->progress();
+  EXPECT_TRUE(p.refining);
+  // 1200 env steps of 20-step training episodes, less the explore and evaluation steps
+  EXPECT_GT(p.refine_episodes, 20);
+  EXPECT_EQ(p.dropped, 0) << p.last_drop_reason;
+  EXPECT_GT(p.updates, 40 + 5 * 20) << "refine_updates_per_episode (5) per episode taken in";
+  EXPECT_TRUE(fs::exists(dir + "/graph_training.srics")) << "kept for the refinement to resume";
 }
 
 }  // namespace
