@@ -363,7 +363,9 @@ std::string FinalTable(const std::vector<RunData>& runs) {
   std::ostringstream out;
   out << "# Final figures (srics compare)\n\n"
       << "Each run's final evaluation (its last one, never its best), as mean ± sample standard deviation over "
-         "seeds; n = seeds. Distances in metres at the final step of evaluation episodes; success per subgoal as "
+         "seeds; n = seeds. Where a method has finished runs, only those count (an unfinished run's last evaluation "
+         "comes from a smaller budget); a method without any shows its unfinished runs' last evaluations. "
+         "Distances in metres at the final step of evaluation episodes; success per subgoal as "
          "a fraction of evaluation episodes. Training selectivity: the last train.csv window. The figures' bands "
          "span min-max over seeds.\n";
   for (const auto& [env, methods] : GroupRuns(runs)) {
@@ -381,8 +383,9 @@ std::string FinalTable(const std::vector<RunData>& runs) {
       std::vector<double> steps, distance, object, success, selectivity, passive;
       std::vector<std::vector<double>> subgoal(entities);
       int finished = 0;
+      for (const RunData* r : group) finished += r->finished ? 1 : 0;
       for (const RunData* r : group) {
-        finished += r->finished ? 1 : 0;
+        if (finished > 0 && !r->finished) continue;
         if (r->passive) passive.push_back(r->passive->avg_distance);
         if (!r->selectivity.empty()) selectivity.push_back(r->selectivity.back().second);
         if (r->evaluations.empty()) continue;
