@@ -7,7 +7,7 @@ set key outside right top noenhanced
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-distance.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'hac (1 seed)', '/work/main/docs/results/campaign/relational-4-distance.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/relational-4-distance.dat' index 2 using 1:3:4 with filledcurves lc rgb '#2ca02c' notitle, '' index 2 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#2ca02c' title 'srics (3 seeds)', 0.150158 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+plot '/work/main/docs/results/campaign/relational-4-distance.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'hac (1 seed)', '/work/main/docs/results/campaign/relational-4-distance.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/relational-4-distance.dat' index 2 using 1:3:4 with filledcurves lc rgb '#2ca02c' notitle, '' index 2 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#2ca02c' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-distance.dat' index 3 using 1:3:4 with filledcurves lc rgb '#9467bd' notitle, '' index 3 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#9467bd' title 'srics (3 seeds)', 0.150139 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
 set output '/work/main/docs/results/campaign/relational-4-object_distance.png'
 set title 'relational-4: average object distance (mean, band min-max over seeds)' noenhanced
 set xlabel 'environment steps'
@@ -16,7 +16,7 @@ set key outside right top noenhanced
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'hac (1 seed)', '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 2 using 1:3:4 with filledcurves lc rgb '#2ca02c' notitle, '' index 2 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#2ca02c' title 'srics (3 seeds)', 0.187697 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+plot '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'hac (1 seed)', '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 2 using 1:3:4 with filledcurves lc rgb '#2ca02c' notitle, '' index 2 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#2ca02c' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 3 using 1:3:4 with filledcurves lc rgb '#9467bd' notitle, '' index 3 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#9467bd' title 'srics (3 seeds)', 0.187673 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
 set output '/work/main/docs/results/campaign/relational-4-selectivity.png'
 set title 'relational-4: selectivity of training episodes (mean, band min-max over seeds)' noenhanced
 set xlabel 'environment steps'
@@ -25,7 +25,7 @@ set key outside right top noenhanced
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-selectivity.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'srics (3 seeds)'
+plot '/work/main/docs/results/campaign/relational-4-selectivity.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-selectivity.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (3 seeds)'
 set output '/work/main/docs/results/campaign/relational-4-subgoal_success.png'
 set title 'relational-4: success per subgoal at the final evaluation (mean over seeds, bars min-max)' noenhanced
 set xlabel ''
@@ -37,4 +37,4 @@ set style data histograms
 set style histogram errorbars gap 2 lw 1
 set style fill solid 0.8 border -1
 set bars 2
-plot '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'hac (1 seed)', '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 5:6:7 lc rgb '#d62728' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 8:9:10 lc rgb '#2ca02c' title 'srics (3 seeds)'
+plot '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'hac (1 seed)', '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 5:6:7 lc rgb '#d62728' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 8:9:10 lc rgb '#2ca02c' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-subgoal_success.dat' using 11:12:13 lc rgb '#9467bd' title 'srics (3 seeds)'
