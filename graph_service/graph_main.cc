@@ -6,8 +6,6 @@
 #include <spdlog/spdlog.h>
 
 #include "common/process/role_startup.h"
-#include "common/rl/agent_shape.h"
-#include "common/rl/seeds.h"
 #include "common/transport/dds_links.h"
 #include "common/transport/transport.h"
 #include "graph_service/service.h"
@@ -20,10 +18,10 @@ int main(int argc, char** argv) {
   return process::RunRole(argc, argv, program, [](const process::Role& role) {
     const config::Config& config = role.config;
     transport::Participant participant(config.transport);
-    transport::DdsEpisodeSource source(participant, rl::EpisodeLimitsFor(config.env),
-                                       static_cast<size_t>(config.graph.episodes), config.graph.refine_after_publish);
-    transport::DdsGraphSink sink(participant);
     const graph_service::ServiceOptions options = graph_service::ServiceOptionsFor(config, role.command_line.run_dir);
+    transport::DdsEpisodeSource source(participant, options.limits, static_cast<size_t>(config.graph.episodes),
+                                       config.graph.refine_after_publish);
+    transport::DdsGraphSink sink(participant);
     graph_service::GraphService service(config.graph, options, &source, &sink, nullptr);
     spdlog::info("graph service started: domain {}, run id '{}', {} explore episodes wanted",
                  config.transport.domain_id, config.transport.run_id, config.graph.episodes);

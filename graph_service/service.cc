@@ -479,9 +479,11 @@ void GraphService::PublishCurrent() {
   PublishStatus(true);
 }
 
+int GraphService::RefineCapacity() const { return std::max<int>(1, static_cast<int>(data_->train_episodes().size())); }
+
 double GraphService::RefineShare() const {
-  const double capacity = std::max<size_t>(1, data_->train_episodes().size());
-  return refine_data_ ? config_.refine_share * std::min(1.0, refine_data_->size() / capacity) : 0.0;
+  return refine_data_ ? config_.refine_share * std::min(1.0, static_cast<double>(refine_data_->size()) / RefineCapacity())
+                      : 0.0;
 }
 
 void GraphService::StartRefinement() {
@@ -501,7 +503,7 @@ void GraphService::StartRefinement() {
 StepResult GraphService::RefineStep(std::chrono::milliseconds wait) {
   std::vector<rl::Episode> batch;
   source_closed_ |= !source_->Poll(refine_budget_ > 0 ? std::chrono::milliseconds(0) : wait, &batch);
-  const int capacity = std::max<int>(1, static_cast<int>(data_->train_episodes().size()));
+  const int capacity = RefineCapacity();
   int taken = 0;
   for (const rl::Episode& episode : batch) {
     // training episodes only: late explore episodes are the first graph's kind of data

@@ -136,6 +136,7 @@ class GraphService {
   void PublishCurrent();  // current_ as the next version: saved, published
   void StartRefinement();
   StepResult RefineStep(std::chrono::milliseconds wait);
+  int RefineCapacity() const;  // the ring's size: the training split's
   double RefineShare() const;  // share of a batch's windows from training episodes now
   void Report();
   void PublishStatus(bool force);
