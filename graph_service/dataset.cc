@@ -5,6 +5,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "common/links/links.h"
+
 namespace srics::graph_service {
 namespace {
 
@@ -81,9 +83,7 @@ GraphDataset GraphDataset::ShapedLike(const rl::Episode& episode) {
 }
 
 std::string GraphDataset::Convert(const rl::Episode& episode, StoredEpisode* out) const {
-  const bool mode_ok = episode.mode == rl::EpisodeMode::kExplore ||
-                       (training_episodes_ && episode.mode == rl::EpisodeMode::kTrain);
-  if (!mode_ok) return training_episodes_ ? "neither an explore nor a training episode" : "not an explore episode";
+  if (!links::GraphServiceWants(episode.mode, training_episodes_)) return training_episodes_ ? "neither an explore nor a training episode" : "not an explore episode";
   if (!(episode.layout == layout_)) return "entity layout differs from the data set's";
   const auto set = std::find(kind_sets_.begin(), kind_sets_.end(), episode.entity_kinds);
   if (set == kind_sets_.end())

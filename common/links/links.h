@@ -51,6 +51,13 @@ class LearnerLink {
   virtual void PublishStatus(const rl::NodeReport& report) = 0;
 };
 
+// Which episodes the graph service learns from: the explore episodes (random actions), and the
+// agent's training episodes too when it refines its graph (graph.refine_after_publish). The one
+// rule for every episode source and the service's own data set.
+inline bool GraphServiceWants(rl::EpisodeMode mode, bool training_episodes) {
+  return mode == rl::EpisodeMode::kExplore || (training_episodes && mode == rl::EpisodeMode::kTrain);
+}
+
 // Where the graph service's explore episodes come from.
 class EpisodeSource {
  public:

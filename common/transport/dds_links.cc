@@ -169,7 +169,7 @@ void DdsEpisodeSource::TakeLoop() {
     rejected_ = reader_.counters().rejected;
     std::lock_guard lock(mutex_);
     for (auto& e : taken) {
-      if (e.mode != rl::EpisodeMode::kExplore && !(training_episodes_ && e.mode == rl::EpisodeMode::kTrain)) continue;
+      if (!links::GraphServiceWants(e.mode, training_episodes_)) continue;
       if (pending_.size() >= max_pending_) {
         ++surplus_;
         continue;
