@@ -366,14 +366,37 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
   } else {
     std::mt19937_64 order_rng(seed);
     nn::Tensor goal(1, rl::SubgoalTokenSize(layout.num_kinds));
+    const std::vector<int> subgoal_entities = structure.SubgoalEntities();
+    int index = 0;
     for (int entity : rl::EvaluationSchedule(structure, options.order, order_rng)) {
       if (entity >= layout.num_entities) continue;
+      EvalEpisodeObserver::Attempt record;
+      record.index = index++;
+      record.entity = entity;
+      const std::vector<double> before_attempt = env.ComputeMetrics().distances;
+      record.distance_before = before_attempt[entity];
       // solved subgoals are skipped
-      if (env.ComputeMetrics().distances[entity] < options.threshold) continue;
-      const env::Vec2& g = env.goals()[entity];
-      rl::WriteSubgoalToken(layout.num_kinds, env.layout().kinds[entity], static_cast<float>(g[0]),
-                            static_cast<float>(g[1]), goal.data());
-      if (!attempt(goal, entity, options.attempt_steps)) return std::nullopt;
+      record.skipped = before_attempt[entity] < options.threshold;
+      if (!record.skipped) {
+        const env::Vec2& g = env.goals()[entity];
+        rl::WriteSubgoalToken(layout.num_kinds, env.layout().kinds[entity], static_cast<float>(g[0]),
+                              static_cast<float>(g[1]), goal.data());
+        if (!attempt(goal, entity, options.attempt_steps)) return std::nullopt;
+      }
+      if (!watcher) continue;
+      const std::vector<double> after_attempt = record.skipped ? before_attempt : env.ComputeMetrics().distances;
+      record.distance_after = after_attempt[entity];
+      for (int other : subgoal_entities) {
+        if (other == entity || other == 0 || other >= layout.num_entities || before_attempt[other] >= options.threshold)
+          continue;
+        const bool undone = after_attempt[other] >= options.threshold;
+        ++record.others_solved;
+        record.others_undone += undone ? 1 : 0;
+        if ((structure.ancestor_mask[entity] >> other) & 1u) continue;
+        ++record.independent_solved;
+        record.independent_undone += undone ? 1 : 0;
+      }
+      watcher->OnAttempt(record);
     }
   }
   const env::Metrics m = env.ComputeMetrics();

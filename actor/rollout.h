@@ -94,6 +94,25 @@ class EvalEpisodeObserver {
   // `entity`: the entity whose subgoal the step attempted; -1 after the reset and when the
   // episode attempts the full goal (SAC+HER, HAC, the passive policy's full goal).
   virtual void OnState(const env::Environment& env, int entity) = 0;
+
+  // One scheduled subgoal attempt, once it is over (or skipped): what `srics eval` writes to
+  // attempts.csv, to tell "cannot reach the subgoal" from "undoes the subgoals solved before".
+  struct Attempt {
+    int index = 0;               // position in the episode's schedule
+    int entity = 0;
+    bool skipped = false;        // already solved when its turn came (no steps taken)
+    double distance_before = 0;  // the entity's distance to its goal when the attempt started
+    double distance_after = 0;   // ... and when it ended
+    // other subgoal objects (the arm, entity 0, left out: every push moves it) within the
+    // threshold at the start, and how many of those ended the attempt outside it
+    int others_solved = 0;
+    int others_undone = 0;
+    // the same over the objects that are not the entity's ancestors in the structure the
+    // episode uses (what selectivity asks to leave alone; every object without a graph)
+    int independent_solved = 0;
+    int independent_undone = 0;
+  };
+  virtual void OnAttempt(const Attempt&) {}
 };
 
 // The options a run's config implies (episode lengths, full goal for SAC+HER and HAC, HAC's

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -28,21 +29,52 @@ namespace {
 // The name of an entity in captions.
 std::string EntityName(int entity) { return entity == 0 ? "arm" : "object " + std::to_string(entity); }
 
-// Draws every state of an episode into its video.
+// What each attempt did, summed over episodes (printed at the end).
+struct AttemptTally {
+  int attempts = 0;        // attempts that took steps
+  int reached = 0;         // ... and ended with their own subgoal within the threshold
+  int others_solved = 0;   // objects solved when an attempt started
+  int others_undone = 0;   // ... that the attempt left unsolved
+  int independent_solved = 0;  // the same over objects that are not the entity's ancestors
+  int independent_undone = 0;
+};
+
+// Draws every state of an episode into its video (when there is one) and writes each subgoal
+// attempt to attempts.csv.
 class EpisodeRecorder : public actor::EvalEpisodeObserver {
  public:
-  EpisodeRecorder(env::EpisodeRenderer& renderer, env::VideoWriter& video, int episode)
-      : renderer_(renderer), video_(video), episode_(episode) {}
+  EpisodeRecorder(env::EpisodeRenderer* renderer, env::VideoWriter* video, std::ostream& attempts,
+                  std::map<int, AttemptTally>& tally, double threshold, int episode)
+      : renderer_(renderer), video_(video), attempts_(attempts), tally_(tally), threshold_(threshold), episode_(episode) {}
 
   void OnState(const env::Environment& env, int entity) override {
+    if (!renderer_) return;
     const std::string what = env.steps() == 0 ? "start" : entity < 0 ? "full goal" : "subgoal: " + EntityName(entity);
     const std::string caption = "episode " + std::to_string(episode_) + "  step " + std::to_string(env.steps()) + "  " + what;
-    video_.Write(renderer_.Render(entity, caption).rgb.data());
+    video_->Write(renderer_->Render(entity, caption).rgb.data());
+  }
+
+  void OnAttempt(const Attempt& a) override {
+    const bool reached = a.distance_after < threshold_;
+    attempts_ << episode_ << "," << a.index << "," << a.entity << "," << (a.skipped ? 1 : 0) << ","
+              << a.distance_before << "," << a.distance_after << "," << (reached ? 1 : 0) << "," << a.others_solved
+              << "," << a.others_undone << "," << a.independent_solved << "," << a.independent_undone << "\n";
+    if (a.skipped) return;
+    AttemptTally& t = tally_[a.entity];
+    ++t.attempts;
+    t.reached += reached ? 1 : 0;
+    t.others_solved += a.others_solved;
+    t.others_undone += a.others_undone;
+    t.independent_solved += a.independent_solved;
+    t.independent_undone += a.independent_undone;
   }
 
  private:
-  env::EpisodeRenderer& renderer_;
-  env::VideoWriter& video_;
+  env::EpisodeRenderer* renderer_;
+  env::VideoWriter* video_;
+  std::ostream& attempts_;
+  std::map<int, AttemptTally>& tally_;
+  double threshold_;
   int episode_;
 };
 
@@ -147,12 +179,14 @@ int Eval(const EvalArgs& args) {
   for (int e = 0; e < num_entities; ++e) csv << ",distance_" << e;
   for (int e : subgoal_entities) csv << ",subgoal_success_" << e;
   csv << ",video\n";
+  std::ofstream attempts_csv(fs::path(out_dir) / "attempts.csv");
+  attempts_csv << "episode,attempt,entity,skipped,distance_before,distance_after,reached,others_solved,others_undone,independent_solved,independent_undone\n";
+  std::map<int, AttemptTally> tally;
   rl::EvaluationSummary summary;
   int unstable = 0;
   for (int i = 0; i < episodes; ++i) {
     const uint64_t seed = rl::EvalEpisodeSeed(config.run.seed, i);
     std::optional<env::VideoWriter> writer;
-    std::optional<EpisodeRecorder> recorder;
     std::string video_name;
     if (renderer) {
       char name[32];
@@ -160,10 +194,11 @@ int Eval(const EvalArgs& args) {
       video_name = name;
       if (video.format != env::VideoFormat::kPng) video_name += "." + env::VideoExtension(video.format);
       writer.emplace((fs::path(out_dir) / video_name).string(), args.render.width, args.render.height, video);
-      recorder.emplace(*renderer, *writer, i);
     }
+    EpisodeRecorder recorder(renderer ? &*renderer : nullptr, writer ? &*writer : nullptr, attempts_csv, tally,
+                             actor.eval.threshold, i);
     const auto metrics = actor::RunEvaluationEpisode(environment, &policy, subgoals, actor.eval, seed, high.get(),
-                                                     recorder ? &*recorder : nullptr);
+                                                     &recorder);
     if (writer) writer->Close();
     const int frames = writer ? writer->frames() : 0;
     if (environment.layout().num_entities != num_entities)
@@ -190,7 +225,17 @@ int Eval(const EvalArgs& args) {
   if (!csv) throw std::runtime_error("cannot write " + (fs::path(out_dir) / "episodes.csv").string());
   std::printf("%d episodes (%d unstable): avg distance %.4f, avg object distance %.4f, success rate %.2f\n", episodes,
               unstable, summary.avg_distance, summary.avg_object_distance, summary.success_rate);
-  std::printf("wrote %s/episodes.csv\n", out_dir.c_str());
+  if (!attempts_csv.flush()) throw std::runtime_error("cannot write " + (fs::path(out_dir) / "attempts.csv").string());
+  // per subgoal: can the policy reach it, and does reaching it undo the others?
+  for (const auto& [entity, t] : tally)
+    std::printf(
+        "attempts on %s: %d, reached %.2f; objects solved before them: %d, undone by them: %d (%.2f); of those not "
+        "its ancestors: %d, undone %d (%.2f)\n",
+        EntityName(entity).c_str(), t.attempts, t.attempts ? static_cast<double>(t.reached) / t.attempts : 0.0,
+        t.others_solved, t.others_undone, t.others_solved ? static_cast<double>(t.others_undone) / t.others_solved : 0.0,
+        t.independent_solved, t.independent_undone,
+        t.independent_solved ? static_cast<double>(t.independent_undone) / t.independent_solved : 0.0);
+  std::printf("wrote %s/episodes.csv and attempts.csv\n", out_dir.c_str());
   return 0;
 }
 

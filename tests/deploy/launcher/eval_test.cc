@@ -105,6 +105,40 @@ TEST(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
   double object_distance = 0;
   for (const auto& row : rows) object_distance += std::stod(row.at("avg_object_distance")) / rows.size();
   EXPECT_LT(object_distance, 0.16) << output;
+
+  // attempts.csv: the schedule of every episode (4 random attempts, then the 4 subgoals: the
+  // arm and pucks 2-4, the static puck 1 has none), each attempt that was not skipped took 20
+  // steps, a skipped one started solved, and the last attempt ends where the episode does.
+  const auto attempts = ReadCsv(out / "attempts.csv");
+  ASSERT_EQ(attempts.size(), 20u * 8u) << output;
+  for (size_t episode = 0; episode < rows.size(); ++episode) {
+    int played = 0;
+    for (size_t k = 0; k < 8; ++k) {
+      const auto& a = attempts[episode * 8 + k];
+      ASSERT_EQ(std::stoul(a.at("episode")), episode);
+      ASSERT_EQ(std::stoul(a.at("attempt")), k);
+      const int entity = std::stoi(a.at("entity"));
+      EXPECT_NE(entity, 1) << "the static puck has no subgoal";
+      const double before = std::stod(a.at("distance_before")), after = std::stod(a.at("distance_after"));
+      if (a.at("skipped") == "1") {
+        EXPECT_LT(before, 0.05);
+        EXPECT_EQ(before, after);
+      } else {
+        ++played;
+      }
+      EXPECT_EQ(a.at("reached") == "1", after < 0.05);
+      EXPECT_LE(std::stoi(a.at("others_undone")), std::stoi(a.at("others_solved")));
+      EXPECT_LE(std::stoi(a.at("independent_undone")), std::stoi(a.at("independent_solved")));
+      EXPECT_LE(std::stoi(a.at("independent_solved")), std::stoi(a.at("others_solved")));
+      // the free puck 4 has only the arm as ancestor: every solved object is independent of it
+      if (entity == 4) EXPECT_EQ(a.at("independent_solved"), a.at("others_solved"));
+    }
+    EXPECT_EQ(std::stoi(rows[episode].at("steps")), 20 * played) << "episode " << episode;
+    const auto& last = attempts[episode * 8 + 7];
+    EXPECT_NEAR(std::stod(last.at("distance_after")),
+                std::stod(rows[episode].at("distance_" + last.at("entity"))), 1e-4) << "episode " << episode;
+  }
+  EXPECT_NE(output.find("attempts on object 4:"), std::string::npos) << output;
   fs::remove_all(out);
 }
 
