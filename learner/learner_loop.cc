@@ -7,6 +7,8 @@
 #include <fstream>
 #include <thread>
 
+#include "common/rl/ground_truth.h"
+
 namespace srics::learner {
 
 using Clock = std::chrono::steady_clock;
@@ -22,6 +24,7 @@ LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::stri
   o.training_log.every_env_steps = config.actors.eval_every_env_steps;
   o.training_log.epsilon = config.agent.reward.epsilon;
   o.training_log.success_threshold = config.env.success_threshold;
+  o.training_log.table_graph = rl::GroundTruthGraph(config.env);
   o.rejected_log_interval_s = config.transport.rejected_log_interval_s;
   return o;
 }

@@ -16,6 +16,10 @@ namespace srics::learner {
 namespace {
 
 constexpr const char* kHeader =
+    "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success,"
+    "table_graph_selectivity,table_graph_selectivity_episodes";
+// the header before the table-graph columns: its rows are kept, padded with empty columns
+constexpr const char* kHeaderWithoutTableGraph =
     "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success";
 
 double WallTime() {
@@ -24,13 +28,15 @@ double WallTime() {
 
 }  // namespace
 
-double EpisodeSelectivity(const rl::Episode& e, double epsilon) {
+double EpisodeSelectivity(const rl::Episode& e, double epsilon) { return EpisodeSelectivity(e, epsilon, e.ancestor_mask); }
+
+double EpisodeSelectivity(const rl::Episode& e, double epsilon, uint64_t ancestor_mask) {
   const int k = e.subgoal_entity;
   if (k < 0 || k >= e.layout.num_entities) return -1;
   double sum = 0;
   int steps = 0;
   for (int t = 0; t < e.num_steps; ++t) {
-    if (auto m = rl::SelectivityMeasure(e.layout, e.state(t), e.state(t + 1), k, e.ancestor_mask, epsilon)) {
+    if (auto m = rl::SelectivityMeasure(e.layout, e.state(t), e.state(t + 1), k, ancestor_mask, epsilon)) {
       sum += *m;
       ++steps;
     }
@@ -56,8 +62,8 @@ void TrainingLog::Open() {
 
 void TrainingLog::ResumeAt(uint64_t env_steps) {
   next_row_at_ = (env_steps / options_.every_env_steps + 1) * options_.every_env_steps;
-  episodes_ = selectivity_episodes_ = successes_ = 0;
-  selectivity_sum_ = distance_sum_ = 0;
+  episodes_ = selectivity_episodes_ = successes_ = table_graph_episodes_ = 0;
+  selectivity_sum_ = distance_sum_ = table_graph_sum_ = 0;
   if (options_.path.empty()) return;
   // keep the header and the rows up to the checkpoint
   out_.close();
@@ -65,15 +71,19 @@ void TrainingLog::ResumeAt(uint64_t env_steps) {
   {
     std::ifstream in(options_.path);
     std::string line;
+    bool without_table_graph = false;
     while (std::getline(in, line)) {
       if (line.empty()) continue;
-      if (keep.empty() || line == kHeader) {
-        if (keep.empty()) keep.push_back(line);
+      if (keep.empty() || line == kHeader || line == kHeaderWithoutTableGraph) {
+        if (keep.empty()) {
+          without_table_graph = line == kHeaderWithoutTableGraph;
+          keep.push_back(kHeader);
+        }
         continue;
       }
       const size_t comma = line.find(',');
       const uint64_t steps = comma == std::string::npos ? 0 : std::strtoull(line.c_str() + comma + 1, nullptr, 10);
-      if (steps <= env_steps) keep.push_back(line);
+      if (steps <= env_steps) keep.push_back(without_table_graph ? line + ",," : line);
     }
   }
   std::string text;
@@ -85,8 +95,19 @@ void TrainingLog::ResumeAt(uint64_t env_steps) {
 std::optional<TrainingLog::Figures> TrainingLog::Measure(const rl::Episode& e) const {
   const int k = e.subgoal_entity;
   if (e.mode != rl::EpisodeMode::kTrain || k < 0 || k >= e.layout.num_entities || e.goal.size() != 2) return std::nullopt;
-  return Figures{EpisodeSelectivity(e, options_.epsilon),
-                 rl::DistanceToGoal(e.layout, e.state(e.num_steps), k, e.goal.data())};
+  Figures figures{EpisodeSelectivity(e, options_.epsilon),
+                  rl::DistanceToGoal(e.layout, e.state(e.num_steps), k, e.goal.data())};
+  if (options_.table_graph && e.entity_kinds.size() == static_cast<size_t>(e.layout.num_entities)) {
+    // the table's ancestor sets for the objects this episode presents; kinds the catalogue does
+    // not have leave it undefined (the learner refuses such an episode and never counts it)
+    try {
+      const rl::SubgoalStructure table = rl::CatalogueSubgoals{options_.table_graph}.For(e.entity_kinds);
+      if (k < table.num_entities())
+        figures.table_graph_selectivity = EpisodeSelectivity(e, options_.epsilon, table.ancestor_mask[k]);
+    } catch (const std::invalid_argument&) {
+    }
+  }
+  return figures;
 }
 
 void TrainingLog::Add(const Figures& f) {
@@ -97,6 +118,10 @@ void TrainingLog::Add(const Figures& f) {
   }
   distance_sum_ += f.subgoal_distance;
   if (f.subgoal_distance < options_.success_threshold) ++successes_;
+  if (f.table_graph_selectivity >= 0) {
+    table_graph_sum_ += f.table_graph_selectivity;
+    ++table_graph_episodes_;
+  }
 }
 
 void TrainingLog::Advance(uint64_t env_steps, bool force) {
@@ -105,11 +130,14 @@ void TrainingLog::Advance(uint64_t env_steps, bool force) {
     char wall[32];
     std::snprintf(wall, sizeof wall, "%.3f", WallTime());
     out_ << wall << ',' << env_steps << ',' << episodes_ << ',' << mean_selectivity() << ',' << selectivity_episodes_
-         << ',' << distance_sum_ / episodes_ << ',' << static_cast<double>(successes_) / episodes_ << '\n'
-         << std::flush;
+         << ',' << distance_sum_ / episodes_ << ',' << static_cast<double>(successes_) / episodes_ << ',';
+    if (options_.table_graph) out_ << (table_graph_episodes_ ? table_graph_sum_ / table_graph_episodes_ : 0.0);
+    out_ << ',';
+    if (options_.table_graph) out_ << table_graph_episodes_;
+    out_ << '\n' << std::flush;
   }
-  episodes_ = selectivity_episodes_ = successes_ = 0;
-  selectivity_sum_ = distance_sum_ = 0;
+  episodes_ = selectivity_episodes_ = successes_ = table_graph_episodes_ = 0;
+  selectivity_sum_ = distance_sum_ = table_graph_sum_ = 0;
   while (next_row_at_ <= env_steps) next_row_at_ += options_.every_env_steps;
 }
 

@@ -3,7 +3,8 @@
 // steps: the paper plots selectivity during training, and only the learner sees every
 // training episode. Rows go to <run folder>/train.csv (one per window, appended, flushed):
 //
-//   wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success
+//   wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success,
+//   table_graph_selectivity,table_graph_selectivity_episodes
 //
 // env_steps: the learner's training env steps when the row was written (the window's end);
 // episodes: training episodes with a subgoal entity in the window; selectivity: the mean over
@@ -12,7 +13,11 @@
 // is defined (selectivity_episodes); subgoal_distance and subgoal_success: the subgoal
 // entity's final distance to its goal and the share of episodes ending within the success
 // threshold. Episodes without a subgoal entity (exploration, full-goal methods) are not
-// counted; a window without any writes no row.
+// counted; a window without any writes no row. table_graph_selectivity: the same measure with
+// the ancestor sets of the table's graph by construction (options.table_graph), the same for
+// every method, so that methods compare (SMORL's own ancestor sets are empty: its selectivity
+// counts the arm that pushes as an independent mover); empty without a table graph. Rows of
+// files written before those two columns existed are kept with them empty.
 
 #include <cstdint>
 #include <fstream>
@@ -20,6 +25,7 @@
 #include <string>
 
 #include "common/rl/episode.h"
+#include "common/rl/graph.h"
 
 namespace srics::learner {
 
@@ -28,6 +34,9 @@ struct TrainingLogOptions {
   uint64_t every_env_steps = 5000; // the window (the run's evaluation interval)
   double epsilon = 1e-5;           // below it nothing moved: selectivity undefined for the step
   double success_threshold = 0.05; // m
+  // the table's graph by construction (rl::GroundTruthGraph), over the catalogue; measured
+  // against only, never used for training
+  std::optional<rl::InteractionGraph> table_graph;
 };
 
 class TrainingLog {
@@ -43,6 +52,7 @@ class TrainingLog {
   struct Figures {
     double selectivity = -1;  // negative: undefined (nothing moved)
     double subgoal_distance = 0;
+    double table_graph_selectivity = -1;  // negative: undefined or no table graph
   };
   std::optional<Figures> Measure(const rl::Episode& episode) const;
   // Folds in the figures of one episode the learner stored.
@@ -61,12 +71,14 @@ class TrainingLog {
   TrainingLogOptions options_;
   std::ofstream out_;
   uint64_t next_row_at_ = 0;
-  uint64_t episodes_ = 0, selectivity_episodes_ = 0, successes_ = 0;
-  double selectivity_sum_ = 0, distance_sum_ = 0;
+  uint64_t episodes_ = 0, selectivity_episodes_ = 0, successes_ = 0, table_graph_episodes_ = 0;
+  double selectivity_sum_ = 0, distance_sum_ = 0, table_graph_sum_ = 0;
 };
 
-// The mean per-step selectivity measure of an episode for its subgoal entity and ancestor
-// set; negative when the episode has no subgoal entity or nothing moved in any step.
+// The mean per-step selectivity measure of an episode for its subgoal entity with
+// `ancestor_mask` (the episode's own by default); negative when the episode has no subgoal
+// entity or nothing moved in any step.
 double EpisodeSelectivity(const rl::Episode& episode, double epsilon);
+double EpisodeSelectivity(const rl::Episode& episode, double epsilon, uint64_t ancestor_mask);
 
 }  // namespace srics::learner

@@ -165,11 +165,17 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     if (fs::is_regular_file(dir / "graph.png")) run.graph_picture = (dir / "graph.png").string();
   }
   if (const std::optional<Csv> train = ReadCsv(dir / "train.csv")) {
+    // measured with the table's graph where the run has it (the same ancestor sets for every
+    // method); else with each episode's own (SMORL's: none, so the pushing arm counts against it)
+    bool table_graph = false;
+    for (const auto& row : train->rows) table_graph |= train->Number(row, "table_graph_selectivity").has_value();
+    const std::string column = table_graph ? "table_graph_selectivity" : "selectivity";
+    run.selectivity_with_table_graph = table_graph;
     std::map<double, double> by_steps_selectivity;
     for (const auto& row : train->rows) {
       const auto steps = train->Number(row, "env_steps");
-      const auto selectivity = train->Number(row, "selectivity");
-      if (!steps || !selectivity || train->Number(row, "selectivity_episodes").value_or(1) <= 0) continue;
+      const auto selectivity = train->Number(row, column);
+      if (!steps || !selectivity || train->Number(row, column + "_episodes").value_or(1) <= 0) continue;
       by_steps_selectivity[*steps] = *selectivity;  // the last row of a step count wins
     }
     run.selectivity.assign(by_steps_selectivity.begin(), by_steps_selectivity.end());
@@ -366,8 +372,10 @@ std::string FinalTable(const std::vector<RunData>& runs) {
          "seeds; n = seeds. Where a method has finished runs, only those count (an unfinished run's last evaluation "
          "comes from a smaller budget); a method without any shows its unfinished runs' last evaluations. "
          "Distances in metres at the final step of evaluation episodes; success per subgoal as "
-         "a fraction of evaluation episodes. Training selectivity: the last train.csv window. The figures' bands "
-         "span min-max over seeds.\n";
+         "a fraction of evaluation episodes. Training selectivity: the last train.csv window, measured with the "
+         "ancestor sets of the table's graph by construction (the same for every method); marked * where a run "
+         "logged only its episodes' own ancestor sets (written before that column existed; SMORL has none, so the "
+         "arm that pushes counts against it). The figures' bands span min-max over seeds.\n";
   for (const auto& [env, methods] : GroupRuns(runs)) {
     size_t entities = 0;
     for (const auto& [method, group] : methods)
@@ -381,13 +389,17 @@ std::string FinalTable(const std::vector<RunData>& runs) {
     out << "---|---|\n";
     for (const auto& [method, group] : methods) {
       std::vector<double> steps, distance, object, success, selectivity, passive;
+      bool own_ancestor_selectivity = false;
       std::vector<std::vector<double>> subgoal(entities);
       int finished = 0;
       for (const RunData* r : group) finished += r->finished ? 1 : 0;
       for (const RunData* r : group) {
         if (finished > 0 && !r->finished) continue;
         if (r->passive) passive.push_back(r->passive->avg_distance);
-        if (!r->selectivity.empty()) selectivity.push_back(r->selectivity.back().second);
+        if (!r->selectivity.empty()) {
+          selectivity.push_back(r->selectivity.back().second);
+          own_ancestor_selectivity |= !r->selectivity_with_table_graph;
+        }
         if (r->evaluations.empty()) continue;
         const EvalPoint& last = r->evaluations.back();
         steps.push_back(last.env_steps);
@@ -402,7 +414,8 @@ std::string FinalTable(const std::vector<RunData>& runs) {
           << (steps.empty() ? "-" : Format(SpreadOf(steps).mean, 0)) << " | " << MeanStd(d) << " | "
           << MeanStd(SpreadOf(object)) << " | " << MeanStd(SpreadOf(success), 2) << " |";
       for (size_t i = 0; i < entities; ++i) out << " " << MeanStd(SpreadOf(subgoal[i]), 2) << " |";
-      out << " " << MeanStd(SpreadOf(selectivity)) << " | " << MeanStd(SpreadOf(passive)) << " |\n";
+      out << " " << MeanStd(SpreadOf(selectivity)) << (own_ancestor_selectivity ? " *" : "") << " | "
+          << MeanStd(SpreadOf(passive)) << " |\n";
     }
     bool any_graph = false;
     for (const auto& [method, group] : methods)

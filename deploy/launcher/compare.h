@@ -50,6 +50,7 @@ struct RunData {
   std::vector<EvalPoint> evaluations;  // trained policy, env-step order
   std::optional<EvalPoint> passive;    // the first evaluation of policy version 0
   std::vector<std::pair<double, double>> selectivity;  // train.csv: env steps, selectivity
+  bool selectivity_with_table_graph = false;           // measured with the table's graph (else the episodes' own ancestor sets)
   // the run's graph.json as edges ("action->0, 0->2"), empty when it has none; the graph its
   // config.yaml implies by construction, empty when that cannot be read; graph.png if drawn
   std::string graph, graph_by_construction, graph_picture;

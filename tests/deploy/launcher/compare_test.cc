@@ -53,8 +53,11 @@ class CompareTest : public ::testing::Test {
           "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success\n"
           "1,1000,10,0.3,10,0.1,0.2\n1,2000,10,0.5,10,0.1,0.2\n");
     WriteRunOutcome((sweep_ / "srics-seed2").string(), {"finished", 0, "the budget is done"});
+    // smorl seed 1 logs the selectivity with the table's graph too (0.8, against its own 0.3)
     Write("smorl-seed1", Row(0, 0, 0.31, 0.29, "0;0") + Row(2, 1000, 0.25, 0.20, "1;0") + Row(4, 2000, 0.20, 0.18, "1;0"),
-          "");
+          "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success,"
+          "table_graph_selectivity,table_graph_selectivity_episodes\n"
+          "1,1000,10,0.2,10,0.1,0.2,0.7,10\n1,2000,10,0.3,10,0.1,0.2,0.8,10\n");
   }
   void TearDown() override { fs::remove_all(root_); }
 
@@ -111,6 +114,9 @@ TEST_F(CompareTest, ReadsRunsByMethodSeedAndEnvironment) {
   EXPECT_NEAR(runs[2].evaluations.back().avg_distance, 0.14, 1e-12);
   EXPECT_EQ(runs[2].evaluations.back().subgoal_success, (std::vector<double>{0.75, 0.6}));
   EXPECT_EQ(runs[1].selectivity.back(), (std::pair<double, double>{2000, 0.7}));
+  EXPECT_FALSE(runs[1].selectivity_with_table_graph);
+  EXPECT_EQ(runs[0].selectivity.back(), (std::pair<double, double>{2000, 0.8}));
+  EXPECT_TRUE(runs[0].selectivity_with_table_graph);
 }
 
 TEST_F(CompareTest, TableHoldsFinalValuesAsMeanAndStdOverSeeds) {
@@ -120,10 +126,12 @@ TEST_F(CompareTest, TableHoldsFinalValuesAsMeanAndStdOverSeeds) {
   // averaged: 0.14, objects 0.11; never a best one), not the unfinished run's 0.10
   EXPECT_THAT(table, HasSubstr("## relational-4"));
   EXPECT_THAT(table, HasSubstr("| srics | 1 | 1/2 | 2000 | 0.140 ± 0.000 | 0.110 ± 0.000 | 0.50 ± 0.00 | "
-                               "0.75 ± 0.00 | 0.60 ± 0.00 | 0.500 ± 0.000 | 0.320 ± 0.000 |"))
+                               "0.75 ± 0.00 | 0.60 ± 0.00 | 0.500 ± 0.000 * | 0.320 ± 0.000 |"))
       << table;
   // smorl has no finished run: its unfinished one's last evaluation is shown
   EXPECT_THAT(table, HasSubstr("| smorl | 1 | 0/1 | 2000 | 0.200 ± 0.000 | 0.180 ± 0.000 |")) << table;
+  // its selectivity measured with the table's graph: no mark
+  EXPECT_THAT(table, HasSubstr("| 0.800 ± 0.000 | 0.310 ± 0.000 |")) << table;
   EXPECT_THAT(table, HasSubstr("srics-seed1 (not finished)"));
 }
 
