@@ -228,6 +228,15 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
   app.add_option("--width", a->render.width, "frame width in pixels (even, 16 to 4096)")->check(cli::Integer(1, 4096));
   app.add_option("--height", a->render.height, "frame height in pixels (even, 16 to 4096)")->check(cli::Integer(1, 4096));
   app.add_option("--fps", a->fps, "video frames per second (10: real time)")->check(cli::Integer(1, 240));
+  app.add_option("--protocol", a->protocol,
+                 "depth (the graph's subgoals in depth order, as SRICS evaluates; methods without a graph use the "
+                 "table's graph by construction unless --graph) or random (every entity, random order, as SMORL); "
+                 "default: the method's own")
+      ->check(CLI::IsMember({"depth", "random"}));
+  app.add_option("--goal-set", a->goal_set,
+                 "the evaluation goals of a run with this seed (default: the run's own), to compare runs on the same "
+                 "goals")
+      ->check(cli::Integer(1, 1000000000))->default_str("");
 }
 
 void FinishEvalArgs(EvalArgs* a, bool no_video) {

@@ -16,6 +16,7 @@
 #include "common/config/config.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/evaluation.h"
+#include "common/rl/ground_truth.h"
 #include "common/rl/seeds.h"
 #include "graph_service/learned_graph.h"
 #include "learner/acting_policy.h"
@@ -120,6 +121,9 @@ int Eval(const EvalArgs& args) {
 
   // the acting networks, as an actor of this run builds them
   const actor::ActorOptions actor = actor::ActorOptionsFor(config, 0);
+  if (!args.protocol.empty() && (actor.eval.full_goal || actor.eval.hac))
+    throw std::invalid_argument("--protocol: " + std::string(config::MethodName(config.run.method)) +
+                                " attempts the full goal; protocols apply to subgoal policies");
   env::RearrangeEnv environment(actor.env);
   nn::Rng init(0);
   rl::PolicyNetwork<float> policy("policy", actor.policy, init);
@@ -135,7 +139,17 @@ int Eval(const EvalArgs& args) {
   const int catalogue_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
   rl::CatalogueSubgoals subgoals;
   std::string graph_text = "none (" + std::string(config::MethodName(config.run.method)) + " uses no graph)";
-  if (actor.uses_graph) {
+  actor::EvalOptions eval_options = actor.eval;
+  const bool depth_protocol = args.protocol == "depth";
+  if (args.protocol == "random") {
+    eval_options.order = rl::SubgoalOrder::kRandom;
+    graph_text = "none (--protocol random: every entity, in random order)";
+  } else if (depth_protocol && !actor.uses_graph && args.graph_file.empty()) {
+    eval_options.order = rl::SubgoalOrder::kDepth;
+    subgoals.graph = rl::GroundTruthGraph(config.env);
+    graph_text = rl::DescribeGraph(*subgoals.graph) + " (--protocol depth: the table's graph by construction)";
+  } else if (actor.uses_graph || depth_protocol) {
+    if (depth_protocol) eval_options.order = rl::SubgoalOrder::kDepth;
     if (!fs::exists(files.graph))
       throw std::runtime_error("no graph: " + files.graph + " does not exist; " +
                                config::MethodName(config.run.method) +
@@ -167,12 +181,17 @@ int Eval(const EvalArgs& args) {
   std::printf("checkpoint %s: %llu updates, policy v%llu, %llu training env steps\n", files.checkpoint.c_str(),
               static_cast<unsigned long long>(counters.updates), static_cast<unsigned long long>(counters.policy_version),
               static_cast<unsigned long long>(counters.training_env_steps));
-  std::printf("method %s, graph %s\n", config::MethodName(config.run.method), graph_text.c_str());
+  std::printf("method %s, graph %s, subgoal order %s, goals of evaluation seed %llu\n",
+              config::MethodName(config.run.method), graph_text.c_str(),
+              eval_options.full_goal || eval_options.hac ? "(full goal)"
+              : eval_options.order == rl::SubgoalOrder::kDepth ? "depth" : "random",
+              static_cast<unsigned long long>(args.goal_set ? args.goal_set : config.run.seed));
   if (gl) std::printf("renderer: %s\n", gl->description().c_str());
 
   // one CSV row per episode
   // the subgoal columns: the structure of the first evaluation episode's objects
-  environment.Reset(rl::EvalEpisodeSeed(config.run.seed, 0), env::Split::kEval);
+  const uint64_t goal_seed = args.goal_set ? args.goal_set : config.run.seed;
+  environment.Reset(rl::EvalEpisodeSeed(goal_seed, 0), env::Split::kEval);
   const std::vector<int> subgoal_entities = subgoals.For(environment.layout().kinds).SubgoalEntities();
   std::ofstream csv(fs::path(out_dir) / "episodes.csv");
   csv << "episode,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity";
@@ -185,7 +204,7 @@ int Eval(const EvalArgs& args) {
   rl::EvaluationSummary summary;
   int unstable = 0;
   for (int i = 0; i < episodes; ++i) {
-    const uint64_t seed = rl::EvalEpisodeSeed(config.run.seed, i);
+    const uint64_t seed = rl::EvalEpisodeSeed(goal_seed, i);
     std::optional<env::VideoWriter> writer;
     std::string video_name;
     if (renderer) {
@@ -196,8 +215,8 @@ int Eval(const EvalArgs& args) {
       writer.emplace((fs::path(out_dir) / video_name).string(), args.render.width, args.render.height, video);
     }
     EpisodeRecorder recorder(renderer ? &*renderer : nullptr, writer ? &*writer : nullptr, attempts_csv, tally,
-                             actor.eval.threshold, i);
-    const auto metrics = actor::RunEvaluationEpisode(environment, &policy, subgoals, actor.eval, seed, high.get(),
+                             eval_options.threshold, i);
+    const auto metrics = actor::RunEvaluationEpisode(environment, &policy, subgoals, eval_options, seed, high.get(),
                                                      &recorder);
     if (writer) writer->Close();
     const int frames = writer ? writer->frames() : 0;
@@ -205,11 +224,11 @@ int Eval(const EvalArgs& args) {
       throw std::runtime_error("episode " + std::to_string(i) + " has another number of entities");
     csv << i << "," << seed << "," << (metrics ? "ok" : "unstable") << "," << environment.steps() << "," << frames;
     if (metrics) {
-      summary.Add(*metrics, actor.eval.threshold);
+      summary.Add(*metrics, eval_options.threshold);
       csv << "," << metrics->avg_distance << "," << metrics->avg_object_distance << "," << (metrics->success ? 1 : 0)
           << "," << metrics->selectivity;
       for (double d : metrics->entity_distance) csv << "," << d;
-      for (int e : subgoal_entities) csv << "," << (metrics->entity_distance[e] < actor.eval.threshold ? 1 : 0);
+      for (int e : subgoal_entities) csv << "," << (metrics->entity_distance[e] < eval_options.threshold ? 1 : 0);
       std::printf("episode %d: %d steps, avg distance %.4f, avg object distance %.4f, success %d%s%s\n", i,
                   environment.steps(), metrics->avg_distance, metrics->avg_object_distance, metrics->success ? 1 : 0,
                   video_name.empty() ? "" : " -> ", video_name.c_str());

@@ -10,6 +10,9 @@
 //   episode-NNN.mp4      the episode as MuJoCo renders it (headless EGL), goals drawn as
 //                        translucent markers, one frame per env step plus the first state;
 //                        .gif, or a folder of PNG frames (--format png, or without ffmpeg)
+//   attempts.csv         per subgoal attempt: skipped or not, distance before and after, the
+//                        objects solved before it that it left unsolved
+// --protocol and --goal-set play a policy under another method's protocol on other goals.
 // Exit codes: 0 done, 1 a run folder without checkpoint or graph, a corrupt checkpoint, no
 // renderer, ffmpeg failing; 2 bad arguments or config (the message names the argument).
 
@@ -32,6 +35,14 @@ struct EvalArgs {
   std::string format;                  // --format mp4|gif|png ("" = mp4 with ffmpeg, else png)
   env::RenderOptions render;           // --width, --height
   int fps = 10;                        // --fps (10 = real time: an env step is 0.1 s)
+  // --protocol: "" = the method's own; "depth": the subgoals of an interaction graph (the run's,
+  // --graph, or for methods without one the table's graph by construction) in depth order, as
+  // SRICS evaluates; "random": every entity a subgoal, in random order, as SMORL evaluates.
+  // Plays any subgoal policy under either protocol (not the full-goal methods).
+  std::string protocol;
+  // --goal-set S: the evaluation goals of a run with seed S (0 = the run's own seed), so that
+  // policies of different seeds are compared on the same goals
+  uint64_t goal_set = 0;
 };
 
 // Runs the evaluation; returns 0. Throws std::invalid_argument (bad arguments: exit 2),

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "actor/env/render/video_writer.h"
+#include "common/rl/seeds.h"
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/launcher.h"
 #include "deploy/launcher/run_folder.h"
@@ -139,6 +140,56 @@ TEST(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
                 std::stod(rows[episode].at("distance_" + last.at("entity"))), 1e-4) << "episode " << episode;
   }
   EXPECT_NE(output.find("attempts on object 4:"), std::string::npos) << output;
+  fs::remove_all(out);
+}
+
+// The same policy under SMORL's protocol (every entity, the static puck 1 too, random order:
+// 4 random attempts then all 5, 9 per episode) and, as a method without a graph, under the depth
+// protocol of the table's graph by construction (puck 1 has no subgoal: 8 per episode, the arm
+// last), on the goals of another seed.
+TEST(CommittedPolicyTest, PlaysUnderEitherProtocolOnAnotherSeedsGoals) {
+  const fs::path policy = fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
+  const fs::path out = fs::temp_directory_path() / ("srics_protocols_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const std::vector<std::string> common = {(policy / "policy.srics").string(), "--config",
+                                           (policy / "config.yaml").string(), "--episodes", "3", "--no-video"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = common;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  auto [code, output] = SricsEval(out, with({"--graph", (policy / "graph.json").string(), "--protocol", "random",
+                                             "--goal-set", "2", "--out", (out / "random").string()}));
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_THAT(output, ::testing::HasSubstr("subgoal order random, goals of evaluation seed 2")) << output;
+  auto attempts = ReadCsv(out / "random" / "attempts.csv");
+  ASSERT_EQ(attempts.size(), 3u * 9u) << output;
+  int static_puck = 0;
+  for (const auto& a : attempts) static_puck += a.at("entity") == "1" ? 1 : 0;
+  EXPECT_GT(static_puck, 0) << "every entity is a subgoal under the random protocol";
+  const auto episodes_seed2 = ReadCsv(out / "random" / "episodes.csv");
+  ASSERT_EQ(episodes_seed2.size(), 3u);
+  EXPECT_EQ(episodes_seed2[0].at("seed"), std::to_string(rl::EvalEpisodeSeed(2, 0)));
+
+  std::tie(code, output) =
+      SricsEval(out, with({"--set", "run.method=srics_no_selectivity_no_order", "--protocol", "depth", "--graph",
+                           (out / "no-such-graph.json").string(), "--out", (out / "depth").string()}));
+  EXPECT_EQ(code, 2) << output;  // a --graph that does not exist
+  std::tie(code, output) = SricsEval(out, with({"--set", "run.method=smorl", "--protocol", "depth", "--out",
+                                                (out / "depth").string()}));
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_THAT(output, ::testing::HasSubstr("the table's graph by construction")) << output;
+  attempts = ReadCsv(out / "depth" / "attempts.csv");
+  ASSERT_EQ(attempts.size(), 3u * 8u) << output;
+  for (size_t episode = 0; episode < 3; ++episode) {
+    for (size_t k = 0; k < 8; ++k) EXPECT_NE(attempts[episode * 8 + k].at("entity"), "1");
+    EXPECT_EQ(attempts[episode * 8 + 7].at("entity"), "0") << "the arm is attempted last";
+  }
+
+  std::tie(code, output) = SricsEval(out, with({"--protocol", "sideways"}));
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_THAT(output, ::testing::HasSubstr("--protocol")) << output;
   fs::remove_all(out);
 }
 
