@@ -401,10 +401,8 @@ void GraphService::TrainStep() {
   else SaveTraining();
 }
 
-void GraphService::EvaluateGraph() {
-  // held-out loss and the thresholded graph of the read-out's edge scores
-  const EdgeStatistics stats = trainer_->Evaluate();
-  const bool cut = config_.readout == config::GraphReadout::kCut;
+std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::GraphConfig& config, int action_entity) {
+  const bool cut = config.readout == config::GraphReadout::kCut;
   std::vector<double> scores = cut ? stats.cut_score : stats.mean_weight;
   if (!cut && !stats.training_mean_weight.empty()) {
     // refinement: an edge counts when it is used in random exploration or in the agent's own
@@ -412,8 +410,22 @@ void GraphService::EvaluateGraph() {
     // and an object the policy neglects keeps its edges
     for (size_t i = 0; i < scores.size(); ++i) scores[i] = std::max(scores[i], stats.training_mean_weight[i]);
   }
-  if (cut && config_.reciprocal_object_edges)
-    scores = ReciprocalObjectScores(scores, action_entity_, MovingEntities(stats.held_out_entity_zero_mse, config_.static_variance_fraction));
+  if (!config.reciprocal_object_edges) return scores;
+  // which entities move; with object sets the per-entity errors are per position in the
+  // episode, not per catalogue identity: then every object counts (a pair touching a static
+  // object is wrong in either direction, so this never spoils an exact graph)
+  const int n = stats.num_entities;
+  std::vector<bool> moving(n, true);
+  if (stats.held_out_entity_zero_mse.size() == static_cast<size_t>(n))
+    moving = MovingEntities(stats.held_out_entity_zero_mse, config.static_variance_fraction);
+  return ReciprocalObjectScores(scores, action_entity, moving);
+}
+
+void GraphService::EvaluateGraph() {
+  // held-out loss and the thresholded graph of the read-out's edge scores
+  const EdgeStatistics stats = trainer_->Evaluate();
+  const bool cut = config_.readout == config::GraphReadout::kCut;
+  const std::vector<double> scores = ReadOutScores(stats, config_, action_entity_);
   LearnedGraph graph = AggregateGraph(data_->graph_entities(), scores,
                                       cut ? config_.cut_threshold : config_.threshold, action_entity_);
   graph.readout = cut ? "cut" : "mean_weight";

@@ -81,6 +81,12 @@ struct ServiceOptions {
 // its seed, shape, limits, status period and training episode length; state in `state_dir`.
 ServiceOptions ServiceOptionsFor(const config::Config& config, const std::string& state_dir);
 
+// The edge scores the threshold applies to: the read-out's (graph.readout: the mean weights,
+// with refinement the larger of random and training data; or the cut scores), every object ->
+// object pair made reciprocal (graph.reciprocal_object_edges; ReciprocalObjectScores) among the
+// entities that move.
+std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::GraphConfig& config, int action_entity);
+
 // Converts the graph service's product to what the sink publishes.
 rl::GraphUpdate ToGraphUpdate(const LearnedGraph& graph);
 

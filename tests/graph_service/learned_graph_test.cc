@@ -1,4 +1,5 @@
 #include "graph_service/learned_graph.h"
+#include "graph_service/service.h"
 #include "graph_service/trainer.h"
 
 #include <gtest/gtest.h>
@@ -48,6 +49,43 @@ TEST(AggregateGraphTest, ActionEntityAndThresholdMatter) {
   EXPECT_EQ(rl::DescribeGraph(g.graph), "action->2, 0->2, 0->3, 0->4");
   // arm unreachable from the action: only 2 has a subgoal
   EXPECT_EQ(g.structure.depth, (std::vector<int>{-1, -1, 1, -1, -1}));
+}
+
+// The mean weights relational-4 seed 1 gave on an AVX-512 EPYC (srics_no_selectivity campaign
+// run, 2026-12-02; rounded): the rope 3 -> 2 at 0.066 but 2 -> 3 at 0.057, under the paper's
+// threshold 0.06, so the graph had the rope one way only and puck 2 and 3 wrong ancestor sets.
+// Before the mean-weight read-out took reciprocal object pairs, the service published
+// `action->0, 0->2, 0->3, 0->4, 3->2`.
+TEST(ReadOutScoresTest, MeanWeightReadOutCompletesTheRopeBothWays) {
+  EdgeStatistics stats;
+  stats.num_entities = 5;
+  stats.mean_weight = {0,       0.00015, 0.402,   0.332,   0.313,    // arm -> pucks (static puck 1: ~0)
+                       0.0,     0,       0.00012, 0.00002, 0.00002,  // static puck 1 -> others
+                       0.00076, 0.0,     0,       0.0570,  0.0182,   // puck 2 -> 3 under the threshold
+                       0.00033, 0.0,     0.0662,  0,       0.0112,   // puck 3 -> 2 over it
+                       0.0,     0.0,     0.0030,  0.0013,  0};
+  // no-motion error per entity: puck 1 does not move
+  stats.held_out_entity_zero_mse = {1e-3, 1e-9, 2e-4, 2e-4, 1.5e-4};
+  config::GraphConfig config;  // defaults: mean_weight read-out, threshold 0.06, reciprocal pairs
+  ASSERT_EQ(config.readout, config::GraphReadout::kMeanWeight);
+  auto graph = [&](const config::GraphConfig& c) {
+    return rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, c, 0), c.threshold, 0).graph);
+  };
+  EXPECT_EQ(graph(config), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
+  config.reciprocal_object_edges = false;  // the paper's read-out
+  EXPECT_EQ(graph(config), "action->0, 0->2, 0->3, 0->4, 3->2");
+
+  // refinement: the larger of the random and the training data's mean weight, then reciprocal
+  config.reciprocal_object_edges = true;
+  stats.training_mean_weight.assign(25, 0.0);
+  stats.training_mean_weight[4 * 5 + 2] = 0.09;  // the policy's pushes show 4 -> 2 (contact)
+  EXPECT_EQ(graph(config), "action->0, 0->2, 0->3, 0->4, 2->3, 2->4, 3->2, 4->2");
+
+  // object sets: per-entity errors per position (4), not per catalogue entity (5): every object
+  // counts as moving, and nothing throws
+  stats.training_mean_weight.clear();
+  stats.held_out_entity_zero_mse = {1e-3, 2e-4, 2e-4, 1.5e-4};
+  EXPECT_EQ(graph(config), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
 }
 
 TEST(ReciprocalObjectScoresTest, ObjectPairsTakeTheLargerDirectionArmAndStaticUntouched) {
