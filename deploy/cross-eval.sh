@@ -15,7 +15,7 @@ set -euo pipefail
 
 usage() { sed -n '8p' "$0" | sed 's/^#   /usage: /' >&2; exit 2; }
 root=$(cd "$(dirname "$0")/.." && pwd)
-srics="$root/build/deploy/launcher/srics"
+srics=${SRICS:-$root/build/deploy/launcher/srics}  # SRICS: another build's program (tests)
 out="" goal_sets="1 2 3" episodes=20 runs=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -42,14 +42,15 @@ total=$(( ${#runs[@]} * 2 * $(echo $goal_sets | wc -w) ))
 done_count=0
 for r in "${runs[@]}"; do
   name=$(basename "$r")
-  method=$(awk '$1 == "method:" { gsub(/"/, "", $2); print $2; exit }' "$r/config.yaml")
+  method=""  # from srics eval's own report (a config that leaves the method at its default does not name it)
   for protocol in depth random; do
     for s in $goal_sets; do
       dir="$out/raw/$name-$protocol-goals$s"
       done_count=$((done_count + 1))
-      echo "[$done_count/$total] $name ($method), protocol $protocol, goals of seed $s" >&2
+      echo "[$done_count/$total] $name, protocol $protocol, goals of seed $s" >&2
       "$srics" eval "$r" --protocol "$protocol" --goal-set "$s" --episodes "$episodes" --no-video --out "$dir" > "$dir.log" 2>&1 ||
         { echo "cross-eval: srics eval failed, see $dir.log" >&2; exit 1; }
+      [ -n "$method" ] || method=$(awk '$1 == "method" { sub(/,$/, "", $2); print $2; exit }' "$dir.log")
       # the objects that have a subgoal: those of the depth protocol (a static object has none)
       movable=$(awk -F, 'NR > 1 && $3 != 0 { seen[$3] = 1 } END { for (e in seen) printf "%s ", e }' "$out/raw/$name-depth-goals$s/attempts.csv")
       ep=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }

@@ -250,6 +250,46 @@ TEST_F(EvalTest, WritesMetricsAndAVideoOfEveryStep) {
   }
 }
 
+// deploy/cross-eval.sh on the tiny run: both protocols on two goal sets, the CSV rows and the
+// tables; the depth protocol's means equal those of `srics eval --protocol depth` itself.
+TEST_F(EvalTest, CrossEvalScriptPlaysBothProtocolsOnEachGoalSet) {
+  const fs::path out = root_ / "cross";
+  ChildProcess child = ChildProcess::Spawn(
+      {"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash", std::string(SRICS_SOURCE_DIR) + "/deploy/cross-eval.sh",
+       "--out", out.string(), "--goal-sets", "3 4", "--episodes", "2", run().string()},
+      {.output_file = (root_ / "cross.out").string()});
+  const auto status = child.WaitFor(std::chrono::seconds(240));
+  const std::string output = files::testing::ReadFile(root_ / "cross.out");
+  ASSERT_TRUE(status && !status->signaled && status->code == 0) << output;
+  const auto rows = ReadCsv(out / "cross-eval.csv");
+  ASSERT_EQ(rows.size(), 4u) << output;
+  EXPECT_EQ(rows[0].at("protocol"), "depth");
+  EXPECT_EQ(rows[0].at("goal_set"), "3");
+  EXPECT_EQ(rows[3].at("protocol"), "random");
+  EXPECT_EQ(rows[3].at("goal_set"), "4");
+  for (const auto& r : rows) EXPECT_EQ(r.at("episodes"), "2");
+  const auto [code, direct] = SricsEval(root_, {run().string(), "--protocol", "depth", "--goal-set", "3", "--episodes",
+                                                "2", "--no-video", "--out", (root_ / "direct").string()});
+  ASSERT_EQ(code, 0) << direct;
+  const auto episodes = ReadCsv(root_ / "direct" / "episodes.csv");
+  ASSERT_EQ(episodes.size(), 2u);
+  const double mean = (std::stod(episodes[0].at("avg_distance")) + std::stod(episodes[1].at("avg_distance"))) / 2;
+  EXPECT_NEAR(std::stod(rows[0].at("avg_distance")), mean, 1e-4);
+  const std::string table = files::testing::ReadFile(out / "cross-eval.md");
+  EXPECT_THAT(table, HasSubstr("| eval_test_run | srics | depth |")) << table;
+  EXPECT_THAT(table, HasSubstr("| srics | random | 1 |")) << table;
+
+  // a folder without a checkpoint: exit 2, naming it
+  ChildProcess bad = ChildProcess::Spawn({"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
+                                          std::string(SRICS_SOURCE_DIR) + "/deploy/cross-eval.sh", "--out",
+                                          out.string(), root_.string()},
+                                         {.output_file = (root_ / "bad.out").string()});
+  const auto bad_status = bad.WaitFor(std::chrono::seconds(30));
+  ASSERT_TRUE(bad_status);
+  EXPECT_EQ(bad_status->code, 2);
+  EXPECT_THAT(files::testing::ReadFile(root_ / "bad.out"), HasSubstr("has no checkpoint.srics"));
+}
+
 TEST_F(EvalTest, PngFramesWithoutFfmpegAndTheSameMetrics) {
   const fs::path out = root_ / "eval-png";
   const auto [code, output] =
