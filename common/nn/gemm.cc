@@ -7,6 +7,8 @@
 #include <string>
 
 #ifdef SRICS_WITH_ONEDNN
+#include <pthread.h>
+#include <signal.h>
 #include <omp.h>
 #include <oneapi/dnnl/dnnl.h>
 #endif
@@ -70,6 +72,33 @@ void EigenSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k
 }
 
 #ifdef SRICS_WITH_ONEDNN
+// oneDNN's AVX-512 f32 GEMM kernels (2.6.3, Debian 12's) point the stack pointer into a heap
+// buffer while they run (oneDNN issue 4845, fixed in 3.11.2): a signal handled in this thread
+// meanwhile pushes its frame onto the heap, which malloc finds corrupted later ("corrupted size
+// vs. prev_size": learners stopped by SIGINT mid-update). The asynchronous signals wait until
+// the product is done; one sent to the process goes to another thread. Two syscalls per
+// product, each of at least 2^19 multiply-adds (kSmallestOneDnnProduct): under 1% of it.
+class AsynchronousSignalsBlocked {
+ public:
+  AsynchronousSignalsBlocked() { pthread_sigmask(SIG_BLOCK, &Set(), &saved_); }
+  ~AsynchronousSignalsBlocked() { pthread_sigmask(SIG_SETMASK, &saved_, nullptr); }
+  AsynchronousSignalsBlocked(const AsynchronousSignalsBlocked&) = delete;
+  AsynchronousSignalsBlocked& operator=(const AsynchronousSignalsBlocked&) = delete;
+
+ private:
+  static const sigset_t& Set() {
+    static const sigset_t set = [] {
+      sigset_t s;
+      sigfillset(&s);
+      // faults raised by the product itself cannot wait
+      for (int fault : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGABRT, SIGSYS}) sigdelset(&s, fault);
+      return s;
+    }();
+    return set;
+  }
+  sigset_t saved_;
+};
+
 void OneDnnSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a,
                  Eigen::Index lda, const float* b, Eigen::Index ldb, float beta, float* c,
                  Eigen::Index ldc) {
@@ -77,8 +106,11 @@ void OneDnnSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index 
   // of our threads; the learner splits its work itself (nn::WorkerPool), so one per caller.
   thread_local const bool single_threaded = (omp_set_num_threads(1), true);
   (void)single_threaded;
-  const dnnl_status_t status =
-      dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', m, n, k, 1.0f, a, lda, b, ldb, beta, c, ldc);
+  dnnl_status_t status;
+  {
+    const AsynchronousSignalsBlocked blocked;
+    status = dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', m, n, k, 1.0f, a, lda, b, ldb, beta, c, ldc);
+  }
   if (status != dnnl_success) {
     throw std::runtime_error("oneDNN sgemm failed (status " + std::to_string(status) + ") on " +
                              std::to_string(m) + "x" + std::to_string(k) + " * " +

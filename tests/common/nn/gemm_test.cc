@@ -9,7 +9,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <dirent.h>
+#include <pthread.h>
+#include <signal.h>
+#include <unistd.h>
 #include <limits>
+#include <atomic>
+#include <chrono>
 #include <random>
 #include <string>
 #include <thread>
@@ -155,6 +160,51 @@ TEST(GemmTest, ProductsStartNoThreadsOfTheirOwn) {
     other.join();
     EXPECT_EQ(ThreadCount(), before) << GemmBackendDescription();
   }
+}
+
+// oneDNN's f32 GEMM kernels for AVX-512 point the stack pointer into a heap buffer while they
+// run (oneDNN issue 4845, fixed in 3.11.2; Debian 12 ships 2.6.3): a signal handled in that
+// thread meanwhile pushes its frame onto the heap. Our processes handle SIGINT and SIGTERM (the
+// shutdown) and the launcher SIGCHLD: a learner stopped during an update, or a run in process
+// whose child exits, aborted with "corrupted size vs. prev_size" (2026-12-02: a campaign HAC run
+// on Ctrl-C; the foreign-participant system test's learner in 3 of 21 runs). Here a thread
+// multiplies while another sends it a handled signal every few microseconds; the heap is then
+// exercised. The child must exit normally (before the fix: SIGABRT from malloc, or SIGSEGV).
+// The death test's child: products in one thread, a handled signal to it every 20 us from
+// this one, then the heap exercised; exits 0 if nothing broke.
+[[noreturn]] void MultiplyUnderSignals() {
+  SetGemmBackend(GemmBackend::kOneDnn);
+  struct sigaction action = {};
+  action.sa_handler = [](int) {};
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGUSR1, &action, nullptr);
+  std::mt19937 rng(3);
+  const Matrix<float> a = Random(256, 128, rng), b = Random(128, 256, rng);
+  std::atomic<bool> done{false};
+  std::thread worker([&] {
+    Matrix<float> c;
+    for (int i = 0; i < 1500; ++i) {
+      Gemm<float>(false, false, a, b, 0.0f, c);
+      std::vector<float> churn(1000 + i % 7 * 100, 1.0f);  // the heap in use between products
+    }
+    done = true;
+  });
+  const pthread_t target = worker.native_handle();
+  while (!done) {
+    pthread_kill(target, SIGUSR1);
+    std::this_thread::sleep_for(std::chrono::microseconds(20));
+  }
+  worker.join();
+  std::vector<std::vector<float>> blocks;
+  for (int i = 0; i < 1000; ++i) blocks.emplace_back(static_cast<size_t>(i) * 37 + 1, 0.5f);
+  blocks.clear();
+  std::exit(0);
+}
+
+TEST(GemmDeathTest, SignalsDuringProductsLeaveTheHeapIntact) {
+  if (!GemmBackendAvailable(GemmBackend::kOneDnn)) GTEST_SKIP() << "no oneDNN in this build";
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(MultiplyUnderSignals(), ::testing::ExitedWithCode(0), "");
 }
 
 TEST(GemmTest, DescribesTheBackendAndTheInstructionSetInUse) {
