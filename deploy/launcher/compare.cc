@@ -215,6 +215,13 @@ std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<
     for (const auto& [run_dir, environment] : run_dirs)
       if (auto run = ReadRun(run_dir, environment, warnings)) runs.push_back(std::move(*run));
   }
+  // the two selectivity measures never mix within a method: where some of its runs measured
+  // with the table's graph, only theirs count
+  std::set<std::pair<std::string, std::string>> with_table_graph;
+  for (const RunData& r : runs)
+    if (r.selectivity_with_table_graph) with_table_graph.emplace(r.environment, r.method);
+  for (RunData& r : runs)
+    if (!r.selectivity_with_table_graph && with_table_graph.count({r.environment, r.method})) r.selectivity.clear();
   return runs;
 }
 

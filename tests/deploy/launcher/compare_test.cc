@@ -119,6 +119,25 @@ TEST_F(CompareTest, ReadsRunsByMethodSeedAndEnvironment) {
   EXPECT_TRUE(runs[0].selectivity_with_table_graph);
 }
 
+// A method whose runs logged different selectivity measures (a run from before the table-graph
+// column beside one with it) shows only the table-graph ones: the measures never mix.
+TEST_F(CompareTest, SelectivityMeasuresNeverMixWithinAMethod) {
+  Write("smorl-seed3", Row(0, 0, 0.31, 0.29, "0;0") + Row(4, 2000, 0.22, 0.19, "1;0"),
+        "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success\n"
+        "1,2000,10,0.25,10,0.1,0.2\n");
+  std::vector<std::string> warnings;
+  const std::vector<RunData> runs = ReadRuns({sweep_.string()}, &warnings);
+  ASSERT_EQ(runs.size(), 4u);
+  EXPECT_EQ(runs[1].method, "smorl");
+  EXPECT_EQ(runs[1].seed, 3u);
+  EXPECT_TRUE(runs[1].selectivity.empty()) << "its own-ancestor measure is left out beside seed 1's";
+  EXPECT_EQ(runs[0].selectivity.back().second, 0.8);
+  const std::string table = FinalTable(runs);
+  EXPECT_THAT(table, HasSubstr("| 0.800 ± 0.000 | 0.310 ± 0.000 |")) << table;
+  // srics has only own-ancestor measures: shown, marked
+  EXPECT_THAT(table, HasSubstr("| 0.500 ± 0.000 * |")) << table;
+}
+
 TEST_F(CompareTest, TableHoldsFinalValuesAsMeanAndStdOverSeeds) {
   std::vector<std::string> warnings;
   const std::string table = FinalTable(ReadRuns({sweep_.string()}, &warnings));
