@@ -256,11 +256,15 @@ using Group = std::vector<const RunData*>;
 // environment -> method -> runs (seed order)
 using Groups = std::map<std::string, std::map<std::string, Group>>;
 
-// A legend's "method (N seeds)": N counts the runs with at least one evaluation of a trained
-// policy (a run just started has none and draws nothing).
-std::string LegendTitle(const std::string& method, const Group& group) {
-  const auto seeds =
-      std::count_if(group.begin(), group.end(), [](const RunData* r) { return !r->evaluations.empty(); });
+// Whether a run draws in a figure: evaluations (distance figures) or selectivity rows.
+using HasData = bool (*)(const RunData&);
+bool HasEvaluations(const RunData& r) { return !r.evaluations.empty(); }
+bool HasSelectivity(const RunData& r) { return !r.selectivity.empty(); }
+
+// A legend's "method (N seeds)": N counts the runs that draw in the figure (by default those
+// with at least one evaluation of a trained policy; a run just started has none).
+std::string LegendTitle(const std::string& method, const Group& group, HasData has_data = HasEvaluations) {
+  const auto seeds = std::count_if(group.begin(), group.end(), [&](const RunData* r) { return has_data(*r); });
   return method + " (" + std::to_string(seeds) + (seeds == 1 ? " seed" : " seeds") + ")";
 }
 
@@ -350,7 +354,8 @@ const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", 
 
 void PlotCurves(std::ostream& script, const std::string& png, const std::string& dat, const std::string& title,
                 const std::string& ylabel, const std::vector<std::string>& methods,
-                const std::map<std::string, Group>& groups, const std::map<std::string, double>& passive) {
+                const std::map<std::string, Group>& groups, const std::map<std::string, double>& passive,
+                HasData has_data = HasEvaluations) {
   script << "set output '" << GnuplotQuote(png) << "'\n"
          << "set title '" << GnuplotQuote(title) << "' noenhanced\n"
          << "set xlabel 'environment steps'\nset ylabel '" << GnuplotQuote(ylabel) << "' noenhanced\n"
@@ -361,7 +366,7 @@ void PlotCurves(std::ostream& script, const std::string& png, const std::string&
     script << (i ? ", " : "") << "'" << GnuplotQuote(dat) << "' index " << i
            << " using 1:3:4 with filledcurves lc rgb '" << color << "' notitle, '' index " << i
            << " using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '" << color << "' title '"
-           << GnuplotQuote(LegendTitle(methods[i], groups.at(methods[i]))) << "'";
+           << GnuplotQuote(LegendTitle(methods[i], groups.at(methods[i]), has_data)) << "'";
   }
   int k = 0;
   for (const auto& [label, value] : passive)
@@ -508,8 +513,8 @@ int Compare(const CompareOptions& options) {
         return r.selectivity;
       });
       PlotCurves(script, base + "-selectivity.png", base + "-selectivity.dat",
-                 env + ": selectivity of training episodes (mean, band min-max over seeds)", "selectivity", selectivity,
-                 methods, {});
+                 env + ": selectivity of training episodes, the table's ancestor sets (mean, band min-max over seeds)",
+                 "selectivity", selectivity, methods, {}, HasSelectivity);
       pictures.push_back(base + "-selectivity.png");
     }
     // per-subgoal success at the final evaluation: one bar per method and entity

@@ -18,14 +18,14 @@ set yrange [0:*]
 set style fill transparent solid 0.2 noborder
 plot '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'hac (1 seed)', '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 2 using 1:3:4 with filledcurves lc rgb '#2ca02c' notitle, '' index 2 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#2ca02c' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/relational-4-object_distance.dat' index 3 using 1:3:4 with filledcurves lc rgb '#9467bd' notitle, '' index 3 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#9467bd' title 'srics (3 seeds)', 0.188283 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
 set output '/work/main/docs/results/campaign/relational-4-selectivity.png'
-set title 'relational-4: selectivity of training episodes (mean, band min-max over seeds)' noenhanced
+set title 'relational-4: selectivity of training episodes, the table''s ancestor sets (mean, band min-max over seeds)' noenhanced
 set xlabel 'environment steps'
 set ylabel 'selectivity' noenhanced
 set key outside right top noenhanced
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-selectivity.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/relational-4-selectivity.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (3 seeds)'
+plot '/work/main/docs/results/campaign/relational-4-selectivity.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-selectivity.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (3 seeds)'
 set output '/work/main/docs/results/campaign/relational-4-subgoal_success.png'
 set title 'relational-4: success per subgoal at the final evaluation (mean over seeds, bars min-max)' noenhanced
 set xlabel ''

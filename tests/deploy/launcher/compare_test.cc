@@ -136,6 +136,13 @@ TEST_F(CompareTest, SelectivityMeasuresNeverMixWithinAMethod) {
   EXPECT_THAT(table, HasSubstr("| 0.800 ± 0.000 | 0.310 ± 0.000 |")) << table;
   // srics has only own-ancestor measures: shown, marked
   EXPECT_THAT(table, HasSubstr("| 0.500 ± 0.000 * |")) << table;
+  // the selectivity figure's legend counts the runs that draw in it: smorl 1 of its 2
+  ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
+  const std::string script = ReadFile(root_ / "out" / "relational-4.gnuplot");
+  const size_t selectivity = script.find("relational-4-selectivity.png");
+  ASSERT_NE(selectivity, std::string::npos) << script;
+  EXPECT_NE(script.find("title 'smorl (1 seed)'", selectivity), std::string::npos) << script;
+  EXPECT_NE(script.find("title 'smorl (2 seeds)'"), std::string::npos) << "the distance figures count both";
 }
 
 TEST_F(CompareTest, TableHoldsFinalValuesAsMeanAndStdOverSeeds) {
