@@ -387,7 +387,9 @@ std::string FinalTable(const std::vector<RunData>& runs) {
          "a fraction of evaluation episodes. Training selectivity: the last train.csv window, measured with the "
          "ancestor sets of the table's graph by construction (the same for every method); marked * where a run "
          "logged only its episodes' own ancestor sets (written before that column existed; SMORL has none, so the "
-         "arm that pushes counts against it). The figures' bands span min-max over seeds.\n";
+         "arm that pushes counts against it). Avg object distance / passive's: each run's final object distance over "
+         "its own passive policy's (each seed draws its own evaluation goals). The figures' bands span min-max over "
+         "seeds.\n";
   for (const auto& [env, methods] : GroupRuns(runs)) {
     size_t entities = 0;
     for (const auto& [method, group] : methods)
@@ -396,11 +398,11 @@ std::string FinalTable(const std::vector<RunData>& runs) {
     out << "\n## " << env << "\n\n| method | n | finished | env steps | avg distance (arm incl.) | avg object distance | "
            "success rate |";
     for (size_t i = 0; i < entities; ++i) out << " success " << EntityName(i) << " |";
-    out << " training selectivity | passive avg distance |\n|---|---|---|---|---|---|---|";
+    out << " training selectivity | passive avg distance | avg object distance / passive's |\n|---|---|---|---|---|---|---|";
     for (size_t i = 0; i < entities; ++i) out << "---|";
-    out << "---|---|\n";
+    out << "---|---|---|\n";
     for (const auto& [method, group] : methods) {
-      std::vector<double> steps, distance, object, success, selectivity, passive;
+      std::vector<double> steps, distance, object, success, selectivity, passive, object_ratio;
       bool own_ancestor_selectivity = false;
       std::vector<std::vector<double>> subgoal(entities);
       int finished = 0;
@@ -414,6 +416,9 @@ std::string FinalTable(const std::vector<RunData>& runs) {
         }
         if (r->evaluations.empty()) continue;
         const EvalPoint& last = r->evaluations.back();
+        // each seed draws its own evaluation goals: its passive policy is its yardstick
+        if (r->passive && r->passive->avg_object_distance > 0)
+          object_ratio.push_back(last.avg_object_distance / r->passive->avg_object_distance);
         steps.push_back(last.env_steps);
         distance.push_back(last.avg_distance);
         object.push_back(last.avg_object_distance);
@@ -427,7 +432,7 @@ std::string FinalTable(const std::vector<RunData>& runs) {
           << MeanStd(SpreadOf(object)) << " | " << MeanStd(SpreadOf(success), 2) << " |";
       for (size_t i = 0; i < entities; ++i) out << " " << MeanStd(SpreadOf(subgoal[i]), 2) << " |";
       out << " " << MeanStd(SpreadOf(selectivity)) << (own_ancestor_selectivity ? " *" : "") << " | "
-          << MeanStd(SpreadOf(passive)) << " |\n";
+          << MeanStd(SpreadOf(passive)) << " | " << MeanStd(SpreadOf(object_ratio), 2) << " |\n";
     }
     bool any_graph = false;
     for (const auto& [method, group] : methods)
