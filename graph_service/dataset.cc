@@ -83,7 +83,8 @@ GraphDataset GraphDataset::ShapedLike(const rl::Episode& episode) {
 }
 
 std::string GraphDataset::Convert(const rl::Episode& episode, StoredEpisode* out) const {
-  if (!links::GraphServiceWants(episode.mode, training_episodes_)) return training_episodes_ ? "neither an explore nor a training episode" : "not an explore episode";
+  if (!links::GraphServiceWants(episode.mode, training_episodes_))
+    return training_episodes_ ? "neither an explore nor a training episode" : "not an explore episode";
   if (!(episode.layout == layout_)) return "entity layout differs from the data set's";
   const auto set = std::find(kind_sets_.begin(), kind_sets_.end(), episode.entity_kinds);
   if (set == kind_sets_.end())

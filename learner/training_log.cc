@@ -62,8 +62,7 @@ void TrainingLog::Open() {
 
 void TrainingLog::ResumeAt(uint64_t env_steps) {
   next_row_at_ = (env_steps / options_.every_env_steps + 1) * options_.every_env_steps;
-  episodes_ = selectivity_episodes_ = successes_ = table_graph_episodes_ = 0;
-  selectivity_sum_ = distance_sum_ = table_graph_sum_ = 0;
+  ClearWindow();
   if (options_.path.empty()) return;
   // keep the header and the rows up to the checkpoint
   out_.close();
@@ -110,6 +109,11 @@ std::optional<TrainingLog::Figures> TrainingLog::Measure(const rl::Episode& e) c
   return figures;
 }
 
+void TrainingLog::ClearWindow() {
+  episodes_ = selectivity_episodes_ = successes_ = table_graph_episodes_ = 0;
+  selectivity_sum_ = distance_sum_ = table_graph_sum_ = 0;
+}
+
 void TrainingLog::Add(const Figures& f) {
   ++episodes_;
   if (f.selectivity >= 0) {
@@ -136,8 +140,7 @@ void TrainingLog::Advance(uint64_t env_steps, bool force) {
     if (options_.table_graph) out_ << table_graph_episodes_;
     out_ << '\n' << std::flush;
   }
-  episodes_ = selectivity_episodes_ = successes_ = table_graph_episodes_ = 0;
-  selectivity_sum_ = distance_sum_ = table_graph_sum_ = 0;
+  ClearWindow();
   while (next_row_at_ <= env_steps) next_row_at_ += options_.every_env_steps;
 }
 

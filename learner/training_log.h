@@ -67,6 +67,7 @@ class TrainingLog {
 
  private:
   void Open();
+  void ClearWindow();  // the window's sums back to zero
 
   TrainingLogOptions options_;
   std::ofstream out_;

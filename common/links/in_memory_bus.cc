@@ -32,7 +32,8 @@ class InMemoryBus::Actor : public ActorLink {
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds) override { return bus_->progress_; }
   bool PublishEpisode(const rl::Episode& episode) override {
     ++bus_->episodes_published_;
-    if (GraphServiceWants(episode.mode, bus_->graph_takes_training_) && bus_->graph_source_attached_) bus_->graph_queue_.push_back(episode);
+    if (GraphServiceWants(episode.mode, bus_->graph_takes_training_) && bus_->graph_source_attached_)
+      bus_->graph_queue_.push_back(episode);
     bus_->learner_queue_.push_back(episode);
     return true;
   }

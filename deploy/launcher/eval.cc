@@ -141,15 +141,13 @@ int Eval(const EvalArgs& args) {
   std::string graph_text = "none (" + std::string(config::MethodName(config.run.method)) + " uses no graph)";
   actor::EvalOptions eval_options = actor.eval;
   const bool depth_protocol = args.protocol == "depth";
+  if (!args.protocol.empty()) eval_options.order = depth_protocol ? rl::SubgoalOrder::kDepth : rl::SubgoalOrder::kRandom;
   if (args.protocol == "random") {
-    eval_options.order = rl::SubgoalOrder::kRandom;
     graph_text = "none (--protocol random: every entity, in random order)";
   } else if (depth_protocol && !actor.uses_graph && args.graph_file.empty()) {
-    eval_options.order = rl::SubgoalOrder::kDepth;
     subgoals.graph = rl::GroundTruthGraph(config.env);
     graph_text = rl::DescribeGraph(*subgoals.graph) + " (--protocol depth: the table's graph by construction)";
   } else if (actor.uses_graph || depth_protocol) {
-    if (depth_protocol) eval_options.order = rl::SubgoalOrder::kDepth;
     if (!fs::exists(files.graph))
       throw std::runtime_error("no graph: " + files.graph + " does not exist; " +
                                config::MethodName(config.run.method) +
@@ -181,16 +179,16 @@ int Eval(const EvalArgs& args) {
   std::printf("checkpoint %s: %llu updates, policy v%llu, %llu training env steps\n", files.checkpoint.c_str(),
               static_cast<unsigned long long>(counters.updates), static_cast<unsigned long long>(counters.policy_version),
               static_cast<unsigned long long>(counters.training_env_steps));
+  const uint64_t goal_seed = args.goal_set ? args.goal_set : config.run.seed;
   std::printf("method %s, graph %s, subgoal order %s, goals of evaluation seed %llu\n",
               config::MethodName(config.run.method), graph_text.c_str(),
               eval_options.full_goal || eval_options.hac ? "(full goal)"
               : eval_options.order == rl::SubgoalOrder::kDepth ? "depth" : "random",
-              static_cast<unsigned long long>(args.goal_set ? args.goal_set : config.run.seed));
+              static_cast<unsigned long long>(goal_seed));
   if (gl) std::printf("renderer: %s\n", gl->description().c_str());
 
   // one CSV row per episode
   // the subgoal columns: the structure of the first evaluation episode's objects
-  const uint64_t goal_seed = args.goal_set ? args.goal_set : config.run.seed;
   environment.Reset(rl::EvalEpisodeSeed(goal_seed, 0), env::Split::kEval);
   const std::vector<int> subgoal_entities = subgoals.For(environment.layout().kinds).SubgoalEntities();
   std::ofstream csv(fs::path(out_dir) / "episodes.csv");
