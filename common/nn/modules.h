@@ -26,6 +26,14 @@ class Linear {
 
   // Records y = x W (+ b) on the tape; x is batch x in.
   Var<T> Forward(Tape<T>& tape, Var<T> x, bool trainable = true);
+  // Records y = inner(x) W (+ b) for a layer `inner` with nothing between the two, as one
+  // product with the composed weight: x (Wi W) + (bi W + b), given inner's weight and bias as
+  // recorded on the tape (bias id < 0: none). The same function up to float rounding; fewer
+  // multiply-adds when inner's input is narrow (ComposingPays).
+  Var<T> ForwardComposed(Tape<T>& tape, Var<T> x, Var<T> inner_w, Var<T> inner_b, bool trainable = true);
+  // This layer's weight and bias as tape variables (the bias's id is < 0 without one).
+  Var<T> WeightOn(Tape<T>& tape, bool trainable) { return tape.Param(*w_, trainable); }
+  Var<T> BiasOn(Tape<T>& tape, bool trainable) { return b_ ? tape.Param(*b_, trainable) : Var<T>{&tape, -1}; }
   // Computes y = x W (+ b) into y (resized only if its shape differs) without a tape.
   void Apply(const Eigen::Ref<const Matrix<T>>& x, Matrix<T>& y) const;
 
@@ -40,6 +48,12 @@ class Linear {
   int in_, out_;
   std::unique_ptr<Parameter<T>> w_, b_;
 };
+
+// Whether `outers` layers (mid -> out each) applied to one layer's output (in -> mid, over
+// `rows` rows) take fewer multiply-adds as composed products (ForwardComposed) than layer by
+// layer. inner_needed: the inner layer's output is computed anyway, so composing saves only the
+// outer products.
+bool ComposingPays(long rows, long in, long mid, long out, int outers, bool inner_needed);
 
 // A stack of Linear layers with an activation between them: in -> hidden... -> out.
 template <typename T>
