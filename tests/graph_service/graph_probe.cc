@@ -138,6 +138,35 @@ int main(int argc, char** argv) {
     std::printf(" %d: %.4f (%.4f m)", j, moved[j] / transitions, std::sqrt(sq[j] / transitions));
   std::printf("\nfraction of 20-step windows with some puck motion: %.3f\n",
               windows_moving / windows);
+  // motion the arm did not cause directly: object j moves > 1 mm while the arm is farther than
+  // 12 cm from it before and after the step; then, per other object i, how often i moved in the same step or was within
+  // 7 cm (contact or tie at work). A tie that never shows here cannot be learned from the data.
+  auto dist = [&](const float* s, int a, int b) {
+    return std::hypot(l.x(s, a) - l.x(s, b), l.y(s, a) - l.y(s, b));
+  };
+  std::printf("motion without the arm within 12 cm (fraction of transitions); per other object i: [i moved too / i within 7 cm]\n");
+  for (int j = 1; j < n; ++j) {
+    double alone = 0;
+    std::vector<double> with_moving(n, 0), with_near(n, 0);
+    for (const auto& e : episodes) {
+      for (int t = 0; t < steps; ++t) {
+        const float* a = e.state(t);
+        const float* b = e.state(t + 1);
+        auto moved_by = [&](int k) { return std::hypot(l.x(b, k) - l.x(a, k), l.y(b, k) - l.y(a, k)) > 1e-3; };
+        if (!moved_by(j) || std::min(dist(a, 0, j), dist(b, 0, j)) < 0.12) continue;
+        alone += 1;
+        for (int i = 1; i < n; ++i) {
+          if (i == j) continue;
+          with_moving[i] += moved_by(i);
+          with_near[i] += dist(a, i, j) < 0.07;
+        }
+      }
+    }
+    std::printf("  %d: %.5f", j, alone / transitions);
+    for (int i = 1; i < n; ++i)
+      if (i != j && alone > 0) std::printf("  %d:[%.2f/%.2f]", i, with_moving[i] / alone, with_near[i] / alone);
+    std::printf("\n");
+  }
   if (stats_only) return 0;
 
   VectorSource source(std::move(episodes));
