@@ -10,16 +10,11 @@
 #include "common/logging/logging.h"
 #include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"
-#include "common/rl/rate_limiter.h"
 #include "common/rl/seeds.h"
 
 namespace srics::actor {
 
 using Clock = std::chrono::steady_clock;
-
-// Waits of a held-back actor (over as many status periods) without any update of the learner
-// before it stops waiting for it (see RateLimited).
-constexpr int kStalledWaitSteps = 3;
 
 ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, uint64_t first_episode_id) {
   ActorOptions o;
@@ -59,15 +54,6 @@ struct ActorLoop::State {
   uint64_t graph_version = 0;
   rl::CatalogueSubgoals subgoals;  // each episode maps it onto the objects it presents
   std::optional<rl::LearnerProgress> learner;
-  // learner progress when this actor started counting for the rate limit
-  std::optional<rl::LearnerProgress> baseline;
-  // while held back: the learner's updates when the wait began, since when, and the waits
-  struct Wait {
-    uint64_t updates = 0;
-    Clock::time_point since;
-    int steps = 0;
-  };
-  std::optional<Wait> wait;
   bool passive_evaluated = false;
   uint64_t evaluated_version = 0;  // policy version of the last evaluation
   uint64_t next_eval_steps = 0;
@@ -173,55 +159,21 @@ void ActorLoop::PollUpdates() {
   if (auto p = link_->PollLearner(std::chrono::milliseconds(0))) s.learner = p;
 }
 
-// The learner's own RateLimiter decides, counted from a baseline: the learner progress when
-// this actor started counting. A learner that is refilling its replay (a fresh start or a
-// restart) cannot update: never wait for it then, and count from the moment it can again.
-//
-// The baseline is taken only from stats sent after the learner's warm-up ended. The learner's
-// limiter counts no updates for the warm-up's transitions; a baseline from before its end
-// (stats come once a status period, while actors keep inserting) would count the rest of the
-// warm-up as owed updates: with more than 2 x rate_error_buffer / updates_per_step
-// transitions between that baseline and the end of the warm-up, the actor waited for updates
-// the learner's limiter would never allow, and both waited for ever (issue 15).
+// The learner's own rate limit decides: it reports the updates it owes the data it counts
+// (LearnerStats.update_backlog), and every actor holds back while that is above the error
+// buffer. A learner that cannot update (warm-up, refilling after a restart, no graph yet)
+// reports 0, so nobody waits for it then. Actors used to estimate the backlog from where each
+// had started counting: the learner's limiter does not count the warm-up's transitions nor
+// those that came while it waited for the graph, so an actor counting from before that ended
+// waited for ever (issue 15), and actors that started counting at different moments disagreed
+// (the one that started at the larger lag took every allowance: 182,100 env steps against
+// 32,800 in an in-process campaign run).
 bool ActorLoop::RateLimited() {
   State& s = *state_;
   if (options_.updates_per_step <= 0 || !s.learner) return false;
   const rl::LearnerProgress& now = *s.learner;
-  if (now.replay_size < options_.learner_warmup_steps) {
-    s.baseline.reset();  // warming up (again): nothing to count yet
-    return false;
-  }
-  // the first stats past the warm-up, or counters below the baseline (a learner restarted
-  // without its checkpoint): count afresh
-  if (!s.baseline || now.updates < s.baseline->updates ||
-      now.transitions_inserted < s.baseline->transitions_inserted) {
-    s.baseline = now;
-    return false;
-  }
-  if (now.budget_done()) return false;
-  const rl::RateLimiter limiter(options_.updates_per_step, /*warmup=*/0, options_.rate_error_buffer);
-  const bool ahead = !limiter.CanInsert(now.transitions_inserted - s.baseline->transitions_inserted,
-                                        now.updates - s.baseline->updates, static_cast<uint64_t>(options_.train.steps));
-  if (!ahead) {
-    s.wait.reset();
-    return false;
-  }
-  // The safety valve: a learner that does no update while this actor waits for it is not
-  // working off a backlog but waiting for data itself (its limiter did not count some data
-  // this actor counted: inserts while it waited for the graph). After
-  // kStalledWaitSteps waits over at least as many status periods without an update, count
-  // from now.
-  if (!s.wait || s.wait->updates != now.updates) s.wait = State::Wait{now.updates, Clock::now(), 0};
-  const double waited_s = std::chrono::duration<double>(Clock::now() - s.wait->since).count();
-  if (++s.wait->steps > kStalledWaitSteps && waited_s >= kStalledWaitSteps * options_.status_period_s) {
-    spdlog::warn("the learner did no update in {:.1f} s while this actor waited for it (updates {}, inserted {}): "
-                 "counting from here",
-                 waited_s, now.updates, now.transitions_inserted);
-    s.baseline = now;
-    s.wait.reset();
-    return false;
-  }
-  return true;
+  if (now.replay_size < options_.learner_warmup_steps || now.budget_done()) return false;
+  return now.update_backlog > options_.rate_error_buffer;
 }
 
 env::Environment& ActorLoop::environment() { return *state_->env; }

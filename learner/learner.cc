@@ -105,6 +105,10 @@ uint64_t Learner::UpdatesAllowed() const {
   return Blocked() ? 0 : limiter_.UpdatesAllowed(LimiterInserted(), counters_.updates);
 }
 
+double Learner::UpdateBacklog() const {
+  return Blocked() ? 0.0 : limiter_.Target(LimiterInserted()) - static_cast<double>(counters_.updates);
+}
+
 UpdateStats Learner::Update() {
   UpdateStats stats;
   if (hac_) {

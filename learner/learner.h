@@ -65,6 +65,9 @@ class Learner {
   UpdateStats Update();
   // Updates the limiter allows right now.
   uint64_t UpdatesAllowed() const;
+  // Updates the rate limit owes the data it counts (ratio x counted transitions - updates; 0
+  // while blocked): what actors hold back by (LearnerStats.update_backlog).
+  double UpdateBacklog() const;
 
   // Publishing: the flat policy weights with a new version number (HAC: the high level's
   // parameters, then the low level's) and their architecture signature.

@@ -92,6 +92,7 @@ void LearnerLoop::Report(bool force) {
   rl::LearnerReport r;
   r.updates = c.updates;
   r.transitions_inserted = c.transitions_inserted;
+  r.update_backlog = learner_.UpdateBacklog();
   r.budget_env_steps = options_.learner.total_env_steps;
   // the budget shows as done only once the learner has trained on it and published its final
   // weights: actors then run their last evaluation with those weights, not earlier ones

@@ -32,6 +32,10 @@ std::string ImplausibleProgress(const LearnerProgress& p, uint64_t budget_env_st
   if (p.replay_size > p.transitions_inserted)
     return "replay_size " + std::to_string(p.replay_size) + " above transitions_inserted " +
            std::to_string(p.transitions_inserted);
+  // the backlog is at most what every inserted transition could owe at the largest ratio a
+  // config accepts, and never far below zero (the learner runs ahead by its error buffer only)
+  if (!std::isfinite(p.update_backlog) || std::abs(p.update_backlog) > 1e15)
+    return "update_backlog " + std::to_string(p.update_backlog) + " not a plausible count of updates";
   return "";
 }
 

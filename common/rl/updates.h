@@ -47,6 +47,9 @@ struct LearnerProgress {
   uint64_t training_env_steps = 0;  // counted against the budget
   uint64_t budget_env_steps = 0;
   uint64_t replay_size = 0;         // transitions held (small after a learner restart)
+  // updates the learner's own rate limit owes the data it counts: actors hold back while it is
+  // above learner.rate_error_buffer (0 while the learner cannot update: warm-up, no graph)
+  double update_backlog = 0;
   bool budget_done() const { return budget_env_steps > 0 && training_env_steps >= budget_env_steps; }
 };
 
@@ -64,6 +67,7 @@ struct LearnerReport {
   uint64_t training_env_steps = 0;  // counted against the budget
   uint64_t budget_env_steps = 0;
   uint64_t replay_size = 0;
+  double update_backlog = 0;       // see LearnerProgress
   uint64_t episodes_accepted = 0;
   uint64_t episodes_rejected = 0;
   uint64_t policy_version = 0;
@@ -75,7 +79,8 @@ struct LearnerReport {
   double updates_per_second = 0;
   double inserts_per_second = 0;   // transitions
   LearnerProgress progress() const {
-    return {updates, transitions_inserted, policy_version, training_env_steps, budget_env_steps, replay_size};
+    return {updates, transitions_inserted, policy_version, training_env_steps, budget_env_steps, replay_size,
+            update_backlog};
   }
 };
 

@@ -102,8 +102,8 @@ void Fields(const Op& op, M& m, C& c) {
 template <typename Op, typename M, Is<srics_LearnerStats> C>
 void Fields(const Op& op, M& m, C& c) {
   SRICS_FIELDS(op, m, c, contract_version, run_id, updates, transitions_inserted, training_env_steps,
-               budget_env_steps, replay_size, episodes_accepted, episodes_rejected, policy_version, q_loss,
-               policy_loss, alpha, entropy, updates_per_second, inserts_per_second, mean_reward);
+               budget_env_steps, replay_size, update_backlog, episodes_accepted, episodes_rejected, policy_version,
+               q_loss, policy_loss, alpha, entropy, updates_per_second, inserts_per_second, mean_reward);
 }
 
 template <typename Op, typename M, Is<srics_NodeStatus> C>

@@ -12,7 +12,7 @@ namespace srics::transport {
 
 // Must equal srics::WIRE_CONTRACT_VERSION in idl/srics.idl (checked by a static_assert in the
 // transport library). Readers reject samples carrying any other value.
-inline constexpr uint32_t kContractVersion = 2;
+inline constexpr uint32_t kContractVersion = 3;
 
 // Bounds of the IDL's bounded strings (characters, without the terminating NUL).
 inline constexpr size_t kRunIdMaxLength = 64;
@@ -97,6 +97,7 @@ struct LearnerStats {
   uint64_t training_env_steps = 0;  // env steps counted against the run's budget
   uint64_t budget_env_steps = 0;    // the budget; training_env_steps >= it: the run is done
   uint64_t replay_size = 0;
+  double update_backlog = 0;        // updates the learner's rate limit owes the data it counts
   uint64_t episodes_accepted = 0;
   uint64_t episodes_rejected = 0;
   uint64_t policy_version = 0;

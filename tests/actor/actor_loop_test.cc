@@ -191,7 +191,7 @@ TEST(ActorLoopTest, HoldsBackWhenAheadOfTheLearnerAndEndsWithTheBudget) {
   EvaluatorOnBus evaluator;
   ASSERT_TRUE(evaluator.options.evaluator);
 
-  // a learner past its warm-up: the first look sets the baseline
+  // a learner past its warm-up, with nothing owed
   rl::LearnerReport stats = PastWarmUp();
   stats.budget_env_steps = 1000;
   evaluator.learner->PublishStats(stats);
@@ -201,13 +201,15 @@ TEST(ActorLoopTest, HoldsBackWhenAheadOfTheLearnerAndEndsWithTheBudget) {
   EXPECT_EQ(evaluator.observer.evals[0].policy_version, 0u);
   EXPECT_EQ(evaluator.observer.evals[0].summary.episodes, 2);
   ASSERT_EQ(evaluator.actor.Step(), StepResult::kWorked);  // a training episode
-  // 20 more transitions in and no update: 20 > error buffer (10): wait
+  // 20 more transitions in and no update: the learner owes 20 > error buffer (10): wait
   stats.transitions_inserted = 120;
+  stats.update_backlog = 20;
   evaluator.learner->PublishStats(stats);
   EXPECT_EQ(evaluator.actor.Step(), StepResult::kIdle);
   EXPECT_EQ(evaluator.actor.counters().waits, 1u);
   // the learner catches up: go on
   stats.updates = 80;
+  stats.update_backlog = 0;
   evaluator.learner->PublishStats(stats);
   EXPECT_EQ(evaluator.actor.Step(), StepResult::kWorked);
 

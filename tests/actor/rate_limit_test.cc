@@ -1,7 +1,7 @@
 // The actors' side of the rate limiter against the real learner (issue 15): the stall where an
 // actor waited for the learner for ever while the learner sat at its own rate limit, played
 // deterministically by delivering the learner's stats to the actor only when a status period
-// would have passed; and the safety valve for a learner that does no update while actors wait.
+// would have passed; and the learner's own backlog (LearnerStats.update_backlog) deciding.
 
 #include <gtest/gtest.h>
 
@@ -78,6 +78,8 @@ TEST(ActorRateLimitTest, StatsFromBeforeTheWarmUpEndedDoNotStallTheRun) {
   ASSERT_EQ(learner.learner().counters().transitions_inserted, 140u);
   ASSERT_EQ(learner.learner().counters().updates, 42u);
   ASSERT_FALSE(learner.learner().CanUpdate()) << "the learner is at its own limit: it needs data";
+  // what it reports: 40 updates owed, 42 done
+  EXPECT_DOUBLE_EQ(learner.learner().UpdateBacklog(), -2.0);
 
   // from here stats reach the actor every round, as the distributed run steps them
   for (int round = 0; round < 10; ++round) {
@@ -105,10 +107,11 @@ class HandFedActor : public ::testing::Test {
     rl::PolicyNetwork<float> policy("policy", options_.policy, rng);
     learner_->PublishWeights({1, 0, rl::PolicySignature(policy), nn::Flatten(policy.Parameters())});
   }
-  void Stats(uint64_t inserted, uint64_t updates) {
+  void Stats(uint64_t inserted, uint64_t updates, double backlog) {
     rl::LearnerReport r;
     r.transitions_inserted = r.replay_size = inserted;
     r.updates = updates;
+    r.update_backlog = backlog;
     r.budget_env_steps = 100000;
     learner_->PublishStats(r);
   }
@@ -121,30 +124,30 @@ class HandFedActor : public ::testing::Test {
   std::unique_ptr<ActorLoop> actor_;
 };
 
-TEST_F(HandFedActor, ALearnerThatCatchesUpKeepsTheActorWaiting) {
-  Stats(1000, 900);  // past the warm-up: the baseline
+TEST_F(HandFedActor, TheActorHoldsBackWhileTheLearnersBacklogIsAboveTheBuffer) {
+  Stats(1000, 900, 0);
   ASSERT_EQ(actor_->Step(), StepResult::kWorked);
-  // 100 transitions in and 5 updates: far ahead; the learner works it off, slowly
+  // 100 transitions in and 5 updates: 95 owed; the learner works it off, slowly
   for (uint64_t u = 905; u < 915; ++u) {
-    Stats(1100, u);
+    Stats(1100, u, 100.0 - static_cast<double>(u - 900));
     EXPECT_EQ(actor_->Step(), StepResult::kIdle) << "updates " << u;
   }
   EXPECT_EQ(actor_->counters().waits, 10u);
-  Stats(1100, 998);  // caught up (within the buffer of 2)
+  Stats(1100, 998, 2);  // caught up to the buffer of 2
   EXPECT_EQ(actor_->Step(), StepResult::kWorked);
 }
 
-TEST_F(HandFedActor, ALearnerThatDoesNoUpdateWhileTheActorWaitsIsNotWaitedForForEver) {
-  Stats(1000, 900);
-  ASSERT_EQ(actor_->Step(), StepResult::kWorked);
-  // data the learner's limiter did not count (it waited for the graph then): no update comes
-  Stats(1100, 905);
-  for (int i = 0; i < 3; ++i) EXPECT_EQ(actor_->Step(), StepResult::kIdle) << i;
-  EXPECT_EQ(actor_->Step(), StepResult::kWorked) << "after 3 waits without an update, counted from here";
-  EXPECT_EQ(actor_->counters().waits, 3u);
-  // counted from (1100, 905): the next stats with 20 more transitions and no update are fine
-  Stats(1120, 905);
-  EXPECT_EQ(actor_->Step(), StepResult::kIdle) << "20 ahead of a buffer of 2";
+// Whatever the counters, only the learner's own backlog decides: data its limiter does not
+// count (the warm-up's, or what came while it waited for the graph) never holds actors back.
+TEST_F(HandFedActor, OnlyTheLearnersOwnBacklogDecides) {
+  Stats(1000, 0, 0);  // 1000 transitions and no update: all of them uncounted
+  EXPECT_EQ(actor_->Step(), StepResult::kWorked);
+  Stats(5000, 100, 1.5);
+  EXPECT_EQ(actor_->Step(), StepResult::kWorked);
+  Stats(5000, 100, 2.5);
+  EXPECT_EQ(actor_->Step(), StepResult::kIdle);
+  Stats(5000, 100, 0);  // a learner restarted from its checkpoint, say: counting afresh
+  EXPECT_EQ(actor_->Step(), StepResult::kWorked);
 }
 
 TEST(ActorOptionsTest, AnEvaluatorWithoutAnEvaluationPeriodIsRefused) {

@@ -48,6 +48,15 @@ TEST(ImplausibleProgressTest, OnlyTheRunsBudgetAndConsistentCounters) {
   q = p;
   q.replay_size = 6000;
   EXPECT_NE(ImplausibleProgress(q, budget).find("replay_size"), std::string::npos);
+  // a backlog that is no count of updates would hold every actor back (or never)
+  for (double backlog : {std::nan(""), double(INFINITY), -double(INFINITY), 1e16, -1e16}) {
+    q = p;
+    q.update_backlog = backlog;
+    EXPECT_NE(ImplausibleProgress(q, budget).find("update_backlog"), std::string::npos) << backlog;
+  }
+  q = p;
+  q.update_backlog = -2.5;  // a learner ahead within its error buffer
+  EXPECT_EQ(ImplausibleProgress(q, budget), "");
   // a run without a budget (0) accepts any step count that is consistent
   LearnerProgress unbounded = p;
   unbounded.budget_env_steps = 0;

@@ -39,11 +39,12 @@ std::string EvalRows(const std::string& dir) {
   return out.str();
 }
 
-int RunOnce(const std::string& dir) {
+int RunOnce(const std::string& dir, const std::vector<std::string>& more = {}) {
   fs::remove_all(dir);
   LaunchOptions options;
   options.config_file = Config("rearrange-1-cpu.yaml");
   options.overrides = kSmallRun;
+  options.overrides.insert(options.overrides.end(), more.begin(), more.end());
   options.run_dir = dir;
   options.display = DisplayMode::kNone;
   options.in_process = true;
@@ -61,6 +62,29 @@ TEST(InProcessRunTest, SameConfigSameEvalCsvAndAWholeRunFolder) {
   for (const char* file : {"config.yaml", "eval.csv", "learner.csv", "nodes.csv", "graph.json", "checkpoint.srics",
                            "summary.txt", "logs/launcher.log"})
     EXPECT_TRUE(fs::exists(fs::path(a) / file)) << file;
+}
+
+// Every actor gets its share of the env steps the learner allows. Actors used to count the rate
+// limit from where each had started: the one that started at the larger lag took every
+// allowance (here 3,640 env steps against 620; in the campaign 182,100 against 32,800).
+TEST(InProcessRunTest, ActorsShareTheEnvSteps) {
+  const std::string dir = ::testing::TempDir() + "/in_process_share";
+  // a small error buffer: the learner holds the actors back for most of the run, as in long runs
+  ASSERT_EQ(RunOnce(dir, {"learner.rate_error_buffer=10", "run.total_env_steps=3000"}), kExitDone);
+  std::ifstream in(dir + "/nodes.csv");
+  std::string line;
+  std::getline(in, line);  // wall_time,run_id,role,node_id,host,pid,state,policy_version,graph_version,env_steps,...
+  std::map<std::string, uint64_t> steps;  // each actor's last report
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    if (cells.size() > 9 && cells[2] == "actor") steps[cells[3]] = std::stoull(cells[9]);
+  }
+  ASSERT_EQ(steps.size(), 2u);
+  const double total = static_cast<double>(steps["0"] + steps["1"]);
+  EXPECT_GE(total, 3000);
+  for (const auto& [actor, n] : steps) EXPECT_GE(n / total, 0.3) << "actor " << actor << ": " << n << " of " << total;
 }
 
 // The final evaluation is of the learner's final weights (their version is in eval.csv's
