@@ -93,6 +93,11 @@ void LearnerLoop::Report(bool force) {
   r.updates = c.updates;
   r.transitions_inserted = c.transitions_inserted;
   r.update_backlog = learner_.UpdateBacklog();
+  // With the budget's data in, the learner only works off the updates it owes: actors hold
+  // back instead of playing episodes it would drop (in process they took most of the time the
+  // last updates needed: 8-10 minutes at the end of a 150k-step run)
+  if (learner_.BudgetReached() && !finished_)
+    r.update_backlog = std::max(r.update_backlog, options_.learner.learner.rate_error_buffer + 1.0);
   r.budget_env_steps = options_.learner.total_env_steps;
   // the budget shows as done only once the learner has trained on it and published its final
   // weights: actors then run their last evaluation with those weights, not earlier ones
