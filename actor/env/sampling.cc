@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
+#include <optional>
 #include <string>
 
 namespace srics::env {
@@ -29,14 +31,18 @@ bool Inside(const Vec2& p, const Vec2& lo, const Vec2& hi) {
 }
 
 // True when every pair of objects and every object-hand distance obeys the spacing rules.
+// Objects marked `pinned` (a static object's goal kept at its start) are exempt from the hand
+// and from each other: they started under the looser initial rules and no draw moves them, so
+// a violation there used to fail every draw.
 bool SpacingHolds(const config::SamplingConfig& s, std::span<const Vec2> pos,
                   std::span<const double> radius, const Vec2& hand, double object_base,
-                  double hand_base) {
+                  double hand_base, const std::vector<bool>& pinned) {
   for (size_t i = 0; i < pos.size(); ++i) {
     const double hand_needed = hand_base + std::max(0.0, radius[i] - s.reference_radius);
-    if (Distance(pos[i], hand) < hand_needed) return false;
+    if (!pinned[i] && Distance(pos[i], hand) < hand_needed) return false;
     for (size_t j = 0; j < i; ++j)
-      if (Distance(pos[i], pos[j]) < RequiredDistance(s, object_base, radius[i], radius[j]))
+      if (!(pinned[i] && pinned[j]) &&
+          Distance(pos[i], pos[j]) < RequiredDistance(s, object_base, radius[i], radius[j]))
         return false;
   }
   return true;
@@ -46,6 +52,59 @@ std::string SetText(std::span<const int> present) {
   std::string text = "[";
   for (size_t k = 0; k < present.size(); ++k) text += (k ? ", " : "") + std::to_string(present[k]);
   return text + "]";
+}
+
+// Fallback for crowded tables, where whole draws rarely keep every spacing rule (different-6's
+// six goals: about one whole draw in 10,000, so 100,000 draws failed now and then and the
+// actor died). Objects are placed one at a time in `order`, each redrawn (`draw`: nullopt when
+// it left its box) until it keeps its distance from the hand and the objects placed before it;
+// all start again when one cannot be placed. Same rules, a somewhat different distribution:
+// tables whose whole draws succeed never come here, so their samples are unchanged.
+bool PlaceOneByOne(const config::SamplingConfig& s, std::span<const size_t> order,
+                   std::span<const double> radius, const Vec2& hand, double object_base,
+                   double hand_base, const std::vector<bool>& pinned,
+                   const std::function<std::optional<Vec2>(size_t)>& draw,
+                   std::vector<Vec2>& pos) {
+  // a crowded table jams now and then (different-6: 3 restarts in 10 fail to place all six
+  // goals), an object stuck for 100 draws rarely finds room later: restart instead
+  constexpr int kDrawsPerObject = 100;
+  const int restarts = std::max(10, s.max_attempts / kDrawsPerObject);
+  for (int restart = 0; restart < restarts; ++restart) {
+    size_t placed = 0;
+    for (; placed < order.size(); ++placed) {
+      const size_t k = order[placed];
+      const double hand_needed = hand_base + std::max(0.0, radius[k] - s.reference_radius);
+      bool fits = false;
+      for (int d = 0; d < kDrawsPerObject && !fits; ++d) {
+        const std::optional<Vec2> p = draw(k);
+        if (!p || (!pinned[k] && Distance(*p, hand) < hand_needed)) continue;
+        fits = true;
+        for (size_t m = 0; m < placed && fits; ++m)
+          fits = (pinned[k] && pinned[order[m]]) ||
+                 Distance(*p, pos[order[m]]) >=
+                     RequiredDistance(s, object_base, radius[k], radius[order[m]]);
+        if (fits) pos[k] = *p;
+      }
+      if (!fits) break;
+    }
+    if (placed == order.size()) return true;
+  }
+  return false;
+}
+
+// The order PlaceOneByOne needs: objects that cannot move (`pinned`) first, then the other
+// untied ones, then tied ones after the object they hang on (connection order).
+std::vector<size_t> PlacingOrder(const EnvConfig& c, std::span<const int> present,
+                                 const std::function<bool(size_t)>& pinned) {
+  std::vector<size_t> order;
+  for (int pass = 0; pass < 2; ++pass)
+    for (size_t k = 0; k < present.size(); ++k)
+      if (PlacingConnection(c, present[k]) == nullptr && pinned(k) == (pass == 0))
+        order.push_back(k);
+  for (const auto& link : c.connections)
+    if (IndexOf(present, link.first) >= 0 && IndexOf(present, link.second) >= 0)
+      order.push_back(static_cast<size_t>(IndexOf(present, link.second)));
+  return order;
 }
 
 }  // namespace
@@ -104,6 +163,7 @@ std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int
   const auto& [radius, lo, hi] = boxes;
   const Vec2 hand{c.hand.start[0], c.hand.start[1]};
   std::vector<Vec2> pos(n);
+  const std::vector<bool> none_pinned(n, false);
   for (int attempt = 0; attempt < c.sampling.max_attempts; ++attempt) {
     // free and fixed objects first
     for (size_t k = 0; k < n; ++k) {
@@ -129,9 +189,29 @@ std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int
       inside = inside && Inside(pos[k2], lo[k2], hi[k2]);
     }
     if (inside && SpacingHolds(c.sampling, pos, radius, hand, c.sampling.init_min_object_distance,
-                               c.sampling.init_min_hand_distance))
+                               c.sampling.init_min_hand_distance, none_pinned))
       return pos;
   }
+  // one object at a time (crowded tables)
+  const auto order = PlacingOrder(
+      c, present, [&](size_t k) { return !objects[present[k] - 1].fixed_position.empty(); });
+  const auto draw = [&](size_t k) -> std::optional<Vec2> {
+    const ObjectConfig& o = objects[present[k] - 1];
+    if (const auto* link = PlacingConnection(c, present[k])) {
+      const int k1 = IndexOf(present, link->first);
+      const double closest =
+          RequiredDistance(c.sampling, c.sampling.init_min_object_distance, radius[k1], radius[k]);
+      const double r = Uniform(rng, std::min(closest, link->length), link->length);
+      const double phi = Uniform(rng, 0, 2 * std::numbers::pi);
+      const Vec2 p{pos[k1][0] + r * std::sin(phi), pos[k1][1] + r * std::cos(phi)};
+      return Inside(p, lo[k], hi[k]) ? std::optional<Vec2>(p) : std::nullopt;
+    }
+    if (!o.fixed_position.empty()) return Vec2{o.fixed_position[0], o.fixed_position[1]};
+    return Vec2{Uniform(rng, lo[k][0], hi[k][0]), Uniform(rng, lo[k][1], hi[k][1])};
+  };
+  if (PlaceOneByOne(c.sampling, order, radius, hand, c.sampling.init_min_object_distance,
+                    c.sampling.init_min_hand_distance, none_pinned, draw, pos))
+    return pos;
   throw SamplingError("no initial placement of objects " + SetText(present) + " within " +
                       std::to_string(c.sampling.max_attempts) +
                       " attempts: the objects do not fit with the spacing rules");
@@ -148,11 +228,14 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
   std::vector<Vec2> goals(n + 1);
   goals[0] = hand;
   std::span<Vec2> objects_goals(goals.data() + 1, n);
+  std::vector<bool> pinned(n);
+  for (size_t k = 0; k < n; ++k)
+    pinned[k] = objects[present[k] - 1].is_static && !c.sampling.static_object_random_goal;
   for (int attempt = 0; attempt < c.sampling.max_attempts; ++attempt) {
     for (size_t k = 0; k < n; ++k) {
       const ObjectConfig& o = objects[present[k] - 1];
       if (PlacingConnection(c, present[k]) != nullptr) continue;
-      if (o.is_static && !c.sampling.static_object_random_goal) {
+      if (pinned[k]) {
         objects_goals[k] = initial[k];
       } else {
         objects_goals[k] = {Uniform(rng, lo[k][0], hi[k][0]), Uniform(rng, lo[k][1], hi[k][1])};
@@ -171,8 +254,27 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
     }
     if (inside && SpacingHolds(c.sampling, objects_goals, radius, hand,
                                c.sampling.goal_min_object_distance,
-                               c.sampling.goal_min_hand_distance))
+                               c.sampling.goal_min_hand_distance, pinned))
       return goals;
+  }
+  // one object at a time (crowded tables)
+  const auto order = PlacingOrder(c, present, [&](size_t k) { return pinned[k]; });
+  std::vector<Vec2> placed(n);
+  const auto draw = [&](size_t k) -> std::optional<Vec2> {
+    if (const auto* link = PlacingConnection(c, present[k])) {
+      const Vec2& anchor = placed[IndexOf(present, link->first)];
+      const double phi = Uniform(rng, 0, 2 * std::numbers::pi);
+      const Vec2 p{anchor[0] + link->length * std::sin(phi), anchor[1] + link->length * std::cos(phi)};
+      if (c.sampling.tied_goal_in_box && !Inside(p, lo[k], hi[k])) return std::nullopt;
+      return p;
+    }
+    if (pinned[k]) return initial[k];
+    return Vec2{Uniform(rng, lo[k][0], hi[k][0]), Uniform(rng, lo[k][1], hi[k][1])};
+  };
+  if (PlaceOneByOne(c.sampling, order, radius, hand, c.sampling.goal_min_object_distance,
+                    c.sampling.goal_min_hand_distance, pinned, draw, placed)) {
+    std::copy(placed.begin(), placed.end(), objects_goals.begin());
+    return goals;
   }
   throw SamplingError("no goal placement of objects " + SetText(present) + " within " +
                       std::to_string(c.sampling.max_attempts) +

@@ -95,5 +95,18 @@ TEST(GroundTruthGraphTest, HandMadeTable) {
   EXPECT_EQ(rl::DescribeGraph(rl::GroundTruthGraph(t)), "action->0, 0->2, 0->3, 0->4, 1->4, 2->3, 3->2");
 }
 
+// rearrange-4-heldout holds objects 2-4 only: object 1 is in no episode, so no edge touches it
+// (the acceptance counted a learned graph without arm->1 as wrong on all three seeds).
+TEST(GroundTruthGraphTest, ObjectsOutsideEverySetHaveNoEdges) {
+  config::EnvConfig t;
+  t.objects.resize(4);
+  t.connections = {{1, 2, config::ConnectionKind::kRope}};
+  t.object_sets = {{2, 3, 4}};
+  t.eval_object_sets = {{2, 3, 4}};
+  EXPECT_EQ(rl::DescribeGraph(rl::GroundTruthGraph(t)), "action->0, 0->2, 0->3, 0->4");
+  t.eval_object_sets = {{1, 2, 3}};  // in an evaluation set: part of the graph again
+  EXPECT_EQ(rl::DescribeGraph(rl::GroundTruthGraph(t)), "action->0, 0->1, 0->2, 0->3, 0->4, 1->2, 2->1");
+}
+
 }  // namespace
 }  // namespace srics::env

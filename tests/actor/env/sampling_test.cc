@@ -43,14 +43,20 @@ void CheckThousandDraws(const EnvConfig& c) {
       EXPECT_LE(goals[i + 1][1], c.sampling.goal_high[1]);
       // away from the hand
       EXPECT_GE(Distance(init[i], hand), c.sampling.init_min_hand_distance + extra_i);
-      EXPECT_GE(Distance(goals[i + 1], goals[0]), c.sampling.goal_min_hand_distance + extra_i);
+      // a static object's goal kept at its start was placed by the initial rules only
+      const auto pinned = [&](size_t k) {
+        return objects[present[k] - 1].is_static && !c.sampling.static_object_random_goal;
+      };
+      if (!pinned(i))
+        EXPECT_GE(Distance(goals[i + 1], goals[0]), c.sampling.goal_min_hand_distance + extra_i);
       // apart from each other
       for (size_t j = 0; j < i; ++j) {
         const double rj = config::BoundingRadius(objects[present[j] - 1]);
         EXPECT_GE(Distance(init[i], init[j]),
                   RequiredDistance(c.sampling, c.sampling.init_min_object_distance, ri, rj));
-        EXPECT_GE(Distance(goals[i + 1], goals[j + 1]),
-                  RequiredDistance(c.sampling, c.sampling.goal_min_object_distance, ri, rj));
+        if (!(pinned(i) && pinned(j)))
+          EXPECT_GE(Distance(goals[i + 1], goals[j + 1]),
+                    RequiredDistance(c.sampling, c.sampling.goal_min_object_distance, ri, rj));
         EXPECT_GE(Distance(init[i], init[j]), ri + rj);  // never overlapping
       }
     }
@@ -77,6 +83,40 @@ TEST(SamplingTest, Relational4RopeRuleOverThousandDraws) {
 }
 
 TEST(SamplingTest, DifferentObjectsOverThousandDraws) { CheckThousandDraws(Preset("different-6")); }
+
+// Six goals of different-6 keep the spacing in about one whole draw of 10,000: with a budget of
+// 2,000 whole draws most goal sets used to fail (SamplingError: the graph acceptance's
+// different-6 seed 2 died of it at 100,000). Placing one object at a time always finds one.
+TEST(SamplingTest, CrowdedTableIsPlacedOneObjectAtATime) {
+  EnvConfig c = Preset("different-6");
+  c.sampling.max_attempts = 2000;
+  CheckThousandDraws(c);
+}
+
+// The one-at-a-time placement keeps the rope, the fixed and the static objects' rules too
+// (one whole draw, then the fallback). A static object kept at its start may sit closer to
+// the hand than a goal may (0.06 against 0.075): every draw used to fail then.
+TEST(SamplingTest, OneAtATimeKeepsTheRopeAndStaticRules) {
+  for (const char* name : {"relational-4", "relational-4-spring"}) {
+    EnvConfig c = Preset(name);
+    c.sampling.max_attempts = 1;
+    for (bool random_static_goal : {true, false}) {
+      c.sampling.static_object_random_goal = random_static_goal;
+      SCOPED_TRACE(std::string(name) + (random_static_goal ? " random" : " pinned") + " static goal");
+      CheckThousandDraws(c);
+      if (random_static_goal) continue;
+      const auto objects = config::EffectiveObjects(c);
+      Rng rng(7);
+      for (int draw = 0; draw < 200; ++draw) {
+        const std::vector<int> present = SampleObjectSet(c, false, rng);
+        const auto init = SampleInitialPositions(c, present, rng);
+        const auto goals = SampleGoals(c, present, init, rng);
+        for (size_t k = 0; k < present.size(); ++k)
+          if (objects[present[k] - 1].is_static) EXPECT_EQ(goals[k + 1], init[k]);
+      }
+    }
+  }
+}
 
 TEST(SamplingTest, CombinationsOverThousandDraws) {
   CheckThousandDraws(Preset("rearrange-4-combinations"));
