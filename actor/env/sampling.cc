@@ -30,23 +30,50 @@ bool Inside(const Vec2& p, const Vec2& lo, const Vec2& hi) {
   return p[0] >= lo[0] && p[0] <= hi[0] && p[1] >= lo[1] && p[1] <= hi[1];
 }
 
-// True when every pair of objects and every object-hand distance obeys the spacing rules.
-// Objects marked `pinned` (a static object's goal kept at its start) are exempt from the hand
-// and from each other: they started under the looser initial rules and no draw moves them, so
-// a violation there used to fail every draw.
-bool SpacingHolds(const config::SamplingConfig& s, std::span<const Vec2> pos,
-                  std::span<const double> radius, const Vec2& hand, double object_base,
-                  double hand_base, const std::vector<bool>& pinned) {
-  for (size_t i = 0; i < pos.size(); ++i) {
-    const double hand_needed = hand_base + std::max(0.0, radius[i] - s.reference_radius);
-    if (!pinned[i] && Distance(pos[i], hand) < hand_needed) return false;
-    for (size_t j = 0; j < i; ++j)
-      if (!(pinned[i] && pinned[j]) &&
-          Distance(pos[i], pos[j]) < RequiredDistance(s, object_base, radius[i], radius[j]))
-        return false;
+// The spacing rules of one placement (initial positions or goals) of the objects `present`.
+// Exemptions, each of a rule no draw could meet: objects marked `pinned` (a static object's
+// goal kept at its start) from the hand and from each other, since they started under the
+// looser initial rules and nothing moves them; a tied pair from the object spacing, since its
+// tie sets their distance (goals exactly one link apart, starts within it; a 0.119 m spring
+// between goals that had to keep 0.133 m failed every draw of random table 5): it only must
+// not overlap.
+struct SpacingRules {
+  SpacingRules(const EnvConfig& c, std::span<const int> present, std::span<const double> radius,
+               double object_base, double hand_base, std::vector<bool> pinned)
+      : s(c.sampling), radius(radius), hand{c.hand.start[0], c.hand.start[1]},
+        object_base(object_base), hand_base(hand_base), pinned(std::move(pinned)),
+        tied(present.size() * present.size(), false) {
+    const size_t n = present.size();
+    for (const auto& link : c.connections) {
+      const int a = IndexOf(present, link.first), b = IndexOf(present, link.second);
+      if (a >= 0 && b >= 0) tied[a * n + b] = tied[b * n + a] = true;
+    }
   }
-  return true;
-}
+  bool HandKept(size_t k, const Vec2& p) const {
+    return pinned[k] || Distance(p, hand) >= hand_base + std::max(0.0, radius[k] - s.reference_radius);
+  }
+  bool PairKept(size_t i, const Vec2& pi, size_t j, const Vec2& pj) const {
+    if (pinned[i] && pinned[j]) return true;
+    if (tied[i * radius.size() + j]) return Distance(pi, pj) >= radius[i] + radius[j];
+    return Distance(pi, pj) >= RequiredDistance(s, object_base, radius[i], radius[j]);
+  }
+  // every object against the hand and every pair
+  bool Hold(std::span<const Vec2> pos) const {
+    for (size_t i = 0; i < pos.size(); ++i) {
+      if (!HandKept(i, pos[i])) return false;
+      for (size_t j = 0; j < i; ++j)
+        if (!PairKept(i, pos[i], j, pos[j])) return false;
+    }
+    return true;
+  }
+
+  const config::SamplingConfig& s;
+  std::span<const double> radius;
+  Vec2 hand;
+  double object_base, hand_base;
+  std::vector<bool> pinned;
+  std::vector<bool> tied;  // n x n
+};
 
 std::string SetText(std::span<const int> present) {
   std::string text = "[";
@@ -60,29 +87,21 @@ std::string SetText(std::span<const int> present) {
 // it left its box) until it keeps its distance from the hand and the objects placed before it;
 // all start again when one cannot be placed. Same rules, a somewhat different distribution:
 // tables whose whole draws succeed never come here, so their samples are unchanged.
-bool PlaceOneByOne(const config::SamplingConfig& s, std::span<const size_t> order,
-                   std::span<const double> radius, const Vec2& hand, double object_base,
-                   double hand_base, const std::vector<bool>& pinned,
-                   const std::function<std::optional<Vec2>(size_t)>& draw,
-                   std::vector<Vec2>& pos) {
+bool PlaceOneByOne(const SpacingRules& rules, std::span<const size_t> order,
+                   const std::function<std::optional<Vec2>(size_t)>& draw, std::vector<Vec2>& pos) {
   // a crowded table jams now and then (different-6: 3 restarts in 10 fail to place all six
   // goals), an object stuck for 100 draws rarely finds room later: restart instead
   constexpr int kDrawsPerObject = 100;
-  const int restarts = std::max(10, s.max_attempts / kDrawsPerObject);
+  const int restarts = std::max(10, rules.s.max_attempts / kDrawsPerObject);
   for (int restart = 0; restart < restarts; ++restart) {
     size_t placed = 0;
     for (; placed < order.size(); ++placed) {
       const size_t k = order[placed];
-      const double hand_needed = hand_base + std::max(0.0, radius[k] - s.reference_radius);
       bool fits = false;
       for (int d = 0; d < kDrawsPerObject && !fits; ++d) {
         const std::optional<Vec2> p = draw(k);
-        if (!p || (!pinned[k] && Distance(*p, hand) < hand_needed)) continue;
-        fits = true;
-        for (size_t m = 0; m < placed && fits; ++m)
-          fits = (pinned[k] && pinned[order[m]]) ||
-                 Distance(*p, pos[order[m]]) >=
-                     RequiredDistance(s, object_base, radius[k], radius[order[m]]);
+        fits = p && rules.HandKept(k, *p);
+        for (size_t m = 0; m < placed && fits; ++m) fits = rules.PairKept(k, *p, order[m], pos[order[m]]);
         if (fits) pos[k] = *p;
       }
       if (!fits) break;
@@ -161,9 +180,9 @@ std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int
   const size_t n = present.size();
   const ObjectBoxes boxes(c, objects, present, c.sampling.init_low, c.sampling.init_high);
   const auto& [radius, lo, hi] = boxes;
-  const Vec2 hand{c.hand.start[0], c.hand.start[1]};
   std::vector<Vec2> pos(n);
-  const std::vector<bool> none_pinned(n, false);
+  const SpacingRules rules(c, present, radius, c.sampling.init_min_object_distance,
+                           c.sampling.init_min_hand_distance, std::vector<bool>(n, false));
   for (int attempt = 0; attempt < c.sampling.max_attempts; ++attempt) {
     // free and fixed objects first
     for (size_t k = 0; k < n; ++k) {
@@ -188,8 +207,7 @@ std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int
       pos[k2] = {pos[k1][0] + r * std::sin(phi), pos[k1][1] + r * std::cos(phi)};
       inside = inside && Inside(pos[k2], lo[k2], hi[k2]);
     }
-    if (inside && SpacingHolds(c.sampling, pos, radius, hand, c.sampling.init_min_object_distance,
-                               c.sampling.init_min_hand_distance, none_pinned))
+    if (inside && rules.Hold(pos))
       return pos;
   }
   // one object at a time (crowded tables)
@@ -209,8 +227,7 @@ std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int
     if (!o.fixed_position.empty()) return Vec2{o.fixed_position[0], o.fixed_position[1]};
     return Vec2{Uniform(rng, lo[k][0], hi[k][0]), Uniform(rng, lo[k][1], hi[k][1])};
   };
-  if (PlaceOneByOne(c.sampling, order, radius, hand, c.sampling.init_min_object_distance,
-                    c.sampling.init_min_hand_distance, none_pinned, draw, pos))
+  if (PlaceOneByOne(rules, order, draw, pos))
     return pos;
   throw SamplingError("no initial placement of objects " + SetText(present) + " within " +
                       std::to_string(c.sampling.max_attempts) +
@@ -231,6 +248,8 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
   std::vector<bool> pinned(n);
   for (size_t k = 0; k < n; ++k)
     pinned[k] = objects[present[k] - 1].is_static && !c.sampling.static_object_random_goal;
+  const SpacingRules rules(c, present, radius, c.sampling.goal_min_object_distance,
+                           c.sampling.goal_min_hand_distance, pinned);
   for (int attempt = 0; attempt < c.sampling.max_attempts; ++attempt) {
     for (size_t k = 0; k < n; ++k) {
       const ObjectConfig& o = objects[present[k] - 1];
@@ -252,9 +271,7 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
                            objects_goals[k1][1] + link.length * std::cos(phi)};
       if (c.sampling.tied_goal_in_box) inside = inside && Inside(objects_goals[k2], lo[k2], hi[k2]);
     }
-    if (inside && SpacingHolds(c.sampling, objects_goals, radius, hand,
-                               c.sampling.goal_min_object_distance,
-                               c.sampling.goal_min_hand_distance, pinned))
+    if (inside && rules.Hold(objects_goals))
       return goals;
   }
   // one object at a time (crowded tables)
@@ -271,8 +288,7 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
     if (pinned[k]) return initial[k];
     return Vec2{Uniform(rng, lo[k][0], hi[k][0]), Uniform(rng, lo[k][1], hi[k][1])};
   };
-  if (PlaceOneByOne(c.sampling, order, radius, hand, c.sampling.goal_min_object_distance,
-                    c.sampling.goal_min_hand_distance, pinned, draw, placed)) {
+  if (PlaceOneByOne(rules, order, draw, placed)) {
     std::copy(placed.begin(), placed.end(), objects_goals.begin());
     return goals;
   }

@@ -158,6 +158,11 @@ EnvConfigProblem CheckConnections(const EnvConfig& c, const std::vector<ObjectCo
     if (k.length < c.sampling.init_min_object_distance)
       return Problem(key + ".length", "must be at least sampling.init_min_object_distance (" +
                                           Num(c.sampling.init_min_object_distance) + ")");
+    // the tie sets the pair's goal distance: at its full length the two must not overlap
+    if (const double touching = BoundingRadius(objects[k.first - 1]) + BoundingRadius(objects[k.second - 1]);
+        k.length < touching)
+      return Problem(key + ".length", "must be at least the two objects' bounding radii together (" +
+                                          Num(touching) + ")");
     if (!objects[k.second - 1].fixed_position.empty())
       return Problem(key, "entity " + std::to_string(k.second) +
                               " is placed by its connection: it cannot have a fixed_position");

@@ -191,6 +191,10 @@ TEST(EnvConfigTest, ConnectionAndObjectSetRules) {
       "  object_sets:\n    - {present: [1, 2, 4]}\n",
       {"both or neither"});
   ExpectError("env:\n  object_sets:\n    - {present: [1, 1]}\n", {"repeated"});
+  // two 6 cm cylinders overlap at a 0.11 m tie's full length
+  ExpectError("env:\n  objects:\n    - {size: 0.06}\n    - {size: 0.06}\n  connections:\n"
+              "    - {objects: [1, 2], length: 0.11}\n",
+              {"env.connections[0].length: must be at least the two objects' bounding radii together (0.12)"});
   ExpectError("env:\n  num_pucks: 2\n  objects:\n    - {}\n", {"env.num_pucks"});
 }
 
