@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# The campaign's queue (docs/results.md, "The paper's claims"): the runs still to do, one at a
+# time, in the order of deploy/configs/campaign/queue.txt. Each is a one-run `srics sweep`
+# (in process), so a queue stopped anywhere (Ctrl-C, the end of a session) resumes with the
+# same command: a sweep resumes its run from its checkpoint, replay included. A run whose
+# curves are already under docs/results/campaign/raw/ is skipped; one that finishes has its
+# config.yaml, eval.csv, train.csv, outcome.yaml and graph.json copied there (commit them: the
+# sweep folders in runs/ are not kept by a new checkout).
+#   deploy/campaign.sh [--dry-run] [--build DIR] [--queue FILE]
+#     --dry-run  print what each line would do, run nothing
+# Run it from anywhere; niced (19): it is meant to run beside other work, one run per core.
+# Queue lines (blank lines and # comments ignored):
+#   OUT GROUP NAME CONFIG METHOD SEED [--set KEY=VALUE ...]
+#   OUT     the sweep folder under runs/campaign/
+#   GROUP   the raw folder under docs/results/campaign/raw/ (what `srics compare` reads)
+#   NAME    the run's name there (NAME-seedSEED): compare groups runs by it, so a variant of a
+#           method (another selectivity form) needs its own NAME
+#   CONFIG  the campaign config, relative to the repository root
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=$root/build
+queue=$root/deploy/configs/campaign/queue.txt
+dry_run=0
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --dry-run) dry_run=1; shift ;;
+    --build) build=$(cd "$2" && pwd); shift 2 ;;
+    --queue) queue=$(cd "$(dirname "$2")" && pwd)/$(basename "$2"); shift 2 ;;
+    *) echo "deploy/campaign.sh: unknown option '$1' (--dry-run, --build DIR, --queue FILE)" >&2; exit 2 ;;
+  esac
+done
+[[ -f $queue ]] || { echo "deploy/campaign.sh: no queue file $queue" >&2; exit 2; }
+srics=$build/deploy/launcher/srics
+[[ $dry_run == 1 || -x $srics ]] || { echo "deploy/campaign.sh: $srics not built (./tests/build.sh)" >&2; exit 2; }
+cd "$root"
+
+line_no=0
+while IFS= read -r line || [[ -n $line ]]; do
+  line_no=$((line_no + 1))
+  line=${line%%#*}
+  read -r -a f <<<"$line"
+  [[ ${#f[@]} -eq 0 ]] && continue
+  if [[ ${#f[@]} -lt 6 ]]; then
+    echo "deploy/campaign.sh: $queue:$line_no: expected OUT GROUP NAME CONFIG METHOD SEED [--set K=V ...], got '$line'" >&2
+    exit 2
+  fi
+  out=${f[0]} group=${f[1]} name=${f[2]} config=${f[3]} method=${f[4]} seed=${f[5]}
+  extra=("${f[@]:6}")
+  raw=docs/results/campaign/raw/$group/$name-seed$seed
+  if [[ -f $raw/outcome.yaml ]] && grep -q '^state: finished' "$raw/outcome.yaml"; then
+    echo "[$(date -u +%H:%M)] $name-seed$seed ($group): finished, curves in $raw"
+    continue
+  fi
+  [[ -f $config ]] || { echo "deploy/campaign.sh: $queue:$line_no: no config file $config" >&2; exit 2; }
+  cmd=("$srics" sweep "$config" --methods "$method" --seeds "$seed" --in-process --out "runs/campaign/$out" "${extra[@]}")
+  if [[ $dry_run == 1 ]]; then
+    echo "would run: ${cmd[*]}  -> $raw"
+    continue
+  fi
+  echo "[$(date -u +%H:%M)] $name-seed$seed ($group): nice -n 19 ${cmd[*]}"
+  nice -n 19 "${cmd[@]}"
+  run_dir=runs/campaign/$out/$method-seed$seed
+  if ! grep -q '^state: finished' "$run_dir/outcome.yaml" 2>/dev/null; then
+    echo "deploy/campaign.sh: $run_dir did not finish (outcome.yaml: $(head -c 200 "$run_dir/outcome.yaml" 2>/dev/null || echo none)); the queue stops here" >&2
+    exit 1
+  fi
+  mkdir -p "$raw"
+  for file in config.yaml eval.csv train.csv outcome.yaml graph.json; do
+    [[ -f $run_dir/$file ]] && cp "$run_dir/$file" "$raw/"
+  done
+  [[ -f $root/docs/results/campaign/raw/$group/sweep.yaml ]] || cp "runs/campaign/$out/sweep.yaml" "docs/results/campaign/raw/$group/"
+  echo "[$(date -u +%H:%M)] $name-seed$seed ($group): finished, curves copied to $raw (commit them)"
+done <"$queue"
+echo "[$(date -u +%H:%M)] the queue is done"
