@@ -179,7 +179,11 @@ std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int
   const std::vector<ObjectConfig> objects = config::EffectiveObjects(c);
   const size_t n = present.size();
   const ObjectBoxes boxes(c, objects, present, c.sampling.init_low, c.sampling.init_high);
-  const auto& [radius, lo, hi] = boxes;
+  // named references, not a structured binding: the placement lambdas capture them (C++20
+  // allows capturing bindings; clang 14 of the sanitizer build does not)
+  const auto& radius = boxes.radius;
+  const auto& lo = boxes.lo;
+  const auto& hi = boxes.hi;
   std::vector<Vec2> pos(n);
   const SpacingRules rules(c, present, radius, c.sampling.init_min_object_distance,
                            c.sampling.init_min_hand_distance, std::vector<bool>(n, false));
@@ -240,7 +244,11 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
   const size_t n = present.size();
   if (initial.size() != n) throw std::invalid_argument("SampleGoals: one initial xy per object");
   const ObjectBoxes boxes(c, objects, present, c.sampling.goal_low, c.sampling.goal_high);
-  const auto& [radius, lo, hi] = boxes;
+  // named references, not a structured binding: the placement lambdas capture them (C++20
+  // allows capturing bindings; clang 14 of the sanitizer build does not)
+  const auto& radius = boxes.radius;
+  const auto& lo = boxes.lo;
+  const auto& hi = boxes.hi;
   const Vec2 hand{c.hand.start[0], c.hand.start[1]};
   std::vector<Vec2> goals(n + 1);
   goals[0] = hand;
