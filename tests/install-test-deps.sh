@@ -7,12 +7,15 @@
 # - chromium, the headless browser of the dashboard test (tests/deploy/dashboard/); without
 #   recommends, measured on this Debian 12 host (which had the X and font libraries already):
 #   9 packages, ~122 MB download, ~400 MB on disk.
+# - ffmpeg, for the render tests that read an MP4 of `srics eval` back frame by frame
+#   (tests/actor/env/render/; without it they SKIP): 32 packages without recommends, 12 s to
+#   install here from a warm package cache.
 # Idempotent like deploy/install-deps.sh. SRICS_SKIP_TEST_DEPS=1 skips it (the interop and
 # browser tests then SKIP).
 set -euo pipefail
 
 [ -n "${SRICS_SKIP_TEST_DEPS:-}" ] && exit 0
-packages=(fastddsgen libfastrtps-dev chromium)
+packages=(fastddsgen libfastrtps-dev chromium ffmpeg)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -29,5 +32,5 @@ export DEBIAN_FRONTEND=noninteractive
 if ! { "${sudo_cmd[@]}" apt-get update -qq &&
        "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"; }; then
   # the rest of the suite does not need them: go on, the interop test will SKIP and say why
-  echo "install-test-deps: could not install ${missing[*]}; the Fast DDS interop test or the dashboard's browser test will SKIP" >&2
+  echo "install-test-deps: could not install ${missing[*]}; the Fast DDS interop test, the dashboard's browser test or the MP4 render tests will SKIP" >&2
 fi
