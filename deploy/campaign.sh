@@ -8,7 +8,8 @@
 # sweep folders in runs/ are not kept by a new checkout).
 #   deploy/campaign.sh [--dry-run] [--build DIR] [--queue FILE]
 #     --dry-run  print what each line would do, run nothing
-# Run it from anywhere; niced (19): it is meant to run beside other work, one run per core.
+# Run it from anywhere; niced (10, as the graph acceptance runs are, so that neither starves the
+# other): it is meant to run beside other work, one run per core.
 # Queue lines (blank lines and # comments ignored):
 #   OUT GROUP NAME CONFIG METHOD SEED [--set KEY=VALUE ...]
 #   OUT     the sweep folder under runs/campaign/
@@ -57,8 +58,8 @@ while IFS= read -r line || [[ -n $line ]]; do
     echo "would run: ${cmd[*]}  -> $raw"
     continue
   fi
-  echo "[$(date -u +%H:%M)] $name-seed$seed ($group): nice -n 19 ${cmd[*]}"
-  nice -n 19 "${cmd[@]}"
+  echo "[$(date -u +%H:%M)] $name-seed$seed ($group): nice -n 10 ${cmd[*]}"
+  nice -n 10 "${cmd[@]}"
   run_dir=runs/campaign/$out/$method-seed$seed
   if ! grep -q '^state: finished' "$run_dir/outcome.yaml" 2>/dev/null; then
     echo "deploy/campaign.sh: $run_dir did not finish (outcome.yaml: $(head -c 200 "$run_dir/outcome.yaml" 2>/dev/null || echo none)); the queue stops here" >&2
