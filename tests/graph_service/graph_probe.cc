@@ -167,6 +167,28 @@ int main(int argc, char** argv) {
       if (i != j && alone > 0) std::printf("  %d:[%.2f/%.2f]", i, with_moving[i] / alone, with_near[i] / alone);
     std::printf("\n");
   }
+  // how far each tie is stretched: the fraction of steps at each distance beyond (or short of)
+  // its length, and how often the partner moved > 1 mm then (a spring needs stretch to pull
+  // against friction; a rope pulls at its length)
+  for (const auto& link : cfg.env.connections) {
+    const int a = link.first, b = link.second;
+    const double bins[] = {-1, -0.03, 0, 0.01, 0.03, 0.05, 1};
+    std::vector<double> count(6, 0), partner_moved(6, 0);
+    for (const auto& e : episodes)
+      for (int t = 0; t < steps; ++t) {
+        const double over = dist(e.state(t), a, b) - link.length;
+        const float* s0 = e.state(t);
+        const float* s1 = e.state(t + 1);
+        const bool moved_b = std::hypot(l.x(s1, b) - l.x(s0, b), l.y(s1, b) - l.y(s0, b)) > 1e-3;
+        for (int k = 0; k < 6; ++k)
+          if (over >= bins[k] && over < bins[k + 1]) count[k] += 1, partner_moved[k] += moved_b;
+      }
+    std::printf("tie %d-%d (length %.3f): distance minus length [fraction of steps, %d moved]:", a, b, link.length, b);
+    const char* names[] = {"< -3cm", "-3..0cm", "0..1cm", "1..3cm", "3..5cm", ">= 5cm"};
+    for (int k = 0; k < 6; ++k)
+      std::printf("  %s [%.4f, %.2f]", names[k], count[k] / transitions, count[k] > 0 ? partner_moved[k] / count[k] : 0.0);
+    std::printf("\n");
+  }
   if (stats_only) return 0;
 
   VectorSource source(std::move(episodes));
