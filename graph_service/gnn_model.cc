@@ -157,12 +157,41 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
     row_weight = tape.Constant(row_weights_);
   }
   Loss out;
+  const T onset_sq = T(options_.onset_motion * options_.onset_motion);
   for (int t = 0; t < batch.steps(); ++t) {
     const Mat noise = nn::RandomGumbel<T>(edges, 2, rng);
     Step step = Forward(tape, h, tape.Constant(batch.inputs[t]), b, noise);
     h = step.hidden;
     nn::Var<T> sq = tape.Square(tape.Sub(step.delta, tape.Constant(batch.deltas[t])));
-    if (!entity_weights_.empty()) sq = tape.Mul(sq, row_weight);
+    if (options_.onset_loss_weight > 0 && t > 0) {
+      // the first step of a window has no previous step: never an onset
+      Mat w = entity_weights_.empty() ? Mat::Ones(rows, 1) : row_weights_;
+      const Mat& now = batch.deltas[t];
+      const Mat& before = batch.deltas[t - 1];
+      const Mat& x = batch.inputs[t];  // columns 0, 1: positions in metres
+      const bool some = onset_entities_.size() == static_cast<size_t>(n);
+      const bool clearance = onset_clearance_.size() == static_cast<size_t>(n) * n;
+      for (Eigen::Index r = 0; r < rows; ++r) {
+        const int j = static_cast<int>(r % n);
+        if ((some && !onset_entities_[static_cast<size_t>(j)]) ||
+            !(now.row(r).squaredNorm() > onset_sq && before.row(r).squaredNorm() <= onset_sq))
+          continue;
+        bool clear = true;
+        for (int i = 0; clearance && clear && i < n; ++i) {
+          const T c = T(onset_clearance_[static_cast<size_t>(i) * n + j]);
+          if (i == j || c <= 0) continue;
+          // before and after the step (the arm moves up to ~7 cm in one)
+          const Eigen::Index s = r - j + i;
+          const T dx = x(s, 0) - x(r, 0), dy = x(s, 1) - x(r, 1);
+          const T ex = dx + now(s, 0) - now(r, 0), ey = dy + now(s, 1) - now(r, 1);
+          clear = std::sqrt(dx * dx + dy * dy) > c && std::sqrt(ex * ex + ey * ey) > c;
+        }
+        if (clear) w(r, 0) *= T(1 + options_.onset_loss_weight);
+      }
+      sq = tape.Mul(sq, tape.Constant(w));
+    } else if (!entity_weights_.empty()) {
+      sq = tape.Mul(sq, row_weight);
+    }
     nn::Var<T> mse = tape.Mean(sq);
     // KL of the edge posterior to the Bernoulli prior, summed over edges, per receiver
     nn::Var<T> log_q = tape.LogSoftmax(step.edge_logits);

@@ -43,6 +43,10 @@ struct GnnOptions {
   bool hard = true;           // straight-through hard samples (the reference); false = soft
   // > 0: loss += gate_logit_decay * sum over edges of max(0, logit_0 - logit_1)^2 / (N * B)
   double gate_logit_decay = 0;
+  // > 0: an entity's squared error at a step where it starts moving (|Δxy| > onset_motion
+  // now, not in the previous step of the window) is weighted 1 + onset_loss_weight
+  double onset_loss_weight = 0;
+  double onset_motion = 1e-3;
 };
 
 // The model; T is float for training and double for gradient checks.
@@ -91,6 +95,12 @@ class GnnModel {
   const GnnOptions& options() const { return options_; }
   // Per-entity weights of the squared error (size N; empty = all 1).
   void set_entity_loss_weights(std::vector<double> w) { entity_weights_ = std::move(w); }
+  // with onset_loss_weight: whose onsets are weighted (empty: every entity's), and an onset of
+  // j only when every entity i is farther from j than clearance[i * N + j] before and after
+  // the step (empty: no condition)
+  void set_onset_entities(std::vector<bool> e) { onset_entities_ = std::move(e); }
+  void set_onset_clearance(std::vector<double> c) { onset_clearance_ = std::move(c); }
+  void set_onset_loss_weight(double w) { options_.onset_loss_weight = w; }
   // Changes the weight of the KL term (annealing).
   void set_kl_weight(double w) { options_.kl_weight = w; }
   // Standardisation of the node inputs: every network sees (x - mean) * inv_std (size F
@@ -115,6 +125,8 @@ class GnnModel {
   nn::Mlp<T> pred_;           // d_pred: H -> M -> 2
   bool open_edges_ = false;
   std::vector<double> entity_weights_;
+  std::vector<bool> onset_entities_;
+  std::vector<double> onset_clearance_;
   Mat input_mean_, input_inv_std_;  // 1 x F each (empty: no standardisation)
   Mat row_weights_;           // (B*N) x 1 built from entity_weights_
   int edges_batch_ = -1;

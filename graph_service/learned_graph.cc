@@ -226,7 +226,8 @@ LearnedGraph GraphFromJson(const std::string& text) {
   };
   const bool v1 = root.Get("format_version").AsInt() == 1;
   g.readout = v1 ? "mean_weight" : root.Get("readout").AsString();
-  if (g.readout != "cut" && g.readout != "mean_weight") Fail("unknown readout '" + g.readout + "'");
+  if (g.readout != "cut" && g.readout != "mean_weight" && g.readout != "mean_weight_apart")
+    Fail("unknown readout '" + g.readout + "'");
   const std::vector<double> mean_weights = read_matrix("mean_weights");
   const std::vector<double> weights = v1 ? mean_weights : read_matrix("edge_scores");
   const auto& adj = root.Get("adjacency").AsArray();

@@ -70,6 +70,9 @@ struct ServiceOptions {
   // (rl::FullEnvironmentShapeFor); explore episodes of any other shape are dropped. The role
   // programs always set it. Unset (toy worlds in tests) the first valid episode fixes it.
   std::optional<DatasetShape> shape;
+  // each graph entity's footprint bounding radius in metres (the arm's hand box, then the
+  // catalogue's objects), for graph.object_edges: apart; empty: object edges over every step
+  std::vector<double> contact_radius;
   int updates_per_step = 10;    // GNN updates per Step (each Step stays well under a second)
   // the run's training episode length (actors.train_episode_steps): with
   // graph.refine_after_publish the service refines from episodes of this length

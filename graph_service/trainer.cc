@@ -22,6 +22,8 @@ GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset&
   o.temperature = config.gumbel_temperature;
   o.hard = config.hard_edges;
   o.gate_logit_decay = config.gate_logit_decay;
+  o.onset_loss_weight = config.onset_loss_weight;
+  o.onset_motion = config.onset_motion_m;
   return o;
 }
 
@@ -122,6 +124,14 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
     }
     model_.set_entity_loss_weights(w);
   }
+  arm_ = SelectActionEntity(data);
+  if (config.onset_loss_weight > 0) {
+    // the arm goes where the action sends it: its onsets need no cause (weighted, they only
+    // invited object -> arm edges: random table 6, 0.07-0.12)
+    std::vector<bool> onsets(static_cast<size_t>(data.num_entities()), true);
+    onsets[static_cast<size_t>(arm_)] = false;
+    model_.set_onset_entities(onsets);
+  }
 }
 
 double GnnTrainer::Update() {
@@ -217,6 +227,27 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
   schedule_start_ = schedule_start;
 }
 
+void GnnTrainer::SetContactRadii(std::vector<double> radii) {
+  contact_radius_ = std::move(radii);
+  const int n = data_.num_entities(), g = data_.graph_entities();
+  if (config_.onset_loss_weight <= 0 || contact_radius_.size() != static_cast<size_t>(g)) return;
+  // onsets of an object the arm touches are pushes: not weighted. The clearance is per
+  // position in the episode; with combinations (positions hold different objects) each object
+  // position takes the largest object's radius, which leaves out a few more onsets than needed.
+  // The arm is graph entity 0 there (every combination starts with it).
+  std::vector<double> radius(static_cast<size_t>(n));
+  const double largest = *std::max_element(contact_radius_.begin() + 1, contact_radius_.end());
+  for (int j = 0; j < n; ++j)
+    radius[static_cast<size_t>(j)] = !data_.combinations() ? contact_radius_[static_cast<size_t>(j)]
+                                     : j == arm_ ? contact_radius_[0] : largest;
+  std::vector<double> clearance(static_cast<size_t>(n) * n, 0.0);
+  for (int j = 0; j < n; ++j)
+    if (j != arm_)
+      clearance[static_cast<size_t>(arm_) * n + j] = radius[static_cast<size_t>(arm_)] +
+                                                     radius[static_cast<size_t>(j)] + config_.contact_margin_m;
+  model_.set_onset_clearance(clearance);
+}
+
 void GnnTrainer::RestartSchedule() { schedule_start_ = updates_; }
 
 bool GnnTrainer::Settled() const {
@@ -247,6 +278,9 @@ EdgeStatistics GnnTrainer::Evaluate() {
     bool held_out;
   };
   std::vector<Part> parts = {{&data_, &data_.train_episodes(), false}, {&data_, &data_.held_out_episodes(), true}};
+  // object pairs apart (more than contact_margin_m beyond touching): their own means
+  const bool apart = ApartWeights();
+  std::vector<double> apart_sum(apart ? static_cast<size_t>(g) * g : 0, 0.0), apart_count(apart_sum.size(), 0.0);
   if (refine_ != nullptr && refine_->size() > 0) parts.push_back({refine_, &refine_->train_episodes(), false});
   for (const auto& [data, split, held_out] : parts) {
     for (size_t first = 0; first < split->size();
@@ -277,6 +311,18 @@ EdgeStatistics GnnTrainer::Evaluate() {
           const int d = data == refine_ ? 1 : 0;
           sum[d][pair] += p;
           pair_count[d][pair] += 1;
+          if (apart && d == 0) {
+            const Eigen::Index first_row = (e / per_sample) * n;
+            const nn::Matrix<float>& x = batch.inputs[t];  // columns 0, 1: positions in metres
+            const Eigen::Index s = first_row + model_.edge_sender_entity(local);
+            const Eigen::Index r = first_row + model_.edge_receiver_entity(local);
+            const double distance = std::hypot(x(s, 0) - x(r, 0), x(s, 1) - x(r, 1));
+            const size_t sender = pair / static_cast<size_t>(g), receiver = pair % static_cast<size_t>(g);
+            if (distance > contact_radius_[sender] + contact_radius_[receiver] + config_.contact_margin_m) {
+              apart_sum[pair] += p;
+              apart_count[pair] += 1;
+            }
+          }
         }
         if (held_out) {
           const nn::Matrix<float>& target = batch.deltas[t];
@@ -301,6 +347,7 @@ EdgeStatistics GnnTrainer::Evaluate() {
     return mean;
   };
   stats.mean_weight = means(sum[0], pair_count[0]);
+  if (apart) stats.apart_weight = means(apart_sum, apart_count);
   if (refine_ != nullptr && refine_->size() > 0) stats.training_mean_weight = means(sum[1], pair_count[1]);
   if (config_.readout == config::GraphReadout::kCut) stats.cut_score = EdgeCutScores();
   stats.held_out_mse = transitions > 0 ? mse / transitions : 0;

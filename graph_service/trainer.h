@@ -32,6 +32,10 @@ struct EdgeStatistics {
   // of j with the edge i -> j cut (its sender taken from another held-out episode) minus without, over what the model explains of j (its
   // no-motion error minus its error), clamped to [0, 1]; 0 into entities that do not move
   std::vector<double> cut_score;
+  // apart_weight[i * N + j]: the mean edge probability over the random-action data's steps
+  // where i and j are more than graph.contact_margin_m beyond touching (0 where they never
+  // are). Empty unless object_edges is apart and the trainer has the entities' radii.
+  std::vector<double> apart_weight;
 };
 
 // Which entities move: the no-motion error of each (any scale) above `fraction` of the
@@ -55,6 +59,14 @@ class GnnTrainer {
   // episodes, every episode in its training split), and evaluations average the edge weights
   // over its episodes too. null or a share of 0: none. `data` must outlive the trainer.
   void SetRefinementData(const GraphDataset* data, double share);
+  // each graph entity's footprint bounding radius in metres (ServiceOptions::contact_radius),
+  // for the apart weights of Evaluate
+  void SetContactRadii(std::vector<double> radii);
+  // whether Evaluate scores object pairs apart (object_edges apart, radii of every entity)
+  bool ApartWeights() const {
+    return config_.object_edges == config::ObjectEdgeReadout::kApart &&
+           contact_radius_.size() == static_cast<size_t>(data_.graph_entities());
+  }
 
   // One RMSprop update on a fresh batch of windows; returns the batch's loss
   // (sum over the window of MSE + kl_weight * KL).
@@ -105,6 +117,8 @@ class GnnTrainer {
   nn::Tape<float> tape_;
   WindowBatch<float> batch_, refine_batch_;
   const GraphDataset* refine_ = nullptr;
+  std::vector<double> contact_radius_;
+  int arm_ = 0;  // SelectActionEntity of the data
   double refine_share_ = 0;
   int64_t updates_ = 0;
   int64_t schedule_start_ = 0;  // the update the warm-up / KL ramp schedule counts from

@@ -27,10 +27,15 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadEnum("readout", &out->readout,
              {{"cut", GraphReadout::kCut}, {"mean_weight", GraphReadout::kMeanWeight}});
   s.ReadDouble("threshold", &out->threshold, 0, 1);
+  s.ReadEnum("object_edges", &out->object_edges,
+             {{"apart", ObjectEdgeReadout::kApart}, {"every_step", ObjectEdgeReadout::kEveryStep}});
+  s.ReadDouble("contact_margin_m", &out->contact_margin_m, 0, 1);
   s.ReadDouble("cut_threshold", &out->cut_threshold, 0, 1);
   s.ReadDouble("static_variance_fraction", &out->static_variance_fraction, 0, 1);
   s.ReadBool("reciprocal_object_edges", &out->reciprocal_object_edges);
   s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
+  s.ReadDouble("onset_loss_weight", &out->onset_loss_weight, 0, 1e3);
+  s.ReadDouble("onset_motion_m", &out->onset_motion_m, 0, 1);
   s.ReadBool("restart_adam_after_warmup", &out->restart_adam_after_warmup);
   s.ReadDouble("adam_beta2_after_warmup", &out->adam_beta2_after_warmup, 0, 1 - 1e-9);
   s.ReadBool("hard_edges", &out->hard_edges);

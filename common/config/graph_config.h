@@ -18,6 +18,18 @@ enum class GraphReadout {
   kMeanWeight,
 };
 
+// How the mean_weight read-out scores an edge between two objects (the arm's edges are
+// always scored over every step: the arm acts by touching).
+enum class ObjectEdgeReadout {
+  // the paper's: the mean over every step, like every other edge
+  kEveryStep,
+  // the mean over the steps where the two are more than contact_margin_m beyond touching
+  // (their footprints' bounding radii): the paper's graphs leave out occasional object-object
+  // contact, a tie acts at a distance. Needs the run's object sizes (the role programs pass
+  // them); without them every step counts.
+  kApart,
+};
+
 struct GraphConfig {
   // true: no graph is learned; the graph the environment config implies by construction is
   // published (rl::GroundTruthGraph). For checks of the RL part alone; a config that sets it
@@ -72,6 +84,8 @@ struct GraphConfig {
   // at least as many graphs (relational-4 seed 1: the cut found the rope in one direction only)
   GraphReadout readout = GraphReadout::kMeanWeight;
   double threshold = 0.06;         // mean_weight read-out: keep edges with mean weight above this
+  ObjectEdgeReadout object_edges = ObjectEdgeReadout::kApart;  // (not in the paper)
+  double contact_margin_m = 0.02;
   // cut read-out: keep i -> j when cutting it loses more than this fraction of the held-out
   // variance of j's motion the model explains
   double cut_threshold = 0.1;
@@ -94,6 +108,16 @@ struct GraphConfig {
   // One-sided: closed gates are left to the KL and settle at the prior. (A two-sided 1e-5
   // left arm -> static puck at 0.06-0.07 and unused edges at ~0.02.)
   double gate_logit_decay = 5e-5;
+  // each entity's squared error at a step where it starts moving (it moves more than
+  // onset_motion_m there and did not in the step before) counts 1 + onset_loss_weight times
+  // (not in the reference; 0 = off). Whatever sets an object in motion without touching it
+  // (a spring or rope pulling) shows only at such onsets; afterwards the object's own recent
+  // motion predicts most of its path, so in a plain squared error the tie hardly pays its KL.
+  // The arm's onsets are not weighted (the action alone moves it), nor those of an object the
+  // arm touches (within contact_margin_m of its footprint before or after the step): a push
+  // needs no relation between objects to explain it.
+  double onset_loss_weight = 10.0;
+  double onset_motion_m = 1e-3;
   // a fresh Adam state when the gates start (end of the warm-up), with this beta2 (0.99, the
   // decay of the reference's RMSprop); see GnnTrainer::Update. Not in the reference.
   bool restart_adam_after_warmup = true;

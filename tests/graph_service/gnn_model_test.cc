@@ -111,6 +111,84 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferencesWithEdgeInputs) {
   EXPECT_LT(WindowLossGradientError(model, batch, rng), 1e-6);
 }
 
+// The onset weight against a sum computed by hand from the model's own per-step predictions:
+// mse(w) = mse(0) + w * sum over onset rows (moving now, not in the step before, of an entity
+// whose onsets count) of entity weight * squared error / (rows * 2).
+TEST(GnnModelTest, OnsetWeightCountsOnlyOnsets) {
+  const int n = 3, b = 2, steps = 4;
+  WindowBatch<double> batch;
+  batch.batch = b;
+  batch.num_entities = n;
+  const int input_dim = 2 + 3 + 2;  // xy, 3 kinds, 2 action components
+  for (int t = 0; t < steps; ++t) {
+    nn::Matrix<double> x = nn::Matrix<double>::Zero(b * n, input_dim);
+    nn::Matrix<double> d = nn::Matrix<double>::Zero(b * n, 2);
+    for (int w = 0; w < b; ++w)
+      for (int e = 0; e < n; ++e) {
+        x(w * n + e, 0) = 0.2 * e;  // entities 0.2 m apart along x
+        x(w * n + e, 1) = 0.05 * w;
+        x(w * n + e, 2 + e) = 1;
+        x(w * n + e, 5) = 0.1 * t - 0.1 * w;
+      }
+    batch.inputs.push_back(x);
+    batch.deltas.push_back(d);
+  }
+  // window 0, entity 2: still at t = 0, 1, moving from t = 2 (an onset at t = 2 only)
+  batch.deltas[2](2, 0) = 0.01;
+  batch.deltas[3](2, 0) = 0.012;
+  // window 1, entity 1: moving at t = 0 already (the window's first step is never an onset)
+  // and t = 1; stops, starts again at t = 3 (an onset)
+  batch.deltas[0](n + 1, 1) = 0.02;
+  batch.deltas[1](n + 1, 1) = 0.02;
+  batch.deltas[3](n + 1, 1) = -0.015;
+  nn::Rng init(7);
+  GnnModel<double> model({.num_entities = n, .input_dim = input_dim, .hidden_dim = 3,
+                          .mlp_hidden = 4, .edge_relative_scale = 0.05, .kl_weight = 0.1,
+                          .hard = false}, init);
+  const std::vector<double> entity_weight = {1.0, 2.0, 0.5};
+  model.set_entity_loss_weights(entity_weight);
+  auto mse = [&](double onset_weight) {
+    model.set_onset_loss_weight(onset_weight);
+    nn::Tape<double> tape;
+    nn::Rng noise(3);
+    return model.WindowLoss(tape, batch, noise).mse;
+  };
+  // the squared errors per row and step, the model stepped by hand with the same noise
+  std::vector<nn::Matrix<double>> sq;
+  {
+    nn::Tape<double> tape;
+    nn::Rng noise(3);
+    nn::Var<double> h = tape.Constant(nn::Matrix<double>::Zero(b * n, 3));
+    for (int t = 0; t < steps; ++t) {
+      auto step = model.Forward(tape, h, tape.Constant(batch.inputs[t]), b,
+                                nn::RandomGumbel<double>(b * n * (n - 1), 2, noise));
+      h = step.hidden;
+      sq.push_back((step.delta.value() - batch.deltas[t]).array().square().matrix());
+    }
+  }
+  const double rows2 = b * n * 2;
+  const double onset_sum = (entity_weight[2] * sq[2].row(2).sum() + entity_weight[1] * sq[3].row(n + 1).sum()) / rows2;
+  ASSERT_GT(onset_sum, 0);
+  const double base = mse(0);
+  EXPECT_NEAR(mse(4) - base, 4 * onset_sum, 1e-12);
+  EXPECT_NEAR(mse(10) - base, 10 * onset_sum, 1e-12);
+  // entity 1's onsets do not count (as the arm's in training): only window 0's onset of 2
+  model.set_onset_entities({true, false, true});
+  EXPECT_NEAR(mse(4) - base, 4 * entity_weight[2] * sq[2].row(2).sum() / rows2, 1e-12);
+  // clearances instead (entities sit 0.2 m apart along x): entity 0 within 0.25 m of entity 1
+  // takes away its onset, 0.35 m around entity 2 from entity 0 (0.4 m away) does not
+  model.set_onset_entities({});
+  std::vector<double> clearance(n * n, 0.0);
+  clearance[0 * n + 1] = 0.25;
+  clearance[0 * n + 2] = 0.35;
+  model.set_onset_clearance(clearance);
+  EXPECT_NEAR(mse(4) - base, 4 * entity_weight[2] * sq[2].row(2).sum() / rows2, 1e-12);
+  // 0.45 m around entity 2 as well: no onset counts
+  clearance[0 * n + 2] = 0.45;
+  model.set_onset_clearance(clearance);
+  EXPECT_NEAR(mse(4), base, 1e-12);
+}
+
 TEST(GnnModelTest, LossGoesDownOnAFixedBatch) {
   ToyBatch<float> toy(8, 20, /*seed=*/4, 20, 10);
   auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
@@ -161,6 +239,33 @@ TEST(GnnTrainerTest, EvaluationAveragesEdgeProbabilities) {
   trainer.Update();
   EXPECT_EQ(trainer.updates(), 1);
   EXPECT_NE(trainer.Evaluate().mean_weight, a.mean_weight);
+}
+
+// Object pairs apart: with zero radii and margin every step counts (the plain means), with radii
+// larger than the table none does (0), and without radii or with object_edges every_step there
+// are none.
+TEST(GnnTrainerTest, ApartWeightsCountOnlyStepsBeyondContact) {
+  GraphDataset data = ToyData(8, 10);
+  config::GraphConfig config;
+  config.hidden_dim = 6;
+  config.mlp_hidden = 12;
+  config.eval_chunk_episodes = 3;
+  config.contact_margin_m = 0;
+  GnnTrainer trainer(config, data, 9);
+  EXPECT_FALSE(trainer.ApartWeights());
+  EXPECT_TRUE(trainer.Evaluate().apart_weight.empty());
+  trainer.SetContactRadii({0, 0, 0});
+  ASSERT_TRUE(trainer.ApartWeights());
+  const EdgeStatistics every = trainer.Evaluate();
+  ASSERT_EQ(every.apart_weight.size(), 9u);
+  for (size_t k = 0; k < 9; ++k) EXPECT_NEAR(every.apart_weight[k], every.mean_weight[k], 1e-12) << k;
+  trainer.SetContactRadii({10, 10, 10});
+  for (double w : trainer.Evaluate().apart_weight) EXPECT_EQ(w, 0.0);
+  config.object_edges = config::ObjectEdgeReadout::kEveryStep;
+  GnnTrainer paper(config, data, 9);
+  paper.SetContactRadii({0, 0, 0});
+  EXPECT_FALSE(paper.ApartWeights());
+  EXPECT_TRUE(paper.Evaluate().apart_weight.empty());
 }
 
 // Per-identity averaging over training combinations, where the truth is known: with open

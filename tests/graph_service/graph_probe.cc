@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "actor/env/rearrange_env.h"
 #include "actor/rollout.h"
 #include "common/config/config.h"
@@ -138,6 +140,36 @@ int main(int argc, char** argv) {
     std::printf(" %d: %.4f (%.4f m)", j, moved[j] / transitions, std::sqrt(sq[j] / transitions));
   std::printf("\nfraction of 20-step windows with some puck motion: %.3f\n",
               windows_moving / windows);
+  // onsets (moving > 1 mm after a step that did not) per entity, and those with every other
+  // entity farther than its closest approach in the data + 2 cm before and after the step
+  // (what graph.onset_loss_weight emphasises)
+  {
+    std::vector<double> closest(n * n, 1e9);
+    for (const auto& e : episodes)
+      for (int t = 0; t <= steps; ++t)
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j)
+            if (i != j) closest[i * n + j] = std::min(closest[i * n + j], (double)std::hypot(l.x(e.state(t), i) - l.x(e.state(t), j), l.y(e.state(t), i) - l.y(e.state(t), j)));
+    std::vector<double> onsets(n, 0), clear(n, 0);
+    for (const auto& e : episodes)
+      for (int t = 1; t < steps; ++t)
+        for (int j = 0; j < n; ++j) {
+          auto step = [&](int k, int s) { return std::hypot(l.x(e.state(s + 1), k) - l.x(e.state(s), k), l.y(e.state(s + 1), k) - l.y(e.state(s), k)); };
+          if (!(step(j, t) > 1e-3 && step(j, t - 1) <= 1e-3)) continue;
+          onsets[j] += 1;
+          bool ok = true;
+          for (int i = 0; i < n && ok; ++i) {
+            if (i == j) continue;
+            for (int s : {t, t + 1})
+              ok = ok && std::hypot(l.x(e.state(s), i) - l.x(e.state(s), j), l.y(e.state(s), i) - l.y(e.state(s), j)) > (getenv("CLEAR") ? atof(getenv("CLEAR")) : closest[i * n + j] + 0.02);
+          }
+          clear[j] += ok;
+        }
+    std::printf("closest approach:"); for (int i = 0; i < n; ++i) for (int j = i + 1; j < n; ++j) std::printf(" %d-%d %.3f", i, j, closest[i * n + j]); std::printf("\n");
+    std::printf("onsets per entity (fraction of transitions; clear of every other entity):");
+    for (int j = 0; j < n; ++j) std::printf(" %d: %.4f (%.4f)", j, onsets[j] / transitions, clear[j] / transitions);
+    std::printf("\n");
+  }
   // motion the arm did not cause directly: object j moves > 1 mm while the arm is farther than
   // 12 cm from it before and after the step; then, per other object i, how often i moved in the same step or was within
   // 7 cm (contact or tie at work). A tie that never shows here cannot be learned from the data.
@@ -174,8 +206,18 @@ int main(int argc, char** argv) {
     const int a = link.first, b = link.second;
     const double bins[] = {-1, -0.03, 0, 0.01, 0.03, 0.05, 1};
     std::vector<double> count(6, 0), partner_moved(6, 0);
+    // the partner's squared motion, all of it and the part with the arm >= 12 cm away (what a
+    // squared-error loss can credit to the tie or contacts only), and its rms step then
+    double sq_all = 0, sq_far = 0, steps_far = 0;
     for (const auto& e : episodes)
       for (int t = 0; t < steps; ++t) {
+        {
+          const float* s0 = e.state(t);
+          const float* s1 = e.state(t + 1);
+          const double d2 = std::pow(l.x(s1, b) - l.x(s0, b), 2) + std::pow(l.y(s1, b) - l.y(s0, b), 2);
+          sq_all += d2;
+          if (std::min(dist(s0, 0, b), dist(s1, 0, b)) >= 0.12 && d2 > 1e-6) sq_far += d2, steps_far += 1;
+        }
         const double over = dist(e.state(t), a, b) - link.length;
         const float* s0 = e.state(t);
         const float* s1 = e.state(t + 1);
@@ -188,6 +230,9 @@ int main(int argc, char** argv) {
     for (int k = 0; k < 6; ++k)
       std::printf("  %s [%.4f, %.2f]", names[k], count[k] / transitions, count[k] > 0 ? partner_moved[k] / count[k] : 0.0);
     std::printf("\n");
+    std::printf("  partner %d: share of its squared motion with the arm >= 12 cm away %.3f (%.4f of steps, rms step then %.4f m)\n",
+                b, sq_all > 0 ? sq_far / sq_all : 0.0, steps_far / transitions,
+                steps_far > 0 ? std::sqrt(sq_far / steps_far) : 0.0);
   }
   if (stats_only) return 0;
 
@@ -196,7 +241,9 @@ int main(int argc, char** argv) {
   graph_service::ServiceOptions options;
   options.seed = seed;
   options.render_pictures = false;
-  options.state_dir = "/tmp/graph_probe_out_" + std::to_string(seed);
+  options.contact_radius = graph_service::ServiceOptionsFor(cfg, "").contact_radius;
+  options.state_dir = "/tmp/graph_probe_out_" + std::filesystem::path(env_file).stem().string() + "_" +
+                      std::to_string(seed) + "_" + std::to_string(getpid());
   std::filesystem::remove_all(options.state_dir);
   graph_service::GraphService service(cfg.graph, options, &source, &sink, graph_service::testing::PrintTrainingProgress);
   std::atomic<bool> stop{false};

@@ -88,6 +88,54 @@ TEST(ReadOutScoresTest, MeanWeightReadOutCompletesTheRopeBothWays) {
   EXPECT_EQ(graph(config), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
 }
 
+TEST(ReadOutScoresTest, NothingEntersAnEntityThatDoesNotMove) {
+  // relational-4-spring, seed 1, onset_loss_weight 3, 3000 updates (AVX-512 EPYC): the arm
+  // -> static puck 1 edge at 0.075 over the threshold, although puck 1 never moves
+  EdgeStatistics stats;
+  stats.num_entities = 5;
+  stats.mean_weight = {0,     0.075, 0.512, 0.514, 0.456,
+                       0.000, 0,     0.032, 0.024, 0.035,
+                       0.001, 0.001, 0,     0.111, 0.044,
+                       0.001, 0.001, 0.111, 0,     0.045,
+                       0.000, 0.000, 0.044, 0.045, 0};
+  stats.held_out_entity_zero_mse = {2.7e-3, 0, 2.8e-4, 2.3e-4, 1.8e-4};
+  config::GraphConfig config;
+  for (bool reciprocal : {true, false}) {
+    config.reciprocal_object_edges = reciprocal;
+    EXPECT_EQ(rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph),
+              "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
+  }
+  // a moving entity keeps its incoming edges
+  stats.held_out_entity_zero_mse[1] = 1e-4;
+  EXPECT_EQ(rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph),
+            "action->0, 0->1, 0->2, 0->3, 0->4, 2->3, 3->2");
+}
+
+TEST(ReadOutScoresTest, ObjectPairsApartReplaceTheirEveryStepWeights) {
+  // relational-4-spring-like: the spring 2-3 open while apart, the contacts 2-4, 3-4 open at
+  // contact only (every-step weights over the threshold, apart weights under it)
+  EdgeStatistics stats;
+  stats.num_entities = 5;
+  stats.mean_weight = {0,     0.0,   0.350, 0.345, 0.310,
+                       0.0,   0,     0.030, 0.025, 0.040,
+                       0.0,   0.0,   0,     0.090, 0.070,
+                       0.0,   0.0,   0.090, 0,     0.065,
+                       0.0,   0.0,   0.070, 0.065, 0};
+  stats.apart_weight = {0.9,  0.9,   0.9,   0.9,   0.9,    // the arm's: ignored
+                        0.0,  0,     0.001, 0.001, 0.002,
+                        0.0,  0.0,   0,     0.080, 0.020,
+                        0.0,  0.0,   0.010, 0,     0.015,
+                        0.0,  0.0,   0.020, 0.015, 0};
+  stats.held_out_entity_zero_mse = {2.7e-3, 0, 2.8e-4, 2.3e-4, 1.8e-4};
+  config::GraphConfig config;
+  auto graph = [&] {
+    return rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph);
+  };
+  EXPECT_EQ(graph(), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");  // 3 -> 2 by reciprocity
+  stats.apart_weight.clear();  // the paper's every-step weights: the contacts too
+  EXPECT_EQ(graph(), "action->0, 0->2, 0->3, 0->4, 2->3, 2->4, 3->2, 3->4, 4->2, 4->3");
+}
+
 TEST(ReciprocalObjectScoresTest, ObjectPairsTakeTheLargerDirectionArmAndStaticUntouched) {
   // entities: 0 arm, 1 static puck, 2 and 3 tied pucks, 4 free puck; the cut saw the tie
   // from 3 only (the arm pushed 3 more often) and a contact 4 -> 2

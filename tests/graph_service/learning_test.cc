@@ -12,6 +12,7 @@
 #include "actor/env/random_table.h"
 #include "actor/env/rearrange_env.h"
 #include "actor/rollout.h"
+#include "common/config/config.h"
 #include "common/config/env_config.h"
 #include "common/config/graph_config.h"
 #include "common/rl/agent_shape.h"
@@ -47,6 +48,17 @@ class EnvSource : public EpisodeSource {
 };
 
 using testing::RecordingSink;
+
+// The options the role programs give the service for this environment (shape, limits, the
+// entities' footprints), with this seed and no pictures.
+ServiceOptions RunOptions(const config::EnvConfig& env, uint64_t seed) {
+  config::Config config;
+  config.env = env;
+  ServiceOptions options = ServiceOptionsFor(config, "");
+  options.seed = seed;
+  options.render_pictures = false;
+  return options;
+}
 
 // The default GraphConfig with the smaller data set and update budget of these tests.
 config::GraphConfig SmallBudget() {
@@ -84,7 +96,7 @@ TEST(GraphLearningTest, RecoversArmFreePuckStaticPuck) {
   config::EnvConfig env;
   env.objects.resize(2);
   env.objects[1].is_static = true;  // entity 2
-  const Learned learned = LearnGraph(env, SmallBudget(), {.seed = 1, .render_pictures = false}, 7);
+  const Learned learned = LearnGraph(env, SmallBudget(), RunOptions(env, 1), 7);
   ASSERT_EQ(learned.exit_code, 0);
   ASSERT_EQ(learned.graphs.size(), 1u);
   const rl::GraphUpdate& g = learned.graphs[0];
@@ -107,11 +119,8 @@ TEST(GraphLearningTest, RecoversTheCatalogueGraphFromCombinationsOfTwoOfThreeObj
   env.objects.resize(3);
   env.objects[2].is_static = true;  // entity 3
   env.object_sets = {{1, 2}, {1, 3}, {2, 3}};
-  ServiceOptions options{.seed = 1, .render_pictures = false};
-  const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(env);
-  ASSERT_EQ(shape.episode_kinds.size(), 3u);
-  options.shape = DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim, shape.episode_kinds};
-  options.limits = rl::EpisodeLimitsFor(env);
+  const ServiceOptions options = RunOptions(env, 1);
+  ASSERT_EQ(options.shape->episode_kinds.size(), 3u);
   const Learned learned = LearnGraph(env, SmallBudget(), options, 7);
   ASSERT_EQ(learned.exit_code, 0);
   EXPECT_EQ(learned.dropped, 0);
@@ -133,20 +142,15 @@ TEST(GraphLearningTest, RecoversTheCatalogueGraphFromCombinationsOfTwoOfThreeObj
 }
 
 // A generated table that was not used while choosing the settings (random table 1001: a
-// static cylinder, two free cylinders of other sizes and masses tied by a 14.5 cm rope): the
-// exact graph by construction, arm -> both free objects and the rope both ways, nothing into
-// the static one.
-// A table not used while choosing the settings, with the cut read-out (reciprocal object
-// pairs on, as by default). Before reciprocity it found "action->0, 0->2, 0->3, 3->2" (the rope
-// in one direction only); the paper's mean weight read-out is the service default until the
-// acceptance has run (graph_service/README.md). 9 min 20 s of CPU on a loaded 2-core EPYC.
-TEST(GraphLearningTest, RecoversTheGraphOfAGeneratedTableWithTheCutReadout) {
+// static cylinder, two free cylinders of other sizes and masses tied by a 14.5 cm rope), with
+// the default settings (the mean weight read-out with object pairs read apart, the onset
+// weight): the exact graph by construction, arm -> both free objects and the rope both ways,
+// nothing into the static one.
+TEST(GraphLearningTest, RecoversTheGraphOfAGeneratedTable) {
   const config::EnvConfig env = env::RandomTable(1001);
   const std::string expected = rl::DescribeGraph(rl::GroundTruthGraph(env));
   ASSERT_EQ(expected, "action->0, 0->2, 0->3, 2->3, 3->2");
-  config::GraphConfig c = SmallBudget();  // with the cut read-out
-  c.readout = config::GraphReadout::kCut;
-  const Learned learned = LearnGraph(env, c, {.seed = 2, .render_pictures = false}, 11);
+  const Learned learned = LearnGraph(env, SmallBudget(), RunOptions(env, 2), 11);
   ASSERT_EQ(learned.exit_code, 0);
   ASSERT_EQ(learned.graphs.size(), 1u);
   EXPECT_EQ(rl::DescribeGraph(learned.graphs[0].graph), expected);
