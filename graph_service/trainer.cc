@@ -314,11 +314,17 @@ EdgeStatistics GnnTrainer::Evaluate() {
           if (apart && d == 0) {
             const Eigen::Index first_row = (e / per_sample) * n;
             const nn::Matrix<float>& x = batch.inputs[t];  // columns 0, 1: positions in metres
+            const nn::Matrix<float>& dx = batch.deltas[t];
             const Eigen::Index s = first_row + model_.edge_sender_entity(local);
             const Eigen::Index r = first_row + model_.edge_receiver_entity(local);
-            const double distance = std::hypot(x(s, 0) - x(r, 0), x(s, 1) - x(r, 1));
+            // before and after the step: a sliding object hits another within one step from
+            // a few centimetres away
+            const double before = std::hypot(x(s, 0) - x(r, 0), x(s, 1) - x(r, 1));
+            const double after = std::hypot(x(s, 0) + dx(s, 0) - x(r, 0) - dx(r, 0),
+                                            x(s, 1) + dx(s, 1) - x(r, 1) - dx(r, 1));
             const size_t sender = pair / static_cast<size_t>(g), receiver = pair % static_cast<size_t>(g);
-            if (distance > contact_radius_[sender] + contact_radius_[receiver] + config_.contact_margin_m) {
+            const double contact = contact_radius_[sender] + contact_radius_[receiver] + config_.contact_margin_m;
+            if (before > contact && after > contact) {
               apart_sum[pair] += p;
               apart_count[pair] += 1;
             }

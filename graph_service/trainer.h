@@ -33,8 +33,8 @@ struct EdgeStatistics {
   // no-motion error minus its error), clamped to [0, 1]; 0 into entities that do not move
   std::vector<double> cut_score;
   // apart_weight[i * N + j]: the mean edge probability over the random-action data's steps
-  // where i and j are more than graph.contact_margin_m beyond touching (0 where they never
-  // are). Empty unless object_edges is apart and the trainer has the entities' radii.
+  // where i and j are more than graph.contact_margin_m beyond touching, before and after the
+  // step (0 where they never are). Empty unless object_edges is apart and the trainer has the entities' radii.
   std::vector<double> apart_weight;
 };
 

@@ -24,8 +24,8 @@ enum class ObjectEdgeReadout {
   // the paper's: the mean over every step, like every other edge
   kEveryStep,
   // the mean over the steps where the two are more than contact_margin_m beyond touching
-  // (their footprints' bounding radii): the paper's graphs leave out occasional object-object
-  // contact, a tie acts at a distance. Needs the run's object sizes (the role programs pass
+  // (their footprints' bounding radii) before and after the step: the paper's graphs leave
+  // out occasional object-object contact, a tie acts at a distance. Needs the run's object sizes (the role programs pass
   // them); without them every step counts.
   kApart,
 };
