@@ -433,9 +433,16 @@ std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::Gra
   // nothing enters an entity that does not move: the model may still route a little of the
   // others' error through it (relational-4-spring with the onset weight: arm -> static puck
   // 0.075), but there is no motion for an edge to explain. The cut read-out never scores them.
+  // Nor does anything leave one: an object that never moves acts on others only when they
+  // run into it (contact, which the graphs leave out), and a recurrent receiver takes in the
+  // obstacle's place before it gets there, so its gate is open while apart too (the slow
+  // learning test's static puck -> free puck, relational-4-spring's static puck -> pucks
+  // 0.06-0.09 with the onset weight). A tie to a static object would be missed (no preset or
+  // random table has one).
   for (int j = 0; j < n; ++j)
     if (!moving[j])
-      for (int i = 0; i < n; ++i) scores[static_cast<size_t>(i) * n + j] = 0.0;
+      for (int i = 0; i < n; ++i)
+        scores[static_cast<size_t>(i) * n + j] = scores[static_cast<size_t>(j) * n + i] = 0.0;
   if (!config.reciprocal_object_edges) return scores;
   return ReciprocalObjectScores(scores, action_entity, moving);
 }
