@@ -84,7 +84,7 @@ struct GraphConfig {
   // at least as many graphs (relational-4 seed 1: the cut found the rope in one direction only)
   GraphReadout readout = GraphReadout::kMeanWeight;
   double threshold = 0.06;         // mean_weight read-out: keep edges with mean weight above this
-  ObjectEdgeReadout object_edges = ObjectEdgeReadout::kApart;  // (not in the paper)
+  ObjectEdgeReadout object_edges = ObjectEdgeReadout::kEveryStep;  // the paper's; apart: README
   double contact_margin_m = 0.02;
   // cut read-out: keep i -> j when cutting it loses more than this fraction of the held-out
   // variance of j's motion the model explains
@@ -114,9 +114,10 @@ struct GraphConfig {
   // (a spring or rope pulling) shows only at such onsets; afterwards the object's own recent
   // motion predicts most of its path, so in a plain squared error the tie hardly pays its KL.
   // The arm's onsets are not weighted (the action alone moves it), nor those of an object the
-  // arm touches (within contact_margin_m of its footprint before or after the step): a push
-  // needs no relation between objects to explain it.
-  double onset_loss_weight = 10.0;
+  // arm touches (within contact_margin_m of its footprint before or after the step: a push) or
+  // another object touches (within 5 mm of their bounding radii: a collision): what is left
+  // is motion started at a distance, by a tie.
+  double onset_loss_weight = 0.0;   // 10 finds springs but loses the rope of relational-4 (README)
   double onset_motion_m = 1e-3;
   // a fresh Adam state when the gates start (end of the warm-up), with this beta2 (0.99, the
   // decay of the reference's RMSprop); see GnnTrainer::Update. Not in the reference.

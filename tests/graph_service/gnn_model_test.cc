@@ -251,6 +251,7 @@ TEST(GnnTrainerTest, ApartWeightsCountOnlyStepsBeyondContact) {
   config.mlp_hidden = 12;
   config.eval_chunk_episodes = 3;
   config.contact_margin_m = 0;
+  config.object_edges = config::ObjectEdgeReadout::kApart;
   GnnTrainer trainer(config, data, 9);
   EXPECT_FALSE(trainer.ApartWeights());
   EXPECT_TRUE(trainer.Evaluate().apart_weight.empty());

@@ -143,9 +143,9 @@ TEST(GraphLearningTest, RecoversTheCatalogueGraphFromCombinationsOfTwoOfThreeObj
 
 // A generated table that was not used while choosing the settings (random table 1001: a
 // static cylinder, two free cylinders of other sizes and masses tied by a 14.5 cm rope), with
-// the default settings (the mean weight read-out with object pairs read apart, the onset
-// weight): the exact graph by construction, arm -> both free objects and the rope both ways,
-// nothing into the static one.
+// the default settings (the paper's mean weight read-out, object pairs both ways, nothing into
+// or out of a static object): the exact graph by construction, arm -> both free objects and
+// the rope both ways, nothing into the static one.
 TEST(GraphLearningTest, RecoversTheGraphOfAGeneratedTable) {
   const config::EnvConfig env = env::RandomTable(1001);
   const std::string expected = rl::DescribeGraph(rl::GroundTruthGraph(env));

@@ -46,10 +46,16 @@ run_one() {
   [[ $table == table-* ]] && source=(--random-table "${table#table-}")
   local expected
   expected=$("$srics" learn-graph "${source[@]}" --out "$dir" --expected)
-  local start=$SECONDS
+  local start=$SECONDS rc=0
   OMP_NUM_THREADS=1 nice /usr/bin/time -f '%U %S' -o "$dir/time.txt" \
-    "$srics" learn-graph "${source[@]}" --seed "$seed" --out "$dir" >"$dir/log.txt" 2>&1 || true
+    "$srics" learn-graph "${source[@]}" --seed "$seed" --out "$dir" >"$dir/log.txt" 2>&1 || rc=$?
   local wall=$((SECONDS - start))
+  # stopped by a signal (a stopped session, Ctrl-C): no result, so that a rerun does it again
+  # (recorded as a miss it would be skipped for good)
+  if ((rc >= 128)); then
+    echo "$table seed $seed: interrupted (exit $rc), not recorded" >&2
+    return 0
+  fi
   python3 - "$dir" "$table" "$seed" "$wall" "$expected" <<'PY'
 import json, sys
 d, table, seed, wall, expected = sys.argv[1:]
