@@ -3,7 +3,7 @@
 # (deploy/configs/env/*.yaml) and of random tables 1..10 (srics learn-graph --random-table N),
 # seeds 1..3 each, with the default GraphConfig, one thread per run, and compares each graph
 # with the one the table implies by construction (exact match of every edge).
-#   ./tests/bench.sh gnn-acceptance [--jobs N] [--tables "a b ..."] [--seeds "1 2 3"]
+#   ./tests/bench.sh gnn-acceptance [--jobs N] [--tables "a b ..."] [--seeds "1 2 3"] [--set K=V]...
 #   tests/bench/gnn-acceptance/run.sh BUILD_DIR [same options]
 # Table names: a preset's file name without .yaml, or table-N for random table N.
 # Output in $OUT (default runs/gnn-acceptance, kept across calls): OUT/<table>-s<seed>/ holds
@@ -20,11 +20,13 @@ out="${OUT:-$root/runs/gnn-acceptance}"
 jobs=1
 tables=""
 seeds="1 2 3"
+overrides=""  # --set K=V passed to every run (e.g. graph.onset_loss_weight=10); use another OUT
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --jobs) jobs="$2"; shift 2 ;;
     --tables) tables="$2"; shift 2 ;;
     --seeds) seeds="$2"; shift 2 ;;
+    --set) overrides+="--set $2 "; shift 2 ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -48,7 +50,7 @@ run_one() {
   expected=$("$srics" learn-graph "${source[@]}" --out "$dir" --expected)
   local start=$SECONDS rc=0
   OMP_NUM_THREADS=1 nice /usr/bin/time -f '%U %S' -o "$dir/time.txt" \
-    "$srics" learn-graph "${source[@]}" --seed "$seed" --out "$dir" >"$dir/log.txt" 2>&1 || rc=$?
+    "$srics" learn-graph "${source[@]}" --seed "$seed" --out "$dir" $overrides >"$dir/log.txt" 2>&1 || rc=$?
   local wall=$((SECONDS - start))
   # stopped by a signal (a stopped session, Ctrl-C): no result, so that a rerun does it again
   # (recorded as a miss it would be skipped for good)
@@ -77,7 +79,7 @@ PY
   echo "$table seed $seed: $(cat "$dir/result.txt")" >&2
 }
 export -f run_one
-export out root srics
+export out root srics overrides
 for t in $tables; do for s in $seeds; do echo "$t $s"; done; done |
   xargs -P "$jobs" -L 1 bash -c 'run_one "$0" "$1"'
 
