@@ -408,6 +408,12 @@ void GraphService::TrainStep() {
   else SaveTraining();
 }
 
+namespace {
+// an entity whose no-motion error is below this fraction of the largest entity's never moves
+// (a static object's is exactly 0 in MuJoCo)
+constexpr double kNeverMovesFraction = 1e-6;
+}  // namespace
+
 std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::GraphConfig& config, int action_entity) {
   const bool cut = config.readout == config::GraphReadout::kCut;
   std::vector<double> scores = cut ? stats.cut_score : stats.mean_weight;
@@ -439,8 +445,15 @@ std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::Gra
   // learning test's static puck -> free puck, relational-4-spring's static puck -> pucks
   // 0.06-0.09 with the onset weight). A tie to a static object would be missed (no preset or
   // random table has one).
+  // "Never moves" is stricter than `moving` (1% of the largest variance): an object the arm
+  // seldom reaches moves that little and still has its edge (the toy world's second puck).
+  std::vector<bool> still(n, false);
+  if (stats.held_out_entity_zero_mse.size() == static_cast<size_t>(n)) {
+    const std::vector<bool> moves_at_all = MovingEntities(stats.held_out_entity_zero_mse, kNeverMovesFraction);
+    for (int j = 0; j < n; ++j) still[j] = !moves_at_all[j];
+  }
   for (int j = 0; j < n; ++j)
-    if (!moving[j])
+    if (still[j])
       for (int i = 0; i < n; ++i)
         scores[static_cast<size_t>(i) * n + j] = scores[static_cast<size_t>(j) * n + i] = 0.0;
   if (!config.reciprocal_object_edges) return scores;
