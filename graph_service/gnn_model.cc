@@ -169,22 +169,15 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
       const Mat& now = batch.deltas[t];
       const Mat& before = batch.deltas[t - 1];
       const Mat& x = batch.inputs[t];  // columns 0, 1: positions in metres
-      const bool some = onset_entities_.size() == static_cast<size_t>(n);
       const bool clearance = onset_clearance_.size() == static_cast<size_t>(n) * n;
       for (Eigen::Index r = 0; r < rows; ++r) {
         const int j = static_cast<int>(r % n);
-        if ((some && !onset_entities_[static_cast<size_t>(j)]) ||
-            !(now.row(r).squaredNorm() > onset_sq && before.row(r).squaredNorm() <= onset_sq))
+        if (!(now.row(r).squaredNorm() > onset_sq && before.row(r).squaredNorm() <= onset_sq))
           continue;
         bool clear = true;
         for (int i = 0; clearance && clear && i < n; ++i) {
-          const T c = T(onset_clearance_[static_cast<size_t>(i) * n + j]);
-          if (i == j || c <= 0) continue;
-          // before and after the step (the arm moves up to ~7 cm in one)
-          const Eigen::Index s = r - j + i;
-          const T dx = x(s, 0) - x(r, 0), dy = x(s, 1) - x(r, 1);
-          const T ex = dx + now(s, 0) - now(r, 0), ey = dy + now(s, 1) - now(r, 1);
-          clear = std::sqrt(dx * dx + dy * dy) > c && std::sqrt(ex * ex + ey * ey) > c;
+          const double c = onset_clearance_[static_cast<size_t>(i) * n + j];
+          if (i != j && c > 0) clear = ApartBeforeAndAfter(x, now, r - j + i, r, c);
         }
         if (clear) w(r, 0) *= T(1 + options_.onset_loss_weight);
       }

@@ -17,6 +17,7 @@
 // apart) and the two output layers.
 // The reference's batch norm in the MLPs is left out (its inputs are GRU states in [-1, 1]).
 
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -25,6 +26,20 @@
 #include "graph_service/dataset.h"
 
 namespace srics::graph_service {
+
+// Whether rows a and b of one step are farther apart than `distance` (metres) both before and
+// after the step: x's columns 0, 1 are positions, dx's the step's motion. Both times, because
+// the arm moves up to ~7 cm in one step and a sliding object hits another from a few
+// centimetres away.
+template <class Matrix>
+bool ApartBeforeAndAfter(const Matrix& x, const Matrix& dx, Eigen::Index a, Eigen::Index b,
+                         double distance) {
+  const double px = static_cast<double>(x(a, 0)) - static_cast<double>(x(b, 0));
+  const double py = static_cast<double>(x(a, 1)) - static_cast<double>(x(b, 1));
+  const double qx = px + static_cast<double>(dx(a, 0)) - static_cast<double>(dx(b, 0));
+  const double qy = py + static_cast<double>(dx(a, 1)) - static_cast<double>(dx(b, 1));
+  return std::hypot(px, py) > distance && std::hypot(qx, qy) > distance;
+}
 
 // Sizes and loss settings of the model.
 struct GnnOptions {
@@ -95,10 +110,9 @@ class GnnModel {
   const GnnOptions& options() const { return options_; }
   // Per-entity weights of the squared error (size N; empty = all 1).
   void set_entity_loss_weights(std::vector<double> w) { entity_weights_ = std::move(w); }
-  // with onset_loss_weight: whose onsets are weighted (empty: every entity's), and an onset of
-  // j only when every entity i is farther from j than clearance[i * N + j] before and after
-  // the step (empty: no condition)
-  void set_onset_entities(std::vector<bool> e) { onset_entities_ = std::move(e); }
+  // with onset_loss_weight: an onset of j is weighted only when every entity i is farther from
+  // j than clearance[i * N + j] before and after the step (0: no condition; infinity: j's
+  // onsets never count; empty: every onset counts)
   void set_onset_clearance(std::vector<double> c) { onset_clearance_ = std::move(c); }
   void set_onset_loss_weight(double w) { options_.onset_loss_weight = w; }
   // Changes the weight of the KL term (annealing).
@@ -125,7 +139,6 @@ class GnnModel {
   nn::Mlp<T> pred_;           // d_pred: H -> M -> 2
   bool open_edges_ = false;
   std::vector<double> entity_weights_;
-  std::vector<bool> onset_entities_;
   std::vector<double> onset_clearance_;
   Mat input_mean_, input_inv_std_;  // 1 x F each (empty: no standardisation)
   Mat row_weights_;           // (B*N) x 1 built from entity_weights_

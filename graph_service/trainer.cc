@@ -125,13 +125,7 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
     model_.set_entity_loss_weights(w);
   }
   arm_ = SelectActionEntity(data);
-  if (config.onset_loss_weight > 0) {
-    // the arm goes where the action sends it: its onsets need no cause (weighted, they only
-    // invited object -> arm edges: random table 6, 0.07-0.12)
-    std::vector<bool> onsets(static_cast<size_t>(data.num_entities()), true);
-    onsets[static_cast<size_t>(arm_)] = false;
-    model_.set_onset_entities(onsets);
-  }
+  if (config.onset_loss_weight > 0) model_.set_onset_clearance(OnsetClearance({}));
 }
 
 double GnnTrainer::Update() {
@@ -227,35 +221,38 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
   schedule_start_ = schedule_start;
 }
 
-namespace {
-// metres beyond two objects' bounding radii that still count as touching for the onset weight
-constexpr double kObjectContactMargin = 0.005;
-}  // namespace
-
 void GnnTrainer::SetContactRadii(std::vector<double> radii) {
   contact_radius_ = std::move(radii);
-  const int n = data_.num_entities(), g = data_.graph_entities();
-  if (config_.onset_loss_weight <= 0 || contact_radius_.size() != static_cast<size_t>(g)) return;
+  if (config_.onset_loss_weight <= 0) return;
+  model_.set_onset_clearance(OnsetClearance(contact_radius_));
+}
+
+std::vector<double> GnnTrainer::OnsetClearance(const std::vector<double>& graph_radius) const {
+  const int n = data_.num_entities();
+  std::vector<double> clearance(static_cast<size_t>(n) * n, 0.0);
+  // the arm goes where the action sends it: its onsets need no cause (weighted, they only
+  // invited object -> arm edges: random table 6, 0.07-0.12)
+  for (int i = 0; i < n; ++i)
+    if (i != arm_) clearance[static_cast<size_t>(i) * n + arm_] = std::numeric_limits<double>::infinity();
+  if (graph_radius.size() != static_cast<size_t>(data_.graph_entities())) return clearance;
   // onsets of an object the arm touches are pushes: not weighted. The clearance is per
   // position in the episode; with combinations (positions hold different objects) each object
   // position takes the largest object's radius, which leaves out a few more onsets than needed.
   // The arm is graph entity 0 there (every combination starts with it).
   std::vector<double> radius(static_cast<size_t>(n));
-  const double largest = *std::max_element(contact_radius_.begin() + 1, contact_radius_.end());
+  const double largest = *std::max_element(graph_radius.begin() + 1, graph_radius.end());
   for (int j = 0; j < n; ++j)
-    radius[static_cast<size_t>(j)] = !data_.combinations() ? contact_radius_[static_cast<size_t>(j)]
-                                     : j == arm_ ? contact_radius_[0] : largest;
+    radius[static_cast<size_t>(j)] = !data_.combinations() ? graph_radius[static_cast<size_t>(j)]
+                                     : j == arm_ ? graph_radius[0] : largest;
   // Nor those of an object another object touches (a sliding one running into it): weighted,
-  // they opened the contact gates of relational-4's free puck to 0.06-0.08 even apart. Between
-  // objects the margin is small: a tie may be barely longer than the two radii together.
-  std::vector<double> clearance(static_cast<size_t>(n) * n, 0.0);
+  // they opened the contact gates of relational-4's free puck to 0.06-0.08 even apart.
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       if (i != j && j != arm_)
         clearance[static_cast<size_t>(i) * n + j] =
             radius[static_cast<size_t>(i)] + radius[static_cast<size_t>(j)] +
-            (i == arm_ ? config_.contact_margin_m : kObjectContactMargin);
-  model_.set_onset_clearance(clearance);
+            (i == arm_ ? config_.contact_margin_m : config_.object_contact_margin_m);
+  return clearance;
 }
 
 void GnnTrainer::RestartSchedule() { schedule_start_ = updates_; }
@@ -323,18 +320,11 @@ EdgeStatistics GnnTrainer::Evaluate() {
           pair_count[d][pair] += 1;
           if (apart && d == 0) {
             const Eigen::Index first_row = (e / per_sample) * n;
-            const nn::Matrix<float>& x = batch.inputs[t];  // columns 0, 1: positions in metres
-            const nn::Matrix<float>& dx = batch.deltas[t];
-            const Eigen::Index s = first_row + model_.edge_sender_entity(local);
-            const Eigen::Index r = first_row + model_.edge_receiver_entity(local);
-            // before and after the step: a sliding object hits another within one step from
-            // a few centimetres away
-            const double before = std::hypot(x(s, 0) - x(r, 0), x(s, 1) - x(r, 1));
-            const double after = std::hypot(x(s, 0) + dx(s, 0) - x(r, 0) - dx(r, 0),
-                                            x(s, 1) + dx(s, 1) - x(r, 1) - dx(r, 1));
             const size_t sender = pair / static_cast<size_t>(g), receiver = pair % static_cast<size_t>(g);
             const double contact = contact_radius_[sender] + contact_radius_[receiver] + config_.contact_margin_m;
-            if (before > contact && after > contact) {
+            if (ApartBeforeAndAfter(batch.inputs[t], batch.deltas[t],
+                                    first_row + model_.edge_sender_entity(local),
+                                    first_row + model_.edge_receiver_entity(local), contact)) {
               apart_sum[pair] += p;
               apart_count[pair] += 1;
             }

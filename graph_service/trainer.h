@@ -60,7 +60,7 @@ class GnnTrainer {
   // over its episodes too. null or a share of 0: none. `data` must outlive the trainer.
   void SetRefinementData(const GraphDataset* data, double share);
   // each graph entity's footprint bounding radius in metres (ServiceOptions::contact_radius),
-  // for the apart weights of Evaluate
+  // for the apart weights of Evaluate and the onset weight's push and collision rules
   void SetContactRadii(std::vector<double> radii);
   // whether Evaluate scores object pairs apart (object_edges apart, radii of every entity)
   bool ApartWeights() const {
@@ -118,6 +118,9 @@ class GnnTrainer {
   WindowBatch<float> batch_, refine_batch_;
   const GraphDataset* refine_ = nullptr;
   std::vector<double> contact_radius_;
+  // the onset weight's clearances (GnnModel::set_onset_clearance): the arm's onsets never
+  // count; with a radius per graph entity, pushes and collisions do not either
+  std::vector<double> OnsetClearance(const std::vector<double>& graph_radius) const;
   int arm_ = 0;  // SelectActionEntity of the data
   double refine_share_ = 0;
   int64_t updates_ = 0;

@@ -30,6 +30,7 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadEnum("object_edges", &out->object_edges,
              {{"apart", ObjectEdgeReadout::kApart}, {"every_step", ObjectEdgeReadout::kEveryStep}});
   s.ReadDouble("contact_margin_m", &out->contact_margin_m, 0, 1);
+  s.ReadDouble("object_contact_margin_m", &out->object_contact_margin_m, 0, 1);
   s.ReadDouble("cut_threshold", &out->cut_threshold, 0, 1);
   s.ReadDouble("static_variance_fraction", &out->static_variance_fraction, 0, 1);
   s.ReadBool("reciprocal_object_edges", &out->reciprocal_object_edges);

@@ -86,6 +86,9 @@ struct GraphConfig {
   double threshold = 0.06;         // mean_weight read-out: keep edges with mean weight above this
   ObjectEdgeReadout object_edges = ObjectEdgeReadout::kEveryStep;  // the paper's; apart: README
   double contact_margin_m = 0.02;
+  // onset weight: metres beyond two objects' bounding radii that still count as touching
+  // (small: a tie may be barely longer than the two radii together)
+  double object_contact_margin_m = 0.005;
   // cut read-out: keep i -> j when cutting it loses more than this fraction of the held-out
   // variance of j's motion the model explains
   double cut_threshold = 0.1;
@@ -115,7 +118,7 @@ struct GraphConfig {
   // motion predicts most of its path, so in a plain squared error the tie hardly pays its KL.
   // The arm's onsets are not weighted (the action alone moves it), nor those of an object the
   // arm touches (within contact_margin_m of its footprint before or after the step: a push) or
-  // another object touches (within 5 mm of their bounding radii: a collision): what is left
+  // another object touches (within object_contact_margin_m of their bounding radii: a collision): what is left
   // is motion started at a distance, by a tie.
   double onset_loss_weight = 0.0;   // 10 finds springs but loses the rope of relational-4 (README)
   double onset_motion_m = 1e-3;

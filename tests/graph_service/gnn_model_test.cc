@@ -1,5 +1,7 @@
 #include "graph_service/gnn_model.h"
 
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "common/nn/optim.h"
@@ -172,13 +174,15 @@ TEST(GnnModelTest, OnsetWeightCountsOnlyOnsets) {
   const double base = mse(0);
   EXPECT_NEAR(mse(4) - base, 4 * onset_sum, 1e-12);
   EXPECT_NEAR(mse(10) - base, 10 * onset_sum, 1e-12);
-  // entity 1's onsets do not count (as the arm's in training): only window 0's onset of 2
-  model.set_onset_entities({true, false, true});
-  EXPECT_NEAR(mse(4) - base, 4 * entity_weight[2] * sq[2].row(2).sum() / rows2, 1e-12);
-  // clearances instead (entities sit 0.2 m apart along x): entity 0 within 0.25 m of entity 1
-  // takes away its onset, 0.35 m around entity 2 from entity 0 (0.4 m away) does not
-  model.set_onset_entities({});
+  // entity 1's onsets do not count (as the arm's in training: an infinite clearance around
+  // it): only window 0's onset of 2
   std::vector<double> clearance(n * n, 0.0);
+  clearance[2 * n + 1] = std::numeric_limits<double>::infinity();
+  model.set_onset_clearance(clearance);
+  EXPECT_NEAR(mse(4) - base, 4 * entity_weight[2] * sq[2].row(2).sum() / rows2, 1e-12);
+  // finite clearances instead (entities sit 0.2 m apart along x): entity 0 within 0.25 m of
+  // entity 1 takes away its onset, 0.35 m around entity 2 from entity 0 (0.4 m away) does not
+  clearance[2 * n + 1] = 0;
   clearance[0 * n + 1] = 0.25;
   clearance[0 * n + 2] = 0.35;
   model.set_onset_clearance(clearance);
