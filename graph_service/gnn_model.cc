@@ -1,9 +1,32 @@
 #include "graph_service/gnn_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace srics::graph_service {
+
+namespace {
+double PointToSegment(double px, double py, double ax, double ay, double bx, double by) {
+  const double vx = bx - ax, vy = by - ay, len2 = vx * vx + vy * vy;
+  const double u = len2 > 0 ? std::clamp(((px - ax) * vx + (py - ay) * vy) / len2, 0.0, 1.0) : 0.0;
+  return std::hypot(ax + u * vx - px, ay + u * vy - py);
+}
+}  // namespace
+
+double SegmentDistance(double p0x, double p0y, double p1x, double p1y, double q0x, double q0y,
+                       double q1x, double q1y) {
+  // the sign of the cross product: which side of a line a point lies on
+  auto side = [](double ox, double oy, double ax, double ay, double bx, double by) {
+    const double c = (ax - ox) * (by - oy) - (ay - oy) * (bx - ox);
+    return (c > 0) - (c < 0);
+  };
+  const int s1 = side(p0x, p0y, p1x, p1y, q0x, q0y), s2 = side(p0x, p0y, p1x, p1y, q1x, q1y);
+  const int s3 = side(q0x, q0y, q1x, q1y, p0x, p0y), s4 = side(q0x, q0y, q1x, q1y, p1x, p1y);
+  if (s1 * s2 < 0 && s3 * s4 < 0) return 0;  // they cross
+  return std::min({PointToSegment(p0x, p0y, q0x, q0y, q1x, q1y), PointToSegment(p1x, p1y, q0x, q0y, q1x, q1y),
+                   PointToSegment(q0x, q0y, p0x, p0y, p1x, p1y), PointToSegment(q1x, q1y, p0x, p0y, p1x, p1y)});
+}
 
 template <typename T>
 GnnModel<T>::GnnModel(const GnnOptions& o, nn::Rng& rng)
@@ -177,7 +200,7 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
         bool clear = true;
         for (int i = 0; clearance && clear && i < n; ++i) {
           const double c = onset_clearance_[static_cast<size_t>(i) * n + j];
-          if (i != j && c > 0) clear = ApartBeforeAndAfter(x, now, r - j + i, r, c);
+          if (i != j && c > 0) clear = ApartThroughTheStep(x, now, r - j + i, r, c);
         }
         if (clear) w(r, 0) *= T(1 + options_.onset_loss_weight);
       }

@@ -17,7 +17,6 @@
 // apart) and the two output layers.
 // The reference's batch norm in the MLPs is left out (its inputs are GRU states in [-1, 1]).
 
-#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -27,18 +26,21 @@
 
 namespace srics::graph_service {
 
-// Whether rows a and b of one step are farther apart than `distance` (metres) both before and
-// after the step: x's columns 0, 1 are positions, dx's the step's motion. Both times, because
-// the arm moves up to ~7 cm in one step and a sliding object hits another from a few
-// centimetres away.
+// Distance between the segments p0-p1 and q0-q1 in the plane (0 where they cross).
+double SegmentDistance(double p0x, double p0y, double p1x, double p1y, double q0x, double q0y,
+                       double q1x, double q1y);
+
+// Whether rows a and b of one step stay farther apart than `distance` (metres) throughout the
+// step, each moving along a straight line: x's columns 0, 1 are positions, dx's the step's
+// motion. Not only before and after: the hand moves up to ~10 cm in a step and can hit an
+// object it is clear of at both ends (it ends where the object was; the object has flown).
 template <class Matrix>
-bool ApartBeforeAndAfter(const Matrix& x, const Matrix& dx, Eigen::Index a, Eigen::Index b,
+bool ApartThroughTheStep(const Matrix& x, const Matrix& dx, Eigen::Index a, Eigen::Index b,
                          double distance) {
-  const double px = static_cast<double>(x(a, 0)) - static_cast<double>(x(b, 0));
-  const double py = static_cast<double>(x(a, 1)) - static_cast<double>(x(b, 1));
-  const double qx = px + static_cast<double>(dx(a, 0)) - static_cast<double>(dx(b, 0));
-  const double qy = py + static_cast<double>(dx(a, 1)) - static_cast<double>(dx(b, 1));
-  return std::hypot(px, py) > distance && std::hypot(qx, qy) > distance;
+  auto at = [&](Eigen::Index r, int k) { return static_cast<double>(x(r, k)); };
+  auto to = [&](Eigen::Index r, int k) { return at(r, k) + static_cast<double>(dx(r, k)); };
+  return SegmentDistance(at(a, 0), at(a, 1), to(a, 0), to(a, 1), at(b, 0), at(b, 1), to(b, 0),
+                         to(b, 1)) > distance;
 }
 
 // Sizes and loss settings of the model.

@@ -322,7 +322,7 @@ EdgeStatistics GnnTrainer::Evaluate() {
             const Eigen::Index first_row = (e / per_sample) * n;
             const size_t sender = pair / static_cast<size_t>(g), receiver = pair % static_cast<size_t>(g);
             const double contact = contact_radius_[sender] + contact_radius_[receiver] + config_.contact_margin_m;
-            if (ApartBeforeAndAfter(batch.inputs[t], batch.deltas[t],
+            if (ApartThroughTheStep(batch.inputs[t], batch.deltas[t],
                                     first_row + model_.edge_sender_entity(local),
                                     first_row + model_.edge_receiver_entity(local), contact)) {
               apart_sum[pair] += p;

@@ -56,7 +56,12 @@ void WriteHeader(std::ostream& x, const config::EnvConfig& c) {
   x << "<mujoco model=\"rearrange\">\n"
     << "  <compiler angle=\"radian\" inertiafromgeom=\"auto\"/>\n"
     << "  <option timestep=\"" << c.physics.timestep << "\" integrator=\"Euler\" iterations=\""
-    << c.physics.solver_iterations << "\"/>\n"
+    << c.physics.solver_iterations << "\">\n";
+  // A fixed static object is a mocap body, welded to the world like the table; the parent
+  // filter would drop its contacts with the hand and the objects (children of the world). Every
+  // other body here is a child of the world already, so the flag changes nothing else.
+  if (c.physics.static_objects == config::StaticObjects::kFixed) x << "    <flag filterparent=\"disable\"/>\n";
+  x << "  </option>\n"
     << "  <size njmax=\"500\" nconmax=\"200\"/>\n"
     << "  <visual><headlight ambient=\"0.5 0.5 0.5\"/></visual>\n"
     << "  <default>\n"
@@ -107,10 +112,12 @@ void WriteObjects(std::ostream& x, const config::EnvConfig& c) {
     const int e = static_cast<int>(i) + 1;
     const Vec2 park = ParkingPosition(c, e);
     const auto rgb = ObjectColor(c, e);
+    // a fixed static object is a mocap body: no joint, placed by the env at reset
+    const bool fixed = o.is_static && c.physics.static_objects == config::StaticObjects::kFixed;
     x << "    <body name=\"object" << e << "\" pos=\"" << park[0] << " " << park[1] << " "
-      << o.half_height << "\">\n"
-      << "      <freejoint name=\"object" << e << "\"/>\n"
-      << "      <inertial pos=\"0 0 0\" mass=\"" << o.mass << "\" diaginertia=\"" << o.inertia
+      << o.half_height << "\"" << (fixed ? " mocap=\"true\"" : "") << ">\n";
+    if (!fixed) x << "      <freejoint name=\"object" << e << "\"/>\n";
+    x << "      <inertial pos=\"0 0 0\" mass=\"" << o.mass << "\" diaginertia=\"" << o.inertia
       << " " << o.inertia << " " << o.inertia << "\"/>\n";
     if (o.shape == ObjectShape::kBox) {
       x << "      <geom name=\"object" << e << "\" type=\"box\" size=\"" << o.size << " " << o.size
@@ -119,6 +126,11 @@ void WriteObjects(std::ostream& x, const config::EnvConfig& c) {
       x << "      <geom name=\"object" << e << "\" type=\"cylinder\" size=\"" << o.size << " "
         << o.half_height << "\"";
     }
+    // a fixed object is stiff: with the default contacts the hand's weld pulls the hand through
+    // it (the mocap target runs up to 10 cm ahead); solmix makes its parameters win in a contact
+    if (fixed)
+      x << " solref=\"" << Join(c.physics.fixed_object_solref) << "\" solimp=\""
+        << Join(c.physics.fixed_object_solimp) << "\" solmix=\"1000\"";
     x << " rgba=\"" << rgb[0] << " " << rgb[1] << " " << rgb[2] << " 1\" contype=\""
       << kObjectType << "\" conaffinity=\"" << kObjectAffinity << "\"/>\n"
       << "      <site name=\"site" << e << "\" pos=\"0 0 0\" size=\"0.01\"/>\n"

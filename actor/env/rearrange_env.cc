@@ -19,8 +19,17 @@ struct RearrangeEnv::Mujoco {
   int hand_qpos = 0;
   int hand_dof = 0;
   int mocap = 0;
-  std::vector<int> object_qpos;  // per catalogue object (index entity - 1)
+  // per catalogue object (index entity - 1): a free body's qpos and dof addresses (-1 for a
+  // fixed static object), a fixed static object's mocap index (-1 for the others)
+  std::vector<int> object_qpos;
   std::vector<int> object_dof;
+  std::vector<int> object_mocap;
+
+  // object i's xyz: its free joint's position or its mocap position
+  mjtNum* ObjectPos(size_t i) {
+    return object_mocap[i] >= 0 ? data->mocap_pos + 3 * object_mocap[i] : data->qpos + object_qpos[i];
+  }
+  const mjtNum* ObjectPos(size_t i) const { return const_cast<Mujoco*>(this)->ObjectPos(i); }
 };
 
 namespace {
@@ -65,9 +74,12 @@ RearrangeEnv::RearrangeEnv(const config::EnvConfig& config)
   mj_->hand_dof = m->jnt_dofadr[hand_joint];
   mj_->mocap = m->body_mocapid[FindId(m, mjOBJ_BODY, "mocap")];
   for (size_t i = 0; i < objects_.size(); ++i) {
-    const int joint = FindId(m, mjOBJ_JOINT, "object" + std::to_string(i + 1));
-    mj_->object_qpos.push_back(m->jnt_qposadr[joint]);
-    mj_->object_dof.push_back(m->jnt_dofadr[joint]);
+    const std::string name = "object" + std::to_string(i + 1);
+    const int mocap = m->body_mocapid[FindId(m, mjOBJ_BODY, name)];
+    mj_->object_mocap.push_back(mocap);
+    const int joint = mocap >= 0 ? -1 : FindId(m, mjOBJ_JOINT, name);
+    mj_->object_qpos.push_back(joint >= 0 ? m->jnt_qposadr[joint] : -1);
+    mj_->object_dof.push_back(joint >= 0 ? m->jnt_dofadr[joint] : -1);
   }
   Reset(0);
 }
@@ -101,9 +113,11 @@ void RearrangeEnv::Reset(uint64_t seed, Split split) {
     Vec2 xy = ParkingPosition(config_, e);
     for (size_t k = 0; k < present_.size(); ++k)
       if (present_[k] == e) xy = initial_[k];
-    mjtNum* q = d->qpos + mj_->object_qpos[i];
+    mjtNum* q = mj_->ObjectPos(i);
     q[0] = xy[0], q[1] = xy[1], q[2] = objects_[i].half_height;
-    q[3] = 1, q[4] = 0, q[5] = 0, q[6] = 0;
+    // a free joint's orientation follows its position; a mocap body's is mocap_quat
+    mjtNum* quat = mj_->object_mocap[i] >= 0 ? d->mocap_quat + 4 * mj_->object_mocap[i] : q + 3;
+    quat[0] = 1, quat[1] = 0, quat[2] = 0, quat[3] = 0;
   }
   mj_forward(m, d);
 
@@ -150,6 +164,7 @@ StepStatus RearrangeEnv::Step(std::span<const double> action) {
   const auto& t = config_.table;
   for (size_t k = 0; k < present_.size(); ++k) {
     const int i = present_[k] - 1;
+    if (mj_->object_mocap[i] >= 0) continue;  // fixed: nothing moved it
     mjtNum* q = d->qpos + mj_->object_qpos[i];
     if (objects_[i].is_static) {
       q[0] = initial_[k][0], q[1] = initial_[k][1];
@@ -169,11 +184,11 @@ void RearrangeEnv::GetStates(std::vector<double>* out) const {
   for (int j = 0; j < n; ++j) {
     double* row = out->data() + static_cast<size_t>(j) * dim;
     row[layout_.kinds[j]] = 1.0;
-    const int qpos = j == 0 ? mj_->hand_qpos : mj_->object_qpos[present_[j - 1] - 1];
     const int dof = j == 0 ? mj_->hand_dof : mj_->object_dof[present_[j - 1] - 1];
-    row[k0] = d->qpos[qpos];
-    row[k0 + 1] = d->qpos[qpos + 1];
-    if (layout_.velocities) {
+    const mjtNum* pos = j == 0 ? d->qpos + mj_->hand_qpos : mj_->ObjectPos(present_[j - 1] - 1);
+    row[k0] = pos[0];
+    row[k0 + 1] = pos[1];
+    if (layout_.velocities && dof >= 0) {  // a fixed object's velocity is 0
       // a free joint's first three velocities are linear, in the world frame
       row[k0 + 2] = d->qvel[dof];
       row[k0 + 3] = d->qvel[dof + 1];
@@ -186,8 +201,8 @@ std::vector<Vec2> RearrangeEnv::Positions() const {
   std::vector<Vec2> out(present_.size() + 1);
   out[0] = {d->qpos[mj_->hand_qpos], d->qpos[mj_->hand_qpos + 1]};
   for (size_t k = 0; k < present_.size(); ++k) {
-    const int q = mj_->object_qpos[present_[k] - 1];
-    out[k + 1] = {d->qpos[q], d->qpos[q + 1]};
+    const mjtNum* q = mj_->ObjectPos(present_[k] - 1);
+    out[k + 1] = {q[0], q[1]};
   }
   return out;
 }

@@ -214,6 +214,8 @@ EnvConfigProblem CheckObjectsFit(const EnvConfig& c, const std::vector<ObjectCon
 EnvConfigProblem CheckVectorSizes(const EnvConfig& c) {
   if (c.physics.geom_solref.size() != 2) return Problem("physics.geom_solref", "expected 2 numbers");
   if (c.physics.geom_solimp.size() != 3) return Problem("physics.geom_solimp", "expected 3 numbers");
+  if (c.physics.fixed_object_solref.size() != 2) return Problem("physics.fixed_object_solref", "expected 2 numbers");
+  if (c.physics.fixed_object_solimp.size() != 3) return Problem("physics.fixed_object_solimp", "expected 3 numbers");
   if (c.table.center.size() != 2) return Problem("table.center", "expected 2 numbers");
   if (c.table.friction.size() != 3) return Problem("table.friction", "expected 3 numbers");
   return {};
@@ -299,6 +301,10 @@ void ParsePhysics(YamlSection p, PhysicsConfig* out) {
   p.ReadDoubleList("geom_solref", &out->geom_solref, 2, -1e6, 1e6);
   p.ReadDoubleList("geom_solimp", &out->geom_solimp, 3, 0, 1);
   p.ReadDouble("geom_margin", &out->geom_margin, 0, 0.1);
+  p.ReadEnum<StaticObjects>("static_objects", &out->static_objects,
+                            {{"put_back", StaticObjects::kPutBack}, {"fixed", StaticObjects::kFixed}});
+  p.ReadDoubleList("fixed_object_solref", &out->fixed_object_solref, 2, -1e6, 1e6);
+  p.ReadDoubleList("fixed_object_solimp", &out->fixed_object_solimp, 3, 0, 1);
   p.Finish();
 }
 

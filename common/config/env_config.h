@@ -50,6 +50,16 @@ struct ConnectionConfig {
 };
 
 // MuJoCo options and geom defaults.
+// How a static object stays where it is.
+enum class StaticObjects {
+  // the reference's: a free body whose xy is put back after every env step. In between it is
+  // free: hit by the hand it flies (up to ~20 cm in one step), hits other objects and is put
+  // back, so they start moving with no visible cause (graph_service/README.md, "Static objects")
+  kPutBack,
+  // a body fixed in the world (a mocap body placed at reset): nothing moves it
+  kFixed,
+};
+
 struct PhysicsConfig {
   double timestep = 0.002;    // s
   int solver_iterations = 50;
@@ -57,6 +67,12 @@ struct PhysicsConfig {
   std::vector<double> geom_solref = {0.008, 1.0};
   std::vector<double> geom_solimp = {0.95, 0.95, 0.01};
   double geom_margin = 0.001;
+  StaticObjects static_objects = StaticObjects::kPutBack;
+  // contacts of a fixed static object (static_objects: fixed): stiff enough that the hand
+  // stops at it at full speed (the default contacts let it through at an action of 1, 3.7 cm
+  // deep at 0.6); 0.004 s is twice the timestep, MuJoCo's stability limit
+  std::vector<double> fixed_object_solref = {0.004, 1.0};
+  std::vector<double> fixed_object_solimp = {0.99, 0.999, 0.001};
 };
 
 // Table plane and the invisible walls that collide.

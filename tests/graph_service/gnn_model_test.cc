@@ -116,6 +116,25 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferencesWithEdgeInputs) {
 // The onset weight against a sum computed by hand from the model's own per-step predictions:
 // mse(w) = mse(0) + w * sum over onset rows (moving now, not in the step before, of an entity
 // whose onsets count) of entity weight * squared error / (rows * 2).
+// Segment distances by hand: crossing paths 0; parallel ones their offset; an end point's
+// distance to the other segment's interior; and the case the end points miss: the hand runs
+// from 13 cm below an object at rest to 4.5 cm beyond it (clear at both ends, through it
+// in between).
+TEST(GnnModelTest, SegmentDistanceByHand) {
+  EXPECT_EQ(SegmentDistance(0, 0, 1, 1, 0, 1, 1, 0), 0.0);
+  EXPECT_NEAR(SegmentDistance(0, 0, 1, 0, 0, 0.3, 1, 0.3), 0.3, 1e-15);
+  EXPECT_NEAR(SegmentDistance(0, 0, 1, 0, 0.5, 0.2, 0.5, 1), 0.2, 1e-15);
+  EXPECT_NEAR(SegmentDistance(0, 0, 0, 0, 3, 4, 3, 4), 5.0, 1e-15);  // two points
+  EXPECT_NEAR(SegmentDistance(0, -0.13, 0, 0.045, 0, 0, 0, 0), 0.0, 1e-15);
+  nn::Matrix<double> x(2, 2), dx(2, 2);
+  x << 0, -0.13, 0, 0;
+  dx << 0, 0.175, 0, 0;
+  EXPECT_FALSE(ApartThroughTheStep(x, dx, 0, 1, 0.04));
+  dx << 0.1, 0.175, 0, 0;  // 10 cm to the side at the end: passes 6.4 cm from it
+  EXPECT_NEAR(SegmentDistance(0, -0.13, 0.1, 0.045, 0, 0, 0, 0), 0.13 * 0.1 / std::hypot(0.1, 0.175), 1e-12);
+  EXPECT_TRUE(ApartThroughTheStep(x, dx, 0, 1, 0.04));
+}
+
 TEST(GnnModelTest, OnsetWeightCountsOnlyOnsets) {
   const int n = 3, b = 2, steps = 4;
   WindowBatch<double> batch;
