@@ -264,17 +264,18 @@ void AddLearnGraphOptions(CLI::App& app, LearnGraphOptions* o) {
   table->check(cli::Integer(0))->type_name("N");
   env->excludes(table);
   app.add_option("--out", o->out_dir, "the folder for graph.json and its pictures")->type_name("DIR");
-  app.add_option_function<uint64_t>(
-         "--seed", [o](uint64_t seed) { o->overrides.push_back("run.seed=" + std::to_string(seed)); },
-         "run.seed (the actors' and the graph service's random streams)")
+  // kept apart and appended after parsing: --set assigns its values to the whole list, which
+  // dropped a seed pushed there before (every --seed gave seed 1's graph when --set was given)
+  app.add_option("--seed", o->seed, "run.seed (the actors' and the graph service's random streams)")
       ->check(cli::Integer(0));
   AddSetOption(app, &o->overrides, "override a config value");
   app.add_flag("--expected", o->expected_only, "print the graph the table implies by construction and exit");
 }
 
-void FinishLearnGraphOptions(const LearnGraphOptions& o) {
-  if (o.env_file.empty() && !o.table_seed) throw std::invalid_argument("give one of --env FILE and --random-table N");
-  if (o.out_dir.empty() && !o.expected_only) throw std::invalid_argument("--out is required");
+void FinishLearnGraphOptions(LearnGraphOptions* o) {
+  if (o->env_file.empty() && !o->table_seed) throw std::invalid_argument("give one of --env FILE and --random-table N");
+  if (o->out_dir.empty() && !o->expected_only) throw std::invalid_argument("--out is required");
+  if (o->seed) o->overrides.push_back("run.seed=" + std::to_string(*o->seed));
 }
 
 // A subcommand alone, for the Parse*Args functions.
@@ -321,7 +322,7 @@ EvalArgs ParseEvalArgs(const std::vector<std::string>& args) {
 LearnGraphOptions ParseLearnGraphArgs(const std::vector<std::string>& args) {
   LearnGraphOptions o;
   ParseAlone("srics learn-graph", args, [&](CLI::App& app) { AddLearnGraphOptions(app, &o); });
-  FinishLearnGraphOptions(o);
+  FinishLearnGraphOptions(&o);
   return o;
 }
 
@@ -365,7 +366,7 @@ std::optional<int> ParseSricsCommandLine(int argc, char** argv, SricsCommand* co
       case Kind::kSweep: FinishSweepOptions(&command->sweep, sweep_text); break;
       case Kind::kCompare: break;
       case Kind::kEval: FinishEvalArgs(&command->eval, no_video); break;
-      case Kind::kLearnGraph: FinishLearnGraphOptions(command->learn_graph); break;
+      case Kind::kLearnGraph: FinishLearnGraphOptions(&command->learn_graph); break;
     }
   } catch (const std::invalid_argument& e) {
     return cli::UsageError(command->name, e.what());

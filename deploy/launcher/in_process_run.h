@@ -64,7 +64,8 @@ struct LearnGraphOptions {
   std::string env_file;                // --env
   std::optional<uint64_t> table_seed;  // --random-table N: a random table instead of a file
   std::string out_dir;                 // --out
-  std::vector<std::string> overrides;  // --seed N (run.seed=N) and --set, in order
+  std::optional<uint64_t> seed;        // --seed N
+  std::vector<std::string> overrides;  // --set, in order, then run.seed=N of --seed N
   bool expected_only = false;          // --expected: print the graph by construction and exit
 };
 int LearnGraph(const LearnGraphOptions& options);

@@ -69,6 +69,18 @@ TEST_F(SweepTest, ParsesTheGridAndRefusesBadArguments) {
   EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "a", "--seeds", "1", "--parallel", "0"}), std::invalid_argument);
 }
 
+// `srics learn-graph --seed N --set K=V`: --set assigned its values to the whole override list
+// and dropped the seed put there before, so every seed learned seed 1's graph (the graph
+// acceptance with --set ran three identical seeds). The seed now comes last, in either order.
+TEST(LearnGraphArgsTest, TheSeedSurvivesSetOverrides) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"--env", "e.yaml", "--seed", "2", "--out", "d", "--set", "a.b=1", "--set", "c=2"},
+           {"--env", "e.yaml", "--set", "a.b=1", "--set", "c=2", "--seed", "2", "--out", "d"}}) {
+    EXPECT_EQ(ParseLearnGraphArgs(args).overrides, (std::vector<std::string>{"a.b=1", "c=2", "run.seed=2"}));
+  }
+  EXPECT_EQ(ParseLearnGraphArgs({"--env", "e.yaml", "--out", "d"}).overrides, std::vector<std::string>{});
+}
+
 TEST_F(SweepTest, PlansOneRunFolderPerMethodAndSeedWithItsOwnRunId) {
   const SweepPlan plan = PlanSweep(Options({"srics", "smorl"}, {1, 2}));
   ASSERT_EQ(plan.runs.size(), 4u);
