@@ -23,8 +23,8 @@ enum class GraphReadout {
 enum class ObjectEdgeReadout {
   // the paper's: the mean over every step, like every other edge
   kEveryStep,
-  // the mean over the steps where the two are more than contact_margin_m beyond touching
-  // (their footprints' bounding radii) before and after the step: the paper's graphs leave
+  // the mean over the steps where the two stay more than contact_margin_m beyond touching
+  // (their footprints' bounding radii) along the step's straight paths: the paper's graphs leave
   // out occasional object-object contact, a tie acts at a distance. Needs the run's object sizes (the role programs pass
   // them); without them every step counts.
   kApart,
@@ -117,10 +117,13 @@ struct GraphConfig {
   // (a spring or rope pulling) shows only at such onsets; afterwards the object's own recent
   // motion predicts most of its path, so in a plain squared error the tie hardly pays its KL.
   // The arm's onsets are not weighted (the action alone moves it), nor those of an object the
-  // arm touches (within contact_margin_m of its footprint before or after the step: a push) or
-  // another object touches (within object_contact_margin_m of their bounding radii: a collision): what is left
-  // is motion started at a distance, by a tie.
-  double onset_loss_weight = 0.0;   // 10 finds springs but loses the rope of relational-4 (README)
+  // arm touches (within contact_margin_m of its footprint along the step's straight paths: a
+  // push; the hand jumps ~10 cm a step, so its two ends are not enough) or another object
+  // touches (within object_contact_margin_m of their bounding radii: a collision): what is
+  // left is motion started at a distance, by a tie. With env.physics.static_objects: fixed,
+  // onset_loss_weight 30 and contact_margin_m 0 the candidate settings of graph_service/README.md
+  // ("Static objects and fast hands"); on the reference's env a static puck flies unseen.
+  double onset_loss_weight = 0.0;
   double onset_motion_m = 1e-3;
   // a fresh Adam state when the gates start (end of the warm-up), with this beta2 (0.99, the
   // decay of the reference's RMSprop); see GnnTrainer::Update. Not in the reference.
