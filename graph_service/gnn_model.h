@@ -113,8 +113,8 @@ class GnnModel {
   // Per-entity weights of the squared error (size N; empty = all 1).
   void set_entity_loss_weights(std::vector<double> w) { entity_weights_ = std::move(w); }
   // with onset_loss_weight: an onset of j is weighted only when every entity i is farther from
-  // j than clearance[i * N + j] before and after the step (0: no condition; infinity: j's
-  // onsets never count; empty: every onset counts)
+  // j than clearance[i * N + j] along the step's straight paths (ApartThroughTheStep; 0: no
+  // condition; infinity: j's onsets never count; empty: every onset counts)
   void set_onset_clearance(std::vector<double> c) { onset_clearance_ = std::move(c); }
   void set_onset_loss_weight(double w) { options_.onset_loss_weight = w; }
   // Changes the weight of the KL term (annealing).

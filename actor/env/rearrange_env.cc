@@ -26,10 +26,9 @@ struct RearrangeEnv::Mujoco {
   std::vector<int> object_mocap;
 
   // object i's xyz: its free joint's position or its mocap position
-  mjtNum* ObjectPos(size_t i) {
+  mjtNum* ObjectPos(size_t i) const {
     return object_mocap[i] >= 0 ? data->mocap_pos + 3 * object_mocap[i] : data->qpos + object_qpos[i];
   }
-  const mjtNum* ObjectPos(size_t i) const { return const_cast<Mujoco*>(this)->ObjectPos(i); }
 };
 
 namespace {

@@ -49,7 +49,6 @@ struct ConnectionConfig {
   double damping = 1.0;     // N s/m, spring only
 };
 
-// MuJoCo options and geom defaults.
 // How a static object stays where it is.
 enum class StaticObjects {
   // the reference's: a free body whose xy is put back after every env step. In between it is
@@ -60,6 +59,7 @@ enum class StaticObjects {
   kFixed,
 };
 
+// MuJoCo options and geom defaults.
 struct PhysicsConfig {
   double timestep = 0.002;    // s
   int solver_iterations = 50;

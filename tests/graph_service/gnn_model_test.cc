@@ -113,9 +113,6 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferencesWithEdgeInputs) {
   EXPECT_LT(WindowLossGradientError(model, batch, rng), 1e-6);
 }
 
-// The onset weight against a sum computed by hand from the model's own per-step predictions:
-// mse(w) = mse(0) + w * sum over onset rows (moving now, not in the step before, of an entity
-// whose onsets count) of entity weight * squared error / (rows * 2).
 // Segment distances by hand: crossing paths 0; parallel ones their offset; an end point's
 // distance to the other segment's interior; and the case the end points miss: the hand runs
 // from 13 cm below an object at rest to 4.5 cm beyond it (clear at both ends, through it
@@ -135,6 +132,9 @@ TEST(GnnModelTest, SegmentDistanceByHand) {
   EXPECT_TRUE(ApartThroughTheStep(x, dx, 0, 1, 0.04));
 }
 
+// The onset weight against a sum computed by hand from the model's own per-step predictions:
+// mse(w) = mse(0) + w * sum over onset rows (moving now, not in the step before, of an entity
+// whose onsets count) of entity weight * squared error / (rows * 2).
 TEST(GnnModelTest, OnsetWeightCountsOnlyOnsets) {
   const int n = 3, b = 2, steps = 4;
   WindowBatch<double> batch;
