@@ -95,6 +95,32 @@ std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, in
   return out;
 }
 
+std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int arm,
+                                       const std::vector<bool>& moving, double share) {
+  const int n = static_cast<int>(moving.size());
+  if (scores.size() != static_cast<size_t>(n) * n)
+    throw std::invalid_argument("CutWeakObjectPairs: score matrix is not N x N");
+  if (arm < 0 || arm >= n) throw std::invalid_argument("CutWeakObjectPairs: arm out of range");
+  if (!(share >= 0 && share <= 1)) throw std::invalid_argument("CutWeakObjectPairs: share outside [0, 1]");
+  auto object_pair = [&](int i, int j) { return i != j && i != arm && j != arm && moving[i] && moving[j]; };
+  // each object's strongest pair, over both directions
+  std::vector<double> strongest(n, 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (object_pair(i, j)) {
+        const double s = scores[static_cast<size_t>(i) * n + j];
+        strongest[i] = std::max(strongest[i], s);
+        strongest[j] = std::max(strongest[j], s);
+      }
+  std::vector<double> out = scores;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const size_t ij = static_cast<size_t>(i) * n + j;
+      if (object_pair(i, j) && scores[ij] < share * std::max(strongest[i], strongest[j])) out[ij] = 0.0;
+    }
+  return out;
+}
+
 bool SameStructure(const rl::InteractionGraph& a, const rl::InteractionGraph& b) {
   return a.num_entities == b.num_entities && a.action_entity == b.action_entity &&
          a.adjacency == b.adjacency;

@@ -48,6 +48,14 @@ LearnedGraph AggregateGraph(int num_entities, const std::vector<double>& scores,
 std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, int arm,
                                            const std::vector<bool>& moving);
 
+// Scores with every weak object -> object edge set to 0: for i, j both moving and neither
+// `arm`, i -> j is cut when its score is below `share` times the largest score of any
+// object -> object edge from or into i or j (either direction). Other edges are left as they
+// are; share 0 returns the scores unchanged. Throws std::invalid_argument when the sizes do
+// not match, arm is out of range or share is outside [0, 1].
+std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int arm,
+                                       const std::vector<bool>& moving, double share);
+
 // True when two graphs keep the same edges and action entity (weights may differ).
 bool SameStructure(const rl::InteractionGraph& a, const rl::InteractionGraph& b);
 

@@ -456,8 +456,9 @@ std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::Gra
     if (still[j])
       for (int i = 0; i < n; ++i)
         scores[static_cast<size_t>(i) * n + j] = scores[static_cast<size_t>(j) * n + i] = 0.0;
-  if (!config.reciprocal_object_edges) return scores;
-  return ReciprocalObjectScores(scores, action_entity, moving);
+  if (config.reciprocal_object_edges) scores = ReciprocalObjectScores(scores, action_entity, moving);
+  if (config.object_pair_share > 0) scores = CutWeakObjectPairs(scores, action_entity, moving, config.object_pair_share);
+  return scores;
 }
 
 void GraphService::EvaluateGraph() {

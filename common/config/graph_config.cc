@@ -34,6 +34,7 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadDouble("cut_threshold", &out->cut_threshold, 0, 1);
   s.ReadDouble("static_variance_fraction", &out->static_variance_fraction, 0, 1);
   s.ReadBool("reciprocal_object_edges", &out->reciprocal_object_edges);
+  s.ReadDouble("object_pair_share", &out->object_pair_share, 0, 1);
   s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
   s.ReadDouble("onset_loss_weight", &out->onset_loss_weight, 0, 1e3);
   s.ReadDouble("onset_motion_m", &out->onset_motion_m, 0, 1);

@@ -104,6 +104,15 @@ struct GraphConfig {
   // object stays one-way, and nothing enters an entity that does not move. It only ever
   // completes a pair, so it never turns an exact graph into a wrong one. false: the paper's.
   bool reciprocal_object_edges = true;
+  // both read-outs: an object -> object edge is kept only when its score is at least this
+  // share of the strongest object pair either of its two ends has (0: off, the paper's). A
+  // tie pulls at every distance; a contact that leaks into the apart weights (a recurrent
+  // receiver remembers the collision) is a fraction of it: within a run a tie scored 1.6-7x
+  // the largest contact (graph_service/README.md, "Object pairs by their share"), while across
+  // runs ties and contacts meet at the threshold (relational-4-spring seed 1: contact 3-4
+  // 0.061, spring 0.164). Two ties that share an object and differ by more than 1 / share
+  // would lose the weaker (no preset or generated table 1-10 has such a chain).
+  double object_pair_share = 0.0;
   // loss += gate_logit_decay * sum over edges of max(0, logit_0 - logit_1)^2 / (N * B) (not
   // in the reference). With Adam (scale free) the margins of useful edges otherwise grow
   // without bound (20-50 after 4000 updates), dragging along edges that share their features

@@ -170,6 +170,57 @@ TEST(ReciprocalObjectScoresTest, ObjectPairsTakeTheLargerDirectionArmAndStaticUn
   EXPECT_THROW(ReciprocalObjectScores(std::vector<double>(24, 0.0), 0, moving), std::invalid_argument);
 }
 
+// relational-4-spring seed 1 under the candidate settings (graph_service/README.md, AVX-512
+// EPYC): the spring 2-3 at 0.164, contacts 3-4 at 0.061 and 2-4 at 0.046, threshold 0.06. The
+// contact 3-4 passed the threshold; at half the spring it is cut.
+TEST(CutWeakObjectPairsTest, AContactBelowHalfItsObjectsTieIsCut) {
+  const int n = 5;  // 0 arm, 1 static puck, 2-3 spring, 4 free
+  std::vector<double> s(n * n, 0.0);
+  auto at = [&](std::vector<double>& m, int i, int j) -> double& { return m[i * n + j]; };
+  at(s, 0, 2) = 0.708; at(s, 0, 3) = 0.677; at(s, 0, 4) = 0.625;
+  at(s, 2, 3) = at(s, 3, 2) = 0.164;
+  at(s, 3, 4) = at(s, 4, 3) = 0.061;
+  at(s, 2, 4) = at(s, 4, 2) = 0.046;
+  at(s, 1, 2) = 0.07;  // from the static puck: not an object pair of moving objects, untouched
+  const std::vector<bool> moving = {true, false, true, true, true};
+  EXPECT_EQ(rl::DescribeGraph(AggregateGraph(n, s, 0.06, 0).graph),
+            "action->0, 0->2, 0->3, 0->4, 1->2, 2->3, 3->2, 3->4, 4->3");
+  const std::vector<double> r = CutWeakObjectPairs(s, 0, moving, 0.5);
+  EXPECT_EQ(r[2 * n + 3], 0.164);
+  EXPECT_EQ(r[3 * n + 2], 0.164);
+  EXPECT_EQ(r[3 * n + 4], 0.0);  // 0.061 < 0.5 * 0.164 (3's spring)
+  EXPECT_EQ(r[4 * n + 3], 0.0);
+  EXPECT_EQ(r[2 * n + 4], 0.0);
+  EXPECT_EQ(r[1 * n + 2], 0.07);
+  EXPECT_EQ(r[0 * n + 4], 0.625);  // the arm's edges are never compared
+  EXPECT_EQ(rl::DescribeGraph(AggregateGraph(n, r, 0.06, 0).graph), "action->0, 0->2, 0->3, 0->4, 1->2, 2->3, 3->2");
+  EXPECT_EQ(CutWeakObjectPairs(s, 0, moving, 0.0), s);  // 0: the scores as they are
+  // at a share of 0.35 the contact (0.37 of the spring) stays
+  EXPECT_EQ(CutWeakObjectPairs(s, 0, moving, 0.35)[3 * n + 4], 0.061);
+  EXPECT_THROW(CutWeakObjectPairs(s, 5, moving, 0.5), std::invalid_argument);
+  EXPECT_THROW(CutWeakObjectPairs(s, 0, moving, 1.5), std::invalid_argument);
+  EXPECT_THROW(CutWeakObjectPairs(std::vector<double>(24, 0.0), 0, moving, 0.5), std::invalid_argument);
+}
+
+// Two ties that share no object are compared with nothing but their own pairs: a weak rope
+// survives beside a strong spring elsewhere on the table; a lone contact is left to the threshold.
+TEST(CutWeakObjectPairsTest, TiesOfDifferentObjectsAndALoneContactStay) {
+  const int n = 6;  // 0 arm, 1-2 rope (weak), 3-4 spring (strong), 5 free
+  std::vector<double> s(n * n, 0.0);
+  auto at = [&](int i, int j) -> double& { return s[i * n + j]; };
+  at(1, 2) = at(2, 1) = 0.07;
+  at(3, 4) = at(4, 3) = 0.21;
+  at(5, 1) = 0.02;  // a contact of the free object with the rope's end: 0.02 < 0.5 * 0.07
+  const std::vector<bool> moving(n, true);
+  const std::vector<double> r = CutWeakObjectPairs(s, 0, moving, 0.5);
+  EXPECT_EQ(r[1 * n + 2], 0.07);
+  EXPECT_EQ(r[3 * n + 4], 0.21);
+  EXPECT_EQ(r[5 * n + 1], 0.0);
+  std::vector<double> lone(n * n, 0.0);
+  lone[2 * n + 5] = 0.08;  // the strongest pair of both its objects: only the threshold decides
+  EXPECT_EQ(CutWeakObjectPairs(lone, 0, moving, 0.5), lone);
+}
+
 TEST(MovingEntitiesTest, BelowTheFractionOfTheLargestDoesNotMove) {
   EXPECT_EQ(MovingEntities({4.0, 0.03, 0.05, 1.0}, 0.01), (std::vector<bool>{true, false, true, true}));
   EXPECT_EQ(MovingEntities({0.0, 0.0}, 0.01), (std::vector<bool>{false, false}));

@@ -99,6 +99,7 @@ TEST_F(RejectedConfig, OtherZeroSizesPeriodsAndRates) {
       {"graph:\n  learning_rate: 0\n", ":2: graph.learning_rate: expected a number in [1e-12, 1], got '0'"},
       {"env:\n  physics:\n    static_objects: glued\n", ":3: env.physics.static_objects: expected one of 'put_back' 'fixed', got 'glued'"},
       {"graph:\n  object_contact_margin_m: -0.01\n", ":2: graph.object_contact_margin_m: expected a number in [0, 1], got '-0.01'"},
+      {"graph:\n  object_pair_share: 2\n", ":2: graph.object_pair_share: expected a number in [0, 1], got '2'"},
       {"transport:\n  status_period_s: 0\n", ":2: transport.status_period_s: expected a number in [0.01, 3600]"},
       {"transport:\n  episode_batch_ms: -1\n", ":2: transport.episode_batch_ms: expected an integer in [0, 10000]"},
   };
