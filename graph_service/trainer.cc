@@ -125,7 +125,10 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
     model_.set_entity_loss_weights(w);
   }
   arm_ = SelectActionEntity(data);
-  if (config.onset_loss_weight > 0) model_.set_onset_clearance(OnsetClearance({}));
+  // onsets at a distance need every entity's size (SetContactRadii): without them (toy worlds)
+  // a push cannot be told from a tie's pull, and weighting every onset opened object -> arm
+  // and contact edges (the refinement test's roped pucks), so none is weighted until then
+  model_.set_onset_loss_weight(0);
 }
 
 double GnnTrainer::Update() {
@@ -224,7 +227,9 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
 void GnnTrainer::SetContactRadii(std::vector<double> radii) {
   contact_radius_ = std::move(radii);
   if (config_.onset_loss_weight <= 0) return;
-  model_.set_onset_clearance(OnsetClearance(contact_radius_));
+  const bool sized = contact_radius_.size() == static_cast<size_t>(data_.graph_entities());
+  model_.set_onset_loss_weight(sized ? config_.onset_loss_weight : 0);
+  if (sized) model_.set_onset_clearance(OnsetClearance(contact_radius_));
 }
 
 std::vector<double> GnnTrainer::OnsetClearance(const std::vector<double>& graph_radius) const {

@@ -60,7 +60,8 @@ class GnnTrainer {
   // over its episodes too. null or a share of 0: none. `data` must outlive the trainer.
   void SetRefinementData(const GraphDataset* data, double share);
   // each graph entity's footprint bounding radius in metres (ServiceOptions::contact_radius),
-  // for the apart weights of Evaluate and the onset weight's push and collision rules
+  // for the apart weights of Evaluate and the onset weight's push and collision rules. The
+  // onset weight applies only once every entity's radius is known (toy worlds have none)
   void SetContactRadii(std::vector<double> radii);
   // whether Evaluate scores object pairs apart (object_edges apart, radii of every entity)
   bool ApartWeights() const {

@@ -55,7 +55,8 @@ enum class StaticObjects {
   // free: hit by the hand it flies (up to ~20 cm in one step), hits other objects and is put
   // back, so they start moving with no visible cause (graph_service/README.md, "Static objects")
   kPutBack,
-  // a body fixed in the world (a mocap body placed at reset): nothing moves it
+  // a body fixed in the world (a mocap body placed at reset): nothing moves it. The default:
+  // the graph service's onsets at a distance need a static object that stays where it is seen
   kFixed,
 };
 
@@ -67,7 +68,7 @@ struct PhysicsConfig {
   std::vector<double> geom_solref = {0.008, 1.0};
   std::vector<double> geom_solimp = {0.95, 0.95, 0.01};
   double geom_margin = 0.001;
-  StaticObjects static_objects = StaticObjects::kPutBack;
+  StaticObjects static_objects = StaticObjects::kFixed;  // put_back: the reference's
   // contacts of a fixed static object (static_objects: fixed): stiff enough that the hand
   // stops at it at full speed (the default contacts let it through at an action of 1, 3.7 cm
   // deep at 0.6); 0.004 s is twice the timestep, MuJoCo's stability limit

@@ -292,6 +292,30 @@ TEST(GnnTrainerTest, ApartWeightsCountOnlyStepsBeyondContact) {
   EXPECT_TRUE(paper.Evaluate().apart_weight.empty());
 }
 
+// The onset weight needs every entity's size to tell a push from a pull at a distance: without
+// radii (toy worlds) a trainer with onset_loss_weight trains exactly as one without; once the
+// radii are set it weights onsets (its losses differ). Before, every onset was weighted without
+// radii, pushes included (the refinement test's roped pucks got object -> arm edges).
+TEST(GnnTrainerTest, OnsetWeightWaitsForTheEntitiesSizes) {
+  GraphDataset data = ToyData(8, 10);
+  config::GraphConfig config;
+  config.hidden_dim = 6;
+  config.mlp_hidden = 12;
+  config.batch_windows = 4;
+  config.window = 5;
+  config.onset_loss_weight = 0;
+  GnnTrainer plain(config, data, 9);
+  config.onset_loss_weight = 30;
+  GnnTrainer weighted(config, data, 9);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(weighted.Update(), plain.Update()) << "update " << i;
+  weighted.SetContactRadii({0, 0});  // not every entity: still none
+  EXPECT_EQ(weighted.Update(), plain.Update());
+  weighted.SetContactRadii({0, 0, 0});
+  bool differs = false;
+  for (int i = 0; i < 3; ++i) differs |= weighted.Update() != plain.Update();
+  EXPECT_TRUE(differs) << "the toy data's onsets count 31x once the sizes are known";
+}
+
 // Per-identity averaging over training combinations, where the truth is known: with open
 // edges (every message passed unweighted) an episode's hidden states, and so its edge
 // probabilities, do not depend on the Gumbel noise, and the same seed builds the same model.
