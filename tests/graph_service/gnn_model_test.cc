@@ -240,13 +240,19 @@ TEST(GnnModelTest, LossGoesDownOnAFixedBatch) {
   EXPECT_LT(after, 0.2 * before) << before << " -> " << after;
 }
 
-TEST(GnnTrainerTest, EvaluationAveragesEdgeProbabilities) {
-  GraphDataset data = ToyData(8, 10);
+// A trainer's config small enough for the toy data of these tests.
+config::GraphConfig SmallTrainerConfig() {
   config::GraphConfig config;
   config.hidden_dim = 6;
   config.mlp_hidden = 12;
   config.batch_windows = 4;
   config.window = 5;
+  return config;
+}
+
+TEST(GnnTrainerTest, EvaluationAveragesEdgeProbabilities) {
+  GraphDataset data = ToyData(8, 10);
+  config::GraphConfig config = SmallTrainerConfig();
   config.eval_chunk_episodes = 3;  // chunks of different sizes
   GnnTrainer trainer(config, data, 9);
   const EdgeStatistics a = trainer.Evaluate();
@@ -298,11 +304,7 @@ TEST(GnnTrainerTest, ApartWeightsCountOnlyStepsBeyondContact) {
 // radii, pushes included (the refinement test's roped pucks got object -> arm edges).
 TEST(GnnTrainerTest, OnsetWeightWaitsForTheEntitiesSizes) {
   GraphDataset data = ToyData(8, 10);
-  config::GraphConfig config;
-  config.hidden_dim = 6;
-  config.mlp_hidden = 12;
-  config.batch_windows = 4;
-  config.window = 5;
+  config::GraphConfig config = SmallTrainerConfig();
   config.onset_loss_weight = 0;
   GnnTrainer plain(config, data, 9);
   config.onset_loss_weight = 30;
