@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "graph_service/json.h"
 
@@ -79,16 +80,33 @@ LearnedGraph AggregateGraph(int n, const std::vector<double>& w, double threshol
   return out;
 }
 
-std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, int arm,
-                                           const std::vector<bool>& moving) {
+namespace {
+
+// N of an N x N score matrix over the entities of `moving`; throws std::invalid_argument naming
+// `function` when the sizes do not match or arm is out of range.
+int CheckedObjectScores(const char* function, const std::vector<double>& scores, int arm,
+                        const std::vector<bool>& moving) {
   const int n = static_cast<int>(moving.size());
   if (scores.size() != static_cast<size_t>(n) * n)
-    throw std::invalid_argument("ReciprocalObjectScores: score matrix is not N x N");
-  if (arm < 0 || arm >= n) throw std::invalid_argument("ReciprocalObjectScores: arm out of range");
+    throw std::invalid_argument(std::string(function) + ": score matrix is not N x N");
+  if (arm < 0 || arm >= n) throw std::invalid_argument(std::string(function) + ": arm out of range");
+  return n;
+}
+
+// Whether i -> j joins two different objects that both move (neither the arm).
+bool MovingObjectPair(int i, int j, int arm, const std::vector<bool>& moving) {
+  return i != j && i != arm && j != arm && moving[i] && moving[j];
+}
+
+}  // namespace
+
+std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, int arm,
+                                           const std::vector<bool>& moving) {
+  const int n = CheckedObjectScores("ReciprocalObjectScores", scores, arm, moving);
   std::vector<double> out = scores;
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < n; ++j) {
-      if (i == arm || j == arm || !moving[i] || !moving[j]) continue;
+      if (!MovingObjectPair(i, j, arm, moving)) continue;
       const size_t ij = static_cast<size_t>(i) * n + j, ji = static_cast<size_t>(j) * n + i;
       out[ij] = out[ji] = std::max(scores[ij], scores[ji]);
     }
@@ -97,12 +115,9 @@ std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, in
 
 std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int arm,
                                        const std::vector<bool>& moving, double share) {
-  const int n = static_cast<int>(moving.size());
-  if (scores.size() != static_cast<size_t>(n) * n)
-    throw std::invalid_argument("CutWeakObjectPairs: score matrix is not N x N");
-  if (arm < 0 || arm >= n) throw std::invalid_argument("CutWeakObjectPairs: arm out of range");
+  const int n = CheckedObjectScores("CutWeakObjectPairs", scores, arm, moving);
   if (!(share >= 0 && share <= 1)) throw std::invalid_argument("CutWeakObjectPairs: share outside [0, 1]");
-  auto object_pair = [&](int i, int j) { return i != j && i != arm && j != arm && moving[i] && moving[j]; };
+  auto object_pair = [&](int i, int j) { return MovingObjectPair(i, j, arm, moving); };
   // each object's strongest pair, over both directions
   std::vector<double> strongest(n, 0.0);
   for (int i = 0; i < n; ++i)
