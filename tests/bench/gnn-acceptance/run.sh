@@ -4,12 +4,17 @@
 # seeds 1..3 each, with the default GraphConfig, one thread per run, and compares each graph
 # with the one the table implies by construction (exact match of every edge).
 #   ./tests/bench.sh gnn-acceptance [--jobs N] [--tables "a b ..."] [--seeds "1 2 3"] [--set K=V]...
+#                                   [--record DIR] [--runs "table:seed ..."]
 #   tests/bench/gnn-acceptance/run.sh BUILD_DIR [same options]
+# --runs lists single runs instead of the tables x seeds grid (e.g. "table-4:3 rearrange-1:2").
 # Table names: a preset's file name without .yaml, or table-N for random table N.
 # Output in $OUT (default runs/gnn-acceptance, kept across calls): OUT/<table>-s<seed>/ holds
 # the run's log, graph.json and pictures and result.txt. Resumable: a run with a result.txt
 # is not repeated (delete the folder to redo it), so a stopped acceptance continues where it
-# was. Runs are niced; --jobs 2 runs two at a time (one per core: do not benchmark meanwhile).
+# was. --record DIR (relative to the repository root, e.g. docs/results/gnn-acceptance) also
+# copies each finished run's result.txt and graph.json to DIR/<table>-s<seed>/, to be committed:
+# runs/ is not kept by a new checkout, DIR is, and a run recorded there is not repeated either
+# (the table counts it). Runs are niced; --jobs 2 runs two at a time (one per core: do not benchmark meanwhile).
 # Prints a markdown table of every run so far (graph_service/README.md keeps one) and, as its
 # last line, one JSON object {"bench":"gnn-acceptance","exact":..,"runs":..,"max_cpu_s":..}.
 set -euo pipefail
@@ -21,12 +26,16 @@ jobs=1
 tables=""
 seeds="1 2 3"
 overrides=""  # --set K=V passed to every run (e.g. graph.onset_loss_weight=10); use another OUT
+record=""
+runs=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --jobs) jobs="$2"; shift 2 ;;
     --tables) tables="$2"; shift 2 ;;
     --seeds) seeds="$2"; shift 2 ;;
     --set) overrides+="--set $2 "; shift 2 ;;
+    --runs) runs="$2"; shift 2 ;;
+    --record) record="$2"; [[ $record == /* ]] || record="$root/$record"; shift 2 ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -37,10 +46,12 @@ fi
 srics="$build/deploy/launcher/srics"
 cmake --build "$build" --target srics -j1 >/dev/null
 mkdir -p "$out"
+[[ -n $record ]] && mkdir -p "$record"
 
 # one run: learns, times, compares; writes result.txt last (its presence = done)
 run_one() {
   local table=$1 seed=$2 dir="$out/$1-s$2"
+  [[ -n $record && -f "$record/$1-s$2/result.txt" ]] && return 0
   [[ -f "$dir/result.txt" ]] && return 0
   rm -rf "$dir"
   mkdir -p "$dir"
@@ -58,9 +69,12 @@ run_one() {
     echo "$table seed $seed: interrupted (exit $rc), not recorded" >&2
     return 0
   fi
-  python3 - "$dir" "$table" "$seed" "$wall" "$expected" <<'PY'
+  local commit cpu_model
+  commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+  cpu_model=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
+  python3 - "$dir" "$table" "$seed" "$wall" "$expected" "$commit" "$cpu_model" "$overrides" <<'PY'
 import json, sys
-d, table, seed, wall, expected = sys.argv[1:]
+d, table, seed, wall, expected, commit, cpu_model, overrides = sys.argv[1:]
 cpu = sum(float(x) for x in open(d + "/time.txt").read().split()[-2:])
 try:
     g = json.load(open(d + "/graph.json"))
@@ -74,18 +88,38 @@ except Exception as e:
 with open(d + "/result.txt", "w") as f:
     f.write(json.dumps({"table": table, "seed": int(seed), "exact": exact, "learned": learned,
                         "expected": expected, "cpu_s": round(cpu), "wall_s": int(wall),
-                        "detail": detail}) + "\n")
+                        "detail": detail, "commit": commit, "cpu": cpu_model,
+                        "overrides": overrides.strip()}) + "\n")
 PY
+  if [[ -n $record ]]; then
+    mkdir -p "$record/$table-s$seed"
+    [[ -f "$dir/graph.json" ]] && cp "$dir/graph.json" "$record/$table-s$seed/"
+    cp "$dir/result.txt" "$record/$table-s$seed/"  # last: its presence = recorded
+  fi
   echo "$table seed $seed: $(cat "$dir/result.txt")" >&2
 }
 export -f run_one
-export out root srics overrides
-for t in $tables; do for s in $seeds; do echo "$t $s"; done; done |
+export out root srics overrides record
+pairs=""  # "table seed" lines, checked before anything runs
+if [[ -n $runs ]]; then
+  for r in $runs; do
+    [[ $r =~ ^[A-Za-z0-9_.-]+:[0-9]+$ ]] || { echo "--runs: '$r' is not table:seed" >&2; exit 2; }
+    pairs+="${r%%:*} ${r##*:}"$'\n'
+  done
+else
+  for t in $tables; do for s in $seeds; do pairs+="$t $s"$'\n'; done; done
+fi
+printf '%s' "$pairs" |
   xargs -P "$jobs" -L 1 bash -c 'run_one "$0" "$1"'
 
-python3 - "$out" <<'PY'
+python3 - "$out" "$record" <<'PY'
 import glob, json, sys
-rows = sorted((json.loads(open(p).read()) for p in glob.glob(sys.argv[1] + "/*/result.txt")),
+found = {}  # (table, seed) -> result; a recorded result wins over the run folder's
+for folder in sys.argv[1:]:
+    for p in glob.glob(folder + "/*/result.txt") if folder else []:
+        r = json.loads(open(p).read())
+        found[(r["table"], r["seed"])] = r
+rows = sorted(found.values(),
               key=lambda r: (r["table"].startswith("table-"), r["table"].split("-")[0],
                              int(r["table"][6:]) if r["table"].startswith("table-") else 0,
                              r["table"], r["seed"]))
