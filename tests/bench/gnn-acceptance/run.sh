@@ -72,6 +72,9 @@ run_one() {
   local commit cpu_model
   commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
   cpu_model=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
+  # the model string alone may not tell (this machine's says "AMD EPYC"): the vector ISA too
+  if grep -qw avx512f /proc/cpuinfo; then cpu_model+=" (AVX-512)"
+  elif grep -qw avx2 /proc/cpuinfo; then cpu_model+=" (AVX2)"; fi
   python3 - "$dir" "$table" "$seed" "$wall" "$expected" "$commit" "$cpu_model" "$overrides" <<'PY'
 import json, sys
 d, table, seed, wall, expected, commit, cpu_model, overrides = sys.argv[1:]
