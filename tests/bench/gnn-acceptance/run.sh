@@ -47,6 +47,12 @@ srics="$build/deploy/launcher/srics"
 cmake --build "$build" --target srics -j1 >/dev/null
 mkdir -p "$out"
 [[ -n $record ]] && mkdir -p "$record"
+# what every record names, taken once: the commit the binary above was built from, the machine
+commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+cpu_model=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
+# the model string alone may not tell (this machine's says "AMD EPYC"): the vector ISA too
+if grep -qw avx512f /proc/cpuinfo; then cpu_model+=" (AVX-512)"
+elif grep -qw avx2 /proc/cpuinfo; then cpu_model+=" (AVX2)"; fi
 
 # one run: learns, times, compares; writes result.txt last (its presence = done)
 run_one() {
@@ -69,12 +75,6 @@ run_one() {
     echo "$table seed $seed: interrupted (exit $rc), not recorded" >&2
     return 0
   fi
-  local commit cpu_model
-  commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
-  cpu_model=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
-  # the model string alone may not tell (this machine's says "AMD EPYC"): the vector ISA too
-  if grep -qw avx512f /proc/cpuinfo; then cpu_model+=" (AVX-512)"
-  elif grep -qw avx2 /proc/cpuinfo; then cpu_model+=" (AVX2)"; fi
   python3 - "$dir" "$table" "$seed" "$wall" "$expected" "$commit" "$cpu_model" "$overrides" <<'PY'
 import json, sys
 d, table, seed, wall, expected, commit, cpu_model, overrides = sys.argv[1:]
@@ -102,7 +102,7 @@ PY
   echo "$table seed $seed: $(cat "$dir/result.txt")" >&2
 }
 export -f run_one
-export out root srics overrides record
+export out root srics overrides record commit cpu_model
 pairs=""  # "table seed" lines, checked before anything runs
 if [[ -n $runs ]]; then
   for r in $runs; do
