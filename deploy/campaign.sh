@@ -6,10 +6,14 @@
 # curves are already under docs/results/campaign/raw/ is skipped; one that finishes has its
 # config.yaml, eval.csv, train.csv, outcome.yaml and graph.json copied there (commit them: the
 # sweep folders in runs/ are not kept by a new checkout).
-#   deploy/campaign.sh [--dry-run] [--build DIR] [--queue FILE]
+#   deploy/campaign.sh [--dry-run] [--build DIR] [--queue FILE] [--runs DIR]
 #     --dry-run  print what each line would do, run nothing
+#     --runs DIR where the sweep folders go (default runs/campaign; a relative DIR is taken from
+#                the repository root)
 # Run it from anywhere; niced (10, as the graph acceptance runs are, so that neither starves the
-# other): it is meant to run beside other work, one run per core.
+# other): it is meant to run beside other work, one run per core. To use two cores, start it
+# twice: a run being trained holds a lock (flock on DIR/OUT.lock), and a queue that reaches it
+# skips to the next run instead of training it a second time.
 # Queue lines (blank lines and # comments ignored):
 #   OUT GROUP NAME CONFIG METHOD SEED [--set KEY=VALUE ...]
 #   OUT     the sweep folder under runs/campaign/
@@ -21,13 +25,15 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build
 queue=$root/deploy/configs/campaign/queue.txt
+runs=runs/campaign
 dry_run=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --dry-run) dry_run=1; shift ;;
     --build) build=$(cd "$2" && pwd); shift 2 ;;
     --queue) queue=$(cd "$(dirname "$2")" && pwd)/$(basename "$2"); shift 2 ;;
-    *) echo "deploy/campaign.sh: unknown option '$1' (--dry-run, --build DIR, --queue FILE)" >&2; exit 2 ;;
+    --runs) runs=${2%/}; shift 2 ;;
+    *) echo "deploy/campaign.sh: unknown option '$1' (--dry-run, --build DIR, --queue FILE, --runs DIR)" >&2; exit 2 ;;
   esac
 done
 [[ -f $queue ]] || { echo "deploy/campaign.sh: no queue file $queue" >&2; exit 2; }
@@ -53,14 +59,26 @@ while IFS= read -r line || [[ -n $line ]]; do
     continue
   fi
   [[ -f $config ]] || { echo "deploy/campaign.sh: $queue:$line_no: no config file $config" >&2; exit 2; }
-  cmd=("$srics" sweep "$config" --methods "$method" --seeds "$seed" --in-process --out "runs/campaign/$out" "${extra[@]}")
+  cmd=("$srics" sweep "$config" --methods "$method" --seeds "$seed" --in-process --out "$runs/$out" "${extra[@]}")
+  # one queue per core: the lock says another queue is training this run (released when its
+  # sweep ends, however it ends)
+  busy="[$(date -u +%H:%M)] $name-seed$seed ($group): being trained by another queue ($runs/$out.lock), skipped"
   if [[ $dry_run == 1 ]]; then
+    if [[ -e $runs/$out.lock ]] && ! flock -n "$runs/$out.lock" true; then echo "$busy"; continue; fi
     echo "would run: ${cmd[*]}  -> $raw"
     continue
   fi
+  mkdir -p "$runs"
+  exec {lock}>"$runs/$out.lock"
+  if ! flock -n "$lock"; then
+    echo "$busy"
+    exec {lock}>&-
+    continue
+  fi
   echo "[$(date -u +%H:%M)] $name-seed$seed ($group): nice -n 10 ${cmd[*]}"
-  nice -n 10 "${cmd[@]}"
-  run_dir=runs/campaign/$out/$method-seed$seed
+  nice -n 10 "${cmd[@]}" || true  # its outcome.yaml says how it ended
+  exec {lock}>&-
+  run_dir=$runs/$out/$method-seed$seed
   if ! grep -q '^state: finished' "$run_dir/outcome.yaml" 2>/dev/null; then
     echo "deploy/campaign.sh: $run_dir did not finish (outcome.yaml: $(head -c 200 "$run_dir/outcome.yaml" 2>/dev/null || echo none)); the queue stops here" >&2
     exit 1
@@ -69,7 +87,7 @@ while IFS= read -r line || [[ -n $line ]]; do
   for file in config.yaml eval.csv train.csv outcome.yaml graph.json; do
     [[ -f $run_dir/$file ]] && cp "$run_dir/$file" "$raw/"
   done
-  [[ -f $root/docs/results/campaign/raw/$group/sweep.yaml ]] || cp "runs/campaign/$out/sweep.yaml" "docs/results/campaign/raw/$group/"
+  [[ -f $root/docs/results/campaign/raw/$group/sweep.yaml ]] || cp "$runs/$out/sweep.yaml" "docs/results/campaign/raw/$group/"
   echo "[$(date -u +%H:%M)] $name-seed$seed ($group): finished, curves copied to $raw (commit them)"
 done <"$queue"
 echo "[$(date -u +%H:%M)] the queue is done"

@@ -1,8 +1,11 @@
 // deploy/campaign.sh, the campaign's queue, in --dry-run: which runs it skips (their curves are
 // in docs/results/campaign/raw/ with a finished outcome), the sweep it would start for the
-// others, and the exit code 2 naming the line for a malformed queue or a missing config.
+// others, the exit code 2 naming the line for a malformed queue or a missing config, and that a
+// run another queue is training (its lock held) is skipped, not started twice.
 
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -21,13 +24,16 @@ struct Output {
   std::string text;  // stdout and stderr
 };
 
-Output RunQueue(const std::string& queue_text) {
-  const fs::path dir = fs::temp_directory_path() / ("campaign_script_test_" + std::to_string(::getpid()));
+fs::path TestDir() { return fs::temp_directory_path() / ("campaign_script_test_" + std::to_string(::getpid())); }
+
+// runs_dir empty: the script's default (runs/campaign)
+Output RunQueue(const std::string& queue_text, const std::string& runs_dir = "") {
+  const fs::path dir = TestDir();
   fs::create_directories(dir);
   const fs::path queue = dir / "queue.txt";
   std::ofstream(queue) << queue_text;
   const std::string command = std::string(SRICS_SOURCE_DIR) + "/deploy/campaign.sh --dry-run --queue " +
-                              queue.string() + " 2>&1";
+                              queue.string() + (runs_dir.empty() ? "" : " --runs " + runs_dir) + " 2>&1";
   Output out;
   FILE* pipe = ::popen(command.c_str(), "r");
   char buffer[4096];
@@ -66,6 +72,32 @@ TEST(CampaignScriptTest, MalformedLinesAndMissingConfigsExitTwoNamingTheLine) {
   EXPECT_EQ(out.exit_code, 2);
   EXPECT_NE(out.text.find("queue.txt:2: no config file deploy/configs/campaign/no-such.yaml"), std::string::npos)
       << out.text;
+}
+
+// Two queues on two cores: the run one of them trains holds DIR/OUT.lock; the other skips it and
+// plans the next run.
+TEST(CampaignScriptTest, ARunAnotherQueueIsTrainingIsSkipped) {
+  const fs::path runs = fs::temp_directory_path() / ("campaign_script_runs_" + std::to_string(::getpid()));
+  fs::create_directories(runs);
+  const std::string queue =
+      "busy-folder group srics_paper_selectivity deploy/configs/campaign/relational-4.yaml srics 8\n"
+      "free-folder group srics_paper_selectivity deploy/configs/campaign/relational-4.yaml srics 9\n";
+  const int fd = ::open((runs / "busy-folder.lock").c_str(), O_CREAT | O_RDWR, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  Output out = RunQueue(queue, runs.string());
+  EXPECT_EQ(out.exit_code, 0) << out.text;
+  EXPECT_NE(out.text.find("srics_paper_selectivity-seed8 (group): being trained by another queue"), std::string::npos)
+      << out.text;
+  EXPECT_EQ(out.text.find("--seeds 8"), std::string::npos) << "a locked run is planned:\n" << out.text;
+  EXPECT_NE(out.text.find("--seeds 9 --in-process --out " + runs.string() + "/free-folder"), std::string::npos)
+      << out.text;
+  // the lock released (the other queue's sweep ended): the run is planned again
+  ::close(fd);
+  out = RunQueue(queue, runs.string());
+  EXPECT_NE(out.text.find("--seeds 8 --in-process --out " + runs.string() + "/busy-folder"), std::string::npos)
+      << out.text;
+  fs::remove_all(runs);
 }
 
 // the committed queue parses, and every config it names exists
