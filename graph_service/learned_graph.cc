@@ -1,6 +1,7 @@
 #include "graph_service/learned_graph.h"
 
 #include "common/files/durable_file.h"
+#include "common/files/shell_path.h"
 
 #include <algorithm>
 #include <cmath>
@@ -389,7 +390,7 @@ std::string SaveGraphWithPictures(const LearnedGraph& graph, const std::string& 
       out << text;
     }
     const std::string cmd =
-        "dot -Tpng -o '" + prefix + suffix + ".png' '" + dot + "' > /dev/null 2>&1";
+        "dot -Tpng -o " + files::ShellQuote(prefix + suffix + ".png") + " " + files::ShellQuote(dot) + " > /dev/null 2>&1";
     if (std::system(cmd.c_str()) != 0) missing += (missing.empty() ? "" : ", ") + dot;
   }
   return missing;

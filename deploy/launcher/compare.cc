@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "common/config/config.h"
+#include "common/files/shell_path.h"
 #include "common/rl/ground_truth.h"
 #include "graph_service/learned_graph.h"
 #include "deploy/launcher/run_folder.h"
@@ -153,7 +154,9 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
   }
   if (fs::is_regular_file(dir / "graph.json")) {
     try {
-      run.graph = rl::DescribeGraph(graph_service::LoadGraph((dir / "graph.json").string()).graph);
+      const graph_service::LearnedGraph learned = graph_service::LoadGraph((dir / "graph.json").string());
+      run.graph = rl::DescribeGraph(learned.graph);
+      run.graph_dot = graph_service::GraphDot(learned);
     } catch (const std::exception& e) {
       warnings->push_back(dir.string() + ": graph.json: " + e.what());
     }
@@ -258,6 +261,22 @@ using Groups = std::map<std::string, std::map<std::string, Group>>;
 
 // Whether a run draws in a figure: evaluations (distance figures) or selectivity rows.
 using HasData = bool (*)(const RunData&);
+// Draws `dot_text` into the PNG `path` with graphviz's dot (fed on its standard input).
+bool DrawDot(const std::string& dot_text, const std::string& path, std::string* error) {
+  FILE* pipe = ::popen(("dot -Tpng -o " + files::ShellQuote(path) + " > /dev/null 2>&1").c_str(), "w");
+  if (!pipe) {
+    *error = "cannot run graphviz's dot";
+    return false;
+  }
+  const bool written = std::fwrite(dot_text.data(), 1, dot_text.size(), pipe) == dot_text.size();
+  const int status = ::pclose(pipe);
+  if (!written || status != 0) {
+    *error = "graphviz's dot failed (status " + std::to_string(status) + "; is graphviz installed?)";
+    return false;
+  }
+  return true;
+}
+
 bool HasEvaluations(const RunData& r) { return !r.evaluations.empty(); }
 bool HasSelectivity(const RunData& r) { return !r.selectivity.empty(); }
 
@@ -563,12 +582,17 @@ int Compare(const CompareOptions& options) {
     }
     for (const auto& [method, group] : methods)
       for (const RunData* r : group) {
-        if (r->graph_picture.empty()) continue;
         const std::string copy = base + "-" + fs::path(r->dir).filename().string() + "-graph.png";
-        std::error_code copy_error;
-        fs::copy_file(r->graph_picture, copy, fs::copy_options::overwrite_existing, copy_error);
-        if (copy_error) std::cerr << "srics compare: cannot copy " << r->graph_picture << ": " << copy_error.message() << "\n";
-        else pictures.push_back(copy);
+        if (!r->graph_picture.empty()) {
+          std::error_code copy_error;
+          fs::copy_file(r->graph_picture, copy, fs::copy_options::overwrite_existing, copy_error);
+          if (copy_error) std::cerr << "srics compare: cannot copy " << r->graph_picture << ": " << copy_error.message() << "\n";
+          else pictures.push_back(copy);
+        } else if (!r->graph_dot.empty()) {
+          std::string draw_error;
+          if (DrawDot(r->graph_dot, copy, &draw_error)) pictures.push_back(copy);
+          else std::cerr << "srics compare: " << r->dir << "/graph.json: " << draw_error << "\n";
+        }
       }
     script.close();
     std::string plot_error;

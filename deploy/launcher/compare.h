@@ -52,8 +52,10 @@ struct RunData {
   std::vector<std::pair<double, double>> selectivity;  // train.csv: env steps, selectivity
   bool selectivity_with_table_graph = false;           // measured with the table's graph (else the episodes' own ancestor sets)
   // the run's graph.json as edges ("action->0, 0->2"), empty when it has none; the graph its
-  // config.yaml implies by construction, empty when that cannot be read; graph.png if drawn
-  std::string graph, graph_by_construction, graph_picture;
+  // config.yaml implies by construction, empty when that cannot be read; graph.png if drawn;
+  // the graph in graphviz's language, to draw it when the folder has no graph.png (the
+  // campaign's raw folders keep only graph.json)
+  std::string graph, graph_by_construction, graph_picture, graph_dot;
 };
 
 // Reads every run under the folders; folders it cannot use are named in *warnings.

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "common/files/durable_file.h"
+#include "common/files/shell_path.h"
 #include "common/rl/ground_truth.h"
 #include "graph_service/learned_graph.h"
 
@@ -367,7 +368,7 @@ void WriteGnuplotScript(const std::string& path, const std::string& dir, const s
 }  // namespace
 
 bool RunGnuplot(const std::string& script_path, std::string* error) {
-  const std::string command = "gnuplot '" + script_path + "' 2>&1";
+  const std::string command = "gnuplot " + files::ShellQuote(script_path) + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) {
     *error = "cannot run gnuplot";

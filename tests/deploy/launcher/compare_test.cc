@@ -221,6 +221,19 @@ TEST_F(CompareTest, ListsEachLearnedGraphAgainstTheGraphByConstruction) {
   EXPECT_THAT(table, Not(HasSubstr("| smorl-seed1 | action"))) << table;
 }
 
+// The campaign's raw folders keep graph.json, not graph.png: compare draws the picture itself
+// (graphviz), into an output folder whose name needs shell quoting.
+TEST_F(CompareTest, DrawsTheLearnedGraphOfARunWithoutAPicture) {
+  WriteGraph(sweep_ / "srics-seed1", {{0, 2}, {0, 3}, {0, 4}, {2, 3}, {3, 2}});
+  ASSERT_FALSE(fs::exists(sweep_ / "srics-seed1" / "graph.png"));
+  const fs::path out = root_ / "it's out";
+  ASSERT_EQ(CompareSweepInto(out), 0);
+  const std::string png = ReadFile(out / "relational-4-srics-seed1-graph.png");
+  ASSERT_GT(png.size(), 1000u);
+  EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_FALSE(fs::exists(out / "relational-4-smorl-seed1-graph.png"));  // smorl learns no graph
+}
+
 TEST_F(CompareTest, ACorruptGraphFileIsNamedAndTheRunStillCounts) {
   fs::create_directories(sweep_ / "srics-seed1");
   std::ofstream(sweep_ / "srics-seed1" / "graph.json") << "{ not a graph";
