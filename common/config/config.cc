@@ -29,6 +29,9 @@ Config ParseTree(const YAML::Node& root, std::shared_ptr<const OriginMap> origin
   YAML::Emitter emitter;
   emitter << root;
   config.effective_yaml = emitter.c_str();
+  YAML::Emitter resolved;
+  resolved << top.resolved();
+  config.resolved_yaml = resolved.c_str();
   return config;
 }
 

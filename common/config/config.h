@@ -30,6 +30,11 @@ struct Config {
   ActorConfig actors;
   std::string source_file;     // the file it was loaded from
   std::string effective_yaml;  // the merged YAML (extends + overrides), for the run folder
+  // every key read with the value it resolved to, the defaults of this binary filled in: what a
+  // resumed run is compared with (a default that changed between binaries is a changed config).
+  // A record, not a config to load: keys derived from others (env.num_pucks from env.objects)
+  // keep the value they were read with.
+  std::string resolved_yaml;
 };
 
 // Loads `file`, applies each "key.path=value" override, validates everything.

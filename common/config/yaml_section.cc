@@ -138,11 +138,13 @@ std::string InRange(const std::string& what, N lo, N hi) {
 }  // namespace
 
 YamlSection::YamlSection(YAML::Node node, std::string path,
-                         std::shared_ptr<const OriginMap> origins, std::string default_file)
+                         std::shared_ptr<const OriginMap> origins, std::string default_file,
+                         YAML::Node resolved)
     : node_(std::move(node)),
       path_(std::move(path)),
       origins_(std::move(origins)),
-      default_file_(std::move(default_file)) {
+      default_file_(std::move(default_file)),
+      resolved_(std::move(resolved)) {
   if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) {
     throw ConfigError(Where("") + ": " + (path_.empty() ? "<top>" : path_) +
                       ": expected a mapping, got " + Describe(node_));
@@ -206,49 +208,62 @@ void YamlSection::FailRule(const std::string& key, const std::string& message) c
 }
 
 void YamlSection::ReadInt(const std::string& key, int* out, int64_t lo, int64_t hi) {
-  if (!Has(key)) return;
+  if (!Has(key)) return Record(key, *out);
   const std::optional<int64_t> parsed = DecodeInRange(Get(key), lo, hi);
   if (!parsed) Fail(key, InRange("an integer", lo, hi));
   *out = static_cast<int>(*parsed);
+  Record(key, *out);
 }
 
 void YamlSection::ReadUint64(const std::string& key, uint64_t* out, uint64_t lo) {
-  if (!Has(key)) return;
+  if (!Has(key)) return Record(key, *out);
   YAML::Node value = Get(key);
   uint64_t parsed = 0;
   if (!value.IsScalar() || value.Scalar().starts_with("-") ||
       !YAML::convert<uint64_t>::decode(value, parsed) || parsed < lo)
     Fail(key, lo == 0 ? "a non-negative integer" : lo == 1 ? "a positive integer" : "an integer >= " + std::to_string(lo));
   *out = parsed;
+  Record(key, *out);
 }
 
 void YamlSection::ReadDouble(const std::string& key, double* out, double lo, double hi) {
-  if (!Has(key)) return;
+  if (!Has(key)) return Record(key, *out);
   const std::optional<double> parsed = DecodeInRange(Get(key), lo, hi);
   if (!parsed) Fail(key, InRange("a number", lo, hi));
   *out = *parsed;
+  Record(key, *out);
 }
 
 void YamlSection::ReadBool(const std::string& key, bool* out) {
-  if (!Has(key)) return;
+  if (!Has(key)) return Record(key, *out);
   YAML::Node value = Get(key);
   bool parsed = false;
   if (!value.IsScalar() || !YAML::convert<bool>::decode(value, parsed))
     Fail(key, "true or false");
   *out = parsed;
+  Record(key, *out);
 }
 
 void YamlSection::ReadString(const std::string& key, std::string* out, bool allow_empty) {
-  if (!Has(key)) return;
+  if (!Has(key)) {
+    // an empty default ("none") stays unrecorded: given, it may not be valid
+    if (!out->empty()) Record(key, *out);
+    return;
+  }
   YAML::Node value = Get(key);
   if (!value.IsScalar() || (!allow_empty && value.Scalar().empty()))
     Fail(key, allow_empty ? "a string" : "a non-empty string");
   *out = value.Scalar();
+  Record(key, *out);
 }
 
 void YamlSection::ReadDoubleList(const std::string& key, std::vector<double>* out, size_t size,
                                  double lo, double hi) {
-  if (!Has(key)) return;
+  if (!Has(key)) {
+    // an empty default ("none") stays unrecorded: given, it may not be valid
+    if (!out->empty()) Record(key, *out);
+    return;
+  }
   YAML::Node value = Get(key);
   const std::string expected = InRange(
       size ? "a list of " + std::to_string(size) + " numbers" : "a list of numbers", lo, hi);
@@ -260,11 +275,16 @@ void YamlSection::ReadDoubleList(const std::string& key, std::vector<double>* ou
     parsed.push_back(*v);
   }
   *out = std::move(parsed);
+  Record(key, *out);
 }
 
 void YamlSection::ReadIntList(const std::string& key, std::vector<int>* out, int64_t lo,
                               int64_t hi) {
-  if (!Has(key)) return;
+  if (!Has(key)) {
+    // an empty default ("none") stays unrecorded: given, it may not be valid
+    if (!out->empty()) Record(key, *out);
+    return;
+  }
   YAML::Node value = Get(key);
   const std::string expected = InRange("a list of integers", lo, hi);
   if (!value.IsSequence()) Fail(key, expected);
@@ -275,13 +295,18 @@ void YamlSection::ReadIntList(const std::string& key, std::vector<int>* out, int
     parsed.push_back(static_cast<int>(*v));
   }
   *out = std::move(parsed);
+  Record(key, *out);
 }
 
 YamlSection YamlSection::Child(const std::string& key) {
-  if (!Has(key)) return YamlSection(YAML::Node(YAML::NodeType::Map), KeyPath(key), origins_, default_file_);
+  // the same node: what the child records lands here (a section read twice shares one)
+  const YAML::Node& recorded = resolved_;
+  YAML::Node resolved = recorded[key] && recorded[key].IsMap() ? YAML::Node(recorded[key]) : YAML::Node(YAML::NodeType::Map);
+  resolved_[key] = resolved;
+  if (!Has(key)) return YamlSection(YAML::Node(YAML::NodeType::Map), KeyPath(key), origins_, default_file_, resolved);
   YAML::Node value = Get(key);
   if (!value.IsMap() && !value.IsNull()) Fail(key, "a mapping");
-  return YamlSection(value, KeyPath(key), origins_, default_file_);
+  return YamlSection(value, KeyPath(key), origins_, default_file_, resolved);
 }
 
 std::vector<YamlSection> YamlSection::ChildList(const std::string& key) {
@@ -289,10 +314,14 @@ std::vector<YamlSection> YamlSection::ChildList(const std::string& key) {
   if (!Has(key)) return children;
   YAML::Node value = Get(key);
   if (!value.IsSequence()) Fail(key, "a list of mappings");
+  YAML::Node resolved_list(YAML::NodeType::Sequence);
+  resolved_[key] = resolved_list;
   for (size_t i = 0; i < value.size(); ++i) {
     if (!value[i].IsMap()) Fail(key, "a list of mappings");
+    YAML::Node resolved(YAML::NodeType::Map);
+    resolved_list.push_back(resolved);
     children.emplace_back(value[i], KeyPath(key) + "[" + std::to_string(i) + "]", origins_,
-                          default_file_);
+                          default_file_, resolved);
   }
   return children;
 }

@@ -4,7 +4,8 @@
 //
 // A key that is absent keeps the struct's default (defaults live only in the structs); a key
 // that is present must have the right type and range; a key nobody read is an error at
-// Finish(), so a typo never passes silently.
+// Finish(), so a typo never passes silently. Every key read is also recorded with the value it
+// resolved to, given or default (resolved()): a run folder keeps what its binary's defaults were.
 
 #include <yaml-cpp/yaml.h>
 
@@ -35,8 +36,9 @@ using OriginMap = std::map<std::string, Origin>;
 class YamlSection {
  public:
   // `path` is the dotted key path of this mapping ("" for the root).
+  // `resolved`: the mapping every read key and its value are recorded into (a new one if absent)
   YamlSection(YAML::Node node, std::string path, std::shared_ptr<const OriginMap> origins,
-              std::string default_file);
+              std::string default_file, YAML::Node resolved = YAML::Node(YAML::NodeType::Map));
 
   bool Has(const std::string& key) const;
   // Each Read* leaves *out untouched when the key is absent and throws ConfigError when the
@@ -67,10 +69,16 @@ class YamlSection {
   [[noreturn]] void FailRule(const std::string& key, const std::string& message) const;
 
   const std::string& path() const { return path_; }
+  // Every key read so far below this mapping with its resolved value (nested sections included).
+  const YAML::Node& resolved() const { return resolved_; }
   std::string KeyPath(const std::string& key) const;
 
  private:
   YAML::Node Get(const std::string& key);
+  template <typename T>
+  void Record(const std::string& key, const T& value) {
+    resolved_[key] = value;
+  }
   std::string Where(const std::string& key) const;
   std::string Quote(const std::string& key) const;
 
@@ -78,6 +86,7 @@ class YamlSection {
   std::string path_;
   std::shared_ptr<const OriginMap> origins_;
   std::string default_file_;
+  YAML::Node resolved_;
   std::set<std::string> consumed_;
   mutable std::set<std::string> known_keys_;  // for "did you mean" at Finish()
 };
@@ -88,17 +97,22 @@ void YamlSection::ReadEnum(const std::string& key, Enum* out,
   std::string text;
   std::string expected = "one of";
   for (const auto& [name, value] : names) expected += " '" + name + "'";
-  if (!Has(key)) return;
-  YAML::Node value = Get(key);
-  if (!value.IsScalar()) Fail(key, expected);
-  text = value.Scalar();
+  if (Has(key)) {
+    YAML::Node value = Get(key);
+    if (!value.IsScalar()) Fail(key, expected);
+    text = value.Scalar();
+    bool known = false;
+    for (const auto& [name, v] : names) {
+      if (name == text) *out = v, known = true;
+    }
+    if (!known) Fail(key, expected);
+  }
   for (const auto& [name, v] : names) {
-    if (name == text) {
-      *out = v;
-      return;
+    if (v == *out) {
+      resolved_[key] = name;
+      break;
     }
   }
-  Fail(key, expected);
 }
 
 // Reads a YAML file, following `extends: other.yaml` (relative to the file) recursively and

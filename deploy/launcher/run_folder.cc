@@ -129,13 +129,20 @@ std::string FirstDifference(const std::string& a, const std::string& b) {
   }
 }
 
+std::string ConfigChangeSince(const std::string& dir, const std::string& effective_yaml,
+                              const std::string& resolved_yaml) {
+  if (dir.empty()) return "";
+  const fs::path resolved = fs::path(dir) / "resolved-config.yaml";
+  if (fs::exists(resolved)) return FirstDifference(WithoutComments(resolved.string()), resolved_yaml + "\n");
+  const fs::path merged = fs::path(dir) / "config.yaml";
+  if (!fs::exists(merged)) return "";
+  return FirstDifference(WithoutComments(merged.string()), effective_yaml + "\n");
+}
+
 void CheckResumedConfig(const config::Config& config, const std::string& dir, bool allow_change) {
   const fs::path path = fs::path(dir) / "config.yaml";
-  if (dir.empty() || !fs::exists(path)) return;
-  const std::string before = WithoutComments(path.string());
-  const std::string now = config.effective_yaml + "\n";
-  if (before == now) return;
-  const std::string difference = FirstDifference(before, now);
+  const std::string difference = ConfigChangeSince(dir, config.effective_yaml, config.resolved_yaml);
+  if (difference.empty()) return;
   if (!allow_change)
     throw std::invalid_argument("the configuration of " + dir + " changed since the run started (" + difference +
                                 "): a continued run goes on with the configuration it started with; restore it, "
@@ -147,6 +154,9 @@ void CheckResumedConfig(const config::Config& config, const std::string& dir, bo
   std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &utc);
   std::error_code error;
   fs::copy_file(path, path.string() + "." + stamp, fs::copy_options::overwrite_existing, error);
+  const fs::path resolved = fs::path(dir) / "resolved-config.yaml";
+  if (!error && fs::exists(resolved))
+    fs::copy_file(resolved, resolved.string() + "." + stamp, fs::copy_options::overwrite_existing, error);
   if (error) throw std::runtime_error("cannot keep the previous " + path.string() + ": " + error.message());
   std::ofstream log(fs::path(dir) / "config-changes.log", std::ios::app);
   log << stamp << " --allow-config-change: " << difference << " (previous file: config.yaml." << stamp << ")\n";
@@ -169,6 +179,10 @@ std::string PrepareRunFolder(const config::Config& config, const std::string& re
   files::WriteFileDurably((dir / "config.yaml").string(),
                           "# effective configuration of this run (written by srics run from " + config.source_file +
                               ")\n" + config.effective_yaml + "\n");
+  files::WriteFileDurably((dir / "resolved-config.yaml").string(),
+                          "# every setting of this run, defaults filled in by the srics binary that wrote it (from " +
+                              config.source_file + "); a continued run is compared with it\n" +
+                              config.resolved_yaml + "\n");
   return fs::absolute(dir).lexically_normal().string();
 }
 

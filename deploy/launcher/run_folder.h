@@ -12,7 +12,8 @@ namespace srics::launcher {
 // `requested` if not empty (created if missing; an existing folder is reused, so a stopped
 // run can be continued from its checkpoint), else <run.output_dir>/<run.name>-<YYYYmmdd-HHMMSS>
 // (with -2, -3, ... if that exists). Creates the folder and its logs/ and writes config.yaml
-// (the effective configuration). Returns the folder's path. Throws std::runtime_error.
+// (the effective configuration) and resolved-config.yaml (every setting, this binary's defaults
+// filled in). Returns the folder's path. Throws std::runtime_error.
 std::string PrepareRunFolder(const config::Config& config, const std::string& requested);
 
 // A file's lines that are not comments ("" when it cannot be read).
@@ -21,8 +22,15 @@ std::string WithoutComments(const std::string& path);
 // The first line where two texts differ ("line 3: 'a' now 'b'"), "" when equal; for messages.
 std::string FirstDifference(const std::string& a, const std::string& b);
 
+// How the run folder `dir`'s configuration differs from one now loaded ("line 3: 'a' now 'b'"),
+// "" when it does not or `dir` has none: every resolved setting when the folder records them
+// (resolved-config.yaml), so a key pinned to the value it had is no change and a default that
+// changed between binaries is one; else (folders from before 2026-12-03) the merged YAML.
+std::string ConfigChangeSince(const std::string& dir, const std::string& effective_yaml,
+                              const std::string& resolved_yaml);
+
 // A continued run keeps the configuration it started with: when <dir>/config.yaml exists and
-// its settings differ from `config`'s, throws std::invalid_argument naming the first
+// its settings differ from `config`'s (ConfigChangeSince), throws std::invalid_argument naming the first
 // difference, unless `allow_change`; then the old file is kept as config.yaml.<UTC time> and
 // the change is appended to <dir>/config-changes.log. Nothing happens for a new folder.
 void CheckResumedConfig(const config::Config& config, const std::string& dir, bool allow_change);

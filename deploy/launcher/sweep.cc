@@ -119,7 +119,9 @@ SweepPlan PlanSweep(const SweepOptions& options) {
       }
       run.overrides.push_back("transport.run_id=" + run_id);
       // loading it checks the method name and every value (ConfigError names the key)
-      run.effective_yaml = config::LoadConfig(plan.config, run.overrides).effective_yaml;
+      const config::Config loaded = config::LoadConfig(plan.config, run.overrides);
+      run.effective_yaml = loaded.effective_yaml;
+      run.resolved_yaml = loaded.resolved_yaml;
       plan.runs.push_back(std::move(run));
     }
   }
@@ -137,13 +139,10 @@ void CheckSweepFolder(const SweepPlan& plan) {
                                   "run the folder's own grid to resume it, or choose another --out");
   }
   for (const SweepRun& run : plan.runs) {
-    const std::string path = run.dir + "/config.yaml";
-    if (!fs::exists(path)) continue;
-    const std::string existing = WithoutComments(path);
-    const std::string now = run.effective_yaml + "\n";
-    if (existing != now)
+    const std::string difference = ConfigChangeSince(run.dir, run.effective_yaml, run.resolved_yaml);
+    if (!difference.empty())
       throw std::invalid_argument("the configuration of " + run.dir + " changed since it started (" +
-                                  FirstDifference(existing, now) +
+                                  difference +
                                   "): a resumed run must go on with the configuration it started with; "
                                   "restore the config file or choose another --out");
   }

@@ -45,6 +45,7 @@ struct SweepRun {
   std::string dir;                     // <sweep folder>/<name>
   std::vector<std::string> overrides;  // the sweep's --set, then run.method, run.seed, run.name, transport.run_id
   std::string effective_yaml;          // the configuration the run gets (config.yaml of its folder)
+  std::string resolved_yaml;           // every setting, defaults filled in (resolved-config.yaml)
 };
 
 struct SweepPlan {

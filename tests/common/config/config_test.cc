@@ -84,6 +84,26 @@ TEST_F(ConfigFiles, ValuesAreParsedIntoTypedFields) {
   EXPECT_NE(c.effective_yaml.find("domain_id: 7"), std::string::npos);
 }
 
+// A run folder keeps every setting as its binary resolved it (resolved-config.yaml): the
+// defaults too, so a default that changes between binaries shows as a change.
+TEST_F(ConfigFiles, ResolvedYamlHoldsEveryDefaultAndEveryGivenValue) {
+  const Config c = LoadConfig(Write("resolved.yaml",
+                                    "transport:\n  domain_id: 7\n"
+                                    "env:\n  objects:\n    - {static: true}\n    - {}\n"));
+  EXPECT_NE(c.resolved_yaml.find("domain_id: 7"), std::string::npos) << c.resolved_yaml;
+  EXPECT_NE(c.resolved_yaml.find("selectivity_form: paper"), std::string::npos) << c.resolved_yaml;
+  EXPECT_EQ(c.effective_yaml.find("selectivity_form"), std::string::npos) << c.effective_yaml;
+  EXPECT_NE(c.resolved_yaml.find("batch_size: 2048"), std::string::npos) << c.resolved_yaml;  // agent.sac default
+  EXPECT_NE(c.resolved_yaml.find("static: true"), std::string::npos) << c.resolved_yaml;       // lists of mappings
+  // the same settings spelled otherwise (a key given its default value) resolve the same
+  const Config spelled = LoadConfig(Write("spelled.yaml",
+                                          "transport:\n  domain_id: 7\n"
+                                          "agent:\n  reward:\n    selectivity_form: paper\n"
+                                          "env:\n  objects:\n    - {static: true}\n    - {}\n"));
+  EXPECT_NE(spelled.effective_yaml, c.effective_yaml);
+  EXPECT_EQ(spelled.resolved_yaml, c.resolved_yaml);
+}
+
 // ------------------------------------------------------------------ the three error kinds
 
 TEST_F(ConfigFiles, TypoedKeyNamesFileLineKeyAndSuggestion) {

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "common/rl/ground_truth.h"
 #include "graph_service/learned_graph.h"
@@ -120,6 +121,38 @@ TEST(CheckResumedConfigTest, AnAllowedChangeKeepsTheOldFileAndRecordsTheChange) 
   EXPECT_EQ(WithoutComments(dir + "/" + kept), before) << kept;
   PrepareRunFolder(changed, dir);  // then the launch writes the new one
   EXPECT_NO_THROW(CheckResumedConfig(changed, dir, false));
+}
+
+// Since 2026-12-03 a folder records every resolved setting (resolved-config.yaml), and a
+// continued run is compared on those: a key pinned to the value it had is no change, and a
+// default that changed between binaries is one (here the folder's record says the binary that
+// started the run had the reference code's selectivity form as its default).
+TEST(CheckResumedConfigTest, TheResolvedSettingsDecide) {
+  const std::string dir = FreshDir("resume_resolved");
+  const config::Config started = Load("rearrange-3.yaml", {"run.seed=2"});
+  PrepareRunFolder(started, dir);
+  ASSERT_TRUE(fs::exists(dir + "/resolved-config.yaml"));
+  const config::Config pinned = Load("rearrange-3.yaml", {"run.seed=2", "agent.reward.selectivity_form=paper"});
+  ASSERT_NE(pinned.effective_yaml, started.effective_yaml);
+  EXPECT_NO_THROW(CheckResumedConfig(pinned, dir, false));
+  // the record of a binary whose default was the reference form
+  std::ifstream in(dir + "/resolved-config.yaml");
+  std::string record((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t at = record.find("selectivity_form: paper");
+  ASSERT_NE(at, std::string::npos) << record;
+  record.replace(at, std::string("selectivity_form: paper").size(), "selectivity_form: reference");
+  std::ofstream(dir + "/resolved-config.yaml") << record;
+  try {
+    CheckResumedConfig(started, dir, false);
+    FAIL() << "a changed default was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("selectivity_form: reference' now '    selectivity_form: paper'"), std::string::npos)
+        << e.what();
+  }
+  // a folder from before the record: its merged YAML decides (the pin is then a change)
+  fs::remove(dir + "/resolved-config.yaml");
+  EXPECT_NO_THROW(CheckResumedConfig(started, dir, false));
+  EXPECT_THROW(CheckResumedConfig(pinned, dir, false), std::invalid_argument);
 }
 
 }  // namespace
