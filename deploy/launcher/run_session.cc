@@ -146,7 +146,7 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
   if (dashboard_) dashboard_->Update(state, mon::Clock::now(), render, /*force=*/true);
 
   std::string files;
-  for (const char* name : {"config.yaml", "eval.csv", "learner.csv", "train.csv", "nodes.csv", "curve.png",
+  for (const char* name : {"config.yaml", "resolved-config.yaml", "eval.csv", "learner.csv", "train.csv", "nodes.csv", "curve.png",
                            "subgoal_success.png", "graph.json", "graph.png", "checkpoint.srics", "best.srics", "summary.txt",
                            "outcome.yaml", "logs"})
     if (fs::exists(fs::path(dir_) / name)) files += std::string(files.empty() ? "" : ", ") + name;

@@ -59,7 +59,7 @@ TEST(InProcessRunTest, SameConfigSameEvalCsvAndAWholeRunFolder) {
   // the passive baseline, evaluations at 400 and 800 env steps and the final one
   EXPECT_GE(std::count(rows.begin(), rows.end(), '\n'), 4) << rows;
   EXPECT_EQ(rows, EvalRows(b));
-  for (const char* file : {"config.yaml", "eval.csv", "learner.csv", "nodes.csv", "graph.json", "checkpoint.srics",
+  for (const char* file : {"config.yaml", "resolved-config.yaml", "eval.csv", "learner.csv", "nodes.csv", "graph.json", "checkpoint.srics",
                            "summary.txt", "logs/launcher.log"})
     EXPECT_TRUE(fs::exists(fs::path(a) / file)) << file;
 }
