@@ -208,7 +208,7 @@ void YamlSection::FailRule(const std::string& key, const std::string& message) c
 }
 
 void YamlSection::ReadInt(const std::string& key, int* out, int64_t lo, int64_t hi) {
-  if (!Has(key)) return Record(key, *out);
+  if (!Has(key)) return RecordDefault(key, *out);
   const std::optional<int64_t> parsed = DecodeInRange(Get(key), lo, hi);
   if (!parsed) Fail(key, InRange("an integer", lo, hi));
   *out = static_cast<int>(*parsed);
@@ -216,7 +216,7 @@ void YamlSection::ReadInt(const std::string& key, int* out, int64_t lo, int64_t 
 }
 
 void YamlSection::ReadUint64(const std::string& key, uint64_t* out, uint64_t lo) {
-  if (!Has(key)) return Record(key, *out);
+  if (!Has(key)) return RecordDefault(key, *out);
   YAML::Node value = Get(key);
   uint64_t parsed = 0;
   if (!value.IsScalar() || value.Scalar().starts_with("-") ||
@@ -227,7 +227,7 @@ void YamlSection::ReadUint64(const std::string& key, uint64_t* out, uint64_t lo)
 }
 
 void YamlSection::ReadDouble(const std::string& key, double* out, double lo, double hi) {
-  if (!Has(key)) return Record(key, *out);
+  if (!Has(key)) return RecordDefault(key, *out);
   const std::optional<double> parsed = DecodeInRange(Get(key), lo, hi);
   if (!parsed) Fail(key, InRange("a number", lo, hi));
   *out = *parsed;
@@ -235,7 +235,7 @@ void YamlSection::ReadDouble(const std::string& key, double* out, double lo, dou
 }
 
 void YamlSection::ReadBool(const std::string& key, bool* out) {
-  if (!Has(key)) return Record(key, *out);
+  if (!Has(key)) return RecordDefault(key, *out);
   YAML::Node value = Get(key);
   bool parsed = false;
   if (!value.IsScalar() || !YAML::convert<bool>::decode(value, parsed))
@@ -245,11 +245,7 @@ void YamlSection::ReadBool(const std::string& key, bool* out) {
 }
 
 void YamlSection::ReadString(const std::string& key, std::string* out, bool allow_empty) {
-  if (!Has(key)) {
-    // an empty default ("none") stays unrecorded: given, it may not be valid
-    if (!out->empty()) Record(key, *out);
-    return;
-  }
+  if (!Has(key)) return RecordDefault(key, *out);
   YAML::Node value = Get(key);
   if (!value.IsScalar() || (!allow_empty && value.Scalar().empty()))
     Fail(key, allow_empty ? "a string" : "a non-empty string");
@@ -259,11 +255,7 @@ void YamlSection::ReadString(const std::string& key, std::string* out, bool allo
 
 void YamlSection::ReadDoubleList(const std::string& key, std::vector<double>* out, size_t size,
                                  double lo, double hi) {
-  if (!Has(key)) {
-    // an empty default ("none") stays unrecorded: given, it may not be valid
-    if (!out->empty()) Record(key, *out);
-    return;
-  }
+  if (!Has(key)) return RecordDefault(key, *out);
   YAML::Node value = Get(key);
   const std::string expected = InRange(
       size ? "a list of " + std::to_string(size) + " numbers" : "a list of numbers", lo, hi);
@@ -280,11 +272,7 @@ void YamlSection::ReadDoubleList(const std::string& key, std::vector<double>* ou
 
 void YamlSection::ReadIntList(const std::string& key, std::vector<int>* out, int64_t lo,
                               int64_t hi) {
-  if (!Has(key)) {
-    // an empty default ("none") stays unrecorded: given, it may not be valid
-    if (!out->empty()) Record(key, *out);
-    return;
-  }
+  if (!Has(key)) return RecordDefault(key, *out);
   YAML::Node value = Get(key);
   const std::string expected = InRange("a list of integers", lo, hi);
   if (!value.IsSequence()) Fail(key, expected);

@@ -79,6 +79,15 @@ class YamlSection {
   void Record(const std::string& key, const T& value) {
     resolved_[key] = value;
   }
+  // A key left at its default: recorded, unless the default is empty ("none": an empty string
+  // or list given explicitly may not be valid, and the record stays a valid set of keys).
+  template <typename T>
+  void RecordDefault(const std::string& key, const T& value) {
+    if constexpr (requires { value.empty(); }) {
+      if (value.empty()) return;
+    }
+    Record(key, value);
+  }
   std::string Where(const std::string& key) const;
   std::string Quote(const std::string& key) const;
 
