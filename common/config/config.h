@@ -32,8 +32,7 @@ struct Config {
   std::string effective_yaml;  // the merged YAML (extends + overrides), for the run folder
   // every key read with the value it resolved to, the defaults of this binary filled in: what a
   // resumed run is compared with (a default that changed between binaries is a changed config).
-  // A record, not a config to load: keys derived from others (env.num_pucks from env.objects)
-  // keep the value they were read with.
+  // A record, not a config to load (rules across keys are not re-checked on it).
   std::string resolved_yaml;
 };
 

@@ -373,9 +373,10 @@ void ParseSampling(YamlSection g, SamplingConfig* out) {
 }  // namespace
 
 void ParseEnv(YamlSection s, EnvConfig* out) {
-  s.ReadInt("num_pucks", &out->num_pucks, 1, 6);
   std::vector<YamlSection> object_items, connection_items;
   if (s.Has("objects")) {
+    // the list decides the number of pucks; num_pucks is read (and recorded) only when given
+    if (s.Has("num_pucks")) s.ReadInt("num_pucks", &out->num_pucks, 1, 6);
     ParseItems(s, "objects", ParseObject, &out->objects, &object_items);
     if (out->objects.empty() || out->objects.size() > 6)
       s.FailRule("objects", "expected 1 to 6 objects, got " + std::to_string(out->objects.size()));
@@ -383,6 +384,8 @@ void ParseEnv(YamlSection s, EnvConfig* out) {
       s.FailRule("num_pucks", "is " + std::to_string(out->num_pucks) + " but objects lists " +
                                   std::to_string(out->objects.size()));
     out->num_pucks = static_cast<int>(out->objects.size());
+  } else {
+    s.ReadInt("num_pucks", &out->num_pucks, 1, 6);
   }
   if (s.Has("connections"))
     ParseItems(s, "connections", ParseConnection, &out->connections, &connection_items);

@@ -95,6 +95,9 @@ TEST_F(ConfigFiles, ResolvedYamlHoldsEveryDefaultAndEveryGivenValue) {
   EXPECT_EQ(c.effective_yaml.find("selectivity_form"), std::string::npos) << c.effective_yaml;
   EXPECT_NE(c.resolved_yaml.find("batch_size: 2048"), std::string::npos) << c.resolved_yaml;  // agent.sac default
   EXPECT_NE(c.resolved_yaml.find("static: true"), std::string::npos) << c.resolved_yaml;       // lists of mappings
+  // num_pucks follows the objects list: not recorded at its default of 3 beside a list of 2
+  EXPECT_EQ(c.resolved_yaml.find("num_pucks"), std::string::npos) << c.resolved_yaml;
+  EXPECT_EQ(c.env.num_pucks, 2);
   // the same settings spelled otherwise (a key given its default value) resolve the same
   const Config spelled = LoadConfig(Write("spelled.yaml",
                                           "transport:\n  domain_id: 7\n"
