@@ -4,7 +4,8 @@
 # (in process), so a queue stopped anywhere (Ctrl-C, the end of a session) resumes with the
 # same command: a sweep resumes its run from its checkpoint, replay included. A run whose
 # curves are already under docs/results/campaign/raw/ is skipped; one that finishes has its
-# config.yaml, resolved-config.yaml, eval.csv, train.csv, outcome.yaml and graph.json copied there (commit them: the
+# config.yaml, resolved-config.yaml, eval.csv, train.csv, learner.csv (losses: a frozen learner shows),
+# outcome.yaml and graph.json copied there (commit them: the
 # sweep folders in runs/ are not kept by a new checkout).
 #   deploy/campaign.sh [--dry-run] [--build DIR] [--queue FILE] [--runs DIR]
 #     --dry-run  print what each line would do, run nothing
@@ -84,7 +85,7 @@ while IFS= read -r line || [[ -n $line ]]; do
     exit 1
   fi
   mkdir -p "$raw"
-  for file in config.yaml resolved-config.yaml eval.csv train.csv outcome.yaml graph.json; do
+  for file in config.yaml resolved-config.yaml eval.csv train.csv learner.csv outcome.yaml graph.json; do
     [[ -f $run_dir/$file ]] && cp "$run_dir/$file" "$raw/"
   done
   [[ -f $root/docs/results/campaign/raw/$group/sweep.yaml ]] || cp "$runs/$out/sweep.yaml" "docs/results/campaign/raw/$group/"
