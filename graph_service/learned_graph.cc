@@ -379,6 +379,21 @@ std::string HeatMapDot(const LearnedGraph& g) {
   return s.str();
 }
 
+bool RenderDotToPng(const std::string& dot_text, const std::string& png_path, std::string* error) {
+  FILE* pipe = ::popen(("dot -Tpng -o " + files::ShellQuote(png_path) + " > /dev/null 2>&1").c_str(), "w");
+  if (!pipe) {
+    *error = "cannot run graphviz's dot";
+    return false;
+  }
+  const bool written = std::fwrite(dot_text.data(), 1, dot_text.size(), pipe) == dot_text.size();
+  const int status = ::pclose(pipe);
+  if (!written || status != 0) {
+    *error = "graphviz's dot failed (status " + std::to_string(status) + "; is graphviz installed?)";
+    return false;
+  }
+  return true;
+}
+
 std::string SaveGraphWithPictures(const LearnedGraph& graph, const std::string& prefix) {
   SaveGraph(graph, prefix + ".json");
   std::string missing;
@@ -389,9 +404,8 @@ std::string SaveGraphWithPictures(const LearnedGraph& graph, const std::string& 
       std::ofstream out(dot, std::ios::trunc);
       out << text;
     }
-    const std::string cmd =
-        "dot -Tpng -o " + files::ShellQuote(prefix + suffix + ".png") + " " + files::ShellQuote(dot) + " > /dev/null 2>&1";
-    if (std::system(cmd.c_str()) != 0) missing += (missing.empty() ? "" : ", ") + dot;
+    std::string error;
+    if (!RenderDotToPng(text, prefix + suffix + ".png", &error)) missing += (missing.empty() ? "" : ", ") + dot;
   }
   return missing;
 }

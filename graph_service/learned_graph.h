@@ -83,6 +83,10 @@ std::string GraphDot(const LearnedGraph& graph);
 // the values; rows: from, columns: to).
 std::string HeatMapDot(const LearnedGraph& graph);
 
+// Draws graphviz source into the PNG `png_path` with `dot` (fed on its standard input).
+// Returns false with the reason in *error when `dot` is missing or fails; never throws.
+bool RenderDotToPng(const std::string& dot_text, const std::string& png_path, std::string* error);
+
 // Writes <prefix>.json, <prefix>.dot, <prefix>_weights.dot and, when graphviz `dot` is on
 // the PATH, <prefix>.png and <prefix>_weights.png. Returns the pictures that could not be
 // rendered (empty when all were), never throws for a missing `dot`.

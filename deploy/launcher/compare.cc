@@ -15,7 +15,6 @@
 #include <stdexcept>
 
 #include "common/config/config.h"
-#include "common/files/shell_path.h"
 #include "common/rl/ground_truth.h"
 #include "graph_service/learned_graph.h"
 #include "deploy/launcher/run_folder.h"
@@ -261,22 +260,6 @@ using Groups = std::map<std::string, std::map<std::string, Group>>;
 
 // Whether a run draws in a figure: evaluations (distance figures) or selectivity rows.
 using HasData = bool (*)(const RunData&);
-// Draws `dot_text` into the PNG `path` with graphviz's dot (fed on its standard input).
-bool DrawDot(const std::string& dot_text, const std::string& path, std::string* error) {
-  FILE* pipe = ::popen(("dot -Tpng -o " + files::ShellQuote(path) + " > /dev/null 2>&1").c_str(), "w");
-  if (!pipe) {
-    *error = "cannot run graphviz's dot";
-    return false;
-  }
-  const bool written = std::fwrite(dot_text.data(), 1, dot_text.size(), pipe) == dot_text.size();
-  const int status = ::pclose(pipe);
-  if (!written || status != 0) {
-    *error = "graphviz's dot failed (status " + std::to_string(status) + "; is graphviz installed?)";
-    return false;
-  }
-  return true;
-}
-
 bool HasEvaluations(const RunData& r) { return !r.evaluations.empty(); }
 bool HasSelectivity(const RunData& r) { return !r.selectivity.empty(); }
 
@@ -590,7 +573,7 @@ int Compare(const CompareOptions& options) {
           else pictures.push_back(copy);
         } else if (!r->graph_dot.empty()) {
           std::string draw_error;
-          if (DrawDot(r->graph_dot, copy, &draw_error)) pictures.push_back(copy);
+          if (graph_service::RenderDotToPng(r->graph_dot, copy, &draw_error)) pictures.push_back(copy);
           else std::cerr << "srics compare: " << r->dir << "/graph.json: " << draw_error << "\n";
         }
       }
