@@ -167,10 +167,17 @@ void HacLevels::Add(const rl::Episode& episode) {
 
 UpdateStats HacLevels::Update(SacAgent& low, int batch_size) {
   high_replay_.Sample(batch_size, rng_, &batch_);
-  const bool high_non_finite = high_.Update(batch_).non_finite;
+  const UpdateStats high = high_.Update(batch_);
   low_replay_.Sample(batch_size, rng_, &batch_);
   UpdateStats stats = low.Update(batch_);
-  stats.non_finite = stats.non_finite || high_non_finite;
+  // the skipped stage of either level is reported (the high level's first: it runs first)
+  if (high.non_finite) {
+    stats.non_finite_stage = "high level: " + high.non_finite_stage +
+                             (stats.non_finite ? "; low level: " + stats.non_finite_stage : "");
+    stats.non_finite = true;
+  } else if (stats.non_finite) {
+    stats.non_finite_stage = "low level: " + stats.non_finite_stage;
+  }
   return stats;
 }
 

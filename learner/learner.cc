@@ -117,7 +117,12 @@ UpdateStats Learner::Update() {
     relabeler_.Sample(replay_, options_.agent.sac.batch_size, &batch_);
     stats = agent_.Update(batch_);
   }
-  if (stats.non_finite) ++non_finite_updates_;
+  if (stats.non_finite) {
+    ++non_finite_updates_;
+    ++non_finite_in_a_row_;
+  } else {
+    non_finite_in_a_row_ = 0;
+  }
   ++counters_.updates;
   return stats;
 }

@@ -100,6 +100,9 @@ class Learner {
   bool BudgetReached() const { return counters_.training_env_steps >= options_.total_env_steps; }
   uint64_t episodes_rejected() const { return rejected_; }
   uint64_t non_finite_updates() const { return non_finite_updates_; }
+  // Non-finite updates since the last finite one: a long run of them means learning stopped
+  // (LearnerLoop ends the run at learner.max_skipped_updates_in_a_row).
+  uint64_t non_finite_in_a_row() const { return non_finite_in_a_row_; }
   uint64_t episodes_beyond_budget() const { return beyond_budget_; }
   // Exploration episodes not stored (learner.exploration_into_replay: false).
   uint64_t exploration_skipped() const { return exploration_skipped_; }
@@ -124,6 +127,7 @@ class Learner {
   LearnerCounters counters_;
   uint64_t rejected_ = 0;
   uint64_t non_finite_updates_ = 0;
+  uint64_t non_finite_in_a_row_ = 0;
   uint64_t beyond_budget_ = 0;
   uint64_t exploration_skipped_ = 0;
   bool has_graph_ = false;

@@ -270,8 +270,16 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
     }
     uint64_t suppressed = 0;
     if (refusals_log_->Allow(&suppressed))
-      spdlog::warn("update {} skipped: a non-finite target, loss or gradient ({} so far, {} warnings suppressed)",
-                   learner_.counters().updates, learner_.non_finite_updates(), suppressed);
+      spdlog::warn("update {} skipped: a non-finite value in the {} ({} so far, {} warnings suppressed)",
+                   learner_.counters().updates, stats.non_finite_stage, learner_.non_finite_updates(), suppressed);
+    const int limit = options_.learner.learner.max_skipped_updates_in_a_row;
+    if (limit > 0 && learner_.non_finite_in_a_row() >= static_cast<uint64_t>(limit))
+      throw LearningDivergedError(
+          "learning diverged: the last " + std::to_string(learner_.non_finite_in_a_row()) +
+          " updates (to update " + std::to_string(learner_.counters().updates) +
+          ") all met a non-finite value, the last in the " + stats.non_finite_stage +
+          ", so no network changes any more; the run stops rather than train on unchanged "
+          "(learner.max_skipped_updates_in_a_row: " + std::to_string(limit) + ")");
   }
   if (learner_.counters().updates > 0 && learner_.PublishDue()) Publish();
   if (!options_.checkpoint_path.empty() &&

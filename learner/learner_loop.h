@@ -12,6 +12,7 @@
 #include <chrono>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,13 @@ LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::stri
 
 enum class StepResult { kWorked, kIdle, kDone };
 
+// Thrown by Step when learner.max_skipped_updates_in_a_row updates in a row met a non-finite
+// value: the networks no longer change, so the run ends instead of training on unchanged.
+class LearningDivergedError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class LearnerLoop {
  public:
   LearnerLoop(LearnerLoopOptions options, links::LearnerLink* link);
@@ -63,7 +71,7 @@ class LearnerLoop {
   // Takes episodes (waiting at most `wait` when there is no update to do), follows the
   // graph, does the updates the rate limiter allows (at most max_updates_per_step), publishes
   // and checkpoints when due. kDone once the budget is in and trained on (final weights,
-  // checkpoint and stats are out then).
+  // checkpoint and stats are out then). Throws LearningDivergedError (see there).
   StepResult Step(std::chrono::milliseconds wait = std::chrono::milliseconds(0));
   // Final weights, checkpoint and stats. Called by Step at the end of the budget and by Run
   // when stopped.

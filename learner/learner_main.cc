@@ -34,6 +34,11 @@ int main(int argc, char** argv) {
     } catch (const nn::CheckpointError& e) {
       throw process::UnusableStateError(e.what());
     }
-    return loop.Run(transport::Shutdown::Process().flag());
+    try {
+      return loop.Run(transport::Shutdown::Process().flag());
+    } catch (const learner::LearningDivergedError& e) {
+      // a restart would resume the same networks from their checkpoint: not restarted
+      throw process::UnusableStateError(e.what());
+    }
   });
 }

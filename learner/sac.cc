@@ -191,12 +191,14 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     if (sac.grad_clip_norm > 0) nn::ClipGradNorm(q_optimizer_->parameters(), sac.grad_clip_norm);
     if (std::find(targets_non_finite.begin(), targets_non_finite.end(), 1) != targets_non_finite.end()) {
       stats.non_finite = true;
+      stats.non_finite_stage = "critic targets";
       return stats;
     }
     stats.q_loss = total(loss_part);
     stats.mean_q = whole ? sum_part[0] : total(sum_part) / size;
     if (!std::isfinite(stats.q_loss) || !GradientsFinite(q_optimizer_->parameters())) {
       stats.non_finite = true;
+      stats.non_finite_stage = "critic loss or gradient";
       return stats;
     }
     q_optimizer_->Step();
@@ -227,6 +229,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     if (!std::isfinite(stats.policy_loss) || !std::isfinite(mean_log_prob) ||
         !GradientsFinite(policy_optimizer_->parameters())) {
       stats.non_finite = true;
+      stats.non_finite_stage = "policy loss or gradient";
       return stats;
     }
     policy_optimizer_->Step();

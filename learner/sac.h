@@ -41,6 +41,7 @@ struct UpdateStats {
   // later one changed nothing (no optimizer step, no target update), so no NaN reaches a
   // network; the learner counts these updates
   bool non_finite = false;
+  std::string non_finite_stage;  // where it showed: "critic targets", ... ("high level: ..." for HAC)
 };
 
 // Counters kept in checkpoints with the networks.

@@ -14,6 +14,7 @@ void ParseLearner(YamlSection s, LearnerConfig* out) {
   s.ReadInt("publish_every_updates", &out->publish_every_updates, 1, 1 << 30);
   s.ReadInt("checkpoint_every_updates", &out->checkpoint_every_updates, 1, 1 << 30);
   s.ReadInt("keep_checkpoints", &out->keep_checkpoints, 1, 100);
+  s.ReadInt("max_skipped_updates_in_a_row", &out->max_skipped_updates_in_a_row, 0, 1 << 30);
   s.ReadBool("exploration_into_replay", &out->exploration_into_replay);
   s.ReadInt("threads", &out->threads, 1, 64);
   YamlSection relabel = s.Child("relabel");

@@ -21,6 +21,10 @@ struct LearnerConfig {
   // checkpoints kept: the newest (checkpoint.srics) and keep_checkpoints - 1 older ones
   // (checkpoint.srics.1 the next older, ...), the fall-back when the newest is corrupt
   int keep_checkpoints = 3;
+  // an update that meets a non-finite value is skipped (no network changes); this many in a
+  // row mean the learner no longer learns (a diverged network or temperature), and the run
+  // ends with an error naming the stage instead of training on unchanged. 0: never
+  int max_skipped_updates_in_a_row = 2000;
   // whether the random exploration episodes collected for the interaction graph (graph
   // methods, before the graph and first weights exist) also enter the RL replay; they always
   // reach the graph service. true: the behaviour before this setting existed

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <string>
+
 #include "common/links/in_memory_bus.h"
 #include "tests/learner/learner_testing.h"
 
@@ -137,6 +140,59 @@ TEST(LearnerLoopTest, AnEpisodeDeliveredTwiceIsIngestedOnce) {
   EXPECT_EQ(loop.learner().episodes_rejected(), 1u);
   EXPECT_EQ(loop.learner().counters().episodes_accepted, 2u);
   EXPECT_EQ(loop.duplicates_refused(), 2u);
+}
+
+// A learner whose networks went non-finite would skip every update and train on unchanged,
+// its stats frozen (a HAC run did, for 45k updates). A few skipped updates in a row are
+// survived; learner.max_skipped_updates_in_a_row of them end the run with an error naming the
+// stage.
+TEST(LearnerLoopTest, EndlesslySkippedUpdatesEndTheRunNamingTheStage) {
+  links::InMemoryBus bus;
+  auto link = bus.LearnerEnd();
+  auto actor = bus.ActorEnd(0);
+  LearnerLoopOptions options = SmallOptions();
+  options.learner.learner.max_skipped_updates_in_a_row = 20;
+  LearnerLoop loop(options, link.get());
+  loop.Step();
+  bus.PublishGraph(Star(3, 1));
+  uint64_t episode_id = 1;
+  // steps until `updates` more updates ran (episodes fed as the ratio asks)
+  auto run_updates = [&](uint64_t updates) {
+    const uint64_t target = loop.learner().counters().updates + updates;
+    for (int k = 0; k < 2000 && loop.learner().counters().updates < target; ++k) {
+      if (!loop.learner().CanUpdate()) ASSERT_TRUE(actor->PublishEpisode(testing::MakeEpisode(3, 20, episode_id++)));
+      loop.Step();
+    }
+    ASSERT_GE(loop.learner().counters().updates, target);
+  };
+  run_updates(10);
+  EXPECT_EQ(loop.learner().non_finite_updates(), 0u);
+
+  // a NaN in the policy makes every Bellman target NaN: updates are skipped, the run goes on
+  nn::Parameter<float>& weight = *loop.learner().agent().policy().Parameters().front();
+  const float good = weight.value(0, 0);
+  weight.value(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  run_updates(12);
+  EXPECT_GE(loop.learner().non_finite_in_a_row(), 12u);
+  EXPECT_LT(loop.learner().non_finite_in_a_row(), 20u);
+  // a finite update ends the stretch
+  weight.value(0, 0) = good;
+  run_updates(3);
+  EXPECT_EQ(loop.learner().non_finite_in_a_row(), 0u);
+  const uint64_t skipped = loop.learner().non_finite_updates();
+  EXPECT_GE(skipped, 12u);
+
+  weight.value(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  try {
+    run_updates(100);
+    FAIL() << "the run went on after 20 skipped updates in a row";
+  } catch (const LearningDivergedError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("the last 20 updates"), std::string::npos) << message;
+    EXPECT_NE(message.find("critic targets"), std::string::npos) << message;
+    EXPECT_NE(message.find("learner.max_skipped_updates_in_a_row"), std::string::npos) << message;
+  }
+  EXPECT_EQ(loop.learner().non_finite_updates(), skipped + 20);
 }
 
 }  // namespace

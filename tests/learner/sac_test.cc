@@ -81,16 +81,24 @@ TEST(SacTest, NonFiniteBatchChangesNoNetwork) {
 
     TrainingBatch poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
     poisoned.reward[7] = std::numeric_limits<float>::quiet_NaN();  // the Bellman targets
-    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    UpdateStats skipped = agent.Update(poisoned);
+    EXPECT_TRUE(skipped.non_finite);
+    EXPECT_EQ(skipped.non_finite_stage, "critic targets");
     poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
     poisoned.entities[11] = std::numeric_limits<float>::infinity();  // the critics' loss and gradients
-    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    skipped = agent.Update(poisoned);
+    EXPECT_TRUE(skipped.non_finite);
+    EXPECT_EQ(skipped.non_finite_stage, "critic loss or gradient");
     poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
     poisoned.reward[3] = 3e38f;  // finite, but its square overflows the critics' loss
-    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    skipped = agent.Update(poisoned);
+    EXPECT_TRUE(skipped.non_finite);
+    EXPECT_EQ(skipped.non_finite_stage, "critic loss or gradient");
     poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
     poisoned.reward[50] = std::numeric_limits<float>::quiet_NaN();  // the second shard's targets
-    EXPECT_TRUE(agent.Update(poisoned).non_finite);
+    skipped = agent.Update(poisoned);
+    EXPECT_TRUE(skipped.non_finite);
+    EXPECT_EQ(skipped.non_finite_stage, "critic targets");
 
     EXPECT_EQ(agent.PolicyWeights(), policy_before);
     EXPECT_EQ(nn::Flatten(agent.q1().Parameters()), q1_before);
