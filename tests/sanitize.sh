@@ -44,8 +44,9 @@ symbolizer=$(command -v llvm-symbolizer || ls /usr/lib/llvm-*/bin/llvm-symbolize
 # intercept_tls_get_addr=0: the runtime of LLVM <= 16 (Debian 12's clang 14) takes a dynamic
 # TLS block that happens to start 16 bytes past a page for a glibc < 2.25 header and reads a
 # bogus range from it, and LeakSanitizer's tracer then dies at exit ("Tracer caught signal 11",
-# no leak reported): Mesa's dlopened GL driver made render_test fail so in CI, about one run in
-# a few hundred. Our own thread-locals are static TLS, which the leak check still scans.
+# no leak reported): Mesa's dlopened GL driver made render_test fail so in CI once (150 runs
+# in a row here did not); tests/sanitizer_runtime/leak_check_test.cc makes it happen every run.
+# Our own thread-locals are static TLS, which the leak check still scans.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:intercept_tls_get_addr=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 # third-party libraries' own allocations (tests/sanitize.supp says which and why)
