@@ -157,7 +157,9 @@ HacLevels::HacLevels(const HacOptions& options, const rl::AgentShape& low, const
       high_(high, rl::HighLevelAgentConfig(agent, low, high), seed, threads),
       low_replay_(capacity, max_entities, low.entity_dim, low.goal_dim, low.action_dim),
       high_replay_(capacity, max_entities, high.entity_dim, high.goal_dim, high.action_dim),
-      rng_(seed ^ 0x5bd1e995u) {}
+      rng_(seed ^ 0x5bd1e995u) {
+  if (options.bound_q) high_.BoundTargets(-static_cast<float>(options.horizon), 0.0f);
+}
 
 void HacLevels::Add(const rl::Episode& episode) {
   const HacTransitions transitions = BuildHacTransitions(episode, options_, rng_);

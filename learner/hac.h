@@ -38,6 +38,7 @@ struct HacOptions {
   double threshold = 0.05;   // a goal is reached with every entity this close
   int hindsight_goals = 3;   // k per attempt (low) and per episode (high)
   rl::SubgoalBox box;        // where subgoals live (high-level actions map onto it)
+  bool bound_q = true;       // both levels' Bellman targets clipped to [-H, 0]
 };
 
 // Which HAC rule made a transition.

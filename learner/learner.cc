@@ -22,7 +22,7 @@ LearnerOptions LearnerOptionsFor(const config::Config& config) {
   // HAC's subgoal records are checked against its horizon; other methods' episodes carry none
   o.limits.max_subgoal_steps = config.run.method == config::Method::kHac ? config.agent.hac.horizon : rl::kNoSubgoals;
   o.hac = {config.agent.hac.horizon, config.agent.hac.goal_threshold, config.agent.hac.hindsight_goals,
-           rl::SubgoalBoxFor(config.env)};
+           rl::SubgoalBoxFor(config.env), config.agent.hac.bound_q};
   o.high_shape = rl::HighLevelShapeFor(config.env);
   o.max_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
   return o;
@@ -37,6 +37,8 @@ Learner::Learner(const LearnerOptions& options)
       agent_(shape_, options.agent, rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent),
              options.learner.threads),
       limiter_(options.learner.updates_per_step, options.learner.warmup_steps, options.learner.rate_error_buffer) {
+  if (options.method == config::Method::kHac && options.hac.bound_q)
+    agent_.BoundTargets(-static_cast<float>(options.hac.horizon), 0.0f);  // the low level's
   if (options.method == config::Method::kHac)
     hac_ = std::make_unique<HacLevels>(options.hac, shape_, options.high_shape, options.agent,
                                        options.learner.replay_capacity, options.max_entities,

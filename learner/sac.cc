@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "common/nn/serialize.h"
 #include "learner/acting_policy.h"
@@ -101,6 +102,13 @@ void SacAgent::ForEachShard(int batch, const std::function<void(nn::Tape<float>&
   for (int k = 1; k < shards; ++k) shard_grads_[k - 1]->AddInto();
 }
 
+void SacAgent::BoundTargets(float low, float high) {
+  if (!(low <= high)) throw std::invalid_argument("SacAgent::BoundTargets: low > high");
+  bounded_targets_ = true;
+  target_low_ = low;
+  target_high_ = high;
+}
+
 double SacAgent::alpha() const { return std::exp(static_cast<double>(log_alpha_.value(0, 0))); }
 
 void SacAgent::LoadBatch(const TrainingBatch& b) {
@@ -173,6 +181,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
         targets_non_finite[k] = 1;
         return;
       }
+      if (bounded_targets_) targets = targets.cwiseMax(target_low_).cwiseMin(target_high_);
       tape.Reset();
       auto ent = tape.Constant(whole ? entities_ : rows(entities_, begin, end, ents));
       auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));

@@ -14,7 +14,9 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/config/agent_config.h"
@@ -81,6 +83,15 @@ class SacAgent {
   LearnerCounters LoadCheckpointSections(const std::vector<nn::CheckpointSection>& sections,
                                          const std::string& path);
 
+  // Clips every Bellman target into [low, high] from the next update on (HAC bounds each
+  // level's Q to [-H, 0]); unbounded by default, as SAC is.
+  void BoundTargets(float low, float high);
+  // [low, high] when bounded
+  std::optional<std::pair<float, float>> target_bounds() const {
+    if (!bounded_targets_) return std::nullopt;
+    return std::make_pair(target_low_, target_high_);
+  }
+
   double alpha() const;
   // Logs the shape of every matrix product of the following updates (benchmarks; with
   // several threads only the calling thread's shard is logged).
@@ -114,6 +125,8 @@ class SacAgent {
   // the current batch as matrices
   nn::Tensor entities_, next_entities_, mask_, goals_, actions_, rewards_;
   nn::Tensor bootstraps_;  // B x 1: 0 for terminal transitions, else 1
+  bool bounded_targets_ = false;
+  float target_low_ = 0, target_high_ = 0;
 };
 
 }  // namespace srics::learner

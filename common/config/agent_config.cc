@@ -48,6 +48,7 @@ void ParseAgent(YamlSection s, AgentConfig* out) {
   hac.ReadDouble("subgoal_test_probability", &h.subgoal_test_probability, 0, 1);
   hac.ReadDouble("goal_threshold", &h.goal_threshold, 1e-6, 10);
   hac.ReadInt("hindsight_goals", &h.hindsight_goals, 0, 1000);
+  hac.ReadBool("bound_q", &h.bound_q);
   hac.Finish();
   s.Finish();
 }

@@ -50,6 +50,10 @@ struct HacConfig {
   double subgoal_test_probability = 0.3;  // the low level acts without noise on a test subgoal
   double goal_threshold = 0.05;           // m, per entity (Euclidean xy distance)
   int hindsight_goals = 3;                // goal replay: per attempt, k-1 random achieved states + the last
+  // HAC bounds every level's Q to [-horizon, 0] (Levy et al.'s critics end in a negative
+  // sigmoid); here each level's Bellman targets are clipped to that range. Without it a run's
+  // high level diverged until every update was non-finite (docs/results.md, HAC)
+  bool bound_q = true;
 };
 
 struct AgentConfig {

@@ -252,6 +252,22 @@ TEST(HacLearnerTest, TrainsBothLevelsAndPublishesTheHighLevelThenTheLowLevel) {
             rl::HacPolicySignature(learner.hac()->high().policy(), learner.agent().policy()));
 }
 
+// HAC's Q bound, [-H, 0] on both levels unless agent.hac.bound_q is false; SAC's agents are
+// unbounded.
+TEST(HacLearnerTest, BothLevelsBoundTheirTargetsToMinusHToZero) {
+  Learner hac(LearnerOptionsFor(HacRun()));
+  const std::pair<float, float> bound{-3.0f, 0.0f};
+  EXPECT_EQ(hac.agent().target_bounds(), bound);
+  EXPECT_EQ(hac.hac()->high().target_bounds(), bound);
+  config::Config unbounded = HacRun();
+  unbounded.agent.hac.bound_q = false;
+  Learner plain_hac(LearnerOptionsFor(unbounded));
+  EXPECT_FALSE(plain_hac.agent().target_bounds());
+  EXPECT_FALSE(plain_hac.hac()->high().target_bounds());
+  Learner sac(LearnerOptionsFor(testing::SmallRun(config::Method::kSacHer)));
+  EXPECT_FALSE(sac.agent().target_bounds());
+}
+
 TEST(HacLearnerTest, RejectsHacEpisodesThatDoNotFitAndSubgoalsElsewhere) {
   Learner learner(LearnerOptionsFor(HacRun()));
   rl::Episode no_subgoals = HandEpisode();

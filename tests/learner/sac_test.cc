@@ -65,6 +65,24 @@ TEST(SacTest, CriticsConvergeToTheDiscountedReturnOfAConstantReward) {
   EXPECT_LT(stats.q_loss, 0.05);
 }
 
+// HAC's bound: targets clipped into [-4, 0]. r = -1 forever with discount 0.9 would give
+// -10; bounded, the critics learn the bound instead (and stay at it).
+TEST(SacTest, BoundedTargetsKeepTheCriticsInTheBound) {
+  config::AgentConfig c = SmallConfig();
+  c.sac.discount = 0.9;
+  c.sac.auto_entropy = false;
+  c.sac.initial_alpha = 1e-8;
+  SacAgent agent(kShape, c, 1, 1);
+  agent.BoundTargets(-4.0f, 0.0f);
+  std::mt19937_64 rng(2);
+  UpdateStats stats;
+  for (int i = 0; i < 1500; ++i)
+    stats = agent.Update(RandomBatch(rng, 64, [](const float*) { return -1.0; }));
+  EXPECT_NEAR(stats.mean_q, -4.0, 0.3);
+  EXPECT_LT(stats.q_loss, 0.05);
+  EXPECT_THROW(agent.BoundTargets(1.0f, 0.0f), std::invalid_argument);
+}
+
 // Issue 15: a non-finite value in a batch (huge finite states overflow the networks the same
 // way) turned every weight into NaN and the learner published them. Now the update stops
 // before the optimizer step of the stage where it shows: no network changes.
