@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <fstream>
+#include <limits>
+#include <optional>
+#include <utility>
 
 #include "common/nn/serialize.h"
 
@@ -50,17 +52,24 @@ TrainingBatch RandomBatch(std::mt19937_64& rng, int size, double (*reward)(const
   return b;
 }
 
-TEST(SacTest, CriticsConvergeToTheDiscountedReturnOfAConstantReward) {
-  // r = -1 forever, no entropy bonus: Q = -1 / (1 - 0.9) = -10
+// The stats after 1500 updates on r = -1 forever with discount 0.9 and no entropy bonus
+// (Q = -1 / (1 - 0.9) = -10), the targets clipped into `bound` when given.
+UpdateStats TrainOnAConstantReward(std::optional<std::pair<float, float>> bound) {
   config::AgentConfig c = SmallConfig();
   c.sac.discount = 0.9;
   c.sac.auto_entropy = false;
   c.sac.initial_alpha = 1e-8;
   SacAgent agent(kShape, c, 1, 1);
+  if (bound) agent.BoundTargets(bound->first, bound->second);
   std::mt19937_64 rng(2);
   UpdateStats stats;
   for (int i = 0; i < 1500; ++i)
     stats = agent.Update(RandomBatch(rng, 64, [](const float*) { return -1.0; }));
+  return stats;
+}
+
+TEST(SacTest, CriticsConvergeToTheDiscountedReturnOfAConstantReward) {
+  const UpdateStats stats = TrainOnAConstantReward(std::nullopt);
   EXPECT_NEAR(stats.mean_q, -10.0, 0.5);
   EXPECT_LT(stats.q_loss, 0.05);
 }
@@ -68,18 +77,10 @@ TEST(SacTest, CriticsConvergeToTheDiscountedReturnOfAConstantReward) {
 // HAC's bound: targets clipped into [-4, 0]. r = -1 forever with discount 0.9 would give
 // -10; bounded, the critics learn the bound instead (and stay at it).
 TEST(SacTest, BoundedTargetsKeepTheCriticsInTheBound) {
-  config::AgentConfig c = SmallConfig();
-  c.sac.discount = 0.9;
-  c.sac.auto_entropy = false;
-  c.sac.initial_alpha = 1e-8;
-  SacAgent agent(kShape, c, 1, 1);
-  agent.BoundTargets(-4.0f, 0.0f);
-  std::mt19937_64 rng(2);
-  UpdateStats stats;
-  for (int i = 0; i < 1500; ++i)
-    stats = agent.Update(RandomBatch(rng, 64, [](const float*) { return -1.0; }));
+  const UpdateStats stats = TrainOnAConstantReward(std::make_pair(-4.0f, 0.0f));
   EXPECT_NEAR(stats.mean_q, -4.0, 0.3);
   EXPECT_LT(stats.q_loss, 0.05);
+  SacAgent agent(kShape, SmallConfig(), 1, 1);
   EXPECT_THROW(agent.BoundTargets(1.0f, 0.0f), std::invalid_argument);
 }
 
