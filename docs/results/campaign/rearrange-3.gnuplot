@@ -7,7 +7,7 @@ set key outside right top noenhanced
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/rearrange-3-distance.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-distance.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/rearrange-3-distance.dat' index 2 using 1:3:4 with filledcurves lc rgb '#2ca02c' notitle, '' index 2 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#2ca02c' title 'srics (2 seeds)', 0.140357 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+plot '/work/main/docs/results/campaign/rearrange-3-distance.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-distance.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'smorl (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-distance.dat' index 2 using 1:3:4 with filledcurves lc rgb '#2ca02c' notitle, '' index 2 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#2ca02c' title 'srics (3 seeds)', 0.139556 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
 set output '/work/main/docs/results/campaign/rearrange-3-object_distance.png'
 set title 'rearrange-3: average object distance (mean, band min-max over seeds)' noenhanced
 set xlabel 'environment steps'
@@ -16,7 +16,7 @@ set key outside right top noenhanced
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/rearrange-3-object_distance.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-object_distance.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/rearrange-3-object_distance.dat' index 2 using 1:3:4 with filledcurves lc rgb '#2ca02c' notitle, '' index 2 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#2ca02c' title 'srics (2 seeds)', 0.187142 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+plot '/work/main/docs/results/campaign/rearrange-3-object_distance.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-object_distance.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'smorl (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-object_distance.dat' index 2 using 1:3:4 with filledcurves lc rgb '#2ca02c' notitle, '' index 2 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#2ca02c' title 'srics (3 seeds)', 0.186074 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
 set output '/work/main/docs/results/campaign/rearrange-3-selectivity.png'
 set title 'rearrange-3: selectivity of training episodes, the table''s ancestor sets (mean, band min-max over seeds)' noenhanced
 set xlabel 'environment steps'
@@ -25,7 +25,7 @@ set key outside right top noenhanced
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/rearrange-3-selectivity.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/rearrange-3-selectivity.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (2 seeds)'
+plot '/work/main/docs/results/campaign/rearrange-3-selectivity.dat' index 0 using 1:3:4 with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-selectivity.dat' index 1 using 1:3:4 with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (3 seeds)'
 set output '/work/main/docs/results/campaign/rearrange-3-subgoal_success.png'
 set title 'rearrange-3: success per subgoal at the final evaluation (mean over seeds, bars min-max)' noenhanced
 set xlabel ''
@@ -37,4 +37,4 @@ set style data histograms
 set style histogram errorbars gap 2 lw 1
 set style fill solid 0.8 border -1
 set bars 2
-plot '/work/main/docs/results/campaign/rearrange-3-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-subgoal_success.dat' using 5:6:7 lc rgb '#d62728' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/rearrange-3-subgoal_success.dat' using 8:9:10 lc rgb '#2ca02c' title 'srics (2 seeds)'
+plot '/work/main/docs/results/campaign/rearrange-3-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'sac_her (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-subgoal_success.dat' using 5:6:7 lc rgb '#d62728' title 'smorl (3 seeds)', '/work/main/docs/results/campaign/rearrange-3-subgoal_success.dat' using 8:9:10 lc rgb '#2ca02c' title 'srics (3 seeds)'
