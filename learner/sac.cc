@@ -46,10 +46,16 @@ LearnerCounters UnpackCounters(const std::vector<float>& values, const std::stri
   return {v[0], v[1], v[2], v[3], v[4]};
 }
 
-// True when every gradient of `params` is finite (checked before each optimizer step).
-bool GradientsFinite(const nn::ParameterList<float>& params) {
+// Beyond this a gradient's square, which Adam adds into its second moment, overflows float
+// (FLT_MAX is 3.4e38): the moment becomes infinite and the step NaN. A finite input of 1e12 gave
+// such gradients with a finite loss (SacTest.NonFiniteBatchChangesNoNetwork).
+constexpr float kMaxUsableGradient = 1e18f;
+
+// True when every gradient of `params` is finite and small enough for Adam's moments (checked
+// before each optimizer step).
+bool GradientsUsable(const nn::ParameterList<float>& params) {
   for (const nn::Parameter<float>* p : params)
-    if (!p->grad.allFinite()) return false;
+    if (!(p->grad.array().abs() <= kMaxUsableGradient).all()) return false;  // NaN fails too
   return true;
 }
 
@@ -205,7 +211,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     }
     stats.q_loss = total(loss_part);
     stats.mean_q = whole ? sum_part[0] : total(sum_part) / size;
-    if (!std::isfinite(stats.q_loss) || !GradientsFinite(q_optimizer_->parameters())) {
+    if (!std::isfinite(stats.q_loss) || !GradientsUsable(q_optimizer_->parameters())) {
       stats.non_finite = true;
       stats.non_finite_stage = "critic loss or gradient";
       return stats;
@@ -236,7 +242,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     mean_log_prob = whole ? sum_part[0] : total(sum_part) / size;
     stats.entropy = -mean_log_prob;
     if (!std::isfinite(stats.policy_loss) || !std::isfinite(mean_log_prob) ||
-        !GradientsFinite(policy_optimizer_->parameters())) {
+        !GradientsUsable(policy_optimizer_->parameters())) {
       stats.non_finite = true;
       stats.non_finite_stage = "policy loss or gradient";
       return stats;

@@ -39,7 +39,8 @@ struct UpdateStats {
   double entropy = 0;      // -mean log pi
   double mean_q = 0;
   double mean_reward = 0;
-  // a Bellman target, loss or gradient was not finite: the stage where it showed and every
+  // a Bellman target, loss or gradient was not finite (or a gradient too large for Adam's
+  // moments, |g| > 1e18): the stage where it showed and every
   // later one changed nothing (no optimizer step, no target update), so no NaN reaches a
   // network; the learner counts these updates
   bool non_finite = false;

@@ -114,6 +114,11 @@ TEST(SacTest, NonFiniteBatchChangesNoNetwork) {
     EXPECT_TRUE(skipped.non_finite);
     EXPECT_EQ(skipped.non_finite_stage, "critic loss or gradient");
     poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
+    poisoned.entities[13] = 1e12f;  // finite everywhere, but gradients whose squares overflow Adam's moments
+    skipped = agent.Update(poisoned);
+    EXPECT_TRUE(skipped.non_finite);
+    EXPECT_EQ(skipped.non_finite_stage, "critic loss or gradient");
+    poisoned = RandomBatch(rng, 64, [](const float*) { return 0.5; });
     poisoned.reward[50] = std::numeric_limits<float>::quiet_NaN();  // the second shard's targets
     skipped = agent.Update(poisoned);
     EXPECT_TRUE(skipped.non_finite);
