@@ -29,11 +29,16 @@ int main(int argc, char** argv) {
     // (transient-local lives in this process) until asked to stop
     const auto& stop = transport::Shutdown::Process().flag();
     int code = 0;
-    while (!stop) {
-      if (service.Step(options.poll_timeout) == graph_service::StepResult::kDone) {
-        code = 1;  // the source closed before a graph was published
-        break;
+    try {
+      while (!stop) {
+        if (service.Step(options.poll_timeout) == graph_service::StepResult::kDone) {
+          code = 1;  // the source closed before a graph was published
+          break;
+        }
       }
+    } catch (const graph_service::GnnTrainingDivergedError& e) {
+      // a restart would resume the same model from its training checkpoint: not restarted
+      throw process::UnusableStateError(e.what());
     }
     service.Stop();
     spdlog::info("graph service stopped");

@@ -123,6 +123,7 @@ void GraphService::PublishStatus(bool force) {
   r.dropped = static_cast<uint64_t>(p.dropped);
   // explore episodes refused by the service's own checks (the run's shape, steps, limits)
   if (p.dropped > 0) r.rejections["episode.graph"] = static_cast<uint64_t>(p.dropped);
+  if (p.skipped_updates > 0) r.rejections["update.nonfinite"] = static_cast<uint64_t>(p.skipped_updates);
   r.detail = std::string(PhaseName(p.phase)) + ": " + std::to_string(p.episodes) + "/" +
              std::to_string(p.target_episodes) + " episodes, " + std::to_string(p.updates) + " updates" +
              (p.held_out_loss >= 0 ? ", held-out " + std::to_string(p.held_out_loss) : "") +
@@ -394,9 +395,18 @@ void GraphService::StartTraining() {
   Report();
 }
 
+void GraphService::UpdateModel() {
+  if (!std::isnan(trainer_->Update())) return;
+  progress_.skipped_updates = trainer_->skipped_updates();
+  if (trainer_->skipped_in_a_row() == 1)  // once per streak: GnnTrainingDivergedError ends a long one
+    spdlog::warn("graph service: GNN update {} skipped: a non-finite loss or an unusable gradient "
+                 "({} so far; graph.max_skipped_updates_in_a_row: {})",
+                 trainer_->updates(), trainer_->skipped_updates(), config_.max_skipped_updates_in_a_row);
+}
+
 void GraphService::TrainStep() {
   for (int i = 0; i < options_.updates_per_step && trainer_->updates() < config_.max_updates; ++i) {
-    trainer_->Update();
+    UpdateModel();
     if (trainer_->updates() % config_.eval_every_updates == 0) break;  // evaluate at the boundary
   }
   const bool at_eval = trainer_->updates() % config_.eval_every_updates == 0 ||
@@ -586,7 +596,7 @@ StepResult GraphService::RefineStep(std::chrono::milliseconds wait) {
   if (taken > 0) trainer_->SetRefinementData(refine_data_.get(), RefineShare());
   int done = 0;
   while (done < options_.updates_per_step && refine_budget_ > 0) {
-    trainer_->Update();
+    UpdateModel();
     --refine_budget_;
     ++done;
     if (trainer_->updates() % config_.eval_every_updates != 0) continue;

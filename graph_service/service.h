@@ -40,6 +40,7 @@ struct Progress {
   int dropped = 0;             // refused (wrong mode, layout, non-finite, ...)
   std::string last_drop_reason;
   int64_t updates = 0;         // GNN training updates done
+  int64_t skipped_updates = 0; // of them: skipped, a non-finite loss or unusable gradient (since start)
   double train_loss = 0;       // MSE per transition of the last batch
   double held_out_loss = -1;   // at the last evaluation (-1: none yet)
   double held_out_zero_loss = -1;  // held-out MSE of predicting no motion
@@ -140,6 +141,7 @@ class GraphService {
   StepResult CollectStep(std::chrono::milliseconds wait);
   void StartTraining();
   void TrainStep();
+  void UpdateModel();  // one GNN update; a skipped one is counted and its streak logged
   void EvaluateGraph();
   void Finish();
   void PublishCurrent();  // current_ as the next version: saved, published

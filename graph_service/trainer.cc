@@ -162,12 +162,27 @@ double GnnTrainer::Update() {
   GnnModel<float>::Loss loss = model_.WindowLoss(tape_, batch_, rng_);
   optimizer_.ZeroGrad();
   tape_.Backward(loss.total);
+  const double total = static_cast<double>(loss.total.value()(0, 0));
+  ++updates_;
+  if (!std::isfinite(total) || !nn::GradientsUsable(params_)) {
+    // one such step would put NaN or an infinite moment into the model for good
+    ++skipped_updates_;
+    ++skipped_in_a_row_;
+    const int limit = config_.max_skipped_updates_in_a_row;
+    if (limit > 0 && skipped_in_a_row_ >= limit)
+      throw GnnTrainingDivergedError(
+          "graph learning diverged: the last " + std::to_string(skipped_in_a_row_) + " GNN updates (to update " +
+          std::to_string(updates_) + ") all met a non-finite loss or an unusable gradient, so the model no "
+          "longer changes; the service stops rather than publish its graph (graph.max_skipped_updates_in_a_row: " +
+          std::to_string(limit) + ")");
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  skipped_in_a_row_ = 0;
   if (config_.use_adam) adam_.Step();
   else optimizer_.Step();
-  ++updates_;
   last_mse_ = loss.mse / batch_.steps();
   last_kl_ = loss.kl / batch_.steps();
-  return static_cast<double>(loss.total.value()(0, 0));
+  return total;
 }
 
 void GnnTrainer::SetRefinementData(const GraphDataset* data, double share) {

@@ -3,6 +3,7 @@
 // evaluation: held-out loss and the mean edge weights over the whole data set.
 
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "common/config/graph_config.h"
@@ -49,6 +50,13 @@ GnnOptions MakeGnnOptions(const config::GraphConfig& config, const GraphDataset&
 // ramp to config.kl_weight.
 double KlWeightAt(const config::GraphConfig& config, int64_t update);
 
+// Thrown by GnnTrainer::Update when graph.max_skipped_updates_in_a_row updates in a row were
+// skipped (non-finite loss or unusable gradient): the model no longer changes.
+class GnnTrainingDivergedError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // Owns the model and optimizer; single-threaded.
 class GnnTrainer {
  public:
@@ -70,7 +78,10 @@ class GnnTrainer {
   }
 
   // One RMSprop update on a fresh batch of windows; returns the batch's loss
-  // (sum over the window of MSE + kl_weight * KL).
+  // (sum over the window of MSE + kl_weight * KL). A batch whose loss is not finite or whose
+  // gradient is not usable (nn::GradientsUsable) changes no parameter and no optimiser state;
+  // it still counts as an update (the schedule goes on) and as a skipped one, and NaN is
+  // returned. Throws GnnTrainingDivergedError at graph.max_skipped_updates_in_a_row in a row.
   double Update();
 
   // Runs the model over whole episodes (all of them, in chunks) and returns the mean edge
@@ -101,6 +112,9 @@ class GnnTrainer {
   bool Settled() const;
 
   int64_t updates() const { return updates_; }
+  // skipped updates since this trainer was built (not checkpointed), and the current run of them
+  int64_t skipped_updates() const { return skipped_updates_; }
+  int64_t skipped_in_a_row() const { return skipped_in_a_row_; }
   double last_mse() const { return last_mse_; }  // per transition, last batch
   double last_kl() const { return last_kl_; }    // per transition, last batch
   GnnModel<float>& model() { return model_; }
@@ -127,6 +141,7 @@ class GnnTrainer {
   int64_t updates_ = 0;
   int64_t schedule_start_ = 0;  // the update the warm-up / KL ramp schedule counts from
   double last_mse_ = 0, last_kl_ = 0;
+  int64_t skipped_updates_ = 0, skipped_in_a_row_ = 0;
 };
 
 }  // namespace srics::graph_service

@@ -150,6 +150,10 @@ void TransitionReplay::Sample(int size, std::mt19937_64& rng, TrainingBatch* b) 
   }
 }
 
+void BoundHacTargets(const HacOptions& options, SacAgent* level) {
+  if (options.bound_q) level->BoundTargets(-static_cast<float>(options.horizon), 0.0f);
+}
+
 HacLevels::HacLevels(const HacOptions& options, const rl::AgentShape& low, const rl::AgentShape& high,
                      const config::AgentConfig& agent, uint64_t capacity, int max_entities, uint64_t seed,
                      int threads)
@@ -158,7 +162,7 @@ HacLevels::HacLevels(const HacOptions& options, const rl::AgentShape& low, const
       low_replay_(capacity, max_entities, low.entity_dim, low.goal_dim, low.action_dim),
       high_replay_(capacity, max_entities, high.entity_dim, high.goal_dim, high.action_dim),
       rng_(seed ^ 0x5bd1e995u) {
-  if (options.bound_q) high_.BoundTargets(-static_cast<float>(options.horizon), 0.0f);
+  BoundHacTargets(options, &high_);
 }
 
 void HacLevels::Add(const rl::Episode& episode) {

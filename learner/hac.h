@@ -41,6 +41,11 @@ struct HacOptions {
   bool bound_q = true;       // both levels' Bellman targets clipped to [-H, 0]
 };
 
+// Bounds a level's Bellman targets to [-H, 0] when options.bound_q (the rewards are -1 or 0 per
+// attempt step, so no return lies outside): the one rule for both levels (Learner: the low
+// level's agent; HacLevels: the high level's).
+void BoundHacTargets(const HacOptions& options, SacAgent* level);
+
 // Which HAC rule made a transition.
 enum class HacRule { kHindsightAction, kHindsightGoal, kSubgoalTest };
 

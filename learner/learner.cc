@@ -37,8 +37,7 @@ Learner::Learner(const LearnerOptions& options)
       agent_(shape_, options.agent, rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent),
              options.learner.threads),
       limiter_(options.learner.updates_per_step, options.learner.warmup_steps, options.learner.rate_error_buffer) {
-  if (options.method == config::Method::kHac && options.hac.bound_q)
-    agent_.BoundTargets(-static_cast<float>(options.hac.horizon), 0.0f);  // the low level's
+  if (options.method == config::Method::kHac) BoundHacTargets(options.hac, &agent_);  // the low level's
   if (options.method == config::Method::kHac)
     hac_ = std::make_unique<HacLevels>(options.hac, shape_, options.high_shape, options.agent,
                                        options.learner.replay_capacity, options.max_entities,

@@ -46,19 +46,6 @@ LearnerCounters UnpackCounters(const std::vector<float>& values, const std::stri
   return {v[0], v[1], v[2], v[3], v[4]};
 }
 
-// Beyond this a gradient's square, which Adam adds into its second moment, overflows float
-// (FLT_MAX is 3.4e38): the moment becomes infinite and the step NaN. A finite input of 1e12 gave
-// such gradients with a finite loss (SacTest.NonFiniteBatchChangesNoNetwork).
-constexpr float kMaxUsableGradient = 1e18f;
-
-// True when every gradient of `params` is finite and small enough for Adam's moments (checked
-// before each optimizer step).
-bool GradientsUsable(const nn::ParameterList<float>& params) {
-  for (const nn::Parameter<float>* p : params)
-    if (!(p->grad.array().abs() <= kMaxUsableGradient).all()) return false;  // NaN fails too
-  return true;
-}
-
 }  // namespace
 
 nn::CheckpointSection CountersSection(const LearnerCounters& counters) {
@@ -211,7 +198,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     }
     stats.q_loss = total(loss_part);
     stats.mean_q = whole ? sum_part[0] : total(sum_part) / size;
-    if (!std::isfinite(stats.q_loss) || !GradientsUsable(q_optimizer_->parameters())) {
+    if (!std::isfinite(stats.q_loss) || !nn::GradientsUsable(q_optimizer_->parameters())) {
       stats.non_finite = true;
       stats.non_finite_stage = "critic loss or gradient";
       return stats;
@@ -242,7 +229,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     mean_log_prob = whole ? sum_part[0] : total(sum_part) / size;
     stats.entropy = -mean_log_prob;
     if (!std::isfinite(stats.policy_loss) || !std::isfinite(mean_log_prob) ||
-        !GradientsUsable(policy_optimizer_->parameters())) {
+        !nn::GradientsUsable(policy_optimizer_->parameters())) {
       stats.non_finite = true;
       stats.non_finite_stage = "policy loss or gradient";
       return stats;

@@ -46,6 +46,7 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadInt("eval_every_updates", &out->eval_every_updates, 1, 1 << 30);
   s.ReadInt("stable_evaluations", &out->stable_evaluations, 1, 1 << 20);
   s.ReadInt("eval_chunk_episodes", &out->eval_chunk_episodes, 1, 1 << 20);
+  s.ReadInt("max_skipped_updates_in_a_row", &out->max_skipped_updates_in_a_row, 0, 1 << 30);
   s.ReadBool("refine_after_publish", &out->refine_after_publish);
   s.ReadDouble("refine_share", &out->refine_share, 0, 1);
   s.ReadInt("refine_updates_per_episode", &out->refine_updates_per_episode, 0, 1 << 20);

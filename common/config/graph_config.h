@@ -152,6 +152,11 @@ struct GraphConfig {
   int eval_every_updates = 500;    // held-out loss and thresholded graph
   int stable_evaluations = 2;      // stop once the graph is unchanged this many times
   int eval_chunk_episodes = 100;   // episodes per forward pass when averaging edge weights
+  // An update whose loss is not finite or whose gradient is beyond nn::kMaxUsableGradient is
+  // skipped (the parameters stay as they were); this many in a row end the service with an
+  // error (GnnTrainingDivergedError) instead of publishing the graph of a model that no longer
+  // learns. 0: never.
+  int max_skipped_updates_in_a_row = 100;
   // Refinement (not in the paper): after the first publication the service keeps training on
   // the run's own training episodes, which hold the contacts and taut ropes that random
   // actions rarely produce, and publishes a new graph version once the thresholded graph has

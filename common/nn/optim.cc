@@ -102,6 +102,14 @@ double ClipGradNorm(const ParameterList<T>& params, double max_norm) {
 }
 
 template <typename T>
+bool GradientsUsable(const ParameterList<T>& params) {
+  const T most = static_cast<T>(kMaxUsableGradient);
+  for (const Parameter<T>* p : params)
+    if (!(p->grad.array().abs() <= most).all()) return false;  // NaN fails too
+  return true;
+}
+
+template <typename T>
 void SoftUpdate(const ParameterList<T>& target, const ParameterList<T>& source, double tau) {
   if (target.size() != source.size()) {
     throw std::invalid_argument("nn::SoftUpdate: parameter lists differ in length");
@@ -127,6 +135,8 @@ template class Optimizer<float, RmsPropRule>;
 template class Optimizer<double, RmsPropRule>;
 template double ClipGradNorm<float>(const ParameterList<float>&, double);
 template double ClipGradNorm<double>(const ParameterList<double>&, double);
+template bool GradientsUsable<float>(const ParameterList<float>&);
+template bool GradientsUsable<double>(const ParameterList<double>&);
 template void SoftUpdate<float>(const ParameterList<float>&, const ParameterList<float>&,
                                 double);
 template void SoftUpdate<double>(const ParameterList<double>&, const ParameterList<double>&,

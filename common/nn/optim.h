@@ -93,6 +93,16 @@ extern template class Optimizer<double, RmsPropRule>;
 template <typename T>
 double ClipGradNorm(const ParameterList<T>& params, double max_norm);
 
+// Beyond this a gradient's square, which Adam and RmsProp add into their second moments,
+// overflows float (FLT_MAX is 3.4e38): the moment becomes infinite and the next step NaN. A
+// finite input of 1e12 gave such gradients with a finite loss (SacTest.NonFiniteBatchChangesNoNetwork).
+inline constexpr double kMaxUsableGradient = 1e18;
+
+// True when every gradient of `params` is finite and at most kMaxUsableGradient in magnitude:
+// checked before an optimizer step, which is skipped otherwise (SAC, the graph's GNN).
+template <typename T>
+bool GradientsUsable(const ParameterList<T>& params);
+
 // target = (1 - tau) target + tau source, parameter by parameter (lists must match in
 // order and shapes; throws std::invalid_argument otherwise). tau = 1 copies.
 template <typename T>

@@ -237,6 +237,9 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
                  "the evaluation goals of a run with this seed (default: the run's own), to compare runs on the same "
                  "goals")
       ->check(cli::Integer(1, 1000000000))->default_str("");
+  app.add_flag("--passive", a->passive,
+               "play the passive baseline (the hand never moves) on the same goals instead of the checkpoint's "
+               "policy (no checkpoint needed): the figure the run's eval.csv divides by");
 }
 
 void FinishEvalArgs(EvalArgs* a, bool no_video) {

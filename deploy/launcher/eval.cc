@@ -129,12 +129,14 @@ int Eval(const EvalArgs& args) {
   rl::PolicyNetwork<float> policy("policy", actor.policy, init);
   std::unique_ptr<rl::PolicyNetwork<float>> high;
   if (actor.high_policy) high = std::make_unique<rl::PolicyNetwork<float>>("policy", *actor.high_policy, init);
-  if (!fs::exists(files.checkpoint))
-    throw std::runtime_error("no checkpoint: " + files.checkpoint + " does not exist (has the run checkpointed yet?)");
-  const learner::LearnerCounters counters = learner::LoadActingPolicies(files.checkpoint, policy, high.get());
+  learner::LearnerCounters counters;
+  if (!args.passive) {
+    if (!fs::exists(files.checkpoint))
+      throw std::runtime_error("no checkpoint: " + files.checkpoint + " does not exist (has the run checkpointed yet?)");
+    counters = learner::LoadActingPolicies(files.checkpoint, policy, high.get());
+  }
 
   // the subgoals and their order: the run's graph, or every entity for methods without one
-  const int num_entities = environment.layout().num_entities;
   // graphs are over the catalogue; each episode maps it onto the objects it presents
   const int catalogue_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
   rl::CatalogueSubgoals subgoals;
@@ -176,9 +178,12 @@ int Eval(const EvalArgs& args) {
     renderer.emplace(environment, *gl, args.render);
   }
   fs::create_directories(out_dir);
-  std::printf("checkpoint %s: %llu updates, policy v%llu, %llu training env steps\n", files.checkpoint.c_str(),
-              static_cast<unsigned long long>(counters.updates), static_cast<unsigned long long>(counters.policy_version),
-              static_cast<unsigned long long>(counters.training_env_steps));
+  if (args.passive)
+    std::printf("the passive baseline (--passive): the hand never moves\n");
+  else
+    std::printf("checkpoint %s: %llu updates, policy v%llu, %llu training env steps\n", files.checkpoint.c_str(),
+                static_cast<unsigned long long>(counters.updates), static_cast<unsigned long long>(counters.policy_version),
+                static_cast<unsigned long long>(counters.training_env_steps));
   const uint64_t goal_seed = args.goal_set ? args.goal_set : config.run.seed;
   std::printf("method %s, graph %s, subgoal order %s, goals of evaluation seed %llu\n",
               config::MethodName(config.run.method), graph_text.c_str(),
@@ -190,6 +195,8 @@ int Eval(const EvalArgs& args) {
   // one CSV row per episode
   // the subgoal columns: the structure of the first evaluation episode's objects
   environment.Reset(rl::EvalEpisodeSeed(goal_seed, 0), env::Split::kEval);
+  // the evaluation's objects (env.eval_object_sets), which may be fewer than the training's
+  const int num_entities = environment.layout().num_entities;
   const std::vector<int> subgoal_entities = subgoals.For(environment.layout().kinds).SubgoalEntities();
   std::ofstream csv(fs::path(out_dir) / "episodes.csv");
   csv << "episode,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity";
@@ -214,8 +221,8 @@ int Eval(const EvalArgs& args) {
     }
     EpisodeRecorder recorder(renderer ? &*renderer : nullptr, writer ? &*writer : nullptr, attempts_csv, tally,
                              eval_options.threshold, i);
-    const auto metrics = actor::RunEvaluationEpisode(environment, &policy, subgoals, eval_options, seed, high.get(),
-                                                     &recorder);
+    const auto metrics = actor::RunEvaluationEpisode(environment, args.passive ? nullptr : &policy, subgoals,
+                                                     eval_options, seed, args.passive ? nullptr : high.get(), &recorder);
     if (writer) writer->Close();
     const int frames = writer ? writer->frames() : 0;
     if (environment.layout().num_entities != num_entities)

@@ -43,6 +43,10 @@ struct EvalArgs {
   // --goal-set S: the evaluation goals of a run with seed S (0 = the run's own seed), so that
   // policies of different seeds are compared on the same goals
   uint64_t goal_set = 0;
+  // --passive: the passive baseline (the hand never moves) on the same goals instead of the
+  // checkpoint's policy, which is then not needed: what the run's eval.csv divides by, for
+  // goals or objects (--set env.eval_object_sets=...) the run never evaluated
+  bool passive = false;
 };
 
 // Runs the evaluation; returns 0. Throws std::invalid_argument (bad arguments: exit 2),

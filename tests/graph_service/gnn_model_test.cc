@@ -1,6 +1,9 @@
 #include "graph_service/gnn_model.h"
 
+#include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -268,6 +271,68 @@ TEST(GnnTrainerTest, EvaluationAveragesEdgeProbabilities) {
   trainer.Update();
   EXPECT_EQ(trainer.updates(), 1);
   EXPECT_NE(trainer.Evaluate().mean_weight, a.mean_weight);
+}
+
+// The model's parameters, optimiser moments, as raw bytes (NaN compares equal to itself).
+std::vector<std::vector<unsigned char>> ModelAndOptimiserBytes(const GnnTrainer& trainer) {
+  std::vector<std::vector<unsigned char>> out;
+  for (const nn::CheckpointSection& section : trainer.SaveState()) {
+    if (section.name == "gnn.trainer") continue;  // the update count goes on
+    const auto* bytes = reinterpret_cast<const unsigned char*>(section.values.data());
+    out.emplace_back(bytes, bytes + section.values.size() * sizeof(float));
+  }
+  return out;
+}
+
+// A batch with a non-finite loss (a NaN put into the model, as a diverged step would) changes
+// no parameter and no optimiser moment, counts as skipped, and a run of
+// graph.max_skipped_updates_in_a_row of them ends training with an error naming the key; a
+// good update in between starts the run afresh.
+TEST(GnnTrainerTest, SkipsUnusableUpdatesAndStopsAfterTooManyInARow) {
+  GraphDataset data = ToyData(8, 10);
+  config::GraphConfig config = SmallTrainerConfig();
+  config.max_skipped_updates_in_a_row = 3;
+  GnnTrainer trainer(config, data, 9);
+  EXPECT_TRUE(std::isfinite(trainer.Update()));
+  const std::vector<nn::CheckpointSection> good = trainer.SaveState();
+  nn::ParameterList<float> params;
+  trainer.model().Parameters(params);
+  auto poison = [&] {
+    for (nn::Parameter<float>* p : params) p->value(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  };
+  poison();
+  const auto poisoned = ModelAndOptimiserBytes(trainer);
+  EXPECT_TRUE(std::isnan(trainer.Update()));
+  EXPECT_TRUE(std::isnan(trainer.Update()));
+  EXPECT_EQ(ModelAndOptimiserBytes(trainer), poisoned);
+  EXPECT_EQ(trainer.updates(), 3);
+  EXPECT_EQ(trainer.skipped_updates(), 2);
+  EXPECT_EQ(trainer.skipped_in_a_row(), 2);
+
+  trainer.LoadState(good, "good state");  // the model as it was: learning again
+  EXPECT_TRUE(std::isfinite(trainer.Update()));
+  EXPECT_EQ(trainer.skipped_in_a_row(), 0);
+  EXPECT_EQ(trainer.skipped_updates(), 2);
+
+  poison();
+  EXPECT_TRUE(std::isnan(trainer.Update()));
+  EXPECT_TRUE(std::isnan(trainer.Update()));
+  try {
+    trainer.Update();
+    FAIL() << "a third skipped update in a row did not end training";
+  } catch (const GnnTrainingDivergedError& e) {
+    EXPECT_NE(std::string(e.what()).find("graph.max_skipped_updates_in_a_row: 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the last 3 GNN updates"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(trainer.skipped_updates(), 5);
+
+  config.max_skipped_updates_in_a_row = 0;  // never ends
+  GnnTrainer patient(config, data, 9);
+  nn::ParameterList<float> patient_params;
+  patient.model().Parameters(patient_params);
+  for (nn::Parameter<float>* p : patient_params) p->value(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  for (int i = 0; i < 10; ++i) EXPECT_TRUE(std::isnan(patient.Update()));
+  EXPECT_EQ(patient.skipped_in_a_row(), 10);
 }
 
 // Object pairs apart: with zero radii and margin every step counts (the plain means), with radii

@@ -1,6 +1,8 @@
 // Optimizers against hand-computed steps, gradient clipping, and learning a regression.
 #include "common/nn/optim.h"
 
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "common/nn/modules.h"
@@ -81,6 +83,22 @@ TEST(ClipGradNormTest, ScalesToMaxNormAndReportsNorm) {
   EXPECT_NEAR(a.grad(0, 0) / b.grad(0, 0), 0.75, 1e-12);
   EXPECT_NEAR(ClipGradNorm<double>({&a, &b}, 10.0), 1.0, 1e-9);  // below: untouched
   EXPECT_NEAR(a.grad(0, 0), 0.6, 1e-9);
+}
+
+TEST(GradientsUsableTest, FiniteGradientsUpToTheBoundOnly) {
+  Parameter<float> a("a", 1, 2), b("b", 2, 1);
+  EXPECT_TRUE(GradientsUsable<float>({&a, &b}));  // zeros
+  a.grad << 1e17f, -1e18f;                          // the bound itself is usable
+  EXPECT_TRUE(GradientsUsable<float>({&a, &b}));
+  b.grad << 0.f, -2e18f;                            // its square would overflow Adam's float moment
+  EXPECT_FALSE(GradientsUsable<float>({&a, &b}));
+  b.grad << std::numeric_limits<float>::infinity(), 0.f;
+  EXPECT_FALSE(GradientsUsable<float>({&a, &b}));
+  b.grad << 0.f, std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(GradientsUsable<float>({&a, &b}));
+  EXPECT_FALSE(GradientsUsable<float>({&b}));
+  EXPECT_TRUE(GradientsUsable<float>({&a}));
+  EXPECT_TRUE(GradientsUsable<float>({}));
 }
 
 TEST(SoftUpdateTest, PolyakAverage) {

@@ -143,6 +143,107 @@ TEST(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
   fs::remove_all(out);
 }
 
+// --passive plays the passive baseline on the run's goals from a folder with no checkpoint in
+// it: over the protocol's 20 episodes its object distance is the passive row of the run's
+// eval.csv (0.1875052 at 0 env steps, docs/results/campaign/raw/relational-4-srics/srics-seed1),
+// and the policy's own evaluation of the same folder still needs the checkpoint.
+TEST(CommittedPolicyTest, PassiveBaselineNeedsNoCheckpointAndIsTheRunsPassiveRow) {
+  const fs::path policy = fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
+  const fs::path out = fs::temp_directory_path() / ("srics_passive_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  fs::create_directories(out / "run");
+  fs::copy_file(policy / "config.yaml", out / "run/config.yaml");
+  fs::copy_file(policy / "graph.json", out / "run/graph.json");
+  const auto [code, output] = SricsEval(out, {(out / "run").string(), "--passive", "--episodes", "20", "--no-video",
+                                              "--out", (out / "eval").string()});
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_THAT(output, HasSubstr("the passive baseline"));
+  const auto rows = ReadCsv(out / "eval/episodes.csv");
+  ASSERT_EQ(rows.size(), 20u) << output;
+  double object_distance = 0;
+  for (const auto& row : rows) object_distance += std::stod(row.at("avg_object_distance")) / rows.size();
+  EXPECT_NEAR(object_distance, 0.1875052, 1e-4) << output;
+
+  const auto [policy_code, policy_output] =
+      SricsEval(out, {(out / "run").string(), "--episodes", "1", "--no-video", "--out", (out / "eval2").string()});
+  EXPECT_EQ(policy_code, 1) << policy_output;
+  EXPECT_THAT(policy_output, HasSubstr("no checkpoint"));
+  fs::remove_all(out);
+}
+
+// The same policy on fewer objects than it trained with (env.eval_object_sets: pucks 1-3, the
+// free puck 4 left out), as deploy/seen-unseen.sh plays combinations: episodes.csv has the
+// distances of the arm and the three pucks, and the free puck never gets an attempt. `srics
+// eval` refused it before ("episode 0 has another number of entities": it counted the entities
+// of the training objects).
+TEST(CommittedPolicyTest, PlaysFewerObjectsThanItTrainedWith) {
+  const fs::path policy = fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
+  const fs::path out = fs::temp_directory_path() / ("srics_fewer_objects_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const auto [code, output] = SricsEval(
+      out, {(policy / "policy.srics").string(), "--config", (policy / "config.yaml").string(), "--graph",
+            (policy / "graph.json").string(), "--set", "env.eval_object_sets=[{present: [1, 2, 3]}]", "--episodes",
+            "3", "--no-video", "--out", out.string()});
+  ASSERT_EQ(code, 0) << output;
+  const auto rows = ReadCsv(out / "episodes.csv");
+  ASSERT_EQ(rows.size(), 3u) << output;
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("status"), "ok");
+    EXPECT_TRUE(row.count("distance_3")) << "pucks 1-3 and the arm";
+    EXPECT_FALSE(row.count("distance_4")) << "puck 4 is not there";
+  }
+  for (const auto& attempt : ReadCsv(out / "attempts.csv")) EXPECT_LE(std::stoi(attempt.at("entity")), 3);
+  fs::remove_all(out);
+}
+
+// deploy/seen-unseen.sh on the committed policy (as a run folder: its checkpoint, config and
+// graph), all four pucks as the "seen" combination and pucks 1-3 as the "unseen" one: a row per
+// combination whose ratio is the policy's object distance over the passive baseline's, the
+// passive figure that of `srics eval --passive` on the same objects, and the per-run table.
+TEST(CommittedPolicyTest, SeenUnseenScriptDividesEachCombinationByItsPassiveBaseline) {
+  const fs::path policy = fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
+  const fs::path root = fs::temp_directory_path() / ("srics_seen_unseen_" + std::to_string(getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "run-a");
+  fs::copy_file(policy / "config.yaml", root / "run-a/config.yaml");
+  fs::copy_file(policy / "graph.json", root / "run-a/graph.json");
+  fs::copy_file(policy / "policy.srics", root / "run-a/checkpoint.srics");
+  const fs::path out = root / "out";
+  ChildProcess child = ChildProcess::Spawn(
+      {"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
+       std::string(SRICS_SOURCE_DIR) + "/deploy/seen-unseen.sh", "--out", out.string(), "--seen", "1,2,3,4", "--unseen",
+       "1,2,3", "--episodes", "2", (root / "run-a").string()},
+      {.output_file = (root / "script.out").string()});
+  const auto status = child.WaitFor(std::chrono::seconds(240));
+  const std::string output = files::testing::ReadFile(root / "script.out");
+  ASSERT_TRUE(status && !status->signaled && status->code == 0) << output;
+  const auto rows = ReadCsv(out / "seen-unseen.csv");
+  ASSERT_EQ(rows.size(), 2u) << output;
+  EXPECT_EQ(rows[0].at("combination"), "1 2 3 4");
+  EXPECT_EQ(rows[0].at("kind"), "seen");
+  EXPECT_EQ(rows[1].at("combination"), "1 2 3");
+  EXPECT_EQ(rows[1].at("kind"), "unseen");
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("episodes"), "2");
+    const double policy_distance = std::stod(row.at("object_distance")), passive = std::stod(row.at("passive_object_distance"));
+    EXPECT_GT(passive, 0.05);
+    EXPECT_NEAR(std::stod(row.at("ratio")), policy_distance / passive, 1e-3);
+  }
+  // the passive figure of three objects is srics eval --passive's on them
+  const auto [code, passive_output] = SricsEval(
+      root, {(root / "run-a").string(), "--passive", "--set", "env.eval_object_sets=[{present: [1, 2, 3]}]",
+             "--episodes", "2", "--no-video", "--out", (root / "passive").string()});
+  ASSERT_EQ(code, 0) << passive_output;
+  double passive = 0;
+  for (const auto& row : ReadCsv(root / "passive/episodes.csv")) passive += std::stod(row.at("avg_object_distance")) / 2;
+  EXPECT_NEAR(std::stod(rows[1].at("passive_object_distance")), passive, 1e-4);
+  const std::string table = files::testing::ReadFile(out / "seen-unseen.md");
+  EXPECT_THAT(table, HasSubstr("| run-a | 1 2 3 | unseen |"));
+  EXPECT_THAT(table, HasSubstr("mean ± sd over 1 runs"));
+  fs::remove_all(root);
+}
+
 // The same policy under SMORL's protocol (every entity, the static puck 1 too, random order:
 // 4 random attempts then all 5, 9 per episode) and, as a method without a graph, under the depth
 // protocol of the table's graph by construction (puck 1 has no subgoal: 8 per episode, the arm
