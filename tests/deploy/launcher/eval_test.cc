@@ -132,7 +132,9 @@ TEST(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
       EXPECT_LE(std::stoi(a.at("independent_undone")), std::stoi(a.at("independent_solved")));
       EXPECT_LE(std::stoi(a.at("independent_solved")), std::stoi(a.at("others_solved")));
       // the free puck 4 has only the arm as ancestor: every solved object is independent of it
-      if (entity == 4) EXPECT_EQ(a.at("independent_solved"), a.at("others_solved"));
+      if (entity == 4) {
+        EXPECT_EQ(a.at("independent_solved"), a.at("others_solved"));
+      }
     }
     EXPECT_EQ(std::stoi(rows[episode].at("steps")), 20 * played) << "episode " << episode;
     const auto& last = attempts[episode * 8 + 7];
