@@ -396,7 +396,8 @@ void GraphService::StartTraining() {
 }
 
 void GraphService::UpdateModel() {
-  if (!std::isnan(trainer_->Update())) return;
+  trainer_->Update();
+  if (trainer_->skipped_in_a_row() == 0) return;
   progress_.skipped_updates = trainer_->skipped_updates();
   if (trainer_->skipped_in_a_row() == 1)  // once per streak: GnnTrainingDivergedError ends a long one
     spdlog::warn("graph service: GNN update {} skipped: a non-finite loss or an unusable gradient "

@@ -37,12 +37,13 @@ Learner::Learner(const LearnerOptions& options)
       agent_(shape_, options.agent, rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent),
              options.learner.threads),
       limiter_(options.learner.updates_per_step, options.learner.warmup_steps, options.learner.rate_error_buffer) {
-  if (options.method == config::Method::kHac) BoundHacTargets(options.hac, &agent_);  // the low level's
-  if (options.method == config::Method::kHac)
+  if (options.method == config::Method::kHac) {
+    BoundHacTargets(options.hac, &agent_);  // the low level's; HacLevels bounds the high one
     hac_ = std::make_unique<HacLevels>(options.hac, shape_, options.high_shape, options.agent,
                                        options.learner.replay_capacity, options.max_entities,
                                        rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent, 1),
                                        options.learner.threads);
+  }
 }
 
 std::string Learner::Ingest(rl::Episode episode) {

@@ -129,6 +129,9 @@ int Eval(const EvalArgs& args) {
   rl::PolicyNetwork<float> policy("policy", actor.policy, init);
   std::unique_ptr<rl::PolicyNetwork<float>> high;
   if (actor.high_policy) high = std::make_unique<rl::PolicyNetwork<float>>("policy", *actor.high_policy, init);
+  // the networks that act: none for the passive baseline
+  rl::PolicyNetwork<float>* acting = args.passive ? nullptr : &policy;
+  rl::PolicyNetwork<float>* acting_high = args.passive ? nullptr : high.get();
   learner::LearnerCounters counters;
   if (!args.passive) {
     if (!fs::exists(files.checkpoint))
@@ -221,8 +224,8 @@ int Eval(const EvalArgs& args) {
     }
     EpisodeRecorder recorder(renderer ? &*renderer : nullptr, writer ? &*writer : nullptr, attempts_csv, tally,
                              eval_options.threshold, i);
-    const auto metrics = actor::RunEvaluationEpisode(environment, args.passive ? nullptr : &policy, subgoals,
-                                                     eval_options, seed, args.passive ? nullptr : high.get(), &recorder);
+    const auto metrics =
+        actor::RunEvaluationEpisode(environment, acting, subgoals, eval_options, seed, acting_high, &recorder);
     if (writer) writer->Close();
     const int frames = writer ? writer->frames() : 0;
     if (environment.layout().num_entities != num_entities)
