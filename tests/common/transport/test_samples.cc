@@ -1,9 +1,15 @@
 #include "tests/common/transport/test_samples.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <tuple>
 
 #include "common/rl/graph.h"
 #include "common/transport/rl_convert.h"
@@ -23,10 +29,33 @@ float Value(uint64_t seed, uint64_t i) {
 
 }  // namespace
 
+int ReserveDomain(int first, int count) {
+  static std::mutex mutex;
+  // by process: a forked child shares its parent's lock, so it reserves a domain of its own
+  static std::map<std::tuple<pid_t, int, int>, int> reserved;  // the lock files stay open
+  std::lock_guard<std::mutex> lock(mutex);
+  const std::tuple<pid_t, int, int> key{getpid(), first, count};
+  if (const auto it = reserved.find(key); it != reserved.end()) return it->second;
+  const int start = static_cast<int>(getpid() % count);
+  for (int k = 0; k < count; ++k) {
+    const int domain = first + (start + k) % count;
+    const std::string path = "/tmp/srics-test-domain-" + std::to_string(domain) + ".lock";
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0) continue;
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) {  // released by the kernel when this process ends
+      reserved[key] = domain;
+      return domain;
+    }
+    ::close(fd);
+  }
+  throw std::runtime_error("every test domain in " + std::to_string(first) + ".." +
+                           std::to_string(first + count - 1) + " is held by another process");
+}
+
 config::TransportConfig IsolatedTransportConfig(const std::string& prefix) {
   config::TransportConfig config;
   // domains 20..219 keep every RTPS port below 65536 with 64 participants per host
-  config.domain_id = 20 + static_cast<int>(getpid() % 200);
+  config.domain_id = ReserveDomain(20, 200);
   config.run_id = prefix + "-" + std::to_string(getpid());
   return config;
 }

@@ -11,9 +11,16 @@
 
 namespace srics::transport::testing {
 
-// A domain and run id of this test process alone (from its pid), so tests running in
-// parallel never see each other: run id "<prefix>-<pid>".
+// A domain and run id of this test process alone, so tests running in parallel never see
+// each other: the domain from ReserveDomain(20, 200), run id "<prefix>-<pid>".
 config::TransportConfig IsolatedTransportConfig(const std::string& prefix);
+
+// A domain in [first, first + count) that no other process calling this holds: an exclusive
+// flock on /tmp/srics-test-domain-<id>.lock, kept until this process exits. The search starts
+// at first + pid % count. The same range asked twice by one process gives the same domain.
+// (A pid modulo alone let two security tests share a domain, and an open participant of one
+// matched the other's "stranger".) Throws std::runtime_error when every domain is held.
+int ReserveDomain(int first, int count);
 
 // A whole train episode (`entities` of kSampleKinds kinds, 3 actions) within
 // SampleEpisodeLimits(); `seed` varies ids and values.

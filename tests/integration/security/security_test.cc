@@ -58,11 +58,11 @@ class SecurityTest : public ::testing::Test {
     delete keystore_;
   }
 
-  // This process's transport with `identity` of the keystore, on a domain of its own
-  // (220..229: other tests use 20..219; DDS Security takes domains up to 230).
+  // This process's transport with `identity` of the keystore, on a domain no other test
+  // process holds (220..229: other tests use 20..219; DDS Security takes domains up to 230).
   config::TransportConfig Secured(const std::string& identity) const {
     config::TransportConfig c = testing::IsolatedTransportConfig("security");
-    c.domain_id = 220 + static_cast<int>(getpid() % 10);
+    c.domain_id = testing::ReserveDomain(220, 10);
     c.security = {*keystore_, identity};
     return c;
   }
