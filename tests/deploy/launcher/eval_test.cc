@@ -89,23 +89,58 @@ int MakeOrReuseTinyRun(const fs::path& dir) {
 }
 
 // The trained policy committed with the results (docs/results.md: Relational Rearrange 4, SRICS
-// seed 1) still loads and still moves the pucks: over the protocol's 20 episodes its object
+// seed 1) and a scratch folder per test, removed after it.
+class CommittedPolicyTest : public ::testing::Test {
+ protected:
+  void TearDown() override {
+    if (!scratch_.empty()) fs::remove_all(scratch_);
+  }
+  static fs::path Policy() { return fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1"; }
+  // A fresh, empty folder of this test process.
+  fs::path Scratch(const std::string& name) {
+    scratch_ = fs::temp_directory_path() / ("srics_" + name + "_" + std::to_string(getpid()));
+    fs::remove_all(scratch_);
+    fs::create_directories(scratch_);
+    return scratch_;
+  }
+  // `dir` made a run folder of the committed policy: its config and graph, and its checkpoint
+  // when asked.
+  static fs::path AsRunFolder(const fs::path& dir, bool with_checkpoint) {
+    fs::create_directories(dir);
+    fs::copy_file(Policy() / "config.yaml", dir / "config.yaml");
+    fs::copy_file(Policy() / "graph.json", dir / "graph.json");
+    if (with_checkpoint) fs::copy_file(Policy() / "policy.srics", dir / "checkpoint.srics");
+    return dir;
+  }
+  // srics eval's arguments that load the committed policy with its config and graph.
+  static std::vector<std::string> PolicyArgs(std::vector<std::string> extra) {
+    std::vector<std::string> args = {(Policy() / "policy.srics").string(), "--config", (Policy() / "config.yaml").string(),
+                                     "--graph", (Policy() / "graph.json").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  }
+
+ private:
+  fs::path scratch_;
+};
+
+// The mean of a column over the rows.
+double MeanOf(const std::vector<std::map<std::string, std::string>>& rows, const std::string& column) {
+  double sum = 0;
+  for (const auto& row : rows) sum += std::stod(row.at(column));
+  return rows.empty() ? 0 : sum / rows.size();
+}
+
+// The committed policy still loads and still moves the pucks: over the protocol's 20 episodes its object
 // distance stays well under the passive policy's 0.1875 (0.122 when it was committed). Fails
 // when a change of the checkpoint format or of the networks leaves the file behind.
-TEST(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
-  const fs::path policy = fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
-  const fs::path out = fs::temp_directory_path() / ("srics_committed_policy_" + std::to_string(getpid()));
-  fs::remove_all(out);
-  fs::create_directories(out);
-  const auto [code, output] =
-      SricsEval(out, {(policy / "policy.srics").string(), "--config", (policy / "config.yaml").string(), "--graph",
-                      (policy / "graph.json").string(), "--episodes", "20", "--no-video", "--out", out.string()});
+TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
+  const fs::path out = Scratch("committed_policy");
+  const auto [code, output] = SricsEval(out, PolicyArgs({"--episodes", "20", "--no-video", "--out", out.string()}));
   ASSERT_EQ(code, 0) << output;
   const auto rows = ReadCsv(out / "episodes.csv");
   ASSERT_EQ(rows.size(), 20u) << output;
-  double object_distance = 0;
-  for (const auto& row : rows) object_distance += std::stod(row.at("avg_object_distance")) / rows.size();
-  EXPECT_LT(object_distance, 0.16) << output;
+  EXPECT_LT(MeanOf(rows, "avg_object_distance"), 0.16) << output;
 
   // attempts.csv: the schedule of every episode (4 random attempts, then the 4 subgoals: the
   // arm and pucks 2-4, the static puck 1 has none), each attempt that was not skipped took 20
@@ -142,35 +177,27 @@ TEST(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
                 std::stod(rows[episode].at("distance_" + last.at("entity"))), 1e-4) << "episode " << episode;
   }
   EXPECT_NE(output.find("attempts on object 4:"), std::string::npos) << output;
-  fs::remove_all(out);
 }
 
 // --passive plays the passive baseline on the run's goals from a folder with no checkpoint in
 // it: over the protocol's 20 episodes its object distance is the passive row of the run's
 // eval.csv (0.1875052 at 0 env steps, docs/results/campaign/raw/relational-4-srics/srics-seed1),
 // and the policy's own evaluation of the same folder still needs the checkpoint.
-TEST(CommittedPolicyTest, PassiveBaselineNeedsNoCheckpointAndIsTheRunsPassiveRow) {
-  const fs::path policy = fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
-  const fs::path out = fs::temp_directory_path() / ("srics_passive_" + std::to_string(getpid()));
-  fs::remove_all(out);
-  fs::create_directories(out / "run");
-  fs::copy_file(policy / "config.yaml", out / "run/config.yaml");
-  fs::copy_file(policy / "graph.json", out / "run/graph.json");
+TEST_F(CommittedPolicyTest, PassiveBaselineNeedsNoCheckpointAndIsTheRunsPassiveRow) {
+  const fs::path out = Scratch("passive");
+  AsRunFolder(out / "run", /*with_checkpoint=*/false);
   const auto [code, output] = SricsEval(out, {(out / "run").string(), "--passive", "--episodes", "20", "--no-video",
                                               "--out", (out / "eval").string()});
   ASSERT_EQ(code, 0) << output;
   EXPECT_THAT(output, HasSubstr("the passive baseline"));
   const auto rows = ReadCsv(out / "eval/episodes.csv");
   ASSERT_EQ(rows.size(), 20u) << output;
-  double object_distance = 0;
-  for (const auto& row : rows) object_distance += std::stod(row.at("avg_object_distance")) / rows.size();
-  EXPECT_NEAR(object_distance, 0.1875052, 1e-4) << output;
+  EXPECT_NEAR(MeanOf(rows, "avg_object_distance"), 0.1875052, 1e-4) << output;
 
   const auto [policy_code, policy_output] =
       SricsEval(out, {(out / "run").string(), "--episodes", "1", "--no-video", "--out", (out / "eval2").string()});
   EXPECT_EQ(policy_code, 1) << policy_output;
   EXPECT_THAT(policy_output, HasSubstr("no checkpoint"));
-  fs::remove_all(out);
 }
 
 // The same policy on fewer objects than it trained with (env.eval_object_sets: pucks 1-3, the
@@ -178,15 +205,10 @@ TEST(CommittedPolicyTest, PassiveBaselineNeedsNoCheckpointAndIsTheRunsPassiveRow
 // distances of the arm and the three pucks, and the free puck never gets an attempt. `srics
 // eval` refused it before ("episode 0 has another number of entities": it counted the entities
 // of the training objects).
-TEST(CommittedPolicyTest, PlaysFewerObjectsThanItTrainedWith) {
-  const fs::path policy = fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
-  const fs::path out = fs::temp_directory_path() / ("srics_fewer_objects_" + std::to_string(getpid()));
-  fs::remove_all(out);
-  fs::create_directories(out);
-  const auto [code, output] = SricsEval(
-      out, {(policy / "policy.srics").string(), "--config", (policy / "config.yaml").string(), "--graph",
-            (policy / "graph.json").string(), "--set", "env.eval_object_sets=[{present: [1, 2, 3]}]", "--episodes",
-            "3", "--no-video", "--out", out.string()});
+TEST_F(CommittedPolicyTest, PlaysFewerObjectsThanItTrainedWith) {
+  const fs::path out = Scratch("fewer_objects");
+  const auto [code, output] = SricsEval(out, PolicyArgs({"--set", "env.eval_object_sets=[{present: [1, 2, 3]}]",
+                                                         "--episodes", "3", "--no-video", "--out", out.string()}));
   ASSERT_EQ(code, 0) << output;
   const auto rows = ReadCsv(out / "episodes.csv");
   ASSERT_EQ(rows.size(), 3u) << output;
@@ -196,21 +218,15 @@ TEST(CommittedPolicyTest, PlaysFewerObjectsThanItTrainedWith) {
     EXPECT_FALSE(row.count("distance_4")) << "puck 4 is not there";
   }
   for (const auto& attempt : ReadCsv(out / "attempts.csv")) EXPECT_LE(std::stoi(attempt.at("entity")), 3);
-  fs::remove_all(out);
 }
 
 // deploy/seen-unseen.sh on the committed policy (as a run folder: its checkpoint, config and
 // graph), all four pucks as the "seen" combination and pucks 1-3 as the "unseen" one: a row per
 // combination whose ratio is the policy's object distance over the passive baseline's, the
 // passive figure that of `srics eval --passive` on the same objects, and the per-run table.
-TEST(CommittedPolicyTest, SeenUnseenScriptDividesEachCombinationByItsPassiveBaseline) {
-  const fs::path policy = fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
-  const fs::path root = fs::temp_directory_path() / ("srics_seen_unseen_" + std::to_string(getpid()));
-  fs::remove_all(root);
-  fs::create_directories(root / "run-a");
-  fs::copy_file(policy / "config.yaml", root / "run-a/config.yaml");
-  fs::copy_file(policy / "graph.json", root / "run-a/graph.json");
-  fs::copy_file(policy / "policy.srics", root / "run-a/checkpoint.srics");
+TEST_F(CommittedPolicyTest, SeenUnseenScriptDividesEachCombinationByItsPassiveBaseline) {
+  const fs::path root = Scratch("seen_unseen");
+  AsRunFolder(root / "run-a", /*with_checkpoint=*/true);
   const fs::path out = root / "out";
   ChildProcess child = ChildProcess::Spawn(
       {"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
@@ -237,24 +253,20 @@ TEST(CommittedPolicyTest, SeenUnseenScriptDividesEachCombinationByItsPassiveBase
       root, {(root / "run-a").string(), "--passive", "--set", "env.eval_object_sets=[{present: [1, 2, 3]}]",
              "--episodes", "2", "--no-video", "--out", (root / "passive").string()});
   ASSERT_EQ(code, 0) << passive_output;
-  double passive = 0;
-  for (const auto& row : ReadCsv(root / "passive/episodes.csv")) passive += std::stod(row.at("avg_object_distance")) / 2;
-  EXPECT_NEAR(std::stod(rows[1].at("passive_object_distance")), passive, 1e-4);
+  EXPECT_NEAR(std::stod(rows[1].at("passive_object_distance")),
+              MeanOf(ReadCsv(root / "passive/episodes.csv"), "avg_object_distance"), 1e-4);
   const std::string table = files::testing::ReadFile(out / "seen-unseen.md");
   EXPECT_THAT(table, HasSubstr("| run-a | 1 2 3 | unseen |"));
   EXPECT_THAT(table, HasSubstr("mean ± sd over 1 runs"));
-  fs::remove_all(root);
 }
 
 // The same policy under SMORL's protocol (every entity, the static puck 1 too, random order:
 // 4 random attempts then all 5, 9 per episode) and, as a method without a graph, under the depth
 // protocol of the table's graph by construction (puck 1 has no subgoal: 8 per episode, the arm
 // last), on the goals of another seed.
-TEST(CommittedPolicyTest, PlaysUnderEitherProtocolOnAnotherSeedsGoals) {
-  const fs::path policy = fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
-  const fs::path out = fs::temp_directory_path() / ("srics_protocols_" + std::to_string(getpid()));
-  fs::remove_all(out);
-  fs::create_directories(out);
+TEST_F(CommittedPolicyTest, PlaysUnderEitherProtocolOnAnotherSeedsGoals) {
+  const fs::path policy = Policy();
+  const fs::path out = Scratch("protocols");
   const std::vector<std::string> common = {(policy / "policy.srics").string(), "--config",
                                            (policy / "config.yaml").string(), "--episodes", "3", "--no-video"};
   auto with = [&](std::vector<std::string> extra) {
@@ -293,7 +305,6 @@ TEST(CommittedPolicyTest, PlaysUnderEitherProtocolOnAnotherSeedsGoals) {
   std::tie(code, output) = SricsEval(out, with({"--protocol", "sideways"}));
   EXPECT_EQ(code, 2) << output;
   EXPECT_THAT(output, ::testing::HasSubstr("--protocol")) << output;
-  fs::remove_all(out);
 }
 
 class EvalTest : public ::testing::Test {
