@@ -173,7 +173,8 @@ void HacLevels::Add(const rl::Episode& episode) {
 
 UpdateStats HacLevels::Update(SacAgent& low, int batch_size) {
   high_replay_.Sample(batch_size, rng_, &batch_);
-  const UpdateStats high = high_.Update(batch_);
+  last_high_ = high_.Update(batch_);
+  const UpdateStats& high = last_high_;
   low_replay_.Sample(batch_size, rng_, &batch_);
   UpdateStats stats = low.Update(batch_);
   // the skipped stage of either level is reported (the high level's first: it runs first)

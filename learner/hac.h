@@ -110,6 +110,10 @@ class HacLevels {
   bool ready() const { return low_replay_.size() > 0 && high_replay_.size() > 0; }
   // One SAC update of each level; returns the low level's statistics.
   UpdateStats Update(SacAgent& low, int batch_size);
+  // The high level's statistics of the last Update (zeros before the first): learner stats
+  // carry the low level's, so the node status shows these (a runaway temperature of the
+  // high level froze a HAC learner once).
+  const UpdateStats& last_high_update() const { return last_high_; }
 
   // The published weights: the high level's parameters, then the low level's.
   std::vector<float> PolicyWeights(SacAgent& low);
@@ -129,6 +133,7 @@ class HacLevels {
   TransitionReplay low_replay_, high_replay_;
   std::mt19937_64 rng_;
   TrainingBatch batch_;
+  UpdateStats last_high_;
 };
 
 }  // namespace srics::learner

@@ -113,6 +113,7 @@ class Learner {
   SacAgent& agent() { return agent_; }
   // HAC's levels (the high level and both transition replays); null for other methods.
   HacLevels* hac() { return hac_.get(); }
+  const HacLevels* hac() const { return hac_.get(); }
   const AgentShape& shape() const { return shape_; }
 
  private:

@@ -140,6 +140,11 @@ void LearnerLoop::Report(bool force) {
     if (count > 0) status.rejections[counter] = count;
   status.detail = "replay " + std::to_string(r.replay_size) + ", inserted " + std::to_string(c.transitions_inserted) +
                   (learner_.has_graph() || !rl::UsesGraph(options_.learner.method) ? "" : ", waiting for the graph");
+  if (const HacLevels* hac = learner_.hac(); hac && c.updates > 0) {
+    const UpdateStats& high = hac->last_high_update();
+    status.detail += fmt::format(", high level: Q loss {:.4g}, alpha {:.4g}, entropy {:.4g}", high.q_loss, high.alpha,
+                                 high.entropy);
+  }
   link_->PublishStatus(status);
   last_report_ = Clock::now();
 }

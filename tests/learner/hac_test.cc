@@ -4,11 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "common/rl/agent_shape.h"
 #include "learner/acting_policy.h"
+#include "common/links/in_memory_bus.h"
 #include "learner/learner.h"
+#include "learner/learner_loop.h"
 #include "tests/learner/learner_testing.h"
 
 namespace srics::learner {
@@ -250,6 +253,54 @@ TEST(HacLearnerTest, TrainsBothLevelsAndPublishesTheHighLevelThenTheLowLevel) {
   EXPECT_EQ(learner.TakePolicyWeights(), want);
   EXPECT_EQ(learner.PolicySignature(),
             rl::HacPolicySignature(learner.hac()->high().policy(), learner.agent().policy()));
+}
+
+// LearnerStats carry the low level's losses and temperature; the learner's node status shows
+// the high level's (a runaway high-level temperature froze a HAC learner once, and it could
+// only be read from the checkpoint): "high level: Q loss ..., alpha ..., entropy ...", the
+// figures of the high level's last update, its alpha that of the high agent.
+TEST(HacLearnerTest, NodeStatusShowsTheHighLevelsLossAndTemperature) {
+  struct Observer : links::BusObserver {
+    void OnStatus(const std::string& role, uint32_t, const rl::NodeReport& report) override {
+      if (role == "learner") detail = report.detail;
+    }
+    void OnLearnerStats(const rl::LearnerReport& report) override { low_q_loss = report.q_loss; }
+    std::string detail;
+    double low_q_loss = 0;
+  } observer;
+  links::InMemoryBus bus(&observer);
+  auto link = bus.LearnerEnd();
+  auto actor = bus.ActorEnd(0);
+  config::Config c = HacRun();
+  c.run.total_env_steps = 100000;
+  LearnerLoopOptions options = LearnerLoopOptionsFor(c, "");
+  options.report_period_s = 0;
+  LearnerLoop loop(options, link.get());
+  loop.Step();
+  EXPECT_THAT(observer.detail, ::testing::Not(::testing::HasSubstr("high level"))) << "no update yet";
+  for (uint64_t id = 1; id <= 200 && loop.learner().counters().updates < 5; ++id) {
+    rl::Episode e = HandEpisode();
+    e.episode_id = id;
+    ASSERT_TRUE(actor->PublishEpisode(e));
+    loop.Step();
+  }
+  ASSERT_GE(loop.learner().counters().updates, 5u);
+  loop.Step();
+  const UpdateStats& high = loop.learner().hac()->last_high_update();
+  EXPECT_GT(high.q_loss, 0);
+  // the agent took one temperature step after the update measured it
+  EXPECT_NEAR(high.alpha, loop.learner().hac()->high().alpha(), 1e-2 * high.alpha);
+  double q_loss = 0, alpha = 0, entropy = 0;
+  const size_t at = observer.detail.find("high level: ");
+  ASSERT_NE(at, std::string::npos) << observer.detail;
+  ASSERT_EQ(std::sscanf(observer.detail.c_str() + at, "high level: Q loss %lf, alpha %lf, entropy %lf", &q_loss, &alpha,
+                        &entropy),
+            3)
+      << observer.detail;
+  EXPECT_NEAR(q_loss, high.q_loss, 1e-3 * std::abs(high.q_loss));
+  EXPECT_NEAR(alpha, high.alpha, 1e-3 * high.alpha);
+  EXPECT_NEAR(entropy, high.entropy, 1e-3 * std::abs(high.entropy) + 1e-6);
+  EXPECT_NE(q_loss, observer.low_q_loss) << "the low level's loss is the one in LearnerStats";
 }
 
 // HAC's Q bound, [-H, 0] on both levels unless agent.hac.bound_q is false; SAC's agents are
