@@ -113,6 +113,15 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     return std::nullopt;
   }
   run.finished = RunFinished(dir.string());
+  std::optional<config::Config> config;
+  if (fs::is_regular_file(dir / "config.yaml")) {
+    try {
+      config = config::LoadConfig((dir / "config.yaml").string());
+    } catch (const std::exception&) {
+      // a config from another version: the curves and the learned graph are still read
+    }
+  }
+  if (config && config->env.eval_object_sets.size() == 1) run.eval_objects = config->env.eval_object_sets.front();
   const std::optional<Csv> eval = ReadCsv(dir / "eval.csv");
   if (!eval || !eval->columns.count("env_steps") || !eval->columns.count("avg_distance")) {
     warnings->push_back(dir.string() + ": no readable eval.csv (columns env_steps, avg_distance): skipped");
@@ -159,11 +168,7 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     } catch (const std::exception& e) {
       warnings->push_back(dir.string() + ": graph.json: " + e.what());
     }
-    try {
-      run.graph_by_construction = rl::DescribeGraph(rl::GroundTruthGraph(config::LoadConfig((dir / "config.yaml").string()).env));
-    } catch (const std::exception&) {
-      // a config from another version: the learned graph is still listed
-    }
+    if (config) run.graph_by_construction = rl::DescribeGraph(rl::GroundTruthGraph(config->env));
     if (fs::is_regular_file(dir / "graph.png")) run.graph_picture = (dir / "graph.png").string();
   }
   if (const std::optional<Csv> train = ReadCsv(dir / "train.csv")) {
@@ -290,7 +295,19 @@ std::string MeanStd(const Spread& s, int digits = 3) {
   return Format(s.mean, digits) + " ± " + Format(s.std, digits);
 }
 
-std::string EntityName(size_t i) { return i == 0 ? "arm" : "object " + std::to_string(i); }
+// Entity i of a group's evaluations: "arm", else "object N" with N the catalogue number when
+// every run of the group plays the same single object set (a held-out combination), else i.
+std::string EntityName(size_t i, const std::map<std::string, Group>& methods) {
+  if (i == 0) return "arm";
+  std::optional<std::vector<int>> objects;
+  for (const auto& [method, group] : methods)
+    for (const RunData* r : group) {
+      if (objects && *objects != r->eval_objects) return "object " + std::to_string(i);
+      objects = r->eval_objects;
+    }
+  if (objects && i <= objects->size()) return "object " + std::to_string((*objects)[i - 1]);
+  return "object " + std::to_string(i);
+}
 
 // The x values where a group's curves are drawn: every run's points, those closer than half
 // the typical spacing merged (runs evaluate at slightly different step counts).
@@ -399,7 +416,7 @@ std::string FinalTable(const std::vector<RunData>& runs) {
         if (!r->evaluations.empty()) entities = std::max(entities, r->evaluations.back().subgoal_success.size());
     out << "\n## " << env << "\n\n| method | n | finished | env steps | avg distance (arm incl.) | avg object distance | "
            "success rate |";
-    for (size_t i = 0; i < entities; ++i) out << " success " << EntityName(i) << " |";
+    for (size_t i = 0; i < entities; ++i) out << " success " << EntityName(i, methods) << " |";
     out << " training selectivity | passive avg distance | avg object distance / passive's |\n|---|---|---|---|---|---|---|";
     for (size_t i = 0; i < entities; ++i) out << "---|";
     out << "---|---|---|\n";
@@ -535,7 +552,7 @@ int Compare(const CompareOptions& options) {
       for (const auto& [method, group] : methods) bars << ' ' << method << " min max";
       bars << '\n';
       for (size_t i = 0; i < entities; ++i) {
-        bars << '"' << EntityName(i) << '"';
+        bars << '"' << EntityName(i, methods) << '"';
         for (const auto& [method, group] : methods) {
           std::vector<double> values;
           for (const RunData* r : group)

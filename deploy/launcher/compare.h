@@ -56,6 +56,10 @@ struct RunData {
   // the graph in graphviz's language, to draw it when the folder has no graph.png (the
   // campaign's raw folders keep only graph.json)
   std::string graph, graph_by_construction, graph_picture, graph_dot;
+  // the catalogue numbers of the objects its evaluation plays, in episode order, when its
+  // config.yaml names one evaluation set (env.eval_object_sets: the held-out combination);
+  // empty otherwise (every object, in catalogue order)
+  std::vector<int> eval_objects;
 };
 
 // Reads every run under the folders; folders it cannot use are named in *warnings.

@@ -161,6 +161,27 @@ TEST_F(CompareTest, TableHoldsFinalValuesAsMeanAndStdOverSeeds) {
   EXPECT_THAT(table, HasSubstr("srics-seed1 (not finished)"));
 }
 
+// The unseen combination's runs evaluate the held-out pucks 2-4 (env.eval_object_sets): the
+// table and the subgoal bars name each object by its catalogue number, not its place in the
+// episode ("object 1" was puck 2); runs of one environment that play different sets keep
+// the episode's numbering.
+TEST_F(CompareTest, NamesHeldOutObjectsByTheirCatalogueNumber) {
+  const std::string held_out =
+      "env:\n  num_pucks: 4\n  object_sets:\n    - {present: [1, 2, 3]}\n    - {present: [1, 2, 4]}\n"
+      "  eval_object_sets:\n    - {present: [3, 4]}\n";
+  for (const char* run : {"srics-seed1", "srics-seed2", "smorl-seed1"}) std::ofstream(sweep_ / run / "config.yaml") << held_out;
+  std::vector<std::string> warnings;
+  std::vector<RunData> runs = ReadRuns({sweep_.string()}, &warnings);
+  ASSERT_EQ(runs.size(), 3u);
+  EXPECT_EQ(runs[1].eval_objects, (std::vector<int>{3, 4}));
+  EXPECT_THAT(FinalTable(runs), HasSubstr("| success arm | success object 3 | training selectivity |"));
+  ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
+  EXPECT_THAT(ReadFile(root_ / "out" / "relational-4-subgoal_success.dat"), HasSubstr("\n\"object 3\""));
+
+  runs[0].eval_objects = {2, 4};  // another set in the same environment
+  EXPECT_THAT(FinalTable(runs), HasSubstr("| success arm | success object 1 | training selectivity |"));
+}
+
 TEST_F(CompareTest, WritesCurvesWithMeanAndMinMaxAndPngFigures) {
   ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
   // srics at 2000 steps: mean 0.12, min 0.10, max 0.14 over 2 seeds (blocks: smorl, then srics)
