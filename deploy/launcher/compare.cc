@@ -295,18 +295,26 @@ std::string MeanStd(const Spread& s, int digits = 3) {
   return Format(s.mean, digits) + " ± " + Format(s.std, digits);
 }
 
-// Entity i of a group's evaluations: "arm", else "object N" with N the catalogue number when
-// every run of the group plays the same single object set (a held-out combination), else i.
-std::string EntityName(size_t i, const std::map<std::string, Group>& methods) {
-  if (i == 0) return "arm";
+// The names of a group's subgoal entities, as many as its final evaluations report: "arm",
+// then "object N", N the catalogue number when every run of the group plays the same single
+// object set (a held-out combination), else the place in the episode.
+std::vector<std::string> EntityNames(const std::map<std::string, Group>& methods) {
+  size_t entities = 0;
   std::optional<std::vector<int>> objects;
+  bool same_objects = true;
   for (const auto& [method, group] : methods)
     for (const RunData* r : group) {
-      if (objects && *objects != r->eval_objects) return "object " + std::to_string(i);
+      if (!r->evaluations.empty()) entities = std::max(entities, r->evaluations.back().subgoal_success.size());
+      same_objects = same_objects && (!objects || *objects == r->eval_objects);
       objects = r->eval_objects;
     }
-  if (objects && i <= objects->size()) return "object " + std::to_string((*objects)[i - 1]);
-  return "object " + std::to_string(i);
+  std::vector<std::string> names;
+  for (size_t i = 0; i < entities; ++i)
+    names.push_back(i == 0 ? "arm"
+                           : "object " + std::to_string(same_objects && objects && i <= objects->size()
+                                                            ? static_cast<size_t>((*objects)[i - 1])
+                                                            : i));
+  return names;
 }
 
 // The x values where a group's curves are drawn: every run's points, those closer than half
@@ -410,13 +418,11 @@ std::string FinalTable(const std::vector<RunData>& runs) {
          "its own passive policy's (each seed draws its own evaluation goals). The figures' bands span min-max over "
          "seeds.\n";
   for (const auto& [env, methods] : GroupRuns(runs)) {
-    size_t entities = 0;
-    for (const auto& [method, group] : methods)
-      for (const RunData* r : group)
-        if (!r->evaluations.empty()) entities = std::max(entities, r->evaluations.back().subgoal_success.size());
+    const std::vector<std::string> names = EntityNames(methods);
+    const size_t entities = names.size();
     out << "\n## " << env << "\n\n| method | n | finished | env steps | avg distance (arm incl.) | avg object distance | "
            "success rate |";
-    for (size_t i = 0; i < entities; ++i) out << " success " << EntityName(i, methods) << " |";
+    for (size_t i = 0; i < entities; ++i) out << " success " << names[i] << " |";
     out << " training selectivity | passive avg distance | avg object distance / passive's |\n|---|---|---|---|---|---|---|";
     for (size_t i = 0; i < entities; ++i) out << "---|";
     out << "---|---|---|\n";
@@ -542,17 +548,15 @@ int Compare(const CompareOptions& options) {
       pictures.push_back(base + "-selectivity.png");
     }
     // per-subgoal success at the final evaluation: one bar per method and entity
-    size_t entities = 0;
-    for (const auto& [method, group] : methods)
-      for (const RunData* r : group)
-        if (!r->evaluations.empty()) entities = std::max(entities, r->evaluations.back().subgoal_success.size());
+    const std::vector<std::string> names = EntityNames(methods);
+    const size_t entities = names.size();
     if (entities > 0) {
       std::ofstream bars(base + "-subgoal_success.dat");
       bars << "# entity, then per method: mean min max over seeds of the final evaluation's success\n# entity";
       for (const auto& [method, group] : methods) bars << ' ' << method << " min max";
       bars << '\n';
       for (size_t i = 0; i < entities; ++i) {
-        bars << '"' << EntityName(i, methods) << '"';
+        bars << '"' << names[i] << '"';
         for (const auto& [method, group] : methods) {
           std::vector<double> values;
           for (const RunData* r : group)
