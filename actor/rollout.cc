@@ -157,6 +157,9 @@ EvalOptions EvalOptionsFor(const config::Config& config) {
   const config::Method method = config.run.method;
   EvalOptions eval;
   eval.attempt_steps = config.actors.eval_attempt_steps;
+  eval.protocol = config.actors.eval_schedule == config::EvalSchedule::kReference
+                      ? rl::EvaluationProtocol::kReference
+                      : rl::EvaluationProtocol::kIndependentDraws;
   eval.full_goal = method == config::Method::kSacHer || method == config::Method::kHac;
   if (method == config::Method::kHac) eval.hac = HacActOptionsFor(config);
   eval.threshold = config.env.success_threshold;
@@ -368,15 +371,22 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
     nn::Tensor goal(1, rl::SubgoalTokenSize(layout.num_kinds));
     const std::vector<int> subgoal_entities = structure.SubgoalEntities();
     int index = 0;
-    for (int entity : rl::EvaluationSchedule(structure, options.order, order_rng)) {
+    rl::AttemptSchedule schedule(structure, options.order, options.protocol, order_rng);
+    std::vector<double> before_attempt;
+    auto solved = [&](int entity) {
+      return entity < static_cast<int>(before_attempt.size()) && before_attempt[entity] < options.threshold;
+    };
+    while (true) {
+      before_attempt = env.ComputeMetrics().distances;
+      const std::optional<rl::AttemptSchedule::Slot> slot = schedule.Next(solved);
+      if (!slot) break;
+      const int entity = slot->entity;
       if (entity >= layout.num_entities) continue;
       EvalEpisodeObserver::Attempt record;
       record.index = index++;
       record.entity = entity;
-      const std::vector<double> before_attempt = env.ComputeMetrics().distances;
       record.distance_before = before_attempt[entity];
-      // solved subgoals are skipped
-      record.skipped = before_attempt[entity] < options.threshold;
+      record.skipped = slot->skipped;
       if (!record.skipped) {
         const env::Vec2& g = env.goals()[entity];
         rl::WriteSubgoalToken(layout.num_kinds, env.layout().kinds[entity], static_cast<float>(g[0]),

@@ -78,6 +78,7 @@ std::optional<rl::Episode> RunHacTrainEpisode(env::Environment& env, rl::PolicyN
 
 struct EvalOptions {
   rl::SubgoalOrder order = rl::SubgoalOrder::kDepth;
+  rl::EvaluationProtocol protocol = rl::EvaluationProtocol::kReference;
   int attempt_steps = 20;
   bool full_goal = false;     // SAC+HER and HAC: one attempt of (2N - 1) * attempt_steps on the full goal
   double threshold = 0.05;    // a subgoal counts as solved below this distance

@@ -5,6 +5,12 @@
 
 namespace srics::config {
 
+// Which subgoal each evaluation attempt pursues (rl::EvaluationProtocol says how).
+enum class EvalSchedule {
+  kReference,         // the paper's and the reference code's: 2N - 1 attempts (9 on 4 objects)
+  kIndependentDraws,  // the campaign's runs to 2026-12-04
+};
+
 struct ActorConfig {
   int count = 2;                       // actor processes started by the launcher
   int explore_episode_steps = 50;      // random-action episodes until graph + weights exist
@@ -19,6 +25,7 @@ struct ActorConfig {
   double explore_push_noise = 0.3;     // std of the noise added to each action component
   int train_episode_steps = 20;        // one subgoal per episode
   int eval_attempt_steps = 20;         // steps per subgoal attempt at evaluation
+  EvalSchedule eval_schedule = EvalSchedule::kReference;
   int evaluators = 1;                  // actors 0..evaluators-1 also evaluate
   uint64_t eval_every_env_steps = 10000;  // per evaluating actor
   int eval_episodes = 10;              // episodes per evaluation

@@ -4,23 +4,45 @@
 
 namespace srics::rl {
 
-std::vector<int> EvaluationSchedule(const SubgoalStructure& structure, SubgoalOrder order,
-                                    std::mt19937_64& rng) {
-  std::vector<int> entities = structure.SubgoalEntities();
-  std::vector<int> schedule;
-  if (entities.empty()) return schedule;
+AttemptSchedule::AttemptSchedule(const SubgoalStructure& structure, SubgoalOrder order,
+                                 EvaluationProtocol protocol, std::mt19937_64& rng)
+    : protocol_(protocol), ordered_(structure.SubgoalEntities()) {
+  if (ordered_.empty()) return;
   const int num_entities = structure.num_entities();
-  std::uniform_int_distribution<size_t> pick(0, entities.size() - 1);
-  for (int i = 0; i < num_entities - 1; ++i) schedule.push_back(entities[pick(rng)]);
-  std::shuffle(entities.begin(), entities.end(), rng);
+  const int m = static_cast<int>(ordered_.size());
+  // kIndependentDraws: N - 1 draws whatever m is (2N - 1 slots only when every entity has a subgoal)
+  first_phase_ = protocol_ == EvaluationProtocol::kReference ? 2 * num_entities - 1 - m : num_entities - 1;
+  slots_ = first_phase_ + m;
+  if (protocol_ == EvaluationProtocol::kIndependentDraws) {
+    std::uniform_int_distribution<size_t> pick(0, ordered_.size() - 1);
+    for (int i = 0; i < first_phase_; ++i) draws_.push_back(ordered_[pick(rng)]);
+  }
+  std::shuffle(ordered_.begin(), ordered_.end(), rng);
   if (order == SubgoalOrder::kDepth) {
     // stable after the shuffle: equal depths keep their random order
-    std::stable_sort(entities.begin(), entities.end(), [&](int a, int b) {
-      return structure.depth[a] > structure.depth[b];
-    });
+    std::stable_sort(ordered_.begin(), ordered_.end(),
+                     [&](int a, int b) { return structure.depth[a] > structure.depth[b]; });
   }
-  schedule.insert(schedule.end(), entities.begin(), entities.end());
-  return schedule;
+  if (protocol_ == EvaluationProtocol::kReference)
+    cycle_ = std::uniform_int_distribution<size_t>(0, ordered_.size() - 1)(rng);
+}
+
+std::optional<AttemptSchedule::Slot> AttemptSchedule::Next(const std::function<bool(int)>& solved) {
+  if (next_slot_ >= slots_) return std::nullopt;
+  const int slot = next_slot_++;
+  if (slot >= first_phase_) {
+    const int entity = ordered_[slot - first_phase_];
+    return Slot{entity, solved(entity)};
+  }
+  if (protocol_ == EvaluationProtocol::kIndependentDraws) return Slot{draws_[slot], solved(draws_[slot])};
+  for (size_t tried = 0; tried < ordered_.size(); ++tried) {
+    const int entity = ordered_[cycle_];
+    cycle_ = (cycle_ + 1) % ordered_.size();
+    if (!solved(entity)) return Slot{entity, false};
+  }
+  // every subgoal solved: the reference ends the episode here
+  next_slot_ = slots_;
+  return std::nullopt;
 }
 
 SubgoalStructure AllEntitiesStructure(int num_entities) {

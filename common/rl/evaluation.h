@@ -2,6 +2,8 @@
 // The evaluation protocol: a full goal split into subgoals, attempted in depth order
 // (docs/method.md section 3), and the metrics gathered over evaluation episodes.
 
+#include <functional>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -14,12 +16,48 @@ enum class SubgoalOrder {
   kRandom,  // SMORL and the no-order ablation: a random permutation
 };
 
-// The entities to attempt, in order: 2N - 1 attempts for N entities (7 for the arm and 3
-// pucks). The first N - 1 are uniformly random subgoal entities; the last ones are every
-// subgoal entity once, in `order`. Entities without a subgoal never appear. The runner skips
-// an attempt whose subgoal is already solved when it starts.
-std::vector<int> EvaluationSchedule(const SubgoalStructure& structure, SubgoalOrder order,
-                                    std::mt19937_64& rng);
+// How the attempts of one evaluation episode are chosen. The last m slots are every subgoal
+// entity once, in the method's order (m = the subgoal entities).
+enum class EvaluationProtocol {
+  // The paper's and the reference code's: 2N - 1 slots for N entities (the arm and every
+  // object, static ones included: 9 on Relational Rearrange 4). The first 2N - 1 - m cycle through the
+  // subgoals in the method's order from a random start; a subgoal solved when its slot comes
+  // hands the slot to the next unsolved one, and the episode is over once every subgoal is
+  // solved. A solved subgoal of the last phase keeps its slot, unused.
+  kReference,
+  // The campaign's runs to 2026-12-04: N - 1 independent uniform draws, then the m in order
+  // (8 slots for SRICS on Relational Rearrange 4, whose static puck has no subgoal); a solved
+  // subgoal loses its slot.
+  kIndependentDraws,
+};
+
+// The attempts of one evaluation episode, chosen as they come: the first phase of the
+// reference protocol depends on what the earlier attempts solved.
+class AttemptSchedule {
+ public:
+  AttemptSchedule(const SubgoalStructure& structure, SubgoalOrder order, EvaluationProtocol protocol,
+                  std::mt19937_64& rng);
+
+  struct Slot {
+    int entity = -1;
+    bool skipped = false;  // solved when its slot came: no steps are taken
+  };
+  // The next slot, given which subgoal entities are solved now; none once the episode is over.
+  std::optional<Slot> Next(const std::function<bool(int entity)>& solved);
+
+  int slots() const { return slots_; }
+  // the method's order of the subgoal entities (the last phase)
+  const std::vector<int>& order() const { return ordered_; }
+
+ private:
+  EvaluationProtocol protocol_;
+  std::vector<int> ordered_;
+  std::vector<int> draws_;  // kIndependentDraws: the first phase
+  int slots_ = 0;
+  int first_phase_ = 0;
+  int next_slot_ = 0;
+  size_t cycle_ = 0;        // kReference: where the first phase's cycle stands
+};
 
 // A structure where every entity is a subgoal of depth 1 with no ancestors (SMORL's view:
 // it knows no graph).
