@@ -328,6 +328,7 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
   std::vector<float> before;
   double selectivity_sum = 0;
   int selectivity_steps = 0;
+  int independent_solved = 0, independent_undone = 0;
 
   // one attempt: `steps` steps towards `goal` (a token), measuring selectivity for `entity`
   auto attempt = [&](const nn::Tensor& goal, int entity, int steps) {
@@ -393,7 +394,6 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
                               static_cast<float>(g[1]), goal.data());
         if (!attempt(goal, entity, options.attempt_steps)) return std::nullopt;
       }
-      if (!watcher) continue;
       const std::vector<double> after_attempt = record.skipped ? before_attempt : env.ComputeMetrics().distances;
       record.distance_after = after_attempt[entity];
       for (int other : subgoal_entities) {
@@ -406,7 +406,9 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
         ++record.independent_solved;
         record.independent_undone += undone ? 1 : 0;
       }
-      watcher->OnAttempt(record);
+      independent_solved += record.independent_solved;
+      independent_undone += record.independent_undone;
+      if (watcher) watcher->OnAttempt(record);
     }
   }
   const env::Metrics m = env.ComputeMetrics();
@@ -416,6 +418,8 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
   out.avg_object_distance = m.avg_object_distance;
   out.success = m.success;
   out.selectivity = selectivity_steps ? selectivity_sum / selectivity_steps : -1.0;
+  out.independent_solved = independent_solved;
+  out.independent_undone = independent_undone;
   return out;
 }
 

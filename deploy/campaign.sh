@@ -6,11 +6,22 @@
 # curves are already under docs/results/campaign/raw/ is skipped; one that finishes has its
 # config.yaml, resolved-config.yaml, eval.csv, train.csv, learner.csv (losses: a frozen learner shows),
 # outcome.yaml and graph.json copied there (commit them: the
-# sweep folders in runs/ are not kept by a new checkout).
-#   deploy/campaign.sh [--dry-run] [--build DIR] [--queue FILE] [--runs DIR]
+# sweep folders in runs/ are not kept by a new checkout), and its last checkpoint evaluated by
+# `srics eval` over more episodes than an in-run evaluation: final-eval/ (episodes.csv,
+# attempts.csv) on the run's own evaluation goals and its passive policy on them,
+# final-eval-passive/ (what `srics compare` reports); final-eval-selection/ and
+# final-eval-selection-passive/ on the goals of evaluation seed 1000 + SEED, which no report
+# uses: variants are chosen there (`srics compare --final-eval final-eval-selection`), so the
+# choice is never made on the goals the results are reported on. A finished run whose raw
+# folder lacks them gets them on the next pass while its sweep folder is still there.
+#   deploy/campaign.sh [--dry-run] [--build DIR] [--queue FILE] [--runs DIR] [--final-episodes N]
+#                      [--final-eval-only]
 #     --dry-run  print what each line would do, run nothing
 #     --runs DIR where the sweep folders go (default runs/campaign; a relative DIR is taken from
 #                the repository root)
+#     --final-episodes N  episodes of the final evaluation (default 100; 0: none)
+#     --final-eval-only   train nothing: only the final evaluations finished runs lack (beside
+#                         two queues already training)
 # Run it from anywhere; niced (10, as the graph acceptance runs are, so that neither starves the
 # other): it is meant to run beside other work, one run per core. To use two cores, start it
 # twice: a run being trained holds a lock (flock on DIR/OUT.lock), and a queue that reaches it
@@ -28,19 +39,49 @@ build=$root/build
 queue=$root/deploy/configs/campaign/queue.txt
 runs=runs/campaign
 dry_run=0
+final_episodes=100
+final_eval_only=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --dry-run) dry_run=1; shift ;;
     --build) build=$(cd "$2" && pwd); shift 2 ;;
     --queue) queue=$(cd "$(dirname "$2")" && pwd)/$(basename "$2"); shift 2 ;;
     --runs) runs=${2%/}; shift 2 ;;
-    *) echo "deploy/campaign.sh: unknown option '$1' (--dry-run, --build DIR, --queue FILE, --runs DIR)" >&2; exit 2 ;;
+    --final-episodes) final_episodes=$2; shift 2 ;;
+    --final-eval-only) final_eval_only=1; shift ;;
+    *) echo "deploy/campaign.sh: unknown option '$1' (--dry-run, --build DIR, --queue FILE, --runs DIR, --final-episodes N, --final-eval-only)" >&2; exit 2 ;;
   esac
 done
 [[ -f $queue ]] || { echo "deploy/campaign.sh: no queue file $queue" >&2; exit 2; }
 srics=$build/deploy/launcher/srics
 [[ $dry_run == 1 || -x $srics ]] || { echo "deploy/campaign.sh: $srics not built (./tests/build.sh)" >&2; exit 2; }
+[[ $final_episodes =~ ^[0-9]+$ ]] || { echo "deploy/campaign.sh: --final-episodes takes a count, got '$final_episodes'" >&2; exit 2; }
 cd "$root"
+
+# final_eval RUN_DIR RAW SEED: the last checkpoint over $final_episodes episodes on the run's own
+# goals (final-eval) and on goals no report uses (final-eval-selection: evaluation seed 1000 +
+# SEED), each with the passive policy on the same goals (its yardstick); logs beside them
+final_eval() {
+  local run_dir=$1 raw=$2 seed=$3
+  [[ $final_episodes -gt 0 && -f $run_dir/checkpoint.srics ]] || return 0
+  [[ $dry_run == 1 ]] && { echo "would evaluate $run_dir's last checkpoint over $final_episodes episodes -> $raw/final-eval*"; return 0; }
+  local kind extra
+  for kind in final-eval final-eval-passive final-eval-selection final-eval-selection-passive; do
+    extra=()
+    [[ $kind == *-passive ]] && extra+=(--passive)
+    [[ $kind == final-eval-selection* ]] && extra+=(--goal-set $((1000 + seed)))
+    rm -rf "$raw/$kind.tmp"
+    if nice -n 10 "$srics" eval "$run_dir" --episodes "$final_episodes" --no-video "${extra[@]}" \
+         --out "$raw/$kind.tmp" >"$raw/$kind.log" 2>&1; then
+      rm -rf "${raw:?}/$kind" && mv "$raw/$kind.tmp" "$raw/$kind"
+    else
+      echo "deploy/campaign.sh: srics eval of $run_dir failed (see $raw/$kind.log)" >&2
+      rm -rf "$raw/$kind.tmp"
+      return 1
+    fi
+  done
+  echo "[$(date -u +%H:%M)] $(basename "$run_dir"): its last checkpoint evaluated over $final_episodes episodes in $raw/final-eval*"
+}
 
 line_no=0
 while IFS= read -r line || [[ -n $line ]]; do
@@ -57,6 +98,11 @@ while IFS= read -r line || [[ -n $line ]]; do
   raw=docs/results/campaign/raw/$group/$name-seed$seed
   if [[ -f $raw/outcome.yaml ]] && grep -q '^state: finished' "$raw/outcome.yaml"; then
     echo "[$(date -u +%H:%M)] $name-seed$seed ($group): finished, curves in $raw"
+    [[ -d $raw/final-eval-selection-passive ]] || final_eval "$runs/$out/$method-seed$seed" "$raw" "$seed" || true
+    continue
+  fi
+  if [[ $final_eval_only == 1 ]]; then
+    echo "[$(date -u +%H:%M)] $name-seed$seed ($group): not finished, left alone (--final-eval-only)"
     continue
   fi
   [[ -f $config ]] || { echo "deploy/campaign.sh: $queue:$line_no: no config file $config" >&2; exit 2; }
@@ -90,5 +136,6 @@ while IFS= read -r line || [[ -n $line ]]; do
   done
   [[ -f $root/docs/results/campaign/raw/$group/sweep.yaml ]] || cp "$runs/$out/sweep.yaml" "docs/results/campaign/raw/$group/"
   echo "[$(date -u +%H:%M)] $name-seed$seed ($group): finished, curves copied to $raw (commit them)"
+  final_eval "$run_dir" "$raw" "$seed" || true
 done <"$queue"
 echo "[$(date -u +%H:%M)] the queue is done"

@@ -69,6 +69,8 @@ void EvaluationSummary::Add(const EpisodeMetrics& metrics, double threshold) {
   avg_distance = running_mean(avg_distance, metrics.avg_distance);
   avg_object_distance = running_mean(avg_object_distance, metrics.avg_object_distance);
   success_rate = running_mean(success_rate, metrics.success ? 1.0 : 0.0);
+  independent_solved += static_cast<uint32_t>(metrics.independent_solved);
+  independent_undone += static_cast<uint32_t>(metrics.independent_undone);
   if (metrics.selectivity >= 0) {
     selectivity = (selectivity * selectivity_episodes + metrics.selectivity) / (selectivity_episodes + 1);
     ++selectivity_episodes;

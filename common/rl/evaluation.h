@@ -2,6 +2,7 @@
 // The evaluation protocol: a full goal split into subgoals, attempted in depth order
 // (docs/method.md section 3), and the metrics gathered over evaluation episodes.
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <random>
@@ -70,6 +71,11 @@ struct EpisodeMetrics {
   double avg_object_distance = 0;       // objects only
   bool success = false;
   double selectivity = -1;              // mean selectivity over the episode, -1 if undefined
+  // Compatibility: over the episode's subgoal attempts, the objects solved when an attempt
+  // began that are not the attempted entity's ancestors, and how many of those it undid
+  // (what the selectivity reward exists to keep at zero).
+  int independent_solved = 0;
+  int independent_undone = 0;
 };
 
 // Means over evaluation episodes (what EvalResult carries).
@@ -82,6 +88,12 @@ struct EvaluationSummary {
   double success_rate = 0;
   double selectivity = 0;               // mean over episodes where it was defined
   int selectivity_episodes = 0;
+  uint32_t independent_solved = 0;      // summed over episodes (EpisodeMetrics)
+  uint32_t independent_undone = 0;
+  // independent_undone / independent_solved, -1 when no attempt began with such an object solved
+  double UndoneShare() const {
+    return independent_solved ? static_cast<double>(independent_undone) / independent_solved : -1.0;
+  }
 
   // Folds one episode in; `threshold` decides per-entity success.
   void Add(const EpisodeMetrics& metrics, double threshold);

@@ -96,7 +96,8 @@ void Fields(const Op& op, M& m, C& c) {
 template <typename Op, typename M, Is<srics_EvalResult> C>
 void Fields(const Op& op, M& m, C& c) {
   SRICS_FIELDS(op, m, c, contract_version, run_id, actor_id, policy_version, graph_version, env_steps, episodes,
-               avg_distance, avg_object_distance, success_rate, entity_distance, subgoal_success, selectivity);
+               avg_distance, avg_object_distance, success_rate, entity_distance, subgoal_success, selectivity,
+               independent_solved, independent_undone);
 }
 
 template <typename Op, typename M, Is<srics_LearnerStats> C>

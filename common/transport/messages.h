@@ -12,7 +12,7 @@ namespace srics::transport {
 
 // Must equal srics::WIRE_CONTRACT_VERSION in idl/srics.idl (checked by a static_assert in the
 // transport library). Readers reject samples carrying any other value.
-inline constexpr uint32_t kContractVersion = 3;
+inline constexpr uint32_t kContractVersion = 4;
 
 // Bounds of the IDL's bounded strings (characters, without the terminating NUL).
 inline constexpr size_t kRunIdMaxLength = 64;
@@ -84,6 +84,8 @@ struct EvalResult {
   std::vector<float> entity_distance;  // N
   std::vector<float> subgoal_success;  // N, fractions in [0, 1]
   float selectivity = 0;
+  uint32_t independent_solved = 0;  // solved non-ancestor objects an attempt began with
+  uint32_t independent_undone = 0;  // of those, undone by the attempt (<= independent_solved)
 
   bool operator==(const EvalResult&) const = default;
 };

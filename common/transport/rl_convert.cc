@@ -47,7 +47,7 @@ template <typename Op, typename M, typename R>
 void EvalFields(const Op& op, M& m, R& r) {
   SRICS_FIELDS(op, m, r, actor_id, policy_version, graph_version, env_steps);
   SRICS_FIELDS(op, m, r.summary, episodes, avg_distance, avg_object_distance, success_rate, entity_distance,
-               subgoal_success);
+               subgoal_success, independent_solved, independent_undone);
 }
 
 template <typename Op, typename M, typename R>

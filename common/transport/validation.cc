@@ -147,6 +147,9 @@ Validation Validate(const EvalResult& msg, std::string_view run_id) {
     if (msg.subgoal_success[i] < 0 || msg.subgoal_success[i] > 1)
       return Malformed("eval.range", "subgoal_success[" + std::to_string(i) + "] outside [0, 1]");
   if (msg.avg_distance < 0 || msg.avg_object_distance < 0) return Malformed("eval.range", "a negative distance");
+  if (msg.independent_undone > msg.independent_solved)
+    return Malformed("eval.range", "independent_undone (" + std::to_string(msg.independent_undone) +
+                                       ") exceeds independent_solved (" + std::to_string(msg.independent_solved) + ")");
   for (size_t i = 0; i < n; ++i)
     if (msg.entity_distance[i] < 0)
       return Malformed("eval.range", "entity_distance[" + std::to_string(i) + "] is negative");

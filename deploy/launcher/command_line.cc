@@ -189,7 +189,8 @@ void FinishSweepOptions(SweepOptions* o, const SweepText& text) {
 void AddCompareOptions(CLI::App& app, CompareOptions* o) {
   app.description(
       "figures and a table of final figures from sweeps: per environment <env>-distance.png,\n"
-      "<env>-object_distance.png, <env>-subgoal_success.png, <env>-selectivity.png (mean over seeds, band min-max),\n"
+      "<env>-object_distance.png, <env>-subgoal_success.png, <env>-selectivity.png, <env>-undone.png (mean over\n"
+      "seeds, band min-max),\n"
       "<env>-<run>-graph.png; results.md: final figures, mean ± std over seeds, each run's learned graph against the\n"
       "one by construction");
   app.add_option("DIR", o->dirs, "sweep folders (srics sweep) or run folders; their eval.csv and train.csv are read")
@@ -197,6 +198,12 @@ void AddCompareOptions(CLI::App& app, CompareOptions* o) {
   app.add_option("--out", o->out_dir,
                  "where the figures and results.md go (default DIR/compare for one DIR, ./compare for several)")
       ->type_name("DIR");
+  app.add_option("--final-eval", o->final_eval,
+                 "the run folders' subfolder holding the final evaluation of the last checkpoint (its passive policy in "
+                 "NAME-passive/); deploy/campaign.sh writes final-eval (the run's own goals) and final-eval-selection "
+                 "(other goals, to choose variants on)")
+      ->type_name("NAME")
+      ->default_val("final-eval");
 }
 
 // ---- srics eval

@@ -98,7 +98,39 @@ bool MethodAndSeedFromConfig(const fs::path& path, std::string* method, uint64_t
   return have_method;
 }
 
-std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environment, std::vector<std::string>* warnings) {
+// NAME/ (and NAME-passive/) of a run folder, when present and readable.
+std::optional<FinalEvaluation> ReadFinalEvaluation(const fs::path& dir, const std::string& name,
+                                                   std::vector<std::string>* warnings) {
+  const std::optional<Csv> episodes = ReadCsv(dir / name / "episodes.csv");
+  if (!episodes) return std::nullopt;
+  FinalEvaluation f;
+  for (const auto& row : episodes->rows) {
+    const auto distance = episodes->Number(row, "avg_distance"), object = episodes->Number(row, "avg_object_distance");
+    if (!distance || !object || episodes->Text(row, "status") != "ok") continue;
+    f.avg_distance += *distance, f.avg_object_distance += *object, ++f.episodes;
+  }
+  if (f.episodes == 0) {
+    warnings->push_back((dir / name).string() + ": no episode in episodes.csv: skipped");
+    return std::nullopt;
+  }
+  f.avg_distance /= f.episodes, f.avg_object_distance /= f.episodes;
+  if (const std::optional<Csv> attempts = ReadCsv(dir / name / "attempts.csv"))
+    for (const auto& row : attempts->rows) {
+      f.independent_solved += attempts->Number(row, "independent_solved").value_or(0);
+      f.independent_undone += attempts->Number(row, "independent_undone").value_or(0);
+    }
+  if (const std::optional<Csv> passive = ReadCsv(dir / (name + "-passive") / "episodes.csv")) {
+    double sum = 0;
+    int n = 0;
+    for (const auto& row : passive->rows)
+      if (const auto object = passive->Number(row, "avg_object_distance")) sum += *object, ++n;
+    if (n > 0) f.passive_object_distance = sum / n;
+  }
+  return f;
+}
+
+std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environment, const std::string& final_eval,
+                               std::vector<std::string>* warnings) {
   RunData run;
   run.dir = dir.string();
   run.environment = environment;
@@ -139,6 +171,8 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     p.avg_object_distance = eval->Number(row, "avg_object_distance").value_or(0);
     p.success_rate = eval->Number(row, "success_rate").value_or(0);
     p.subgoal_success = SplitValues(eval->Text(row, "subgoal_success"));
+    const auto solved = eval->Number(row, "independent_solved"), undone = eval->Number(row, "independent_undone");
+    if (solved && undone) p.independent_solved = *solved, p.independent_undone = *undone, p.has_compatibility = true;
     if (eval->Number(row, "policy_version").value_or(1) == 0) {
       if (!run.passive) run.passive = p;
       continue;
@@ -150,6 +184,10 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     sum.success_rate += p.success_rate;
     sum.subgoal_success.resize(std::max(sum.subgoal_success.size(), p.subgoal_success.size()), 0.0);
     for (size_t i = 0; i < p.subgoal_success.size(); ++i) sum.subgoal_success[i] += p.subgoal_success[i];
+    // counts pool over evaluators (not averaged): the share is undone / solved
+    sum.independent_solved += p.independent_solved;
+    sum.independent_undone += p.independent_undone;
+    sum.has_compatibility |= p.has_compatibility;
     ++count;
   }
   for (auto& [steps, entry] : by_steps) {
@@ -160,6 +198,7 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     for (double& s : p.subgoal_success) s /= count;
     run.evaluations.push_back(p);
   }
+  run.final_evaluation = ReadFinalEvaluation(dir, final_eval, warnings);
   if (fs::is_regular_file(dir / "graph.json")) {
     try {
       const graph_service::LearnedGraph learned = graph_service::LoadGraph((dir / "graph.json").string());
@@ -201,7 +240,8 @@ std::string EnvironmentOf(const fs::path& sweep_dir) {
 
 }  // namespace
 
-std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<std::string>* warnings) {
+std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<std::string>* warnings,
+                              const std::string& final_eval) {
   std::vector<RunData> runs;
   for (const std::string& d : dirs) {
     const fs::path dir = fs::absolute(d).lexically_normal();
@@ -220,7 +260,7 @@ std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<
       if (run_dirs.empty()) warnings->push_back(d + ": no run folder (a subfolder with eval.csv) in it");
     }
     for (const auto& [run_dir, environment] : run_dirs)
-      if (auto run = ReadRun(run_dir, environment, warnings)) runs.push_back(std::move(*run));
+      if (auto run = ReadRun(run_dir, environment, final_eval, warnings)) runs.push_back(std::move(*run));
   }
   // the two selectivity measures never mix within a method: where some of its runs measured
   // with the table's graph, only theirs count
@@ -267,6 +307,17 @@ using Groups = std::map<std::string, std::map<std::string, Group>>;
 using HasData = bool (*)(const RunData&);
 bool HasEvaluations(const RunData& r) { return !r.evaluations.empty(); }
 bool HasSelectivity(const RunData& r) { return !r.selectivity.empty(); }
+
+// A run's undone share per evaluation: the evaluations whose attempts began with a solved
+// non-ancestor object at least once.
+std::vector<std::pair<double, double>> UndoneCurve(const RunData& r) {
+  std::vector<std::pair<double, double>> curve;
+  for (const EvalPoint& p : r.evaluations)
+    if (p.has_compatibility && p.independent_solved > 0)
+      curve.emplace_back(p.env_steps, p.independent_undone / p.independent_solved);
+  return curve;
+}
+bool HasUndone(const RunData& r) { return !UndoneCurve(r).empty(); }
 
 // A legend's "method (N seeds)": N counts the runs that draw in the figure (by default those
 // with at least one evaluation of a trained policy; a run just started has none).
@@ -459,6 +510,47 @@ std::string FinalTable(const std::vector<RunData>& runs) {
       out << " " << MeanStd(SpreadOf(selectivity)) << (own_ancestor_selectivity ? " *" : "") << " | "
           << MeanStd(SpreadOf(passive)) << " | " << MeanStd(SpreadOf(object_ratio), 2) << " |\n";
     }
+    out << "\nLate and compatibility: each run's mean over its last five evaluations (the curve's end, not "
+           "one evaluation of few episodes); the undone share of its final evaluation (of the solved objects "
+           "that were not the attempted entity's ancestors, the share an attempt undid; eval.csv since "
+           "2026-12-04); and the final evaluation of its last checkpoint by `srics eval` where the run "
+           "folder has one (final-eval/ or the folder `--final-eval` names, its passive policy on the same goals "
+           "beside it in NAME-passive/).\n\n"
+           "| method | n | avg distance, last 5 | avg object distance, last 5 | undone share | final eval: episodes "
+           "| avg distance | avg object distance | object / passive's | undone share |\n"
+           "|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& [method, group] : methods) {
+      std::vector<double> late_distance, late_object, undone, episodes, final_distance, final_object, final_ratio,
+          final_undone;
+      int finished = 0;
+      for (const RunData* r : group) finished += r->finished ? 1 : 0;
+      for (const RunData* r : group) {
+        if (finished > 0 && !r->finished) continue;
+        if (!r->evaluations.empty()) {
+          const size_t from = r->evaluations.size() > 5 ? r->evaluations.size() - 5 : 0;
+          double d = 0, o = 0;
+          for (size_t i = from; i < r->evaluations.size(); ++i)
+            d += r->evaluations[i].avg_distance, o += r->evaluations[i].avg_object_distance;
+          late_distance.push_back(d / (r->evaluations.size() - from));
+          late_object.push_back(o / (r->evaluations.size() - from));
+          const EvalPoint& last = r->evaluations.back();
+          if (last.has_compatibility && last.independent_solved > 0)
+            undone.push_back(last.independent_undone / last.independent_solved);
+        }
+        if (const auto& f = r->final_evaluation) {
+          episodes.push_back(f->episodes);
+          final_distance.push_back(f->avg_distance);
+          final_object.push_back(f->avg_object_distance);
+          if (f->passive_object_distance > 0) final_ratio.push_back(f->avg_object_distance / f->passive_object_distance);
+          if (f->independent_solved > 0) final_undone.push_back(f->independent_undone / f->independent_solved);
+        }
+      }
+      out << "| " << method << " | " << late_distance.size() << " | " << MeanStd(SpreadOf(late_distance)) << " | "
+          << MeanStd(SpreadOf(late_object)) << " | " << MeanStd(SpreadOf(undone), 2) << " | "
+          << (episodes.empty() ? "-" : Format(SpreadOf(episodes).mean, 0) + " x " + std::to_string(episodes.size()))
+          << " | " << MeanStd(SpreadOf(final_distance)) << " | " << MeanStd(SpreadOf(final_object)) << " | "
+          << MeanStd(SpreadOf(final_ratio), 2) << " | " << MeanStd(SpreadOf(final_undone), 2) << " |\n";
+    }
     bool any_graph = false;
     for (const auto& [method, group] : methods)
       for (const RunData* r : group) any_graph |= !r->graph.empty();
@@ -485,7 +577,7 @@ std::string FinalTable(const std::vector<RunData>& runs) {
 
 int Compare(const CompareOptions& options) {
   std::vector<std::string> warnings;
-  const std::vector<RunData> runs = ReadRuns(options.dirs, &warnings);
+  const std::vector<RunData> runs = ReadRuns(options.dirs, &warnings, options.final_eval);
   for (const std::string& w : warnings) std::cerr << "srics compare: " << w << "\n";
   if (runs.empty()) {
     std::cerr << "srics compare: no runs found\n";
@@ -546,6 +638,16 @@ int Compare(const CompareOptions& options) {
                  env + ": selectivity of training episodes, the table's ancestor sets (mean, band min-max over seeds)",
                  "selectivity", selectivity, methods, {}, HasSelectivity);
       pictures.push_back(base + "-selectivity.png");
+    }
+    bool any_undone = false;
+    for (const auto& [method, group] : methods)
+      for (const RunData* r : group) any_undone |= HasUndone(*r);
+    if (any_undone) {
+      const auto undone = WriteCurveBlocks(base + "-undone.dat", methods, UndoneCurve);
+      PlotCurves(script, base + "-undone.png", base + "-undone.dat",
+                 env + ": solved non-ancestor objects an evaluation attempt undid (mean, band min-max over seeds)",
+                 "share undone", undone, methods, {}, HasUndone);
+      pictures.push_back(base + "-undone.png");
     }
     // per-subgoal success at the final evaluation: one bar per method and entity
     const std::vector<std::string> names = EntityNames(methods);

@@ -16,8 +16,12 @@
 // Curves: the mean over seeds, the band from the minimum to the maximum over seeds, each run
 // interpolated linearly onto the group's evaluation grid (a point uses the seeds that reached
 // it); the passive policy (policy version 0) as a dashed line. Bars: mean, error bars min-max.
+//   undone.png           share of the solved non-ancestor objects an evaluation attempt undid
+//                        (eval.csv's independent_* columns; runs before 2026-12-04 have none)
 // OUT/results.md: per environment and method, each run's final evaluation (its last, never its
-// best) summarized as mean ± sample standard deviation over seeds, with n.
+// best) summarized as mean ± sample standard deviation over seeds, with n; a second table beside
+// it: the mean of each run's last five evaluations, the final undone share and, where the run
+// folder has one, the final evaluation of its last checkpoint (final-eval/).
 
 #include <cstdint>
 #include <optional>
@@ -29,6 +33,7 @@ namespace srics::launcher {
 struct CompareOptions {
   std::vector<std::string> dirs;
   std::string out_dir;  // "" = DIR/compare for one DIR, ./compare for several
+  std::string final_eval = "final-eval";  // subfolder of the final evaluation (FinalEvaluation)
 };
 
 // One evaluation of a run (the rows of eval.csv at one env-step count, averaged).
@@ -38,6 +43,21 @@ struct EvalPoint {
   double avg_object_distance = 0;
   double success_rate = 0;
   std::vector<double> subgoal_success;
+  // compatibility (eval.csv since 2026-12-04): solved objects the attempts began with that
+  // are not the attempted entity's ancestors, and how many of those the attempts undid
+  double independent_solved = 0, independent_undone = 0;
+  bool has_compatibility = false;
+};
+
+// The final evaluation of a run's last checkpoint by `srics eval` (FINAL/episodes.csv and
+// attempts.csv, FINAL the run folder's final-eval/ or another CompareOptions::final_eval; its
+// passive baseline on the same goals in FINAL-passive/), when the campaign made one: more
+// episodes than one in-run evaluation.
+struct FinalEvaluation {
+  int episodes = 0;
+  double avg_distance = 0, avg_object_distance = 0;
+  double passive_object_distance = -1;  // -1 without final-eval-passive/
+  double independent_solved = 0, independent_undone = 0;
 };
 
 // What compare reads of one run folder.
@@ -50,6 +70,7 @@ struct RunData {
   std::vector<EvalPoint> evaluations;  // trained policy, env-step order
   std::optional<EvalPoint> passive;    // the first evaluation of policy version 0
   std::vector<std::pair<double, double>> selectivity;  // train.csv: env steps, selectivity
+  std::optional<FinalEvaluation> final_evaluation;
   bool selectivity_with_table_graph = false;           // measured with the table's graph (else the episodes' own ancestor sets)
   // the run's graph.json as edges ("action->0, 0->2"), empty when it has none; the graph its
   // config.yaml implies by construction, empty when that cannot be read; graph.png if drawn;
@@ -63,7 +84,9 @@ struct RunData {
 };
 
 // Reads every run under the folders; folders it cannot use are named in *warnings.
-std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<std::string>* warnings);
+// `final_eval`: the run folders' subfolder of the final evaluation (CompareOptions::final_eval).
+std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<std::string>* warnings,
+                              const std::string& final_eval = "final-eval");
 
 // Mean, sample standard deviation (0 for one value), minimum and maximum.
 struct Spread {

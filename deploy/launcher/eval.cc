@@ -202,7 +202,8 @@ int Eval(const EvalArgs& args) {
   const int num_entities = environment.layout().num_entities;
   const std::vector<int> subgoal_entities = subgoals.For(environment.layout().kinds).SubgoalEntities();
   std::ofstream csv(fs::path(out_dir) / "episodes.csv");
-  csv << "episode,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity";
+  csv << "episode,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity,independent_solved,"
+         "independent_undone";
   for (int e = 0; e < num_entities; ++e) csv << ",distance_" << e;
   for (int e : subgoal_entities) csv << ",subgoal_success_" << e;
   csv << ",video\n";
@@ -234,7 +235,7 @@ int Eval(const EvalArgs& args) {
     if (metrics) {
       summary.Add(*metrics, eval_options.threshold);
       csv << "," << metrics->avg_distance << "," << metrics->avg_object_distance << "," << (metrics->success ? 1 : 0)
-          << "," << metrics->selectivity;
+          << "," << metrics->selectivity << "," << metrics->independent_solved << "," << metrics->independent_undone;
       for (double d : metrics->entity_distance) csv << "," << d;
       for (int e : subgoal_entities) csv << "," << (metrics->entity_distance[e] < eval_options.threshold ? 1 : 0);
       std::printf("episode %d: %d steps, avg distance %.4f, avg object distance %.4f, success %d%s%s\n", i,
@@ -242,7 +243,7 @@ int Eval(const EvalArgs& args) {
                   video_name.empty() ? "" : " -> ", video_name.c_str());
     } else {
       ++unstable;
-      csv << ",,,,";
+      csv << ",,,,,,";
       for (int e = 0; e < num_entities + static_cast<int>(subgoal_entities.size()); ++e) csv << ",";
       std::printf("episode %d: the physics became unstable after %d steps\n", i, environment.steps());
     }

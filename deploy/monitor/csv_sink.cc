@@ -57,7 +57,8 @@ CsvSink::CsvSink(const std::string& dir) : dir_(dir) {
   if (error) throw std::runtime_error("cannot create " + dir + ": " + error.message());
   Open(dir + "/eval.csv",
        "wall_time,run_id,actor_id,policy_version,graph_version,env_steps,episodes,avg_distance,"
-       "avg_object_distance,success_rate,selectivity,entity_distance,subgoal_success",
+       "avg_object_distance,success_rate,selectivity,entity_distance,subgoal_success,independent_solved,"
+       "independent_undone",
        &eval_);
   Open(dir + "/learner.csv",
        "wall_time,run_id,updates,transitions_inserted,replay_size,episodes_accepted,episodes_rejected,"
@@ -73,7 +74,8 @@ void CsvSink::Append(const transport::EvalResult& r, double wall_time) {
   eval_ << Time(wall_time) << ',' << CsvField(r.run_id) << ',' << r.actor_id << ',' << r.policy_version << ','
         << r.graph_version << ',' << r.env_steps << ',' << r.episodes << ',' << r.avg_distance << ','
         << r.avg_object_distance << ',' << r.success_rate << ',' << r.selectivity << ','
-        << Joined(r.entity_distance) << ',' << Joined(r.subgoal_success) << '\n'
+        << Joined(r.entity_distance) << ',' << Joined(r.subgoal_success) << ',' << r.independent_solved << ','
+        << r.independent_undone << '\n'
         << std::flush;
 }
 

@@ -140,6 +140,13 @@ TEST(ValidationTest, EvalAndStatusRanges) {
   r = testing::MakeEvalResult("r", 1);
   r.success_rate = 1.5f;
   ExpectMalformed(Validate(r, "r"), "success_rate");
+  // an attempt cannot undo more solved objects than it began with
+  r = testing::MakeEvalResult("r", 1);
+  r.independent_solved = 3;
+  r.independent_undone = 3;
+  EXPECT_TRUE(Validate(r, "r").ok());
+  r.independent_undone = 4;
+  ExpectMalformed(Validate(r, "r"), "independent_undone (4) exceeds independent_solved (3)");
   NodeStatus n = testing::MakeNodeStatus("r", 1);
   n.state = static_cast<NodeState>(9);
   ExpectMalformed(Validate(n, "r"), "state");

@@ -27,13 +27,13 @@ struct Output {
 fs::path TestDir() { return fs::temp_directory_path() / ("campaign_script_test_" + std::to_string(::getpid())); }
 
 // runs_dir empty: the script's default (runs/campaign)
-Output RunQueue(const std::string& queue_text, const std::string& runs_dir = "") {
+Output RunQueue(const std::string& queue_text, const std::string& runs_dir = "", const std::string& options = "") {
   const fs::path dir = TestDir();
   fs::create_directories(dir);
   const fs::path queue = dir / "queue.txt";
   std::ofstream(queue) << queue_text;
   const std::string command = std::string(SRICS_SOURCE_DIR) + "/deploy/campaign.sh --dry-run --queue " +
-                              queue.string() + (runs_dir.empty() ? "" : " --runs " + runs_dir) + " 2>&1";
+                              queue.string() + (runs_dir.empty() ? "" : " --runs " + runs_dir) + " " + options + " 2>&1";
   Output out;
   FILE* pipe = ::popen(command.c_str(), "r");
   char buffer[4096];
@@ -97,6 +97,41 @@ TEST(CampaignScriptTest, ARunAnotherQueueIsTrainingIsSkipped) {
   out = RunQueue(queue, runs.string());
   EXPECT_NE(out.text.find("--seeds 8 --in-process --out " + runs.string() + "/busy-folder"), std::string::npos)
       << out.text;
+  fs::remove_all(runs);
+}
+
+// A finished run whose raw folder has no final evaluation, its sweep folder still holding the
+// last checkpoint, gets one (the run's own goals and the selection goals); --final-eval-only
+// trains nothing; a run without its checkpoint is left as it is.
+TEST(CampaignScriptTest, FinishedRunsGetTheirFinalEvaluationAndFinalEvalOnlyTrainsNothing) {
+  const fs::path runs = fs::temp_directory_path() / ("campaign_script_final_" + std::to_string(::getpid()));
+  const fs::path run = runs / "relational-4-no-selectivity-seed2" / "srics_no_selectivity-seed2";
+  fs::create_directories(run);
+  std::ofstream(run / "checkpoint.srics") << "a checkpoint";
+  const std::string queue =
+      "relational-4-no-selectivity-seed2 relational-4-ablations srics_no_selectivity "
+      "deploy/configs/campaign/relational-4.yaml srics_no_selectivity 2\n"
+      "free-folder group srics_paper_selectivity deploy/configs/campaign/relational-4.yaml srics 9\n";
+  Output out = RunQueue(queue, runs.string(), "--final-eval-only");
+  EXPECT_EQ(out.exit_code, 0) << out.text;
+  EXPECT_NE(out.text.find("would evaluate " + run.string() + "'s last checkpoint over 100 episodes -> "
+                          "docs/results/campaign/raw/relational-4-ablations/srics_no_selectivity-seed2/final-eval*"),
+            std::string::npos)
+      << out.text;
+  EXPECT_NE(out.text.find("srics_paper_selectivity-seed9 (group): not finished, left alone (--final-eval-only)"),
+            std::string::npos)
+      << out.text;
+  EXPECT_EQ(out.text.find("--seeds 9"), std::string::npos) << "--final-eval-only plans a run:\n" << out.text;
+
+  out = RunQueue(queue, runs.string(), "--final-episodes 0");
+  EXPECT_EQ(out.text.find("would evaluate"), std::string::npos) << out.text;
+  out = RunQueue(queue, runs.string(), "--final-episodes many");
+  EXPECT_EQ(out.exit_code, 2) << out.text;
+  EXPECT_NE(out.text.find("--final-episodes takes a count, got 'many'"), std::string::npos) << out.text;
+
+  fs::remove(run / "checkpoint.srics");
+  out = RunQueue(queue, runs.string(), "--final-eval-only");
+  EXPECT_EQ(out.text.find("would evaluate"), std::string::npos) << "no checkpoint to evaluate:\n" << out.text;
   fs::remove_all(runs);
 }
 

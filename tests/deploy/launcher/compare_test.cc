@@ -265,6 +265,48 @@ TEST_F(CompareTest, ACorruptGraphFileIsNamedAndTheRunStillCounts) {
   EXPECT_THAT(warnings[0], HasSubstr("srics-seed1/graph.json"));
 }
 
+// eval.csv since 2026-12-04 counts, per evaluation, the solved non-ancestor objects the attempts
+// began with and how many they undid: compare pools evaluators (3 of 10 at 2000 steps, not the
+// mean of 1/4 and 2/6), draws the share, and its second table holds the mean of the last five
+// evaluations, the final share and the final evaluation of the last checkpoint (final-eval/).
+TEST_F(CompareTest, UndoneShareLastFiveAndTheFinalEvaluationOfTheLastCheckpoint) {
+  const std::string header =
+      "wall_time,run_id,actor_id,policy_version,graph_version,env_steps,episodes,avg_distance,avg_object_distance,"
+      "success_rate,selectivity,entity_distance,subgoal_success,independent_solved,independent_undone\n";
+  const fs::path run = sweep_ / "srics-seed2";
+  std::ofstream(run / "eval.csv") << header << "1.0,r,0,0,1,0,5,0.32,0.30,0.5,0.4,0.1;0.1,0;0,0,0\n"
+                                  << "1.0,r,0,3,1,1000,5,0.20,0.18,0.5,0.4,0.1;0.1,1;0,10,5\n"
+                                  << "1.0,r,0,6,1,2000,5,0.13,0.10,0.5,0.4,0.1;0.1,0.5;0.6,4,1\n"
+                                  << "1.0,r,1,6,1,2000,5,0.15,0.12,0.5,0.4,0.1;0.1,1;0.6,6,2\n";
+  fs::create_directories(run / "final-eval");
+  std::ofstream(run / "final-eval" / "episodes.csv")
+      << "episode,seed,status,steps,frames,avg_distance,avg_object_distance\n"
+      << "0,1,ok,180,0,0.1,0.12\n1,2,ok,180,0,0.2,0.18\n2,3,unstable,5,0,9,9\n";
+  std::ofstream(run / "final-eval" / "attempts.csv")
+      << "episode,attempt,entity,skipped,distance_before,distance_after,reached,others_solved,others_undone,"
+         "independent_solved,independent_undone\n"
+      << "0,0,2,0,0.1,0.1,0,3,1,3,1\n0,1,3,0,0.1,0.1,0,1,0,1,0\n";
+  fs::create_directories(run / "final-eval-passive");
+  std::ofstream(run / "final-eval-passive" / "episodes.csv")
+      << "episode,seed,status,steps,frames,avg_distance,avg_object_distance\n0,1,ok,180,0,0.3,0.3\n1,2,ok,180,0,0.3,0.3\n";
+
+  std::vector<std::string> warnings;
+  const std::string table = FinalTable(ReadRuns({sweep_.string()}, &warnings));
+  EXPECT_TRUE(warnings.empty()) << warnings[0];
+  // srics: only the finished seed 2 counts; last five = its two evaluations (0.20 and the two
+  // evaluators' 0.14); final share 3 / 10; final-eval: the two good episodes, 4 solved 1 undone
+  EXPECT_THAT(table, HasSubstr("| srics | 1 | 0.170 ± 0.000 | 0.145 ± 0.000 | 0.30 ± 0.00 | 2 x 1 | 0.150 ± 0.000 | "
+                               "0.150 ± 0.000 | 0.50 ± 0.00 | 0.25 ± 0.00 |"))
+      << table;
+  // smorl's eval.csv predates the columns and it has no final-eval/
+  EXPECT_THAT(table, HasSubstr("| smorl | 1 | 0.225 ± 0.000 | 0.190 ± 0.000 | - | - | - | - | - | - |")) << table;
+
+  ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
+  const std::string dat = ReadFile(root_ / "out" / "relational-4-undone.dat");
+  EXPECT_THAT(dat, HasSubstr("# srics\n1000 0.5 0.5 0.5 1\n2000 0.3 0.3 0.3 1\n")) << dat;
+  EXPECT_GT(fs::file_size(root_ / "out" / "relational-4-undone.png"), 5000u);
+}
+
 TEST_F(CompareTest, NoRunsIsAnError) {
   CompareOptions options;
   options.dirs = {(root_ / "nothing").string()};

@@ -150,7 +150,7 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
   const auto attempts = ReadCsv(out / "attempts.csv");
   std::vector<std::vector<std::map<std::string, std::string>>> by_episode(rows.size());
   for (const auto& a : attempts) by_episode.at(std::stoul(a.at("episode"))).push_back(a);
-  int full_length = 0;
+  int full_length = 0, total_solved = 0;
   for (size_t episode = 0; episode < rows.size(); ++episode) {
     const auto& list = by_episode[episode];
     ASSERT_FALSE(list.empty()) << "episode " << episode;
@@ -186,11 +186,19 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
       }
     }
     EXPECT_EQ(std::stoi(rows[episode].at("steps")), 20 * played) << "episode " << episode;
+    // the episode's compatibility counts (what an in-run evaluation sends in EvalResult) are its
+    // attempts' sums
+    int solved = 0, undone = 0;
+    for (const auto& a : list) solved += std::stoi(a.at("independent_solved")), undone += std::stoi(a.at("independent_undone"));
+    EXPECT_EQ(std::stoi(rows[episode].at("independent_solved")), solved) << "episode " << episode;
+    EXPECT_EQ(std::stoi(rows[episode].at("independent_undone")), undone) << "episode " << episode;
+    total_solved += solved;
     const auto& last = list.back();
     EXPECT_NEAR(std::stod(last.at("distance_after")),
                 std::stod(rows[episode].at("distance_" + last.at("entity"))), 1e-4) << "episode " << episode;
   }
   EXPECT_GT(full_length, 10) << "the policy seldom solves the whole table";
+  EXPECT_GT(total_solved, 20) << "attempts begin with solved objects";
   EXPECT_NE(output.find("attempts on object 4:"), std::string::npos) << output;
 }
 

@@ -37,7 +37,10 @@ class CsvSinkTest : public ::testing::Test {
 
 TEST_F(CsvSinkTest, WritesHeadersAndRows) {
   CsvSink sink(dir_ + "/sub");  // created
-  sink.Append(Eval(42, 50000, 0.125f), 1700000000.5);
+  transport::EvalResult eval_result = Eval(42, 50000, 0.125f);
+  eval_result.independent_solved = 7;  // the compatibility counts end the row
+  eval_result.independent_undone = 2;
+  sink.Append(eval_result, 1700000000.5);
   transport::LearnerStats stats;
   stats.run_id = "r1";
   stats.updates = 99;
@@ -49,7 +52,8 @@ TEST_F(CsvSinkTest, WritesHeadersAndRows) {
   const auto eval = Lines(dir_ + "/sub/eval.csv");
   ASSERT_EQ(eval.size(), 2u);
   EXPECT_EQ(eval[0].rfind("wall_time,run_id,actor_id,policy_version,", 0), 0u);
-  EXPECT_EQ(eval[1], "1700000000.500,r1,0,42,1,50000,20,0.135,0.125,0.5,0.75,0.01;0.1;0.2,1;0.8;0.25");
+  EXPECT_NE(eval[0].find(",subgoal_success,independent_solved,independent_undone"), std::string::npos) << eval[0];
+  EXPECT_EQ(eval[1], "1700000000.500,r1,0,42,1,50000,20,0.135,0.125,0.5,0.75,0.01;0.1;0.2,1;0.8;0.25,7,2");
 
   const auto learner = Lines(dir_ + "/sub/learner.csv");
   ASSERT_EQ(learner.size(), 2u);
