@@ -37,6 +37,7 @@ void ParseAgent(YamlSection s, AgentConfig* out) {
   reward.ReadEnum("selectivity_form", &r.selectivity_form,
                   {{"reference", SelectivityForm::kReference}, {"paper", SelectivityForm::kPaper}});
   reward.ReadDouble("selectivity_weight", &r.selectivity_weight, 0, 100);
+  reward.ReadDouble("disturbance_weight", &r.disturbance_weight, 0, 1000);
   reward.ReadDouble("solved_threshold", &r.solved_threshold, 0, 10);
   reward.ReadDouble("epsilon", &r.epsilon, 0, 1);
   reward.Finish();

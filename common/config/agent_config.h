@@ -37,6 +37,11 @@ struct RewardConfig {
   // 0.04 with the reference code's form (kReference)
   SelectivityForm selectivity_form = SelectivityForm::kPaper;
   double selectivity_weight = 0.25;  // alpha of the paper
+  // Not in the paper (issue 34's experiment): minus this times the summed motion (m per step)
+  // of the entities that are neither the subgoal entity nor its ancestors, on every step.
+  // Both forms' selectivity term is blind to motion of others while the subgoal entity does
+  // not move (a hand crossing solved pucks on its way costs nothing); this term is not. 0 = off
+  double disturbance_weight = 0;
   double solved_threshold = 0.05;
   double epsilon = 1e-5;
 };

@@ -25,12 +25,11 @@ IndependentMotion MotionOfOthers(const EntityLayout& layout, const float* before
 
 }  // namespace
 
-double SelectivityReward(const EntityLayout& layout, const float* before, const float* after,
-                         int entity, const float* goal, uint64_t ancestors,
-                         const config::RewardConfig& config) {
-  const double distance = DistanceToGoal(layout, after, entity, goal);
-  const double own_motion = Displacement(layout, before, after, entity);
-  const IndependentMotion others = MotionOfOthers(layout, before, after, entity, ancestors);
+namespace {
+
+// The selectivity reward of the configured form, without the disturbance term.
+double FormReward(double distance, double own_motion, const IndependentMotion& others,
+                  const config::RewardConfig& config) {
   const bool solved = distance < config.solved_threshold;
   if (config.selectivity_form == config::SelectivityForm::kReference) {
     // reference code: mean motion of the independent entities; sel in [-1, 0]
@@ -48,6 +47,19 @@ double SelectivityReward(const EntityLayout& layout, const float* before, const 
     selectivity = total > config.epsilon ? own_motion / total : 0.0;
   }
   return -distance + config.selectivity_weight * (selectivity - 1.0);
+}
+
+}  // namespace
+
+double SelectivityReward(const EntityLayout& layout, const float* before, const float* after,
+                         int entity, const float* goal, uint64_t ancestors,
+                         const config::RewardConfig& config) {
+  const double distance = DistanceToGoal(layout, after, entity, goal);
+  const double own_motion = Displacement(layout, before, after, entity);
+  const IndependentMotion others = MotionOfOthers(layout, before, after, entity, ancestors);
+  const double reward = FormReward(distance, own_motion, others, config);
+  // skipped at 0 so that runs without the term keep their rewards bit for bit
+  return config.disturbance_weight > 0 ? reward - config.disturbance_weight * others.sum : reward;
 }
 
 double DistanceReward(const EntityLayout& layout, const float* after, int entity,

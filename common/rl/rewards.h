@@ -10,9 +10,10 @@
 
 namespace srics::rl {
 
-// SRICS: distance of the subgoal entity plus the selectivity term. `ancestors` is the
-// ancestor mask of `entity` (bit j set: j in P^entity). The form (paper / reference code) and
-// the constants come from `config`.
+// SRICS: distance of the subgoal entity plus the selectivity term, minus disturbance_weight
+// times the summed motion of the entities outside {entity} and its ancestors. `ancestors` is
+// the ancestor mask of `entity` (bit j set: j in P^entity). The form (paper / reference code)
+// and the constants come from `config`.
 double SelectivityReward(const EntityLayout& layout, const float* before, const float* after,
                          int entity, const float* goal, uint64_t ancestors,
                          const config::RewardConfig& config);

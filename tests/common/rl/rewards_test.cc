@@ -56,6 +56,40 @@ TEST_F(RewardsTest, SolvedSubgoalPenalisesOnlyIndependentMotion) {
   EXPECT_NEAR(Selectivity(1, {0.1f, 0.55f}, 0b1, kPaper), -0.01 + 0.25 * (0.84 - 1.0), kTol);
 }
 
+// agent.reward.disturbance_weight: minus beta times the summed motion of the independent
+// entities, on every step, solved or not, in both forms; the ancestors' motion is free
+TEST_F(RewardsTest, DisturbanceTermChargesEveryIndependentMotion) {
+  config::RewardConfig c;
+  c.disturbance_weight = 10;
+  for (auto form : {kReference, kPaper}) {
+    c.selectivity_form = form;
+    for (std::vector<float> goal : {std::vector<float>{0.1f, 0.7f}, std::vector<float>{0.1f, 0.55f}}) {
+      // pucks 2 and 3 moved 0.12 + 0.04 = 0.16: 10 x 0.16 = 1.6 below the form's reward
+      EXPECT_NEAR(SelectivityReward(layout_, before_.data(), after_.data(), 1, goal.data(), 0b1, c),
+                  Selectivity(1, goal, 0b1, form) - 1.6, kTol);
+      // puck 2 an ancestor too: only puck 3's 0.04 is charged
+      c.disturbance_weight = 0;
+      const double without = SelectivityReward(layout_, before_.data(), after_.data(), 1, goal.data(), 0b101, c);
+      c.disturbance_weight = 10;
+      EXPECT_NEAR(SelectivityReward(layout_, before_.data(), after_.data(), 1, goal.data(), 0b101, c),
+                  without - 0.4, kTol);
+    }
+  }
+  // the hand alone moving onto a solved puck's neighbour: the form sees nothing of puck 3's
+  // push while puck 1 stands still (reference: sel = -1 whether or not puck 3 moves)
+  const std::vector<float> pushed = State({{0.2, 0.45}, {0.1, 0.5}, {-0.1, 0.6}, {0.2, 0.49}});
+  const std::vector<float> still = State({{0.2, 0.45}, {0.1, 0.5}, {-0.1, 0.6}, {0.2, 0.45}});
+  c.selectivity_form = kReference;
+  c.disturbance_weight = 0;
+  EXPECT_NEAR(SelectivityReward(layout_, still.data(), pushed.data(), 1, std::vector<float>{0.1f, 0.7f}.data(), 0b1, c),
+              SelectivityReward(layout_, still.data(), still.data(), 1, std::vector<float>{0.1f, 0.7f}.data(), 0b1, c),
+              kTol);
+  c.disturbance_weight = 10;
+  EXPECT_NEAR(SelectivityReward(layout_, still.data(), pushed.data(), 1, std::vector<float>{0.1f, 0.7f}.data(), 0b1, c),
+              SelectivityReward(layout_, still.data(), still.data(), 1, std::vector<float>{0.1f, 0.7f}.data(), 0b1, c) - 0.4,
+              kTol);
+}
+
 TEST_F(RewardsTest, ArmSubgoalCountsEveryPuckAsIndependent) {
   // arm: dist 0.03 (solved), others {1, 2, 3} moved 0.04 + 0.12 + 0.04
   EXPECT_NEAR(Selectivity(0, {0.0f, 0.4f}, 0, kReference), -0.03 - 0.2 / 3.0, kTol);
