@@ -406,8 +406,10 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
         ++record.independent_solved;
         record.independent_undone += undone ? 1 : 0;
       }
-      independent_solved += record.independent_solved;
-      independent_undone += record.independent_undone;
+      if (!record.skipped) {  // a slot used up without steps undoes nothing: not counted
+        independent_solved += record.independent_solved;
+        independent_undone += record.independent_undone;
+      }
       if (watcher) watcher->OnAttempt(record);
     }
   }

@@ -61,25 +61,35 @@ cd "$root"
 # final_eval RUN_DIR RAW SEED: the last checkpoint over $final_episodes episodes on the run's own
 # goals (final-eval) and on goals no report uses (final-eval-selection: evaluation seed 1000 +
 # SEED), each with the passive policy on the same goals (its yardstick); logs beside them
+# Always on the reference's schedule, whatever the run evaluated with, so that one table never
+# mixes schedules. Holds LOCK (the run's lock file) so that two queues never evaluate one run.
 final_eval() {
-  local run_dir=$1 raw=$2 seed=$3
+  local run_dir=$1 raw=$2 seed=$3 lock_file=$4
   [[ $final_episodes -gt 0 && -f $run_dir/checkpoint.srics ]] || return 0
   [[ $dry_run == 1 ]] && { echo "would evaluate $run_dir's last checkpoint over $final_episodes episodes -> $raw/final-eval*"; return 0; }
-  local kind extra
+  local kind extra fd
+  exec {fd}>"$lock_file"
+  if ! flock -n "$fd"; then
+    echo "[$(date -u +%H:%M)] $(basename "$run_dir"): being evaluated or trained by another queue, skipped"
+    exec {fd}>&-
+    return 0
+  fi
   for kind in final-eval final-eval-passive final-eval-selection final-eval-selection-passive; do
-    extra=()
+    extra=(--set actors.eval_schedule=reference)
     [[ $kind == *-passive ]] && extra+=(--passive)
     [[ $kind == final-eval-selection* ]] && extra+=(--goal-set $((1000 + seed)))
     rm -rf "$raw/$kind.tmp"
     if nice -n 10 "$srics" eval "$run_dir" --episodes "$final_episodes" --no-video "${extra[@]}" \
-         --out "$raw/$kind.tmp" >"$raw/$kind.log" 2>&1; then
+         --out "$raw/$kind.tmp" >"$raw/$kind.log" 2>&1 </dev/null; then
       rm -rf "${raw:?}/$kind" && mv "$raw/$kind.tmp" "$raw/$kind"
     else
       echo "deploy/campaign.sh: srics eval of $run_dir failed (see $raw/$kind.log)" >&2
       rm -rf "$raw/$kind.tmp"
+      exec {fd}>&-
       return 1
     fi
   done
+  exec {fd}>&-
   echo "[$(date -u +%H:%M)] $(basename "$run_dir"): its last checkpoint evaluated over $final_episodes episodes in $raw/final-eval*"
 }
 
@@ -98,7 +108,8 @@ while IFS= read -r line || [[ -n $line ]]; do
   raw=docs/results/campaign/raw/$group/$name-seed$seed
   if [[ -f $raw/outcome.yaml ]] && grep -q '^state: finished' "$raw/outcome.yaml"; then
     echo "[$(date -u +%H:%M)] $name-seed$seed ($group): finished, curves in $raw"
-    [[ -d $raw/final-eval-selection-passive ]] || final_eval "$runs/$out/$method-seed$seed" "$raw" "$seed" || true
+    [[ -d $raw/final-eval-selection-passive ]] ||
+      final_eval "$runs/$out/$method-seed$seed" "$raw" "$seed" "$runs/$out.lock" || true
     continue
   fi
   if [[ $final_eval_only == 1 ]]; then
@@ -123,7 +134,7 @@ while IFS= read -r line || [[ -n $line ]]; do
     continue
   fi
   echo "[$(date -u +%H:%M)] $name-seed$seed ($group): nice -n 10 ${cmd[*]}"
-  nice -n 10 "${cmd[@]}" || true  # its outcome.yaml says how it ended
+  nice -n 10 "${cmd[@]}" </dev/null || true  # its outcome.yaml says how it ended
   exec {lock}>&-
   run_dir=$runs/$out/$method-seed$seed
   if ! grep -q '^state: finished' "$run_dir/outcome.yaml" 2>/dev/null; then
@@ -136,6 +147,6 @@ while IFS= read -r line || [[ -n $line ]]; do
   done
   [[ -f $root/docs/results/campaign/raw/$group/sweep.yaml ]] || cp "$runs/$out/sweep.yaml" "docs/results/campaign/raw/$group/"
   echo "[$(date -u +%H:%M)] $name-seed$seed ($group): finished, curves copied to $raw (commit them)"
-  final_eval "$run_dir" "$raw" "$seed" || true
+  final_eval "$run_dir" "$raw" "$seed" "$runs/$out.lock" || true
 done <"$queue"
 echo "[$(date -u +%H:%M)] the queue is done"

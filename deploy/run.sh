@@ -21,7 +21,7 @@ if [[ ${SRICS_NO_BUILD:-0} != 1 ]]; then
   echo "deploy/run.sh: checking packages and building (the first time about 10 minutes)"
   # the compile lines show progress; the "Built target" lines of up-to-date targets do not
   "$root/tests/build.sh" --target srics srics-graph srics-learner srics-actor srics-monitor |
-    grep --line-buffered -v '^\[[ 0-9]*%\] Built target '
+    { grep --line-buffered -v '^\[[ 0-9]*%\] Built target ' || true; }  # nothing left: up to date
 fi
 cd "$root"
 exec "$build/deploy/launcher/srics" run "$config" "$@"

@@ -10,39 +10,67 @@ AttemptSchedule::AttemptSchedule(const SubgoalStructure& structure, SubgoalOrder
   if (ordered_.empty()) return;
   const int num_entities = structure.num_entities();
   const int m = static_cast<int>(ordered_.size());
-  // kIndependentDraws: N - 1 draws whatever m is (2N - 1 slots only when every entity has a subgoal)
-  first_phase_ = protocol_ == EvaluationProtocol::kReference ? 2 * num_entities - 1 - m : num_entities - 1;
-  slots_ = first_phase_ + m;
-  if (protocol_ == EvaluationProtocol::kIndependentDraws) {
-    std::uniform_int_distribution<size_t> pick(0, ordered_.size() - 1);
-    for (int i = 0; i < first_phase_; ++i) draws_.push_back(ordered_[pick(rng)]);
+  if (protocol_ == EvaluationProtocol::kReference) {
+    slots_ = 2 * num_entities - 1;
+    ordered_phase_ = order == SubgoalOrder::kDepth;
+    first_phase_ = ordered_phase_ ? slots_ - m : slots_;
+    if (ordered_phase_) {
+      std::shuffle(ordered_.begin(), ordered_.end(), rng);
+      // stable after the shuffle: equal depths keep their random order
+      std::stable_sort(ordered_.begin(), ordered_.end(),
+                       [&](int a, int b) { return structure.depth[a] > structure.depth[b]; });
+    }
+    position_ = std::uniform_int_distribution<size_t>(0, ordered_.size() - 1)(rng);
+    return;
   }
+  // kIndependentDraws, as it was (the same draws from the same generator): N - 1 draws
+  first_phase_ = num_entities - 1;
+  slots_ = first_phase_ + m;
+  std::uniform_int_distribution<size_t> pick(0, ordered_.size() - 1);
+  for (int i = 0; i < first_phase_; ++i) draws_.push_back(ordered_[pick(rng)]);
   std::shuffle(ordered_.begin(), ordered_.end(), rng);
   if (order == SubgoalOrder::kDepth) {
-    // stable after the shuffle: equal depths keep their random order
     std::stable_sort(ordered_.begin(), ordered_.end(),
                      [&](int a, int b) { return structure.depth[a] > structure.depth[b]; });
   }
-  if (protocol_ == EvaluationProtocol::kReference)
-    cycle_ = std::uniform_int_distribution<size_t>(0, ordered_.size() - 1)(rng);
 }
 
 std::optional<AttemptSchedule::Slot> AttemptSchedule::Next(const std::function<bool(int)>& solved) {
-  if (next_slot_ >= slots_) return std::nullopt;
+  if (over_ || next_slot_ >= slots_) return std::nullopt;
+  if (protocol_ == EvaluationProtocol::kReference) return NextReference(solved);
   const int slot = next_slot_++;
-  if (slot >= first_phase_) {
-    const int entity = ordered_[slot - first_phase_];
-    return Slot{entity, solved(entity)};
+  const int entity = slot < first_phase_ ? draws_[slot] : ordered_[slot - first_phase_];
+  return Slot{entity, solved(entity)};
+}
+
+// gt_wrapper.py's step() at the end of each sub-task horizon, one slot at a time.
+std::optional<AttemptSchedule::Slot> AttemptSchedule::NextReference(const std::function<bool(int)>& solved) {
+  const size_t m = ordered_.size();
+  auto end = [&]() -> std::optional<Slot> {
+    over_ = true;
+    return std::nullopt;
+  };
+  if (next_slot_ == 0) {  // the episode's first goal: drawn, not checked
+    ++next_slot_;
+    return Slot{ordered_[position_], false};
   }
-  if (protocol_ == EvaluationProtocol::kIndependentDraws) return Slot{draws_[slot], solved(draws_[slot])};
-  for (size_t tried = 0; tried < ordered_.size(); ++tried) {
-    const int entity = ordered_[cycle_];
-    cycle_ = (cycle_ + 1) % ordered_.size();
-    if (!solved(entity)) return Slot{entity, false};
+  if (!walking_) origin_ = position_;
+  // update_goal(): the ordered phase starts over at L[0], else the next in L
+  position_ = ordered_phase_ && !walking_ && next_slot_ == first_phase_ ? 0 : (position_ + 1) % m;
+  if (walking_ && position_ == origin_) return end();
+  if (next_slot_ < first_phase_) {
+    // passing over solved subgoals costs no slot; back at the origin, the episode is over
+    while (solved(ordered_[position_])) {
+      position_ = (position_ + 1) % m;
+      if (position_ == origin_) return end();
+    }
+    ++next_slot_;
+    return Slot{ordered_[position_], false};
   }
-  // every subgoal solved: the reference ends the episode here
-  next_slot_ = slots_;
-  return std::nullopt;
+  // the ordered phase: a solved subgoal uses its slot up
+  ++next_slot_;
+  walking_ = solved(ordered_[position_]);
+  return Slot{ordered_[position_], walking_};
 }
 
 SubgoalStructure AllEntitiesStructure(int num_entities) {

@@ -17,23 +17,31 @@ enum class SubgoalOrder {
   kRandom,  // SMORL and the no-order ablation: a random permutation
 };
 
-// How the attempts of one evaluation episode are chosen. The last m slots are every subgoal
-// entity once, in the method's order (m = the subgoal entities).
+// How the attempts of one evaluation episode are chosen.
 enum class EvaluationProtocol {
-  // The paper's and the reference code's: 2N - 1 slots for N entities (the arm and every
-  // object, static ones included: 9 on Relational Rearrange 4). The first 2N - 1 - m cycle through the
-  // subgoals in the method's order from a random start; a subgoal solved when its slot comes
-  // hands the slot to the next unsolved one, and the episode is over once every subgoal is
-  // solved. A solved subgoal of the last phase keeps its slot, unused.
+  // The reference code's (rlkit/envs/gt_wrapper.py, followed step by step, quirks included):
+  // 2N - 1 slots of one attempt for N entities (the arm and every object, static ones counted:
+  // 9 on Relational Rearrange 4). The method's list L of its m subgoal entities is walked
+  // cyclically from a random start; the first slot takes L[start] unchecked. After each
+  // attempt the walk moves on, passing over solved subgoals for free, and the episode is over
+  // when it comes back to the subgoal just attempted (every other one solved, whether or not
+  // that one is).
+  //  - kDepth (SRICS): L in depth order. The last m slots restart the walk at L[0]; there a
+  //    solved subgoal uses its slot up (skipped, no steps), and coming back to the subgoal of
+  //    the last real attempt still ends the episode (in the reference too, that can leave
+  //    later subgoals of the order unattempted).
+  //  - kRandom (SMORL; the no-order ablation): L in entity order, one walk through all 2N - 1
+  //    slots (the reference's SMORL wrapper has no ordered phase; its unordered SRICS wrapper
+  //    walks the depth-ordered list, which ours does not).
   kReference,
-  // The campaign's runs to 2026-12-04: N - 1 independent uniform draws, then the m in order
-  // (8 slots for SRICS on Relational Rearrange 4, whose static puck has no subgoal); a solved
-  // subgoal loses its slot.
+  // The campaign's runs to 2026-12-04: N - 1 independent uniform draws, then the m in the
+  // method's order (depth, or a random permutation); a solved subgoal loses its slot (8 slots
+  // for SRICS on Relational Rearrange 4, whose static puck has no subgoal).
   kIndependentDraws,
 };
 
-// The attempts of one evaluation episode, chosen as they come: the first phase of the
-// reference protocol depends on what the earlier attempts solved.
+// The attempts of one evaluation episode, chosen as they come: which subgoal a slot takes
+// depends on what the earlier attempts solved.
 class AttemptSchedule {
  public:
   AttemptSchedule(const SubgoalStructure& structure, SubgoalOrder order, EvaluationProtocol protocol,
@@ -41,23 +49,29 @@ class AttemptSchedule {
 
   struct Slot {
     int entity = -1;
-    bool skipped = false;  // solved when its slot came: no steps are taken
+    bool skipped = false;  // solved when its slot came and the slot is used up: no steps taken
   };
   // The next slot, given which subgoal entities are solved now; none once the episode is over.
   std::optional<Slot> Next(const std::function<bool(int entity)>& solved);
 
   int slots() const { return slots_; }
-  // the method's order of the subgoal entities (the last phase)
+  // L: the method's list of its subgoal entities (kIndependentDraws: its last phase's order)
   const std::vector<int>& order() const { return ordered_; }
 
  private:
+  std::optional<Slot> NextReference(const std::function<bool(int)>& solved);
+
   EvaluationProtocol protocol_;
   std::vector<int> ordered_;
-  std::vector<int> draws_;  // kIndependentDraws: the first phase
+  std::vector<int> draws_;       // kIndependentDraws: the first phase
   int slots_ = 0;
-  int first_phase_ = 0;
+  int first_phase_ = 0;          // slots before the ordered phase (kReference + kDepth: 2N - 1 - m)
+  bool ordered_phase_ = false;   // kReference: kDepth's last m slots restart at L[0]
   int next_slot_ = 0;
-  size_t cycle_ = 0;        // kReference: where the first phase's cycle stands
+  size_t position_ = 0;          // kReference: where the walk stands in L
+  size_t origin_ = 0;            // ... and the subgoal of the last real attempt
+  bool walking_ = false;         // the last slot was skipped: the walk goes on from there
+  bool over_ = false;
 };
 
 // A structure where every entity is a subgoal of depth 1 with no ancestors (SMORL's view:
@@ -71,8 +85,9 @@ struct EpisodeMetrics {
   double avg_object_distance = 0;       // objects only
   bool success = false;
   double selectivity = -1;              // mean selectivity over the episode, -1 if undefined
-  // Compatibility: over the episode's subgoal attempts, the objects solved when an attempt
-  // began that are not the attempted entity's ancestors, and how many of those it undid
+  // Compatibility: over the episode's subgoal attempts (skipped slots not counted), the
+  // objects solved when an attempt began that are not the attempted entity's ancestors, and
+  // how many of those it undid
   // (what the selectivity reward exists to keep at zero).
   int independent_solved = 0;
   int independent_undone = 0;

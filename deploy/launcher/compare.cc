@@ -116,6 +116,7 @@ std::optional<FinalEvaluation> ReadFinalEvaluation(const fs::path& dir, const st
   f.avg_distance /= f.episodes, f.avg_object_distance /= f.episodes;
   if (const std::optional<Csv> attempts = ReadCsv(dir / name / "attempts.csv"))
     for (const auto& row : attempts->rows) {
+      if (attempts->Text(row, "skipped") == "1") continue;  // no steps, nothing undone
       f.independent_solved += attempts->Number(row, "independent_solved").value_or(0);
       f.independent_undone += attempts->Number(row, "independent_undone").value_or(0);
     }
@@ -516,7 +517,7 @@ std::string FinalTable(const std::vector<RunData>& runs) {
            "2026-12-04); and the final evaluation of its last checkpoint by `srics eval` where the run "
            "folder has one (final-eval/ or the folder `--final-eval` names, its passive policy on the same goals "
            "beside it in NAME-passive/).\n\n"
-           "| method | n | avg distance, last 5 | avg object distance, last 5 | undone share | final eval: episodes "
+           "| method | n | avg distance, last 5 | avg object distance, last 5 | undone share, last eval | final eval: episodes "
            "| avg distance | avg object distance | object / passive's | undone share |\n"
            "|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& [method, group] : methods) {

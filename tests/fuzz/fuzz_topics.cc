@@ -64,7 +64,7 @@ template <typename V>
 void Visit(V& v, srics_EvalResult& c) {
   v(c.contract_version); v(c.run_id); v(c.actor_id); v(c.policy_version); v(c.graph_version); v(c.env_steps);
   v(c.episodes); v(c.avg_distance); v(c.avg_object_distance); v(c.success_rate); v(c.entity_distance);
-  v(c.subgoal_success); v(c.selectivity);
+  v(c.subgoal_success); v(c.selectivity); v(c.independent_solved); v(c.independent_undone);
 }
 template <typename V>
 void Visit(V& v, srics_LearnerStats& c) {

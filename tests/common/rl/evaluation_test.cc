@@ -78,39 +78,75 @@ TEST(EvaluationTest, ReferenceGivesNineAttemptsOnRelationalFourCyclingFromARando
   for (auto& [entity, count] : first) EXPECT_NEAR(count / 400.0, 0.25, 0.08) << entity;
 }
 
-TEST(EvaluationTest, ReferenceHandsASolvedSubgoalsSlotToTheNextUnsolvedOne) {
+TEST(EvaluationTest, ReferencePassesOverSolvedSubgoalsAndTheOrderedPhaseUsesTheirSlotsUp) {
   SubgoalStructure s = Relational();
   std::mt19937_64 rng(5);
-  for (int trial = 0; trial < 50; ++trial) {
+  int solved_first = 0;
+  for (int trial = 0; trial < 100; ++trial) {
     AttemptSchedule schedule(s, SubgoalOrder::kDepth, EvaluationProtocol::kReference, rng);
     const auto slots = Play(schedule, {4});  // puck 4 sits on its goal throughout
     ASSERT_EQ(slots.size(), 9u);
-    // the first phase attempts only the unsolved three, still in cyclic order
-    std::vector<int> unsolved;
-    for (int e : schedule.order())
-      if (e != 4) unsolved.push_back(e);
-    const size_t start = std::find(unsolved.begin(), unsolved.end(), slots[0].entity) - unsolved.begin();
-    ASSERT_LT(start, 3u);
-    for (size_t i = 0; i < 5; ++i) {
-      EXPECT_EQ(slots[i].entity, unsolved[(start + i) % 3]);
+    const std::vector<int>& order = schedule.order();  // [2 and 3 in random order, 4, 0]
+    // the first slot takes the drawn start unchecked, even puck 4
+    solved_first += slots[0].entity == 4;
+    EXPECT_FALSE(slots[0].skipped);
+    // the rest of the cycling phase walks L from there, passing over puck 4 for free
+    size_t at = std::find(order.begin(), order.end(), slots[0].entity) - order.begin();
+    for (size_t i = 1; i < 5; ++i) {
+      at = (at + 1) % 4;
+      if (order[at] == 4) at = (at + 1) % 4;
+      EXPECT_EQ(slots[i].entity, order[at]) << "slot " << i;
       EXPECT_FALSE(slots[i].skipped);
     }
-    // the last phase keeps the solved one's slot, unused
-    EXPECT_EQ(Entities(slots, 5), schedule.order());
-    EXPECT_EQ(slots[5 + 2].entity, 4);
+    // the ordered phase: L from the start, puck 4's slot used up without steps
+    EXPECT_EQ(Entities(slots, 5), order);
     EXPECT_TRUE(slots[5 + 2].skipped);
+    for (size_t i = 5; i < 9; ++i)
+      if (i != 7) EXPECT_FALSE(slots[i].skipped);
   }
+  EXPECT_GT(solved_first, 10) << "a solved start is attempted, as the reference's first goal is";
 }
 
-TEST(EvaluationTest, ReferenceEndsTheEpisodeOnceEverySubgoalIsSolved) {
+TEST(EvaluationTest, ReferenceEndsTheEpisodeWhenTheWalkComesBackToTheSubgoalJustAttempted) {
   std::mt19937_64 rng(2);
   AttemptSchedule schedule(Relational(), SubgoalOrder::kDepth, EvaluationProtocol::kReference, rng);
   std::set<int> solved;
-  auto first = schedule.Next([&](int e) { return solved.count(e) > 0; });
+  auto next = [&] { return schedule.Next([&](int e) { return solved.count(e) > 0; }); };
+  const auto first = next();
   ASSERT_TRUE(first);
-  solved = {0, 2, 3, 4};  // the first attempt finished the table
-  EXPECT_FALSE(schedule.Next([&](int e) { return solved.count(e) > 0; }));
-  EXPECT_FALSE(schedule.Next([&](int) { return false; })) << "over stays over";
+  // the first attempt failed, but every other subgoal got solved meanwhile: over (the
+  // reference ends the episode there rather than try the failed one again)
+  for (int e : schedule.order())
+    if (e != first->entity) solved.insert(e);
+  EXPECT_FALSE(next());
+  EXPECT_FALSE(schedule.Next([](int) { return false; })) << "over stays over";
+}
+
+TEST(EvaluationTest, ReferenceOrderedPhaseEndsWhenItsWalkReachesTheLastCyclingAttempt) {
+  // the reference's quirk, kept: the ordered phase starts at L[0]; passing over solved
+  // subgoals there uses their slots, and reaching the subgoal of the cycling phase's last
+  // attempt ends the episode
+  SubgoalStructure s = Relational();
+  for (uint64_t seed = 0; seed < 200; ++seed) {
+    std::mt19937_64 rng(seed);
+    AttemptSchedule schedule(s, SubgoalOrder::kDepth, EvaluationProtocol::kReference, rng);
+    const std::vector<int> order = schedule.order();
+    std::set<int> solved;
+    std::vector<AttemptSchedule::Slot> slots;
+    auto next = [&] { return schedule.Next([&](int e) { return solved.count(e) > 0; }); };
+    for (int i = 0; i < 5; ++i) slots.push_back(*next());
+    if (slots[4].entity != order[2]) continue;  // wanted: the cycling phase ends on L[2]
+    solved = {order[0], order[1]};
+    const auto a = next(), b = next();
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->entity, order[0]);
+    EXPECT_TRUE(a->skipped);
+    EXPECT_EQ(b->entity, order[1]);
+    EXPECT_TRUE(b->skipped);
+    EXPECT_FALSE(next()) << "L[2] and L[3] are never attempted in the ordered phase";
+    return;
+  }
+  FAIL() << "no seed ended the cycling phase on L[2]";
 }
 
 TEST(EvaluationTest, ThreePucksGiveSevenAttemptsUnderBothProtocols) {
@@ -124,21 +160,44 @@ TEST(EvaluationTest, ThreePucksGiveSevenAttemptsUnderBothProtocols) {
   }
 }
 
-TEST(EvaluationTest, RandomOrderIsAPermutationThatVaries) {
-  // SMORL on 4 objects: 5 subgoals, 9 attempts, the last 5 a random permutation
+TEST(EvaluationTest, SmorlWalksEveryEntityInOrderThroughAllNineSlotsFromARandomStart) {
+  // the reference's SMORL wrapper: no ordered phase, the static puck an entity like the others
+  std::mt19937_64 rng(3);
+  std::map<int, int> starts;
+  for (int trial = 0; trial < 500; ++trial) {
+    AttemptSchedule schedule(AllEntitiesStructure(5), SubgoalOrder::kRandom, EvaluationProtocol::kReference, rng);
+    EXPECT_EQ(schedule.order(), (std::vector<int>{0, 1, 2, 3, 4}));
+    const auto slots = Play(schedule);
+    ASSERT_EQ(slots.size(), 9u);
+    for (size_t i = 0; i < 9; ++i) EXPECT_EQ(slots[i].entity, (slots[0].entity + static_cast<int>(i)) % 5);
+    ++starts[slots[0].entity];
+    // with puck 1 solved the walk passes over it: no slot is skipped, none lost
+    AttemptSchedule again(AllEntitiesStructure(5), SubgoalOrder::kRandom, EvaluationProtocol::kReference, rng);
+    const auto solved_one = Play(again, {1});
+    ASSERT_EQ(solved_one.size(), 9u);
+    for (size_t i = 1; i < 9; ++i) {
+      EXPECT_NE(solved_one[i].entity, 1);
+      EXPECT_FALSE(solved_one[i].skipped);
+    }
+  }
+  ASSERT_EQ(starts.size(), 5u);
+  for (auto& [entity, count] : starts) EXPECT_NEAR(count / 500.0, 0.2, 0.06) << entity;
+}
+
+TEST(EvaluationTest, IndependentDrawsRandomOrderIsAPermutationThatVaries) {
   std::mt19937_64 rng(3);
   int arm_last = 0;
   for (int trial = 0; trial < 400; ++trial) {
-    AttemptSchedule schedule(AllEntitiesStructure(5), SubgoalOrder::kRandom, EvaluationProtocol::kReference, rng);
+    AttemptSchedule schedule(AllEntitiesStructure(4), SubgoalOrder::kRandom, EvaluationProtocol::kIndependentDraws,
+                             rng);
     const auto slots = Play(schedule);
-    ASSERT_EQ(slots.size(), 9u);
-    std::vector<int> tail = Entities(slots, 4);
-    EXPECT_EQ(tail, schedule.order());
+    ASSERT_EQ(slots.size(), 7u);
+    std::vector<int> tail = Entities(slots, 3);
     std::sort(tail.begin(), tail.end());
-    EXPECT_EQ(tail, (std::vector<int>{0, 1, 2, 3, 4}));
+    EXPECT_EQ(tail, (std::vector<int>{0, 1, 2, 3}));
     arm_last += slots.back().entity == 0;
   }
-  EXPECT_NEAR(arm_last / 400.0, 0.2, 0.07);
+  EXPECT_NEAR(arm_last / 400.0, 0.25, 0.08);
 }
 
 TEST(EvaluationTest, SummaryAveragesEpisodes) {

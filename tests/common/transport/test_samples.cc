@@ -166,6 +166,8 @@ EvalResult MakeEvalResult(const std::string& run_id, uint64_t seed) {
     r.subgoal_success.push_back((Value(seed, i + 10) + 1) / 2);
   }
   r.selectivity = 0.5f;
+  r.independent_solved = 5 + static_cast<uint32_t>(seed);  // non-zero: the transport tests see them cross
+  r.independent_undone = 2;
   return r;
 }
 

@@ -155,10 +155,12 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
     const auto& list = by_episode[episode];
     ASSERT_FALSE(list.empty()) << "episode " << episode;
     ASSERT_LE(list.size(), 9u) << "episode " << episode;
-    if (list.size() < 9) {
+    if (list.size() < 5) {
+      // over in the cycling phase: every subgoal but the one just attempted is solved
       for (const char* entity : {"0", "2", "3", "4"})
-        EXPECT_LT(std::stod(rows[episode].at(std::string("distance_") + entity)), 0.05)
-            << "episode " << episode << " ended early with subgoal " << entity << " unsolved";
+        if (list.back().at("entity") != entity)
+          EXPECT_LT(std::stod(rows[episode].at(std::string("distance_") + entity)), 0.05)
+              << "episode " << episode << " ended early with subgoal " << entity << " unsolved";
     }
     full_length += list.size() == 9;
     int played = 0;
@@ -173,7 +175,8 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
         EXPECT_LT(before, 0.05);
         EXPECT_EQ(before, after);
       } else {
-        if (k < 5) EXPECT_GE(before, 0.05) << "episode " << episode << " attempt " << k;
+        // the first is drawn unchecked; the cycling phase passes over solved ones
+        if (k >= 1 && k < 5) EXPECT_GE(before, 0.05) << "episode " << episode << " attempt " << k;
         ++played;
       }
       EXPECT_EQ(a.at("reached") == "1", after < 0.05);
@@ -187,9 +190,10 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
     }
     EXPECT_EQ(std::stoi(rows[episode].at("steps")), 20 * played) << "episode " << episode;
     // the episode's compatibility counts (what an in-run evaluation sends in EvalResult) are its
-    // attempts' sums
+    // attempts' sums, the skipped slots (no steps, nothing undone) left out
     int solved = 0, undone = 0;
-    for (const auto& a : list) solved += std::stoi(a.at("independent_solved")), undone += std::stoi(a.at("independent_undone"));
+    for (const auto& a : list)
+      if (a.at("skipped") == "0") solved += std::stoi(a.at("independent_solved")), undone += std::stoi(a.at("independent_undone"));
     EXPECT_EQ(std::stoi(rows[episode].at("independent_solved")), solved) << "episode " << episode;
     EXPECT_EQ(std::stoi(rows[episode].at("independent_undone")), undone) << "episode " << episode;
     total_solved += solved;
@@ -325,7 +329,8 @@ TEST_F(CommittedPolicyTest, PlaysUnderEitherProtocolOnAnotherSeedsGoals) {
   ASSERT_EQ(code, 0) << output;
   EXPECT_THAT(output, ::testing::HasSubstr("subgoal order random, goals of evaluation seed 2")) << output;
   auto attempts = ReadCsv(out / "random" / "attempts.csv");
-  ASSERT_EQ(attempts.size(), 3u * 9u) << output;
+  ASSERT_LE(attempts.size(), 3u * 9u) << output;  // 9 slots, fewer if an episode ends early
+  ASSERT_GT(attempts.size(), 3u * 5u) << output;
   int static_puck = 0;
   for (const auto& a : attempts) static_puck += a.at("entity") == "1" ? 1 : 0;
   EXPECT_GT(static_puck, 0) << "every entity is a subgoal under the random protocol";
@@ -342,10 +347,15 @@ TEST_F(CommittedPolicyTest, PlaysUnderEitherProtocolOnAnotherSeedsGoals) {
   ASSERT_EQ(code, 0) << output;
   EXPECT_THAT(output, ::testing::HasSubstr("the table's graph by construction")) << output;
   attempts = ReadCsv(out / "depth" / "attempts.csv");
-  ASSERT_EQ(attempts.size(), 3u * 9u) << output;  // the reference schedule: 9 attempts on 4 objects
-  for (size_t episode = 0; episode < 3; ++episode) {
-    for (size_t k = 0; k < 9; ++k) EXPECT_NE(attempts[episode * 9 + k].at("entity"), "1");
-    EXPECT_EQ(attempts[episode * 9 + 8].at("entity"), "0") << "the arm is attempted last";
+  // the reference schedule: at most 9 attempts on 4 objects, never the static puck, the arm
+  // last in the ordered phase when the episode gets there
+  std::map<std::string, std::vector<std::map<std::string, std::string>>> depth_episodes;
+  for (const auto& a : attempts) depth_episodes[a.at("episode")].push_back(a);
+  ASSERT_EQ(depth_episodes.size(), 3u) << output;
+  for (const auto& [episode, list] : depth_episodes) {
+    ASSERT_LE(list.size(), 9u) << episode;
+    for (const auto& a : list) EXPECT_NE(a.at("entity"), "1");
+    if (list.size() == 9u) EXPECT_EQ(list.back().at("entity"), "0") << "the arm is attempted last";
   }
 
   std::tie(code, output) = SricsEval(out, with({"--protocol", "sideways"}));
