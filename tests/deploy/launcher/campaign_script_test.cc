@@ -6,14 +6,14 @@
 #include <gtest/gtest.h>
 #include <fcntl.h>
 #include <sys/file.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+
+#include "tests/common/cli/shell_testing.h"
 
 namespace {
 
@@ -32,16 +32,11 @@ Output RunQueue(const std::string& queue_text, const std::string& runs_dir = "",
   fs::create_directories(dir);
   const fs::path queue = dir / "queue.txt";
   std::ofstream(queue) << queue_text;
-  const std::string command = std::string(SRICS_SOURCE_DIR) + "/deploy/campaign.sh --dry-run --queue " +
-                              queue.string() + (runs_dir.empty() ? "" : " --runs " + runs_dir) + " " + options + " 2>&1";
-  Output out;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  char buffer[4096];
-  while (size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) out.text.append(buffer, n);
-  const int status = ::pclose(pipe);
-  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const auto [code, text] =
+      srics::cli::testing::Shell(std::string(SRICS_SOURCE_DIR) + "/deploy/campaign.sh --dry-run --queue " +
+                                 queue.string() + (runs_dir.empty() ? "" : " --runs " + runs_dir) + " " + options);
   fs::remove_all(dir);
-  return out;
+  return {code, text};
 }
 
 // srics_no_selectivity seed 2 of Relational Rearrange 4 is committed as finished

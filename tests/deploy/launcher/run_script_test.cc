@@ -4,10 +4,10 @@
 // a CONFIG first is taken as the config.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
 #include <string>
+
+#include "tests/common/cli/shell_testing.h"
 
 namespace {
 
@@ -17,15 +17,9 @@ struct Output {
 };
 
 Output RunScript(const std::string& arguments) {
-  const std::string command = "SRICS_NO_BUILD=1 SRICS_BUILD_DIR='" + std::string(SRICS_BINARY_DIR) + "' '" +
-                              std::string(SRICS_SOURCE_DIR) + "/deploy/run.sh' " + arguments + " 2>&1";
-  Output out;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  char buffer[4096];
-  while (size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) out.text.append(buffer, n);
-  const int status = ::pclose(pipe);
-  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
+  const auto [code, text] = srics::cli::testing::Shell("SRICS_NO_BUILD=1 SRICS_BUILD_DIR='" + std::string(SRICS_BINARY_DIR) +
+                                                       "' '" + std::string(SRICS_SOURCE_DIR) + "/deploy/run.sh' " + arguments);
+  return {code, text};
 }
 
 TEST(RunScriptTest, OptionsFirstGoToSricsRunWithTheDefaultConfig) {
