@@ -36,7 +36,7 @@ AttemptSchedule::AttemptSchedule(const SubgoalStructure& structure, SubgoalOrder
 }
 
 std::optional<AttemptSchedule::Slot> AttemptSchedule::Next(const std::function<bool(int)>& solved) {
-  if (over_ || next_slot_ >= slots_) return std::nullopt;
+  if (next_slot_ >= slots_) return std::nullopt;
   if (protocol_ == EvaluationProtocol::kReference) return NextReference(solved);
   const int slot = next_slot_++;
   const int entity = slot < first_phase_ ? draws_[slot] : ordered_[slot - first_phase_];
@@ -47,7 +47,7 @@ std::optional<AttemptSchedule::Slot> AttemptSchedule::Next(const std::function<b
 std::optional<AttemptSchedule::Slot> AttemptSchedule::NextReference(const std::function<bool(int)>& solved) {
   const size_t m = ordered_.size();
   auto end = [&]() -> std::optional<Slot> {
-    over_ = true;
+    next_slot_ = slots_;  // the episode is over: no slot is left
     return std::nullopt;
   };
   if (next_slot_ == 0) {  // the episode's first goal: drawn, not checked

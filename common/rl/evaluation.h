@@ -71,7 +71,6 @@ class AttemptSchedule {
   size_t position_ = 0;          // kReference: where the walk stands in L
   size_t origin_ = 0;            // ... and the subgoal of the last real attempt
   bool walking_ = false;         // the last slot was skipped: the walk goes on from there
-  bool over_ = false;
 };
 
 // A structure where every entity is a subgoal of depth 1 with no ancestors (SMORL's view:

@@ -98,35 +98,46 @@ bool MethodAndSeedFromConfig(const fs::path& path, std::string* method, uint64_t
   return have_method;
 }
 
-// NAME/ (and NAME-passive/) of a run folder, when present and readable.
-std::optional<FinalEvaluation> ReadFinalEvaluation(const fs::path& dir, const std::string& name,
-                                                   std::vector<std::string>* warnings) {
-  const std::optional<Csv> episodes = ReadCsv(dir / name / "episodes.csv");
+// Means over the good episodes of a `srics eval` episodes.csv; none without the file, n = 0
+// when no episode is good.
+struct EpisodeMeans {
+  int n = 0;
+  double distance = 0, object_distance = 0;
+};
+std::optional<EpisodeMeans> ReadEpisodeMeans(const fs::path& path) {
+  const std::optional<Csv> episodes = ReadCsv(path);
   if (!episodes) return std::nullopt;
-  FinalEvaluation f;
+  EpisodeMeans means;
   for (const auto& row : episodes->rows) {
     const auto distance = episodes->Number(row, "avg_distance"), object = episodes->Number(row, "avg_object_distance");
     if (!distance || !object || episodes->Text(row, "status") != "ok") continue;
-    f.avg_distance += *distance, f.avg_object_distance += *object, ++f.episodes;
+    means.distance += *distance, means.object_distance += *object, ++means.n;
   }
-  if (f.episodes == 0) {
+  if (means.n > 0) means.distance /= means.n, means.object_distance /= means.n;
+  return means;
+}
+
+// NAME/ (and NAME-passive/) of a run folder, when present and readable.
+std::optional<FinalEvaluation> ReadFinalEvaluation(const fs::path& dir, const std::string& name,
+                                                   std::vector<std::string>* warnings) {
+  const std::optional<EpisodeMeans> means = ReadEpisodeMeans(dir / name / "episodes.csv");
+  if (!means) return std::nullopt;
+  if (means->n == 0) {
     warnings->push_back((dir / name).string() + ": no episode in episodes.csv: skipped");
     return std::nullopt;
   }
-  f.avg_distance /= f.episodes, f.avg_object_distance /= f.episodes;
+  FinalEvaluation f;
+  f.episodes = means->n;
+  f.avg_distance = means->distance;
+  f.avg_object_distance = means->object_distance;
   if (const std::optional<Csv> attempts = ReadCsv(dir / name / "attempts.csv"))
     for (const auto& row : attempts->rows) {
       if (attempts->Text(row, "skipped") == "1") continue;  // no steps, nothing undone
       f.independent_solved += attempts->Number(row, "independent_solved").value_or(0);
       f.independent_undone += attempts->Number(row, "independent_undone").value_or(0);
     }
-  if (const std::optional<Csv> passive = ReadCsv(dir / (name + "-passive") / "episodes.csv")) {
-    double sum = 0;
-    int n = 0;
-    for (const auto& row : passive->rows)
-      if (const auto object = passive->Number(row, "avg_object_distance")) sum += *object, ++n;
-    if (n > 0) f.passive_object_distance = sum / n;
-  }
+  const std::optional<EpisodeMeans> passive = ReadEpisodeMeans(dir / (name + "-passive") / "episodes.csv");
+  if (passive && passive->n > 0) f.passive_object_distance = passive->object_distance;
   return f;
 }
 
@@ -309,13 +320,21 @@ using HasData = bool (*)(const RunData&);
 bool HasEvaluations(const RunData& r) { return !r.evaluations.empty(); }
 bool HasSelectivity(const RunData& r) { return !r.selectivity.empty(); }
 
-// A run's undone share per evaluation: the evaluations whose attempts began with a solved
-// non-ancestor object at least once.
+// undone / solved; none when no attempt began with a solved non-ancestor object.
+std::optional<double> UndoneShare(double solved, double undone) {
+  if (solved <= 0) return std::nullopt;
+  return undone / solved;
+}
+std::optional<double> UndoneShare(const EvalPoint& p) {
+  if (!p.has_compatibility) return std::nullopt;
+  return UndoneShare(p.independent_solved, p.independent_undone);
+}
+
+// A run's undone share per evaluation, where it has one.
 std::vector<std::pair<double, double>> UndoneCurve(const RunData& r) {
   std::vector<std::pair<double, double>> curve;
   for (const EvalPoint& p : r.evaluations)
-    if (p.has_compatibility && p.independent_solved > 0)
-      curve.emplace_back(p.env_steps, p.independent_undone / p.independent_solved);
+    if (const auto share = UndoneShare(p)) curve.emplace_back(p.env_steps, *share);
   return curve;
 }
 bool HasUndone(const RunData& r) { return !UndoneCurve(r).empty(); }
@@ -325,6 +344,20 @@ bool HasUndone(const RunData& r) { return !UndoneCurve(r).empty(); }
 std::string LegendTitle(const std::string& method, const Group& group, HasData has_data = HasEvaluations) {
   const auto seeds = std::count_if(group.begin(), group.end(), [&](const RunData* r) { return has_data(*r); });
   return method + " (" + std::to_string(seeds) + (seeds == 1 ? " seed" : " seeds") + ")";
+}
+
+int FinishedRuns(const Group& group) {
+  return static_cast<int>(std::count_if(group.begin(), group.end(), [](const RunData* r) { return r->finished; }));
+}
+
+// The runs a table row summarizes: the finished ones where a method has any (an unfinished
+// run's last evaluation comes from a smaller budget), else all of them.
+Group CountedRuns(const Group& group) {
+  if (FinishedRuns(group) == 0) return group;
+  Group counted;
+  for (const RunData* r : group)
+    if (r->finished) counted.push_back(r);
+  return counted;
 }
 
 Groups GroupRuns(const std::vector<RunData>& runs) {
@@ -482,10 +515,8 @@ std::string FinalTable(const std::vector<RunData>& runs) {
       std::vector<double> steps, distance, object, success, selectivity, passive, object_ratio;
       bool own_ancestor_selectivity = false;
       std::vector<std::vector<double>> subgoal(entities);
-      int finished = 0;
-      for (const RunData* r : group) finished += r->finished ? 1 : 0;
-      for (const RunData* r : group) {
-        if (finished > 0 && !r->finished) continue;
+      const int finished = FinishedRuns(group);
+      for (const RunData* r : CountedRuns(group)) {
         if (r->passive) passive.push_back(r->passive->avg_distance);
         if (!r->selectivity.empty()) {
           selectivity.push_back(r->selectivity.back().second);
@@ -523,10 +554,7 @@ std::string FinalTable(const std::vector<RunData>& runs) {
     for (const auto& [method, group] : methods) {
       std::vector<double> late_distance, late_object, undone, episodes, final_distance, final_object, final_ratio,
           final_undone;
-      int finished = 0;
-      for (const RunData* r : group) finished += r->finished ? 1 : 0;
-      for (const RunData* r : group) {
-        if (finished > 0 && !r->finished) continue;
+      for (const RunData* r : CountedRuns(group)) {
         if (!r->evaluations.empty()) {
           const size_t from = r->evaluations.size() > 5 ? r->evaluations.size() - 5 : 0;
           double d = 0, o = 0;
@@ -534,16 +562,14 @@ std::string FinalTable(const std::vector<RunData>& runs) {
             d += r->evaluations[i].avg_distance, o += r->evaluations[i].avg_object_distance;
           late_distance.push_back(d / (r->evaluations.size() - from));
           late_object.push_back(o / (r->evaluations.size() - from));
-          const EvalPoint& last = r->evaluations.back();
-          if (last.has_compatibility && last.independent_solved > 0)
-            undone.push_back(last.independent_undone / last.independent_solved);
+          if (const auto share = UndoneShare(r->evaluations.back())) undone.push_back(*share);
         }
         if (const auto& f = r->final_evaluation) {
           episodes.push_back(f->episodes);
           final_distance.push_back(f->avg_distance);
           final_object.push_back(f->avg_object_distance);
           if (f->passive_object_distance > 0) final_ratio.push_back(f->avg_object_distance / f->passive_object_distance);
-          if (f->independent_solved > 0) final_undone.push_back(f->independent_undone / f->independent_solved);
+          if (const auto share = UndoneShare(f->independent_solved, f->independent_undone)) final_undone.push_back(*share);
         }
       }
       out << "| " << method << " | " << late_distance.size() << " | " << MeanStd(SpreadOf(late_distance)) << " | "
