@@ -2,6 +2,7 @@
 
 #include "common/files/durable_file.h"
 #include "common/files/shell_path.h"
+#include "common/files/small_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -312,12 +313,14 @@ void SaveGraph(const LearnedGraph& graph, const std::string& path) {
 }
 
 LearnedGraph LoadGraph(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("interaction graph file: cannot open " + path);
-  std::stringstream buf;
-  buf << in.rdbuf();
+  std::string text;
   try {
-    return GraphFromJson(buf.str());
+    text = files::ReadSmallFile(path);
+  } catch (const files::SmallFileError& e) {
+    throw std::runtime_error(std::string("interaction graph file: ") + e.what());
+  }
+  try {
+    return GraphFromJson(text);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string(e.what()) + " (" + path + ")");
   }

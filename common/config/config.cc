@@ -63,22 +63,19 @@ Config LoadConfig(const std::string& file, const std::vector<std::string>& overr
 
 std::string RecordedRunId(const std::string& config_yaml) {
   try {
-    const YAML::Node root = YAML::LoadFile(config_yaml);
+    const YAML::Node root = LoadPlainYamlFile(config_yaml);
     const YAML::Node id = root.IsMap() && root["transport"].IsMap() ? root["transport"]["run_id"] : YAML::Node();
     if (!id.IsScalar() || id.Scalar().empty() || id.Scalar() == kAutoRunId) return "";
     return id.Scalar();
   } catch (const YAML::Exception&) {
     return "";
+  } catch (const ConfigError&) {  // absent, over the size limit, anchors: no run id recorded
+    return "";
   }
 }
 
 Config ParseConfig(const std::string& yaml_text, const std::string& name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(name + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
-  }
+  YAML::Node root = ParsePlainYaml(yaml_text, name);
   if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) throw ConfigError(name + ": expected a mapping at the top level");
   CheckKeys(root, "", name, true);

@@ -7,8 +7,60 @@
 #include <sstream>
 #include <type_traits>
 
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
+
+#include "common/files/small_file.h"
+
 namespace srics::config {
 namespace {
+
+// Walks a document's parse events (nothing is built) and refuses what ParsePlainYaml refuses.
+class PlainYamlCheck : public YAML::EventHandler {
+ public:
+  explicit PlainYamlCheck(const std::string& name) : name_(name) {}
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override { Node(mark, anchor); }
+  void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override {
+    Refuse(mark, "an alias (*name): anchors and aliases are not accepted in a config; write the values out");
+  }
+  void OnScalar(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, const std::string&) override {
+    Node(mark, anchor);
+  }
+  void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor,
+                       YAML::EmitterStyle::value) override {
+    Open(mark, anchor);
+  }
+  void OnSequenceEnd() override { --depth_; }
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+    Open(mark, anchor);
+  }
+  void OnMapEnd() override { --depth_; }
+  void OnAnchor(const YAML::Mark& mark, const std::string&) override { Anchor(mark); }
+
+ private:
+  [[noreturn]] void Refuse(const YAML::Mark& mark, const std::string& what) const {
+    throw ConfigError(name_ + (mark.is_null() ? "" : ":" + std::to_string(mark.line + 1)) + ": " + what);
+  }
+  void Anchor(const YAML::Mark& mark) const {
+    Refuse(mark, "an anchor (&name): anchors and aliases are not accepted in a config; write the values out");
+  }
+  void Node(const YAML::Mark& mark, YAML::anchor_t anchor) {
+    if (anchor != YAML::NullAnchor) Anchor(mark);
+    if (++nodes_ > kYamlMaxNodes)
+      Refuse(mark, "more than " + std::to_string(kYamlMaxNodes) + " YAML nodes; a config is far smaller");
+  }
+  void Open(const YAML::Mark& mark, YAML::anchor_t anchor) {
+    Node(mark, anchor);
+    if (++depth_ > kYamlMaxDepth)
+      Refuse(mark, "nested deeper than " + std::to_string(kYamlMaxDepth) + " levels; a config is far flatter");
+  }
+
+  const std::string& name_;
+  int nodes_ = 0;
+  int depth_ = 0;
+};
 
 // Edit distance, for "did you mean" on unknown keys.
 size_t EditDistance(const std::string& a, const std::string& b) {
@@ -79,13 +131,7 @@ void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
 YAML::Node LoadMergedYamlImpl(const std::filesystem::path& file, OriginMap* origins, int depth) {
   if (depth > 8) throw ConfigError(file.string() + ": 'extends' chain deeper than 8 files (a cycle?)");
   if (!std::filesystem::exists(file)) throw ConfigError(file.string() + ": no such config file");
-  YAML::Node top;
-  try {
-    top = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(file.string() + ":" + std::to_string(e.mark.line + 1) + ":" +
-                      std::to_string(e.mark.column + 1) + ": not valid YAML: " + e.msg);
-  }
+  YAML::Node top = LoadPlainYamlFile(file.string());
   if (top.IsNull()) top = YAML::Node(YAML::NodeType::Map);
   if (!top.IsMap()) throw ConfigError(file.string() + ": expected a mapping at the top level");
   CheckKeys(top, "", file.string(), true);
@@ -353,6 +399,27 @@ void CheckKeys(const YAML::Node& node, const std::string& path, const std::strin
   }
 }
 
+YAML::Node ParsePlainYaml(const std::string& text, const std::string& name) {
+  try {
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    PlainYamlCheck check(name);
+    parser.HandleNextDocument(check);  // YAML::Load builds the first document only
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(name + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+                      ": not valid YAML: " + e.msg);
+  }
+}
+
+YAML::Node LoadPlainYamlFile(const std::string& file) {
+  try {
+    return ParsePlainYaml(files::ReadSmallFile(file), file);
+  } catch (const files::SmallFileError& e) {
+    throw ConfigError(e.what());
+  }
+}
+
 YAML::Node LoadMergedYaml(const std::string& file, OriginMap* origins) {
   return LoadMergedYamlImpl(std::filesystem::path(file), origins, 0);
 }
@@ -362,12 +429,7 @@ void ApplyOverride(YAML::Node* root, const std::string& assignment, OriginMap* o
   if (eq == std::string::npos || eq == 0)
     throw ConfigError("command line: '" + assignment + "': expected key.path=value");
   const std::string path = assignment.substr(0, eq);
-  YAML::Node value;
-  try {
-    value = YAML::Load(assignment.substr(eq + 1));
-  } catch (const YAML::Exception& e) {
-    throw ConfigError("command line: " + path + ": value is not valid YAML: " + e.msg);
-  }
+  const YAML::Node value = ParsePlainYaml(assignment.substr(eq + 1), "command line: " + path);
   CheckKeys(value, path, "command line", false);
   // walk down, creating mappings as needed
   std::vector<std::string> parts;

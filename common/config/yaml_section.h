@@ -124,6 +124,21 @@ void YamlSection::ReadEnum(const std::string& key, Enum* out,
   }
 }
 
+// Limits of a config text: a config is a few kB of plain mappings and lists, and every text
+// read (a config file, a resolved-config.yaml, an override's value) is held to them before it is
+// built into nodes, so that a small file cannot expand into gigabytes.
+inline constexpr int kYamlMaxNodes = 100000;
+inline constexpr int kYamlMaxDepth = 64;
+
+// Parses YAML text (`name` for messages: a file or "command line"). Throws ConfigError naming
+// `name` and the line for text that is not valid YAML, that uses anchors or aliases (`&a`,
+// `*a`: expanded, nine aliases of nine aliases ... of a list grow exponentially; no config
+// needs them), or that has more than kYamlMaxNodes nodes or nests deeper than kYamlMaxDepth.
+YAML::Node ParsePlainYaml(const std::string& text, const std::string& name);
+
+// Reads a config file (at most files::kSmallFileMaxBytes) and parses it with ParsePlainYaml.
+YAML::Node LoadPlainYamlFile(const std::string& file);
+
 // Reads a YAML file, following `extends: other.yaml` (relative to the file) recursively and
 // merging mappings key by key (the extending file wins; sequences are replaced whole).
 // Records in *origins which file each key path came from.

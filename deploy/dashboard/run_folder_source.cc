@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <functional>
 #include <stdexcept>
 #include <variant>
 #include <vector>
 
 #include "common/config/config.h"
+#include "common/files/small_file.h"
 #include "common/transport/rl_convert.h"
 #include "deploy/monitor/csv_sink.h"
 #include "graph_service/learned_graph.h"
@@ -281,7 +283,12 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
     if (now - run.learner_received > state.lost_after) run.step_history.clear();
 
   // how the run ended, when it did (outcome.yaml: state and reason lines)
-  std::ifstream outcome(dir / "outcome.yaml");
+  std::istringstream outcome;
+  try {
+    if (fs::exists(dir / "outcome.yaml")) outcome.str(files::ReadSmallFile((dir / "outcome.yaml").string()));
+  } catch (const files::SmallFileError&) {
+    ++skipped;  // not this run's: over the size limit
+  }
   std::string ended, reason;
   for (std::string line; std::getline(outcome, line);) {
     if (line.rfind("state: ", 0) == 0) ended = line.substr(7);

@@ -9,6 +9,7 @@
 
 #include "actor/actor_loop.h"
 #include "common/files/durable_file.h"
+#include "common/files/small_file.h"
 #include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"
 #include "learner/acting_policy.h"
@@ -71,10 +72,8 @@ std::optional<BestEvaluation> ParseBestEvaluation(const std::string& text) {
 BestPolicy::BestPolicy(const config::Config& config, std::string dir)
     : dir_(std::move(dir)), networks_(std::make_unique<Networks>(config)) {
   // a resumed run: only a better evaluation replaces the best so far
-  std::ifstream in(dir_ + "/best.yaml");
-  std::stringstream text;
-  text << in.rdbuf();
-  if (in && std::ifstream(dir_ + "/best.srics")) best_ = ParseBestEvaluation(text.str());
+  if (std::ifstream(dir_ + "/best.yaml") && std::ifstream(dir_ + "/best.srics"))
+    best_ = ParseBestEvaluation(files::ReadSmallFile(dir_ + "/best.yaml"));  // throws over the size limit
 }
 
 BestPolicy::~BestPolicy() = default;

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "common/config/config.h"
+#include "common/files/small_file.h"
 #include "common/rl/ground_truth.h"
 #include "graph_service/learned_graph.h"
 #include "deploy/launcher/run_folder.h"
@@ -68,7 +69,8 @@ std::vector<double> SplitValues(const std::string& text) {
 
 // The stem of the config file a sweep folder's sweep.yaml names ("relational-4").
 std::optional<std::string> SweepEnvironment(const fs::path& sweep_dir) {
-  std::ifstream in(sweep_dir / "sweep.yaml");
+  if (!fs::exists(sweep_dir / "sweep.yaml")) return std::nullopt;
+  std::istringstream in(files::ReadSmallFile((sweep_dir / "sweep.yaml").string()));  // throws over the size limit
   for (std::string line; std::getline(in, line);) {
     if (line.rfind("config: ", 0) != 0) continue;
     std::string path = line.substr(8);

@@ -15,6 +15,7 @@
 
 #include "common/files/durable_file.h"
 #include "common/files/shell_path.h"
+#include "common/files/small_file.h"
 #include "common/rl/ground_truth.h"
 #include "graph_service/learned_graph.h"
 
@@ -109,7 +110,7 @@ std::vector<double> SplitList(const std::string& text) {
 
 // A file's lines that are not comments.
 std::string WithoutComments(const std::string& path) {
-  std::ifstream in(path);
+  std::istringstream in(fs::exists(path) ? files::ReadSmallFile(path) : std::string());
   std::string out;
   for (std::string line; std::getline(in, line);)
     if (line.rfind('#', 0) != 0) out += line + "\n";
@@ -252,8 +253,9 @@ void WriteRunOutcome(const std::string& dir, const RunOutcome& outcome) {
 }
 
 std::optional<RunOutcome> ReadRunOutcome(const std::string& dir) {
-  std::ifstream in(fs::path(dir) / "outcome.yaml");
-  if (!in) return std::nullopt;
+  const fs::path path = fs::path(dir) / "outcome.yaml";
+  if (!fs::exists(path)) return std::nullopt;
+  std::istringstream in(files::ReadSmallFile(path.string()));  // throws over the size limit
   RunOutcome outcome;
   bool have_state = false;
   for (std::string line; std::getline(in, line);) {

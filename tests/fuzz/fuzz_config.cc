@@ -19,6 +19,16 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
     srics::fuzz::WriteSeed(dir, "small.yaml",
                            "transport:\n  run_id: fuzz\n  domain_id: 3\nrun:\n  total_env_steps: 1000\n"
                            "env:\n  objects: [1, 2]\nlearner:\n  batch_size: 32\n");
+    // documents that must be refused at once (issue 39): eight levels of nine aliases each, and
+    // nesting 100 deep; the launcher's test starts `srics run` on the first
+    std::string bomb = "a0: &a0 [x, x, x, x, x, x, x, x, x]\n";
+    for (int level = 1; level <= 8; ++level) {
+      bomb += "a" + std::to_string(level) + ": &a" + std::to_string(level) + " [";
+      for (int i = 0; i < 9; ++i) bomb += (i ? ",*a" : "*a") + std::to_string(level - 1);
+      bomb += "]\n";
+    }
+    srics::fuzz::WriteSeed(dir, "anchor-bomb.yaml", bomb + "run:\n  name: bomb\n");
+    srics::fuzz::WriteSeed(dir, "deep.yaml", "run: " + std::string(100, '[') + std::string(100, ']') + "\n");
     std::exit(0);
   }
   return 0;
