@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include "common/config/sections.h"
 
 namespace srics::config {
@@ -15,6 +17,10 @@ void ParseAgent(YamlSection s, AgentConfig* out) {
   net.ReadDouble("log_std_min", &n.log_std_min, -100, 100);
   net.ReadDouble("log_std_max", &n.log_std_max, -100, 100);
   if (n.log_std_min >= n.log_std_max) net.FailRule("log_std_max", "must be above log_std_min");
+  net.ReadDouble("initial_policy_std", &n.initial_policy_std, 0, 10);
+  if (n.initial_policy_std > 0 && (std::log(n.initial_policy_std) < n.log_std_min || std::log(n.initial_policy_std) > n.log_std_max))
+    net.FailRule("initial_policy_std", "its log must lie in [log_std_min, log_std_max] (0: not set)");
+  net.ReadDouble("hidden_bias", &n.hidden_bias, -10, 10);
   net.Finish();
 
   YamlSection sac = s.Child("sac");

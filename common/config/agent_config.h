@@ -15,6 +15,11 @@ struct NetworkConfig {
   std::vector<int> q_hidden = {128, 128, 128};
   double log_std_min = -20.0;
   double log_std_max = 2.0;
+  // Starting values (the reference code's, reference-deviations row 9; 0 = Xavier weights with
+  // zero biases everywhere): the policy's log-std outputs start at log(initial_policy_std) (its
+  // std about 0.2 instead of about 1), every MLP hidden layer's bias at hidden_bias (0.1).
+  double initial_policy_std = 0.0;
+  double hidden_bias = 0.0;
 };
 
 struct SacConfig {

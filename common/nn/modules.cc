@@ -90,6 +90,11 @@ Mlp<T>::Mlp(std::string name, int in, const std::vector<int>& hidden, int out, R
 }
 
 template <typename T>
+void Mlp<T>::FillHiddenBiases(T value) {
+  for (size_t i = 0; i + 1 < layers_.size(); ++i) layers_[i].bias()->value.setConstant(value);
+}
+
+template <typename T>
 Var<T> Mlp<T>::Forward(Tape<T>& tape, Var<T> x, bool trainable) {
   for (size_t i = 0; i < layers_.size(); ++i) {
     x = layers_[i].Forward(tape, x, trainable);

@@ -71,6 +71,9 @@ class Mlp {
   int in() const { return layers_.front().in(); }
   int out() const { return layers_.back().out(); }
   void Parameters(ParameterList<T>& list);
+  // Sets the bias of every layer but the last to `value` (a starting value; rng untouched).
+  void FillHiddenBiases(T value);
+  Linear<T>& output_layer() { return layers_.back(); }
 
  private:
   std::vector<Linear<T>> layers_;

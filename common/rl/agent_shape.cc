@@ -75,6 +75,8 @@ AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::
   c.q_hidden = agent.network.q_hidden;
   c.log_std_min = agent.network.log_std_min;
   c.log_std_max = agent.network.log_std_max;
+  c.initial_policy_std = agent.network.initial_policy_std;
+  c.hidden_bias = agent.network.hidden_bias;
   c.Validate();
   return c;
 }

@@ -1,5 +1,6 @@
 #include "common/rl/networks.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace srics::rl {
@@ -30,6 +31,7 @@ void AttentionNetworkConfig::Validate() const {
   }
   for (int h : policy_hidden) positive(h, "policy_hidden[]");
   for (int h : q_hidden) positive(h, "q_hidden[]");
+  if (!(initial_policy_std >= 0)) throw std::invalid_argument("AttentionNetworkConfig.initial_policy_std must be >= 0");
   if (!(log_std_min < log_std_max)) {
     throw std::invalid_argument("AttentionNetworkConfig.log_std_min must be < log_std_max");
   }
@@ -65,7 +67,9 @@ AttentionMlpNetwork<T>::AttentionMlpNetwork(const std::string& name,
                                             int outputs, nn::Rng& rng)
     : config_(config),
       attention_(name + ".attention", AttentionOf(config), rng),
-      mlp_(name + ".mlp", 2 * config.embed_dim + extra_inputs, hidden, outputs, rng) {}
+      mlp_(name + ".mlp", 2 * config.embed_dim + extra_inputs, hidden, outputs, rng) {
+  if (config.hidden_bias != 0) mlp_.FillHiddenBiases(static_cast<T>(config.hidden_bias));
+}
 
 template <typename T>
 nn::ParameterList<T> AttentionMlpNetwork<T>::Parameters() {
@@ -82,7 +86,12 @@ PolicyNetwork<T>::PolicyNetwork(const std::string& name, const AttentionNetworkC
                                 nn::Rng& rng)
     : AttentionMlpNetwork<T>(name, config, 0, config.policy_hidden, 2 * config.action_dim, rng),
       head_{static_cast<T>(config.log_std_min), static_cast<T>(config.log_std_max)},
-      eps_(static_cast<size_t>(config.action_dim)) {}
+      eps_(static_cast<size_t>(config.action_dim)) {
+  // outputs [mean | log std]: the log-std half's biases start at log(initial std)
+  if (config.initial_policy_std > 0)
+    mlp_.output_layer().bias()->value.rightCols(config.action_dim).setConstant(
+        static_cast<T>(std::log(config.initial_policy_std)));
+}
 
 template <typename T>
 typename PolicyNetwork<T>::Output PolicyNetwork<T>::Forward(nn::Tape<T>& tape,

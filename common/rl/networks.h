@@ -30,6 +30,8 @@ struct AttentionNetworkConfig {
   std::vector<int> q_hidden;        // paper: {128, 128, 128}
   double log_std_min = -20;         // tanh-Gaussian log std clipping
   double log_std_max = 2;
+  double initial_policy_std = 0;    // > 0: the policy's log-std output biases start at its log
+  double hidden_bias = 0;           // the MLP hidden layers' biases start here (0: zero)
 
   // Throws std::invalid_argument naming the first bad field.
   void Validate() const;

@@ -177,5 +177,16 @@ TEST_F(RejectedConfig, TooManyNodesTooDeepOrTooLargeIsRefusedNamingTheLimit) {
   EXPECT_NO_THROW(LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/campaign/relational-4-750k.yaml"));
 }
 
+// Issue 34: the reference's starting values are options; a starting std outside the clamp is refused.
+TEST_F(RejectedConfig, InitialPolicyStdMustLieInsideTheLogStdClamp) {
+  const std::string tiny = Write("tiny.yaml", "agent:\n  network:\n    initial_policy_std: 1.0e-12\n");
+  EXPECT_NE(ErrorOf(tiny).find("agent.network.initial_policy_std: its log must lie in [log_std_min, log_std_max]"),
+            std::string::npos) << ErrorOf(tiny);
+  const Config reference = LoadConfig(Write("ok.yaml", "agent:\n  network:\n    initial_policy_std: 0.2\n    hidden_bias: 0.1\n"));
+  EXPECT_DOUBLE_EQ(reference.agent.network.initial_policy_std, 0.2);
+  EXPECT_DOUBLE_EQ(reference.agent.network.hidden_bias, 0.1);
+  EXPECT_EQ(LoadConfig(Write("none.yaml", "")).agent.network.initial_policy_std, 0.0);  // off by default
+}
+
 }  // namespace
 }  // namespace srics::config

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <utility>
+
 #include "common/nn/optim.h"
 #include "common/nn/serialize.h"
 #include "tests/common/nn/gradcheck.h"
@@ -185,6 +188,58 @@ TEST(NetworksTrainingTest, PolicyLearnsToPointAtTheGoal) {
     loss_value = loss.value()(0, 0);
   }
   EXPECT_LT(loss_value, 0.01f);
+}
+
+// Issue 34 (reference-deviations row 9): the reference's starting values. The same rng gives the
+// same weights; only biases differ: hidden layers 0.1, the policy's log-std outputs log(0.2), so
+// the policy starts with a std near 0.2 where Xavier with zero biases gives about 1.
+TEST(NetworksConfigTest, ReferenceInitialisationSetsBiasesOnlyAndStartsThePolicyNearStd02) {
+  AttentionNetworkConfig plain_config = PaperNetworkConfig(5);
+  AttentionNetworkConfig ref_config = plain_config;
+  ref_config.initial_policy_std = 0.2;
+  ref_config.hidden_bias = 0.1;
+  Rng a(3), b(3);
+  PolicyNetwork<double> plain("policy", plain_config, a), ref("policy", ref_config, b);
+  QNetwork<double> plain_q("q1", plain_config, a), ref_q("q1", ref_config, b);
+  for (auto [x, y] : {std::pair{plain.Parameters(), ref.Parameters()}, std::pair{plain_q.Parameters(), ref_q.Parameters()}}) {
+    ASSERT_EQ(x.size(), y.size());
+    for (size_t i = 0; i < x.size(); ++i) {
+      const std::string& name = x[i]->name;
+      const bool hidden_bias = name.find(".mlp.") != std::string::npos && name.back() == 'b' &&
+                               name != "policy.mlp.2.b" && name != "q1.mlp.3.b";
+      if (name == "policy.mlp.2.b") {  // [mean | log std] over 2 actions
+        EXPECT_EQ(y[i]->value.leftCols(2), x[i]->value.leftCols(2));
+        EXPECT_DOUBLE_EQ(y[i]->value(0, 2), std::log(0.2));
+        EXPECT_DOUBLE_EQ(y[i]->value(0, 3), std::log(0.2));
+      } else if (hidden_bias) {
+        EXPECT_TRUE(x[i]->value.isZero()) << name;
+        EXPECT_TRUE((y[i]->value.array() == 0.1).all()) << name;
+      } else {
+        EXPECT_EQ(x[i]->value, y[i]->value) << name << " changed";
+      }
+    }
+  }
+  // the std at the start, over 256 observations of a 5-entity table: tanh(mean + std) against
+  // tanh(mean) gives each action's std; their geometric mean
+  Rng data(9);
+  std::vector<MatD> sets;
+  for (int k = 0; k < 256; ++k) {
+    MatD e = MatD::Zero(5, 7);
+    for (int n = 0; n < 5; ++n) e(n, n) = 1, e(n, 5) = 0.2 * nn::RandomNormal<double>(1, 1, data)(0, 0), e(n, 6) = 0.55;
+    sets.push_back(e);
+  }
+  MatD goals = MatD::Zero(256, 8);
+  for (int k = 0; k < 256; ++k) goals(k, k % 5) = 1, goals(k, 5) = 0.1, goals(k, 6) = 0.6, goals(k, 7) = 1;
+  const auto batch = PackEntities(sets, goals);
+  auto mean_log_std = [&](PolicyNetwork<double>& policy) {
+    Tape<double> t;
+    const MatD mode = policy.Forward(t, batch, MatD::Zero(256, 2)).action.value();
+    t.Reset();
+    const MatD shifted = policy.Forward(t, batch, MatD::Ones(256, 2)).action.value();
+    return ((shifted.array().atanh() - mode.array().atanh()).log()).mean();
+  };
+  EXPECT_NEAR(std::exp(mean_log_std(ref)), 0.2, 0.1);
+  EXPECT_GT(std::exp(mean_log_std(plain)), 0.5);
 }
 
 }  // namespace
