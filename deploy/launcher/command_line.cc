@@ -190,7 +190,7 @@ void AddCompareOptions(CLI::App& app, CompareOptions* o) {
   app.description(
       "figures and a table of final figures from sweeps: per environment <env>-distance.png,\n"
       "<env>-object_distance.png, <env>-subgoal_success.png, <env>-selectivity.png, <env>-undone.png (mean over\n"
-      "seeds, band min-max),\n"
+      "seeds, band ±1 sd),\n"
       "<env>-<run>-graph.png; results.md: final figures, mean ± std over seeds, each run's learned graph against the\n"
       "one by construction");
   app.add_option("DIR", o->dirs, "sweep folders (srics sweep) or run folders; their eval.csv and train.csv are read")
@@ -204,6 +204,18 @@ void AddCompareOptions(CLI::App& app, CompareOptions* o) {
                  "(other goals, to choose variants on)")
       ->type_name("NAME")
       ->default_val("final-eval");
+  app.add_option("--methods", o->methods,
+                 "only these methods (as the run folders name them: srics,smorl,...), in figures and table; e.g. one "
+                 "panel of the methods and one of the ablations")
+      ->delimiter(',')
+      ->type_name("LIST");
+  app.add_option("--panel", o->panel, "names the files <env>-NAME-*.png (and the titles) so that panels share --out")
+      ->type_name("NAME");
+  app.add_option("--band", o->band, "the curves' band: std (mean ± 1 sample sd over seeds, as the paper) or minmax")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, CompareOptions::Band>{{"std", CompareOptions::Band::kStd},
+                                                     {"minmax", CompareOptions::Band::kMinMax}}))
+      ->default_str("std");
 }
 
 // ---- srics eval

@@ -436,12 +436,12 @@ std::optional<double> ValueAt(const std::vector<std::pair<double, double>>& c, d
   return Interpolate(c, x);
 }
 
-// Writes one figure's data: per method a block "x mean min max n" (blocks separated by two
+// Writes one figure's data: per method a block "x mean min max n sd" (blocks separated by two
 // blank lines, gnuplot's `index`). Returns the methods with data, in block order.
 std::vector<std::string> WriteCurveBlocks(const std::string& path, const std::map<std::string, Group>& methods,
                                           const std::function<std::vector<std::pair<double, double>>(const RunData&)>& curve_of) {
   std::ofstream out(path);
-  out << "# per method (blocks in the order of the plot): env_steps mean min max seeds\n";
+  out << "# per method (blocks in the order of the plot): env_steps mean min max seeds sample_sd\n";
   std::vector<std::string> written;
   for (const auto& [method, group] : methods) {
     std::vector<std::vector<std::pair<double, double>>> curves;
@@ -456,7 +456,7 @@ std::vector<std::string> WriteCurveBlocks(const std::string& path, const std::ma
         if (auto v = ValueAt(c, x, tolerance)) values.push_back(*v);
       if (values.empty()) continue;
       const Spread s = SpreadOf(values);
-      out << x << ' ' << s.mean << ' ' << s.min << ' ' << s.max << ' ' << s.n << '\n';
+      out << x << ' ' << s.mean << ' ' << s.min << ' ' << s.max << ' ' << s.n << ' ' << s.std << '\n';
     }
     out << "\n\n";
     written.push_back(method);
@@ -466,19 +466,37 @@ std::vector<std::string> WriteCurveBlocks(const std::string& path, const std::ma
 
 const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
 
+// The band's words for titles, and its bounds as gnuplot columns of a curve block.
+std::string BandWords(CompareOptions::Band band) {
+  return band == CompareOptions::Band::kStd ? "band ±1 sd over seeds" : "band min-max over seeds";
+}
+std::string BandColumns(CompareOptions::Band band) {
+  return band == CompareOptions::Band::kStd ? "1:($2-$6):($2+$6)" : "1:3:4";
+}
+
+// The legend in two columns below the plot (the plot keeps the width, long names stay whole),
+// at the bottom of the picture with a margin that holds its rows: gnuplot's own `key below`
+// overlaps the x label.
+std::string KeyBelow(size_t entries) {
+  const size_t rows = (entries + 1) / 2;
+  return "set key at screen 0.5, screen 0.01 center bottom horizontal maxcols 2 samplen 2 noenhanced\nset bmargin " +
+         std::to_string(4 + rows) + "\n";
+}
+
 void PlotCurves(std::ostream& script, const std::string& png, const std::string& dat, const std::string& title,
                 const std::string& ylabel, const std::vector<std::string>& methods,
                 const std::map<std::string, Group>& groups, const std::map<std::string, double>& passive,
-                HasData has_data = HasEvaluations) {
+                CompareOptions::Band band, HasData has_data = HasEvaluations) {
   script << "set output '" << GnuplotQuote(png) << "'\n"
          << "set title '" << GnuplotQuote(title) << "' noenhanced\n"
          << "set xlabel 'environment steps'\nset ylabel '" << GnuplotQuote(ylabel) << "' noenhanced\n"
-         << "set key outside right top noenhanced\nset grid\nset yrange [0:*]\nset style fill transparent solid 0.2 noborder\n"
+         << "set format x '%.0s%c'\n" << KeyBelow(methods.size() + passive.size()) << "set grid\nset yrange [0:*]\n"
+         << "set style fill transparent solid 0.2 noborder\n"
          << "plot ";
   for (size_t i = 0; i < methods.size(); ++i) {
     const char* color = kColors[i % (sizeof kColors / sizeof *kColors)];
     script << (i ? ", " : "") << "'" << GnuplotQuote(dat) << "' index " << i
-           << " using 1:3:4 with filledcurves lc rgb '" << color << "' notitle, '' index " << i
+           << " using " << BandColumns(band) << " with filledcurves lc rgb '" << color << "' notitle, '' index " << i
            << " using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '" << color << "' title '"
            << GnuplotQuote(LegendTitle(methods[i], groups.at(methods[i]), has_data)) << "'";
   }
@@ -502,8 +520,8 @@ std::string FinalTable(const std::vector<RunData>& runs) {
          "ancestor sets of the table's graph by construction (the same for every method); marked * where a run "
          "logged only its episodes' own ancestor sets (written before that column existed; SMORL has none, so the "
          "arm that pushes counts against it). Avg object distance / passive's: each run's final object distance over "
-         "its own passive policy's (each seed draws its own evaluation goals). The figures' bands span min-max over "
-         "seeds.\n";
+         "its own passive policy's (each seed draws its own evaluation goals). The figures' bands: mean ± 1 sample "
+         "standard deviation over seeds (srics compare --band minmax: minimum to maximum).\n";
   for (const auto& [env, methods] : GroupRuns(runs)) {
     const std::vector<std::string> names = EntityNames(methods);
     const size_t entities = names.size();
@@ -606,7 +624,20 @@ std::string FinalTable(const std::vector<RunData>& runs) {
 
 int Compare(const CompareOptions& options) {
   std::vector<std::string> warnings;
-  const std::vector<RunData> runs = ReadRuns(options.dirs, &warnings, options.final_eval);
+  std::vector<RunData> runs = ReadRuns(options.dirs, &warnings, options.final_eval);
+  if (!options.methods.empty()) {
+    const std::set<std::string> wanted(options.methods.begin(), options.methods.end());
+    std::set<std::string> found;
+    std::vector<RunData> picked;
+    for (RunData& r : runs) {
+      if (!wanted.count(r.method)) continue;
+      found.insert(r.method);
+      picked.push_back(std::move(r));
+    }
+    for (const std::string& m : wanted)
+      if (!found.count(m)) warnings.push_back("--methods: no run of method '" + m + "'");
+    runs = std::move(picked);
+  }
   for (const std::string& w : warnings) std::cerr << "srics compare: " << w << "\n";
   if (runs.empty()) {
     std::cerr << "srics compare: no runs found\n";
@@ -619,15 +650,18 @@ int Compare(const CompareOptions& options) {
   fs::create_directories(out_dir, error);
   if (error) throw std::runtime_error("cannot create " + out_dir + ": " + error.message());
   const std::string out = fs::absolute(out_dir).lexically_normal().string();
+  const std::string table_name = options.panel.empty() ? "results.md" : "results-" + options.panel + ".md";
   {
-    std::ofstream table(out + "/results.md");
+    std::ofstream table(out + "/" + table_name);
     table << FinalTable(runs);
-    if (!table) throw std::runtime_error("cannot write " + out + "/results.md");
+    if (!table) throw std::runtime_error("cannot write " + out + "/" + table_name);
   }
   int code = 0;
   std::vector<std::string> pictures;
   for (const auto& [env, methods] : GroupRuns(runs)) {
-    const std::string base = out + "/" + env;
+    const std::string base = out + "/" + env + (options.panel.empty() ? "" : "-" + options.panel);
+    const std::string figure = env + (options.panel.empty() ? "" : " (" + options.panel + ")");
+    const std::string band = BandWords(options.band);
     std::map<std::string, double> passive_distance, passive_object;
     {
       std::vector<double> d, o;
@@ -637,15 +671,15 @@ int Compare(const CompareOptions& options) {
       if (!d.empty()) passive_distance[env] = SpreadOf(d).mean, passive_object[env] = SpreadOf(o).mean;
     }
     std::ofstream script(base + ".gnuplot");
-    script << "set terminal pngcairo size 1000,600 font 'sans,11'\n";
+    script << "set terminal pngcairo size 1000,650 font 'sans,11'\n";
     const auto distance = WriteCurveBlocks(base + "-distance.dat", methods, [](const RunData& r) {
       std::vector<std::pair<double, double>> c;
       for (const EvalPoint& p : r.evaluations) c.emplace_back(p.env_steps, p.avg_distance);
       return c;
     });
     PlotCurves(script, base + "-distance.png", base + "-distance.dat",
-               env + ": average distance of all entities, arm included (mean, band min-max over seeds)",
-               "final distance to goal (m)", distance, methods, passive_distance);
+               figure + ": average distance of all entities, arm included (mean, " + band + ")",
+               "final distance to goal (m)", distance, methods, passive_distance, options.band);
     pictures.push_back(base + "-distance.png");
     const auto object = WriteCurveBlocks(base + "-object_distance.dat", methods, [](const RunData& r) {
       std::vector<std::pair<double, double>> c;
@@ -653,8 +687,8 @@ int Compare(const CompareOptions& options) {
       return c;
     });
     PlotCurves(script, base + "-object_distance.png", base + "-object_distance.dat",
-               env + ": average object distance (mean, band min-max over seeds)", "final distance to goal (m)", object,
-               methods, passive_object);
+               figure + ": average object distance (mean, " + band + ")", "final distance to goal (m)", object,
+               methods, passive_object, options.band);
     pictures.push_back(base + "-object_distance.png");
     bool any_selectivity = false;
     for (const auto& [method, group] : methods)
@@ -664,8 +698,8 @@ int Compare(const CompareOptions& options) {
         return r.selectivity;
       });
       PlotCurves(script, base + "-selectivity.png", base + "-selectivity.dat",
-                 env + ": selectivity of training episodes, the table's ancestor sets (mean, band min-max over seeds)",
-                 "selectivity", selectivity, methods, {}, HasSelectivity);
+                 figure + ": selectivity of training episodes, the table's ancestor sets (mean, " + band + ")",
+                 "selectivity", selectivity, methods, {}, options.band, HasSelectivity);
       pictures.push_back(base + "-selectivity.png");
     }
     bool any_undone = false;
@@ -674,8 +708,8 @@ int Compare(const CompareOptions& options) {
     if (any_undone) {
       const auto undone = WriteCurveBlocks(base + "-undone.dat", methods, UndoneCurve);
       PlotCurves(script, base + "-undone.png", base + "-undone.dat",
-                 env + ": solved non-ancestor objects an evaluation attempt undid (mean, band min-max over seeds)",
-                 "share undone", undone, methods, {}, HasUndone);
+                 figure + ": solved non-ancestor objects an attempt undid (mean, " + band + ")",
+                 "share undone", undone, methods, {}, options.band, HasUndone);
       pictures.push_back(base + "-undone.png");
     }
     // per-subgoal success at the final evaluation: one bar per method and entity
@@ -683,8 +717,10 @@ int Compare(const CompareOptions& options) {
     const size_t entities = names.size();
     if (entities > 0) {
       std::ofstream bars(base + "-subgoal_success.dat");
-      bars << "# entity, then per method: mean min max over seeds of the final evaluation's success\n# entity";
-      for (const auto& [method, group] : methods) bars << ' ' << method << " min max";
+      const bool std_bars = options.band == CompareOptions::Band::kStd;
+      bars << "# entity, then per method: mean and the error bar's ends (" << (std_bars ? "mean ± 1 sample sd" : "min, max")
+           << ") over seeds of the final evaluation's success\n# entity";
+      for (const auto& [method, group] : methods) bars << ' ' << method << (std_bars ? " low high" : " min max");
       bars << '\n';
       for (size_t i = 0; i < entities; ++i) {
         bars << '"' << names[i] << '"';
@@ -694,14 +730,16 @@ int Compare(const CompareOptions& options) {
             if (!r->evaluations.empty() && i < r->evaluations.back().subgoal_success.size())
               values.push_back(r->evaluations.back().subgoal_success[i]);
           const Spread s = SpreadOf(values);
-          bars << ' ' << s.mean << ' ' << s.min << ' ' << s.max;
+          if (std_bars) bars << ' ' << s.mean << ' ' << s.mean - s.std << ' ' << s.mean + s.std;
+          else bars << ' ' << s.mean << ' ' << s.min << ' ' << s.max;
         }
         bars << '\n';
       }
       script << "set output '" << GnuplotQuote(base + "-subgoal_success.png") << "'\n"
-             << "set title '" << GnuplotQuote(env) << ": success per subgoal at the final evaluation (mean over seeds, "
-             << "bars min-max)' noenhanced\n"
-             << "set xlabel ''\nset ylabel 'success rate'\nset yrange [0:1.05]\nset grid ytics\nset key noenhanced\n"
+             << "set title '" << GnuplotQuote(figure) << ": success per subgoal at the final evaluation (mean, "
+             << (std_bars ? "bars ±1 sd" : "bars min-max") << " over seeds)' noenhanced\n"
+             << "set xlabel ''\nset ylabel 'success rate'\nset yrange [0:1.05]\nset grid ytics\n"
+             << "set format x '% h'\n" << KeyBelow(methods.size())
              << "set style data histograms\nset style histogram errorbars gap 2 lw 1\nset style fill solid 0.8 border -1\n"
              << "set bars 2\nplot ";
       size_t k = 0;
@@ -717,7 +755,7 @@ int Compare(const CompareOptions& options) {
     }
     for (const auto& [method, group] : methods)
       for (const RunData* r : group) {
-        const std::string copy = base + "-" + fs::path(r->dir).filename().string() + "-graph.png";
+        const std::string copy = out + "/" + env + "-" + fs::path(r->dir).filename().string() + "-graph.png";
         if (!r->graph_picture.empty()) {
           std::error_code copy_error;
           fs::copy_file(r->graph_picture, copy, fs::copy_options::overwrite_existing, copy_error);
@@ -736,7 +774,7 @@ int Compare(const CompareOptions& options) {
       code = 1;
     }
   }
-  std::cout << "srics compare: " << runs.size() << " runs; " << out << "/results.md";
+  std::cout << "srics compare: " << runs.size() << " runs; " << out << "/" << table_name;
   for (const std::string& p : pictures) std::cout << ", " << fs::path(p).filename().string();
   std::cout << "\n";
   return code;

@@ -13,9 +13,13 @@
 //   object_distance.png  average object distance vs env steps
 //   subgoal_success.png  per-subgoal success at each run's final evaluation (bars)
 //   selectivity.png      selectivity of training episodes vs env steps (train.csv)
-// Curves: the mean over seeds, the band from the minimum to the maximum over seeds, each run
-// interpolated linearly onto the group's evaluation grid (a point uses the seeds that reached
-// it); the passive policy (policy version 0) as a dashed line. Bars: mean, error bars min-max.
+// Curves: the mean over seeds, the band mean ± one sample standard deviation over seeds (as the
+// paper shades; --band minmax: minimum to maximum), each run interpolated linearly onto the
+// group's evaluation grid (a point uses the seeds that reached it); the passive policy (policy
+// version 0) as a dashed line; the legend below the plot. Bars: mean, error bars as the band.
+// --methods picks the methods drawn and tabled (a panel of the methods, another of the
+// ablations); --panel NAME names the files <env>-NAME-*.png and results-NAME.md so that panels
+// share a folder.
 //   undone.png           share of the solved non-ancestor objects an evaluation attempt undid
 //                        (eval.csv's independent_* columns; runs before 2026-12-04 have none)
 // OUT/results.md: per environment and method, each run's final evaluation (its last, never its
@@ -34,6 +38,9 @@ struct CompareOptions {
   std::vector<std::string> dirs;
   std::string out_dir;  // "" = DIR/compare for one DIR, ./compare for several
   std::string final_eval = "final-eval";  // subfolder of the final evaluation (FinalEvaluation)
+  std::vector<std::string> methods;       // the methods drawn and tabled; empty: every method
+  std::string panel;                      // "" or the files' infix: <env>-<panel>-distance.png
+  enum class Band { kStd, kMinMax } band = Band::kStd;
 };
 
 // One evaluation of a run (the rows of eval.csv at one env-step count, averaged).

@@ -1,6 +1,6 @@
 // `srics compare` on hand-made run folders: the final figures are each run's last evaluation
 // (never its best), summarized as mean ± sample std over seeds; curves are the mean over seeds
-// with a min-max band; the figures are PNG files.
+// with a band of ±1 sample sd (or min-max); the figures are PNG files.
 
 #include "deploy/launcher/compare.h"
 
@@ -182,14 +182,20 @@ TEST_F(CompareTest, NamesHeldOutObjectsByTheirCatalogueNumber) {
   EXPECT_THAT(FinalTable(runs), HasSubstr("| success arm | success object 1 | training selectivity |"));
 }
 
-TEST_F(CompareTest, WritesCurvesWithMeanAndMinMaxAndPngFigures) {
+TEST_F(CompareTest, WritesCurvesWithMeanMinMaxAndSdAndPngFigures) {
   ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
-  // srics at 2000 steps: mean 0.12, min 0.10, max 0.14 over 2 seeds (blocks: smorl, then srics)
+  // srics at 2000 steps: mean 0.12, min 0.10, max 0.14 over 2 seeds, sample sd sqrt(2 * 0.02^2)
+  // = 0.0282843; at 1000: 0.05 and 0.2, sd sqrt(2 * 0.075^2) = 0.106066 (blocks: smorl, srics)
   const std::string dat = ReadFile(root_ / "out" / "relational-4-distance.dat");
-  EXPECT_THAT(dat, HasSubstr("# srics\n1000 0.125 0.05 0.2 2\n2000 0.12 0.1 0.14 2\n")) << dat;
-  EXPECT_THAT(dat, HasSubstr("# smorl\n1000 0.25 0.25 0.25 1\n")) << dat;
+  EXPECT_THAT(dat, HasSubstr("# srics\n1000 0.125 0.05 0.2 2 0.106066\n2000 0.12 0.1 0.14 2 0.0282843\n")) << dat;
+  EXPECT_THAT(dat, HasSubstr("# smorl\n1000 0.25 0.25 0.25 1 0\n")) << dat;
   const std::string selectivity = ReadFile(root_ / "out" / "relational-4-selectivity.dat");
-  EXPECT_THAT(selectivity, HasSubstr("2000 0.6 0.5 0.7 2")) << selectivity;
+  EXPECT_THAT(selectivity, HasSubstr("2000 0.6 0.5 0.7 2 0.141421")) << selectivity;
+  // the band is mean ± 1 sd (the paper's), the legend below the plot, the title whole
+  const std::string script = ReadFile(root_ / "out" / "relational-4.gnuplot");
+  EXPECT_THAT(script, HasSubstr("using 1:($2-$6):($2+$6) with filledcurves")) << script;
+  EXPECT_THAT(script, HasSubstr("set key at screen 0.5, screen 0.01 center bottom horizontal maxcols 2")) << script;
+  EXPECT_THAT(script, HasSubstr("relational-4: average distance of all entities, arm included (mean, band ±1 sd over seeds)"));
   for (const char* name : {"relational-4-distance.png", "relational-4-object_distance.png",
                            "relational-4-subgoal_success.png", "relational-4-selectivity.png", "results.md"}) {
     const fs::path path = root_ / "out" / name;
@@ -303,8 +309,32 @@ TEST_F(CompareTest, UndoneShareLastFiveAndTheFinalEvaluationOfTheLastCheckpoint)
 
   ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
   const std::string dat = ReadFile(root_ / "out" / "relational-4-undone.dat");
-  EXPECT_THAT(dat, HasSubstr("# srics\n1000 0.5 0.5 0.5 1\n2000 0.3 0.3 0.3 1\n")) << dat;
+  EXPECT_THAT(dat, HasSubstr("# srics\n1000 0.5 0.5 0.5 1 0\n2000 0.3 0.3 0.3 1 0\n")) << dat;
   EXPECT_GT(fs::file_size(root_ / "out" / "relational-4-undone.png"), 5000u);
+}
+
+// Issue 38: the methods' panel apart from the ablations', in one folder; the band as min-max on request.
+TEST_F(CompareTest, MethodsPickAPanelAndBandMinMaxIsAnOption) {
+  CompareOptions options;
+  options.dirs = {sweep_.string()};
+  options.out_dir = (root_ / "out").string();
+  options.methods = {"srics"};
+  options.panel = "methods";
+  options.band = CompareOptions::Band::kMinMax;
+  ASSERT_EQ(Compare(options), 0);
+  const std::string dat = ReadFile(root_ / "out" / "relational-4-methods-distance.dat");
+  EXPECT_THAT(dat, HasSubstr("# srics\n"));
+  EXPECT_THAT(dat, Not(HasSubstr("# smorl")));
+  const std::string script = ReadFile(root_ / "out" / "relational-4-methods.gnuplot");
+  EXPECT_THAT(script, HasSubstr("using 1:3:4 with filledcurves"));
+  EXPECT_THAT(script, HasSubstr("relational-4 (methods): average object distance (mean, band min-max over seeds)"));
+  EXPECT_TRUE(fs::exists(root_ / "out" / "relational-4-methods-distance.png"));
+  EXPECT_THAT(ReadFile(root_ / "out" / "results-methods.md"), Not(HasSubstr("| smorl |")));
+  // a method no run has is named, the others still drawn
+  options.methods = {"srics", "hac"};
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(Compare(options), 0);
+  EXPECT_THAT(testing::internal::GetCapturedStderr(), HasSubstr("--methods: no run of method 'hac'"));
 }
 
 TEST_F(CompareTest, NoRunsIsAnError) {
