@@ -96,9 +96,19 @@ void RenderLearner(const RunView& run, Clock::time_point now, std::string* out) 
   }
 }
 
-void RenderGraph(const RunView& run, Clock::time_point now, std::string* out) {
+// What the run's graph service says it is doing (its status detail: "collecting: 120/1000
+// episodes, 0 updates", "training: ..., held-out 0.0123"), "" when none has reported: before
+// the first graph, the only sign of the graph phase.
+std::string GraphServiceDetail(const MonitorState& state, const std::string& run_id) {
+  const NodeEntry* newest = nullptr;
+  for (const auto& [key, node] : state.nodes)
+    if (key.run_id == run_id && key.role == "graph" && (!newest || node.last_seen > newest->last_seen)) newest = &node;
+  return newest ? newest->status.detail : std::string();
+}
+
+void RenderGraph(const RunView& run, const std::string& service_detail, Clock::time_point now, std::string* out) {
   if (!run.graph) {
-    *out += "graph     none yet\n";
+    *out += service_detail.empty() ? "graph     none yet\n" : "graph     none yet; the graph service: " + service_detail + "\n";
     return;
   }
   const transport::InteractionGraph& g = *run.graph;
@@ -145,9 +155,12 @@ void RenderEval(const RunView& run, size_t history_rows, std::string* out) {
     if (latest)
       line += "   -> trained: object distance " + Relative(latest->avg_object_distance, p.avg_object_distance) +
               ", distance " + Relative(latest->avg_distance, p.avg_distance);
+    if (run.passive_refused) line += Format("   (%" PRIu64 " not this run's refused)", run.passive_refused);
     *out += line + "\n";
   } else {
-    *out += latest ? "passive   no baseline yet\n" : "; no passive baseline yet\n";
+    *out += latest ? "passive   no baseline yet" : "; no passive baseline yet";
+    if (run.passive_refused) *out += Format(" (%" PRIu64 " not this run's refused)", run.passive_refused);
+    *out += "\n";
   }
   if (run.evals.size() > 1 && history_rows > 0) {
     *out += "history   env steps    policy  obj.dist  distance  success\n";
@@ -241,7 +254,7 @@ std::string Render(const MonitorState& state, Clock::time_point now, const Rende
     if (budget > 0) out += " / " + Thousands(budget) + " " + ProgressBar(steps, budget, 30);
     out += RateAndEta(run, steps, budget, "/s") + "\n";
     RenderLearner(run, now, &out);
-    RenderGraph(run, now, &out);
+    RenderGraph(run, GraphServiceDetail(state, id), now, &out);
     RenderEval(run, options.history_rows, &out);
   }
   out += "\n";
@@ -273,8 +286,12 @@ std::string RenderOneLine(const MonitorState& state, Clock::time_point now, cons
   } else {
     out += "  eval -";
   }
-  out += run.graph ? Format("  graph v%" PRIu64 " %zu edges", run.graph->version, EdgeCount(*run.graph))
-                   : std::string("  graph -");
+  if (run.graph) {
+    out += Format("  graph v%" PRIu64 " %zu edges", run.graph->version, EdgeCount(*run.graph));
+  } else {
+    const std::string detail = GraphServiceDetail(state, run_id);
+    out += detail.empty() ? std::string("  graph -") : "  graph: " + detail;
+  }
   size_t alive = 0, gone = 0;
   for (const auto& [key, node] : state.nodes) {
     if (key.run_id != run_id) continue;

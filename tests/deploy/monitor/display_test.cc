@@ -106,6 +106,14 @@ TEST_F(DisplayTest, ShowsLatestEvaluationAgainstThePassivePolicy) {
   EXPECT_LT(first, text.rfind("v42"));
 }
 
+TEST_F(DisplayTest, ShowsPassiveResultsRefusedAsNotTheRuns) {
+  state_.runs.begin()->second.passive_refused = 2;
+  EXPECT_THAT(LineWith(Render(state_, now_, {}), "passive"), HasSubstr("(2 not this run's refused)"));
+  MonitorState state;
+  state.runs["r1"].passive_refused = 1;
+  EXPECT_THAT(Render(state, t0_, {}), HasSubstr("no passive baseline yet (1 not this run's refused)"));
+}
+
 TEST_F(DisplayTest, WithoutEvaluationSaysSo) {
   MonitorState state;
   Apply(&state, Node("actor", 0, NodeState::kExploring), t0_);
@@ -161,6 +169,24 @@ TEST_F(DisplayTest, OneLineSummary) {
   EXPECT_THAT(line, HasSubstr("eval v42 obj.dist 0.1000 (passive 0.2000)"));
   EXPECT_THAT(line, HasSubstr("graph v3 2 edges"));
   EXPECT_THAT(line, HasSubstr("nodes 3 alive, 2 gone"));
+}
+
+// Issue 38: for the first minutes of a default run the line read "graph -" ten times while the
+// graph service collected explore episodes and trained the GNN; it now says so.
+TEST_F(DisplayTest, BeforeTheFirstGraphTheLineShowsWhatTheGraphServiceIsDoing) {
+  MonitorState state;
+  state.lost_after = milliseconds(3000);
+  transport::NodeStatus graph = Node("graph", 0, NodeState::kExploring, "r2");
+  graph.detail = "collecting: 120/1000 episodes, 0 updates";
+  Apply(&state, graph, t0_);
+  EXPECT_THAT(RenderOneLine(state, t0_, "r2", 100000), HasSubstr("graph: collecting: 120/1000 episodes, 0 updates"));
+  EXPECT_THAT(LineWith(Render(state, t0_, {}), "graph     "),
+              HasSubstr("none yet; the graph service: collecting: 120/1000 episodes, 0 updates"));
+  graph.detail = "training: 1000/1000 episodes, 400 updates, held-out 0.0123";
+  Apply(&state, graph, t0_ + milliseconds(1000));
+  EXPECT_THAT(RenderOneLine(state, t0_ + milliseconds(1000), "r2", 100000), HasSubstr("graph: training: 1000/1000"));
+  // once a graph is published the line shows the graph, as before
+  EXPECT_THAT(RenderOneLine(state_, now_, "r1", 100000), HasSubstr("graph v3 2 edges"));
 }
 
 TEST_F(DisplayTest, RateAndEtaFromTheLastMinuteOfLearnerStats) {
