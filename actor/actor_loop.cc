@@ -41,6 +41,13 @@ ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, ui
   return o;
 }
 
+rl::EvaluationSummary PlayPassiveBaseline(const ActorOptions& options) {
+  const std::unique_ptr<env::Environment> env = env::MakeRearrangeEnv(options.env);
+  uint64_t unstable = 0;
+  return EvaluatePolicy(*env, nullptr, rl::CatalogueSubgoals{}, options.eval, options.eval_episodes, options.run_seed,
+                        &unstable);
+}
+
 struct ActorLoop::State {
   std::unique_ptr<env::Environment> env;
   std::unique_ptr<rl::PolicyNetwork<float>> policy;

@@ -57,6 +57,16 @@ struct ActorOptions {
 
 ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, uint64_t first_episode_id = 0);
 
+// The passive baseline (the hand never moves) on the run's evaluation goals, as the run's
+// evaluating actors play it and publish it as policy version 0 (EvaluatePolicy without a
+// policy, options.eval_episodes episodes of rl::EvalEpisodeSeed(options.run_seed, i)), played
+// here without the run's graph: with no action nothing is pushed, so the distances, the success
+// rate and the episode count do not depend on the subgoals or their order (selectivity and the
+// attempt tallies do). Deterministic: what a recorder checks a received baseline against
+// (issue 39: a stranger's v0 EvalResult became the run's baseline). A few seconds for a
+// campaign config. Unstable episodes are left out (as the actor leaves them out).
+rl::EvaluationSummary PlayPassiveBaseline(const ActorOptions& options);
+
 struct ActorCounters {
   uint64_t env_steps = 0;
   uint64_t episodes = 0;

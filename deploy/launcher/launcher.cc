@@ -13,6 +13,7 @@
 
 #include <spdlog/sinks/sink.h>
 
+#include "actor/actor_loop.h"
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/process/role_startup.h"
@@ -170,6 +171,26 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
   // the run's own learner and graph only: a stray sample never reaches learner.csv or the display
   monitor_options.budget_env_steps = config.run.total_env_steps;
   monitor_options.num_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());  // as the learner
+  // the passive baseline is played here, not taken from the wire: a stranger's policy-v0
+  // EvalResult that disagrees is refused (issue 39)
+  monitor_options.passive_baseline = [&]() -> std::optional<rl::EvaluationSummary> {
+    try {
+      const actor::ActorOptions actor = actor::ActorOptionsFor(config, 0);
+      const auto start = SteadyClock::now();
+      rl::EvaluationSummary baseline = actor::PlayPassiveBaseline(actor);
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "passive baseline played here to check the actors' (%d episodes in %.1f s): avg object "
+                    "distance %.4f, avg distance %.4f",
+                    baseline.episodes, std::chrono::duration<double>(SteadyClock::now() - start).count(),
+                    baseline.avg_object_distance, baseline.avg_distance);
+      session.Event(text);
+      return baseline;
+    } catch (const std::exception& e) {
+      session.Event(std::string("passive baseline not played (the actors' is taken as it comes): ") + e.what());
+      return std::nullopt;
+    }
+  };
   monitor_options.on_eval = [&](const tr::EvalResult& e) { session.OnEval(e.policy_version, e.env_steps, e.avg_distance); };
   monitor_options.on_weights = [&](const tr::PolicyWeights& w) {
     session.OnWeights(w.version, w.update_count, w.architecture, w.parameters);

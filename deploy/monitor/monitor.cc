@@ -64,6 +64,20 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   }
   tr::EvalResult result;
   for (size_t i = 0; i < kMaxPerTopic && readers_->evals.Take(&result, kNoWait) == tr::TakeStatus::kSample; ++i) {
+    if (result.policy_version == 0 && options_.passive_baseline) {
+      if (!passive_played_) {
+        passive_played_ = true;
+        passive_baseline_ = options_.passive_baseline();
+      }
+      if (passive_baseline_) {
+        if (const std::string problem = PassiveMismatch(result, *passive_baseline_); !problem.empty()) {
+          ++state_.runs[PrintableText(result.run_id)].passive_refused;
+          Refuse("eval.passive", "passive evaluation (policy v0) from actor " + std::to_string(result.actor_id) +
+                                     " refused, not this run's: " + problem);
+          continue;
+        }
+      }
+    }
     Apply(&state_, result, Clock::now());
     if (csv_) csv_->Append(result, wall);
     if (options_.on_eval) options_.on_eval(result);

@@ -37,6 +37,13 @@ struct MonitorOptions {
   // shown or written to learner.csv. Unset / 0: anything valid on the wire is taken.
   std::optional<uint64_t> budget_env_steps;
   int num_entities = 0;
+  // The run's passive baseline, played by the recorder itself (the launcher:
+  // actor::PlayPassiveBaseline), called once, when the first policy-version-0 EvalResult
+  // arrives. Set, a v0 result that disagrees with it (PassiveMismatch) is refused
+  // ("eval.passive"), counted in RunView::passive_refused and never shown, written to eval.csv
+  // or passed to on_eval: a stranger cannot set the run's baseline. Returning empty (it could
+  // not be played) accepts v0 results as they come. Unset: anything valid on the wire is taken.
+  std::function<std::optional<rl::EvaluationSummary>()> passive_baseline;
   // Called with every evaluation and every weights sample taken (may be empty): for what a
   // program keeps besides the state (the launcher: the best evaluation's weights).
   std::function<void(const transport::EvalResult&)> on_eval;
@@ -74,6 +81,9 @@ class Monitor {
   std::map<NodeKey, NodeHealth> known_gone_;
   std::vector<std::string> node_events_;
   logging::RateLimiter refusals_log_{std::chrono::seconds(5)};
+  // options_.passive_baseline's answer, once asked
+  bool passive_played_ = false;
+  std::optional<rl::EvaluationSummary> passive_baseline_;
 };
 
 }  // namespace srics::monitor

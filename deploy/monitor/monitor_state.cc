@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace srics::monitor {
 
@@ -122,6 +123,34 @@ void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::
   info.num_parameters = weights.parameters.size();
   info.received = now;
   run.weights = std::move(info);
+}
+
+std::string PassiveMismatch(const transport::EvalResult& result, const rl::EvaluationSummary& expected) {
+  if (result.episodes != static_cast<uint32_t>(expected.episodes))
+    return std::to_string(result.episodes) + " episodes, the run's passive evaluation has " +
+           std::to_string(expected.episodes);
+  auto differs = [](double got, double want) {
+    return !std::isfinite(got) || std::fabs(got - want) > kPassiveTolerance * std::max(1.0, std::fabs(want));
+  };
+  char text[160];
+  auto describe = [&](const char* what, double got, double want) {
+    std::snprintf(text, sizeof text, "%s %.4f, the run's passive evaluation gives %.4f", what, got, want);
+    return std::string(text);
+  };
+  if (differs(result.avg_object_distance, expected.avg_object_distance))
+    return describe("avg object distance", result.avg_object_distance, expected.avg_object_distance);
+  if (differs(result.avg_distance, expected.avg_distance))
+    return describe("avg distance", result.avg_distance, expected.avg_distance);
+  if (differs(result.success_rate, expected.success_rate))
+    return describe("success rate", result.success_rate, expected.success_rate);
+  if (result.entity_distance.size() != expected.entity_distance.size())
+    return std::to_string(result.entity_distance.size()) + " entity distances, the run has " +
+           std::to_string(expected.entity_distance.size());
+  for (size_t i = 0; i < result.entity_distance.size(); ++i)
+    if (differs(result.entity_distance[i], expected.entity_distance[i]))
+      return describe(("entity " + std::to_string(i) + " distance").c_str(), result.entity_distance[i],
+                      expected.entity_distance[i]);
+  return "";
 }
 
 NodeHealth HealthOf(const MonitorState& state, const NodeEntry& node, Clock::time_point now) {

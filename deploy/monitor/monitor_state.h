@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "common/config/transport_config.h"
+#include "common/rl/evaluation.h"
 #include "common/transport/messages.h"
 
 namespace srics::monitor {
@@ -84,6 +85,9 @@ struct RunView {
   std::optional<transport::LearnerStats> learner;
   Clock::time_point learner_received;
   std::optional<transport::EvalResult> passive;  // the first EvalResult with policy_version 0
+  // policy-version-0 results refused as not this run's passive baseline (PassiveMismatch;
+  // counted by Monitor, which knows the baseline), shown beside the passive line
+  uint64_t passive_refused = 0;
   std::vector<transport::EvalResult> evals;      // policy_version > 0, oldest first (bounded)
   std::optional<transport::InteractionGraph> graph;
   Clock::time_point graph_received;
@@ -126,6 +130,19 @@ void Apply(MonitorState* state, const transport::EvalResult& result, Clock::time
 void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock::time_point now);
 // Keeps the version and size only.
 void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::time_point now);
+
+// How far a received passive evaluation may lie from the baseline a recorder played itself
+// (actor::PlayPassiveBaseline): float rounding of the wire's fields (1e-7 relative) with a wide
+// margin, yet a thousand times finer than the distances it guards (0.1-0.2 m).
+inline constexpr double kPassiveTolerance = 1e-4;
+
+// Why `result` (policy version 0) cannot be the run's passive evaluation whose figures are
+// `expected` (played by the recorder on the run's evaluation goals): another episode count, or
+// an average distance, average object distance, success rate or per-entity distance further
+// than kPassiveTolerance (relative, at least 1e-4 m) from the expected one, or not finite.
+// Empty when it agrees. Selectivity, subgoal success and graph version are not compared (they
+// depend on the subgoals the actor used, not on the passive policy).
+std::string PassiveMismatch(const transport::EvalResult& result, const rl::EvaluationSummary& expected);
 
 // kAlive within lost_after of its last status; then kExited if that status said "stopping",
 // kQuiet if liveliness is known and at least as many status writers are alive as there are

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "common/config/config.h"
+#include "common/transport/transport.h"
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/command_line.h"
 #include "tests/common/files/test_files.h"
@@ -292,6 +293,94 @@ TEST_F(LauncherTest, AHungActorIsKilledRestartedAndTheRunFinishes) {
   EXPECT_THAT(log, HasSubstr("actor-0 restarted"));
   EXPECT_THAT(log, HasSubstr("stopping: the budget is done"));
   EXPECT_FALSE(ProcessExists(actor));
+}
+
+// The fields of eval.csv's rows with policy version 0 (the passive baseline first).
+std::vector<std::vector<std::string>> PassiveRows(const fs::path& eval_csv) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(eval_csv);
+  std::string line;
+  std::getline(in, line);  // header: wall_time,run_id,actor_id,policy_version,...
+  while (std::getline(in, line)) {
+    std::vector<std::string> fields;
+    std::stringstream split(line);
+    for (std::string field; std::getline(split, field, ',');) fields.push_back(field);
+    if (fields.size() > 8 && fields[3] == "0") rows.push_back(fields);
+  }
+  return rows;
+}
+
+// Issue 39: without DDS Security, a participant that published an EvalResult for actor 0 at
+// policy version 0 before the run's own passive evaluation became the run's baseline:
+// summary.txt read "passive object distance 0.0000" and eval.csv's first v0 row was the
+// forged one. The launcher now plays the passive baseline itself and refuses a v0 result that
+// disagrees: the stranger's is counted and shown as refused, and the baseline in summary.txt
+// and eval.csv is what the run's actor measured. The real role programs, a tiny run.
+TEST_F(LauncherTest, AStrangersPassiveEvaluationIsRefusedAndTheRunsActorSetsTheBaseline) {
+  const std::string run_id = "passive-test-" + std::to_string(getpid());
+  const std::string domain = std::to_string(150 + getpid() % 50);
+  const std::string config_file = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml";
+  // a run of a few seconds (sweep_testing.h's kTinyRun): a graph from 20 episodes, 1500 steps
+  const std::vector<std::string> sets = {
+      "run.total_env_steps=1500", "learner.warmup_steps=200", "agent.sac.batch_size=32",
+      "learner.publish_every_updates=20", "learner.checkpoint_every_updates=100", "actors.count=1",
+      "actors.eval_every_env_steps=500", "actors.eval_episodes=2", "graph.episodes=20", "graph.batch_windows=10",
+      "graph.warmup_updates=10", "graph.kl_ramp_updates=10", "graph.min_updates=40", "graph.max_updates=40",
+      "graph.eval_every_updates=20", "run.max_wall_minutes=0", "transport.domain_id=" + domain,
+      "transport.run_id=" + run_id};
+  std::vector<std::string> argv = {SRICS_LAUNCHER, "run", config_file, "--run-dir", run_dir_.string(),
+                                   "--display", "plain", "--stop-timeout", "10"};
+  for (const std::string& set : sets) argv.insert(argv.end(), {"--set", set});
+
+  // the stranger: a participant of its own on the run's domain, with the run's id
+  const config::Config config = config::LoadConfig(config_file, sets);
+  transport::Participant stranger(config.transport);
+  transport::Writer<transport::EvalResult> forger(stranger);
+  ChildProcess launcher = ChildProcess::Spawn(
+      argv, {.output_file = (root_ / "launcher.out").string(), .own_process_group = true, .parent_death_signal = SIGKILL});
+  // the launcher's monitor reads evaluations before any role starts: the forgery is there
+  // long before the actor's passive evaluation (after the graph and the first weights)
+  ASSERT_TRUE(forger.WaitForReaders(1, std::chrono::seconds(30 * testing::kSanitizerSlowdown)))
+      << ReadFile(root_ / "launcher.out");
+  transport::EvalResult forged;
+  forged.actor_id = 0;
+  forged.policy_version = 0;
+  forged.episodes = 2;  // actors.eval_episodes of the run
+  forged.entity_distance = {0.0f, 0.0f};
+  forged.subgoal_success = {1.0f, 1.0f};
+  forged.success_rate = 1.0f;
+  ASSERT_EQ(forger.Write(forged), transport::WriteResult::kSent);
+
+  const auto exit = launcher.WaitFor(milliseconds(240000 * testing::kSanitizerSlowdown));
+  ASSERT_TRUE(exit.has_value()) << ReadFile(root_ / "launcher.out");
+  EXPECT_EQ(exit->Describe(), "exit code 0") << ReadFile(root_ / "launcher.out");
+
+  // what the run's actor measured, from its log
+  const std::string actor_log = ReadFile(run_dir_ / "logs/actor-0.out");
+  const std::string marker = "evaluation (passive)";
+  const size_t at = actor_log.find(marker);
+  ASSERT_NE(at, std::string::npos) << actor_log;
+  const size_t value_at = actor_log.find("avg_object_distance ", at);
+  ASSERT_NE(value_at, std::string::npos) << actor_log;
+  const double measured = std::stod(actor_log.substr(value_at + std::string("avg_object_distance ").size()));
+  EXPECT_GT(measured, 0.05);
+
+  // eval.csv: one passive row, the actor's
+  const auto rows = PassiveRows(run_dir_ / "eval.csv");
+  ASSERT_FALSE(rows.empty()) << ReadFile(run_dir_ / "eval.csv");
+  EXPECT_EQ(rows.size(), 1u) << ReadFile(run_dir_ / "eval.csv");
+  EXPECT_NEAR(std::stod(rows[0][8]), measured, 1e-4) << ReadFile(run_dir_ / "eval.csv");
+  // summary.txt: the actor's baseline, and the stranger's shown as refused
+  const std::string summary = ReadFile(run_dir_ / "summary.txt");
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "passive   object distance %.4f", measured);
+  EXPECT_THAT(summary, HasSubstr(expected)) << summary;
+  EXPECT_THAT(summary, HasSubstr("(1 not this run's refused)")) << summary;
+  // counted and logged by the launcher
+  const std::string log = ReadFile(run_dir_ / "logs/launcher.log");
+  EXPECT_THAT(log, HasSubstr("passive evaluation (policy v0) from actor 0 refused, not this run's: avg object "
+                             "distance 0.0000"));
+  EXPECT_THAT(log, HasSubstr("passive baseline played here to check the actors'"));
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "tests/deploy/monitor/test_states.h"
 
 namespace srics::monitor {
@@ -130,6 +132,43 @@ TEST(MonitorStateTest, PassiveBaselineIsTheFirstVersionZeroEvaluation) {
   ASSERT_EQ(run.evals.size(), 2u);
   EXPECT_EQ(LatestEval(run)->policy_version, 9u);
   EXPECT_EQ(EnvSteps(run), 10000u);
+}
+
+// Issue 39: a recorder that played the run's passive baseline itself refuses a v0 result that
+// is not it (a stranger's object distance 0), and takes the actor's, whose float fields round
+// the played figures.
+TEST(MonitorStateTest, PassiveMismatchRefusesWhatIsNotTheRunsPassiveEvaluation) {
+  rl::EvaluationSummary played;
+  played.episodes = 20;
+  played.avg_distance = 0.1301 + 0.01;
+  played.avg_object_distance = 0.1301;
+  played.success_rate = 0.5;
+  played.entity_distance = {0.01, 0.1, 0.2};
+  const transport::EvalResult actor = Eval(0, 0, 0.1301f);
+  EXPECT_EQ(PassiveMismatch(actor, played), "") << "float rounding of the wire's fields";
+  transport::EvalResult other_subgoals = actor;  // what depends on the actor's graph is not compared
+  other_subgoals.selectivity = 0.1f;
+  other_subgoals.subgoal_success = {0, 0, 0};
+  other_subgoals.graph_version = 7;
+  EXPECT_EQ(PassiveMismatch(other_subgoals, played), "");
+
+  EXPECT_EQ(PassiveMismatch(Eval(0, 0, 0.0f), played),
+            "avg object distance 0.0000, the run's passive evaluation gives 0.1301");
+  transport::EvalResult forged = actor;
+  forged.episodes = 3;
+  EXPECT_EQ(PassiveMismatch(forged, played), "3 episodes, the run's passive evaluation has 20");
+  forged = actor;
+  forged.avg_distance = std::nanf("");
+  EXPECT_EQ(PassiveMismatch(forged, played), "avg distance nan, the run's passive evaluation gives 0.1401");
+  forged = actor;
+  forged.success_rate = 1;
+  EXPECT_NE(PassiveMismatch(forged, played), "");
+  forged = actor;
+  forged.entity_distance = {0.01f, 0.1f};
+  EXPECT_EQ(PassiveMismatch(forged, played), "2 entity distances, the run has 3");
+  forged = actor;
+  forged.entity_distance[2] = 0.2005f;  // 5e-4 m off: beyond the tolerance
+  EXPECT_EQ(PassiveMismatch(forged, played), "entity 2 distance 0.2005, the run's passive evaluation gives 0.2000");
 }
 
 TEST(MonitorStateTest, EvaluationHistoryIsBounded) {
