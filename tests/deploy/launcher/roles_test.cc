@@ -122,6 +122,14 @@ TEST_F(RolesTest, TwoHostsRunTheirSharesAndBothSeeTheRunToItsEnd) {
   EXPECT_THAT(ReadFile(a_dir / "logs/launcher.log"), HasSubstr("stopping: the budget is done"));
   EXPECT_THAT(ReadFile(b_dir / "logs/launcher.log"), HasSubstr("stopping: the budget is done"));
   EXPECT_THAT(ReadFile(b_dir / "logs/launcher.log"), ::testing::Not(HasSubstr("restarted")));
+  // each host plays the passive baseline itself (issue 39), the one without actors too, and
+  // takes the actors' as the run's: none refused
+  for (const fs::path& dir : {a_dir, b_dir}) {
+    const std::string summary = ReadFile(dir / "summary.txt");
+    EXPECT_THAT(summary, HasSubstr("passive   object distance")) << dir << "/summary.txt:\n" << summary;
+    EXPECT_THAT(summary, ::testing::Not(HasSubstr("refused"))) << dir << "/summary.txt:\n" << summary;
+    EXPECT_THAT(ReadFile(dir / "logs/launcher.log"), HasSubstr("passive baseline played here")) << dir;
+  }
 }
 
 }  // namespace
