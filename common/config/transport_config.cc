@@ -28,6 +28,8 @@ void ParseTransport(YamlSection s, TransportConfig* out) {
   s.ReadDouble("status_period_s", &out->status_period_s, 0.01, 3600);
   s.ReadDouble("stalled_node_restart_s", &out->stalled_node_restart_s, 0, 86400);
   s.ReadInt("rejected_log_interval_s", &out->rejected_log_interval_s, 0, 3600);
+  s.ReadInt("monitor_max_nodes", &out->monitor_max_nodes, 1, 1 << 20);
+  s.ReadInt("monitor_max_runs", &out->monitor_max_runs, 1, 1 << 16);
   YamlSection security = s.Child("security");
   security.ReadString("keystore", &out->security.keystore);
   security.ReadString("identity", &out->security.identity);

@@ -58,6 +58,11 @@ struct TransportConfig {
   // CPU by other work also goes quiet, and a restart costs it its unsaved work
   double stalled_node_restart_s = 300;
   int rejected_log_interval_s = 5;   // rate limit for "dropped a malformed sample" warnings
+  // What a monitor (the launcher's, srics-monitor, the dashboard) keeps of keys that come from
+  // the wire: at most this many nodes (run, role, id) and runs; past it the one heard from
+  // least goes first (counted, shown), so that a flood of invented ids keeps memory flat.
+  int monitor_max_nodes = 1024;
+  int monitor_max_runs = 64;
   SecurityConfig security;
 };
 

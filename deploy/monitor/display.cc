@@ -197,6 +197,9 @@ void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderO
   }
   *out += Format("nodes     %zu alive, %zu lost, %zu exited", alive, lost, exited);
   if (quiet) *out += Format(", %zu quiet (busy: no status lately, DDS liveliness fine)", quiet);
+  if (state.evicted_nodes || state.evicted_runs)
+    *out += Format(", forgotten past the limits (transport.monitor_max_nodes / _runs): %" PRIu64 " nodes, %" PRIu64 " runs",
+                   state.evicted_nodes, state.evicted_runs);
   *out += Format("   (NodeStatus writers alive: %u, dropped malformed samples here: %" PRIu64 ")\n",
                  state.status_writers_alive, state.dropped_samples);
   if (shown == 0) {

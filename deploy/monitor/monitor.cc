@@ -31,6 +31,9 @@ Monitor::Monitor(tr::Participant& participant, MonitorOptions options)
   readers_ = std::make_unique<Readers>(participant_, reader_options, options_.weights);
   if (!options_.csv_dir.empty()) csv_.emplace(options_.csv_dir);
   state_.lost_after = LostAfter(participant_.config());
+  state_.max_nodes = static_cast<size_t>(participant_.config().monitor_max_nodes);
+  state_.max_runs = static_cast<size_t>(participant_.config().monitor_max_runs);
+  state_.own_run_id = PrintableText(participant_.config().run_id);
 }
 
 Monitor::~Monitor() = default;
@@ -71,7 +74,7 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
       }
       if (passive_baseline_) {
         if (const std::string problem = PassiveMismatch(result, *passive_baseline_); !problem.empty()) {
-          ++state_.runs[PrintableText(result.run_id)].passive_refused;
+          ++RunOf(&state_, PrintableText(result.run_id), Clock::now()).passive_refused;
           Refuse("eval.passive", "passive evaluation (policy v0) from actor " + std::to_string(result.actor_id) +
                                      " refused, not this run's: " + problem);
           continue;

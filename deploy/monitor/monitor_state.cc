@@ -28,11 +28,55 @@ std::string PrintableText(std::string_view text) {
   return out;
 }
 
+namespace {
+
+// Of the entries `evictable` admits, the one heard from least: one sample before many (a
+// flood's invented ids are heard from once; a real node every status period), then the
+// longest silent. end() when none is admitted.
+template <typename Map, typename Count, typename LastHeard, typename Evictable>
+typename Map::iterator LeastHeard(Map& map, Count count, LastHeard last_heard, Evictable evictable) {
+  auto victim = map.end();
+  for (auto it = map.begin(); it != map.end(); ++it) {
+    if (!evictable(it)) continue;
+    if (victim == map.end()) { victim = it; continue; }
+    const bool once = count(it->second) <= 1, victim_once = count(victim->second) <= 1;
+    if (once != victim_once ? once : last_heard(it->second) < last_heard(victim->second)) victim = it;
+  }
+  return victim;
+}
+
+}  // namespace
+
+RunView& RunOf(MonitorState* state, const std::string& printable_run_id, Clock::time_point now) {
+  auto [it, inserted] = state->runs.try_emplace(printable_run_id);
+  if (inserted && state->runs.size() > std::max<size_t>(state->max_runs, 1)) {
+    const auto victim = LeastHeard(
+        state->runs, [](const RunView& r) { return r.samples; }, [](const RunView& r) { return r.last_sample; },
+        [&](auto candidate) { return candidate != it && candidate->first != state->own_run_id; });
+    if (victim != state->runs.end()) {
+      state->runs.erase(victim);
+      ++state->evicted_runs;
+    }
+  }
+  it->second.last_sample = now;
+  ++it->second.samples;
+  return it->second;
+}
+
 void Apply(MonitorState* state, const transport::NodeStatus& received, Clock::time_point now) {
   transport::NodeStatus status = received;
   for (std::string* text : {&status.run_id, &status.role, &status.host, &status.detail}) *text = PrintableText(*text);
   NodeKey key{status.run_id, status.role, status.node_id};
   auto [it, inserted] = state->nodes.try_emplace(std::move(key));
+  if (inserted && state->nodes.size() > std::max<size_t>(state->max_nodes, 1)) {
+    const auto victim = LeastHeard(
+        state->nodes, [](const NodeEntry& n) { return n.statuses; }, [](const NodeEntry& n) { return n.last_seen; },
+        [&](auto candidate) { return candidate != it; });
+    if (victim != state->nodes.end()) {
+      state->nodes.erase(victim);
+      ++state->evicted_nodes;
+    }
+  }
   NodeEntry& node = it->second;
   if (inserted) node.first_seen = now;
   node.status = std::move(status);
@@ -53,7 +97,7 @@ uint64_t TrainingSteps(const Stats& stats) {
 }  // namespace
 
 void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::time_point now) {
-  RunView& run = state->runs[PrintableText(stats.run_id)];
+  RunView& run = RunOf(state, PrintableText(stats.run_id), now);
   run.learner = stats;
   run.learner->run_id = PrintableText(stats.run_id);
   run.learner_received = now;
@@ -92,10 +136,10 @@ std::optional<double> EnvStepRate(const RunView& run) {
   return static_cast<double>(s1 - s0) / seconds;
 }
 
-void Apply(MonitorState* state, const transport::EvalResult& received, Clock::time_point /*now*/) {
+void Apply(MonitorState* state, const transport::EvalResult& received, Clock::time_point now) {
   transport::EvalResult result = received;
   result.run_id = PrintableText(received.run_id);
-  RunView& run = state->runs[result.run_id];
+  RunView& run = RunOf(state, result.run_id, now);
   if (result.policy_version == 0) {
     // the passive policy is evaluated once per evaluating actor; the first one is the baseline
     if (!run.passive) run.passive = result;
@@ -108,14 +152,14 @@ void Apply(MonitorState* state, const transport::EvalResult& received, Clock::ti
 }
 
 void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock::time_point now) {
-  RunView& run = state->runs[PrintableText(graph.run_id)];
+  RunView& run = RunOf(state, PrintableText(graph.run_id), now);
   run.graph = graph;
   run.graph->run_id = PrintableText(graph.run_id);
   run.graph_received = now;
 }
 
 void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::time_point now) {
-  RunView& run = state->runs[PrintableText(weights.run_id)];
+  RunView& run = RunOf(state, PrintableText(weights.run_id), now);
   WeightsInfo info;
   info.version = weights.version;
   info.update_count = weights.update_count;

@@ -97,6 +97,8 @@ struct RunView {
   std::deque<std::pair<Clock::time_point, uint64_t>> step_history;
   // every LearnerStats, thinned (cleared with step_history when the learner starts afresh)
   LearnerHistory learner_history;
+  Clock::time_point last_sample;  // the newest sample of any topic (which run goes first)
+  uint64_t samples = 0;           // samples of any topic folded in
 };
 
 // How far back the env-step rate looks.
@@ -108,6 +110,14 @@ struct MonitorState {
   // A node that sent nothing for this long is no longer alive (see LostAfter).
   std::chrono::milliseconds lost_after{5000};
   size_t max_evals_kept = 1000;  // per run, oldest dropped first
+  // Keys from the wire are bounded (transport.monitor_max_nodes / monitor_max_runs): past the
+  // limit the entry heard from least goes (one sample before many; then the longest silent),
+  // never `own_run_id`'s run; evictions are counted and shown.
+  size_t max_nodes = 1024;
+  size_t max_runs = 64;
+  std::string own_run_id;         // the run this monitor belongs to ("" = none)
+  uint64_t evicted_nodes = 0;
+  uint64_t evicted_runs = 0;
   uint64_t dropped_samples = 0;  // malformed samples the monitor's readers rejected
   uint32_t status_writers_alive = 0;  // NodeStatus writers alive by their liveliness lease
   bool liveliness_known = false;      // status_writers_alive is filled in (by Monitor)
@@ -121,6 +131,9 @@ std::chrono::milliseconds LostAfter(const config::TransportConfig& transport);
 // printable ASCII (control characters, escape sequences, C1 codes in UTF-8) becomes '?'.
 // Anything on the domain can publish: a run id or a detail must not drive the terminal.
 std::string PrintableText(std::string_view text);
+
+// The run's view, created when new (evicting another past max_runs) and marked as heard now.
+RunView& RunOf(MonitorState* state, const std::string& printable_run_id, Clock::time_point now);
 
 // Folding samples into the state. `now` is the arrival time. Every string of a sample (run
 // id, role, host, detail, architecture) is kept as PrintableText.

@@ -241,5 +241,35 @@ TEST(MonitorStateTest, EdgeCountIgnoresTheDiagonalAndShortAdjacency) {
   EXPECT_EQ(EdgeCount(truncated), 1u);
 }
 
+// Issue 39: every table keyed by something from the wire is bounded. A flood of 100,000
+// invented node ids and run ids keeps the tables at their limits, counts what went, and keeps
+// the nodes that report regularly and the monitor's own run.
+TEST(MonitorBoundsTest, AFloodOfInventedIdsKeepsTheTablesAtTheirLimitsAndTheRealNodes) {
+  MonitorState state;
+  state.max_nodes = 64;
+  state.max_runs = 8;
+  state.own_run_id = "r1";
+  const Clock::time_point t0{};
+  // the run's real nodes, heard from a few times
+  for (int k = 0; k < 3; ++k)
+    for (const char* role : {"learner", "graph"}) Apply(&state, testing::Node(role, 0, NodeState::kTraining), t0 + std::chrono::seconds(k));
+  transport::EvalResult own = testing::Eval(0, 0, 0.2f);
+  Apply(&state, own, t0);
+  for (uint32_t i = 0; i < 100000; ++i) {
+    Apply(&state, testing::Node("actor", 1000 + i, NodeState::kTraining), t0 + std::chrono::seconds(10));
+    transport::EvalResult foreign = testing::Eval(3, 1000, 0.1f);
+    foreign.run_id = "flood-" + std::to_string(i);
+    Apply(&state, foreign, t0 + std::chrono::seconds(10));
+  }
+  EXPECT_EQ(state.nodes.size(), 64u);
+  EXPECT_EQ(state.evicted_nodes, 100000u + 2u - 64u);
+  EXPECT_EQ(state.runs.size(), 8u);
+  EXPECT_EQ(state.evicted_runs, 100000u + 1u - 8u);
+  EXPECT_TRUE(state.nodes.count({"r1", "learner", 0})) << "a node heard from regularly was forgotten";
+  EXPECT_TRUE(state.nodes.count({"r1", "graph", 0}));
+  ASSERT_TRUE(state.runs.count("r1")) << "the monitor's own run was forgotten";
+  EXPECT_TRUE(state.runs.at("r1").passive.has_value());
+}
+
 }  // namespace
 }  // namespace srics::monitor
