@@ -39,6 +39,22 @@ Output RunQueue(const std::string& queue_text, const std::string& runs_dir = "",
   return {code, text};
 }
 
+// Under autogroup scheduling nice ranks processes only within a session: the queue nices its
+// whole scheduling group (a run niced to 0 got 56% of its core beside builds niced to 15 in
+// other sessions). Run in a session of its own, so that only this test's group is changed.
+TEST(CampaignScriptTest, NicesItsSchedulingGroup) {
+  if (!fs::exists("/proc/self/autogroup")) GTEST_SKIP() << "no autogroup scheduling in this kernel";
+  const fs::path dir = TestDir();
+  fs::create_directories(dir);
+  std::ofstream(dir / "queue.txt") << "# nothing to run\n";
+  const auto [code, text] = srics::cli::testing::Shell(
+      "setsid bash -c '" + std::string(SRICS_SOURCE_DIR) + "/deploy/campaign.sh --dry-run --queue " +
+      (dir / "queue.txt").string() + " >/dev/null; cat /proc/self/autogroup'");
+  fs::remove_all(dir);
+  EXPECT_EQ(code, 0) << text;
+  EXPECT_NE(text.find(" nice 10"), std::string::npos) << text;
+}
+
 // srics_no_selectivity seed 2 of Relational Rearrange 4 is committed as finished
 TEST(CampaignScriptTest, SkipsFinishedRunsAndPlansTheOthers) {
   const Output out = RunQueue(
