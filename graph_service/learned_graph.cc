@@ -138,6 +138,58 @@ std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int ar
   return out;
 }
 
+std::vector<double> OneWayObjectTies(const std::vector<double>& scores, const std::vector<double>& orientation,
+                                     int arm, double threshold) {
+  int n = 0;
+  while (static_cast<size_t>(n) * n < scores.size()) ++n;
+  if (static_cast<size_t>(n) * n != scores.size() || orientation.size() != scores.size())
+    throw std::invalid_argument("OneWayObjectTies: scores and orientation are not both N x N");
+  if (arm < 0 || arm >= n) throw std::invalid_argument("OneWayObjectTies: arm out of range");
+  auto at = [n](int i, int j) { return static_cast<size_t>(i) * n + j; };
+  std::vector<std::pair<int, int>> edges;  // the object -> object edges the threshold keeps
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (i != j && i != arm && j != arm && scores[at(i, j)] > threshold) edges.emplace_back(i, j);
+  // strongest first; equal weights: the lower sender first (the pair i < j: i -> j stays)
+  std::stable_sort(edges.begin(), edges.end(), [&](const std::pair<int, int>& a, const std::pair<int, int>& b) {
+    return orientation[at(a.first, a.second)] > orientation[at(b.first, b.second)];
+  });
+  std::vector<uint8_t> taken(scores.size(), 0);
+  auto reaches = [&](int from, int to) {  // a directed path over the edges taken so far
+    std::vector<bool> seen(n, false);
+    std::vector<int> stack{from};
+    seen[from] = true;
+    while (!stack.empty()) {
+      const int k = stack.back();
+      stack.pop_back();
+      if (k == to) return true;
+      for (int m = 0; m < n; ++m)
+        if (taken[at(k, m)] && !seen[m]) seen[m] = true, stack.push_back(m);
+    }
+    return false;
+  };
+  std::vector<double> out = scores;
+  for (const auto& [i, j] : edges) {
+    if (reaches(j, i)) out[at(i, j)] = 0.0;  // would close a cycle: the weaker direction of a pair
+    else taken[at(i, j)] = 1;
+  }
+  return out;
+}
+
+LearnedGraph WithOneWayObjectTies(const LearnedGraph& graph) {
+  const int n = graph.num_entities();
+  const std::vector<double>& orientation =
+      graph.mean_weights.size() == graph.edge_scores.size() ? graph.mean_weights : graph.edge_scores;
+  LearnedGraph out = graph;
+  const LearnedGraph derived =
+      AggregateGraph(n, OneWayObjectTies(graph.edge_scores, orientation, graph.graph.action_entity, graph.threshold),
+                     graph.threshold, graph.graph.action_entity);
+  out.graph = derived.graph;
+  out.structure = derived.structure;
+  out.edge_scores = derived.edge_scores;
+  return out;
+}
+
 bool SameStructure(const rl::InteractionGraph& a, const rl::InteractionGraph& b) {
   return a.num_entities == b.num_entities && a.action_entity == b.action_entity &&
          a.adjacency == b.adjacency;

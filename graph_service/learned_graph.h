@@ -56,6 +56,22 @@ std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, in
 std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int arm,
                                        const std::vector<bool>& moving, double share);
 
+// Scores with the object -> object edges over `threshold` made one way (graph.object_ties:
+// one_way): they are taken in decreasing order of `orientation` (the model's mean edge weights
+// over the data set; equal weights: i -> j before j -> i for i < j, then in index order) and an
+// edge that would close a directed cycle with the edges taken before it gets score 0. A pair
+// kept both ways thus keeps the direction with the larger orientation weight, and the objects'
+// edges form a DAG. Edges from or into `arm` and edges at or under the threshold are left as
+// they are. Throws std::invalid_argument when the sizes do not match or arm is out of range.
+std::vector<double> OneWayObjectTies(const std::vector<double>& scores, const std::vector<double>& orientation,
+                                     int arm, double threshold);
+
+// `graph` with its object ties made one way: OneWayObjectTies of its edge scores oriented by
+// its mean weights at its threshold, then adjacency, ancestor sets and depths derived again;
+// the other fields are kept. For graphs read from files (a learned graph's read-out applies the
+// rule itself when graph.object_ties is one_way).
+LearnedGraph WithOneWayObjectTies(const LearnedGraph& graph);
+
 // True when two graphs keep the same edges and action entity (weights may differ).
 bool SameStructure(const rl::InteractionGraph& a, const rl::InteractionGraph& b);
 

@@ -469,6 +469,13 @@ std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::Gra
         scores[static_cast<size_t>(i) * n + j] = scores[static_cast<size_t>(j) * n + i] = 0.0;
   if (config.reciprocal_object_edges) scores = ReciprocalObjectScores(scores, action_entity, moving);
   if (config.object_pair_share > 0) scores = CutWeakObjectPairs(scores, action_entity, moving, config.object_pair_share);
+  if (config.object_ties == config::ObjectTies::kOneWay) {
+    // oriented by the every-step mean weights: the graph file keeps them, so the direction can
+    // be checked and derived again from a published graph (the scores of a reciprocal pair are
+    // equal both ways)
+    const std::vector<double>& orientation = stats.mean_weight.size() == scores.size() ? stats.mean_weight : scores;
+    scores = OneWayObjectTies(scores, orientation, action_entity, cut ? config.cut_threshold : config.threshold);
+  }
   return scores;
 }
 

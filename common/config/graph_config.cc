@@ -35,6 +35,11 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadDouble("static_variance_fraction", &out->static_variance_fraction, 0, 1);
   s.ReadBool("reciprocal_object_edges", &out->reciprocal_object_edges);
   s.ReadDouble("object_pair_share", &out->object_pair_share, 0, 1);
+  // recorded in the resolved settings only when given: every config written before the key
+  // resolves to the same settings as before, so a run continued with this binary is no change
+  if (s.Has("object_ties"))
+    s.ReadEnum("object_ties", &out->object_ties,
+               {{"two_way", ObjectTies::kTwoWay}, {"one_way", ObjectTies::kOneWay}});
   s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
   s.ReadDouble("onset_loss_weight", &out->onset_loss_weight, 0, 1e3);
   s.ReadDouble("onset_motion_m", &out->onset_motion_m, 0, 1);
@@ -54,6 +59,8 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
     s.FailRule("refine_after_publish", "needs a learned graph (graph.ground_truth and graph.file publish a fixed one)");
   if (out->refine_after_publish && (out->refine_share <= 0 || out->refine_updates_per_episode <= 0))
     s.FailRule("refine_after_publish", "needs refine_share and refine_updates_per_episode above 0");
+  if (out->object_ties == ObjectTies::kOneWay && (out->ground_truth || !out->file.empty()))
+    s.FailRule("object_ties", "one_way orients a learned graph's ties; graph.ground_truth and graph.file publish theirs as they are");
   if (out->ground_truth && !out->file.empty())
     s.FailRule("file", "and graph.ground_truth both name the graph to use: set one");
   if (out->min_updates > out->max_updates)

@@ -30,6 +30,18 @@ enum class ObjectEdgeReadout {
   kApart,
 };
 
+// How a tied pair of objects (an object -> object pair the read-out keeps both ways, as
+// reciprocal_object_edges makes every tie) is published.
+enum class ObjectTies {
+  // as the read-out keeps it: both ways, each object in the other's ancestor set, one depth
+  kTwoWay,
+  // one way, oriented from the data (OneWayObjectTies in graph_service/learned_graph.h): the
+  // direction with the larger mean edge weight over the data set (graph.json's mean_weights)
+  // stays; the objects' edges form a DAG and depth orders the pair (the reference code's
+  // relational graph is one-way, 2 -> 3; the paper's depth order assumes a DAG)
+  kOneWay,
+};
+
 struct GraphConfig {
   // true: no graph is learned; the graph the environment config implies by construction is
   // published (rl::GroundTruthGraph). For checks of the RL part alone; a config that sets it
@@ -119,6 +131,10 @@ struct GraphConfig {
   // 0.061, spring 0.164). Two ties that share an object and differ by more than 1 / share
   // would lose the weaker (no preset or generated table 1-10 has such a chain).
   double object_pair_share = 0.5;
+  // both read-outs, applied last: two_way (today's, the default) or one_way (see ObjectTies;
+  // graph_service/README.md, "Ties one way"). A learned graph only: graph.file and
+  // graph.ground_truth publish their graph as it is.
+  ObjectTies object_ties = ObjectTies::kTwoWay;
   // loss += gate_logit_decay * sum over edges of max(0, logit_0 - logit_1)^2 / (N * B) (not
   // in the reference). With Adam (scale free) the margins of useful edges otherwise grow
   // without bound (20-50 after 4000 updates), dragging along edges that share their features
