@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
+#include <set>
 
 #include <spdlog/sinks/sink.h>
 
@@ -21,6 +23,7 @@
 #include "deploy/dashboard/server.h"
 #include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/run_folder.h"
+#include "deploy/launcher/run_guard.h"
 #include "deploy/launcher/run_session.h"
 #include "deploy/launcher/stall_watch.h"
 #include "deploy/monitor/display.h"
@@ -161,12 +164,15 @@ class EndWatch {
   std::optional<SteadyClock::time_point> actors_down_at_;  // no actor running or restarting
 };
 
-int RunProcesses(const LaunchOptions& options, const config::Config& config) {
+// `participant` and `guard` are this launcher's (Run made them and checked that no other run
+// of this run id is live).
+int RunProcesses(const LaunchOptions& options, const config::Config& config, tr::Participant& participant,
+                 RunGuard& guard) {
+  const RoleShare share = ShareOf(options, config);
   RunSession session(options, config);
   const std::string& dir = session.dir();
   SeedGraphFile(config, dir);  // a given graph is re-published by srics-graph
   // what the processes publish, to the display and to eval.csv, learner.csv, nodes.csv
-  tr::Participant participant(config.transport);
   mon::MonitorOptions monitor_options{.all_runs = false, .weights = true, .csv_dir = dir, .csv_node_statuses = true};
   // the run's own learner and graph only: a stray sample never reaches learner.csv or the display
   monitor_options.budget_env_steps = config.run.total_env_steps;
@@ -195,6 +201,21 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
   monitor_options.on_weights = [&](const tr::PolicyWeights& w) {
     session.OnWeights(w.version, w.update_count, w.architecture, w.parameters);
   };
+  // a later launcher of this run id is refused (it leaves); one that came first (heard only
+  // now: a network that joined late) ends this run
+  std::set<std::string> refused_launchers;
+  std::optional<Judgement> came_first;
+  monitor_options.accept_node = [&](const tr::NodeStatus& status) {
+    const Judgement judgement = Judge(guard.self(), status, /*roles_started=*/true);
+    if (judgement.verdict == Verdict::kNotInTheWay) return true;
+    if (judgement.verdict == Verdict::kWasFirst) {
+      if (!came_first) came_first = judgement;
+    } else if (refused_launchers.insert(judgement.who).second) {
+      session.Event("a second launcher of run id " + config.transport.run_id + " came after this one (" +
+                    judgement.who + "); it leaves, and its statuses are not this run's");
+    }
+    return false;
+  };
   mon::Monitor monitor(participant, monitor_options);
 
   SupervisorOptions supervisor_options;
@@ -202,7 +223,6 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
   supervisor_options.stop_timeout = std::chrono::milliseconds(static_cast<int64_t>(options.stop_timeout_s * 1000));
   supervisor_options.on_event = [&](const std::string& text) { session.Event(text); };
   Supervisor supervisor(supervisor_options);
-  const RoleShare share = ShareOf(options, config);
   Roles roles;
   try {
     roles = AddRoles(&supervisor, options, share, dir);
@@ -229,12 +249,22 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
   StallWatch stalls(std::chrono::milliseconds(static_cast<int64_t>(config.transport.stalled_node_restart_s * 1000)),
                     config.transport.run_id, std::move(watched));
   Ending ending;
+  const auto status_period = std::chrono::milliseconds(static_cast<int64_t>(config.transport.status_period_s * 1000));
+  auto next_status = SteadyClock::now();
   while (ending.reason.empty()) {
     if (participant.shutdown_requested()) {
       ending = {"interrupted", kExitInterrupted};
       break;
     }
+    if (SteadyClock::now() >= next_status) {
+      guard.Publish(rl::NodePhase::kTraining);
+      next_status = SteadyClock::now() + status_period;
+    }
     monitor.Poll(std::chrono::milliseconds(200));
+    if (came_first) {
+      ending = {SecondRunMessage(config.transport.run_id, config.transport.domain_id, *came_first), kExitUsage};
+      break;
+    }
     for (const std::string& text : monitor.TakeNodeEvents()) session.Note(text);  // the monitor logged it
     ending = watch.Check(supervisor, session, monitor.state());
     for (const auto& [child, why] : stalls.Check(supervisor, monitor.state(), SteadyClock::now()))
@@ -243,6 +273,7 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config) {
       session.Show(monitor.state(), ProcessRows(supervisor, SteadyClock::now()), supervisor.total_restarts());
   }
   session.Event("stopping: " + ending.reason);
+  guard.Publish(rl::NodePhase::kStopping);
   const bool clean = supervisor.StopAll();
   monitor.Poll(std::chrono::milliseconds(0));  // what the roles said last
   return session.Finish(monitor.state(), ProcessRows(supervisor, SteadyClock::now()), ending.reason, ending.exit_code,
@@ -277,7 +308,10 @@ int Run(const LaunchOptions& options) {
           "--roles, --ids: a share of a run needs the run's id, the same on every host (e.g. --set "
           "transport.run_id=exp7); transport.run_id 'auto' would pick one per host");
   }
+  bool fresh_run_id = false;  // made up here: no other run can have it
   if (config.transport.run_id == config::kAutoRunId) {
+    fresh_run_id = !options.in_process &&
+                   (options.run_dir.empty() || config::RecordedRunId(options.run_dir + "/config.yaml").empty());
     // this launch's own run id (or the one the folder recorded), written into the run
     // folder's config.yaml with the rest of the effective configuration; in process there is
     // no DDS to share, and a fixed id keeps eval.csv the same from launch to launch
@@ -285,9 +319,12 @@ int Run(const LaunchOptions& options) {
     overrides.push_back("transport.run_id=" + (options.in_process ? std::string("in-process") : ChooseRunId(options.run_dir)));
     config = config::LoadConfig(options.config_file, overrides);
   }
-  CheckResumedConfig(config, options.run_dir, options.allow_config_change);
   try {
-    if (options.in_process) return RunInProcess(options, config);
+    if (options.in_process) {
+      // no DDS: nothing of the run goes over the wire, so no other run can merge with it
+      CheckResumedConfig(config, options.run_dir, options.allow_config_change);
+      return RunInProcess(options, config);
+    }
     // DDS Security: the identity of every process this host starts (with --roles, its share
     // only: a host's keystore copy holds its own identities) is in the keystore before
     // anything starts
@@ -297,7 +334,23 @@ int Run(const LaunchOptions& options) {
     if (share.graph) config::CheckKeystore(security, "graph");
     for (int k : share.actor_ids) config::CheckKeystore(security, "actor-" + std::to_string(k));
     security.identity = config::CheckKeystore(security, "launcher");
-    return RunProcesses(options, config);
+    // one run id, one run (run_guard.h): before a role starts or a file is written, this
+    // launcher announces itself and leaves (exit 2) if a run of this id is live on the domain;
+    // not for a run id made up just now (host, pid and time: nobody else has it)
+    tr::Participant participant(config.transport);
+    RunGuard guard(participant, ShareOf(options, config));
+    if (fresh_run_id) {
+      guard.Publish(rl::NodePhase::kStarting);
+    } else {
+      const std::string taken = guard.CheckAlone(ListenWindow(config.transport));
+      if (participant.shutdown_requested()) return kExitInterrupted;
+      if (!taken.empty()) {
+        std::cerr << "srics run: " << taken << "\n";
+        return kExitUsage;
+      }
+    }
+    CheckResumedConfig(config, options.run_dir, options.allow_config_change);
+    return RunProcesses(options, config, participant, guard);
   } catch (const dashboard::BindError& e) {
     // thrown before the run folder or any process exists (RunSession binds first)
     std::cerr << "srics run: " << e.what() << "\n";

@@ -48,6 +48,10 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   std::chrono::milliseconds wait = timeout;
   for (size_t i = 0; i < kMaxPerTopic && readers_->nodes.Take(&status, wait) == tr::TakeStatus::kSample; ++i) {
     wait = kNoWait;
+    if (options_.accept_node && !options_.accept_node(status)) {
+      participant_.CountRejection("status.foreign");
+      continue;
+    }
     Apply(&state_, status, Clock::now());
     if (csv_ && options_.csv_node_statuses) csv_->Append(status, wall);
     ++taken;

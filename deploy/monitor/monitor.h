@@ -44,6 +44,9 @@ struct MonitorOptions {
   // or passed to on_eval: a stranger cannot set the run's baseline. Returning empty (it could
   // not be played) accepts v0 results as they come. Unset: anything valid on the wire is taken.
   std::function<std::optional<rl::EvaluationSummary>()> passive_baseline;
+  // Set: a NodeStatus it returns false for is refused ("status.foreign"): neither in the state,
+  // the display nor nodes.csv (the launcher: a second launcher of its run id, which leaves).
+  std::function<bool(const transport::NodeStatus&)> accept_node;
   // Called with every evaluation and every weights sample taken (may be empty): for what a
   // program keeps besides the state (the launcher: the best evaluation's weights).
   std::function<void(const transport::EvalResult&)> on_eval;

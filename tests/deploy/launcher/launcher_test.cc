@@ -29,6 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 using std::chrono::milliseconds;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 using files::testing::ReadFile;
 
@@ -59,7 +60,8 @@ class LauncherTest : public ::testing::Test {
   }
 
   ChildProcess StartLauncher(std::vector<std::string> extra = {}, bool with_run_id = true,
-                             std::string config = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml") {
+                             std::string config = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+                             const std::string& output = "launcher.out") {
     std::vector<std::string> argv = {
         SRICS_LAUNCHER, "run", config,
         "--actors", "2", "--bin-dir", (root_ / "bin").string(), "--run-dir", run_dir_.string(),
@@ -67,7 +69,7 @@ class LauncherTest : public ::testing::Test {
         "--set", "transport.domain_id=" + std::to_string(150 + getpid() % 50)};
     if (with_run_id) argv.insert(argv.end(), {"--set", "transport.run_id=launcher-test-" + std::to_string(getpid())});
     argv.insert(argv.end(), extra.begin(), extra.end());
-    return ChildProcess::Spawn(argv, {.output_file = (root_ / "launcher.out").string(),
+    return ChildProcess::Spawn(argv, {.output_file = (root_ / output).string(),
                                       .own_process_group = true, .parent_death_signal = SIGKILL});
   }
 
@@ -220,6 +222,55 @@ TEST_F(LauncherTest, TwoDefaultLaunchesGetDifferentRunIdsAndAResumedRunKeepsItsI
   EXPECT_NE(ids[0], ids[1]) << "two launches, one run id";
   EXPECT_EQ(ids[2], ids[0]) << "the resumed run changed its run id";
   run_dir_ = first_dir;
+}
+
+// Issue 39: two `srics run` with one run id (the config names it) started a second apart both
+// finished with exit 0: the first run's nodes.csv listed the second run's processes and each
+// learner refused the other's episodes. Now the second exits 2 before it starts a role or
+// writes a file, naming the first launcher's host and pid and how to pick another run id, and
+// the first runs on to its end without a trace of the second in its nodes.csv.
+TEST_F(LauncherTest, ASecondLauncherWithTheSameRunIdExits2NamingTheFirstWhichRunsOnUndisturbed) {
+  setenv("FAKE_LEARNER", "exit0-after:9000", 1);
+  setenv("FAKE_ACTOR", "exit0-after:10000", 1);
+  const fs::path first_dir = run_dir_;
+  ChildProcess first = StartLauncher({}, true, std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+                                     "first.out");
+  // the first is under way: its roles run
+  const auto deadline = std::chrono::steady_clock::now() + milliseconds(20000);
+  while (RolePids().size() < 4 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(milliseconds(50));
+  ASSERT_EQ(RolePids().size(), 4u) << ReadFile(root_ / "first.out");
+  const std::vector<pid_t> first_roles = RolePids();
+
+  // the second: same run id, same domain, its own folder
+  run_dir_ = root_ / "second";
+  const auto start = std::chrono::steady_clock::now();
+  ChildProcess second = StartLauncher({}, true, std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+                                      "second.out");
+  const auto second_exit = second.WaitFor(milliseconds(20000));
+  ASSERT_TRUE(second_exit.has_value());
+  EXPECT_LT(std::chrono::steady_clock::now() - start, milliseconds(8000));
+  const std::string said = ReadFile(root_ / "second.out");
+  EXPECT_EQ(second_exit->Describe(), "exit code 2") << said;
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  EXPECT_THAT(said, HasSubstr("launcher-test-" + std::to_string(getpid())));
+  EXPECT_THAT(said, HasSubstr(std::string(host) + ", pid " + std::to_string(first.pid())));
+  EXPECT_THAT(said, HasSubstr("--set transport.run_id="));
+  EXPECT_FALSE(fs::exists(run_dir_)) << "the second wrote into its run folder";
+  run_dir_ = first_dir;
+
+  // the first: on to its end, its roles never restarted, nothing of the second in its files
+  const auto first_exit = first.WaitFor(milliseconds(60000));
+  ASSERT_TRUE(first_exit.has_value());
+  EXPECT_EQ(first_exit->Describe(), "exit code 0") << ReadFile(root_ / "first.out");
+  EXPECT_EQ(RolePids(), first_roles) << "a role of the first run was restarted";
+  const std::string nodes = ReadFile(run_dir_ / "nodes.csv");
+  EXPECT_THAT(nodes, HasSubstr(",launcher,")) << "the launcher announces itself";
+  EXPECT_THAT(nodes, HasSubstr("," + std::string(host) + "," + std::to_string(first.pid()) + ","));
+  EXPECT_THAT(nodes, Not(HasSubstr("," + std::string(host) + "," + std::to_string(second.pid()) + ",")));
+  EXPECT_THAT(ReadFile(run_dir_ / "logs/launcher.log"), HasSubstr("pid " + std::to_string(second.pid())))
+      << "the first says that a second launcher came and was refused";
+  EXPECT_THAT(ReadFile(root_ / "first.out"), HasSubstr("run finished: the budget is done; restarts 0"));
 }
 
 // Issue 39: 400 bytes of nested anchors grew srics run to 3.9 GB in 39 s (std::bad_alloc).
