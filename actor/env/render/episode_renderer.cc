@@ -3,6 +3,7 @@
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -12,12 +13,30 @@
 namespace srics::env {
 namespace {
 
-constexpr int kExtraGeoms = 64;              // room in the scene for the goal markers
+constexpr int kExtraGeoms = 64;              // room in the scene for the floor and goal markers
 constexpr double kMarkerHalfHeight = 0.001;  // flat markers lying on the table
 constexpr float kHandGoalRgb[3] = {0.95f, 0.55f, 0.05f};  // orange: unlike the grey hand
 // a floor under the table, so that nothing of the frame is the black of an empty scene
 constexpr float kFloorRgba[4] = {0.30f, 0.37f, 0.48f, 1.0f};
 constexpr double kFloorHalfSize = 4.0, kFloorDepth = 0.02;
+// Connections: a capsule between the two objects' centres (where the tendon's sites are), wider
+// than MuJoCo's own tendon drawing (5 mm, grey, hardly visible on the white table). A rope is
+// brown (the colour of episode_drawing's connections), darker when taut (at 98% of its length or
+// more); a spring is violet, darker when stretched beyond its rest length.
+constexpr double kConnectionRadius = 0.006;
+// (under the scene's lights a colour renders about 1.6 times as bright: these are dark)
+constexpr float kRopeRgba[4] = {0.42f, 0.24f, 0.09f, 1.0f};
+constexpr float kTautRopeRgba[4] = {0.28f, 0.13f, 0.03f, 1.0f};
+constexpr float kSpringRgba[4] = {0.40f, 0.20f, 0.62f, 1.0f};
+constexpr float kStretchedSpringRgba[4] = {0.26f, 0.08f, 0.44f, 1.0f};
+constexpr double kTautFraction = 0.98;
+// A static object carries a pin: a flat washer on its top face (0.4 of its size), a shaft and a
+// round head, near black (as episode_drawing's dot on a static object) with a violet tint, so
+// that no pixel of it is the dark grey of the hand (tests find the hand by its grey).
+constexpr float kPinRgba[4] = {0.14f, 0.03f, 0.20f, 1.0f};
+constexpr float kPinHeadRgba[4] = {0.20f, 0.05f, 0.28f, 1.0f};
+constexpr double kPinWasherFraction = 0.4, kPinWasherHalfHeight = 0.001;
+constexpr double kPinShaftRadius = 0.003, kPinShaftHeight = 0.022, kPinHeadRadius = 0.010;
 
 }  // namespace
 
@@ -60,7 +79,9 @@ EpisodeRenderer::EpisodeRenderer(RearrangeEnv& env, const GlContext& /*gl: curre
   CheckRenderOptions(options_);
   InstallMujocoHandlers();
   const mjModel* m = env_.model();
-  mjv_makeScene(m, &mj_->scene, m->ngeom + m->ntendon + kExtraGeoms);
+  // room for the model's geoms, a link per tendon, three pin parts per object and the rest
+  const int objects = static_cast<int>(config::EffectiveObjects(env_.config()).size());
+  mjv_makeScene(m, &mj_->scene, m->ngeom + m->ntendon + 3 * objects + kExtraGeoms);
   // the rendering context from a copy of the model with the multisampling and the offscreen
   // buffer size asked for (the environment's own model is left as it is)
   ModelPtr visual(mj_copyModel(nullptr, m));
@@ -84,8 +105,14 @@ EpisodeRenderer::EpisodeRenderer(RearrangeEnv& env, const GlContext& /*gl: curre
   c.distance = options_.distance;
   c.elevation = options_.elevation;
   c.azimuth = options_.azimuth;
-  // tendons (ropes, springs) visible; no contact points or frames
-  mj_->option.flags[mjVIS_TENDON] = 1;
+  // no contact points or frames; MuJoCo's own tendon drawing off: AddConnections draws the
+  // ropes and springs
+  mj_->option.flags[mjVIS_TENDON] = 0;
+  // the sites at the objects' centres, where the tendons are attached
+  for (int i = 0; i < objects; ++i) {
+    const std::string site = "site" + std::to_string(i + 1);
+    centre_sites_.push_back(mj_name2id(m, mjOBJ_SITE, site.c_str()));
+  }
   image_.width = options_.width;
   image_.height = options_.height;
   image_.rgb.resize(static_cast<size_t>(options_.width) * options_.height * 3);
@@ -104,6 +131,71 @@ void EpisodeRenderer::AddFloor() {
   mjv_initGeom(g, mjGEOM_BOX, size, pos, identity, kFloorRgba);
   g->category = mjCAT_DECOR;
   ++s.ngeom;
+}
+
+mjvGeom_* EpisodeRenderer::NewGeom() {
+  mjvScene& s = mj_->scene;
+  if (s.ngeom >= s.maxgeom) return nullptr;
+  return s.geoms + s.ngeom++;
+}
+
+void EpisodeRenderer::AddConnections() {
+  const mjData* d = env_.data();
+  const auto& present = env_.present();
+  auto is_present = [&](int catalogue) { return std::find(present.begin(), present.end(), catalogue) != present.end(); };
+  for (const auto& k : env_.config().connections) {
+    // an absent object is parked off the table, its link with it
+    if (!is_present(k.first) || !is_present(k.second)) continue;
+    const int a = centre_sites_.at(k.first - 1), b = centre_sites_.at(k.second - 1);
+    if (a < 0 || b < 0) continue;
+    const mjtNum* pa = d->site_xpos + 3 * a;
+    const mjtNum* pb = d->site_xpos + 3 * b;
+    const double length = std::sqrt((pa[0] - pb[0]) * (pa[0] - pb[0]) + (pa[1] - pb[1]) * (pa[1] - pb[1]) +
+                                    (pa[2] - pb[2]) * (pa[2] - pb[2]));
+    if (length < 1e-6) continue;  // a connector needs a direction
+    const bool rope = k.kind == config::ConnectionKind::kRope;
+    const float* rgba = rope ? (length >= kTautFraction * k.length ? kTautRopeRgba : kRopeRgba)
+                             : (length > k.length ? kStretchedSpringRgba : kSpringRgba);
+    mjvGeom* g = NewGeom();
+    if (g == nullptr) return;
+    mjv_initGeom(g, mjGEOM_CAPSULE, nullptr, nullptr, nullptr, rgba);
+    mjv_makeConnector(g, mjGEOM_CAPSULE, kConnectionRadius, pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]);
+    g->category = mjCAT_DECOR;
+  }
+}
+
+void EpisodeRenderer::AddStaticPins() {
+  const auto objects = config::EffectiveObjects(env_.config());
+  const auto positions = env_.Positions();
+  const auto& present = env_.present();
+  const mjtNum identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  for (size_t k = 0; k < present.size(); ++k) {
+    const config::ObjectConfig& o = objects.at(present[k] - 1);
+    if (!o.is_static) continue;
+    const Vec2& p = positions.at(k + 1);
+    const double top = 2 * o.half_height;
+    const mjtNum washer_size[3] = {kPinWasherFraction * o.size, kPinWasherFraction * o.size, kPinWasherHalfHeight};
+    const mjtNum washer_pos[3] = {p[0], p[1], top + kPinWasherHalfHeight};
+    const mjtNum shaft_size[3] = {kPinShaftRadius, kPinShaftRadius, 0.5 * kPinShaftHeight};
+    const mjtNum shaft_pos[3] = {p[0], p[1], top + 0.5 * kPinShaftHeight};
+    const mjtNum head_size[3] = {kPinHeadRadius, kPinHeadRadius, kPinHeadRadius};
+    const mjtNum head_pos[3] = {p[0], p[1], top + kPinShaftHeight};
+    const struct {
+      int type;
+      const mjtNum* size;
+      const mjtNum* pos;
+      const float* rgba;
+    } parts[] = {{o.shape == config::ObjectShape::kBox ? mjGEOM_BOX : mjGEOM_CYLINDER, washer_size, washer_pos, kPinRgba},
+                 {mjGEOM_CYLINDER, shaft_size, shaft_pos, kPinRgba},
+                 {mjGEOM_SPHERE, head_size, head_pos, kPinHeadRgba}};
+    for (const auto& part : parts) {
+      mjvGeom* g = NewGeom();
+      if (g == nullptr) return;
+      mjv_initGeom(g, part.type, part.size, part.pos, identity, part.rgba);
+      g->category = mjCAT_DECOR;
+      g->specular = 0.2f;
+    }
+  }
 }
 
 void EpisodeRenderer::AddGoalMarkers(int active_entity) {
@@ -147,6 +239,8 @@ const Image& EpisodeRenderer::Render(int active_entity, const std::string& capti
   // map costs llvmpipe most of a frame
   for (int i = 0; i < mj_->scene.nlight; ++i) mj_->scene.lights[i].castshadow = 0;
   AddFloor();
+  AddConnections();
+  AddStaticPins();
   if (options_.draw_goals) AddGoalMarkers(active_entity);
   const mjrRect viewport = {0, 0, options_.width, options_.height};
   mjr_render(viewport, &mj_->scene, &mj_->context);

@@ -2,8 +2,11 @@
 // Frames of a rearrange episode from MuJoCo's own renderer: the table (on a blue-grey floor
 // that is only in the picture), the hand and the objects as the simulator has them, the episode's goals drawn as translucent markers added
 // to the scene (a flat disc or square of the object's size and colour at its goal, a flat
-// orange square of the hand's size for the hand's goal; the subgoal being attempted more opaque), and a caption.
-// The markers live only in the visual scene (mjvScene): the model and its physics are
+// orange square of the hand's size for the hand's goal; the subgoal being attempted more opaque),
+// the constraints (each rope or spring as a capsule between its two objects' centres: a rope
+// brown, darker when taut; a spring violet, darker when stretched; a static object with a
+// near-black pin on its top), and a caption.
+// The markers, links and pins live only in the visual scene (mjvScene): the model and its physics are
 // untouched, so a rendered episode is the same episode as an unrendered one.
 //
 //   GlContext gl;
@@ -17,6 +20,8 @@
 
 #include "actor/env/rearrange_env.h"
 #include "actor/env/render/gl_context.h"
+
+struct mjvGeom_;
 
 namespace srics::env {
 
@@ -66,12 +71,16 @@ class EpisodeRenderer {
 
  private:
   struct Mujoco;
+  mjvGeom_* NewGeom();  // the scene's next free geom, or null when it is full
   void AddFloor();
+  void AddConnections();
+  void AddStaticPins();
   void AddGoalMarkers(int active_entity);
 
   RearrangeEnv& env_;
   RenderOptions options_;
   std::unique_ptr<Mujoco> mj_;
+  std::vector<int> centre_sites_;  // per catalogue object 1..n, its centre site's id (-1: none)
   std::vector<uint8_t> bottom_up_;
   Image image_;
 };

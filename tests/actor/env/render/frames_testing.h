@@ -103,6 +103,36 @@ inline std::optional<Blob> FindHand(const Image& image, int max_level = 100, int
   return blob;
 }
 
+// Where a world point (metres) appears in a frame drawn with `options` (x right, y down, pixels):
+// MuJoCo's free camera (looking at options.lookat from options.distance at the elevation and
+// azimuth given) and its perspective (vertical field of view `fovy_degrees`, the model's
+// vis.global.fovy, 45 by default; square pixels).
+struct Pixel {
+  double x = 0, y = 0;
+};
+inline Pixel PixelOf(const RenderOptions& options, double fovy_degrees, double wx, double wy, double wz) {
+  constexpr double kDegree = 3.14159265358979323846 / 180;
+  const double el = options.elevation * kDegree, az = options.azimuth * kDegree;
+  const double forward[3] = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+  const double up[3] = {-std::sin(el) * std::cos(az), -std::sin(el) * std::sin(az), std::cos(el)};
+  const double right[3] = {forward[1] * up[2] - forward[2] * up[1], forward[2] * up[0] - forward[0] * up[2],
+                           forward[0] * up[1] - forward[1] * up[0]};
+  const double camera[3] = {options.lookat[0] - options.distance * forward[0],
+                            options.lookat[1] - options.distance * forward[1], -options.distance * forward[2]};
+  const double v[3] = {wx - camera[0], wy - camera[1], wz - camera[2]};
+  auto dot = [&](const double* a) { return a[0] * v[0] + a[1] * v[1] + a[2] * v[2]; };
+  const double focal = 0.5 * options.height / std::tan(0.5 * fovy_degrees * kDegree);
+  const double depth = dot(forward);
+  return {0.5 * options.width + focal * dot(right) / depth, 0.5 * options.height - focal * dot(up) / depth};
+}
+
+// The colour of pixel (x, y), rounded to the nearest pixel.
+inline const uint8_t* PixelAt(const Image& image, double x, double y) {
+  const int i = std::clamp(static_cast<int>(std::lround(x)), 0, image.width - 1);
+  const int j = std::clamp(static_cast<int>(std::lround(y)), 0, image.height - 1);
+  return image.rgb.data() + (static_cast<size_t>(j) * image.width + i) * 3;
+}
+
 }  // namespace srics::env::testing
 
 #endif  // SRICS_TESTS_ACTOR_ENV_RENDER_FRAMES_TESTING_H_

@@ -6,7 +6,11 @@
 #include <mujoco/mujoco.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "actor/env/render/episode_renderer.h"
@@ -45,6 +49,9 @@ namespace fs = std::filesystem;
 using testing::DecodeVideo;
 using testing::DifferingPixels;
 using testing::FindHand;
+using testing::Pixel;
+using testing::PixelAt;
+using testing::PixelOf;
 using testing::PixelStdDev;
 using testing::ReadPng;
 
@@ -107,6 +114,125 @@ TEST_F(RenderTest, HandMovingRightMovesItsPixelsRight) {
   // +x is to the right in the picture (the camera looks along +y), about 600 px per metre
   EXPECT_GT(after->x - before->x, 100 * moved);
   EXPECT_LT(std::abs(after->y - before->y), 20);
+}
+
+// The pixels of the segment between two tied objects' centres (at the centres' height) that
+// nothing else hides: farther than `clear` from each object's centre and from every other entity
+// (the objects' bodies, their tops projected a little further up the picture, and the hand).
+std::vector<const uint8_t*> LinkPixels(const Image& frame, const RearrangeEnv& env, const RenderOptions& options,
+                                       int a, int b, double clear) {
+  const auto positions = env.Positions();
+  const double fovy = env.model()->vis.global.fovy;
+  const double z = config::EffectiveObjects(env.config()).at(env.present()[a - 1] - 1).half_height;
+  const Vec2 pa = positions[a], pb = positions[b];
+  const Pixel from = PixelOf(options, fovy, pa[0], pa[1], z), to = PixelOf(options, fovy, pb[0], pb[1], z);
+  const int samples = static_cast<int>(std::hypot(to.x - from.x, to.y - from.y));  // about one a pixel
+  std::vector<const uint8_t*> pixels;
+  for (int i = 0; i <= samples; ++i) {
+    const double t = static_cast<double>(i) / std::max(samples, 1);
+    const double x = pa[0] + t * (pb[0] - pa[0]), y = pa[1] + t * (pb[1] - pa[1]);
+    bool hidden = false;
+    for (size_t e = 0; e < positions.size(); ++e)
+      if (std::hypot(x - positions[e][0], y - positions[e][1]) < clear) hidden = true;
+    if (hidden) continue;
+    const Pixel p = PixelOf(options, fovy, x, y, z);
+    pixels.push_back(PixelAt(frame, p.x, p.y));
+  }
+  return pixels;
+}
+
+// Relational Rearrange 4 (puck 1 static, pucks 2 and 3 tied by a rope): the rope is drawn between
+// the tied pucks (brown, along the whole visible segment between their centres), the static puck
+// carries a near-black pin at its centre; with the link made a spring, it is drawn violet. Before
+// the constraints were drawn, the segment showed MuJoCo's 5 mm grey tendon (or the white table)
+// and the static puck's centre its own green.
+TEST_F(RenderTest, TheRopeRunsBetweenTheTiedPucksAndAPinMarksTheStaticOne) {
+  RenderOptions options;
+  options.caption = false;
+  auto colour = [](const uint8_t* p) {
+    return "(" + std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " + std::to_string(p[2]) + ")";
+  };
+  for (const auto kind : {config::ConnectionKind::kRope, config::ConnectionKind::kSpring}) {
+    SCOPED_TRACE(kind == config::ConnectionKind::kRope ? "rope" : "spring");
+    config::EnvConfig c = testing::Preset("relational-4");
+    ASSERT_EQ(c.connections.size(), 1u);
+    c.connections[0].kind = kind;
+    RearrangeEnv env(c);
+    // a table where the tied pucks are apart and nothing else is near the segment between them
+    const double clear = 0.04 + 0.01;  // the pucks' radius, and their tops' reach up the picture
+    int a = 0, b = 0;
+    bool found = false;
+    for (uint64_t seed = 1; seed <= 1000 && !found; ++seed) {
+      env.Reset(seed);
+      const auto& present = env.present();
+      const auto at = [&](int catalogue) {
+        return static_cast<int>(std::find(present.begin(), present.end(), catalogue) - present.begin()) + 1;
+      };
+      a = at(c.connections[0].first), b = at(c.connections[0].second);
+      if (a > static_cast<int>(present.size()) || b > static_cast<int>(present.size())) continue;
+      const auto p = env.Positions();
+      if (std::hypot(p[a][0] - p[b][0], p[a][1] - p[b][1]) < 0.12) continue;  // the rope: 0.13
+      // the others (the hand too) well away from the segment
+      bool crowded = false;
+      for (size_t e = 0; e < p.size(); ++e) {
+        if (static_cast<int>(e) == a || static_cast<int>(e) == b) continue;
+        for (int i = 0; i <= 20; ++i) {
+          const double t = i / 20.0;
+          if (std::hypot(p[a][0] + t * (p[b][0] - p[a][0]) - p[e][0], p[a][1] + t * (p[b][1] - p[a][1]) - p[e][1]) <
+              0.065)
+            crowded = true;
+        }
+      }
+      found = !crowded;
+    }
+    ASSERT_TRUE(found) << "no reset with the tied pucks apart and the segment clear";
+    EpisodeRenderer renderer(env, *gl_, options);
+    const Image& frame = renderer.Render(-1, "");
+    // SRICS_RENDER_TEST_FRAMES=DIR keeps the frames to look at
+    if (const char* keep = std::getenv("SRICS_RENDER_TEST_FRAMES"))
+      WritePng(std::string(keep) + (kind == config::ConnectionKind::kRope ? "/rope.png" : "/spring.png"),
+               frame.rgb.data(), frame.width, frame.height);
+
+    // the projection is the renderer's: the hand's dark pixels centre on the hand's top
+    const auto hand = FindHand(frame);
+    ASSERT_TRUE(hand.has_value());
+    const Vec2 h = env.Positions()[0];
+    const Pixel hand_top = PixelOf(options, env.model()->vis.global.fovy, h[0], h[1], 0.03);
+    EXPECT_NEAR(hand->x, hand_top.x, 6);
+    EXPECT_NEAR(hand->y, hand_top.y, 8);
+
+    const auto link = LinkPixels(frame, env, options, a, b, clear);
+    ASSERT_GE(link.size(), 8u) << "too little of the segment in view";
+    int drawn = 0;
+    std::string seen;
+    for (const uint8_t* p : link) {
+      const int r = p[0], g = p[1], bl = p[2];
+      const bool like = kind == config::ConnectionKind::kRope ? r > g + 25 && g > bl + 15 && r < 235  // brown
+                                                              : bl > g + 60 && r > g + 20;            // violet
+      drawn += like;
+      if (!like && seen.size() < 200) seen += colour(p) + " ";
+    }
+    EXPECT_GE(drawn, static_cast<int>(0.9 * link.size()))
+        << drawn << " of " << link.size() << " pixels of the segment in the link's colour; others: " << seen;
+
+    // the static puck's pin: near black (violet-tinted) at the centre of its top; the other
+    // pucks show their bright colour there
+    const auto objects = config::EffectiveObjects(c);
+    int static_entities = 0;
+    for (size_t k = 0; k < env.present().size(); ++k) {
+      const auto& o = objects.at(env.present()[k] - 1);
+      const Vec2 p = env.Positions()[k + 1];
+      const Pixel centre = PixelOf(options, env.model()->vis.global.fovy, p[0], p[1], 2 * o.half_height);
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const uint8_t* q = PixelAt(frame, centre.x + dx, centre.y + dy);
+          const bool pin = std::max({q[0], q[1], q[2]}) < 110 && q[2] > q[1] + 20;
+          EXPECT_EQ(pin, o.is_static) << "object " << env.present()[k] << " centre " << colour(q);
+        }
+      static_entities += o.is_static;
+    }
+    EXPECT_EQ(static_entities, 1);
+  }
 }
 
 TEST_F(RenderTest, RendersAnyEvenSizeAndRejectsOthers) {
