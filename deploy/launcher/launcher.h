@@ -72,7 +72,7 @@ RoleShare ShareOf(const LaunchOptions& options, const config::Config& config);
 // Exit codes of `srics run`.
 inline constexpr int kExitDone = 0;         // the run finished (budget, learner, wall time)
 inline constexpr int kExitFailed = 1;       // a role failed for good, or no child could start
-inline constexpr int kExitUsage = 2;        // bad arguments or config
+inline constexpr int kExitUsage = 2;        // bad arguments or config, or a run of this run id is live (run_guard.h)
 inline constexpr int kExitInterrupted = 130;  // stopped by SIGINT/SIGTERM
 
 // Runs to the end; returns one of the exit codes above. Config errors throw ConfigError
