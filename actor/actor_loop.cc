@@ -9,6 +9,7 @@
 #include "actor/env/rearrange_env.h"
 #include "common/logging/logging.h"
 #include "common/nn/serialize.h"
+#include "common/profile/phase_clock.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/seeds.h"
 
@@ -188,6 +189,7 @@ env::Environment& ActorLoop::environment() { return *state_->env; }
 void ActorLoop::set_eval_recorder(std::unique_ptr<EvalRecorder> recorder) { recorder_ = std::move(recorder); }
 
 void ActorLoop::Evaluate(bool passive) {
+  profile::PhaseScope phase(profile::Phase::kEvaluation);
   State& s = *state_;
   Status(rl::NodePhase::kEvaluating, passive ? "passive baseline" : "evaluating", true);
   rl::EvalReport report;

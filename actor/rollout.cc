@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "actor/env/sampling.h"
+#include "common/profile/phase_clock.h"
 #include "common/rl/goal_token.h"
 #include "common/rl/rewards.h"
 #include "common/rl/seeds.h"
@@ -58,6 +59,7 @@ bool StepWith(env::Environment& env, const float* action, int dim, std::vector<f
     a[i] = action[i];
   }
   if (actions) actions->insert(actions->end(), action, action + dim);
+  profile::PhaseScope phase(profile::Phase::kEnvStep);
   return env.Step(std::span<const double>(a.data(), dim)) == env::StepStatus::kOk;
 }
 

@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "common/nn/serialize.h"
+#include "common/profile/phase_clock.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/seeds.h"
 
@@ -114,9 +115,14 @@ double Learner::UpdateBacklog() const {
 UpdateStats Learner::Update() {
   UpdateStats stats;
   if (hac_) {
+    profile::PhaseScope phase(profile::Phase::kSacUpdate);  // HAC samples inside its update
     stats = hac_->Update(agent_, options_.agent.sac.batch_size);
   } else {
-    relabeler_.Sample(replay_, options_.agent.sac.batch_size, &batch_);
+    {
+      profile::PhaseScope phase(profile::Phase::kReplaySampling);
+      relabeler_.Sample(replay_, options_.agent.sac.batch_size, &batch_);
+    }
+    profile::PhaseScope phase(profile::Phase::kSacUpdate);
     stats = agent_.Update(batch_);
   }
   if (stats.non_finite) {

@@ -2,9 +2,11 @@
 
 #include "actor/recording/video_recorder.h"
 
+#include <time.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +22,7 @@
 #include "actor/env/random_table.h"
 #include "common/rl/ground_truth.h"
 #include "common/process/role_startup.h"
+#include "common/profile/phase_clock.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/seeds.h"
 #include "common/transport/rl_convert.h"
@@ -168,6 +171,7 @@ bool InProcessRun::Round() {
   ++rounds_;
   bool worked = false;
   if (l.graph) {
+    profile::PhaseScope phase(profile::Phase::kGraph);
     worked |= l.graph->Step() == graph_service::StepResult::kWorked;
     if (options_.graph_only && l.graph->published()) return false;
     if (l.graph->progress().phase == graph_service::Progress::Phase::kStopped)
@@ -175,11 +179,13 @@ bool InProcessRun::Round() {
   }
   for (size_t k = 0; k < l.actors.size(); ++k) {
     if (l.actor_done[k]) continue;
+    profile::PhaseScope phase(profile::Phase::kActing);
     const actor::StepResult r = l.actors[k]->Step();
     worked |= r == actor::StepResult::kWorked;
     l.actor_done[k] = r == actor::StepResult::kDone;
   }
   if (!l.learner_done) {
+    profile::PhaseScope phase(profile::Phase::kLearner);
     const learner::StepResult r = l.learner->Step();
     worked |= r == learner::StepResult::kWorked;
     l.learner_done = r == learner::StepResult::kDone;
@@ -199,12 +205,49 @@ void InProcessRun::Stop() {
   if (loops_->learner) loops_->learner->Finish();
 }
 
+namespace {
+
+// With SRICS_PHASES=FILE (tests/bench.sh run-cost): the run's CPU time by phase, a row each
+// 1,000 more training env steps: env_steps, the process's CPU seconds, then each phase's
+// (profile::Phase order); what no phase holds is the process's time minus their sum.
+class PhaseLog {
+ public:
+  static std::unique_ptr<PhaseLog> FromEnvironment() {
+    const char* path = std::getenv("SRICS_PHASES");
+    if (!path || !*path) return nullptr;
+    profile::Enable();
+    return std::unique_ptr<PhaseLog>(new PhaseLog(path));
+  }
+  void Sample(uint64_t env_steps) {
+    if (env_steps < next_) return;
+    next_ = env_steps + 1000;
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    out_ << env_steps << ',' << static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+    for (double seconds : profile::Snapshot()) out_ << ',' << seconds;
+    out_ << '\n' << std::flush;
+  }
+
+ private:
+  explicit PhaseLog(const std::string& path) : out_(path) {
+    if (!out_) throw std::runtime_error("SRICS_PHASES: cannot write " + path);
+    out_ << "env_steps,cpu_s";
+    for (size_t p = 0; p < profile::kPhases; ++p) out_ << ',' << profile::PhaseName(static_cast<profile::Phase>(p));
+    out_ << '\n';
+  }
+  std::ofstream out_;
+  uint64_t next_ = 0;
+};
+
+}  // namespace
+
 int RunInProcess(const LaunchOptions& options, const config::Config& config) {
   transport::Shutdown::InstallSignalHandlers();
   const auto& stop = transport::Shutdown::Process().flag();
   RunSession session(options, config);
   MonitorObserver observer(config, session.dir(), &session);
   InProcessRun run(config, session.dir(), &observer);
+  const std::unique_ptr<PhaseLog> phases = PhaseLog::FromEnvironment();
   std::string reason;
   int exit_code = kExitDone;
   auto rows = [&](const std::string& state) {
@@ -221,6 +264,8 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
         reason = WallLimitReason(config, session.elapsed_s());
       }
       session.Show(observer.state(), rows("running"), 0);
+      if (phases)
+        for (const auto& [id, view] : observer.state().runs) phases->Sample(mon::EnvSteps(view));
     }
     if (exit_code != kExitDone || reason != "the budget is done") run.Stop();
   } catch (const std::exception& e) {
