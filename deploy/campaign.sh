@@ -34,6 +34,9 @@
 #           method (another selectivity form) needs its own NAME
 #   CONFIG  the campaign config, relative to the repository root
 set -euo pipefail
+# The whole script is one block, read before it runs: bash reads a script as it goes, and an edit
+# of this file while a queue trains (hours) used to break that queue when its loop ended.
+{
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build
 queue=$root/deploy/configs/campaign/queue.txt
@@ -155,3 +158,5 @@ while IFS= read -r line || [[ -n $line ]]; do
   final_eval "$run_dir" "$raw" "$seed" "$runs/$out.lock" || true
 done <"$queue"
 echo "[$(date -u +%H:%M)] the queue is done"
+exit 0
+}

@@ -55,6 +55,39 @@ TEST(CampaignScriptTest, NicesItsSchedulingGroup) {
   EXPECT_NE(text.find(" nice 10"), std::string::npos) << text;
 }
 
+// bash reads a script as it runs it: an edit of deploy/campaign.sh while a queue trains (a new
+// queue line's comment, a fix) used to break that queue once its loop ended ("syntax error near
+// unexpected token"). The script is read whole before it starts. Tested on a copy in a scratch
+// tree with a stand-in srics that trains for a second while the copy is edited.
+TEST(CampaignScriptTest, AnEditOfTheScriptWhileAQueueRunsDoesNotBreakIt) {
+  const fs::path root = TestDir() / "tree";
+  fs::create_directories(root / "deploy/configs/campaign");
+  fs::create_directories(root / "build/deploy/launcher");
+  fs::copy_file(std::string(SRICS_SOURCE_DIR) + "/deploy/campaign.sh", root / "deploy/campaign.sh");
+  std::ofstream(root / "deploy/configs/campaign/x.yaml") << "run:\n  name: x\n";
+  // the stand-in: `srics sweep CONFIG --methods M --seeds S ... --out DIR` finishes M-seedS after a second
+  const fs::path srics = root / "build/deploy/launcher/srics";
+  std::ofstream(srics) << "#!/usr/bin/env bash\n"
+                          "while [[ $# -gt 0 ]]; do case $1 in --out) out=$2; shift 2;; --methods) m=$2; shift 2;;"
+                          " --seeds) s=$2; shift 2;; *) shift;; esac; done\n"
+                          "mkdir -p \"$out/$m-seed$s\"; sleep 1\n"
+                          "printf 'state: finished\\n' > \"$out/$m-seed$s/outcome.yaml\"\n"
+                          "printf 'env_steps\\n1\\n' > \"$out/$m-seed$s/eval.csv\"\n"
+                          "printf 'seed: 1\\n' > \"$out/sweep.yaml\"\n";
+  fs::permissions(srics, fs::perms::owner_all);
+  std::ofstream(root / "queue.txt") << "q1 g srics deploy/configs/campaign/x.yaml srics 1\n";
+  const std::string script = (root / "deploy/campaign.sh").string();
+  const std::string edit = "sleep 0.5; { printf '# an edit while the queue runs\\n%.0s' $(seq 30); cat " + script +
+                           "; } > " + script + ".new && cat " + script + ".new > " + script;  // in place, as an editor writes
+  const auto [code, text] = srics::cli::testing::Shell(
+      "cd " + root.string() + " && (" + edit + ") & " + script + " --final-episodes 0 --queue " +
+      (root / "queue.txt").string() + " --runs " + (root / "runs").string() + " 2>&1; echo exit $?; wait");
+  fs::remove_all(TestDir());
+  EXPECT_NE(text.find("the queue is done"), std::string::npos) << text;
+  EXPECT_EQ(text.find("syntax error"), std::string::npos) << text;
+  EXPECT_NE(text.find("exit 0"), std::string::npos) << text;
+}
+
 // srics_no_selectivity seed 2 of Relational Rearrange 4 is committed as finished
 TEST(CampaignScriptTest, SkipsFinishedRunsAndPlansTheOthers) {
   const Output out = RunQueue(
