@@ -5,22 +5,22 @@ set xlabel 'environment steps'
 set ylabel 'final distance to goal (m)' noenhanced
 set format x '%.0s%c'
 set key at screen 0.5, screen 0.01 center bottom horizontal maxcols 2 samplen 2 noenhanced
-set bmargin 5
+set bmargin 6
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-750k-distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (1 seed)', 0.150004 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+plot '/work/main/docs/results/campaign/relational-4-750k-distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-750k-distance.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (1 seed)', 0.150004 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
 set output '/work/main/docs/results/campaign/relational-4-750k-object_distance.png'
 set title 'relational-4-750k: average object distance (mean, band ±1 sd over seeds)' noenhanced
 set xlabel 'environment steps'
 set ylabel 'final distance to goal (m)' noenhanced
 set format x '%.0s%c'
 set key at screen 0.5, screen 0.01 center bottom horizontal maxcols 2 samplen 2 noenhanced
-set bmargin 5
+set bmargin 6
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-750k-object_distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (1 seed)', 0.187505 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+plot '/work/main/docs/results/campaign/relational-4-750k-object_distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-750k-object_distance.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (1 seed)', 0.187505 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
 set output '/work/main/docs/results/campaign/relational-4-750k-selectivity.png'
 set title 'relational-4-750k: selectivity of training episodes, the table''s ancestor sets (mean, band ±1 sd over seeds)' noenhanced
 set xlabel 'environment steps'
@@ -31,7 +31,18 @@ set bmargin 5
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-750k-selectivity.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (1 seed)'
+plot '/work/main/docs/results/campaign/relational-4-750k-selectivity.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-750k-selectivity.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (1 seed)'
+set output '/work/main/docs/results/campaign/relational-4-750k-undone.png'
+set title 'relational-4-750k: solved non-ancestor objects an attempt undid (mean, band ±1 sd over seeds)' noenhanced
+set xlabel 'environment steps'
+set ylabel 'share undone' noenhanced
+set format x '%.0s%c'
+set key at screen 0.5, screen 0.01 center bottom horizontal maxcols 2 samplen 2 noenhanced
+set bmargin 5
+set grid
+set yrange [0:*]
+set style fill transparent solid 0.2 noborder
+plot '/work/main/docs/results/campaign/relational-4-750k-undone.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'srics (1 seed)'
 set output '/work/main/docs/results/campaign/relational-4-750k-subgoal_success.png'
 set title 'relational-4-750k: success per subgoal at the final evaluation (mean, bars ±1 sd over seeds)' noenhanced
 set xlabel ''
@@ -45,4 +56,4 @@ set style data histograms
 set style histogram errorbars gap 2 lw 1
 set style fill solid 0.8 border -1
 set bars 2
-plot '/work/main/docs/results/campaign/relational-4-750k-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'smorl (1 seed)'
+plot '/work/main/docs/results/campaign/relational-4-750k-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-750k-subgoal_success.dat' using 5:6:7 lc rgb '#d62728' title 'srics (1 seed)'
