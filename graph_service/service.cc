@@ -124,8 +124,26 @@ void GraphService::PublishStatus(bool force) {
   // explore episodes refused by the service's own checks (the run's shape, steps, limits)
   if (p.dropped > 0) r.rejections["episode.graph"] = static_cast<uint64_t>(p.dropped);
   if (p.skipped_updates > 0) r.rejections["update.nonfinite"] = static_cast<uint64_t>(p.skipped_updates);
+  if (p.phase != status_phase_ || status_phase_start_ == std::chrono::steady_clock::time_point{}) {
+    status_phase_ = p.phase;
+    status_phase_start_ = now;
+  }
+  // the phase's ETA at its rate so far: collecting to the data set's size; training to
+  // max_updates, an upper bound (a stable graph ends it sooner)
+  const double in_phase = std::chrono::duration<double>(now - status_phase_start_).count();
+  auto eta = [&](double done, double total, const char* prefix) {
+    if (done <= 0 || total <= done || in_phase <= 0) return std::string();
+    const long seconds = std::lround(in_phase * (total - done) / done);
+    return std::string(", ETA ") + prefix + std::to_string(seconds / 60) + "m" + (seconds % 60 < 10 ? "0" : "") +
+           std::to_string(seconds % 60) + "s";
+  };
+  const bool training = p.phase == Progress::Phase::kTraining;
   r.detail = std::string(PhaseName(p.phase)) + ": " + std::to_string(p.episodes) + "/" +
-             std::to_string(p.target_episodes) + " episodes, " + std::to_string(p.updates) + " updates" +
+             std::to_string(p.target_episodes) + " episodes, " + std::to_string(p.updates) +
+             (training ? " of at most " + std::to_string(config_.max_updates) : std::string()) + " updates" +
+             (p.phase == Progress::Phase::kCollecting ? eta(p.episodes, p.target_episodes, "")
+              : training                              ? eta(static_cast<double>(p.updates), config_.max_updates, "<= ")
+                                                      : std::string()) +
              (p.held_out_loss >= 0 ? ", held-out " + std::to_string(p.held_out_loss) : "") +
              (p.refining ? ", refining from " + std::to_string(p.refine_episodes) + " training episodes" : "") +
              (p.graph.empty() ? "" : ", " + p.graph);

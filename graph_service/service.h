@@ -178,6 +178,9 @@ class GraphService {
   std::vector<double> action_correlation_;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_report_, last_status_;
+  // when the phase the last status reported began (for its ETA)
+  Progress::Phase status_phase_ = Progress::Phase::kLoading;
+  std::chrono::steady_clock::time_point status_phase_start_;
 };
 
 }  // namespace srics::graph_service

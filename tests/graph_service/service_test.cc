@@ -96,6 +96,27 @@ TEST(GraphServiceTest, TrainsPublishesSavesAndRepublishesAfterRestart) {
   EXPECT_TRUE(SameStructure(sink2.graphs[0].graph, g.graph));
 }
 
+// Issue 38: the status a display shows during the graph phase says how far the phase is, of how
+// much, and when it should end (training: at most max_updates, a stable graph ends it sooner).
+TEST(GraphServiceTest, StatusesSayHowFarTheTrainingIsAndItsEta) {
+  ToyWorld world({.num_pucks = 2, .steps = 10});
+  std::vector<rl::Episode> episodes;
+  for (int i = 0; i < 20; ++i) episodes.push_back(world.RandomEpisode(i));
+  ListSource source(episodes);
+  RecordingSink sink;
+  GraphService service(TinyConfig(), {.seed = 3, .render_pictures = false, .status_period_s = 0}, &source, &sink, {});
+  std::atomic<bool> stop{false};
+  ASSERT_EQ(service.Run(stop), 0);
+  bool counted = false, eta = false;
+  for (const rl::NodeReport& r : sink.statuses) {
+    if (r.detail.rfind("training:", 0) != 0) continue;
+    counted |= r.detail.find(" of at most 30 updates") != std::string::npos;
+    eta |= r.detail.find(", ETA <= ") != std::string::npos;
+  }
+  EXPECT_TRUE(counted) << (sink.statuses.empty() ? "" : sink.statuses.back().detail);
+  EXPECT_TRUE(eta) << (sink.statuses.empty() ? "" : sink.statuses.back().detail);
+}
+
 TEST(GraphServiceTest, CorruptedSavedGraphIsSetAsideAndLearnedAgain) {
   const std::string dir = FreshDir("service_corrupted");
   std::filesystem::create_directories(dir);
