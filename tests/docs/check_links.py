@@ -43,8 +43,8 @@ def markdown_files(root):
                 yield os.path.join(top, name)
 
 
-def prose_lines(text):
-    """(line number, line) outside fenced code blocks, code spans blanked out."""
+def outside_fences(text):
+    """(line number, line) of the lines outside fenced code blocks."""
     fence = None
     for number, line in enumerate(text.split("\n"), 1):
         match = FENCE.match(line)
@@ -55,6 +55,12 @@ def prose_lines(text):
         if match:
             fence = match.group(1)
             continue
+        yield number, line
+
+
+def prose_lines(text):
+    """(line number, line) outside fenced code blocks, code spans blanked out."""
+    for number, line in outside_fences(text):
         yield number, CODE_SPAN.sub(lambda m: " " * len(m.group(0)), line)
 
 
@@ -79,16 +85,7 @@ def anchors(path):
         found, seen = set(), {}
         with open(path, encoding="utf-8", errors="replace") as f:
             text = f.read()
-        fence = None
-        for line in text.split("\n"):
-            match = FENCE.match(line)
-            if fence:
-                if match and match.group(1)[0] == fence[0] and len(match.group(1)) >= len(fence) and not line.strip().strip(fence[0]):
-                    fence = None
-                continue
-            if match:
-                fence = match.group(1)
-                continue
+        for _, line in outside_fences(text):
             heading = ATX.match(line)
             if heading:
                 base = slug(heading.group(2))
