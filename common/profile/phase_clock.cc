@@ -10,9 +10,9 @@ namespace {
 
 std::atomic<bool> enabled{false};
 
-double ThreadCpuSeconds() {
+double CpuSeconds(clockid_t clock) {
   timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  clock_gettime(clock, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
@@ -44,6 +44,9 @@ std::string_view PhaseName(Phase phase) {
   }
   return "?";
 }
+
+double ThreadCpuSeconds() { return CpuSeconds(CLOCK_THREAD_CPUTIME_ID); }
+double ProcessCpuSeconds() { return CpuSeconds(CLOCK_PROCESS_CPUTIME_ID); }
 
 void Enable() { enabled.store(true, std::memory_order_relaxed); }
 bool Enabled() { return enabled.load(std::memory_order_relaxed); }

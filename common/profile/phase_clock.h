@@ -34,6 +34,9 @@ using Totals = std::array<double, kPhases>;  // CPU seconds per phase
 
 void Enable();
 bool Enabled();
+// CPU seconds used so far by this thread / by the whole process.
+double ThreadCpuSeconds();
+double ProcessCpuSeconds();
 // This thread's CPU seconds per phase so far (the open phases charged up to now).
 Totals Snapshot();
 

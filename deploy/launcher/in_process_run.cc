@@ -2,7 +2,6 @@
 
 #include "actor/recording/video_recorder.h"
 
-#include <time.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -221,9 +220,7 @@ class PhaseLog {
   void Sample(uint64_t env_steps) {
     if (env_steps < next_) return;
     next_ = env_steps + 1000;
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    out_ << env_steps << ',' << static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+    out_ << env_steps << ',' << profile::ProcessCpuSeconds();
     for (double seconds : profile::Snapshot()) out_ << ',' << seconds;
     out_ << '\n' << std::flush;
   }

@@ -3,21 +3,15 @@
 #include "common/profile/phase_clock.h"
 
 #include <gtest/gtest.h>
-#include <time.h>
 
 namespace srics::profile {
 namespace {
 
 // Burns about `seconds` of this thread's CPU time.
 void Burn(double seconds) {
-  auto now = [] {
-    timespec t{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-  };
-  const double end = now() + seconds;
+  const double end = ThreadCpuSeconds() + seconds;
   volatile double sink = 0;
-  while (now() < end) sink = sink + 1.0;
+  while (ThreadCpuSeconds() < end) sink = sink + 1.0;
 }
 
 double Of(const Totals& t, Phase p) { return t[static_cast<size_t>(p)]; }
