@@ -48,8 +48,10 @@ typename Map::iterator LeastHeard(Map& map, Count count, LastHeard last_heard, E
 }  // namespace
 
 RunView& RunOf(MonitorState* state, const std::string& printable_run_id, Clock::time_point now) {
-  auto [it, inserted] = state->runs.try_emplace(printable_run_id);
-  if (inserted && state->runs.size() > std::max<size_t>(state->max_runs, 1)) {
+  // Not a structured binding: clang (the sanitizer build) cannot capture one in a lambda.
+  const auto emplaced = state->runs.try_emplace(printable_run_id);
+  const auto it = emplaced.first;
+  if (emplaced.second && state->runs.size() > std::max<size_t>(state->max_runs, 1)) {
     const auto victim = LeastHeard(
         state->runs, [](const RunView& r) { return r.samples; }, [](const RunView& r) { return r.last_sample; },
         [&](auto candidate) { return candidate != it && candidate->first != state->own_run_id; });
@@ -67,7 +69,9 @@ void Apply(MonitorState* state, const transport::NodeStatus& received, Clock::ti
   transport::NodeStatus status = received;
   for (std::string* text : {&status.run_id, &status.role, &status.host, &status.detail}) *text = PrintableText(*text);
   NodeKey key{status.run_id, status.role, status.node_id};
-  auto [it, inserted] = state->nodes.try_emplace(std::move(key));
+  const auto emplaced = state->nodes.try_emplace(std::move(key));
+  const auto it = emplaced.first;
+  const bool inserted = emplaced.second;
   if (inserted && state->nodes.size() > std::max<size_t>(state->max_nodes, 1)) {
     const auto victim = LeastHeard(
         state->nodes, [](const NodeEntry& n) { return n.statuses; }, [](const NodeEntry& n) { return n.last_seen; },
