@@ -50,8 +50,15 @@ std::optional<int> StartRole(int argc, char** argv, const RoleProgram& program, 
                                 "sweep resolve (they write it into the run folder's config.yaml)");
     role->name = program.needs_id ? program.base_name + "-" + std::to_string(*role->command_line.id)
                                   : program.base_name;
-    // DDS Security: the process's own identity of the keystore, every file checked before DDS starts
-    role->config.transport.security.identity = config::CheckKeystore(role->config.transport.security, role->name);
+    // DDS Security: the process's own identity of the keystore, every file checked before DDS starts.
+    // Its samples are accepted only from the identity named as the role (transport::SenderIdentity).
+    auto& security = role->config.transport.security;
+    if (!security.keystore.empty() && !security.identity.empty() && security.identity != role->name)
+      throw config::ConfigError("transport.security.identity: '" + security.identity + "' cannot speak for " +
+                                role->name + ": under DDS Security the run accepts a role's samples only from the "
+                                "keystore identity named as the role (actor-K, learner, graph); leave "
+                                "transport.security.identity empty for the roles");
+    security.identity = config::CheckKeystore(security, role->name);
     logging::LogOptions log;
     log.level = role->command_line.log_level.empty() ? role->config.run.log_level : role->command_line.log_level;
     if (!role->command_line.run_dir.empty() && role->config.run.log_to_file)

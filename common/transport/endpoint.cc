@@ -9,6 +9,7 @@
 #include <optional>
 #include <thread>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 
 #include "common/logging/logging.h"
@@ -64,6 +65,28 @@ Status StatusOf(dds_return_t (*get)(dds_entity_t, Status*), dds_entity_t entity,
   return status;
 }
 
+// The sender a sample names (topics with TopicSpec::names_sender; the others never ask).
+std::string ClaimedSender(const rl::Episode& episode) { return SenderIdentity("actor", episode.actor_id); }
+std::string ClaimedSender(const EvalResult& result) { return SenderIdentity("actor", result.actor_id); }
+std::string ClaimedSender(const NodeStatus& status) { return SenderIdentity(status.role, status.node_id); }
+template <typename M>
+std::string ClaimedSender(const M&) {
+  return {};
+}
+
+// The short name of a topic in rejection counters ("episode" in "episode.sender").
+std::string CounterPrefix(TopicId id) {
+  switch (id) {
+    case TopicId::kEpisode: return "episode";
+    case TopicId::kPolicyWeights: return "weights";
+    case TopicId::kInteractionGraph: return "graph";
+    case TopicId::kEvalResult: return "eval";
+    case TopicId::kLearnerStats: return "stats";
+    case TopicId::kNodeStatus: return "status";
+  }
+  return "topic";
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------- Topic
@@ -110,7 +133,17 @@ struct Writer<T>::Impl {
     if (options.batch) dds_write_set_batch(true);
     writer = dds_create_writer(participant, topic.handle(), qos.qos, nullptr);
     if (options.batch) dds_write_set_batch(false);
-    Check(writer, ("dds_create_writer " + topic.name()).c_str());
+    std::string operation = "dds_create_writer " + topic.name();
+    if (writer == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY) {
+      const std::string& identity = p.config().security.identity;
+      operation += " (DDS Security: the permissions of identity '" + identity + "' do not allow it";
+      if (Spec(TopicOf<T>::kId).names_sender)
+        operation += " in partition '" + identity +
+                     "'; a keystore made before sender partitions (2026-12-06) lacks them: run "
+                     "deploy/security/make-keystore.sh on it again";
+      operation += ")";
+    }
+    Check(writer, operation.c_str());
     if (options.batch && options.batch_delay.count() > 0) flusher = std::thread([this] { FlushLoop(); });
   }
   ~Impl() {
@@ -311,10 +344,21 @@ struct Reader<T>::Impl {
         shutdown(&p.shutdown()),
         run_id(options.all_runs ? std::string() : p.run_id()),
         shared(p.counter_table()),
-        limiter(std::chrono::seconds(p.config().rejected_log_interval_s)) {
+        limiter(std::chrono::seconds(p.config().rejected_log_interval_s)),
+        bind_senders(Spec(TopicOf<T>::kId).names_sender && !p.config().security.keystore.empty()) {
     QosHolder qos{internal::CreateQos(Spec(TopicOf<T>::kId), internal::Side::kReader, p.config())};
-    reader = Check(dds_create_reader(participant, topic.handle(), qos.qos, nullptr),
-                   ("dds_create_reader " + topic.name()).c_str());
+    // A writer's identity is noted when it matches: its last samples may be taken after it left
+    // (an actor that wrote and exited), when DDS no longer knows it.
+    dds_listener_t* listener = nullptr;
+    if (bind_senders) {
+      listener = dds_create_listener(this);
+      dds_lset_subscription_matched(listener, [](dds_entity_t, const dds_subscription_matched_status_t status, void* self) {
+        if (status.current_count_change > 0) static_cast<Impl*>(self)->WriterIdentity(status.last_publication_handle);
+      });
+    }
+    reader = dds_create_reader(participant, topic.handle(), qos.qos, listener);
+    if (listener) dds_delete_listener(listener);
+    Check(reader, ("dds_create_reader " + topic.name()).c_str());
     condition = Check(dds_create_readcondition(reader, DDS_ANY_STATE), "dds_create_readcondition");
     waitset = Check(dds_create_waitset(participant), "dds_create_waitset");
     Check(dds_waitset_attach(waitset, condition, 0), "dds_waitset_attach");
@@ -327,6 +371,7 @@ struct Reader<T>::Impl {
   }
 
   static constexpr size_t kBatch = 16;
+  static constexpr size_t kMaxWriters = 4096;
 
   // Takes up to `max` samples now (no waiting); appends the valid ones to *out. DDS copies
   // into this reader's own C samples (`taken`), whose sequence buffers it grows and then
@@ -346,7 +391,9 @@ struct Reader<T>::Impl {
         // invalid_data samples only announce instance state changes (disposed, no writers)
         if (!infos[i].valid_data) continue;
         out->emplace_back();
-        if (Accept(Receive(taken[i], &out->back()))) {
+        Validation verdict = Receive(taken[i], &out->back());
+        if (verdict.ok() && bind_senders) verdict = CheckSender(out->back(), infos[i].publication_handle);
+        if (Accept(verdict)) {
           ++appended;
         } else {
           out->pop_back();
@@ -373,6 +420,48 @@ struct Reader<T>::Impl {
       internal::FromC(sample, out);
       return Validate(*out, run_id);
     }
+  }
+
+  // Under DDS Security: the sample must come from a writer in the partition of the identity
+  // that may speak for the sender it names (SenderIdentity); an identity's permissions allow
+  // its own partition only, so no identity can speak for another.
+  Validation CheckSender(const T& sample, dds_instance_handle_t writer) {
+    const std::string claimed = ClaimedSender(sample);
+    const std::string identity = WriterIdentity(writer);
+    if (identity == claimed) return {};
+    return {Verdict::kMalformed,
+            "it names " + claimed + " as its sender, but identity '" + identity + "' wrote it",
+            CounterPrefix(TopicOf<T>::kId) + ".sender"};
+  }
+
+  // The one partition of a matched writer (its identity under DDS Security), or a description
+  // of why there is none. Remembered per writer, also after it left: a writer's partition does
+  // not change in Cyclone 0.10 (immutable once enabled); forgotten wholesale past kMaxWriters.
+  // Called by the taking thread and by DDS's listener thread.
+  std::string WriterIdentity(dds_instance_handle_t writer) {
+    {
+      std::lock_guard lock(identities_mutex);
+      if (auto it = writer_identities.find(writer); it != writer_identities.end()) return it->second;
+    }
+    std::string identity = "(unknown writer)";
+    if (dds_builtintopic_endpoint_t* endpoint = dds_get_matched_publication_data(reader, writer)) {
+      uint32_t n = 0;
+      char** partitions = nullptr;
+      if (endpoint->qos && dds_qget_partition(endpoint->qos, &n, &partitions)) {
+        identity = n == 1 ? std::string(partitions[0]) : "(" + std::to_string(n) + " partitions)";
+        for (uint32_t k = 0; k < n; ++k) dds_free(partitions[k]);
+        dds_free(partitions);
+      } else {
+        identity = "(default partition)";
+      }
+      dds_builtintopic_free_endpoint(endpoint);
+    } else {
+      return identity;  // not remembered: it may still match
+    }
+    std::lock_guard lock(identities_mutex);
+    if (writer_identities.size() >= kMaxWriters) writer_identities.clear();
+    writer_identities.emplace(writer, identity);
+    return identity;
   }
 
   // Counts a verdict and (rate-limited) logs a rejection; true for an accepted sample.
@@ -422,6 +511,9 @@ struct Reader<T>::Impl {
   int32_t condition = 0;
   int32_t waitset = 0;
   std::vector<T> batch;  // reused by Take
+  const bool bind_senders;  // DDS Security and a topic that names its sender
+  std::mutex identities_mutex;
+  std::unordered_map<dds_instance_handle_t, std::string> writer_identities;  // see WriterIdentity
   // what dds_take copies into (zeroed: sequences start empty; DDS allocates them, they are
   // freed with the reader)
   std::array<typename internal::CType<T>::type, kBatch> taken{};

@@ -48,10 +48,21 @@ dds_qos_t* CreateQos(const TopicSpec& spec, Side side, const config::TransportCo
   if (spec.liveliness_lease && side == Side::kWriter)
     dds_qset_liveliness(qos, DDS_LIVELINESS_AUTOMATIC,
                         static_cast<dds_duration_t>(config.liveliness_lease_s * 1e9));
+  // Under DDS Security a sample that names its sender travels in the partition of the writer's
+  // identity, which only that identity's permissions allow; readers take every partition and
+  // check the sender against it (the Reader). Open, everything stays in the default partition,
+  // where external monitors look.
+  if (spec.names_sender && !config.security.keystore.empty())
+    dds_qset_partition1(qos, side == Side::kWriter ? config.security.identity.c_str() : "*");
   return qos;
 }
 
 }  // namespace internal
+
+std::string SenderIdentity(std::string_view role, uint32_t id) {
+  if (role == "actor") return "actor-" + std::to_string(id);
+  return std::string(role);
+}
 
 namespace {
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 namespace srics::transport {
@@ -30,25 +31,36 @@ struct TopicSpec {
   HistoryKind history;
   int32_t depth;               // for kKeepLast
   bool liveliness_lease;       // writers offer AUTOMATIC liveliness with the configured lease
+  // The sample names its sender (Episode and EvalResult: actor_id; NodeStatus: role and
+  // node_id). Under DDS Security its writers write in the partition of their identity and its
+  // readers refuse a sample whose sender is not that identity (SenderIdentity).
+  bool names_sender;
 };
 
 // Every topic is RELIABLE. Order follows TopicId.
 inline constexpr std::array<TopicSpec, 6> kTopics = {{
     {TopicId::kEpisode, "srics/episode", "srics::Episode", "", Durability::kVolatile,
-     HistoryKind::kKeepAllBounded, 0, false},
+     HistoryKind::kKeepAllBounded, 0, false, true},
     {TopicId::kPolicyWeights, "srics/policy_weights", "srics::PolicyWeights", "run_id",
-     Durability::kTransientLocal, HistoryKind::kKeepLast, 1, false},
+     Durability::kTransientLocal, HistoryKind::kKeepLast, 1, false, false},
     {TopicId::kInteractionGraph, "srics/interaction_graph", "srics::InteractionGraph", "run_id",
-     Durability::kTransientLocal, HistoryKind::kKeepLast, 1, false},
+     Durability::kTransientLocal, HistoryKind::kKeepLast, 1, false, false},
     {TopicId::kEvalResult, "srics/eval_result", "srics::EvalResult", "", Durability::kVolatile,
-     HistoryKind::kKeepLast, 64, false},
+     HistoryKind::kKeepLast, 64, false, true},
     {TopicId::kLearnerStats, "srics/learner_stats", "srics::LearnerStats", "run_id",
-     Durability::kVolatile, HistoryKind::kKeepLast, 1, false},
+     Durability::kVolatile, HistoryKind::kKeepLast, 1, false, false},
     {TopicId::kNodeStatus, "srics/node_status", "srics::NodeStatus", "run_id, role, node_id",
-     Durability::kTransientLocal, HistoryKind::kKeepLast, 1, true},
+     Durability::kTransientLocal, HistoryKind::kKeepLast, 1, true, true},
 }};
 
 // The row of `id`.
 constexpr const TopicSpec& Spec(TopicId id) { return kTopics[static_cast<size_t>(id)]; }
+
+// The keystore identity that may speak for a sender (deploy/security/make-keystore.sh names
+// them so): "actor-K" for actor K, the role itself for the one learner, graph service and
+// launcher of a run ("learner", "graph", "launcher"). Under DDS Security a sample that names
+// a sender (TopicSpec::names_sender) is accepted only from a writer in that partition, which
+// that identity's signed permissions alone allow.
+std::string SenderIdentity(std::string_view role, uint32_t id);
 
 }  // namespace srics::transport

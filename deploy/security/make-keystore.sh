@@ -18,11 +18,15 @@
 #   DIR/identities/NAME/permissions.xml, permissions.p7s   what NAME may publish (signed)
 #
 # Who publishes what (permissions.xml, default DENY for everything else); every identity may
-# subscribe to every srics/ topic:
-#   learner  srics/policy_weights srics/learner_stats srics/node_status
-#   graph    srics/interaction_graph srics/node_status
-#   actor    srics/episode srics/eval_result srics/node_status
-#   monitor, launcher  nothing (read-only)
+# subscribe to every srics/ topic in every partition. Samples that name their sender are
+# published in the partition of the identity (NAME) only, and the run accepts them only when
+# the sender they name is that identity, so role identities are named as their samples say:
+# actor-K for actor K, learner, graph, launcher (one launcher identity, copied to every host).
+#   learner   srics/policy_weights srics/learner_stats; srics/node_status in partition learner
+#   graph     srics/interaction_graph; srics/node_status in partition graph
+#   actor-K   srics/episode srics/eval_result srics/node_status, all in partition actor-K
+#   launcher  srics/node_status in partition launcher (its incarnation: one run id, one run)
+#   monitor   nothing (read-only)
 set -euo pipefail
 
 usage() { echo "usage: $0 DIR [--actors N] [--add NAME=ROLE ...] [--days D]" >&2; exit 2; }
@@ -104,46 +108,63 @@ XML
 fi
 
 # --- identities ---------------------------------------------------------------------------
-publishes() {  # the topics ROLE may publish, one per line
+# Topics whose samples name their sender (episodes and evaluations: the actor id; NodeStatus:
+# role and id) are published in the partition of the identity alone, and readers accept such a
+# sample only when its sender is that identity (common/transport/topics.h, SenderIdentity):
+# so an identity cannot speak for another. The other topics stay in the default partition.
+# Bump the format when the permissions change: an older permissions.xml is re-made (the key and
+# certificate stay) when the script runs on the keystore again.
+permissions_format="srics-permissions-format 2"
+publishes() {  # the topics ROLE may publish in the default partition, one per line
   case "$1" in
-    learner) printf '%s\n' srics/policy_weights srics/learner_stats srics/node_status ;;
-    graph) printf '%s\n' srics/interaction_graph srics/node_status ;;
-    actor) printf '%s\n' srics/episode srics/eval_result srics/node_status ;;
-    monitor|launcher) ;;
+    learner) printf '%s\n' srics/policy_weights srics/learner_stats ;;
+    graph) printf '%s\n' srics/interaction_graph ;;
+    actor|monitor|launcher) ;;
     *) echo "$0: unknown role '$1' (learner, graph, actor, monitor, launcher)" >&2; exit 2 ;;
   esac
 }
-
-make_identity() {  # make_identity NAME ROLE
-  local name=$1 role=$2 out=$dir/identities/$1
+publishes_as_itself() {  # the topics ROLE may publish in its identity's partition
+  case "$1" in
+    learner|graph|launcher) printf '%s\n' srics/node_status ;;
+    actor) printf '%s\n' srics/episode srics/eval_result srics/node_status ;;
+    monitor) ;;
+  esac
+}
+check_name() {  # check_name NAME ROLE: a role's identity is named as the run expects its samples
+  local name=$1 role=$2
   [[ $name =~ ^[A-Za-z0-9._-]+$ ]] || { echo "$0: bad identity name '$name'" >&2; exit 2; }
   publishes "$role" >/dev/null
-  [[ -f $out/permissions.p7s ]] && return 0
-  mkdir -p "$out"
-  openssl ecparam -name prime256v1 -genkey -noout -out "$out/key.pem"
-  openssl req -new -key "$out/key.pem" -subj "/O=$org/CN=srics-$name" -out "$out/cert.csr"
-  openssl x509 -req -in "$out/cert.csr" -CA "$ca_cert" -CAkey "$ca_key" -sha256 \
-    -set_serial "0x$(openssl rand -hex 16)" -days "$days" -out "$out/cert.pem" 2>/dev/null
-  rm -f "$out/cert.csr"
-  chmod 644 "$out/cert.pem"
-  local subject not_before not_after publish=""
+  case "$role" in
+    actor) [[ $name =~ ^actor-(0|[1-9][0-9]*)$ ]] ||
+      { echo "$0: an actor identity is named actor-K (K its actor id: its samples say actor K), not '$name'" >&2; exit 2; } ;;
+    learner|graph|launcher) [[ $name == "$role" ]] ||
+      { echo "$0: the $role identity is named '$role' (its status says $role), not '$name'; copy it to every host that needs it" >&2; exit 2; } ;;
+  esac
+}
+rule() {  # rule publish|subscribe PARTITION TOPIC...: one <publish>/<subscribe> element ("": default partition)
+  local kind=$1 partition=$2
+  shift 2
+  [[ $# -gt 0 ]] || return 0
+  printf '\n        <%s>\n          <topics>\n' "$kind"
+  printf '            <topic>%s</topic>\n' "$@"
+  printf '          </topics>'
+  # no <partitions>: the default partition only (DDS Security 1.1, 9.4.1.3.2.3.1.4)
+  [[ -z $partition ]] || printf '\n          <partitions>\n            <partition>%s</partition>\n          </partitions>' "$partition"
+  printf '\n        </%s>' "$kind"
+}
+make_permissions() {  # make_permissions NAME ROLE: permissions.xml and .p7s for the identity's certificate
+  local name=$1 role=$2 out=$dir/identities/$1
+  local subject not_before not_after publish
   subject=$(openssl x509 -noout -subject -nameopt RFC2253 -in "$out/cert.pem" | sed 's/^subject=//')
   # the permissions are valid as long as the certificate (from yesterday: clock skew)
   not_before=$(date -u -d '-1 day' +%Y-%m-%dT%H:%M:%S)
-  not_after=$(date -u -d "+$days days" +%Y-%m-%dT%H:%M:%S)
-  local topics
-  topics=$(publishes "$role" | sed 's|.*|            <topic>&</topic>|')
-  if [[ -n $topics ]]; then
-    publish="
-        <publish>
-          <topics>
-$topics
-          </topics>
-        </publish>"
-  fi
+  not_after=$(openssl x509 -noout -enddate -in "$out/cert.pem" | sed 's/^notAfter=//')
+  not_after=$(date -u -d "$not_after" +%Y-%m-%dT%H:%M:%S)
+  # shellcheck disable=SC2046  # one topic per word
+  publish="$(rule publish "" $(publishes "$role"))$(rule publish "$name" $(publishes_as_itself "$role"))"
   cat > "$out/permissions.xml" <<XML
 <?xml version="1.0" encoding="UTF-8"?>
-<!-- SRICS-DDS permissions of '$name' (role $role), OMG DDS Security 1.1, 9.4.1.3 -->
+<!-- SRICS-DDS permissions of '$name' (role $role), OMG DDS Security 1.1, 9.4.1.3; $permissions_format -->
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
      xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">
   <permissions>
@@ -154,12 +175,7 @@ $topics
         <not_after>$not_after</not_after>
       </validity>
       <allow_rule>
-        $domains$publish
-        <subscribe>
-          <topics>
-            <topic>srics/*</topic>
-          </topics>
-        </subscribe>
+        $domains$publish$(rule subscribe "*" "srics/*")
       </allow_rule>
       <default>DENY</default>
     </grant>
@@ -168,7 +184,26 @@ $topics
 XML
   chmod 644 "$out/permissions.xml"
   sign "$out/permissions.xml" "$out/permissions.p7s"
-  echo "identity $name ($role): $subject"
+}
+
+make_identity() {  # make_identity NAME ROLE
+  local name=$1 role=$2 out=$dir/identities/$1
+  check_name "$name" "$role"
+  if [[ ! -f $out/cert.pem ]]; then
+    mkdir -p "$out"
+    openssl ecparam -name prime256v1 -genkey -noout -out "$out/key.pem"
+    openssl req -new -key "$out/key.pem" -subj "/O=$org/CN=srics-$name" -out "$out/cert.csr"
+    openssl x509 -req -in "$out/cert.csr" -CA "$ca_cert" -CAkey "$ca_key" -sha256 \
+      -set_serial "0x$(openssl rand -hex 16)" -days "$days" -out "$out/cert.pem" 2>/dev/null
+    rm -f "$out/cert.csr"
+    chmod 644 "$out/cert.pem"
+  elif [[ -f $out/permissions.p7s ]] && grep -q "$permissions_format" "$out/permissions.xml" 2>/dev/null; then
+    return 0
+  else
+    echo "identity $name: permissions of an older format, made again (the key and certificate stay)"
+  fi
+  make_permissions "$name" "$role"
+  echo "identity $name ($role): $(openssl x509 -noout -subject -nameopt RFC2253 -in "$out/cert.pem" | sed 's/^subject=//')"
 }
 
 make_identity learner learner
@@ -177,4 +212,13 @@ for ((k = 0; k < actors; k++)); do make_identity "actor-$k" actor; done
 make_identity monitor monitor
 make_identity launcher launcher
 for item in "${extra[@]}"; do make_identity "${item%%=*}" "${item#*=}"; done
+# identities added by an earlier call (--add) whose permissions predate the format: their role
+# is in their permissions.xml
+for out in "$dir"/identities/*/; do
+  name=$(basename "$out")
+  [[ -f $out/permissions.xml ]] && ! grep -q "$permissions_format" "$out/permissions.xml" || continue
+  role=$(sed -n "s/.*permissions of '[^']*' (role \([a-z]*\)).*/\1/p" "$out/permissions.xml" | head -1)
+  [[ -n $role ]] || { echo "$0: $out/permissions.xml names no role: remove the folder and add it again" >&2; exit 1; }
+  make_identity "$name" "$role"
+done
 echo "keystore $dir: set transport.security.keystore: $(cd "$dir" && pwd)"

@@ -274,7 +274,13 @@ int main(int argc, char** argv) {
     }
   }
   const std::string xml = std::string(SRICS_SOURCE_DIR) + "/deploy/cyclonedds/loopback.xml";
-  const srics::rl::Episode episode = testing::MakeEpisode(0);
+  // actor 0's episode: with --keystore the writer is identity actor-0, and a reader refuses an
+  // episode that names another actor (transport::SenderIdentity)
+  const srics::rl::Episode episode = [] {
+    srics::rl::Episode e = testing::MakeEpisode(0);
+    e.actor_id = 0;
+    return e;
+  }();
   const PolicyWeights weights =
       testing::MakePolicyWeights("bench-" + std::to_string(getpid()), 1, kWeightBytes / sizeof(float));
   // the actor path (row 0) is what actors use; ddsperf batches its writes too

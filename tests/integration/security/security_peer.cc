@@ -5,8 +5,14 @@
 //
 //   security_peer DOMAIN RUN_ID KEYSTORE IDENTITY MODE [ARGS...]     (KEYSTORE "-": no security)
 //     actor COUNT WAIT_S [SEED]  read the latest PolicyWeights ("weights V" or "no weights"),
-//                          then write COUNT episodes MakeEpisode(SEED + i) (SEED 1000 by default):
+//                          then write COUNT episodes MakeEpisode(SEED + i) (SEED 1000 by default;
+//                          with identity actor-K they say actor K, as the run expects):
 //                          "matched" or "no reader" (after WAIT_S), "wrote N"
+//     actor-as K COUNT WAIT_S  write COUNT episodes, one EvalResult and one NodeStatus that all
+//                          say actor K, through the library's writers (so in the identity's own
+//                          partition): "matched" or "no reader", "wrote N"
+//     write-in-partition P  create an episode writer in partition P with the C API ("refused"
+//                          when DDS Security says no, else "created")
 //     read-weights WAIT_S  "weights V" or "no weights"
 //     write-weights SEED   create a PolicyWeights writer ("refused" when DDS Security says no),
 //                          publish one sample and serve it until killed ("published")
@@ -25,6 +31,7 @@
 
 #include "common/transport/endpoint.h"
 #include "common/transport/errors.h"
+#include "srics.h"  // the generated C types (the topic descriptor)
 #include "tests/common/transport/test_samples.h"
 
 namespace {
@@ -67,6 +74,58 @@ int PublishAndServe(const Participant& participant, const T& msg) {
   return 0;
 }
 
+// K of identity "actor-K", or nothing.
+std::optional<uint32_t> ActorIdOf(const std::string& identity) {
+  if (identity.rfind("actor-", 0) != 0) return std::nullopt;
+  return static_cast<uint32_t>(std::strtoul(identity.c_str() + 6, nullptr, 10));
+}
+
+// Episodes, an evaluation and a status that all say they come from actor `actor_id`.
+int WriteAs(const Participant& participant, uint32_t actor_id, int count, seconds wait) {
+  Writer<srics::rl::Episode> episodes(participant);
+  Writer<EvalResult> evals(participant);
+  Writer<NodeStatus> statuses(participant);
+  Say(episodes.WaitForReaders(1, wait) && evals.WaitForReaders(1, wait) && statuses.WaitForReaders(1, wait)
+          ? "matched"
+          : "no reader");
+  int sent = 0;
+  for (int i = 0; i < count; ++i) {
+    srics::rl::Episode episode = MakeEpisode(1000 + static_cast<uint64_t>(i));
+    episode.actor_id = actor_id;
+    if (episodes.TryWrite(episode) == WriteResult::kSent) ++sent;
+  }
+  EvalResult eval = MakeEvalResult(participant.run_id(), 3);
+  eval.actor_id = actor_id;
+  NodeStatus status = MakeNodeStatus(participant.run_id(), 4);
+  status.role = "actor";
+  status.node_id = actor_id;
+  if (evals.Write(eval) != WriteResult::kSent || statuses.Write(status) != WriteResult::kSent) return 5;
+  episodes.WaitForAcks(seconds(5));
+  evals.WaitForAcks(seconds(5));
+  statuses.WaitForAcks(seconds(5));
+  Say("wrote " + std::to_string(sent));
+  return 0;
+}
+
+// An episode writer in `partition`, made with Cyclone's C API (the library picks the partition
+// itself): DDS Security's own check on this side.
+int CreateWriterIn(const Participant& participant, const std::string& partition) {
+  const dds_entity_t topic = dds_create_topic(participant.handle(), &srics_Episode_desc, "srics/episode", nullptr, nullptr);
+  if (topic < 0) return 6;
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+  dds_qset_partition1(qos, partition.c_str());
+  const dds_entity_t writer = dds_create_writer(participant.handle(), topic, qos, nullptr);
+  dds_delete_qos(qos);
+  if (writer == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY) {
+    Say("refused");
+    return 7;
+  }
+  if (writer < 0) return 6;
+  Say("created");
+  return 0;
+}
+
 int Run(int argc, char** argv) {
   if (argc < 6) return 2;
   srics::config::TransportConfig config;
@@ -84,8 +143,10 @@ int Run(int argc, char** argv) {
     Writer<srics::rl::Episode> writer(participant);
     Say(writer.WaitForReaders(1, wait) ? "matched" : "no reader");
     int sent = 0;
+    const std::optional<uint32_t> own_id = ActorIdOf(config.security.identity);
     for (int i = 0; i < count; ++i) {
       srics::rl::Episode episode = MakeEpisode(seed + static_cast<uint64_t>(i));
+      if (own_id) episode.actor_id = *own_id;
       // a writer without a matched reader "sends" into the void: count what DDS accepted
       if (writer.TryWrite(episode) == WriteResult::kSent) ++sent;
     }
@@ -93,6 +154,9 @@ int Run(int argc, char** argv) {
     Say("wrote " + std::to_string(sent));
     return 0;
   }
+  if (mode == "actor-as" && argc == 9)
+    return WriteAs(participant, static_cast<uint32_t>(std::atoi(argv[6])), std::atoi(argv[7]), seconds(std::atoi(argv[8])));
+  if (mode == "write-in-partition" && argc == 7) return CreateWriterIn(participant, argv[6]);
   if (mode == "read-weights" && argc == 7) {
     ReadWeights(participant, seconds(std::atoi(argv[6])));
     return 0;

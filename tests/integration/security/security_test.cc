@@ -318,6 +318,124 @@ TEST_F(SecurityTest, LoopbackCaptureHoldsNoPlaintextWeightsOrEpisodes) {
   }
 }
 
+// Issue 39: with DDS Security an actor identity could publish episodes, evaluations and status
+// under another actor's id. Each identity now writes the samples that name their sender in a
+// partition of its own, the only one its signed permissions allow, and readers refuse a sample
+// whose sender is not the identity of its partition. actor-1's episodes, evaluation and status
+// that say actor 0 reach the learner's readers and are refused (episode.sender, eval.sender,
+// status.sender), nothing of them is taken; a writer of actor-1 in actor-0's partition is
+// refused by DDS Security; actor-1's own episodes (the control) are taken.
+TEST_F(SecurityTest, AnActorIdentityCannotSpeakForAnotherActor) {
+  Participant learner(Secured("learner"));
+  Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+  Reader<EvalResult> evals(learner);
+  Reader<NodeStatus> statuses(learner);
+
+  auto forger = Peer("actor-1", {"actor-as", "0", "5", "60"});
+  EXPECT_TRUE(SaysLine(*forger, "matched"));
+  EXPECT_TRUE(SaysLine(*forger, "wrote 5"));
+  EXPECT_EQ(forger->Wait(30s), 0);
+  EXPECT_EQ(TakeEpisodes(episodes, 1, 3s), 0u);
+  EvalResult eval;
+  EXPECT_EQ(evals.Take(&eval, 1s), TakeStatus::kTimeout);
+  NodeStatus status;
+  EXPECT_EQ(statuses.Take(&status, 1s), TakeStatus::kTimeout);
+  const auto rejections = learner.rejections();
+  auto count = [&](const std::string& counter) {
+    const auto it = rejections.find(counter);
+    return it == rejections.end() ? uint64_t{0} : it->second;
+  };
+  EXPECT_EQ(count("episode.sender"), 5u) << RejectionSummary(rejections);
+  EXPECT_EQ(count("eval.sender"), 1u) << RejectionSummary(rejections);
+  EXPECT_EQ(count("status.sender"), 1u) << RejectionSummary(rejections);
+  EXPECT_EQ(learner.counters(TopicId::kEpisode).accepted, 0u);
+
+  auto intruder = Peer("actor-1", {"write-in-partition", "actor-0"});
+  EXPECT_TRUE(SaysLine(*intruder, "refused"));
+  EXPECT_EQ(intruder->Wait(30s), 7);
+
+  auto honest = Peer("actor-1", {"actor", "3", "10"});  // no weights: 10 s of waiting for them
+  EXPECT_TRUE(SaysLine(*honest, "wrote 3"));
+  EXPECT_EQ(TakeEpisodes(episodes, 3, 30s), 3u);
+  EXPECT_EQ(honest->Wait(30s), 0);
+  EXPECT_EQ(learner.counters(TopicId::kEpisode).accepted, 3u);
+}
+
+// A whole secured run of the real role programs (a run of a few seconds): before issue 39's
+// sender partitions, the launcher's own NodeStatus writer (one run id, one run) was refused by
+// the keystore's permissions and a secured `srics run` could not start. Every role is heard,
+// evaluations reach eval.csv, and nothing is refused.
+TEST_F(SecurityTest, ASecuredRunFinishesWithEveryRoleHeard) {
+  const config::TransportConfig c = Secured("launcher");
+  const std::string run_dir = *keystore_ + ".secured-run", out = *keystore_ + ".secured-run.out";
+  fs::remove_all(run_dir);
+  std::string command = std::string(SRICS_LAUNCHER_BIN) + " run " + SRICS_SOURCE_DIR +
+                        "/deploy/configs/rearrange-1-cpu.yaml --display plain --stop-timeout 10 --run-dir " + run_dir;
+  for (const std::string set :
+       {"run.total_env_steps=1500", "learner.warmup_steps=200", "agent.sac.batch_size=32",
+        "learner.publish_every_updates=20", "learner.checkpoint_every_updates=100", "actors.count=2",
+        "actors.eval_every_env_steps=500", "actors.eval_episodes=2", "graph.episodes=20", "graph.batch_windows=10",
+        "graph.warmup_updates=10", "graph.kl_ramp_updates=10", "graph.min_updates=40", "graph.max_updates=40",
+        "graph.eval_every_updates=20", "run.max_wall_minutes=0"})
+    command += " --set " + set;
+  command += " --set transport.domain_id=" + std::to_string(c.domain_id) + " --set transport.run_id=" + c.run_id +
+             " --set transport.security.keystore=" + *keystore_ + " > " + out + " 2>&1";
+  const int run_status = std::system(command.c_str());
+  std::stringstream text;
+  text << std::ifstream(out).rdbuf();
+  ASSERT_TRUE(WIFEXITED(run_status)) << text.str();
+  EXPECT_EQ(WEXITSTATUS(run_status), 0) << text.str();
+  auto read = [](const std::string& path) {
+    std::stringstream text;
+    text << std::ifstream(path).rdbuf();
+    return text.str();
+  };
+  const std::string nodes = read(run_dir + "/nodes.csv"), evals = read(run_dir + "/eval.csv");
+  for (const std::string node : {",learner,0,", ",graph,0,", ",actor,0,", ",actor,1,"})
+    EXPECT_NE(nodes.find(node), std::string::npos) << node << " not in nodes.csv:\n" << nodes.substr(0, 2000);
+  // the header, the passive baseline and evaluations of trained policies
+  EXPECT_GE(std::count(evals.begin(), evals.end(), '\n'), 3) << evals;
+  EXPECT_EQ(nodes.find(".sender="), std::string::npos) << nodes.substr(0, 4000);
+  fs::remove_all(run_dir);
+  fs::remove(out);
+}
+
+// make-keystore.sh on a keystore of the format before sender partitions (its permissions have
+// no partitions and no format mark) re-makes the permissions, keeps key and certificate, and
+// refuses role identities not named as their samples say.
+TEST_F(SecurityTest, TheKeystoreScriptUpdatesOldPermissionsAndRefusesMisnamedRoles) {
+  const std::string copy = *keystore_ + "-old";
+  fs::remove_all(copy);
+  fs::copy(*keystore_, copy, fs::copy_options::recursive);
+  auto read = [](const std::string& path) {
+    std::stringstream text;
+    text << std::ifstream(path).rdbuf();
+    return text.str();
+  };
+  const std::string permissions = copy + "/identities/actor-1/permissions.xml";
+  std::string old = read(permissions);
+  const std::string mark = "; srics-permissions-format 2";
+  ASSERT_NE(old.find(mark), std::string::npos);
+  old.erase(old.find(mark), mark.size());
+  std::ofstream(permissions) << old;
+  const std::string cert = read(copy + "/identities/actor-1/cert.pem");
+  const std::string script = std::string(SRICS_SOURCE_DIR) + "/deploy/security/make-keystore.sh " + copy;
+  ASSERT_EQ(std::system((script + " > " + copy + ".log 2>&1").c_str()), 0) << read(copy + ".log");
+  EXPECT_NE(read(copy + ".log").find("identity actor-1: permissions of an older format, made again"), std::string::npos)
+      << read(copy + ".log");
+  EXPECT_NE(read(permissions).find(mark), std::string::npos);
+  EXPECT_NE(read(permissions).find("<partition>actor-1</partition>"), std::string::npos);
+  EXPECT_EQ(read(copy + "/identities/actor-1/cert.pem"), cert);
+  for (const std::string bad : {"actor-x=actor", "learner-2=learner", "launcher-b=launcher"}) {
+    const int status = std::system((script + " --add " + bad + " > " + copy + ".log 2>&1").c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 2) << bad;
+    EXPECT_FALSE(fs::exists(copy + "/identities/" + bad.substr(0, bad.find('=')))) << bad;
+  }
+  fs::remove_all(copy);
+  fs::remove(copy + ".log");
+}
+
 // An identity's certificate with another identity's permissions (subject mismatch) and a
 // permissions document not signed by the keystore's CA: the participant is refused.
 TEST_F(SecurityTest, ForeignOrMismatchedPermissionsAreRefused) {
