@@ -51,7 +51,7 @@ KeystoreFiles KeystoreFilesOf(const SecurityConfig& security, const std::string&
   const std::filesystem::path dir = std::filesystem::absolute(security.keystore);
   const std::filesystem::path id = dir / "identities" / identity;
   return {(dir / "ca.cert.pem").string(), (dir / "governance.p7s").string(), (id / "cert.pem").string(),
-          (id / "key.pem").string(), (id / "permissions.p7s").string()};
+          (id / "key.pem").string(), (id / "permissions.p7s").string(), (dir / "crl.pem").string()};
 }
 
 std::string CheckKeystore(const SecurityConfig& security, const std::string& own_name) {

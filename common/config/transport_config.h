@@ -34,6 +34,7 @@ struct KeystoreFiles {
   std::string identity_cert;    // identities/<identity>/cert.pem
   std::string identity_key;     // identities/<identity>/key.pem
   std::string permissions;      // identities/<identity>/permissions.p7s
+  std::string crl;              // crl.pem: the CA's revocation list (a keystore made before it has none)
 };
 
 struct TransportConfig {

@@ -3,6 +3,7 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -109,6 +110,10 @@ dds_qos_t* SecurityQos(const config::SecurityConfig& security) {
       {"dds.sec.access.permissions", "file:" + files.permissions},
   };
   for (const auto& [name, value] : properties) dds_qset_prop(qos, name, value.c_str());
+  // the CA's revocation list: Cyclone's auth plugin refuses a revoked certificate at the
+  // handshake (make-keystore.sh --revoke)
+  if (std::filesystem::is_regular_file(files.crl))
+    dds_qset_prop(qos, "org.eclipse.cyclonedds.sec.auth.crl", ("file:" + files.crl).c_str());
   return qos;
 }
 

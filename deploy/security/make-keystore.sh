@@ -3,15 +3,22 @@
 # one CA that is both identity CA and permissions CA, a signed governance document, and one
 # identity (EC prime256v1 key, certificate, signed permissions) per process name.
 #
-#   deploy/security/make-keystore.sh DIR [--actors N] [--add NAME=ROLE ...] [--days D]
+#   deploy/security/make-keystore.sh DIR [--actors N] [--add NAME=ROLE ...] [--revoke NAME ...] [--days D]
 #
 # Identities made by default: learner, graph, actor-0 .. actor-(N-1) (N = 2), monitor and
 # launcher. --add NAME=ROLE adds one more (ROLE: learner, graph, actor, monitor, launcher),
 # e.g. --add monitor-lab=monitor. Running it again on DIR keeps the CA, the governance and every
 # identity that exists and adds the missing ones (so --actors 8 later adds actor-2 .. actor-7).
 #
-# Layout (what a host needs: ca.cert.pem, governance.p7s and identities/<its names>/):
+# --revoke NAME re-keys identity NAME (a stolen key, a host given up): its certificate goes into
+# the CA's certificate revocation list, DIR/crl.pem, which every participant loads (Cyclone's
+# auth plugin then refuses the old certificate at the handshake), its folder moves to
+# private/revoked/, and NAME gets a new key and certificate. Copy crl.pem to every host and the
+# new identities/NAME/ to its host.
+#
+# Layout (what a host needs: ca.cert.pem, crl.pem, governance.p7s and identities/<its names>/):
 #   DIR/ca.cert.pem                       CA certificate (identity CA and permissions CA)
+#   DIR/crl.pem                           the CA's revocation list (signed; empty at first)
 #   DIR/private/ca.key.pem                CA private key: keep it off the run hosts
 #   DIR/governance.xml, governance.p7s    domain rules (signed by the CA)
 #   DIR/identities/NAME/cert.pem, key.pem the identity of process NAME
@@ -29,17 +36,19 @@
 #   monitor   nothing (read-only)
 set -euo pipefail
 
-usage() { echo "usage: $0 DIR [--actors N] [--add NAME=ROLE ...] [--days D]" >&2; exit 2; }
+usage() { echo "usage: $0 DIR [--actors N] [--add NAME=ROLE ...] [--revoke NAME ...] [--days D]" >&2; exit 2; }
 
 [[ $# -ge 1 && "$1" != -* ]] || usage
 dir=$1; shift
 actors=2
 days=3650
 extra=()
+revoke=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --actors) [[ $# -ge 2 && "$2" =~ ^[0-9]+$ ]] || usage; actors=$2; shift 2 ;;
     --days) [[ $# -ge 2 && "$2" =~ ^[1-9][0-9]*$ ]] || usage; days=$2; shift 2 ;;
+    --revoke) [[ $# -ge 2 && "$2" =~ ^[A-Za-z0-9._-]+$ ]] || usage; revoke+=("$2"); shift 2 ;;
     --add) [[ $# -ge 2 && "$2" == *=* ]] || usage; extra+=("$2"); shift 2 ;;
     *) usage ;;
   esac
@@ -205,6 +214,43 @@ make_identity() {  # make_identity NAME ROLE
   make_permissions "$name" "$role"
   echo "identity $name ($role): $(openssl x509 -noout -subject -nameopt RFC2253 -in "$out/cert.pem" | sed 's/^subject=//')"
 }
+
+# --- revocation: the CA's list, and identities re-keyed -----------------------------------
+ca_config=$dir/private/ca.cnf
+if [[ ! -f $ca_config ]]; then
+  # the database of `openssl ca`: only what it needs to keep the revocation list
+  cat > "$ca_config" <<CNF
+[ ca ]
+default_ca = srics
+[ srics ]
+database = $(cd "$dir" && pwd)/private/index.txt
+crlnumber = $(cd "$dir" && pwd)/private/crlnumber
+default_md = sha256
+default_crl_days = $days
+certificate = $(cd "$dir" && pwd)/ca.cert.pem
+private_key = $(cd "$dir" && pwd)/private/ca.key.pem
+CNF
+  touch "$dir/private/index.txt"
+  echo 01 > "$dir/private/crlnumber"
+fi
+make_crl() {
+  openssl ca -config "$ca_config" -gencrl -out "$dir/crl.pem" 2>/dev/null
+  chmod 644 "$dir/crl.pem"
+}
+[[ -f $dir/crl.pem ]] || make_crl
+for name in "${revoke[@]}"; do
+  out=$dir/identities/$name
+  [[ -f $out/cert.pem ]] || { echo "$0: no identity '$name' to revoke" >&2; exit 2; }
+  role=$(sed -n "s/.*permissions of '[^']*' (role \([a-z]*\)).*/\1/p" "$out/permissions.xml" | head -1)
+  [[ -n $role ]] || { echo "$0: $out/permissions.xml names no role" >&2; exit 1; }
+  serial=$(openssl x509 -noout -serial -in "$out/cert.pem" | sed 's/^serial=//')
+  openssl ca -config "$ca_config" -revoke "$out/cert.pem" -crl_reason keyCompromise 2>/dev/null
+  mkdir -p "$dir/private/revoked"
+  mv "$out" "$dir/private/revoked/$name-$serial"
+  make_crl
+  echo "revoked $name (certificate serial $serial): copy $dir/crl.pem to every host"
+  extra+=("$name=$role")  # a new key and certificate under the same name, below
+done
 
 make_identity learner learner
 make_identity graph graph

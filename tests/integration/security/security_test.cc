@@ -436,6 +436,41 @@ TEST_F(SecurityTest, TheKeystoreScriptUpdatesOldPermissionsAndRefusesMisnamedRol
   fs::remove(copy + ".log");
 }
 
+// Revocation (issue 39): make-keystore.sh --revoke actor-1 puts actor-1's certificate on the
+// CA's revocation list (crl.pem, which every participant loads) and gives actor-1 a new key.
+// A learner with that list does not match a process still holding the old actor-1 identity
+// (it sees "no reader" and the learner nothing, not even a sample to refuse); the re-keyed
+// actor-1 is taken as before.
+TEST_F(SecurityTest, ARevokedIdentityIsRefusedAndItsNewKeyWorks) {
+  const std::string revoked = *keystore_ + "-revoked";
+  fs::remove_all(revoked);
+  fs::copy(*keystore_, revoked, fs::copy_options::recursive);
+  const std::string script = std::string(SRICS_SOURCE_DIR) + "/deploy/security/make-keystore.sh " + revoked +
+                             " --revoke actor-1 > " + revoked + ".log 2>&1";
+  ASSERT_EQ(std::system(script.c_str()), 0);
+  config::TransportConfig c = Secured("learner");
+  c.security.keystore = revoked;
+  Participant learner(c);
+  Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+
+  // the old actor-1: the keystore it was given before the revocation
+  auto old_key = Peer("actor-1", {"actor", "4", "8"});
+  EXPECT_TRUE(SaysLine(*old_key, "no reader"));
+  EXPECT_EQ(old_key->Wait(30s), 0);
+  EXPECT_EQ(TakeEpisodes(episodes, 1, 2s), 0u);
+  const SampleCounters counters = learner.counters(TopicId::kEpisode);
+  EXPECT_EQ(counters.accepted + counters.rejected + counters.other_run, 0u);
+
+  // the new actor-1
+  PeerProcess new_key(SRICS_SECURITY_PEER,
+                      {std::to_string(c.domain_id), c.run_id, revoked, "actor-1", "actor", "3", "8"});
+  EXPECT_TRUE(SaysLine(new_key, "matched"));
+  EXPECT_EQ(TakeEpisodes(episodes, 3, 30s), 3u);
+  EXPECT_EQ(new_key.Wait(30s), 0);
+  fs::remove_all(revoked);
+  fs::remove(revoked + ".log");
+}
+
 // An identity's certificate with another identity's permissions (subject mismatch) and a
 // permissions document not signed by the keystore's CA: the participant is refused.
 TEST_F(SecurityTest, ForeignOrMismatchedPermissionsAreRefused) {
