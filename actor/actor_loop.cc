@@ -57,6 +57,9 @@ struct ActorLoop::State {
   int num_entities = 0;  // the catalogue's (arm + every object): the size of the run's graphs
   nn::Rng rng;
   bool have_weights = false;
+  // training episodes of the current chain so far (actors.train_chain_episodes): the next one
+  // starts where the last left the table while this is above 0
+  int chain_played = 0;
   uint64_t policy_version = 0;
   bool have_graph = false;
   uint64_t graph_version = 0;
@@ -189,6 +192,7 @@ env::Environment& ActorLoop::environment() { return *state_->env; }
 void ActorLoop::set_eval_recorder(std::unique_ptr<EvalRecorder> recorder) { recorder_ = std::move(recorder); }
 
 void ActorLoop::Evaluate(bool passive) {
+  state_->chain_played = 0;  // an evaluation resets the table: the chain ends
   profile::PhaseScope phase(profile::Phase::kEvaluation);
   State& s = *state_;
   Status(rl::NodePhase::kEvaluating, passive ? "passive baseline" : "evaluating", true);
@@ -219,9 +223,15 @@ void ActorLoop::RunEpisode(bool training) {
   std::optional<rl::Episode> episode;
   if (training) {
     Status(rl::NodePhase::kTraining, "", false);
-    episode = s.high ? RunHacTrainEpisode(*s.env, *s.high, *s.policy, *options_.train.hac, seed, s.rng)
-                     : RunTrainEpisode(*s.env, *s.policy, s.subgoals, options_.train, seed, s.rng);
+    if (s.high) {
+      episode = RunHacTrainEpisode(*s.env, *s.high, *s.policy, *options_.train.hac, seed, s.rng);
+    } else {
+      const TrainStart start = s.chain_played > 0 ? TrainStart::kWhereTheEnvIs : TrainStart::kReset;
+      episode = RunTrainEpisode(*s.env, *s.policy, s.subgoals, options_.train, seed, s.rng, start);
+      s.chain_played = episode ? (s.chain_played + 1) % std::max(1, options_.train.chain_episodes) : 0;
+    }
   } else {
+    s.chain_played = 0;
     Status(rl::NodePhase::kExploring, s.have_graph ? "waiting for weights" : "waiting for the graph", false);
     episode = RunExploreEpisode(*s.env, options_.explore, seed, s.rng);
   }

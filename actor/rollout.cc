@@ -148,6 +148,7 @@ TrainOptions TrainOptionsFor(const config::Config& config) {
   train.steps = config.actors.train_episode_steps;
   train.full_goal = config.run.method == config::Method::kSacHer;
   train.sampling = config.env.sampling;
+  train.chain_episodes = config.actors.train_chain_episodes;
   if (config.run.method == config::Method::kHac) {
     train.hac = HacActOptionsFor(config);
     train.steps = train.hac->horizon * train.hac->horizon;
@@ -242,8 +243,8 @@ std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const Explor
 std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& policy,
                                            const rl::CatalogueSubgoals& subgoals,
                                            const TrainOptions& options, uint64_t seed,
-                                           nn::Rng& rng) {
-  env.Reset(seed);
+                                           nn::Rng& rng, TrainStart start) {
+  if (start == TrainStart::kReset) env.Reset(seed);
   Observer observer(env);
   const rl::EntityLayout& layout = observer.layout();
   rl::Episode episode = StartEpisode(env, layout);

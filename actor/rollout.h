@@ -56,6 +56,13 @@ struct TrainOptions {
   bool full_goal = false;  // SAC+HER: the environment's full goal instead of a subgoal
   config::SamplingConfig sampling;  // subgoal goal region
   std::optional<HacActOptions> hac; // set for HAC: two levels on the full goal
+  int chain_episodes = 1;  // consecutive episodes per reset (actors.train_chain_episodes; not HAC)
+};
+
+// Where a training episode starts.
+enum class TrainStart {
+  kReset,          // a reset of the table with the episode's seed
+  kWhereTheEnvIs,  // the state the last episode left (a chain: actors.train_chain_episodes)
 };
 
 // One training episode: a subgoal entity drawn uniformly among the subgoal entities of this
@@ -64,7 +71,7 @@ struct TrainOptions {
 std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& policy,
                                            const rl::CatalogueSubgoals& subgoals,
                                            const TrainOptions& options, uint64_t seed,
-                                           nn::Rng& rng);
+                                           nn::Rng& rng, TrainStart start = TrainStart::kReset);
 
 // HAC's training episode: the high level proposes `horizon` subgoals (the xy of every entity)
 // for the environment's full goal; the low level pursues each for `horizon` steps at most,

@@ -9,6 +9,7 @@ void ParseActors(YamlSection s, ActorConfig* out) {
   s.ReadInt("explore_push_segment_steps", &out->explore_push_segment_steps, 1, 100000);
   s.ReadDouble("explore_push_noise", &out->explore_push_noise, 0, 10);
   s.ReadInt("train_episode_steps", &out->train_episode_steps, 1, 100000);
+  if (s.Has("train_chain_episodes")) s.ReadInt("train_chain_episodes", &out->train_chain_episodes, 1, 1000);
   s.ReadInt("eval_attempt_steps", &out->eval_attempt_steps, 1, 100000);
   s.ReadEnum<EvalSchedule>("eval_schedule", &out->eval_schedule,
                            {{"reference", EvalSchedule::kReference},

@@ -24,6 +24,14 @@ struct ActorConfig {
   int explore_push_segment_steps = 10;
   double explore_push_noise = 0.3;     // std of the noise added to each action component
   int train_episode_steps = 20;        // one subgoal per episode
+  // Training episodes per reset of the table (not in the paper: 1, every episode starts from a
+  // reset). With N > 1 the next N - 1 episodes start where the one before left the table, as an
+  // evaluation's attempts do: objects an earlier episode pushed to its goal lie there while the
+  // next pursues another subgoal, so the selectivity term meets solved objects to keep
+  // (docs/results.md, "The paper's budget": attempts undo about half of what was solved). An
+  // evaluation, an explore episode or an unstable one ends a chain. Recorded in a run's
+  // resolved-config.yaml only when given (runs started before it resume unchanged).
+  int train_chain_episodes = 1;
   int eval_attempt_steps = 20;         // steps per subgoal attempt at evaluation
   EvalSchedule eval_schedule = EvalSchedule::kReference;
   int evaluators = 1;                  // actors 0..evaluators-1 also evaluate

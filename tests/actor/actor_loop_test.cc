@@ -13,6 +13,7 @@
 #include <set>
 
 #include "actor/env/rearrange_env.h"
+#include "common/config/config_error.h"
 #include "common/links/in_memory_bus.h"
 #include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"
@@ -151,6 +152,51 @@ TEST(ActorLoopTest, ExploresUntilGraphAndWeightsThenTrainsWithTheNewestWeights) 
   EXPECT_EQ(episodes[0].graph_version, 1u);
   EXPECT_EQ(actor.counters().episodes, 6u);
   EXPECT_EQ(actor.counters().env_steps, 3u * 50 + 3u * 20);
+}
+
+// The first and the last row of an episode's states.
+std::vector<float> StateRow(const rl::Episode& e, int t) {
+  const size_t size = e.layout.state_size();
+  return std::vector<float>(e.states.begin() + t * size, e.states.begin() + (t + 1) * size);
+}
+
+// actors.train_chain_episodes: with 3, training episodes come in chains of three, the second
+// and third starting exactly where the one before left the table (objects where it pushed
+// them), the fourth from a reset; with the default 1 every episode starts from a reset.
+TEST(ActorLoopTest, ChainedTrainingEpisodesStartWhereTheLastLeftTheTable) {
+  for (const int chain : {1, 3}) {
+    SCOPED_TRACE("train_chain_episodes " + std::to_string(chain));
+    config::Config config = config::LoadConfig(
+        std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+        {"graph.episodes=4", "graph.held_out_fraction=0.25", "actors.count=2", "actors.evaluators=1",
+         "learner.warmup_steps=100000",
+         "actors.train_chain_episodes=" + std::to_string(chain)});
+    EXPECT_EQ(config.actors.train_chain_episodes, chain);
+    links::InMemoryBus bus;
+    auto link = bus.ActorEnd(1);
+    auto learner = bus.LearnerEnd();
+    ActorOptions options = ActorOptionsFor(config, 1);
+    options.explore_while_waiting_s = 0;
+    EXPECT_EQ(options.train.chain_episodes, chain);
+    ActorLoop actor(options, link.get());
+    bus.PublishGraph(GroundTruth(config, 1));
+    learner->PublishWeights(WeightsFor(options, 1, 11));
+    std::vector<rl::Episode> training;
+    for (int k = 0; k < 40 && training.size() < 7; ++k) {
+      actor.Step();
+      for (rl::Episode& e : Drain(*learner))
+        if (e.mode == rl::EpisodeMode::kTrain) training.push_back(std::move(e));
+    }
+    ASSERT_EQ(training.size(), 7u);
+    for (size_t i = 1; i < training.size(); ++i) {
+      const bool continues = StateRow(training[i], 0) == StateRow(training[i - 1], training[i - 1].num_steps);
+      EXPECT_EQ(continues, chain > 1 && i % 3 != 0) << "episode " << i;
+    }
+  }
+  // the key is checked
+  EXPECT_THROW(config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+                                  {"actors.train_chain_episodes=0"}),
+               config::ConfigError);
 }
 
 // A refined graph (graph.refine_after_publish) arrives as a new version while the actor trains:
