@@ -77,9 +77,27 @@ class SecurityTest : public ::testing::Test {
   }
 
   static std::string* keystore_;
+
+ public:
+  static const std::string& Keystore() { return *keystore_; }
 };
 
 std::string* SecurityTest::keystore_ = nullptr;
+
+// A fresh copy of the test keystore at its path + `suffix`, for a test that alters it.
+std::string CopyOfKeystore(const std::string& suffix) {
+  const std::string copy = SecurityTest::Keystore() + suffix;
+  fs::remove_all(copy);
+  fs::copy(SecurityTest::Keystore(), copy, fs::copy_options::recursive);
+  return copy;
+}
+
+// The whole text of a file ("" when it cannot be read).
+std::string ReadText(const std::string& path) {
+  std::stringstream text;
+  text << std::ifstream(path).rdbuf();
+  return text.str();
+}
 
 // Reads the peer's lines until one equals `expected`; the lines seen otherwise.
 ::testing::AssertionResult SaysLine(PeerProcess& peer, const std::string& expected,
@@ -246,9 +264,7 @@ TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
 // control, signed with the CA key the test holds, so its writer is created and publishes)
 // still delivers nothing to an actor of the run: the run's side refuses to match it.
 TEST_F(SecurityTest, MonitorBypassingItsOwnChecksDeliversNothing) {
-  const std::string lenient = *keystore_ + "-lenient";
-  fs::remove_all(lenient);
-  fs::copy(*keystore_, lenient, fs::copy_options::recursive);
+  const std::string lenient = CopyOfKeystore("-lenient");
   std::string governance;
   {
     std::stringstream text;
@@ -385,11 +401,7 @@ TEST_F(SecurityTest, ASecuredRunFinishesWithEveryRoleHeard) {
   text << std::ifstream(out).rdbuf();
   ASSERT_TRUE(WIFEXITED(run_status)) << text.str();
   EXPECT_EQ(WEXITSTATUS(run_status), 0) << text.str();
-  auto read = [](const std::string& path) {
-    std::stringstream text;
-    text << std::ifstream(path).rdbuf();
-    return text.str();
-  };
+  const auto read = ReadText;
   const std::string nodes = read(run_dir + "/nodes.csv"), evals = read(run_dir + "/eval.csv");
   for (const std::string node : {",learner,0,", ",graph,0,", ",actor,0,", ",actor,1,"})
     EXPECT_NE(nodes.find(node), std::string::npos) << node << " not in nodes.csv:\n" << nodes.substr(0, 2000);
@@ -404,14 +416,8 @@ TEST_F(SecurityTest, ASecuredRunFinishesWithEveryRoleHeard) {
 // no partitions and no format mark) re-makes the permissions, keeps key and certificate, and
 // refuses role identities not named as their samples say.
 TEST_F(SecurityTest, TheKeystoreScriptUpdatesOldPermissionsAndRefusesMisnamedRoles) {
-  const std::string copy = *keystore_ + "-old";
-  fs::remove_all(copy);
-  fs::copy(*keystore_, copy, fs::copy_options::recursive);
-  auto read = [](const std::string& path) {
-    std::stringstream text;
-    text << std::ifstream(path).rdbuf();
-    return text.str();
-  };
+  const std::string copy = CopyOfKeystore("-old");
+  const auto read = ReadText;
   const std::string permissions = copy + "/identities/actor-1/permissions.xml";
   std::string old = read(permissions);
   const std::string mark = "; srics-permissions-format 2";
@@ -442,9 +448,7 @@ TEST_F(SecurityTest, TheKeystoreScriptUpdatesOldPermissionsAndRefusesMisnamedRol
 // (it sees "no reader" and the learner nothing, not even a sample to refuse); the re-keyed
 // actor-1 is taken as before.
 TEST_F(SecurityTest, ARevokedIdentityIsRefusedAndItsNewKeyWorks) {
-  const std::string revoked = *keystore_ + "-revoked";
-  fs::remove_all(revoked);
-  fs::copy(*keystore_, revoked, fs::copy_options::recursive);
+  const std::string revoked = CopyOfKeystore("-revoked");
   const std::string script = std::string(SRICS_SOURCE_DIR) + "/deploy/security/make-keystore.sh " + revoked +
                              " --revoke actor-1 > " + revoked + ".log 2>&1";
   ASSERT_EQ(std::system(script.c_str()), 0);
@@ -474,9 +478,7 @@ TEST_F(SecurityTest, ARevokedIdentityIsRefusedAndItsNewKeyWorks) {
 // An identity's certificate with another identity's permissions (subject mismatch) and a
 // permissions document not signed by the keystore's CA: the participant is refused.
 TEST_F(SecurityTest, ForeignOrMismatchedPermissionsAreRefused) {
-  const std::string copy = *keystore_ + "-tampered";
-  fs::remove_all(copy);
-  fs::copy(*keystore_, copy, fs::copy_options::recursive);
+  const std::string copy = CopyOfKeystore("-tampered");
   fs::copy_file(copy + "/identities/learner/permissions.p7s", copy + "/identities/actor-0/permissions.p7s",
                 fs::copy_options::overwrite_existing);
   // a second keystore's CA signs "learner" permissions for the monitor's subject name
