@@ -215,6 +215,10 @@ make_identity() {  # make_identity NAME ROLE
   echo "identity $name ($role): $(openssl x509 -noout -subject -nameopt RFC2253 -in "$out/cert.pem" | sed 's/^subject=//')"
 }
 
+role_of() {  # role_of DIR: the role an identity's permissions.xml names ("" if none)
+  sed -n "s/.*permissions of '[^']*' (role \([a-z]*\)).*/\1/p" "$1/permissions.xml" | head -1
+}
+
 # --- revocation: the CA's list, and identities re-keyed -----------------------------------
 ca_config=$dir/private/ca.cnf
 if [[ ! -f $ca_config ]]; then
@@ -241,7 +245,7 @@ make_crl() {
 for name in "${revoke[@]}"; do
   out=$dir/identities/$name
   [[ -f $out/cert.pem ]] || { echo "$0: no identity '$name' to revoke" >&2; exit 2; }
-  role=$(sed -n "s/.*permissions of '[^']*' (role \([a-z]*\)).*/\1/p" "$out/permissions.xml" | head -1)
+  role=$(role_of "$out")
   [[ -n $role ]] || { echo "$0: $out/permissions.xml names no role" >&2; exit 1; }
   serial=$(openssl x509 -noout -serial -in "$out/cert.pem" | sed 's/^serial=//')
   openssl ca -config "$ca_config" -revoke "$out/cert.pem" -crl_reason keyCompromise 2>/dev/null
@@ -263,7 +267,7 @@ for item in "${extra[@]}"; do make_identity "${item%%=*}" "${item#*=}"; done
 for out in "$dir"/identities/*/; do
   name=$(basename "$out")
   [[ -f $out/permissions.xml ]] && ! grep -q "$permissions_format" "$out/permissions.xml" || continue
-  role=$(sed -n "s/.*permissions of '[^']*' (role \([a-z]*\)).*/\1/p" "$out/permissions.xml" | head -1)
+  role=$(role_of "$out")
   [[ -n $role ]] || { echo "$0: $out/permissions.xml names no role: remove the folder and add it again" >&2; exit 1; }
   make_identity "$name" "$role"
 done
