@@ -15,7 +15,8 @@
 # copies each finished run's result.txt and graph.json to DIR/<table>-s<seed>/, to be committed:
 # runs/ is not kept by a new checkout, DIR is, and a run recorded there is not repeated either
 # (the table counts it). Runs are niced; --jobs 2 runs two at a time (one per core: do not benchmark meanwhile).
-# Prints a markdown table of every run so far (graph_service/README.md keeps one) and, as its
+# Prints a markdown table of every run so far (docs/results/graph-service-history.md keeps those
+# of 2026-12-03; graph_service/README.md sums them up) and, as its
 # last line, one JSON object {"bench":"gnn-acceptance","exact":..,"runs":..,"max_cpu_s":..}.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../../.." && pwd)"
