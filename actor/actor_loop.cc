@@ -68,7 +68,7 @@ struct ActorLoop::State {
   bool passive_evaluated = false;
   uint64_t evaluated_version = 0;  // policy version of the last evaluation
   uint64_t next_eval_steps = 0;
-  bool final_poll_done = false;    // one more look for the final weights before the last evaluation
+  bool final_poll_done = false;  // one more look for the final weights before the last evaluation
   Clock::time_point last_status;
   Clock::time_point last_episode_end;
   std::unique_ptr<logging::RateLimiter> refusals_log;
@@ -83,8 +83,8 @@ ActorLoop::ActorLoop(ActorOptions options, links::ActorLink* link)
   s.env = env::MakeRearrangeEnv(options_.env);
   // graphs are over the catalogue, whichever objects an episode presents
   s.num_entities = 1 + static_cast<int>(config::EffectiveObjects(options_.env).size());
-  s.rng.seed(rl::DeriveSeed(options_.run_seed, rl::SeedPurpose::kActorRng, options_.actor_id,
-                            options_.first_episode_id));
+  s.rng.seed(
+      rl::DeriveSeed(options_.run_seed, rl::SeedPurpose::kActorRng, options_.actor_id, options_.first_episode_id));
   s.policy = std::make_unique<rl::PolicyNetwork<float>>("policy", options_.policy, s.rng);
   if (options_.high_policy) s.high = std::make_unique<rl::PolicyNetwork<float>>("policy", *options_.high_policy, s.rng);
   s.signature = s.high ? rl::HacPolicySignature(*s.high, *s.policy) : rl::PolicySignature(*s.policy);
@@ -202,8 +202,8 @@ void ActorLoop::Evaluate(bool passive) {
   report.graph_version = s.graph_version;
   report.env_steps = s.learner ? s.learner->training_env_steps : 0;
   report.summary = EvaluatePolicy(*s.env, passive ? nullptr : s.policy.get(), s.subgoals, options_.eval,
-                                  options_.eval_episodes, options_.run_seed, &counters_.unstable_episodes,
-                                  s.high.get(), passive ? nullptr : recorder_.get(), s.policy_version);
+                                  options_.eval_episodes, options_.run_seed, &counters_.unstable_episodes, s.high.get(),
+                                  passive ? nullptr : recorder_.get(), s.policy_version);
   ++counters_.evaluations;
   if (!passive) s.evaluated_version = s.policy_version;
   link_->PublishEval(report);
@@ -211,15 +211,17 @@ void ActorLoop::Evaluate(bool passive) {
   // held-out combination, visible in the log
   std::string present;
   for (int kind : s.env->layout().kinds) present += (present.empty() ? "" : ", ") + std::to_string(kind);
-  spdlog::info("evaluation ({}) at {} env steps on catalogue entities [{}]: avg_object_distance {:.4f}, "
-               "avg_distance {:.4f}, success {:.2f}",
-               passive ? "passive" : "policy v" + std::to_string(s.policy_version), report.env_steps, present,
-               report.summary.avg_object_distance, report.summary.avg_distance, report.summary.success_rate);
+  spdlog::info(
+      "evaluation ({}) at {} env steps on catalogue entities [{}]: avg_object_distance {:.4f}, "
+      "avg_distance {:.4f}, success {:.2f}",
+      passive ? "passive" : "policy v" + std::to_string(s.policy_version), report.env_steps, present,
+      report.summary.avg_object_distance, report.summary.avg_distance, report.summary.success_rate);
 }
 
 void ActorLoop::RunEpisode(bool training) {
   State& s = *state_;
-  const uint64_t seed = rl::DeriveSeed(options_.run_seed, rl::SeedPurpose::kEpisode, options_.actor_id, next_episode_id_);
+  const uint64_t seed =
+      rl::DeriveSeed(options_.run_seed, rl::SeedPurpose::kEpisode, options_.actor_id, next_episode_id_);
   std::optional<rl::Episode> episode;
   if (training) {
     Status(rl::NodePhase::kTraining, "", false);
@@ -287,9 +289,9 @@ StepResult ActorLoop::Step() {
   // beyond its share of the graph's data this actor waits for the graph, leaving the CPU to
   // the GNN and the replay to useful data
   if (!training && !s.have_graph && counters_.episodes >= options_.explore_share) {
-    const bool feed = options_.explore_while_waiting_s > 0 &&
-                      std::chrono::duration<double>(Clock::now() - s.last_episode_end).count() >=
-                          options_.explore_while_waiting_s;
+    const bool feed =
+        options_.explore_while_waiting_s > 0 &&
+        std::chrono::duration<double>(Clock::now() - s.last_episode_end).count() >= options_.explore_while_waiting_s;
     if (!feed) {
       Status(rl::NodePhase::kWaiting, "waiting for the graph (exploration share done)", false);
       return StepResult::kIdle;

@@ -27,31 +27,31 @@ namespace srics::actor {
 // Everything an actor needs, built from the run's config by ActorOptionsFor (the one place).
 struct ActorOptions {
   uint32_t actor_id = 0;
-  uint64_t first_episode_id = 0;     // a restarted actor continues its episode numbering
+  uint64_t first_episode_id = 0;  // a restarted actor continues its episode numbering
   uint64_t run_seed = 1;
-  config::EnvConfig env;             // the environment this actor steps
-  rl::AttentionNetworkConfig policy; // its policy network (the learner's signature must match)
+  config::EnvConfig env;              // the environment this actor steps
+  rl::AttentionNetworkConfig policy;  // its policy network (the learner's signature must match)
   // HAC: the high level's network (`policy` is then the low level's); weights carry the high
   // level's parameters, then the low level's
   std::optional<rl::AttentionNetworkConfig> high_policy;
-  bool uses_graph = true;            // false: every entity is a subgoal, no graph is awaited
+  bool uses_graph = true;  // false: every entity is a subgoal, no graph is awaited
   TrainOptions train;
   EvalOptions eval;
-  ExploreOptions explore;   // how explore episodes act
+  ExploreOptions explore;  // how explore episodes act
   // explore episodes this actor contributes before it waits for the graph (its share of the
   // graph service's data set, with a margin)
   uint64_t explore_share = 0;
   // past its share, still one explore episode this often while the graph has not come
   // (episodes sent before the graph service listened are lost over DDS); 0 = never
   double explore_while_waiting_s = 1.0;
-  bool evaluator = false;            // runs the evaluations of the run
+  bool evaluator = false;  // runs the evaluations of the run
   int eval_episodes = 20;
   uint64_t eval_every_env_steps = 5000;
   // rate limit: no more than rate_error_buffer updates' worth of data ahead of the learner
   double updates_per_step = 1;
   double rate_error_buffer = 0;
-  uint64_t learner_warmup_steps = 0; // while the learner refills its replay, never wait
-  int rejected_log_interval_s = 5;   // refused weights and graphs are logged at most this often
+  uint64_t learner_warmup_steps = 0;  // while the learner refills its replay, never wait
+  int rejected_log_interval_s = 5;    // refused weights and graphs are logged at most this often
   double status_period_s = 1;
 };
 
@@ -71,13 +71,13 @@ struct ActorCounters {
   uint64_t env_steps = 0;
   uint64_t episodes = 0;
   uint64_t unstable_episodes = 0;
-  uint64_t weights_rejected = 0;   // wrong architecture, size or magnitudes
-  uint64_t graphs_rejected = 0;    // graph does not fit this environment
+  uint64_t weights_rejected = 0;  // wrong architecture, size or magnitudes
+  uint64_t graphs_rejected = 0;   // graph does not fit this environment
   // every refusal by counter (weights.architecture, weights.size, weights.magnitude,
   // graph.entities), reported in NodeStatus
   std::map<std::string, uint64_t> rejections;
   uint64_t evaluations = 0;
-  uint64_t waits = 0;              // steps the rate limiter held the actor back
+  uint64_t waits = 0;  // steps the rate limiter held the actor back
 };
 
 // What one Step did.

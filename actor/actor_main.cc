@@ -13,7 +13,8 @@
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  const process::RoleProgram program{"srics-actor", "actor", /*needs_id=*/true,
+  const process::RoleProgram program{
+      "srics-actor", "actor", /*needs_id=*/true,
       "one actor process (MuJoCo environments, the latest policy, whole episodes over DDS)"};
   return process::RunRole(argc, argv, program, [](const process::Role& role) {
     const process::CommandLine& cl = role.command_line;

@@ -87,7 +87,11 @@ class HacActor {
  public:
   HacActor(rl::PolicyNetwork<float>& high, rl::PolicyNetwork<float>& low, const HacActOptions& options,
            const rl::EntityLayout& layout, const nn::Tensor& full_goal)
-      : high_(high), low_(low), options_(options), layout_(layout), full_goal_(full_goal),
+      : high_(high),
+        low_(low),
+        options_(options),
+        layout_(layout),
+        full_goal_(full_goal),
         subgoal_(2 * layout.num_entities) {}
 
   // True when the high level has to propose the next subgoal before the low level acts in
@@ -196,15 +200,14 @@ ExploreOptions ExploreOptionsFor(const config::Config& config) {
   return o;
 }
 
-std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, int steps, uint64_t seed,
-                                             nn::Rng& rng) {
+std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, int steps, uint64_t seed, nn::Rng& rng) {
   ExploreOptions options;
   options.steps = steps;
   return RunExploreEpisode(env, options, seed, rng);
 }
 
-std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const ExploreOptions& options,
-                                             uint64_t seed, nn::Rng& rng) {
+std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const ExploreOptions& options, uint64_t seed,
+                                             nn::Rng& rng) {
   env.Reset(seed);
   Observer observer(env);
   rl::Episode episode = StartEpisode(env, observer.layout());
@@ -213,7 +216,8 @@ std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const Explor
   std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
   std::normal_distribution<double> noise(0.0, options.push_noise);
   // drawn only when pushes are on, so that random-only runs keep their random streams
-  const bool push = options.push_fraction > 0 && std::uniform_real_distribution<double>(0, 1)(rng) < options.push_fraction;
+  const bool push =
+      options.push_fraction > 0 && std::uniform_real_distribution<double>(0, 1)(rng) < options.push_fraction;
   const int objects = env.layout().num_entities - 1;
   std::vector<float> action(env.action_dim());
   observer.Observe(env);
@@ -241,9 +245,8 @@ std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const Explor
 }
 
 std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& policy,
-                                           const rl::CatalogueSubgoals& subgoals,
-                                           const TrainOptions& options, uint64_t seed,
-                                           nn::Rng& rng, TrainStart start) {
+                                           const rl::CatalogueSubgoals& subgoals, const TrainOptions& options,
+                                           uint64_t seed, nn::Rng& rng, TrainStart start) {
   if (start == TrainStart::kReset) env.Reset(seed);
   Observer observer(env);
   const rl::EntityLayout& layout = observer.layout();
@@ -267,8 +270,8 @@ std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetw
     episode.goal = {static_cast<float>(g[0]), static_cast<float>(g[1])};
     episode.ancestor_mask = entity < structure.num_entities() ? structure.ancestor_mask[entity] : 0;
     goal.resize(1, rl::SubgoalTokenSize(layout.num_kinds));
-    rl::WriteSubgoalToken(layout.num_kinds, episode.entity_kinds[entity], episode.goal[0],
-                          episode.goal[1], goal.data());
+    rl::WriteSubgoalToken(layout.num_kinds, episode.entity_kinds[entity], episode.goal[0], episode.goal[1],
+                          goal.data());
   }
   observer.Observe(env);
   observer.Append(&episode.states);
@@ -314,8 +317,7 @@ std::optional<rl::Episode> RunHacTrainEpisode(env::Environment& env, rl::PolicyN
   return episode;
 }
 
-std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
-                                                       rl::PolicyNetwork<float>* policy,
+std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env, rl::PolicyNetwork<float>* policy,
                                                        const rl::CatalogueSubgoals& subgoals,
                                                        const EvalOptions& options, uint64_t seed,
                                                        rl::PolicyNetwork<float>* high_policy,
@@ -344,8 +346,7 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
       if (entity >= 0) {
         const nn::Tensor& after = observer.Observe(env);
         const uint64_t ancestors = entity < structure.num_entities() ? structure.ancestor_mask[entity] : 0;
-        if (auto m = rl::SelectivityMeasure(layout, before.data(), after.data(), entity, ancestors,
-                                            options.epsilon)) {
+        if (auto m = rl::SelectivityMeasure(layout, before.data(), after.data(), entity, ancestors, options.epsilon)) {
           selectivity_sum += *m;
           ++selectivity_steps;
         }
@@ -429,18 +430,19 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
 }
 
 rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
-                                     const rl::CatalogueSubgoals& subgoals, const EvalOptions& options,
-                                     int episodes, uint64_t run_seed, uint64_t* unstable,
-                                     rl::PolicyNetwork<float>* high_policy, EvalRecorder* recorder,
-                                     uint64_t policy_version) {
+                                     const rl::CatalogueSubgoals& subgoals, const EvalOptions& options, int episodes,
+                                     uint64_t run_seed, uint64_t* unstable, rl::PolicyNetwork<float>* high_policy,
+                                     EvalRecorder* recorder, uint64_t policy_version) {
   rl::EvaluationSummary summary;
   for (int i = 0; i < episodes; ++i) {
     const uint64_t seed = rl::EvalEpisodeSeed(run_seed, i);
     EvalEpisodeObserver* observer = recorder ? recorder->Begin(policy_version, i, seed) : nullptr;
     const auto metrics = RunEvaluationEpisode(env, policy, subgoals, options, seed, high_policy, observer);
     if (observer) recorder->End(metrics, env.steps());
-    if (metrics) summary.Add(*metrics, options.threshold);
-    else ++*unstable;
+    if (metrics)
+      summary.Add(*metrics, options.threshold);
+    else
+      ++*unstable;
   }
   return summary;
 }

@@ -26,10 +26,10 @@ rl::EntityLayout LayoutOf(const env::Environment& env);
 // How explore episodes act (actors.explore_* of the config).
 struct ExploreOptions {
   int steps = 50;
-  double push_fraction = 0;      // share of episodes driven by the pushing controller
-  int push_segment_steps = 10;   // steps per (object, target) pair
-  double push_noise = 0.3;       // std of the Gaussian noise on each action component
-  env::PushGeometry push;        // hand and object geometry (the largest object of the table)
+  double push_fraction = 0;               // share of episodes driven by the pushing controller
+  int push_segment_steps = 10;            // steps per (object, target) pair
+  double push_noise = 0.3;                // std of the Gaussian noise on each action component
+  env::PushGeometry push;                 // hand and object geometry (the largest object of the table)
   env::Vec2 target_low{}, target_high{};  // targets are drawn in this box (the subgoal box)
 };
 ExploreOptions ExploreOptionsFor(const config::Config& config);
@@ -37,11 +37,10 @@ ExploreOptions ExploreOptionsFor(const config::Config& config);
 // Reset(seed), then `steps` steps of uniformly random actions or, for a push_fraction share
 // of the episodes, of noisy pushes of random objects toward random targets. Empty if the
 // physics became unstable (such an episode is never passed on).
-std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const ExploreOptions& options,
-                                             uint64_t seed, nn::Rng& rng);
-// Uniformly random actions only.
-std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, int steps, uint64_t seed,
+std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const ExploreOptions& options, uint64_t seed,
                                              nn::Rng& rng);
+// Uniformly random actions only.
+std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, int steps, uint64_t seed, nn::Rng& rng);
 
 // How HAC's two levels act (agent.hac; the subgoal box from the table).
 struct HacActOptions {
@@ -52,11 +51,11 @@ struct HacActOptions {
 };
 
 struct TrainOptions {
-  int steps = 20;          // episode length (HAC: the longest, H * H)
-  bool full_goal = false;  // SAC+HER: the environment's full goal instead of a subgoal
-  config::SamplingConfig sampling;  // subgoal goal region
-  std::optional<HacActOptions> hac; // set for HAC: two levels on the full goal
-  int chain_episodes = 1;  // consecutive episodes per reset (actors.train_chain_episodes; not HAC)
+  int steps = 20;                    // episode length (HAC: the longest, H * H)
+  bool full_goal = false;            // SAC+HER: the environment's full goal instead of a subgoal
+  config::SamplingConfig sampling;   // subgoal goal region
+  std::optional<HacActOptions> hac;  // set for HAC: two levels on the full goal
+  int chain_episodes = 1;            // consecutive episodes per reset (actors.train_chain_episodes; not HAC)
 };
 
 // Where a training episode starts.
@@ -66,12 +65,12 @@ enum class TrainStart {
 };
 
 // One training episode: a subgoal entity drawn uniformly among the subgoal entities of this
-// episode's structure (subgoals.For the present entities' catalogue identities), its goal from the subgoal region, actions sampled from the policy. The episode
-// records the subgoal, goal and ancestor mask. Empty if the physics became unstable.
+// episode's structure (subgoals.For the present entities' catalogue identities), its goal from the subgoal region,
+// actions sampled from the policy. The episode records the subgoal, goal and ancestor mask. Empty if the physics became
+// unstable.
 std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& policy,
-                                           const rl::CatalogueSubgoals& subgoals,
-                                           const TrainOptions& options, uint64_t seed,
-                                           nn::Rng& rng, TrainStart start = TrainStart::kReset);
+                                           const rl::CatalogueSubgoals& subgoals, const TrainOptions& options,
+                                           uint64_t seed, nn::Rng& rng, TrainStart start = TrainStart::kReset);
 
 // HAC's training episode: the high level proposes `horizon` subgoals (the xy of every entity)
 // for the environment's full goal; the low level pursues each for `horizon` steps at most,
@@ -87,9 +86,9 @@ struct EvalOptions {
   rl::SubgoalOrder order = rl::SubgoalOrder::kDepth;
   rl::EvaluationProtocol protocol = rl::EvaluationProtocol::kReference;
   int attempt_steps = 20;
-  bool full_goal = false;     // SAC+HER and HAC: one attempt of (2N - 1) * attempt_steps on the full goal
-  double threshold = 0.05;    // a subgoal counts as solved below this distance
-  double epsilon = 1e-5;      // for the selectivity measure
+  bool full_goal = false;            // SAC+HER and HAC: one attempt of (2N - 1) * attempt_steps on the full goal
+  double threshold = 0.05;           // a subgoal counts as solved below this distance
+  double epsilon = 1e-5;             // for the selectivity measure
   std::optional<HacActOptions> hac;  // HAC: the full-goal attempt runs both levels
 };
 
@@ -106,7 +105,7 @@ class EvalEpisodeObserver {
   // One scheduled subgoal attempt, once it is over (or skipped): what `srics eval` writes to
   // attempts.csv, to tell "cannot reach the subgoal" from "undoes the subgoals solved before".
   struct Attempt {
-    int index = 0;               // position in the episode's schedule
+    int index = 0;  // position in the episode's schedule
     int entity = 0;
     bool skipped = false;        // already solved when its turn came (no steps taken)
     double distance_before = 0;  // the entity's distance to its goal when the attempt started
@@ -136,8 +135,7 @@ EvalOptions EvalOptionsFor(const config::Config& config);
 // subgoal whenever the low level has reached the last one or held it `horizon` steps.
 // Returns the final-step metrics; empty if the physics became unstable. `observer` (may be
 // null) sees every state of the episode.
-std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env,
-                                                       rl::PolicyNetwork<float>* policy,
+std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env, rl::PolicyNetwork<float>* policy,
                                                        const rl::CatalogueSubgoals& subgoals,
                                                        const EvalOptions& options, uint64_t seed,
                                                        rl::PolicyNetwork<float>* high_policy = nullptr,
@@ -159,9 +157,9 @@ class EvalRecorder {
 // at every evaluation, for the policy and the passive baseline alike). Unstable episodes are
 // left out of the summary and counted in *unstable.
 rl::EvaluationSummary EvaluatePolicy(env::Environment& env, rl::PolicyNetwork<float>* policy,
-                                     const rl::CatalogueSubgoals& subgoals, const EvalOptions& options,
-                                     int episodes, uint64_t run_seed, uint64_t* unstable,
-                                     rl::PolicyNetwork<float>* high_policy = nullptr,
-                                     EvalRecorder* recorder = nullptr, uint64_t policy_version = 0);
+                                     const rl::CatalogueSubgoals& subgoals, const EvalOptions& options, int episodes,
+                                     uint64_t run_seed, uint64_t* unstable,
+                                     rl::PolicyNetwork<float>* high_policy = nullptr, EvalRecorder* recorder = nullptr,
+                                     uint64_t policy_version = 0);
 
 }  // namespace srics::actor

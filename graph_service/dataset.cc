@@ -19,16 +19,22 @@ std::vector<uint16_t> FlatKinds(const std::vector<std::vector<uint16_t>>& sets) 
 
 }  // namespace
 
-GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds,
-                           int action_dim, int episode_steps)
-    : layout_(layout), kind_sets_{std::move(entity_kinds)}, by_identity_(false), action_dim_(action_dim),
+GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds, int action_dim,
+                           int episode_steps)
+    : layout_(layout),
+      kind_sets_{std::move(entity_kinds)},
+      by_identity_(false),
+      action_dim_(action_dim),
       steps_(episode_steps) {
   CheckShape();
 }
 
-GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<std::vector<uint16_t>> kind_sets,
-                           int action_dim, int episode_steps)
-    : layout_(layout), kind_sets_(std::move(kind_sets)), by_identity_(true), action_dim_(action_dim),
+GraphDataset::GraphDataset(const rl::EntityLayout& layout, std::vector<std::vector<uint16_t>> kind_sets, int action_dim,
+                           int episode_steps)
+    : layout_(layout),
+      kind_sets_(std::move(kind_sets)),
+      by_identity_(true),
+      action_dim_(action_dim),
       steps_(episode_steps) {
   CheckShape();
 }
@@ -40,8 +46,7 @@ void GraphDataset::CheckShape() const {
     if (layout_.num_entities < 1 || static_cast<int>(kinds.size()) != layout_.num_entities)
       throw std::invalid_argument("GraphDataset: entity kinds do not match the layout");
     for (uint16_t k : kinds)
-      if (k >= layout_.num_kinds)
-        throw std::invalid_argument("GraphDataset: entity kind outside the one-hot width");
+      if (k >= layout_.num_kinds) throw std::invalid_argument("GraphDataset: entity kind outside the one-hot width");
     // a graph over the catalogue is indexed by kind: a kind twice in an episode is ambiguous
     if (by_identity_)
       for (uint16_t k : kinds)
@@ -78,8 +83,7 @@ std::vector<uint16_t> GraphDataset::graph_kinds() const {
 }
 
 GraphDataset GraphDataset::ShapedLike(const rl::Episode& episode) {
-  return GraphDataset(episode.layout, episode.entity_kinds, episode.action_dim,
-                      episode.num_steps);
+  return GraphDataset(episode.layout, episode.entity_kinds, episode.action_dim, episode.num_steps);
 }
 
 std::string GraphDataset::Convert(const rl::Episode& episode, StoredEpisode* out) const {
@@ -92,8 +96,7 @@ std::string GraphDataset::Convert(const rl::Episode& episode, StoredEpisode* out
                           : "entity kinds differ from the data set's";
   if (episode.action_dim != action_dim_) return "action size differs from the data set's";
   if (episode.num_steps != steps_)
-    return "episode has " + std::to_string(episode.num_steps) + " steps, expected " +
-           std::to_string(steps_);
+    return "episode has " + std::to_string(episode.num_steps) + " steps, expected " + std::to_string(steps_);
   if (std::string problem = rl::ValidateEpisode(episode, rl::LimitsOfLayout(layout_, action_dim_)); !problem.empty())
     return problem;
   // keep xy only; the kind one-hot is rebuilt from entity_kinds
@@ -122,7 +125,8 @@ std::string GraphDataset::Add(const rl::Episode& episode) {
 }
 
 std::string GraphDataset::Replace(int index, const rl::Episode& episode) {
-  if (index < 0 || index >= size()) throw std::out_of_range("GraphDataset::Replace: no episode " + std::to_string(index));
+  if (index < 0 || index >= size())
+    throw std::out_of_range("GraphDataset::Replace: no episode " + std::to_string(index));
   StoredEpisode stored;
   if (std::string problem = Convert(episode, &stored); !problem.empty()) return problem;
   positions_[index] = std::move(stored.positions);
@@ -175,7 +179,8 @@ void GraphDataset::Load(nn::ByteReader& in) {
   const size_t xy_size = static_cast<size_t>(steps_ + 1) * layout_.num_entities * 2;
   const size_t action_size = static_cast<size_t>(steps_) * action_dim_;
   // each episode needs at least its two counts: a huge count fails here, not in a reserve
-  if (count > in.remaining() / 16) throw nn::CheckpointError("graph data set: episode count " + std::to_string(count) + " exceeds the bytes");
+  if (count > in.remaining() / 16)
+    throw nn::CheckpointError("graph data set: episode count " + std::to_string(count) + " exceeds the bytes");
   std::vector<std::vector<float>> positions, actions;
   for (uint64_t e = 0; e < count; ++e) {
     positions.push_back(in.GetVector<float>());
@@ -184,7 +189,8 @@ void GraphDataset::Load(nn::ByteReader& in) {
       throw nn::CheckpointError("graph data set: episode " + std::to_string(e) + " has the wrong size");
     for (const auto* values : {&positions.back(), &actions.back()})
       for (float v : *values)
-        if (!std::isfinite(v)) throw nn::CheckpointError("graph data set: episode " + std::to_string(e) + " is not finite");
+        if (!std::isfinite(v))
+          throw nn::CheckpointError("graph data set: episode " + std::to_string(e) + " is not finite");
   }
   std::vector<uint8_t> set_of(count, 0);
   if (combinations()) {
@@ -222,8 +228,7 @@ void GraphDataset::Split(double held_out_fraction, uint64_t seed) {
 }
 
 template <typename T>
-void GraphDataset::SampleWindows(int batch, int window, nn::Rng& rng,
-                                 WindowBatch<T>* out) const {
+void GraphDataset::SampleWindows(int batch, int window, nn::Rng& rng, WindowBatch<T>* out) const {
   if (train_.empty()) throw std::logic_error("GraphDataset: Split before sampling");
   if (window < 1 || window > steps_) throw std::invalid_argument("window outside the episode");
   std::vector<int> episodes(batch), starts(batch);
@@ -241,8 +246,8 @@ void GraphDataset::EpisodeBatch(const std::vector<int>& episodes, WindowBatch<T>
 }
 
 template <typename T>
-void GraphDataset::Fill(const std::vector<int>& episodes, const std::vector<int>& starts,
-                        int window, WindowBatch<T>* out) const {
+void GraphDataset::Fill(const std::vector<int>& episodes, const std::vector<int>& starts, int window,
+                        WindowBatch<T>* out) const {
   const int batch = static_cast<int>(episodes.size());
   const int n = num_entities(), k = num_kinds(), a = action_dim_;
   out->batch = batch;
@@ -274,12 +279,9 @@ void GraphDataset::Fill(const std::vector<int>& episodes, const std::vector<int>
 }
 
 template void GraphDataset::SampleWindows<float>(int, int, nn::Rng&, WindowBatch<float>*) const;
-template void GraphDataset::SampleWindows<double>(int, int, nn::Rng&,
-                                                  WindowBatch<double>*) const;
-template void GraphDataset::EpisodeBatch<float>(const std::vector<int>&,
-                                                WindowBatch<float>*) const;
-template void GraphDataset::EpisodeBatch<double>(const std::vector<int>&,
-                                                 WindowBatch<double>*) const;
+template void GraphDataset::SampleWindows<double>(int, int, nn::Rng&, WindowBatch<double>*) const;
+template void GraphDataset::EpisodeBatch<float>(const std::vector<int>&, WindowBatch<float>*) const;
+template void GraphDataset::EpisodeBatch<double>(const std::vector<int>&, WindowBatch<double>*) const;
 
 std::vector<double> ActionCorrelations(const GraphDataset& data) {
   const int n = data.graph_entities(), a = data.action_dim();
@@ -302,7 +304,12 @@ std::vector<double> ActionCorrelations(const GraphDataset& data) {
           for (int t = 0; t < data.episode_steps(); ++t) {
             const double u = data.action(ep, t)[i];
             const double v = data.position(ep, t + 1, e)[axis] - data.position(ep, t, e)[axis];
-            su += u; sv += v; suu += u * u; svv += v * v; suv += u * v; count += 1;
+            su += u;
+            sv += v;
+            suu += u * u;
+            svv += v * v;
+            suv += u * v;
+            count += 1;
           }
         }
         if (count < 2) continue;

@@ -17,10 +17,10 @@ namespace srics::graph_service {
 // and the position changes to predict. Row b * N + n is entity n of window b.
 template <typename T>
 struct WindowBatch {
-  int batch = 0;                          // B windows
-  int num_entities = 0;                   // N
-  std::vector<nn::Matrix<T>> inputs;      // per t: (B*N) x F, F = 2 + K + A: [x, y, kind, a]
-  std::vector<nn::Matrix<T>> deltas;      // per t: (B*N) x 2, xy(t+1) - xy(t)
+  int batch = 0;                      // B windows
+  int num_entities = 0;               // N
+  std::vector<nn::Matrix<T>> inputs;  // per t: (B*N) x F, F = 2 + K + A: [x, y, kind, a]
+  std::vector<nn::Matrix<T>> deltas;  // per t: (B*N) x 2, xy(t+1) - xy(t)
   int steps() const { return static_cast<int>(inputs.size()); }
 };
 
@@ -47,13 +47,12 @@ class GraphDataset {
  public:
   // All episodes must have this layout (N, K, velocities), these entity kinds, action size
   // and number of steps; others are refused by Add.
-  GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds,
-               int action_dim, int episode_steps);
+  GraphDataset(const rl::EntityLayout& layout, std::vector<uint16_t> entity_kinds, int action_dim, int episode_steps);
   // Episodes may have any one of `kind_sets` (each of N kinds, distinct, below K, at least one
   // set), and the graph is over the K catalogue entities (even with one set: an environment
   // whose object_sets has one combination still publishes the catalogue's graph).
-  GraphDataset(const rl::EntityLayout& layout, std::vector<std::vector<uint16_t>> kind_sets,
-               int action_dim, int episode_steps);
+  GraphDataset(const rl::EntityLayout& layout, std::vector<std::vector<uint16_t>> kind_sets, int action_dim,
+               int episode_steps);
   // The data set a run's shape implies (one of the constructors above).
   static GraphDataset ForShape(const DatasetShape& shape, int episode_steps);
   // A data set of the same shape without episodes.
@@ -101,9 +100,7 @@ class GraphDataset {
   // the graph's entities: the catalogue for combinations, else the episodes' own
   bool combinations() const { return by_identity_; }
   int graph_entities() const { return combinations() ? layout_.num_kinds : layout_.num_entities; }
-  int graph_entity(int episode, int entity) const {
-    return combinations() ? episode_kinds(episode)[entity] : entity;
-  }
+  int graph_entity(int episode, int entity) const { return combinations() ? episode_kinds(episode)[entity] : entity; }
   // kind of each graph entity
   std::vector<uint16_t> graph_kinds() const;
   const std::vector<int>& train_episodes() const { return train_; }
@@ -129,8 +126,7 @@ class GraphDataset {
 
  private:
   template <typename T>
-  void Fill(const std::vector<int>& episodes, const std::vector<int>& starts, int window,
-            WindowBatch<T>* out) const;
+  void Fill(const std::vector<int>& episodes, const std::vector<int>& starts, int window, WindowBatch<T>* out) const;
 
   void CheckShape() const;  // throws std::invalid_argument naming what does not fit
 

@@ -14,8 +14,7 @@ double PointToSegment(double px, double py, double ax, double ay, double bx, dou
 }
 }  // namespace
 
-double SegmentDistance(double p0x, double p0y, double p1x, double p1y, double q0x, double q0y,
-                       double q1x, double q1y) {
+double SegmentDistance(double p0x, double p0y, double p1x, double p1y, double q0x, double q0y, double q1x, double q1y) {
   // the sign of the cross product: which side of a line a point lies on
   auto side = [](double ox, double oy, double ax, double ay, double bx, double by) {
     const double c = (ax - ox) * (by - oy) - (ay - oy) * (bx - ox);
@@ -32,17 +31,14 @@ template <typename T>
 GnnModel<T>::GnnModel(const GnnOptions& o, nn::Rng& rng)
     : options_(o),
       act_("gnn.act", o.input_dim, {o.mlp_hidden}, o.hidden_dim, rng),
-      edge_send_("gnn.edge_send", o.hidden_dim + (o.edge_node_inputs ? o.input_dim : 0),
-                 2 * o.mlp_hidden, false, rng),
-      edge_recv_("gnn.edge_recv", o.hidden_dim + (o.edge_node_inputs ? o.input_dim : 0),
-                 2 * o.mlp_hidden, true, rng),
+      edge_send_("gnn.edge_send", o.hidden_dim + (o.edge_node_inputs ? o.input_dim : 0), 2 * o.mlp_hidden, false, rng),
+      edge_recv_("gnn.edge_recv", o.hidden_dim + (o.edge_node_inputs ? o.input_dim : 0), 2 * o.mlp_hidden, true, rng),
       eff_out_("gnn.eff_out", o.mlp_hidden, o.hidden_dim, true, rng),
       pres_out_("gnn.pres_out", o.mlp_hidden, 2, true, rng),
       gru_("gnn.gru", 2 * o.hidden_dim, o.hidden_dim, rng),
       pred_("gnn.pred", o.hidden_dim, {o.mlp_hidden}, 2, rng) {
   if (o.num_entities < 2) throw std::invalid_argument("GnnModel: needs at least 2 entities");
-  if (o.input_dim < 3 || o.hidden_dim < 1 || o.mlp_hidden < 1)
-    throw std::invalid_argument("GnnModel: bad sizes");
+  if (o.input_dim < 3 || o.hidden_dim < 1 || o.mlp_hidden < 1) throw std::invalid_argument("GnnModel: bad sizes");
   if (!(o.edge_prior > 0 && o.edge_prior < 1) || !(o.temperature > 0))
     throw std::invalid_argument("GnnModel: edge_prior must be in (0, 1), temperature > 0");
   if (o.edge_relative_scale > 0)
@@ -58,8 +54,7 @@ void GnnModel<T>::set_input_normalization(std::vector<double> mean, std::vector<
     input_inv_std_.resize(0, 0);
     return;
   }
-  if (static_cast<int>(mean.size()) != options_.input_dim ||
-      static_cast<int>(inv_std.size()) != options_.input_dim)
+  if (static_cast<int>(mean.size()) != options_.input_dim || static_cast<int>(inv_std.size()) != options_.input_dim)
     throw std::invalid_argument("GnnModel: input normalization must have input_dim entries");
   input_mean_.resize(1, options_.input_dim);
   input_inv_std_.resize(1, options_.input_dim);
@@ -113,15 +108,13 @@ int GnnModel<T>::edge_sender_entity(int e) const {
 }
 
 template <typename T>
-typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h, nn::Var<T> x,
-                                                int batch, const Mat& gumbel,
-                                                const std::vector<int>* sender_rows) {
+typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h, nn::Var<T> x, int batch,
+                                                const Mat& gumbel, const std::vector<int>* sender_rows) {
   BuildEdges(batch);
   const std::vector<int>& senders = sender_rows ? *sender_rows : senders_;
   const int m = options_.mlp_hidden;
   nn::Var<T> raw = x;
-  if (input_mean_.size() > 0)
-    x = tape.Mul(tape.Sub(x, tape.Constant(input_mean_)), tape.Constant(input_inv_std_));
+  if (input_mean_.size() > 0) x = tape.Mul(tape.Sub(x, tape.Constant(input_mean_)), tape.Constant(input_inv_std_));
   // first edge layer per node, then onto edges: relu(h_i W_s + h_j W_r + b)
   std::vector<nn::Var<T>> node_parts = {h};
   if (options_.edge_node_inputs) node_parts.push_back(x);
@@ -130,8 +123,7 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
   if (edge_rel_) {
     // (xy_i - xy_j) / scale through its own slice W_rel of the first layer, also per node
     // (the layer is linear): [node, xy / scale] times [W_s; W_rel] and [W_r; -W_rel]
-    node_parts.push_back(
-        tape.MulScalar(tape.Slice(raw, 1, 0, 2), T(1.0 / options_.edge_relative_scale)));
+    node_parts.push_back(tape.MulScalar(tape.Slice(raw, 1, 0, 2), T(1.0 / options_.edge_relative_scale)));
     nn::Var<T> w_rel = tape.Param(edge_rel_->weight());
     w_send = tape.Concat({w_send, w_rel}, 0);
     w_recv = tape.Concat({w_recv, tape.MulScalar(w_rel, T(-1))}, 0);
@@ -141,17 +133,15 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
   nn::Var<T> recv = tape.Linear(node, w_recv, tape.Param(*edge_recv_.bias()));
   // columns [0, m) are d_eff's hidden layer, [m, 2m) d_pres's: gathered apart, each layer's
   // input and its gradient are whole matrices
-  nn::Var<T> effect =
-      eff_out_.Forward(tape, tape.GatherSumRelu(send, senders, recv, receivers_, 0, m));
-  nn::Var<T> logits =
-      pres_out_.Forward(tape, tape.GatherSumRelu(send, senders, recv, receivers_, m, m));
+  nn::Var<T> effect = eff_out_.Forward(tape, tape.GatherSumRelu(send, senders, recv, receivers_, 0, m));
+  nn::Var<T> logits = pres_out_.Forward(tape, tape.GatherSumRelu(send, senders, recv, receivers_, m, m));
   // class 0 of the (straight-through) Gumbel-softmax sample is the edge
   nn::Var<T> sample = tape.GumbelSoftmax(logits, gumbel, T(options_.temperature), options_.hard);
   nn::Var<T> weight = tape.Slice(sample, 1, 0, 1);
   const Eigen::Index rows = static_cast<Eigen::Index>(batch) * options_.num_entities;
   // the messages summed per receiver, each times its edge's weight
-  nn::Var<T> interaction = open_edges_ ? tape.ScatterAdd(effect, receivers_, rows)
-                                       : tape.ScatterAdd(effect, receivers_, rows, weight);
+  nn::Var<T> interaction =
+      open_edges_ ? tape.ScatterAdd(effect, receivers_, rows) : tape.ScatterAdd(effect, receivers_, rows, weight);
   nn::Var<T> own = act_.Forward(tape, x);
   nn::Var<T> next = gru_.Forward(tape, tape.Concat({interaction, own}, 1), h);
   nn::Var<T> delta = pred_.Forward(tape, next);
@@ -160,8 +150,7 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
 }
 
 template <typename T>
-typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
-                                                   const WindowBatch<T>& batch, nn::Rng& rng) {
+typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape, const WindowBatch<T>& batch, nn::Rng& rng) {
   const int b = batch.batch, n = options_.num_entities;
   if (batch.num_entities != n) throw std::invalid_argument("WindowLoss: entity count mismatch");
   const Eigen::Index rows = static_cast<Eigen::Index>(b) * n;
@@ -195,8 +184,7 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
       const bool clearance = onset_clearance_.size() == static_cast<size_t>(n) * n;
       for (Eigen::Index r = 0; r < rows; ++r) {
         const int j = static_cast<int>(r % n);
-        if (!(now.row(r).squaredNorm() > onset_sq && before.row(r).squaredNorm() <= onset_sq))
-          continue;
+        if (!(now.row(r).squaredNorm() > onset_sq && before.row(r).squaredNorm() <= onset_sq)) continue;
         bool clear = true;
         for (int i = 0; clearance && clear && i < n; ++i) {
           const double c = onset_clearance_[static_cast<size_t>(i) * n + j];
@@ -211,8 +199,7 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
     nn::Var<T> mse = tape.Mean(sq);
     // KL of the edge posterior to the Bernoulli prior, summed over edges, per receiver
     nn::Var<T> log_q = tape.LogSoftmax(step.edge_logits);
-    nn::Var<T> kl = tape.MulScalar(
-        tape.Sum(tape.Mul(tape.Exp(log_q), tape.Sub(log_q, log_prior))), T(1.0 / rows));
+    nn::Var<T> kl = tape.MulScalar(tape.Sum(tape.Mul(tape.Exp(log_q), tape.Sub(log_q, log_prior))), T(1.0 / rows));
     nn::Var<T> term = tape.Add(mse, tape.MulScalar(kl, T(options_.kl_weight)));
     if (options_.gate_logit_decay > 0) {
       // a quadratic pull of every open gate's logit margin (> 0) towards 0, summed over
@@ -220,10 +207,9 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape,
       // otherwise grow without bound, dragging along edges that share their features, and
       // the KL gradient p (1 - p) (...) of a saturated gate is ~0, so it can never close.
       // Closed gates (margin < 0) are left to the KL (they settle at the prior).
-      nn::Var<T> margin = tape.Relu(tape.Sub(tape.Slice(step.edge_logits, 1, 0, 1),
-                                             tape.Slice(step.edge_logits, 1, 1, 1)));
-      term = tape.Add(term, tape.MulScalar(tape.Sum(tape.Square(margin)),
-                                           T(options_.gate_logit_decay / rows)));
+      nn::Var<T> margin =
+          tape.Relu(tape.Sub(tape.Slice(step.edge_logits, 1, 0, 1), tape.Slice(step.edge_logits, 1, 1, 1)));
+      term = tape.Add(term, tape.MulScalar(tape.Sum(tape.Square(margin)), T(options_.gate_logit_decay / rows)));
     }
     total = total.id < 0 ? term : tape.Add(total, term);
     out.mse += static_cast<double>(mse.value()(0, 0));

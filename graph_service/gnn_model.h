@@ -27,37 +27,34 @@
 namespace srics::graph_service {
 
 // Distance between the segments p0-p1 and q0-q1 in the plane (0 where they cross).
-double SegmentDistance(double p0x, double p0y, double p1x, double p1y, double q0x, double q0y,
-                       double q1x, double q1y);
+double SegmentDistance(double p0x, double p0y, double p1x, double p1y, double q0x, double q0y, double q1x, double q1y);
 
 // Whether rows a and b of one step stay farther apart than `distance` (metres) throughout the
 // step, each moving along a straight line: x's columns 0, 1 are positions, dx's the step's
 // motion. Not only before and after: the hand moves up to ~10 cm in a step and can hit an
 // object it is clear of at both ends (it ends where the object was; the object has flown).
 template <class Matrix>
-bool ApartThroughTheStep(const Matrix& x, const Matrix& dx, Eigen::Index a, Eigen::Index b,
-                         double distance) {
+bool ApartThroughTheStep(const Matrix& x, const Matrix& dx, Eigen::Index a, Eigen::Index b, double distance) {
   auto at = [&](Eigen::Index r, int k) { return static_cast<double>(x(r, k)); };
   auto to = [&](Eigen::Index r, int k) { return at(r, k) + static_cast<double>(dx(r, k)); };
-  return SegmentDistance(at(a, 0), at(a, 1), to(a, 0), to(a, 1), at(b, 0), at(b, 1), to(b, 0),
-                         to(b, 1)) > distance;
+  return SegmentDistance(at(a, 0), at(a, 1), to(a, 0), to(a, 1), at(b, 0), at(b, 1), to(b, 0), to(b, 1)) > distance;
 }
 
 // Sizes and loss settings of the model.
 struct GnnOptions {
-  int num_entities = 0;       // N
-  int input_dim = 0;          // F = 2 + K + A
-  int hidden_dim = 20;        // per-entity recurrent state
-  int mlp_hidden = 100;       // hidden width of every d_* MLP
+  int num_entities = 0;           // N
+  int input_dim = 0;              // F = 2 + K + A
+  int hidden_dim = 20;            // per-entity recurrent state
+  int mlp_hidden = 100;           // hidden width of every d_* MLP
   bool edge_node_inputs = false;  // edge MLPs also see x_i, x_j (not in the reference)
   // > 0: the edge MLPs also see the relative position (xy_i - xy_j) / edge_relative_scale of
   // the raw (unstandardised) inputs (not in the recurrent reference model)
   double edge_relative_scale = 0;
-  double delta_scale = 1;     // Δxy = delta_scale * d_pred(h): output units in metres
-  double edge_prior = 0.05;   // Bernoulli prior of an edge (KL target)
+  double delta_scale = 1;    // Δxy = delta_scale * d_pred(h): output units in metres
+  double edge_prior = 0.05;  // Bernoulli prior of an edge (KL target)
   double kl_weight = 1e-5;
-  double temperature = 0.5;   // Gumbel-softmax temperature
-  bool hard = true;           // straight-through hard samples (the reference); false = soft
+  double temperature = 0.5;  // Gumbel-softmax temperature
+  bool hard = true;          // straight-through hard samples (the reference); false = soft
   // > 0: loss += gate_logit_decay * sum over edges of max(0, logit_0 - logit_1)^2 / (N * B)
   double gate_logit_decay = 0;
   // > 0: an entity's squared error at a step where it starts moving (|Δxy| > onset_motion
@@ -76,10 +73,10 @@ class GnnModel {
 
   // One step of the recurrence for `batch` samples on a tape.
   struct Step {
-    nn::Var<T> hidden;        // (B*N) x H, h(t+1)
-    nn::Var<T> delta;         // (B*N) x 2, predicted xy change
-    nn::Var<T> edge_logits;   // E x 2, E = B*N*(N-1), edge order of receivers()/senders()
-    nn::Var<T> edge_weight;   // E x 1, the (sampled) weight used
+    nn::Var<T> hidden;       // (B*N) x H, h(t+1)
+    nn::Var<T> delta;        // (B*N) x 2, predicted xy change
+    nn::Var<T> edge_logits;  // E x 2, E = B*N*(N-1), edge order of receivers()/senders()
+    nn::Var<T> edge_weight;  // E x 1, the (sampled) weight used
   };
   // h: (B*N) x H, x: (B*N) x F; gumbel: E x 2 standard Gumbel noise (all zero: the
   // deterministic argmax / softmax of the logits). sender_rows (size E, optional) replaces
@@ -131,22 +128,22 @@ class GnnModel {
   void BuildEdges(int batch);
 
   GnnOptions options_;
-  nn::Mlp<T> act_;            // d_act: F -> M -> H
-  nn::Linear<T> edge_send_;   // first layer of [d_eff | d_pres], sender half (no bias)
-  nn::Linear<T> edge_recv_;   // receiver half with the bias
+  nn::Mlp<T> act_;                           // d_act: F -> M -> H
+  nn::Linear<T> edge_send_;                  // first layer of [d_eff | d_pres], sender half (no bias)
+  nn::Linear<T> edge_recv_;                  // receiver half with the bias
   std::unique_ptr<nn::Linear<T>> edge_rel_;  // relative position -> first layer (no bias)
-  nn::Linear<T> eff_out_;     // M -> H
-  nn::Linear<T> pres_out_;    // M -> 2 (class 0 = edge)
-  nn::GruCell<T> gru_;        // [h_int, h_act] -> H
-  nn::Mlp<T> pred_;           // d_pred: H -> M -> 2
+  nn::Linear<T> eff_out_;                    // M -> H
+  nn::Linear<T> pres_out_;                   // M -> 2 (class 0 = edge)
+  nn::GruCell<T> gru_;                       // [h_int, h_act] -> H
+  nn::Mlp<T> pred_;                          // d_pred: H -> M -> 2
   bool open_edges_ = false;
   std::vector<double> entity_weights_;
   std::vector<double> onset_clearance_;
   Mat input_mean_, input_inv_std_;  // 1 x F each (empty: no standardisation)
-  Mat row_weights_;           // (B*N) x 1 built from entity_weights_
+  Mat row_weights_;                 // (B*N) x 1 built from entity_weights_
   int edges_batch_ = -1;
   std::vector<int> senders_, receivers_;
-  Mat log_prior_;             // 1 x 2: log p, log (1 - p)
+  Mat log_prior_;  // 1 x 2: log p, log (1 - p)
 };
 
 extern template class GnnModel<float>;

@@ -13,7 +13,8 @@
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
-  const process::RoleProgram program{"srics-graph", "graph", false,
+  const process::RoleProgram program{
+      "srics-graph", "graph", false,
       "the graph service (learns the interaction graph from explore episodes, publishes it)"};
   return process::RunRole(argc, argv, program, [](const process::Role& role) {
     const config::Config& config = role.config;

@@ -13,8 +13,7 @@ double JsonValue::AsDouble() const {
 
 int64_t JsonValue::AsInt() const {
   const double v = AsDouble();
-  if (v != std::floor(v) || std::abs(v) > 9007199254740992.0)
-    throw std::runtime_error("expected an integer");
+  if (v != std::floor(v) || std::abs(v) > 9007199254740992.0) throw std::runtime_error("expected an integer");
   return static_cast<int64_t>(v);
 }
 
@@ -64,8 +63,8 @@ class JsonParser {
     throw std::runtime_error("JSON syntax error at byte " + std::to_string(pos_) + ": " + what);
   }
   void Space() {
-    while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\n' ||
-                                   text_[pos_] == '\r' || text_[pos_] == '\t'))
+    while (pos_ < text_.size() &&
+           (text_[pos_] == ' ' || text_[pos_] == '\n' || text_[pos_] == '\r' || text_[pos_] == '\t'))
       ++pos_;
   }
   bool Eat(char c) {
@@ -143,7 +142,9 @@ class JsonParser {
         if (pos_ >= text_.size()) Error("unterminated escape");
         const char e = text_[pos_++];
         switch (e) {
-          case '"': case '\\': case '/': out += e; break;
+          case '"':
+          case '\\':
+          case '/': out += e; break;
           case 'n': out += '\n'; break;
           case 't': out += '\t'; break;
           case 'r': out += '\r'; break;

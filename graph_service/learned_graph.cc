@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -14,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "graph_service/json.h"
 
@@ -52,12 +52,9 @@ void Fail(const std::string& what) { throw std::runtime_error("interaction graph
 
 }  // namespace
 
-LearnedGraph AggregateGraph(int n, const std::vector<double>& w, double threshold,
-                            int action_entity) {
-  if (n < 2 || n > rl::kMaxGraphEntities)
-    throw std::invalid_argument("AggregateGraph: entity count out of range");
-  if (w.size() != static_cast<size_t>(n) * n)
-    throw std::invalid_argument("AggregateGraph: weight matrix is not N x N");
+LearnedGraph AggregateGraph(int n, const std::vector<double>& w, double threshold, int action_entity) {
+  if (n < 2 || n > rl::kMaxGraphEntities) throw std::invalid_argument("AggregateGraph: entity count out of range");
+  if (w.size() != static_cast<size_t>(n) * n) throw std::invalid_argument("AggregateGraph: weight matrix is not N x N");
   if (action_entity < 0 || action_entity >= n)
     throw std::invalid_argument("AggregateGraph: action entity out of range");
   LearnedGraph out;
@@ -115,8 +112,8 @@ std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, in
   return out;
 }
 
-std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int arm,
-                                       const std::vector<bool>& moving, double share) {
+std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int arm, const std::vector<bool>& moving,
+                                       double share) {
   const int n = CheckedObjectScores("CutWeakObjectPairs", scores, arm, moving);
   if (!(share >= 0 && share <= 1)) throw std::invalid_argument("CutWeakObjectPairs: share outside [0, 1]");
   auto object_pair = [&](int i, int j) { return MovingObjectPair(i, j, arm, moving); };
@@ -138,8 +135,8 @@ std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int ar
   return out;
 }
 
-std::vector<double> OneWayObjectTies(const std::vector<double>& scores, const std::vector<double>& orientation,
-                                     int arm, double threshold) {
+std::vector<double> OneWayObjectTies(const std::vector<double>& scores, const std::vector<double>& orientation, int arm,
+                                     double threshold) {
   int n = 0;
   while (static_cast<size_t>(n) * n < scores.size()) ++n;
   if (static_cast<size_t>(n) * n != scores.size() || orientation.size() != scores.size())
@@ -170,8 +167,10 @@ std::vector<double> OneWayObjectTies(const std::vector<double>& scores, const st
   };
   std::vector<double> out = scores;
   for (const auto& [i, j] : edges) {
-    if (reaches(j, i)) out[at(i, j)] = 0.0;  // would close a cycle: the weaker direction of a pair
-    else taken[at(i, j)] = 1;
+    if (reaches(j, i))
+      out[at(i, j)] = 0.0;  // would close a cycle: the weaker direction of a pair
+    else
+      taken[at(i, j)] = 1;
   }
   return out;
 }
@@ -191,8 +190,7 @@ LearnedGraph WithOneWayObjectTies(const LearnedGraph& graph) {
 }
 
 bool SameStructure(const rl::InteractionGraph& a, const rl::InteractionGraph& b) {
-  return a.num_entities == b.num_entities && a.action_entity == b.action_entity &&
-         a.adjacency == b.adjacency;
+  return a.num_entities == b.num_entities && a.action_entity == b.action_entity && a.adjacency == b.adjacency;
 }
 
 std::string GraphToJson(const LearnedGraph& g) {
@@ -227,8 +225,7 @@ std::string GraphToJson(const LearnedGraph& g) {
   auto matrix = [&](const char* name, const std::vector<double>& m) {
     s << "  \"" << name << "\": [\n";
     for (int i = 0; i < n; ++i) {
-      std::vector<double> row(m.begin() + static_cast<size_t>(i) * n,
-                              m.begin() + static_cast<size_t>(i + 1) * n);
+      std::vector<double> row(m.begin() + static_cast<size_t>(i) * n, m.begin() + static_cast<size_t>(i + 1) * n);
       s << "    " << list(row) << (i + 1 < n ? ",\n" : "\n");
     }
     s << "  ],\n";
@@ -268,8 +265,7 @@ JsonValue CheckedRoot(const std::string& text) {
   if (!root.is_object()) Fail("top level is not an object");
   if (root.Get("format").AsString() != kFormat) Fail("not an interaction graph (format)");
   const int64_t version = root.Get("format_version").AsInt();
-  if (version != 1 && version != kFormatVersion)
-    Fail("unsupported format version " + std::to_string(version));
+  if (version != 1 && version != kFormatVersion) Fail("unsupported format version " + std::to_string(version));
   return root;
 }
 
@@ -298,8 +294,7 @@ LearnedGraph GraphFromJson(const std::string& text) {
     g.entity_kinds.push_back(static_cast<int>(kind));
   }
   if (static_cast<int64_t>(g.entity_kinds.size()) != n) Fail("entity_kinds size differs from num_entities");
-  for (const JsonValue& v : root.Get("action_correlation").AsArray())
-    g.action_correlation.push_back(v.AsDouble());
+  for (const JsonValue& v : root.Get("action_correlation").AsArray()) g.action_correlation.push_back(v.AsDouble());
   if (static_cast<int64_t>(g.action_correlation.size()) != n) Fail("action_correlation size");
   // the matrices must be N rows of N, values in [0, 1], zero diagonal
   auto read_matrix = [&](const char* name) {
@@ -339,10 +334,8 @@ LearnedGraph GraphFromJson(const std::string& text) {
     }
   }
   // everything derived must follow from the weights, threshold and action entity
-  LearnedGraph derived = AggregateGraph(static_cast<int>(n), weights, g.threshold,
-                                        static_cast<int>(action));
-  if (derived.graph.adjacency != adjacency)
-    Fail("adjacency does not match the edge scores and threshold");
+  LearnedGraph derived = AggregateGraph(static_cast<int>(n), weights, g.threshold, static_cast<int>(action));
+  if (derived.graph.adjacency != adjacency) Fail("adjacency does not match the edge scores and threshold");
   std::vector<int64_t> depths, masks;
   for (const JsonValue& v : root.Get("depths").AsArray()) depths.push_back(v.AsInt());
   for (const JsonValue& v : root.Get("ancestor_masks").AsArray()) masks.push_back(v.AsInt());
@@ -382,14 +375,14 @@ std::string GraphDot(const LearnedGraph& g) {
   const int n = g.num_entities();
   std::ostringstream s;
   s << "digraph interaction {\n  rankdir=LR;\n  node [fontname=\"Helvetica\"];\n";
-  s << "  label=\"version " << g.version << ", " << g.updates << " updates, " << g.readout
-    << " read-out, threshold " << g.threshold << "\";\n";
+  s << "  label=\"version " << g.version << ", " << g.updates << " updates, " << g.readout << " read-out, threshold "
+    << g.threshold << "\";\n";
   s << "  action [shape=diamond, style=filled, fillcolor=\"#f4d35e\", label=\"action\"];\n";
   for (int e = 0; e < n; ++e) {
     const bool subgoal = g.structure.has_subgoal(e);
-    s << "  e" << e << " [shape=" << (e == g.graph.action_entity ? "box" : "ellipse")
-      << ", style=filled, fillcolor=\"" << (subgoal ? "#9ad1d4" : "#dddddd") << "\", label=\""
-      << EntityName(e) << "\\ndepth " << g.structure.depth[e] << "\"];\n";
+    s << "  e" << e << " [shape=" << (e == g.graph.action_entity ? "box" : "ellipse") << ", style=filled, fillcolor=\""
+      << (subgoal ? "#9ad1d4" : "#dddddd") << "\", label=\"" << EntityName(e) << "\\ndepth " << g.structure.depth[e]
+      << "\"];\n";
   }
   s << "  action -> e" << g.graph.action_entity << " [penwidth=2];\n";
   for (int i = 0; i < n; ++i)
@@ -408,8 +401,7 @@ std::string HeatMapDot(const LearnedGraph& g) {
   std::ostringstream s;
   s << "digraph weights {\n  node [shape=plaintext, fontname=\"Helvetica\"];\n";
   s << "  m [label=<<table border=\"0\" cellborder=\"1\" cellspacing=\"0\" cellpadding=\"8\">\n";
-  s << "  <tr><td colspan=\"" << n + 1 << "\">"
-    << (g.readout == "cut" ? "cut score" : "mean edge weight")
+  s << "  <tr><td colspan=\"" << n + 1 << "\">" << (g.readout == "cut" ? "cut score" : "mean edge weight")
     << " (row acts on column), threshold " << g.threshold << "</td></tr>\n  <tr><td>from \\ to</td>";
   for (int j = 0; j < n; ++j) s << "<td>" << EntityName(j) << "</td>";
   s << "</tr>\n";
@@ -425,8 +417,8 @@ std::string HeatMapDot(const LearnedGraph& g) {
       char text[32];
       std::snprintf(text, sizeof text, i == j ? "-" : "%.3f", w);
       const bool kept = i != j && g.graph.edge(i, j);
-      s << "<td bgcolor=\"" << (i == j ? "#eeeeee" : color) << "\">" << (kept ? "<b>" : "")
-        << text << (kept ? "</b>" : "") << "</td>";
+      s << "<td bgcolor=\"" << (i == j ? "#eeeeee" : color) << "\">" << (kept ? "<b>" : "") << text
+        << (kept ? "</b>" : "") << "</td>";
     }
     s << "</tr>\n";
   }
@@ -452,8 +444,8 @@ bool RenderDotToPng(const std::string& dot_text, const std::string& png_path, st
 std::string SaveGraphWithPictures(const LearnedGraph& graph, const std::string& prefix) {
   SaveGraph(graph, prefix + ".json");
   std::string missing;
-  for (const auto& [suffix, text] : {std::pair<std::string, std::string>{"", GraphDot(graph)},
-                                     {"_weights", HeatMapDot(graph)}}) {
+  for (const auto& [suffix, text] :
+       {std::pair<std::string, std::string>{"", GraphDot(graph)}, {"_weights", HeatMapDot(graph)}}) {
     const std::string dot = prefix + suffix + ".dot";
     {
       std::ofstream out(dot, std::ios::trunc);

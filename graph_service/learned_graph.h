@@ -13,21 +13,21 @@
 namespace srics::graph_service {
 
 struct LearnedGraph {
-  uint64_t version = 0;                 // 1, 2, ... per publication of a new graph
-  rl::InteractionGraph graph;           // adjacency (i acts on j) and the action entity
-  rl::SubgoalStructure structure;       // ancestor sets and depths of `graph`
+  uint64_t version = 0;            // 1, 2, ... per publication of a new graph
+  rl::InteractionGraph graph;      // adjacency (i acts on j) and the action entity
+  rl::SubgoalStructure structure;  // ancestor sets and depths of `graph`
   // how the edges were read out of the model: "cut" or "mean_weight" (the paper's)
   std::string readout = "mean_weight";
   // N x N, [i * N + j], diagonal 0, each in [0, 1]: the read-out's score of each edge (the
   // cut score, or the mean weight); kept edges have a score > threshold
   std::vector<double> edge_scores;
   double threshold = 0.06;
-  std::vector<double> mean_weights;     // N x N: the model's mean edge weights (informational)
+  std::vector<double> mean_weights;        // N x N: the model's mean edge weights (informational)
   std::vector<double> action_correlation;  // per entity, how its motion follows the action
-  std::vector<int> entity_kinds;        // kind of each entity (0 = arm)
-  double held_out_loss = 0;             // held-out MSE per transition of the final model
-  int64_t updates = 0;                  // training updates behind the graph
-  int episodes = 0;                     // episodes in its data set
+  std::vector<int> entity_kinds;           // kind of each entity (0 = arm)
+  double held_out_loss = 0;                // held-out MSE per transition of the final model
+  int64_t updates = 0;                     // training updates behind the graph
+  int episodes = 0;                        // episodes in its data set
 
   int num_entities() const { return graph.num_entities; }
 };
@@ -38,23 +38,21 @@ struct LearnedGraph {
 // another read-out sets mean_weights and readout afterwards. Throws std::invalid_argument on
 // malformed input (size not N x N, N outside [2, rl::kMaxGraphEntities], action entity out of
 // range, scores not finite).
-LearnedGraph AggregateGraph(int num_entities, const std::vector<double>& scores,
-                            double threshold, int action_entity);
+LearnedGraph AggregateGraph(int num_entities, const std::vector<double>& scores, double threshold, int action_entity);
 
 // Scores with every object -> object pair made reciprocal: for i, j both moving and neither
 // `arm`, scores[i][j] = scores[j][i] = the larger of the two. Edges from or into the arm and
 // into an entity that does not move are left as they are. Throws std::invalid_argument when
 // the sizes do not match or arm is out of range.
-std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, int arm,
-                                           const std::vector<bool>& moving);
+std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, int arm, const std::vector<bool>& moving);
 
 // Scores with every weak object -> object edge set to 0: for i, j both moving and neither
 // `arm`, i -> j is cut when its score is below `share` times the largest score of any
 // object -> object edge from or into i or j (either direction). Other edges are left as they
 // are; share 0 returns the scores unchanged. Throws std::invalid_argument when the sizes do
 // not match, arm is out of range or share is outside [0, 1].
-std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int arm,
-                                       const std::vector<bool>& moving, double share);
+std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int arm, const std::vector<bool>& moving,
+                                       double share);
 
 // Scores with the object -> object edges over `threshold` made one way (graph.object_ties:
 // one_way): they are taken in decreasing order of `orientation` (the model's mean edge weights
@@ -63,8 +61,8 @@ std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int ar
 // kept both ways thus keeps the direction with the larger orientation weight, and the objects'
 // edges form a DAG. Edges from or into `arm` and edges at or under the threshold are left as
 // they are. Throws std::invalid_argument when the sizes do not match or arm is out of range.
-std::vector<double> OneWayObjectTies(const std::vector<double>& scores, const std::vector<double>& orientation,
-                                     int arm, double threshold);
+std::vector<double> OneWayObjectTies(const std::vector<double>& scores, const std::vector<double>& orientation, int arm,
+                                     double threshold);
 
 // `graph` with its object ties made one way: OneWayObjectTies of its edge scores oriented by
 // its mean weights at its threshold, then adjacency, ancestor sets and depths derived again;

@@ -25,12 +25,10 @@ const char* PhaseName(Progress::Phase phase) {
   return "?";
 }
 
-GraphService::GraphService(const config::GraphConfig& config, const ServiceOptions& options,
-                           EpisodeSource* source, GraphSink* sink, ProgressCallback on_progress)
-    : config_(config), options_(options), source_(source), sink_(sink),
-      on_progress_(std::move(on_progress)) {
-  if (source_ == nullptr || sink_ == nullptr)
-    throw std::invalid_argument("GraphService: source and sink are required");
+GraphService::GraphService(const config::GraphConfig& config, const ServiceOptions& options, EpisodeSource* source,
+                           GraphSink* sink, ProgressCallback on_progress)
+    : config_(config), options_(options), source_(source), sink_(sink), on_progress_(std::move(on_progress)) {
+  if (source_ == nullptr || sink_ == nullptr) throw std::invalid_argument("GraphService: source and sink are required");
   progress_.target_episodes = config_.episodes;
   if (options_.shape) {
     // the run's shape, before any episode: no peer decides it by being first
@@ -41,7 +39,8 @@ GraphService::GraphService(const config::GraphConfig& config, const ServiceOptio
     // the cut read-out swaps senders between episodes by position, which mixes identities
     // when episodes present different objects
     if (data_->combinations() && config_.readout == config::GraphReadout::kCut)
-      throw std::invalid_argument("graph.readout: cut is not built for environments with object_sets (use mean_weight)");
+      throw std::invalid_argument(
+          "graph.readout: cut is not built for environments with object_sets (use mean_weight)");
   }
 }
 
@@ -54,8 +53,7 @@ std::string GraphService::training_path() const {
 }
 
 void GraphService::Report() {
-  progress_.elapsed_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  progress_.elapsed_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   if (on_progress_) on_progress_(progress_);
 }
 
@@ -179,12 +177,8 @@ StepResult GraphService::Step(std::chrono::milliseconds wait) {
   StepResult result = StepResult::kWorked;
   switch (progress_.phase) {
     case Progress::Phase::kLoading:
-    case Progress::Phase::kCollecting:
-      result = CollectStep(wait);
-      break;
-    case Progress::Phase::kTraining:
-      TrainStep();
-      break;
+    case Progress::Phase::kCollecting: result = CollectStep(wait); break;
+    case Progress::Phase::kTraining: TrainStep(); break;
     case Progress::Phase::kPublished: {
       if (refining_) {
         result = RefineStep(wait);
@@ -196,9 +190,7 @@ StepResult GraphService::Step(std::chrono::milliseconds wait) {
       result = StepResult::kIdle;
       break;
     }
-    case Progress::Phase::kStopped:
-      result = StepResult::kDone;
-      break;
+    case Progress::Phase::kStopped: result = StepResult::kDone; break;
   }
   PublishStatus(false);
   return result;
@@ -225,8 +217,8 @@ bool GraphService::LoadSaved() {
   if (path.empty() || !std::filesystem::exists(path)) return false;
   try {
     LearnedGraph saved = LoadGraph(path);
-    spdlog::info("graph service: re-publishing saved graph version {} ({}) from {}",
-                 saved.version, rl::DescribeGraph(saved.graph), path);
+    spdlog::info("graph service: re-publishing saved graph version {} ({}) from {}", saved.version,
+                 rl::DescribeGraph(saved.graph), path);
     sink_->Publish(ToGraphUpdate(saved));
     progress_.phase = Progress::Phase::kPublished;
     progress_.published_version = saved.version;
@@ -242,8 +234,7 @@ bool GraphService::LoadSaved() {
   } catch (const std::exception& e) {
     // an unusable file is kept aside for inspection and the graph is learned again
     const std::string aside = SetAside(path);
-    spdlog::warn("graph service: saved graph rejected ({}); moved to {}, learning again",
-                 e.what(), aside);
+    spdlog::warn("graph service: saved graph rejected ({}); moved to {}, learning again", e.what(), aside);
     return false;
   }
 }
@@ -307,8 +298,8 @@ bool GraphService::LoadTraining() {
       nn::ByteReader refine_bytes(section->bytes, path + ": graph.refine_data");
       refine->Load(refine_bytes);
       if (refine_cursor < 0 || refine_cursor >= std::max(1, refine->size()) || refine_episodes < refine->size())
-        throw nn::CheckpointError(path + ": the refinement's counters do not fit its " + std::to_string(refine->size()) +
-                                  " episodes");
+        throw nn::CheckpointError(path + ": the refinement's counters do not fit its " +
+                                  std::to_string(refine->size()) + " episodes");
     }
     const bool has_trainer =
         std::any_of(sections.begin(), sections.end(), [](const nn::CheckpointSection& s) { return s.name == "gnn"; });
@@ -393,8 +384,7 @@ StepResult GraphService::CollectStep(std::chrono::milliseconds wait) {
     last_report_ = now;
   }
   if (!open) {
-    spdlog::warn("graph service: episode source closed after {} of {} episodes", progress_.episodes,
-                 config_.episodes);
+    spdlog::warn("graph service: episode source closed after {} of {} episodes", progress_.episodes, config_.episodes);
     progress_.phase = Progress::Phase::kStopped;
     Report();
     return StepResult::kDone;
@@ -418,9 +408,10 @@ void GraphService::UpdateModel() {
   if (trainer_->skipped_in_a_row() == 0) return;
   progress_.skipped_updates = trainer_->skipped_updates();
   if (trainer_->skipped_in_a_row() == 1)  // once per streak: GnnTrainingDivergedError ends a long one
-    spdlog::warn("graph service: GNN update {} skipped: a non-finite loss or an unusable gradient "
-                 "({} so far; graph.max_skipped_updates_in_a_row: {})",
-                 trainer_->updates(), trainer_->skipped_updates(), config_.max_skipped_updates_in_a_row);
+    spdlog::warn(
+        "graph service: GNN update {} skipped: a non-finite loss or an unusable gradient "
+        "({} so far; graph.max_skipped_updates_in_a_row: {})",
+        trainer_->updates(), trainer_->skipped_updates(), config_.max_skipped_updates_in_a_row);
 }
 
 void GraphService::TrainStep() {
@@ -428,13 +419,15 @@ void GraphService::TrainStep() {
     UpdateModel();
     if (trainer_->updates() % config_.eval_every_updates == 0) break;  // evaluate at the boundary
   }
-  const bool at_eval = trainer_->updates() % config_.eval_every_updates == 0 ||
-                       trainer_->updates() >= config_.max_updates;
+  const bool at_eval =
+      trainer_->updates() % config_.eval_every_updates == 0 || trainer_->updates() >= config_.max_updates;
   if (!at_eval) return;
   EvaluateGraph();
   const bool stable = stable_ >= config_.stable_evaluations && trainer_->updates() >= config_.min_updates;
-  if (stable || trainer_->updates() >= config_.max_updates) Finish();
-  else SaveTraining();
+  if (stable || trainer_->updates() >= config_.max_updates)
+    Finish();
+  else
+    SaveTraining();
 }
 
 namespace {
@@ -451,7 +444,8 @@ std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::Gra
     // object pairs: their weight while apart (graph.object_edges: apart); the arm's: every step
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)
-        if (i != action_entity && j != action_entity) scores[static_cast<size_t>(i) * n + j] = stats.apart_weight[static_cast<size_t>(i) * n + j];
+        if (i != action_entity && j != action_entity)
+          scores[static_cast<size_t>(i) * n + j] = stats.apart_weight[static_cast<size_t>(i) * n + j];
   }
   if (!cut && !stats.training_mean_weight.empty()) {
     // refinement: an edge counts when it is used in random exploration or in the agent's own
@@ -483,10 +477,10 @@ std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::Gra
   }
   for (int j = 0; j < n; ++j)
     if (still[j])
-      for (int i = 0; i < n; ++i)
-        scores[static_cast<size_t>(i) * n + j] = scores[static_cast<size_t>(j) * n + i] = 0.0;
+      for (int i = 0; i < n; ++i) scores[static_cast<size_t>(i) * n + j] = scores[static_cast<size_t>(j) * n + i] = 0.0;
   if (config.reciprocal_object_edges) scores = ReciprocalObjectScores(scores, action_entity, moving);
-  if (config.object_pair_share > 0) scores = CutWeakObjectPairs(scores, action_entity, moving, config.object_pair_share);
+  if (config.object_pair_share > 0)
+    scores = CutWeakObjectPairs(scores, action_entity, moving, config.object_pair_share);
   if (config.object_ties == config::ObjectTies::kOneWay) {
     // oriented by the every-step mean weights: the graph file keeps them, so the direction can
     // be checked and derived again from a published graph (the scores of a reciprocal pair are
@@ -502,8 +496,8 @@ void GraphService::EvaluateGraph() {
   const EdgeStatistics stats = trainer_->Evaluate();
   const bool cut = config_.readout == config::GraphReadout::kCut;
   const std::vector<double> scores = ReadOutScores(stats, config_, action_entity_);
-  LearnedGraph graph = AggregateGraph(data_->graph_entities(), scores,
-                                      cut ? config_.cut_threshold : config_.threshold, action_entity_);
+  LearnedGraph graph =
+      AggregateGraph(data_->graph_entities(), scores, cut ? config_.cut_threshold : config_.threshold, action_entity_);
   graph.readout = cut ? "cut" : trainer_->ApartWeights() ? "mean_weight_apart" : "mean_weight";
   graph.mean_weights = stats.mean_weight;
   graph.held_out_loss = stats.held_out_mse;
@@ -549,8 +543,7 @@ void GraphService::PublishCurrent() {
     std::filesystem::create_directories(options_.state_dir);
     try {
       if (options_.render_pictures) {
-        const std::string missing =
-            SaveGraphWithPictures(graph, options_.state_dir + "/graph");
+        const std::string missing = SaveGraphWithPictures(graph, options_.state_dir + "/graph");
         if (!missing.empty()) spdlog::warn("graph service: could not render {}", missing);
       } else {
         SaveGraph(graph, graph_path());
@@ -570,8 +563,9 @@ void GraphService::PublishCurrent() {
 int GraphService::RefineCapacity() const { return std::max<int>(1, static_cast<int>(data_->train_episodes().size())); }
 
 double GraphService::RefineShare() const {
-  return refine_data_ ? config_.refine_share * std::min(1.0, static_cast<double>(refine_data_->size()) / RefineCapacity())
-                      : 0.0;
+  return refine_data_
+             ? config_.refine_share * std::min(1.0, static_cast<double>(refine_data_->size()) / RefineCapacity())
+             : 0.0;
 }
 
 void GraphService::StartRefinement() {
@@ -580,7 +574,8 @@ void GraphService::StartRefinement() {
                  options_.refine_episode_steps, config_.window);
     return;
   }
-  if (!refine_data_) refine_data_ = std::make_unique<GraphDataset>(data_->ForTrainingEpisodes(options_.refine_episode_steps));
+  if (!refine_data_)
+    refine_data_ = std::make_unique<GraphDataset>(data_->ForTrainingEpisodes(options_.refine_episode_steps));
   trainer_->SetRefinementData(refine_data_.get(), RefineShare());
   refining_ = true;
   progress_.refining = true;
@@ -628,7 +623,8 @@ StepResult GraphService::RefineStep(std::chrono::milliseconds wait) {
     if (trainer_->updates() % config_.eval_every_updates != 0) continue;
     EvaluateGraph();
     // only graphs of a decision on training episodes, not the drift of the first graph's model
-    if (refine_decided_ && !SameStructure(current_->graph, published_->graph) && stable_ >= config_.stable_evaluations) {
+    if (refine_decided_ && !SameStructure(current_->graph, published_->graph) &&
+        stable_ >= config_.stable_evaluations) {
       spdlog::info("graph service: the refined graph ({}) differs from v{} ({}) for {} evaluations: publishing v{}",
                    rl::DescribeGraph(current_->graph), published_->version, rl::DescribeGraph(published_->graph),
                    stable_, next_version_);

@@ -35,19 +35,19 @@ using links::GraphSink;
 struct Progress {
   enum class Phase { kLoading, kCollecting, kTraining, kPublished, kStopped };
   Phase phase = Phase::kLoading;
-  int episodes = 0;            // accepted into the data set
-  int target_episodes = 0;     // data set size wanted
-  int dropped = 0;             // refused (wrong mode, layout, non-finite, ...)
+  int episodes = 0;         // accepted into the data set
+  int target_episodes = 0;  // data set size wanted
+  int dropped = 0;          // refused (wrong mode, layout, non-finite, ...)
   std::string last_drop_reason;
-  int64_t updates = 0;         // GNN training updates done
-  int64_t skipped_updates = 0; // of them: skipped, a non-finite loss or unusable gradient (since start)
-  double train_loss = 0;       // MSE per transition of the last batch
-  double held_out_loss = -1;   // at the last evaluation (-1: none yet)
+  int64_t updates = 0;             // GNN training updates done
+  int64_t skipped_updates = 0;     // of them: skipped, a non-finite loss or unusable gradient (since start)
+  double train_loss = 0;           // MSE per transition of the last batch
+  double held_out_loss = -1;       // at the last evaluation (-1: none yet)
   double held_out_zero_loss = -1;  // held-out MSE of predicting no motion
   // per entity held-out MSE and its no-motion baseline (which entities are predicted well)
   std::vector<double> entity_loss, entity_zero_loss;
-  int stable_evaluations = 0;  // consecutive evaluations with an unchanged graph
-  std::string graph;           // current thresholded graph (rl::DescribeGraph)
+  int stable_evaluations = 0;        // consecutive evaluations with an unchanged graph
+  std::string graph;                 // current thresholded graph (rl::DescribeGraph)
   std::vector<double> edge_scores;   // current read-out scores (N x N), thresholded
   std::vector<double> mean_weights;  // current mean weights (N x N)
   uint64_t published_version = 0;    // 0: nothing published yet
@@ -66,7 +66,7 @@ struct ServiceOptions {
   uint64_t seed = 1;            // data split, initial weights, batches, Gumbel noise
   bool render_pictures = true;  // graph.png and graph_weights.png via graphviz
   std::chrono::milliseconds poll_timeout{200};
-  rl::EpisodeLimits limits;     // what an episode of this run looks like (default: any layout)
+  rl::EpisodeLimits limits;  // what an episode of this run looks like (default: any layout)
   // The data set's layout, entity kinds and action size: the run's, from its config
   // (rl::FullEnvironmentShapeFor); explore episodes of any other shape are dropped. The role
   // programs always set it. Unset (toy worlds in tests) the first valid episode fixes it.
@@ -74,11 +74,11 @@ struct ServiceOptions {
   // each graph entity's footprint bounding radius in metres (the arm's hand box, then the
   // catalogue's objects), for graph.object_edges: apart; empty: object edges over every step
   std::vector<double> contact_radius;
-  int updates_per_step = 10;    // GNN updates per Step (each Step stays well under a second)
+  int updates_per_step = 10;  // GNN updates per Step (each Step stays well under a second)
   // the run's training episode length (actors.train_episode_steps): with
   // graph.refine_after_publish the service refines from episodes of this length
   int refine_episode_steps = 0;
-  double status_period_s = 1;   // NodeStatus to the sink this often
+  double status_period_s = 1;  // NodeStatus to the sink this often
 };
 
 // The options a run's config implies (both the srics-graph process and the in-process run):
@@ -107,8 +107,8 @@ class GraphService {
   using ProgressCallback = std::function<void(const Progress&)>;
 
   // source and sink must outlive the service; on_progress may be empty.
-  GraphService(const config::GraphConfig& config, const ServiceOptions& options,
-               EpisodeSource* source, GraphSink* sink, ProgressCallback on_progress);
+  GraphService(const config::GraphConfig& config, const ServiceOptions& options, EpisodeSource* source, GraphSink* sink,
+               ProgressCallback on_progress);
 
   // One unit of work: the first Step loads and re-publishes a saved graph if there is one;
   // then each Step collects the episodes the source has (waiting at most `wait`), or does
@@ -161,7 +161,7 @@ class GraphService {
   Progress progress_;
   std::unique_ptr<GraphDataset> data_;
   std::unique_ptr<GnnTrainer> trainer_;
-  std::optional<LearnedGraph> current_;    // last evaluated graph
+  std::optional<LearnedGraph> current_;  // last evaluated graph
   std::optional<LearnedGraph> published_;
   uint64_t next_version_ = 1;
   bool started_ = false;
@@ -171,8 +171,8 @@ class GraphService {
   int action_entity_ = 0;
   // refinement: the run's training episodes (a ring as large as the training split)
   std::unique_ptr<GraphDataset> refine_data_;
-  int refine_cursor_ = 0;       // the ring's next place once it is full
-  int64_t refine_budget_ = 0;   // updates owed to episodes taken in
+  int refine_cursor_ = 0;      // the ring's next place once it is full
+  int64_t refine_budget_ = 0;  // updates owed to episodes taken in
   bool refining_ = false;
   bool refine_decided_ = false;  // the edges were decided again on training episodes
   std::vector<double> action_correlation_;

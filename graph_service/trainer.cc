@@ -48,7 +48,8 @@ void AppendWindows(const WindowBatch<T>& more, WindowBatch<T>* batch) {
     return;
   }
   for (int t = 0; t < batch->steps(); ++t) {
-    for (auto [into, from] : {std::pair{&batch->inputs[t], &more.inputs[t]}, std::pair{&batch->deltas[t], &more.deltas[t]}}) {
+    for (auto [into, from] :
+         {std::pair{&batch->inputs[t], &more.inputs[t]}, std::pair{&batch->deltas[t], &more.deltas[t]}}) {
       const Eigen::Index rows = into->rows();
       into->conservativeResize(rows + from->rows(), Eigen::NoChange);
       into->bottomRows(from->rows()) = *from;
@@ -59,9 +60,10 @@ void AppendWindows(const WindowBatch<T>& more, WindowBatch<T>* batch) {
 
 }  // namespace
 
-GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& data,
-                       uint64_t seed)
-    : config_(config), data_(data), rng_(seed),
+GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& data, uint64_t seed)
+    : config_(config),
+      data_(data),
+      rng_(seed),
       model_(MakeGnnOptions(config, data), Seeded(rng_)),
       params_([this] {
         nn::ParameterList<float> list;
@@ -143,8 +145,7 @@ double GnnTrainer::Update() {
     // Adam's bias correction would make their first steps 3-6 times the learning rate, and
     // the second moments of that burst would slow the KL's later closing for
     // ~1 / (1 - beta2) updates
-    adam_ = nn::Adam<float>(params_, {.lr = config_.learning_rate,
-                                      .beta2 = config_.adam_beta2_after_warmup});
+    adam_ = nn::Adam<float>(params_, {.lr = config_.learning_rate, .beta2 = config_.adam_beta2_after_warmup});
   }
   const int from_refinement =
       refine_ != nullptr && refine_->size() > 0
@@ -172,14 +173,17 @@ double GnnTrainer::Update() {
     if (limit > 0 && skipped_in_a_row_ >= limit)
       throw GnnTrainingDivergedError(
           "graph learning diverged: the last " + std::to_string(skipped_in_a_row_) + " GNN updates (to update " +
-          std::to_string(updates_) + ") all met a non-finite loss or an unusable gradient, so the model no "
+          std::to_string(updates_) +
+          ") all met a non-finite loss or an unusable gradient, so the model no "
           "longer changes; the service stops rather than publish its graph (graph.max_skipped_updates_in_a_row: " +
           std::to_string(limit) + ")");
     return std::numeric_limits<double>::quiet_NaN();
   }
   skipped_in_a_row_ = 0;
-  if (config_.use_adam) adam_.Step();
-  else optimizer_.Step();
+  if (config_.use_adam)
+    adam_.Step();
+  else
+    optimizer_.Step();
   last_mse_ = loss.mse / batch_.steps();
   last_kl_ = loss.kl / batch_.steps();
   return total;
@@ -214,13 +218,15 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
   // refinement trains on after max_updates
   const int64_t most = config_.refine_after_publish ? std::numeric_limits<int64_t>::max() : config_.max_updates;
   if (updates < 0 || updates > most)
-    throw nn::CheckpointError(path + ": " + std::to_string(updates) + " GNN updates, outside 0.." + std::to_string(most));
+    throw nn::CheckpointError(path + ": " + std::to_string(updates) + " GNN updates, outside 0.." +
+                              std::to_string(most));
   last_mse_ = counters.Get<double>();
   last_kl_ = counters.Get<double>();
   nn::SetRngState(&rng_, counters.GetString(), path + ": gnn.trainer");
   const int64_t schedule_start = counters.done() ? 0 : counters.Get<int64_t>();
   if (schedule_start < 0 || schedule_start > updates)
-    throw nn::CheckpointError(path + ": schedule start " + std::to_string(schedule_start) + " outside 0.." + std::to_string(updates));
+    throw nn::CheckpointError(path + ": schedule start " + std::to_string(schedule_start) + " outside 0.." +
+                              std::to_string(updates));
   if (config_.use_adam && config_.restart_adam_after_warmup && config_.warmup_updates > 0 &&
       updates - schedule_start > config_.warmup_updates) {
     // the optimiser Update restarts at the end of the warm-up, with its options
@@ -229,8 +235,10 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
   for (const auto& [name, state] : {std::pair{"gnn.rmsprop", 0}, std::pair{"gnn.adam", 1}}) {
     const nn::CheckpointSection& section = nn::FindSection(sections, name, path);
     try {
-      if (state == 0) optimizer_.ImportState(section.values);
-      else adam_.ImportState(section.values);
+      if (state == 0)
+        optimizer_.ImportState(section.values);
+      else
+        adam_.ImportState(section.values);
     } catch (const std::invalid_argument& e) {
       throw nn::CheckpointError(path + ": " + name + ": " + e.what());
     }
@@ -263,7 +271,8 @@ std::vector<double> GnnTrainer::OnsetClearance(const std::vector<double>& graph_
   const double largest = *std::max_element(graph_radius.begin() + 1, graph_radius.end());
   for (int j = 0; j < n; ++j)
     radius[static_cast<size_t>(j)] = !data_.combinations() ? graph_radius[static_cast<size_t>(j)]
-                                     : j == arm_ ? graph_radius[0] : largest;
+                                     : j == arm_           ? graph_radius[0]
+                                                           : largest;
   // Nor those of an object another object touches (a sliding one running into it): weighted,
   // they opened the contact gates of relational-4's free puck to 0.06-0.08 even apart.
   for (int i = 0; i < n; ++i)
@@ -310,8 +319,7 @@ EdgeStatistics GnnTrainer::Evaluate() {
   std::vector<double> apart_sum(apart ? static_cast<size_t>(g) * g : 0, 0.0), apart_count(apart_sum.size(), 0.0);
   if (refine_ != nullptr && refine_->size() > 0) parts.push_back({refine_, &refine_->train_episodes(), false});
   for (const auto& [data, split, held_out] : parts) {
-    for (size_t first = 0; first < split->size();
-         first += static_cast<size_t>(config_.eval_chunk_episodes)) {
+    for (size_t first = 0; first < split->size(); first += static_cast<size_t>(config_.eval_chunk_episodes)) {
       const size_t last = std::min(split->size(), first + config_.eval_chunk_episodes);
       const std::vector<int> chunk(split->begin() + first, split->begin() + last);
       data->EpisodeBatch(chunk, &batch);
@@ -322,15 +330,14 @@ EdgeStatistics GnnTrainer::Evaluate() {
         // one step per tape pass: the state is carried over as a constant
         tape.Reset();
         const nn::Matrix<float> noise = nn::RandomGumbel<float>(rows * (n - 1), 2, noise_rng);
-        auto step = model_.Forward(tape, tape.Constant(h), tape.Constant(batch.inputs[t]), b,
-                                   noise);
+        auto step = model_.Forward(tape, tape.Constant(h), tape.Constant(batch.inputs[t]), b, noise);
         h = step.hidden.value();
         const nn::Matrix<float>& logits = step.edge_logits.value();
         const Eigen::Index per_sample = static_cast<Eigen::Index>(n) * (n - 1);
         for (Eigen::Index e = 0; e < logits.rows(); ++e) {
           // probability of class 0 (edge) of the 2-way softmax
-          const double p = 1.0 / (1.0 + std::exp(static_cast<double>(logits(e, 1)) -
-                                                 static_cast<double>(logits(e, 0))));
+          const double p =
+              1.0 / (1.0 + std::exp(static_cast<double>(logits(e, 1)) - static_cast<double>(logits(e, 0))));
           const int local = static_cast<int>(e % per_sample);
           const int ep = chunk[static_cast<size_t>(e / per_sample)];
           const size_t pair = static_cast<size_t>(data->graph_entity(ep, model_.edge_sender_entity(local))) * g +
@@ -342,8 +349,7 @@ EdgeStatistics GnnTrainer::Evaluate() {
             const Eigen::Index first_row = (e / per_sample) * n;
             const size_t sender = pair / static_cast<size_t>(g), receiver = pair % static_cast<size_t>(g);
             const double contact = contact_radius_[sender] + contact_radius_[receiver] + config_.contact_margin_m;
-            if (ApartThroughTheStep(batch.inputs[t], batch.deltas[t],
-                                    first_row + model_.edge_sender_entity(local),
+            if (ApartThroughTheStep(batch.inputs[t], batch.deltas[t], first_row + model_.edge_sender_entity(local),
                                     first_row + model_.edge_receiver_entity(local), contact)) {
               apart_sum[pair] += p;
               apart_count[pair] += 1;
@@ -395,8 +401,7 @@ std::vector<double> GnnTrainer::HeldOutEntityError(int cut_sender, int cut_recei
   nn::Tape<float> tape;
   WindowBatch<float> batch;
   std::vector<int> senders;
-  for (size_t first = 0; first < episodes.size();
-       first += static_cast<size_t>(config_.eval_chunk_episodes)) {
+  for (size_t first = 0; first < episodes.size(); first += static_cast<size_t>(config_.eval_chunk_episodes)) {
     const size_t last = std::min(episodes.size(), first + config_.eval_chunk_episodes);
     const std::vector<int> chunk(episodes.begin() + first, episodes.begin() + last);
     data_.EpisodeBatch(chunk, &batch);
@@ -418,8 +423,8 @@ std::vector<double> GnnTrainer::HeldOutEntityError(int cut_sender, int cut_recei
     for (int t = 0; t < batch.steps(); ++t) {
       tape.Reset();
       const nn::Matrix<float> noise = nn::RandomGumbel<float>(rows * (n - 1), 2, noise_rng);
-      auto step = model_.Forward(tape, tape.Constant(h), tape.Constant(batch.inputs[t]), b, noise,
-                                 cut ? &senders : nullptr);
+      auto step =
+          model_.Forward(tape, tape.Constant(h), tape.Constant(batch.inputs[t]), b, noise, cut ? &senders : nullptr);
       h = step.hidden.value();
       const nn::Matrix<float>& target = batch.deltas[t];
       for (Eigen::Index r = 0; r < target.rows(); ++r)
@@ -432,7 +437,8 @@ std::vector<double> GnnTrainer::HeldOutEntityError(int cut_sender, int cut_recei
 }
 
 std::vector<bool> MovingEntities(const std::vector<double>& no_motion_error, double fraction) {
-  const double largest = no_motion_error.empty() ? 0 : *std::max_element(no_motion_error.begin(), no_motion_error.end());
+  const double largest =
+      no_motion_error.empty() ? 0 : *std::max_element(no_motion_error.begin(), no_motion_error.end());
   std::vector<bool> moving;
   for (double e : no_motion_error) moving.push_back(e > fraction * largest);
   return moving;
@@ -455,8 +461,7 @@ std::vector<double> GnnTrainer::EdgeCutScores() {
   for (int j = 0; j < n; ++j) {
     // an entity that does not move has nothing for an edge to explain
     if (!moving[j]) continue;
-    const double transitions = static_cast<double>(data_.held_out_episodes().size()) *
-                               data_.episode_steps();
+    const double transitions = static_cast<double>(data_.held_out_episodes().size()) * data_.episode_steps();
     const double explained = zero[j] / transitions - full[j];
     if (!(explained > 0)) continue;
     for (int i = 0; i < n; ++i) {

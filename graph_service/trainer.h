@@ -30,8 +30,8 @@ struct EdgeStatistics {
   // for a predicted change of zero
   std::vector<double> held_out_entity_mse, held_out_entity_zero_mse;
   // cut read-out (empty with the mean_weight read-out): cut_score[i * N + j] = held-out error
-  // of j with the edge i -> j cut (its sender taken from another held-out episode) minus without, over what the model explains of j (its
-  // no-motion error minus its error), clamped to [0, 1]; 0 into entities that do not move
+  // of j with the edge i -> j cut (its sender taken from another held-out episode) minus without, over what the model
+  // explains of j (its no-motion error minus its error), clamped to [0, 1]; 0 into entities that do not move
   std::vector<double> cut_score;
   // apart_weight[i * N + j]: the mean edge probability over the random-action data's steps
   // where i and j are more than graph.contact_margin_m beyond touching, before and after the

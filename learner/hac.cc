@@ -155,8 +155,7 @@ void BoundHacTargets(const HacOptions& options, SacAgent* level) {
 }
 
 HacLevels::HacLevels(const HacOptions& options, const rl::AgentShape& low, const rl::AgentShape& high,
-                     const config::AgentConfig& agent, uint64_t capacity, int max_entities, uint64_t seed,
-                     int threads)
+                     const config::AgentConfig& agent, uint64_t capacity, int max_entities, uint64_t seed, int threads)
     : options_(options),
       high_(high, rl::HighLevelAgentConfig(agent, low, high), seed, threads),
       low_replay_(capacity, max_entities, low.entity_dim, low.goal_dim, low.action_dim),
@@ -179,8 +178,8 @@ UpdateStats HacLevels::Update(SacAgent& low, int batch_size) {
   UpdateStats stats = low.Update(batch_);
   // the skipped stage of either level is reported (the high level's first: it runs first)
   if (high.non_finite) {
-    stats.non_finite_stage = "high level: " + high.non_finite_stage +
-                             (stats.non_finite ? "; low level: " + stats.non_finite_stage : "");
+    stats.non_finite_stage =
+        "high level: " + high.non_finite_stage + (stats.non_finite ? "; low level: " + stats.non_finite_stage : "");
     stats.non_finite = true;
   } else if (stats.non_finite) {
     stats.non_finite_stage = "low level: " + stats.non_finite_stage;

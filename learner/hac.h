@@ -34,11 +34,11 @@
 namespace srics::learner {
 
 struct HacOptions {
-  int horizon = 20;          // H: the test penalty is -H
-  double threshold = 0.05;   // a goal is reached with every entity this close
-  int hindsight_goals = 3;   // k per attempt (low) and per episode (high)
-  rl::SubgoalBox box;        // where subgoals live (high-level actions map onto it)
-  bool bound_q = true;       // both levels' Bellman targets clipped to [-H, 0]
+  int horizon = 20;         // H: the test penalty is -H
+  double threshold = 0.05;  // a goal is reached with every entity this close
+  int hindsight_goals = 3;  // k per attempt (low) and per episode (high)
+  rl::SubgoalBox box;       // where subgoals live (high-level actions map onto it)
+  bool bound_q = true;      // both levels' Bellman targets clipped to [-H, 0]
 };
 
 // Bounds a level's Bellman targets to [-H, 0] when options.bound_q (the rewards are -1 or 0 per
@@ -94,8 +94,7 @@ class TransitionReplay {
 class HacLevels {
  public:
   HacLevels(const HacOptions& options, const rl::AgentShape& low, const rl::AgentShape& high,
-            const config::AgentConfig& agent, uint64_t capacity, int max_entities, uint64_t seed,
-            int threads);
+            const config::AgentConfig& agent, uint64_t capacity, int max_entities, uint64_t seed, int threads);
 
   // Builds and stores the episode's transitions (the episode is valid).
   void Add(const rl::Episode& episode);

@@ -17,7 +17,8 @@ LearnerOptions LearnerOptionsFor(const config::Config& config) {
   o.shape = rl::AgentShapeFor(config.env, config.run.method);
   o.limits = rl::EpisodeLimitsFor(config.env);
   const auto& sampling = config.env.sampling;
-  o.goal_region = {sampling.subgoal_low[0], sampling.subgoal_high[0], sampling.subgoal_low[1], sampling.subgoal_high[1]};
+  o.goal_region = {sampling.subgoal_low[0], sampling.subgoal_high[0], sampling.subgoal_low[1],
+                   sampling.subgoal_high[1]};
   o.run_seed = config.run.seed;
   o.total_env_steps = config.run.total_env_steps;
   // HAC's subgoal records are checked against its horizon; other methods' episodes carry none
@@ -40,18 +41,17 @@ Learner::Learner(const LearnerOptions& options)
       limiter_(options.learner.updates_per_step, options.learner.warmup_steps, options.learner.rate_error_buffer) {
   if (options.method == config::Method::kHac) {
     BoundHacTargets(options.hac, &agent_);  // the low level's; HacLevels bounds the high one
-    hac_ = std::make_unique<HacLevels>(options.hac, shape_, options.high_shape, options.agent,
-                                       options.learner.replay_capacity, options.max_entities,
-                                       rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent, 1),
-                                       options.learner.threads);
+    hac_ = std::make_unique<HacLevels>(
+        options.hac, shape_, options.high_shape, options.agent, options.learner.replay_capacity, options.max_entities,
+        rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent, 1), options.learner.threads);
   }
 }
 
 std::string Learner::Ingest(rl::Episode episode) {
   std::string problem = rl::ValidateEpisode(episode, options_.limits);
   if (problem.empty() && episode.layout.entity_dim() != shape_.entity_dim)
-    problem = "entity tokens of " + std::to_string(episode.layout.entity_dim()) +
-              " floats, the networks take " + std::to_string(shape_.entity_dim);
+    problem = "entity tokens of " + std::to_string(episode.layout.entity_dim()) + " floats, the networks take " +
+              std::to_string(shape_.entity_dim);
   if (problem.empty() && relabeler_.full_goal() && episode.mode == rl::EpisodeMode::kTrain &&
       episode.goal.size() != static_cast<size_t>(2 * episode.layout.num_entities))
     problem = "SAC+HER training episodes need a full goal";
@@ -100,9 +100,7 @@ bool Learner::Blocked() const {
          (rl::UsesGraph(options_.method) && !has_graph_);
 }
 
-bool Learner::CanUpdate() const {
-  return !Blocked() && limiter_.CanUpdate(LimiterInserted(), counters_.updates);
-}
+bool Learner::CanUpdate() const { return !Blocked() && limiter_.CanUpdate(LimiterInserted(), counters_.updates); }
 
 uint64_t Learner::UpdatesAllowed() const {
   return Blocked() ? 0 : limiter_.UpdatesAllowed(LimiterInserted(), counters_.updates);
@@ -136,8 +134,7 @@ UpdateStats Learner::Update() {
 }
 
 bool Learner::PublishDue() const {
-  return !published_once_ ||
-         counters_.updates >= published_at_update_ + options_.learner.publish_every_updates;
+  return !published_once_ || counters_.updates >= published_at_update_ + options_.learner.publish_every_updates;
 }
 
 std::vector<float> Learner::TakePolicyWeights() {

@@ -24,15 +24,15 @@ struct LearnerOptions {
   config::Method method = config::Method::kSrics;
   config::AgentConfig agent;
   config::LearnerConfig learner;
-  AgentShape shape;                // network sizes (rl::AgentShapeFor)
-  rl::EpisodeLimits limits;        // what an episode of this run looks like (rl::EpisodeLimitsFor)
-  GoalRegion goal_region;          // where relabeled goals are sampled
+  AgentShape shape;          // network sizes (rl::AgentShapeFor)
+  rl::EpisodeLimits limits;  // what an episode of this run looks like (rl::EpisodeLimitsFor)
+  GoalRegion goal_region;    // where relabeled goals are sampled
   uint64_t run_seed = 1;
-  uint64_t total_env_steps = 0;    // the run's budget of training env steps
+  uint64_t total_env_steps = 0;  // the run's budget of training env steps
   // HAC only: its settings and the high level's network sizes (`shape` is the low level's)
   HacOptions hac;
   AgentShape high_shape;
-  int max_entities = 0;            // of the run's environment (HAC's replays pad to it)
+  int max_entities = 0;  // of the run's environment (HAC's replays pad to it)
 };
 
 LearnerOptions LearnerOptionsFor(const config::Config& config);

@@ -131,19 +131,19 @@ void LearnerLoop::Report(bool force) {
   status.graph_version = graph_version_;
   status.steps = c.updates;
   status.dropped = r.episodes_rejected + duplicates_ + graphs_rejected_;
-  for (auto [counter, count] : std::initializer_list<std::pair<const char*, uint64_t>>{
-           {"episode.learner", r.episodes_rejected},
-           {"episode.duplicate", duplicates_},
-           {"graph.entities", graphs_rejected_},
-           {"update.nonfinite", learner_.non_finite_updates()},
-           {"weights.withheld", weights_withheld_}})
+  for (auto [counter, count] :
+       std::initializer_list<std::pair<const char*, uint64_t>>{{"episode.learner", r.episodes_rejected},
+                                                               {"episode.duplicate", duplicates_},
+                                                               {"graph.entities", graphs_rejected_},
+                                                               {"update.nonfinite", learner_.non_finite_updates()},
+                                                               {"weights.withheld", weights_withheld_}})
     if (count > 0) status.rejections[counter] = count;
   status.detail = "replay " + std::to_string(r.replay_size) + ", inserted " + std::to_string(c.transitions_inserted) +
                   (learner_.has_graph() || !rl::UsesGraph(options_.learner.method) ? "" : ", waiting for the graph");
   if (const HacLevels* hac = learner_.hac(); hac && c.updates > 0) {
     const UpdateStats& high = hac->last_high_update();
-    status.detail += fmt::format(", high level: Q loss {:.4g}, alpha {:.4g}, entropy {:.4g}", high.q_loss, high.alpha,
-                                 high.entropy);
+    status.detail +=
+        fmt::format(", high level: Q loss {:.4g}, alpha {:.4g}, entropy {:.4g}", high.q_loss, high.alpha, high.entropy);
   }
   link_->PublishStatus(status);
   last_report_ = Clock::now();
@@ -175,7 +175,8 @@ void LearnerLoop::LoadNewestCheckpoint() {
     } catch (const nn::CorruptCheckpointError& e) {
       // kept for inspection under another name, so that the next start does not trip on it
       const std::string aside = files::SetAside(generation, ".corrupt", *options_.file_system);
-      spdlog::error("checkpoint {} is corrupt ({}): set aside as {}; trying the one before", generation, e.what(), aside);
+      spdlog::error("checkpoint {} is corrupt ({}): set aside as {}; trying the one before", generation, e.what(),
+                    aside);
       set_aside.push_back(aside);
       continue;
     }
@@ -279,12 +280,12 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
                    learner_.counters().updates, stats.non_finite_stage, learner_.non_finite_updates(), suppressed);
     const int limit = options_.learner.learner.max_skipped_updates_in_a_row;
     if (limit > 0 && learner_.non_finite_in_a_row() >= static_cast<uint64_t>(limit))
-      throw LearningDivergedError(
-          "learning diverged: the last " + std::to_string(learner_.non_finite_in_a_row()) +
-          " updates (to update " + std::to_string(learner_.counters().updates) +
-          ") all met a non-finite value, the last in the " + stats.non_finite_stage +
-          ", so no network changes any more; the run stops rather than train on unchanged "
-          "(learner.max_skipped_updates_in_a_row: " + std::to_string(limit) + ")");
+      throw LearningDivergedError("learning diverged: the last " + std::to_string(learner_.non_finite_in_a_row()) +
+                                  " updates (to update " + std::to_string(learner_.counters().updates) +
+                                  ") all met a non-finite value, the last in the " + stats.non_finite_stage +
+                                  ", so no network changes any more; the run stops rather than train on unchanged "
+                                  "(learner.max_skipped_updates_in_a_row: " +
+                                  std::to_string(limit) + ")");
   }
   if (learner_.counters().updates > 0 && learner_.PublishDue()) Publish();
   if (!options_.checkpoint_path.empty() &&

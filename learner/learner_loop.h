@@ -27,7 +27,7 @@ namespace srics::learner {
 
 struct LearnerLoopOptions {
   LearnerOptions learner;
-  int num_entities = 0;          // of the run's environment: graphs of another size are refused
+  int num_entities = 0;  // of the run's environment: graphs of another size are refused
   // empty: no checkpoints (and no <path>.versions, see ReserveVersions). Written every
   // learner.checkpoint_every_updates updates and at the end, keeping learner.keep_checkpoints
   // generations (path, path.1, ...). At start the newest readable one is loaded: a corrupt one

@@ -5,19 +5,19 @@
 #include <spdlog/spdlog.h>
 
 #include "common/logging/logging.h"
-#include "common/process/role_startup.h"
+#include "common/nn/gemm.h"
 #include "common/nn/serialize.h"
+#include "common/process/role_startup.h"
 #include "common/rl/agent_shape.h"
 #include "common/transport/dds_links.h"
 #include "common/transport/transport.h"
-#include "common/nn/gemm.h"
 #include "learner/learner_loop.h"
 
 int main(int argc, char** argv) {
   using namespace srics;
   transport::Shutdown::InstallSignalHandlers();
   const process::RoleProgram program{"srics-learner", "learner", false,
-      "the learner (replay, relabeling, SAC; publishes weights and stats, checkpoints)"};
+                                     "the learner (replay, relabeling, SAC; publishes weights and stats, checkpoints)"};
   return process::RunRole(argc, argv, program, [](const process::Role& role) {
     const config::Config& config = role.config;
     const std::string& run_dir = role.command_line.run_dir;
@@ -25,10 +25,11 @@ int main(int argc, char** argv) {
     transport::DdsLearnerLink link(participant, rl::EpisodeLimitsFor(config.env));
     learner::LearnerLoop loop(
         learner::LearnerLoopOptionsFor(config, run_dir.empty() ? "" : run_dir + "/checkpoint.srics"), &link);
-    spdlog::info("learner started: {} ({}), domain {}, run id '{}', budget {} env steps, "
-                 "matrix products on {}",
-                 config::MethodName(config.run.method), config.source_file, config.transport.domain_id,
-                 config.transport.run_id, config.run.total_env_steps, nn::GemmBackendDescription());
+    spdlog::info(
+        "learner started: {} ({}), domain {}, run id '{}', budget {} env steps, "
+        "matrix products on {}",
+        config::MethodName(config.run.method), config.source_file, config.transport.domain_id, config.transport.run_id,
+        config.run.total_env_steps, nn::GemmBackendDescription());
     try {
       loop.Start();  // the checkpoint: a run whose checkpoints are unusable is not restarted over them
     } catch (const nn::CheckpointError& e) {

@@ -8,8 +8,8 @@
 
 namespace srics::learner {
 
-Relabeler::Relabeler(config::Method method, const config::RewardConfig& reward,
-                     const config::RelabelConfig& relabel, GoalRegion region, uint64_t seed)
+Relabeler::Relabeler(config::Method method, const config::RewardConfig& reward, const config::RelabelConfig& relabel,
+                     GoalRegion region, uint64_t seed)
     : method_(method), reward_(reward), relabel_(relabel), region_(region), rng_(seed) {}
 
 void Relabeler::SetSubgoalStructure(const rl::SubgoalStructure& structure) {
@@ -49,8 +49,7 @@ int Relabeler::PickSubgoalEntity(const rl::Episode& episode) {
   const rl::SubgoalStructure* structure = StructureOf(episode);
   std::vector<int> candidates;
   for (int i = 0; i < episode.layout.num_entities; ++i)
-    if (!structure || i >= structure->num_entities() || structure->has_subgoal(i))
-      candidates.push_back(i);
+    if (!structure || i >= structure->num_entities() || structure->has_subgoal(i)) candidates.push_back(i);
   if (candidates.empty()) candidates.push_back(0);
   return candidates[std::uniform_int_distribution<size_t>(0, candidates.size() - 1)(rng_)];
 }
@@ -60,20 +59,16 @@ double Relabeler::Reward(const rl::Episode& e, const rl::SubgoalStructure* struc
   const float* before = e.state(t);
   const float* after = e.state(t + 1);
   switch (method_) {
-    case config::Method::kSacHer:
-      return rl::FullGoalReward(e.layout, after, goal);
+    case config::Method::kSacHer: return rl::FullGoalReward(e.layout, after, goal);
     case config::Method::kSrics: {
-      const uint64_t ancestors =
-          structure && entity < structure->num_entities() ? structure->ancestor_mask[entity] : 0;
+      const uint64_t ancestors = structure && entity < structure->num_entities() ? structure->ancestor_mask[entity] : 0;
       return rl::SelectivityReward(e.layout, before, after, entity, goal, ancestors, reward_);
     }
-    default:
-      return rl::DistanceReward(e.layout, after, entity, goal);
+    default: return rl::DistanceReward(e.layout, after, entity, goal);
   }
 }
 
-void Relabeler::Sample(const ReplayBuffer& replay, int size, TrainingBatch* batch,
-                       std::vector<GoalSource>* sources) {
+void Relabeler::Sample(const ReplayBuffer& replay, int size, TrainingBatch* batch, std::vector<GoalSource>* sources) {
   // every stored episode shares one layout kind count; entity counts may differ
   const rl::EntityLayout& first = replay.contents().front().layout;
   const int n_max = replay.max_entities();

@@ -24,11 +24,11 @@ struct GoalRegion {
 // A batch in the layout the attention networks take. Entities are padded to max_entities;
 // padded rows are zero and masked out.
 struct TrainingBatch {
-  int size = 0;          // B
-  int max_entities = 0;  // N
-  int entity_dim = 0;    // D
-  int goal_dim = 0;      // G: [kind one-hot (K), goal xy, 1] for subgoals; 2N for full goals
-  int action_dim = 0;    // A
+  int size = 0;                      // B
+  int max_entities = 0;              // N
+  int entity_dim = 0;                // D
+  int goal_dim = 0;                  // G: [kind one-hot (K), goal xy, 1] for subgoals; 2N for full goals
+  int action_dim = 0;                // A
   std::vector<float> entities;       // (B*N) x D, state t
   std::vector<float> next_entities;  // (B*N) x D, state t + 1
   std::vector<float> mask;           // B x N, 1 = real entity
@@ -46,8 +46,8 @@ enum class GoalSource { kOriginal, kFuture, kSampled };
 
 class Relabeler {
  public:
-  Relabeler(config::Method method, const config::RewardConfig& reward,
-            const config::RelabelConfig& relabel, GoalRegion region, uint64_t seed);
+  Relabeler(config::Method method, const config::RewardConfig& reward, const config::RelabelConfig& relabel,
+            GoalRegion region, uint64_t seed);
 
   // The ancestor sets used for rewards and for picking subgoals of episodes that have none
   // (explore episodes). Until called, every entity is a subgoal with no ancestors.
@@ -58,8 +58,7 @@ class Relabeler {
   void SetGraph(const rl::InteractionGraph& catalogue);
 
   // Fills *batch with `size` relabeled transitions. Precondition: !replay.empty().
-  void Sample(const ReplayBuffer& replay, int size, TrainingBatch* batch,
-              std::vector<GoalSource>* sources = nullptr);
+  void Sample(const ReplayBuffer& replay, int size, TrainingBatch* batch, std::vector<GoalSource>* sources = nullptr);
 
   bool full_goal() const { return method_ == config::Method::kSacHer; }
 

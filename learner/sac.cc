@@ -20,8 +20,7 @@ nn::ParameterList<float> Join(std::initializer_list<nn::ParameterList<float>> li
 // Counters travel in a float section bit for bit (two 32-bit halves per counter).
 std::vector<float> PackCounters(const LearnerCounters& c) {
   std::vector<float> out;
-  for (uint64_t v : {c.updates, c.transitions_inserted, c.episodes_accepted, c.policy_version,
-                     c.training_env_steps}) {
+  for (uint64_t v : {c.updates, c.transitions_inserted, c.episodes_accepted, c.policy_version, c.training_env_steps}) {
     const uint32_t halves[2] = {static_cast<uint32_t>(v), static_cast<uint32_t>(v >> 32)};
     for (uint32_t h : halves) {
       float f;
@@ -34,8 +33,7 @@ std::vector<float> PackCounters(const LearnerCounters& c) {
 
 LearnerCounters UnpackCounters(const std::vector<float>& values, const std::string& path) {
   constexpr int kCounters = 5;
-  if (values.size() != 2 * kCounters)
-    throw nn::CheckpointError(path + ": section 'counters' has the wrong size");
+  if (values.size() != 2 * kCounters) throw nn::CheckpointError(path + ": section 'counters' has the wrong size");
   uint64_t v[kCounters];
   for (int i = 0; i < kCounters; ++i) {
     uint32_t lo, hi;
@@ -71,8 +69,8 @@ SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, u
   nn::SoftUpdate(q1_target_.Parameters(), q1_.Parameters(), 1.0);
   nn::SoftUpdate(q2_target_.Parameters(), q2_.Parameters(), 1.0);
   log_alpha_.value(0, 0) = static_cast<float>(std::log(config.sac.initial_alpha));
-  policy_optimizer_ = std::make_unique<nn::Adam<float>>(policy_.Parameters(),
-                                                        nn::Adam<float>::Options{config.sac.policy_lr});
+  policy_optimizer_ =
+      std::make_unique<nn::Adam<float>>(policy_.Parameters(), nn::Adam<float>::Options{config.sac.policy_lr});
   q_optimizer_ = std::make_unique<nn::Adam<float>>(Join({q1_.Parameters(), q2_.Parameters()}),
                                                    nn::Adam<float>::Options{config.sac.q_lr});
   alpha_optimizer_ = std::make_unique<nn::Adam<float>>(nn::ParameterList<float>{&log_alpha_},
@@ -183,9 +181,8 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
       auto y = tape.Constant(targets);
       auto q1 = q1_.Forward(tape, ent, mask, goals, actions);
       auto q2 = q2_.Forward(tape, ent, mask, goals, actions);
-      auto loss = share(tape,
-                        tape.Add(tape.Mean(tape.Square(tape.Sub(q1, y))), tape.Mean(tape.Square(tape.Sub(q2, y)))),
-                        begin, end);
+      auto loss = share(
+          tape, tape.Add(tape.Mean(tape.Square(tape.Sub(q1, y))), tape.Mean(tape.Square(tape.Sub(q2, y)))), begin, end);
       tape.Backward(loss);
       loss_part[k] = loss.value()(0, 0);
       sum_part[k] = whole ? q1.value().mean() : q1.value().sum();
@@ -282,10 +279,12 @@ std::vector<nn::CheckpointSection> SacAgent::CheckpointSections(const LearnerCou
 LearnerCounters SacAgent::LoadCheckpointSections(const std::vector<nn::CheckpointSection>& sections,
                                                  const std::string& path) {
   // check every part before changing anything, so a bad file leaves the agent as it was
-  const std::pair<const char*, nn::ParameterList<float>> parts[] = {
-      {kPolicySection, policy_.Parameters()}, {"q1", q1_.Parameters()},
-      {"q2", q2_.Parameters()},               {"q1_target", q1_target_.Parameters()},
-      {"q2_target", q2_target_.Parameters()}, {"log_alpha", {&log_alpha_}}};
+  const std::pair<const char*, nn::ParameterList<float>> parts[] = {{kPolicySection, policy_.Parameters()},
+                                                                    {"q1", q1_.Parameters()},
+                                                                    {"q2", q2_.Parameters()},
+                                                                    {"q1_target", q1_target_.Parameters()},
+                                                                    {"q2_target", q2_target_.Parameters()},
+                                                                    {"log_alpha", {&log_alpha_}}};
   for (const auto& [name, params] : parts) {
     const auto& s = nn::FindSection(sections, name, path);
     if (s.signature != nn::SignatureString(params))

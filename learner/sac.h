@@ -33,10 +33,10 @@ namespace srics::learner {
 using rl::AgentShape;
 
 struct UpdateStats {
-  double q_loss = 0;       // mean squared Bellman error, both critics summed
+  double q_loss = 0;  // mean squared Bellman error, both critics summed
   double policy_loss = 0;
   double alpha = 0;
-  double entropy = 0;      // -mean log pi
+  double entropy = 0;  // -mean log pi
   double mean_q = 0;
   double mean_reward = 0;
   // a Bellman target, loss or gradient was not finite (or a gradient too large for Adam's
@@ -81,8 +81,7 @@ class SacAgent {
   // checks every network's part before changing anything; a checkpoint without the random
   // stream (older ones) keeps the current one.
   std::vector<nn::CheckpointSection> CheckpointSections(const LearnerCounters& counters);
-  LearnerCounters LoadCheckpointSections(const std::vector<nn::CheckpointSection>& sections,
-                                         const std::string& path);
+  LearnerCounters LoadCheckpointSections(const std::vector<nn::CheckpointSection>& sections, const std::string& path);
 
   // Clips every Bellman target into [low, high] from the next update on (HAC bounds each
   // level's Q to [-H, 0]); unbounded by default, as SAC is.

@@ -22,13 +22,13 @@ constexpr const char* kHeader =
 constexpr const char* kHeaderWithoutTableGraph =
     "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success";
 
-double WallTime() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
+double WallTime() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 }  // namespace
 
-double EpisodeSelectivity(const rl::Episode& e, double epsilon) { return EpisodeSelectivity(e, epsilon, e.ancestor_mask); }
+double EpisodeSelectivity(const rl::Episode& e, double epsilon) {
+  return EpisodeSelectivity(e, epsilon, e.ancestor_mask);
+}
 
 double EpisodeSelectivity(const rl::Episode& e, double epsilon, uint64_t ancestor_mask) {
   const int k = e.subgoal_entity;
@@ -93,7 +93,8 @@ void TrainingLog::ResumeAt(uint64_t env_steps) {
 
 std::optional<TrainingLog::Figures> TrainingLog::Measure(const rl::Episode& e) const {
   const int k = e.subgoal_entity;
-  if (e.mode != rl::EpisodeMode::kTrain || k < 0 || k >= e.layout.num_entities || e.goal.size() != 2) return std::nullopt;
+  if (e.mode != rl::EpisodeMode::kTrain || k < 0 || k >= e.layout.num_entities || e.goal.size() != 2)
+    return std::nullopt;
   Figures figures{EpisodeSelectivity(e, options_.epsilon),
                   rl::DistanceToGoal(e.layout, e.state(e.num_steps), k, e.goal.data())};
   if (options_.table_graph && e.entity_kinds.size() == static_cast<size_t>(e.layout.num_entities)) {

@@ -30,10 +30,10 @@
 namespace srics::learner {
 
 struct TrainingLogOptions {
-  std::string path;                // "" = no log
-  uint64_t every_env_steps = 5000; // the window (the run's evaluation interval)
-  double epsilon = 1e-5;           // below it nothing moved: selectivity undefined for the step
-  double success_threshold = 0.05; // m
+  std::string path;                 // "" = no log
+  uint64_t every_env_steps = 5000;  // the window (the run's evaluation interval)
+  double epsilon = 1e-5;            // below it nothing moved: selectivity undefined for the step
+  double success_threshold = 0.05;  // m
   // the table's graph by construction (rl::GroundTruthGraph), over the catalogue; measured
   // against only, never used for training
   std::optional<rl::InteractionGraph> table_graph;

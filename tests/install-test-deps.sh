@@ -10,12 +10,13 @@
 # - ffmpeg, for the render tests that read an MP4 of `srics eval` back frame by frame
 #   (tests/actor/env/render/; without it they SKIP): 32 packages without recommends, 12 s to
 #   install here from a warm package cache.
+# - clang-format-14, for the format check (tests/format/check.sh, the house style).
 # Idempotent like deploy/install-deps.sh. SRICS_SKIP_TEST_DEPS=1 skips it (the interop and
 # browser tests then SKIP).
 set -euo pipefail
 
 [ -n "${SRICS_SKIP_TEST_DEPS:-}" ] && exit 0
-packages=(fastddsgen libfastrtps-dev chromium ffmpeg)
+packages=(fastddsgen libfastrtps-dev chromium ffmpeg clang-format-14)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,9 +1,8 @@
+#pragma once
 // Whether this test binary runs under AddressSanitizer (./tests/sanitize.sh builds with clang,
 // which has __has_feature; gcc defines __SANITIZE_ADDRESS__), and how much slower its processes
 // are then: tests that wait on real processes scale their deadlines by it (the ctest timeouts
 // of a sanitizer build are scaled by the same factor, cmake/SricsHelpers.cmake).
-#ifndef SRICS_TESTS_SANITIZER_H_
-#define SRICS_TESTS_SANITIZER_H_
 
 #if defined(__SANITIZE_ADDRESS__)
 #define SRICS_TESTING_ASAN 1
@@ -20,5 +19,3 @@ inline constexpr int kSanitizerSlowdown = 4;
 inline constexpr int kSanitizerSlowdown = 1;
 #endif
 }  // namespace srics::testing
-
-#endif  // SRICS_TESTS_SANITIZER_H_

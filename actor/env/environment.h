@@ -40,11 +40,11 @@ struct EntityLayout {
 
 // Distances of the current step to the episode's goals (docs/method.md section 1).
 struct Metrics {
-  std::vector<double> distances;    // per entity (arm first), size N
-  double hand_distance = 0;         // distances[0]
-  double avg_distance = 0;          // mean over all entities, arm included (paper)
-  double avg_object_distance = 0;   // mean over objects only (reference code)
-  bool success = false;             // sum of distances < N * success_threshold
+  std::vector<double> distances;   // per entity (arm first), size N
+  double hand_distance = 0;        // distances[0]
+  double avg_distance = 0;         // mean over all entities, arm included (paper)
+  double avg_object_distance = 0;  // mean over objects only (reference code)
+  bool success = false;            // sum of distances < N * success_threshold
 };
 
 // Outcome of one environment step.

@@ -36,8 +36,7 @@ struct Frame {
 Frame MakeFrame(const config::EnvConfig& c) {
   const auto& t = c.table;
   const double th = t.wall_half_thickness;
-  return {-t.wall_x - th - kBorder, t.wall_y_low - th - kBorder, t.wall_x + th + kBorder,
-          t.wall_y_high + th + kBorder};
+  return {-t.wall_x - th - kBorder, t.wall_y_low - th - kBorder, t.wall_x + th + kBorder, t.wall_y_high + th + kBorder};
 }
 
 // A tiny software rasterizer with 4x4 supersampled coverage for smooth edges.
@@ -57,8 +56,7 @@ class Canvas {
       for (int i = i0; i <= i1; ++i) {
         int hits = 0;
         for (int sy = 0; sy < 4; ++sy)
-          for (int sx = 0; sx < 4; ++sx)
-            hits += inside(i + (sx + 0.5) / 4, j + (sy + 0.5) / 4) ? 1 : 0;
+          for (int sx = 0; sx < 4; ++sx) hits += inside(i + (sx + 0.5) / 4, j + (sy + 0.5) / 4) ? 1 : 0;
         if (hits == 0) continue;
         const double a = alpha * hits / 16.0;
         Rgb& p = pixels_[static_cast<size_t>(j) * w_ + i];
@@ -68,9 +66,8 @@ class Canvas {
   }
 
   void Disc(double cx, double cy, double r, Rgb color, double alpha = 1) {
-    Fill(cx - r, cy - r, cx + r, cy + r, color, alpha, [&](double x, double y) {
-      return (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r;
-    });
+    Fill(cx - r, cy - r, cx + r, cy + r, color, alpha,
+         [&](double x, double y) { return (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r; });
   }
   void Ring(double cx, double cy, double r, double width, Rgb color, double alpha = 1) {
     const double ro = r + width / 2, ri = r - width / 2;
@@ -80,8 +77,7 @@ class Canvas {
     });
   }
   void Rect(double x0, double y0, double x1, double y1, Rgb color, double alpha = 1) {
-    Fill(x0, y0, x1, y1, color, alpha,
-         [&](double x, double y) { return x >= x0 && x <= x1 && y >= y0 && y <= y1; });
+    Fill(x0, y0, x1, y1, color, alpha, [&](double x, double y) { return x >= x0 && x <= x1 && y >= y0 && y <= y1; });
   }
   void RectOutline(double x0, double y0, double x1, double y1, double width, Rgb color) {
     Rect(x0 - width / 2, y0 - width / 2, x1 + width / 2, y0 + width / 2, color);
@@ -89,12 +85,11 @@ class Canvas {
     Rect(x0 - width / 2, y0, x0 + width / 2, y1, color);
     Rect(x1 - width / 2, y0, x1 + width / 2, y1, color);
   }
-  void Line(double ax, double ay, double bx, double by, double width, Rgb color,
-            double alpha = 1) {
+  void Line(double ax, double ay, double bx, double by, double width, Rgb color, double alpha = 1) {
     const double dx = bx - ax, dy = by - ay, len2 = dx * dx + dy * dy;
     const double r = width / 2;
-    Fill(std::min(ax, bx) - r, std::min(ay, by) - r, std::max(ax, bx) + r, std::max(ay, by) + r,
-         color, alpha, [&](double x, double y) {
+    Fill(std::min(ax, bx) - r, std::min(ay, by) - r, std::max(ax, bx) + r, std::max(ay, by) + r, color, alpha,
+         [&](double x, double y) {
            double t = len2 > 0 ? ((x - ax) * dx + (y - ay) * dy) / len2 : 0;
            t = std::clamp(t, 0.0, 1.0);
            const double ex = ax + t * dx - x, ey = ay + t * dy - y;
@@ -117,8 +112,8 @@ class Canvas {
       throw std::runtime_error("libpng failed writing " + path);
     }
     png_init_io(png, file.get());
-    png_set_IHDR(png, info, w_, h_, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png, info, w_, h_, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
     png_text text{};
     std::string key = "Title", value = title;
     text.compression = PNG_TEXT_COMPRESSION_NONE;
@@ -167,18 +162,16 @@ void DrawPng(const EpisodeTrace& t, const std::string& path) {
 
   // table between the walls, the walls, the object box (thin)
   canvas.Rect(f.px(-tb.wall_x), f.py(tb.wall_y_high), f.px(tb.wall_x), f.py(tb.wall_y_low), kTable);
-  canvas.RectOutline(f.px(-tb.wall_x), f.py(tb.wall_y_high), f.px(tb.wall_x), f.py(tb.wall_y_low),
-                     2 * th * s, kWall);
-  canvas.RectOutline(f.px(c.hand.mocap_low[0]), f.py(c.hand.mocap_high[1]),
-                     f.px(c.hand.mocap_high[0]), f.py(c.hand.mocap_low[1]), 1, {0.7, 0.7, 0.7});
+  canvas.RectOutline(f.px(-tb.wall_x), f.py(tb.wall_y_high), f.px(tb.wall_x), f.py(tb.wall_y_low), 2 * th * s, kWall);
+  canvas.RectOutline(f.px(c.hand.mocap_low[0]), f.py(c.hand.mocap_high[1]), f.px(c.hand.mocap_high[0]),
+                     f.py(c.hand.mocap_low[1]), 1, {0.7, 0.7, 0.7});
 
   // connections at the final step
   const auto& last = t.positions.back();
   for (const auto& k : c.connections) {
     const int a = EntityOf(t, k.first), b = EntityOf(t, k.second);
     if (a < 0 || b < 0) continue;
-    canvas.Line(f.px(last[a][0]), f.py(last[a][1]), f.px(last[b][0]), f.py(last[b][1]), 3,
-                {0.55, 0.35, 0.15});
+    canvas.Line(f.px(last[a][0]), f.py(last[a][1]), f.px(last[b][0]), f.py(last[b][1]), 3, {0.55, 0.35, 0.15});
   }
 
   // trajectories, faint to strong over time
@@ -209,8 +202,8 @@ void DrawPng(const EpisodeTrace& t, const std::string& path) {
 
   // hand at its final pose
   const auto& hs = c.hand.half_size;
-  canvas.Rect(f.px(last[0][0] - hs[0]), f.py(last[0][1] + hs[1]), f.px(last[0][0] + hs[0]),
-              f.py(last[0][1] - hs[1]), kHand, 0.9);
+  canvas.Rect(f.px(last[0][0] - hs[0]), f.py(last[0][1] + hs[1]), f.px(last[0][0] + hs[0]), f.py(last[0][1] - hs[1]),
+              kHand, 0.9);
 
   // goals: rings of the object's size, a cross for the hand
   for (size_t k = 0; k < t.present.size(); ++k) {
@@ -240,22 +233,20 @@ void DrawSvg(const EpisodeTrace& t, const std::string& path) {
   const auto& tb = c.table;
   const double th = tb.wall_half_thickness;
   std::ostringstream o;
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << f.width() << "\" height=\""
-    << f.height() + 24 << "\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << f.width() << "\" height=\"" << f.height() + 24
+    << "\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   if (!t.title.empty())
-    o << "<text x=\"6\" y=\"" << f.height() + 18 << "\" font-family=\"sans-serif\" font-size=\"14\">"
-      << t.title << "</text>\n";
-  o << "<rect x=\"" << f.px(-tb.wall_x) << "\" y=\"" << f.py(tb.wall_y_high) << "\" width=\""
-    << 2 * tb.wall_x * s << "\" height=\"" << (tb.wall_y_high - tb.wall_y_low) * s << "\" fill=\""
-    << Hex(kTable) << "\" stroke=\"" << Hex(kWall) << "\" stroke-width=\"" << 2 * th * s
-    << "\"/>\n";
+    o << "<text x=\"6\" y=\"" << f.height() + 18 << "\" font-family=\"sans-serif\" font-size=\"14\">" << t.title
+      << "</text>\n";
+  o << "<rect x=\"" << f.px(-tb.wall_x) << "\" y=\"" << f.py(tb.wall_y_high) << "\" width=\"" << 2 * tb.wall_x * s
+    << "\" height=\"" << (tb.wall_y_high - tb.wall_y_low) * s << "\" fill=\"" << Hex(kTable) << "\" stroke=\""
+    << Hex(kWall) << "\" stroke-width=\"" << 2 * th * s << "\"/>\n";
   const auto& last = t.positions.back();
   for (const auto& k : c.connections) {
     const int a = EntityOf(t, k.first), b = EntityOf(t, k.second);
     if (a < 0 || b < 0) continue;
-    o << "<line x1=\"" << f.px(last[a][0]) << "\" y1=\"" << f.py(last[a][1]) << "\" x2=\""
-      << f.px(last[b][0]) << "\" y2=\"" << f.py(last[b][1])
-      << "\" stroke=\"#8c5926\" stroke-width=\"3\"/>\n";
+    o << "<line x1=\"" << f.px(last[a][0]) << "\" y1=\"" << f.py(last[a][1]) << "\" x2=\"" << f.px(last[b][0])
+      << "\" y2=\"" << f.py(last[b][1]) << "\" stroke=\"#8c5926\" stroke-width=\"3\"/>\n";
   }
   for (size_t e = 0; e < last.size(); ++e) {
     const Rgb color = e == 0 ? kHand : ObjectColor(c, t.present[e - 1]);
@@ -271,19 +262,18 @@ void DrawSvg(const EpisodeTrace& t, const std::string& path) {
     const std::string color = Hex(ObjectColor(c, t.present[k]));
     const double r = obj.size * s;
     if (obj.shape == config::ObjectShape::kBox) {
-      o << "<rect x=\"" << f.px(p[0]) - r << "\" y=\"" << f.py(p[1]) - r << "\" width=\"" << 2 * r
-        << "\" height=\"" << 2 * r << "\" fill=\"" << color << "\" fill-opacity=\"0.85\"/>\n";
+      o << "<rect x=\"" << f.px(p[0]) - r << "\" y=\"" << f.py(p[1]) - r << "\" width=\"" << 2 * r << "\" height=\""
+        << 2 * r << "\" fill=\"" << color << "\" fill-opacity=\"0.85\"/>\n";
     } else {
-      o << "<circle cx=\"" << f.px(p[0]) << "\" cy=\"" << f.py(p[1]) << "\" r=\"" << r
-        << "\" fill=\"" << color << "\" fill-opacity=\"0.85\"/>\n";
+      o << "<circle cx=\"" << f.px(p[0]) << "\" cy=\"" << f.py(p[1]) << "\" r=\"" << r << "\" fill=\"" << color
+        << "\" fill-opacity=\"0.85\"/>\n";
     }
-    o << "<circle cx=\"" << f.px(g[0]) << "\" cy=\"" << f.py(g[1]) << "\" r=\"" << r
-      << "\" fill=\"none\" stroke=\"" << color << "\" stroke-width=\"3\"/>\n";
+    o << "<circle cx=\"" << f.px(g[0]) << "\" cy=\"" << f.py(g[1]) << "\" r=\"" << r << "\" fill=\"none\" stroke=\""
+      << color << "\" stroke-width=\"3\"/>\n";
   }
   const auto& hs = c.hand.half_size;
-  o << "<rect x=\"" << f.px(last[0][0] - hs[0]) << "\" y=\"" << f.py(last[0][1] + hs[1])
-    << "\" width=\"" << 2 * hs[0] * s << "\" height=\"" << 2 * hs[1] * s << "\" fill=\""
-    << Hex(kHand) << "\"/>\n";
+  o << "<rect x=\"" << f.px(last[0][0] - hs[0]) << "\" y=\"" << f.py(last[0][1] + hs[1]) << "\" width=\""
+    << 2 * hs[0] * s << "\" height=\"" << 2 * hs[1] * s << "\" fill=\"" << Hex(kHand) << "\"/>\n";
   const auto& hg = t.goals[0];
   o << "<path d=\"M" << f.px(hg[0]) - 8 << "," << f.py(hg[1]) - 8 << " l16,16 m0,-16 l-16,16\" "
     << "stroke=\"" << Hex(kHand) << "\" stroke-width=\"3\"/>\n</svg>\n";
@@ -296,8 +286,7 @@ void DrawSvg(const EpisodeTrace& t, const std::string& path) {
 void DrawEpisode(const EpisodeTrace& trace, const std::string& path) {
   CheckTrace(trace);
   const auto ends_with = [&](const std::string& suffix) {
-    return path.size() >= suffix.size() &&
-           path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+    return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
   };
   if (ends_with(".png")) return DrawPng(trace, path);
   if (ends_with(".svg")) return DrawSvg(trace, path);

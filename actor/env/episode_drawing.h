@@ -13,11 +13,11 @@ namespace srics::env {
 
 // Everything the drawing needs, independent of the simulator.
 struct EpisodeTrace {
-  config::EnvConfig config;       // table, walls, hand and object catalogue
-  std::vector<int> present;       // catalogue entity numbers of entities 1..N-1
-  std::vector<Vec2> goals;        // per entity, arm first
+  config::EnvConfig config;                  // table, walls, hand and object catalogue
+  std::vector<int> present;                  // catalogue entity numbers of entities 1..N-1
+  std::vector<Vec2> goals;                   // per entity, arm first
   std::vector<std::vector<Vec2>> positions;  // per time step, per entity (arm first)
-  std::string title;              // drawn at the top (may be empty)
+  std::string title;                         // drawn at the top (may be empty)
 };
 
 // Writes the picture; the format follows the file's extension (".png" or ".svg"). Throws

@@ -5,8 +5,7 @@
 
 namespace srics::env {
 
-Metrics ComputeMetrics(std::span<const Vec2> positions, std::span<const Vec2> goals,
-                       double success_threshold) {
+Metrics ComputeMetrics(std::span<const Vec2> positions, std::span<const Vec2> goals, double success_threshold) {
   if (positions.empty() || positions.size() != goals.size())
     throw std::invalid_argument("ComputeMetrics: positions and goals need the same size >= 1");
   Metrics m;
@@ -14,8 +13,7 @@ Metrics ComputeMetrics(std::span<const Vec2> positions, std::span<const Vec2> go
   m.distances.resize(n);
   double total = 0;
   for (size_t i = 0; i < n; ++i) {
-    m.distances[i] =
-        std::hypot(positions[i][0] - goals[i][0], positions[i][1] - goals[i][1]);
+    m.distances[i] = std::hypot(positions[i][0] - goals[i][0], positions[i][1] - goals[i][1]);
     total += m.distances[i];
   }
   m.hand_distance = m.distances[0];

@@ -65,8 +65,8 @@ void WriteHeader(std::ostream& x, const config::EnvConfig& c) {
     << "  <size njmax=\"500\" nconmax=\"200\"/>\n"
     << "  <visual><headlight ambient=\"0.5 0.5 0.5\"/></visual>\n"
     << "  <default>\n"
-    << "    <geom solref=\"" << Join(c.physics.geom_solref) << "\" solimp=\""
-    << Join(c.physics.geom_solimp) << "\" margin=\"" << c.physics.geom_margin << "\"/>\n"
+    << "    <geom solref=\"" << Join(c.physics.geom_solref) << "\" solimp=\"" << Join(c.physics.geom_solimp)
+    << "\" margin=\"" << c.physics.geom_margin << "\"/>\n"
     << "  </default>\n"
     << "  <worldbody>\n"
     << "    <light directional=\"true\" pos=\"0 0.6 1.5\" dir=\"0 0 -1\"/>\n";
@@ -75,16 +75,15 @@ void WriteHeader(std::ostream& x, const config::EnvConfig& c) {
 // The table plane and the four invisible walls.
 void WriteTableAndWalls(std::ostream& x, const config::TableConfig& t) {
   x << "    <geom name=\"table\" type=\"plane\" pos=\"" << t.center[0] << " " << t.center[1]
-    << " 0\" size=\"0.4 0.25 0.5\" rgba=\".9 .9 .9 1\" friction=\"" << Join(t.friction)
-    << "\" contype=\"" << kTableType << "\" conaffinity=\"" << kTableAffinity << "\"/>\n";
+    << " 0\" size=\"0.4 0.25 0.5\" rgba=\".9 .9 .9 1\" friction=\"" << Join(t.friction) << "\" contype=\"" << kTableType
+    << "\" conaffinity=\"" << kTableAffinity << "\"/>\n";
   const double wx = t.wall_x, th = t.wall_half_thickness, wh = t.wall_half_height;
   const double y_mid = 0.5 * (t.wall_y_low + t.wall_y_high);
   const double y_half = 0.5 * (t.wall_y_high - t.wall_y_low) + th;
   auto wall = [&](const char* name, double px, double py, double sx, double sy) {
-    x << "    <geom name=\"" << name << "\" type=\"box\" pos=\"" << px << " " << py << " " << wh
-      << "\" size=\"" << sx << " " << sy << " " << wh << "\" rgba=\".6 .6 .5 0\" friction=\""
-      << Join(t.friction) << "\" contype=\"" << kWallType << "\" conaffinity=\"" << kWallAffinity
-      << "\"/>\n";
+    x << "    <geom name=\"" << name << "\" type=\"box\" pos=\"" << px << " " << py << " " << wh << "\" size=\"" << sx
+      << " " << sy << " " << wh << "\" rgba=\".6 .6 .5 0\" friction=\"" << Join(t.friction) << "\" contype=\""
+      << kWallType << "\" conaffinity=\"" << kWallAffinity << "\"/>\n";
   };
   wall("wall_x_low", -wx, y_mid, th, y_half);
   wall("wall_x_high", wx, y_mid, th, y_half);
@@ -94,13 +93,11 @@ void WriteTableAndWalls(std::ostream& x, const config::TableConfig& t) {
 
 // The hand and the mocap body it follows (through the weld of WriteEqualityAndTendons).
 void WriteHand(std::ostream& x, const config::HandConfig& h) {
-  x << "    <body name=\"mocap\" mocap=\"true\" pos=\"" << h.start[0] << " " << h.start[1] << " "
-    << h.z << "\"/>\n"
+  x << "    <body name=\"mocap\" mocap=\"true\" pos=\"" << h.start[0] << " " << h.start[1] << " " << h.z << "\"/>\n"
     << "    <body name=\"hand\" pos=\"" << h.start[0] << " " << h.start[1] << " " << h.z << "\">\n"
     << "      <freejoint name=\"hand\"/>\n"
-    << "      <geom name=\"hand\" type=\"box\" size=\"" << Join(h.half_size) << "\" mass=\""
-    << h.mass << "\" rgba=\"0.2 0.2 0.2 1\" contype=\"" << kHandType << "\" conaffinity=\""
-    << kHandAffinity << "\"/>\n"
+    << "      <geom name=\"hand\" type=\"box\" size=\"" << Join(h.half_size) << "\" mass=\"" << h.mass
+    << "\" rgba=\"0.2 0.2 0.2 1\" contype=\"" << kHandType << "\" conaffinity=\"" << kHandAffinity << "\"/>\n"
     << "    </body>\n";
 }
 
@@ -114,25 +111,24 @@ void WriteObjects(std::ostream& x, const config::EnvConfig& c) {
     const auto rgb = ObjectColor(c, e);
     // a fixed static object is a mocap body: no joint, placed by the env at reset
     const bool fixed = o.is_static && c.physics.static_objects == config::StaticObjects::kFixed;
-    x << "    <body name=\"object" << e << "\" pos=\"" << park[0] << " " << park[1] << " "
-      << o.half_height << "\"" << (fixed ? " mocap=\"true\"" : "") << ">\n";
+    x << "    <body name=\"object" << e << "\" pos=\"" << park[0] << " " << park[1] << " " << o.half_height << "\""
+      << (fixed ? " mocap=\"true\"" : "") << ">\n";
     if (!fixed) x << "      <freejoint name=\"object" << e << "\"/>\n";
-    x << "      <inertial pos=\"0 0 0\" mass=\"" << o.mass << "\" diaginertia=\"" << o.inertia
-      << " " << o.inertia << " " << o.inertia << "\"/>\n";
+    x << "      <inertial pos=\"0 0 0\" mass=\"" << o.mass << "\" diaginertia=\"" << o.inertia << " " << o.inertia
+      << " " << o.inertia << "\"/>\n";
     if (o.shape == ObjectShape::kBox) {
-      x << "      <geom name=\"object" << e << "\" type=\"box\" size=\"" << o.size << " " << o.size
-        << " " << o.half_height << "\"";
-    } else {
-      x << "      <geom name=\"object" << e << "\" type=\"cylinder\" size=\"" << o.size << " "
+      x << "      <geom name=\"object" << e << "\" type=\"box\" size=\"" << o.size << " " << o.size << " "
         << o.half_height << "\"";
+    } else {
+      x << "      <geom name=\"object" << e << "\" type=\"cylinder\" size=\"" << o.size << " " << o.half_height << "\"";
     }
     // a fixed object is stiff: with the default contacts the hand's weld pulls the hand through
     // it (the mocap target runs up to 10 cm ahead); solmix makes its parameters win in a contact
     if (fixed)
-      x << " solref=\"" << Join(c.physics.fixed_object_solref) << "\" solimp=\""
-        << Join(c.physics.fixed_object_solimp) << "\" solmix=\"1000\"";
-    x << " rgba=\"" << rgb[0] << " " << rgb[1] << " " << rgb[2] << " 1\" contype=\""
-      << kObjectType << "\" conaffinity=\"" << kObjectAffinity << "\"/>\n"
+      x << " solref=\"" << Join(c.physics.fixed_object_solref) << "\" solimp=\"" << Join(c.physics.fixed_object_solimp)
+        << "\" solmix=\"1000\"";
+    x << " rgba=\"" << rgb[0] << " " << rgb[1] << " " << rgb[2] << " 1\" contype=\"" << kObjectType
+      << "\" conaffinity=\"" << kObjectAffinity << "\"/>\n"
       << "      <site name=\"site" << e << "\" pos=\"0 0 0\" size=\"0.01\"/>\n"
       << "    </body>\n";
   }
@@ -148,11 +144,11 @@ void WriteEqualityAndTendons(std::ostream& x, const config::EnvConfig& c) {
   x << "  <tendon>\n";
   for (const auto& k : c.connections) {
     if (k.kind == ConnectionKind::kRope) {
-      x << "    <spatial limited=\"true\" range=\"0 " << k.length << "\" solreflimit=\""
-        << k.limit_timeconst << " 1\" width=\"0.005\">\n";
+      x << "    <spatial limited=\"true\" range=\"0 " << k.length << "\" solreflimit=\"" << k.limit_timeconst
+        << " 1\" width=\"0.005\">\n";
     } else {
-      x << "    <spatial stiffness=\"" << k.stiffness << "\" damping=\"" << k.damping
-        << "\" springlength=\"" << k.length << "\" width=\"0.005\">\n";
+      x << "    <spatial stiffness=\"" << k.stiffness << "\" damping=\"" << k.damping << "\" springlength=\""
+        << k.length << "\" width=\"0.005\">\n";
     }
     x << "      <site site=\"site" << k.first << "\"/>\n"
       << "      <site site=\"site" << k.second << "\"/>\n"

@@ -15,8 +15,7 @@ std::atomic<int> printed_warnings{0};
 
 void PrintWarning(const char* message) {
   // rate-limited: a blow-up in many envs must not flood the log
-  if (printed_warnings.fetch_add(1) < kMaxPrintedWarnings)
-    std::fprintf(stderr, "MuJoCo warning: %s\n", message);
+  if (printed_warnings.fetch_add(1) < kMaxPrintedWarnings) std::fprintf(stderr, "MuJoCo warning: %s\n", message);
 }
 
 // The VFS is 2 MB of file names: keep it on the heap, and free its files on every path.

@@ -7,7 +7,6 @@
 #include <utility>
 #include <vector>
 
-
 namespace srics::env {
 namespace {
 
@@ -16,9 +15,7 @@ namespace {
 class Draw {
  public:
   explicit Draw(uint64_t seed) : engine_(seed * 0x9E3779B97F4A7C15ull + 0x7AB1E) {}
-  double Uniform(double lo, double hi) {
-    return lo + (hi - lo) * static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-  }
+  double Uniform(double lo, double hi) { return lo + (hi - lo) * static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
   bool Chance(double p) { return Uniform(0, 1) < p; }
   int Int(int lo, int hi) {  // inclusive
     return lo + static_cast<int>(engine_() % static_cast<uint64_t>(hi - lo + 1));
@@ -105,8 +102,8 @@ std::string RandomTableYaml(const config::EnvConfig& table, uint64_t seed, const
   s << "# graph by construction: " << graph << "\n";
   s << "env:\n  objects:\n";
   for (const config::ObjectConfig& o : config::EffectiveObjects(table)) {
-    s << "    - {shape: " << config::ShapeName(o.shape) << ", size: " << Number(o.size)
-      << ", mass: " << Number(o.mass) << (o.is_static ? ", static: true" : "") << "}\n";
+    s << "    - {shape: " << config::ShapeName(o.shape) << ", size: " << Number(o.size) << ", mass: " << Number(o.mass)
+      << (o.is_static ? ", static: true" : "") << "}\n";
   }
   if (!table.connections.empty()) {
     s << "  connections:\n";

@@ -17,17 +17,17 @@ namespace srics::env {
 struct RandomTableOptions {
   int min_objects = 2;
   int max_objects = 5;
-  double box_probability = 0.5;       // otherwise a cylinder
+  double box_probability = 0.5;               // otherwise a cylinder
   double min_size = 0.025, max_size = 0.045;  // radius or half side (m)
   double min_mass = 0.05, max_mass = 0.3;     // kg
   // each object is static with this probability; at least two objects stay movable
   double static_probability = 0.25;
   // number of ties: 0, 1 or 2 with these probabilities (capped by the movable pairs)
   double one_tie_probability = 0.45, two_ties_probability = 0.2;
-  double spring_probability = 0.5;    // otherwise a rope
+  double spring_probability = 0.5;                      // otherwise a rope
   double min_tie_length = 0.10, max_tie_length = 0.15;  // rope length or spring rest length
   double min_stiffness = 10, max_stiffness = 30;        // N/m
-  int max_attempts = 1000;            // draws until one passes config::CheckEnvConfig
+  int max_attempts = 1000;                              // draws until one passes config::CheckEnvConfig
 };
 
 // The table of `seed` (the same seed gives the same table on every machine). Every other

@@ -58,9 +58,8 @@ RearrangeEnv::RearrangeEnv(const config::EnvConfig& config)
         const auto initial = SampleInitialPositions(config_, set, rng);
         SampleGoals(config_, set, initial, rng);
       } catch (const SamplingError& e) {
-        throw std::invalid_argument(
-            "env config: objects: more objects than fit the table with the spacing rules (" +
-            std::string(e.what()) + ")");
+        throw std::invalid_argument("env config: objects: more objects than fit the table with the spacing rules (" +
+                                    std::string(e.what()) + ")");
       }
     }
   }
@@ -208,8 +207,7 @@ std::vector<Vec2> RearrangeEnv::Positions() const {
 
 void RearrangeEnv::SetGoals(std::span<const Vec2> goals) {
   if (goals.size() != goals_.size())
-    throw std::invalid_argument("RearrangeEnv::SetGoals: expected " +
-                                std::to_string(goals_.size()) + " goals, got " +
+    throw std::invalid_argument("RearrangeEnv::SetGoals: expected " + std::to_string(goals_.size()) + " goals, got " +
                                 std::to_string(goals.size()));
   goals_.assign(goals.begin(), goals.end());
 }

@@ -38,10 +38,14 @@ bool Inside(const Vec2& p, const Vec2& lo, const Vec2& hi) {
 // between goals that had to keep 0.133 m failed every draw of random table 5): it only must
 // not overlap.
 struct SpacingRules {
-  SpacingRules(const EnvConfig& c, std::span<const int> present, std::span<const double> radius,
-               double object_base, double hand_base, std::vector<bool> pinned)
-      : s(c.sampling), radius(radius), hand{c.hand.start[0], c.hand.start[1]},
-        object_base(object_base), hand_base(hand_base), pinned(std::move(pinned)),
+  SpacingRules(const EnvConfig& c, std::span<const int> present, std::span<const double> radius, double object_base,
+               double hand_base, std::vector<bool> pinned)
+      : s(c.sampling),
+        radius(radius),
+        hand{c.hand.start[0], c.hand.start[1]},
+        object_base(object_base),
+        hand_base(hand_base),
+        pinned(std::move(pinned)),
         tied(present.size() * present.size(), false) {
     const size_t n = present.size();
     for (const auto& link : c.connections) {
@@ -118,8 +122,7 @@ std::vector<size_t> PlacingOrder(const EnvConfig& c, std::span<const int> presen
   std::vector<size_t> order;
   for (int pass = 0; pass < 2; ++pass)
     for (size_t k = 0; k < present.size(); ++k)
-      if (PlacingConnection(c, present[k]) == nullptr && pinned(k) == (pass == 0))
-        order.push_back(k);
+      if (PlacingConnection(c, present[k]) == nullptr && pinned(k) == (pass == 0)) order.push_back(k);
   for (const auto& link : c.connections)
     if (IndexOf(present, link.first) >= 0 && IndexOf(present, link.second) >= 0)
       order.push_back(static_cast<size_t>(IndexOf(present, link.second)));
@@ -129,8 +132,7 @@ std::vector<size_t> PlacingOrder(const EnvConfig& c, std::span<const int> presen
 }  // namespace
 
 std::vector<int> SampleObjectSet(const EnvConfig& config, bool eval, Rng& rng) {
-  const auto& sets =
-      (eval && !config.eval_object_sets.empty()) ? config.eval_object_sets : config.object_sets;
+  const auto& sets = (eval && !config.eval_object_sets.empty()) ? config.eval_object_sets : config.object_sets;
   std::vector<int> chosen;
   if (sets.empty()) {
     const int n = static_cast<int>(config::EffectiveObjects(config).size());
@@ -146,8 +148,8 @@ double RequiredDistance(const config::SamplingConfig& s, double base, double ra,
   return base + std::max(0.0, ra - s.reference_radius) + std::max(0.0, rb - s.reference_radius);
 }
 
-void ObjectBox(const EnvConfig& c, const std::vector<double>& low, const std::vector<double>& high,
-               double r, Vec2* lo, Vec2* hi) {
+void ObjectBox(const EnvConfig& c, const std::vector<double>& low, const std::vector<double>& high, double r, Vec2* lo,
+               Vec2* hi) {
   const auto& t = c.table;
   (*lo)[0] = std::max(low[0], -t.wall_x + t.wall_half_thickness + r);
   (*hi)[0] = std::min(high[0], t.wall_x - t.wall_half_thickness - r);
@@ -159,9 +161,8 @@ namespace {
 
 // Each present object's bounding radius and sampling box (`low`..`high` within the walls).
 struct ObjectBoxes {
-  ObjectBoxes(const EnvConfig& c, const std::vector<ObjectConfig>& objects,
-              std::span<const int> present, const std::vector<double>& low,
-              const std::vector<double>& high)
+  ObjectBoxes(const EnvConfig& c, const std::vector<ObjectConfig>& objects, std::span<const int> present,
+              const std::vector<double>& low, const std::vector<double>& high)
       : radius(present.size()), lo(present.size()), hi(present.size()) {
     for (size_t k = 0; k < present.size(); ++k) {
       radius[k] = config::BoundingRadius(objects.at(present[k] - 1));
@@ -174,8 +175,7 @@ struct ObjectBoxes {
 
 }  // namespace
 
-std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int> present,
-                                         Rng& rng) {
+std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int> present, Rng& rng) {
   const std::vector<ObjectConfig> objects = config::EffectiveObjects(c);
   const size_t n = present.size();
   const ObjectBoxes boxes(c, objects, present, c.sampling.init_low, c.sampling.init_high);
@@ -185,8 +185,8 @@ std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int
   const auto& lo = boxes.lo;
   const auto& hi = boxes.hi;
   std::vector<Vec2> pos(n);
-  const SpacingRules rules(c, present, radius, c.sampling.init_min_object_distance,
-                           c.sampling.init_min_hand_distance, std::vector<bool>(n, false));
+  const SpacingRules rules(c, present, radius, c.sampling.init_min_object_distance, c.sampling.init_min_hand_distance,
+                           std::vector<bool>(n, false));
   for (int attempt = 0; attempt < c.sampling.max_attempts; ++attempt) {
     // free and fixed objects first
     for (size_t k = 0; k < n; ++k) {
@@ -204,25 +204,22 @@ std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int
       const int k2 = IndexOf(present, link.second);
       const int k1 = IndexOf(present, link.first);
       if (k2 < 0 || k1 < 0) continue;
-      const double closest =
-          RequiredDistance(c.sampling, c.sampling.init_min_object_distance, radius[k1], radius[k2]);
+      const double closest = RequiredDistance(c.sampling, c.sampling.init_min_object_distance, radius[k1], radius[k2]);
       const double r = Uniform(rng, std::min(closest, link.length), link.length);
       const double phi = Uniform(rng, 0, 2 * std::numbers::pi);
       pos[k2] = {pos[k1][0] + r * std::sin(phi), pos[k1][1] + r * std::cos(phi)};
       inside = inside && Inside(pos[k2], lo[k2], hi[k2]);
     }
-    if (inside && rules.Hold(pos))
-      return pos;
+    if (inside && rules.Hold(pos)) return pos;
   }
   // one object at a time (crowded tables)
-  const auto order = PlacingOrder(
-      c, present, [&](size_t k) { return !objects[present[k] - 1].fixed_position.empty(); });
+  const auto order =
+      PlacingOrder(c, present, [&](size_t k) { return !objects[present[k] - 1].fixed_position.empty(); });
   const auto draw = [&](size_t k) -> std::optional<Vec2> {
     const ObjectConfig& o = objects[present[k] - 1];
     if (const auto* link = PlacingConnection(c, present[k])) {
       const int k1 = IndexOf(present, link->first);
-      const double closest =
-          RequiredDistance(c.sampling, c.sampling.init_min_object_distance, radius[k1], radius[k]);
+      const double closest = RequiredDistance(c.sampling, c.sampling.init_min_object_distance, radius[k1], radius[k]);
       const double r = Uniform(rng, std::min(closest, link->length), link->length);
       const double phi = Uniform(rng, 0, 2 * std::numbers::pi);
       const Vec2 p{pos[k1][0] + r * std::sin(phi), pos[k1][1] + r * std::cos(phi)};
@@ -231,15 +228,14 @@ std::vector<Vec2> SampleInitialPositions(const EnvConfig& c, std::span<const int
     if (!o.fixed_position.empty()) return Vec2{o.fixed_position[0], o.fixed_position[1]};
     return Vec2{Uniform(rng, lo[k][0], hi[k][0]), Uniform(rng, lo[k][1], hi[k][1])};
   };
-  if (PlaceOneByOne(rules, order, draw, pos))
-    return pos;
+  if (PlaceOneByOne(rules, order, draw, pos)) return pos;
   throw SamplingError("no initial placement of objects " + SetText(present) + " within " +
                       std::to_string(c.sampling.max_attempts) +
                       " attempts: the objects do not fit with the spacing rules");
 }
 
-std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
-                              std::span<const Vec2> initial, Rng& rng) {
+std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present, std::span<const Vec2> initial,
+                              Rng& rng) {
   const std::vector<ObjectConfig> objects = config::EffectiveObjects(c);
   const size_t n = present.size();
   if (initial.size() != n) throw std::invalid_argument("SampleGoals: one initial xy per object");
@@ -254,10 +250,9 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
   goals[0] = hand;
   std::span<Vec2> objects_goals(goals.data() + 1, n);
   std::vector<bool> pinned(n);
-  for (size_t k = 0; k < n; ++k)
-    pinned[k] = objects[present[k] - 1].is_static && !c.sampling.static_object_random_goal;
-  const SpacingRules rules(c, present, radius, c.sampling.goal_min_object_distance,
-                           c.sampling.goal_min_hand_distance, pinned);
+  for (size_t k = 0; k < n; ++k) pinned[k] = objects[present[k] - 1].is_static && !c.sampling.static_object_random_goal;
+  const SpacingRules rules(c, present, radius, c.sampling.goal_min_object_distance, c.sampling.goal_min_hand_distance,
+                           pinned);
   for (int attempt = 0; attempt < c.sampling.max_attempts; ++attempt) {
     for (size_t k = 0; k < n; ++k) {
       const ObjectConfig& o = objects[present[k] - 1];
@@ -279,8 +274,7 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
                            objects_goals[k1][1] + link.length * std::cos(phi)};
       if (c.sampling.tied_goal_in_box) inside = inside && Inside(objects_goals[k2], lo[k2], hi[k2]);
     }
-    if (inside && rules.Hold(objects_goals))
-      return goals;
+    if (inside && rules.Hold(objects_goals)) return goals;
   }
   // one object at a time (crowded tables)
   const auto order = PlacingOrder(c, present, [&](size_t k) { return pinned[k]; });
@@ -306,8 +300,7 @@ std::vector<Vec2> SampleGoals(const EnvConfig& c, std::span<const int> present,
 }
 
 Vec2 SampleSubgoal(const config::SamplingConfig& s, Rng& rng) {
-  return {Uniform(rng, s.subgoal_low[0], s.subgoal_high[0]),
-          Uniform(rng, s.subgoal_low[1], s.subgoal_high[1])};
+  return {Uniform(rng, s.subgoal_low[0], s.subgoal_high[0]), Uniform(rng, s.subgoal_low[1], s.subgoal_high[1])};
 }
 
 }  // namespace srics::env

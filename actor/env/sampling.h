@@ -29,17 +29,15 @@ class SamplingError : public std::runtime_error {
 std::vector<int> SampleObjectSet(const config::EnvConfig& config, bool eval, Rng& rng);
 
 // Minimum distance between two objects of bounding radii ra, rb for a base spacing.
-double RequiredDistance(const config::SamplingConfig& sampling, double base, double ra,
-                        double rb);
+double RequiredDistance(const config::SamplingConfig& sampling, double base, double ra, double rb);
 
 // Axis-aligned box [lo, hi] that keeps an object of bounding radius r inside `low..high` and
 // off the walls.
-void ObjectBox(const config::EnvConfig& config, const std::vector<double>& low,
-               const std::vector<double>& high, double r, Vec2* lo, Vec2* hi);
+void ObjectBox(const config::EnvConfig& config, const std::vector<double>& low, const std::vector<double>& high,
+               double r, Vec2* lo, Vec2* hi);
 
 // Initial xy of the objects `present` (entity numbers), in that order. Throws SamplingError.
-std::vector<Vec2> SampleInitialPositions(const config::EnvConfig& config,
-                                         std::span<const int> present, Rng& rng);
+std::vector<Vec2> SampleInitialPositions(const config::EnvConfig& config, std::span<const int> present, Rng& rng);
 
 // Evaluation goals, arm first: the hand goal is hand.start, then one goal per present object
 // (same order as `present`). `initial` are the objects' initial xy (used for static objects

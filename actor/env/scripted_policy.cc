@@ -21,8 +21,7 @@ double SegmentDistance(const Vec2& a, const Vec2& b, const Vec2& p) {
 }
 
 bool Reachable(const Vec2& p, const PushGeometry& g) {
-  return p[0] >= g.hand_low[0] && p[0] <= g.hand_high[0] && p[1] >= g.hand_low[1] &&
-         p[1] <= g.hand_high[1];
+  return p[0] >= g.hand_low[0] && p[0] <= g.hand_high[0] && p[1] >= g.hand_low[1] && p[1] <= g.hand_high[1];
 }
 
 }  // namespace
@@ -65,15 +64,12 @@ Vec2 PushAction(const Vec2& hand, const Vec2& object, const Vec2& goal, const Pu
   // the lining-up point behind the object, if the way there is clear
   const double back = contact + 0.5 * g.clearance;
   const Vec2 behind{object[0] - dir[0] * back, object[1] - dir[1] * back};
-  if (SegmentDistance(hand, behind, object) >= contact)
-    return Limit(ReachAction(hand, behind, g.action_scale), limit);
+  if (SegmentDistance(hand, behind, object) >= contact) return Limit(ReachAction(hand, behind, g.action_scale), limit);
   // otherwise orbit the object at distance `reach`, 45 degrees at a time, the short way
   // round unless that way leaves the hand's box
   const double r = std::max(Distance(hand, object), 1e-6);
   if (r < reach - 0.5 * g.clearance)  // too close: step straight out first
-    return Limit(ReachAction(hand, {object[0] + rx / r * reach, object[1] + ry / r * reach},
-                             g.action_scale),
-                 limit);
+    return Limit(ReachAction(hand, {object[0] + rx / r * reach, object[1] + ry / r * reach}, g.action_scale), limit);
   const double pi = 3.14159265358979323846;
   const double at = std::atan2(ry, rx);
   double delta = std::atan2(-dir[1], -dir[0]) - at;
@@ -82,8 +78,7 @@ Vec2 PushAction(const Vec2& hand, const Vec2& object, const Vec2& goal, const Pu
   const auto arc_reachable = [&](double sweep) {
     for (int k = 1; k <= 12; ++k) {
       const double a = at + sweep * k / 12;
-      if (!Reachable({object[0] + reach * std::cos(a), object[1] + reach * std::sin(a)}, g))
-        return false;
+      if (!Reachable({object[0] + reach * std::cos(a), object[1] + reach * std::sin(a)}, g)) return false;
     }
     return true;
   };

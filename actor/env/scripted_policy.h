@@ -9,11 +9,11 @@ namespace srics::env {
 
 // What the pushing controller needs to know about the bodies, and its own gains.
 struct PushGeometry {
-  double object_radius = 0;    // bounding radius of the pushed object
-  double hand_half_width = 0;  // half width of the hand's footprint
-  double action_scale = 0;     // metres per unit action (hand.action_scale)
+  double object_radius = 0;      // bounding radius of the pushed object
+  double hand_half_width = 0;    // half width of the hand's footprint
+  double action_scale = 0;       // metres per unit action (hand.action_scale)
   Vec2 hand_low{}, hand_high{};  // where the hand can go (hand.mocap_low/high)
-  double clearance = 0.02;     // extra gap kept while walking around the object
+  double clearance = 0.02;       // extra gap kept while walking around the object
   // largest action component while pushing: the weld makes the hand jump to each new mocap
   // target (peak speed ~36 x the step length per second), so a gentle push keeps the object
   // from being kicked away

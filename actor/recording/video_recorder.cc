@@ -34,7 +34,8 @@ class VideoRecorder : public EvalRecorder, public EvalEpisodeObserver {
     name_ = RecordedEpisodeName(policy_version, options_.actor_id, episode);
     version_ = policy_version;
     seed_ = seed;
-    const std::string file = name_ + (video_.format == env::VideoFormat::kPng ? "" : "." + env::VideoExtension(video_.format));
+    const std::string file =
+        name_ + (video_.format == env::VideoFormat::kPng ? "" : "." + env::VideoExtension(video_.format));
     try {
       writer_.emplace((fs::path(options_.dir) / file).string(), render_.width, render_.height, video_);
     } catch (const std::exception& e) {
@@ -50,7 +51,8 @@ class VideoRecorder : public EvalRecorder, public EvalEpisodeObserver {
     if (!writer_) return;
     const std::string what = env.steps() == 0 ? "start" : entity < 0 ? "full goal" : "subgoal: " + EntityName(entity);
     try {
-      writer_->Write(renderer_->Render(entity, caption_ + "  step " + std::to_string(env.steps()) + "  " + what).rgb.data());
+      writer_->Write(
+          renderer_->Render(entity, caption_ + "  step " + std::to_string(env.steps()) + "  " + what).rgb.data());
     } catch (const std::exception& e) {
       writer_.reset();
       Disable(e.what());
@@ -73,12 +75,14 @@ class VideoRecorder : public EvalRecorder, public EvalEpisodeObserver {
     const fs::path csv = fs::path(options_.dir) / "recorded.csv";
     const bool fresh = !fs::exists(csv);
     std::ofstream out(csv, std::ios::app);
-    if (fresh) out << "policy_version,actor_id,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity,video\n";
-    out << version_ << "," << options_.actor_id << "," << seed_ << "," << (metrics ? "ok" : "unstable") << "," << steps << ","
-        << frames;
+    if (fresh)
+      out << "policy_version,actor_id,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity,"
+             "video\n";
+    out << version_ << "," << options_.actor_id << "," << seed_ << "," << (metrics ? "ok" : "unstable") << "," << steps
+        << "," << frames;
     if (metrics)
-      out << "," << metrics->avg_distance << "," << metrics->avg_object_distance << "," << (metrics->success ? 1 : 0) << ","
-          << metrics->selectivity;
+      out << "," << metrics->avg_distance << "," << metrics->avg_object_distance << "," << (metrics->success ? 1 : 0)
+          << "," << metrics->selectivity;
     else
       out << ",,,,";
     out << "," << file_ << "\n";
@@ -92,12 +96,14 @@ class VideoRecorder : public EvalRecorder, public EvalEpisodeObserver {
     if (renderer_) return true;
     try {
       fs::create_directories(options_.dir);
-      if (!env::FfmpegAvailable()) video_.format = env::VideoFormat::kPng;
-      else video_.format = env::VideoFormat::kGif;
+      if (!env::FfmpegAvailable())
+        video_.format = env::VideoFormat::kPng;
+      else
+        video_.format = env::VideoFormat::kGif;
       gl_.emplace();
       renderer_.emplace(env_, *gl_, render_);
-      spdlog::info("recording {} evaluation episode(s) per evaluation into {} ({}, {})", options_.episodes, options_.dir,
-                   env::VideoExtension(video_.format), gl_->description());
+      spdlog::info("recording {} evaluation episode(s) per evaluation into {} ({}, {})", options_.episodes,
+                   options_.dir, env::VideoExtension(video_.format), gl_->description());
       return true;
     } catch (const std::exception& e) {
       Disable(e.what());
@@ -137,8 +143,11 @@ std::unique_ptr<EvalRecorder> RecorderFor(const config::Config& config, env::Env
                                           const std::string& run_dir) {
   const config::ActorConfig& a = config.actors;
   if (a.record_eval_episodes <= 0 || run_dir.empty() || static_cast<int>(actor_id) >= a.evaluators) return nullptr;
-  return MakeVideoRecorder(env, {.dir = (fs::path(run_dir) / "eval").string(), .episodes = a.record_eval_episodes,
-                                 .actor_id = actor_id, .width = a.record_width, .height = a.record_height});
+  return MakeVideoRecorder(env, {.dir = (fs::path(run_dir) / "eval").string(),
+                                 .episodes = a.record_eval_episodes,
+                                 .actor_id = actor_id,
+                                 .width = a.record_width,
+                                 .height = a.record_height});
 }
 
 std::unique_ptr<EvalRecorder> MakeVideoRecorder(env::Environment& env, const VideoRecorderOptions& options) {

@@ -15,15 +15,15 @@
 #include <memory>
 #include <string>
 
-#include "actor/rollout.h"
 #include "actor/env/environment.h"
+#include "actor/rollout.h"
 #include "common/config/config.h"
 
 namespace srics::actor {
 
 struct VideoRecorderOptions {
-  std::string dir;           // the run folder's eval/ (created)
-  int episodes = 1;          // recorded per evaluation (the first ones)
+  std::string dir;   // the run folder's eval/ (created)
+  int episodes = 1;  // recorded per evaluation (the first ones)
   uint32_t actor_id = 0;
   int width = 320, height = 240;
   int fps = 10;

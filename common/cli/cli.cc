@@ -3,9 +3,9 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <filesystem>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 

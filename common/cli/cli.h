@@ -21,10 +21,9 @@
 
 #include <CLI/CLI.hpp>
 
-namespace srics::cli {
+#include "common/cli/exit_codes.h"
 
-// Exit code of a bad command line (or config) in every program.
-inline constexpr int kExitUsage = 2;
+namespace srics::cli {
 
 // The project's version ("0.1.0"): project(VERSION) of the top-level CMakeLists.txt.
 const char* Version();

@@ -11,9 +11,9 @@ void ParseActors(YamlSection s, ActorConfig* out) {
   s.ReadInt("train_episode_steps", &out->train_episode_steps, 1, 100000);
   if (s.Has("train_chain_episodes")) s.ReadInt("train_chain_episodes", &out->train_chain_episodes, 1, 1000);
   s.ReadInt("eval_attempt_steps", &out->eval_attempt_steps, 1, 100000);
-  s.ReadEnum<EvalSchedule>("eval_schedule", &out->eval_schedule,
-                           {{"reference", EvalSchedule::kReference},
-                            {"independent_draws", EvalSchedule::kIndependentDraws}});
+  s.ReadEnum<EvalSchedule>(
+      "eval_schedule", &out->eval_schedule,
+      {{"reference", EvalSchedule::kReference}, {"independent_draws", EvalSchedule::kIndependentDraws}});
   s.ReadInt("evaluators", &out->evaluators, 0, 1024);
   s.ReadUint64("eval_every_env_steps", &out->eval_every_env_steps, 1);
   s.ReadInt("eval_episodes", &out->eval_episodes, 1, 100000);

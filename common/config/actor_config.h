@@ -12,8 +12,8 @@ enum class EvalSchedule {
 };
 
 struct ActorConfig {
-  int count = 2;                       // actor processes started by the launcher
-  int explore_episode_steps = 50;      // random-action episodes until graph + weights exist
+  int count = 2;                   // actor processes started by the launcher
+  int explore_episode_steps = 50;  // random-action episodes until graph + weights exist
   // Exploration for the graph's data (not in the paper: uniformly random actions only). This
   // share of explore episodes is driven by a pushing controller: every
   // explore_push_segment_steps it picks a random object and a random target in the subgoal box
@@ -22,8 +22,8 @@ struct ActorConfig {
   // its partner to follow; pushes do both often.
   double explore_push_fraction = 0.0;
   int explore_push_segment_steps = 10;
-  double explore_push_noise = 0.3;     // std of the noise added to each action component
-  int train_episode_steps = 20;        // one subgoal per episode
+  double explore_push_noise = 0.3;  // std of the noise added to each action component
+  int train_episode_steps = 20;     // one subgoal per episode
   // Training episodes per reset of the table (not in the paper: 1, every episode starts from a
   // reset). With N > 1 the next N - 1 episodes start where the one before left the table, as an
   // evaluation's attempts do: objects an earlier episode pushed to its goal lie there while the
@@ -32,16 +32,16 @@ struct ActorConfig {
   // evaluation, an explore episode or an unstable one ends a chain. Recorded in a run's
   // resolved-config.yaml only when given (runs started before it resume unchanged).
   int train_chain_episodes = 1;
-  int eval_attempt_steps = 20;         // steps per subgoal attempt at evaluation
+  int eval_attempt_steps = 20;  // steps per subgoal attempt at evaluation
   EvalSchedule eval_schedule = EvalSchedule::kReference;
-  int evaluators = 1;                  // actors 0..evaluators-1 also evaluate
+  int evaluators = 1;                     // actors 0..evaluators-1 also evaluate
   uint64_t eval_every_env_steps = 10000;  // per evaluating actor
-  int eval_episodes = 10;              // episodes per evaluation
+  int eval_episodes = 10;                 // episodes per evaluation
   // the first K episodes of every evaluation of a trained policy are drawn into the run
   // folder's eval/ (GIF with ffmpeg, else PNG frames), for people and the web dashboard; 0 =
   // none. Software rendering costs ~1-2 s per episode here
   int record_eval_episodes = 0;
-  int record_width = 320;              // pixels, even
+  int record_width = 320;  // pixels, even
   int record_height = 240;
 };
 

@@ -10,15 +10,16 @@ void ParseAgent(YamlSection s, AgentConfig* out) {
   net.ReadInt("embed_dim", &n.embed_dim, 1, 4096);
   net.ReadInt("heads", &n.heads, 1, 64);
   if (n.embed_dim % n.heads != 0)
-    net.FailRule("heads", "embed_dim (" + std::to_string(n.embed_dim) +
-                              ") must be divisible by heads (" + std::to_string(n.heads) + ")");
+    net.FailRule("heads", "embed_dim (" + std::to_string(n.embed_dim) + ") must be divisible by heads (" +
+                              std::to_string(n.heads) + ")");
   net.ReadIntList("policy_hidden", &n.policy_hidden, 1, 8192);
   net.ReadIntList("q_hidden", &n.q_hidden, 1, 8192);
   net.ReadDouble("log_std_min", &n.log_std_min, -100, 100);
   net.ReadDouble("log_std_max", &n.log_std_max, -100, 100);
   if (n.log_std_min >= n.log_std_max) net.FailRule("log_std_max", "must be above log_std_min");
   net.ReadDouble("initial_policy_std", &n.initial_policy_std, 0, 10);
-  if (n.initial_policy_std > 0 && (std::log(n.initial_policy_std) < n.log_std_min || std::log(n.initial_policy_std) > n.log_std_max))
+  if (n.initial_policy_std > 0 &&
+      (std::log(n.initial_policy_std) < n.log_std_min || std::log(n.initial_policy_std) > n.log_std_max))
     net.FailRule("initial_policy_std", "its log must lie in [log_std_min, log_std_max] (0: not set)");
   net.ReadDouble("hidden_bias", &n.hidden_bias, -10, 10);
   net.Finish();

@@ -8,8 +8,7 @@
 namespace srics::config {
 namespace {
 
-Config ParseTree(const YAML::Node& root, std::shared_ptr<const OriginMap> origins,
-                 const std::string& name) {
+Config ParseTree(const YAML::Node& root, std::shared_ptr<const OriginMap> origins, const std::string& name) {
   Config config;
   config.source_file = name;
   YamlSection top(root, "", origins, name);
@@ -22,9 +21,9 @@ Config ParseTree(const YAML::Node& root, std::shared_ptr<const OriginMap> origin
   ParseActors(top.Child("actors"), &config.actors);
   // rules across sections
   if (config.graph.refine_after_publish && config.actors.train_episode_steps < config.graph.window)
-    top.Child("graph").FailRule("window", "must not exceed actors.train_episode_steps (" +
-                                              std::to_string(config.actors.train_episode_steps) +
-                                              ") with refine_after_publish: refinement trains on windows of training episodes");
+    top.Child("graph").FailRule(
+        "window", "must not exceed actors.train_episode_steps (" + std::to_string(config.actors.train_episode_steps) +
+                      ") with refine_after_publish: refinement trains on windows of training episodes");
   top.Finish();
   YAML::Emitter emitter;
   emitter << root;

@@ -22,8 +22,7 @@ EnvConfigProblem Problem(std::string key, std::string message) {
 }
 
 // A box given as two 2-vectors must have low < high on both axes.
-EnvConfigProblem CheckBox(const std::string& low_key, const std::vector<double>& low,
-                          const std::vector<double>& high) {
+EnvConfigProblem CheckBox(const std::string& low_key, const std::vector<double>& low, const std::vector<double>& high) {
   if (low.size() != 2 || high.size() != 2) return Problem(low_key, "expected 2 numbers");
   if (!(low[0] < high[0] && low[1] < high[1]))
     return Problem(low_key, "must be below the matching *_high on both axes");
@@ -37,14 +36,13 @@ EnvConfigProblem CheckObjectSet(const std::string& key, const std::vector<int>& 
   std::set<int> seen;
   for (int e : set) {
     if (e < 1 || e > n)
-      return Problem(key, "entity " + std::to_string(e) + " is not an object (objects are 1.." +
-                              std::to_string(n) + ")");
+      return Problem(key,
+                     "entity " + std::to_string(e) + " is not an object (objects are 1.." + std::to_string(n) + ")");
     if (!seen.insert(e).second) return Problem(key, "entity " + std::to_string(e) + " repeated");
   }
   for (const auto& c : connections) {
     if (seen.count(c.first) != seen.count(c.second))
-      return Problem(key, "objects " + std::to_string(c.first) + " and " +
-                              std::to_string(c.second) +
+      return Problem(key, "objects " + std::to_string(c.first) + " and " + std::to_string(c.second) +
                               " are connected: a set has both or neither");
   }
   return {};
@@ -83,10 +81,8 @@ EnvConfigProblem CheckTableAndHand(const EnvConfig& c) {
 EnvConfigProblem CheckObject(const EnvConfig& c, const ObjectConfig& o, const std::string& key) {
   if (!(o.mass > 0)) return Problem(key + ".mass", "must be positive, got " + Num(o.mass));
   if (!(o.size > 0)) return Problem(key + ".size", "must be positive, got " + Num(o.size));
-  if (!(o.half_height > 0))
-    return Problem(key + ".half_height", "must be positive, got " + Num(o.half_height));
-  if (!(o.inertia > 0))
-    return Problem(key + ".inertia", "must be positive, got " + Num(o.inertia));
+  if (!(o.half_height > 0)) return Problem(key + ".half_height", "must be positive, got " + Num(o.half_height));
+  if (!(o.inertia > 0)) return Problem(key + ".inertia", "must be positive, got " + Num(o.inertia));
   if (!o.rgb.empty() && o.rgb.size() != 3) return Problem(key + ".rgb", "expected 3 numbers");
   const InnerWalls in = InnerWallsOf(c.table);
   const double r = BoundingRadius(o);
@@ -96,18 +92,15 @@ EnvConfigProblem CheckObject(const EnvConfig& c, const ObjectConfig& o, const st
   const double lo_y = std::max(c.sampling.init_low[1], in.y_low + r);
   const double hi_y = std::min(c.sampling.init_high[1], in.y_high - r);
   if (!(lo_x < hi_x && lo_y < hi_y))
-    return Problem(key + ".size", "an object of bounding radius " + Num(r) +
-                                      " does not fit on the table between the walls");
+    return Problem(key + ".size",
+                   "an object of bounding radius " + Num(r) + " does not fit on the table between the walls");
   if (o.fixed_position.empty()) return {};
-  if (o.fixed_position.size() != 2)
-    return Problem(key + ".fixed_position", "expected 2 numbers (x, y)");
+  if (o.fixed_position.size() != 2) return Problem(key + ".fixed_position", "expected 2 numbers (x, y)");
   const double x = o.fixed_position[0], y = o.fixed_position[1];
   if (std::abs(x) + r > in.x || y - r < in.y_low || y + r > in.y_high)
-    return Problem(key + ".fixed_position",
-                   "(" + Num(x) + ", " + Num(y) + ") puts the object through a wall");
+    return Problem(key + ".fixed_position", "(" + Num(x) + ", " + Num(y) + ") puts the object through a wall");
   const double dh = std::hypot(x - c.hand.start[0], y - c.hand.start[1]);
-  if (dh < r + c.hand.half_size[1])
-    return Problem(key + ".fixed_position", "overlaps the hand's start position");
+  if (dh < r + c.hand.half_size[1]) return Problem(key + ".fixed_position", "overlaps the hand's start position");
   return {};
 }
 
@@ -118,13 +111,12 @@ EnvConfigProblem CheckFixedOverlaps(const std::vector<ObjectConfig>& objects) {
       const auto& a = objects[i];
       const auto& b = objects[j];
       if (a.fixed_position.empty() || b.fixed_position.empty()) continue;
-      const double d = std::hypot(a.fixed_position[0] - b.fixed_position[0],
-                                  a.fixed_position[1] - b.fixed_position[1]);
+      const double d = std::hypot(a.fixed_position[0] - b.fixed_position[0], a.fixed_position[1] - b.fixed_position[1]);
       if (d < BoundingRadius(a) + BoundingRadius(b))
-        return Problem(ObjectKey(i) + ".fixed_position",
-                       "overlapping fixed objects: entities " + std::to_string(j + 1) + " and " +
-                           std::to_string(i + 1) + " are " + Num(d) + " apart, need " +
-                           Num(BoundingRadius(a) + BoundingRadius(b)));
+        return Problem(ObjectKey(i) + ".fixed_position", "overlapping fixed objects: entities " +
+                                                             std::to_string(j + 1) + " and " + std::to_string(i + 1) +
+                                                             " are " + Num(d) + " apart, need " +
+                                                             Num(BoundingRadius(a) + BoundingRadius(b)));
     }
   }
   return {};
@@ -140,20 +132,18 @@ EnvConfigProblem CheckConnections(const EnvConfig& c, const std::vector<ObjectCo
     const ConnectionConfig& k = c.connections[i];
     const std::string key = "connections[" + std::to_string(i) + "]";
     if (k.first < 1 || k.first > n || k.second < 1 || k.second > n)
-      return Problem(key, "objects are entities 1.." + std::to_string(n) + ", got " +
-                              std::to_string(k.first) + " and " + std::to_string(k.second));
+      return Problem(key, "objects are entities 1.." + std::to_string(n) + ", got " + std::to_string(k.first) +
+                              " and " + std::to_string(k.second));
     if (k.first == k.second) return Problem(key, "an object cannot be tied to itself");
     if (!pairs.insert({std::min(k.first, k.second), std::max(k.first, k.second)}).second)
       return Problem(key, "the same pair is connected twice");
     if (!seconds.insert(k.second).second)
-      return Problem(key, "entity " + std::to_string(k.second) +
-                              " is the second object of two connections");
+      return Problem(key, "entity " + std::to_string(k.second) + " is the second object of two connections");
     // the first object's position must be known before the second's: first is never a
     // later connection's second (this also rules out cycles)
     for (size_t j = i + 1; j < c.connections.size(); ++j)
       if (c.connections[j].second == k.first)
-        return Problem(key, "list the connection that places entity " +
-                                std::to_string(k.first) + " before this one");
+        return Problem(key, "list the connection that places entity " + std::to_string(k.first) + " before this one");
     if (!(k.length > 0)) return Problem(key + ".length", "must be positive");
     if (k.length < c.sampling.init_min_object_distance)
       return Problem(key + ".length", "must be at least sampling.init_min_object_distance (" +
@@ -161,11 +151,11 @@ EnvConfigProblem CheckConnections(const EnvConfig& c, const std::vector<ObjectCo
     // the tie sets the pair's goal distance: at its full length the two must not overlap
     if (const double touching = BoundingRadius(objects[k.first - 1]) + BoundingRadius(objects[k.second - 1]);
         k.length < touching)
-      return Problem(key + ".length", "must be at least the two objects' bounding radii together (" +
-                                          Num(touching) + ")");
+      return Problem(key + ".length",
+                     "must be at least the two objects' bounding radii together (" + Num(touching) + ")");
     if (!objects[k.second - 1].fixed_position.empty())
-      return Problem(key, "entity " + std::to_string(k.second) +
-                              " is placed by its connection: it cannot have a fixed_position");
+      return Problem(
+          key, "entity " + std::to_string(k.second) + " is placed by its connection: it cannot have a fixed_position");
     if (k.kind == ConnectionKind::kSpring && !(k.stiffness > 0))
       return Problem(key + ".stiffness", "a spring needs a positive stiffness");
   }
@@ -174,11 +164,10 @@ EnvConfigProblem CheckConnections(const EnvConfig& c, const std::vector<ObjectCo
 
 // Every set of object_sets and eval_object_sets.
 EnvConfigProblem CheckObjectSets(const EnvConfig& c, int n) {
-  for (const auto& [name, sets] : {std::pair{"object_sets", &c.object_sets},
-                                   std::pair{"eval_object_sets", &c.eval_object_sets}}) {
+  for (const auto& [name, sets] :
+       {std::pair{"object_sets", &c.object_sets}, std::pair{"eval_object_sets", &c.eval_object_sets}}) {
     for (size_t i = 0; i < sets->size(); ++i) {
-      auto p = CheckObjectSet(std::string(name) + "[" + std::to_string(i) + "]", (*sets)[i], n,
-                              c.connections);
+      auto p = CheckObjectSet(std::string(name) + "[" + std::to_string(i) + "]", (*sets)[i], n, c.connections);
       if (!p.ok()) return p;
     }
   }
@@ -200,12 +189,10 @@ EnvConfigProblem CheckObjectsFit(const EnvConfig& c, const std::vector<ObjectCon
       needed += std::numbers::pi * d * d / 4;
       widest = std::max(widest, d);
     }
-    const double room = std::numbers::pi / std::sqrt(12.0) * (high[0] - low[0] + widest) *
-                        (high[1] - low[1] + widest);
+    const double room = std::numbers::pi / std::sqrt(12.0) * (high[0] - low[0] + widest) * (high[1] - low[1] + widest);
     if (needed > room)
-      return Problem("objects", std::to_string(objects.size()) +
-                                    " objects do not fit on the table with " + name + " = " +
-                                    Num(spacing) + " (more objects than fit the table)");
+      return Problem("objects", std::to_string(objects.size()) + " objects do not fit on the table with " + name +
+                                    " = " + Num(spacing) + " (more objects than fit the table)");
   }
   return {};
 }
@@ -240,8 +227,7 @@ EnvConfigProblem CheckEnvConfig(const EnvConfig& c) {
 namespace {
 
 void ParseObject(YamlSection& s, ObjectConfig* o) {
-  s.ReadEnum<ObjectShape>("shape", &o->shape,
-                          {{"cylinder", ObjectShape::kCylinder}, {"box", ObjectShape::kBox}});
+  s.ReadEnum<ObjectShape>("shape", &o->shape, {{"cylinder", ObjectShape::kCylinder}, {"box", ObjectShape::kBox}});
   s.ReadDouble("size", &o->size, 1e-4, 1.0);
   s.ReadDouble("half_height", &o->half_height, 1e-4, 1.0);
   s.ReadDouble("mass", &o->mass, 1e-6, 1e3);
@@ -259,8 +245,7 @@ void ParseConnection(YamlSection& s, ConnectionConfig* k) {
   if (objects.size() != 2) s.Fail("objects", "a list of 2 entity numbers in [1, 6]");
   k->first = objects[0];
   k->second = objects[1];
-  s.ReadEnum<ConnectionKind>("kind", &k->kind,
-                             {{"rope", ConnectionKind::kRope}, {"spring", ConnectionKind::kSpring}});
+  s.ReadEnum<ConnectionKind>("kind", &k->kind, {{"rope", ConnectionKind::kRope}, {"spring", ConnectionKind::kSpring}});
   s.ReadDouble("length", &k->length, 1e-3, 1.0);
   s.ReadDouble("limit_timeconst", &k->limit_timeconst, 1e-4, 1);
   s.ReadDouble("stiffness", &k->stiffness, 0, 1e6);
@@ -283,8 +268,8 @@ void ParseObjectSets(YamlSection& s, const std::string& key, std::vector<std::ve
 // Parses the list under `key` item by item into *out; the items' sections are kept in *items
 // so that a rule broken later can name the item's own line.
 template <typename T>
-void ParseItems(YamlSection& s, const std::string& key, void (*parse)(YamlSection&, T*),
-                std::vector<T>* out, std::vector<YamlSection>* items) {
+void ParseItems(YamlSection& s, const std::string& key, void (*parse)(YamlSection&, T*), std::vector<T>* out,
+                std::vector<YamlSection>* items) {
   out->clear();
   *items = s.ChildList(key);
   for (YamlSection& item : *items) {
@@ -354,10 +339,9 @@ void ParseSampling(YamlSection g, SamplingConfig* out) {
 // Fails with a rule that involves several keys, naming the offending key under env: an item
 // of objects or connections by its own line, anything else by its top-level key.
 [[noreturn]] void FailWithProblem(YamlSection& s, const EnvConfigProblem& problem,
-                                  std::vector<YamlSection>& object_items,
-                                  std::vector<YamlSection>& connection_items) {
-  for (auto& [name, items] : {std::pair{std::string("objects["), &object_items},
-                              std::pair{std::string("connections["), &connection_items}}) {
+                                  std::vector<YamlSection>& object_items, std::vector<YamlSection>& connection_items) {
+  for (auto& [name, items] :
+       {std::pair{std::string("objects["), &object_items}, std::pair{std::string("connections["), &connection_items}}) {
     if (problem.key.rfind(name, 0) != 0) continue;
     const size_t close = problem.key.find(']');
     const size_t index = std::stoul(problem.key.substr(name.size(), close - name.size()));
@@ -366,8 +350,7 @@ void ParseSampling(YamlSection g, SamplingConfig* out) {
     (*items)[index].FailRule(sub.empty() ? "objects" : sub, problem.message);
   }
   const std::string top = problem.key.substr(0, problem.key.find_first_of(".["));
-  s.FailRule(top, (problem.key != top ? "at " + problem.key + ": " : std::string()) +
-                      problem.message);
+  s.FailRule(top, (problem.key != top ? "at " + problem.key + ": " : std::string()) + problem.message);
 }
 
 }  // namespace
@@ -381,14 +364,13 @@ void ParseEnv(YamlSection s, EnvConfig* out) {
     if (out->objects.empty() || out->objects.size() > 6)
       s.FailRule("objects", "expected 1 to 6 objects, got " + std::to_string(out->objects.size()));
     if (s.Has("num_pucks") && out->num_pucks != static_cast<int>(out->objects.size()))
-      s.FailRule("num_pucks", "is " + std::to_string(out->num_pucks) + " but objects lists " +
-                                  std::to_string(out->objects.size()));
+      s.FailRule("num_pucks",
+                 "is " + std::to_string(out->num_pucks) + " but objects lists " + std::to_string(out->objects.size()));
     out->num_pucks = static_cast<int>(out->objects.size());
   } else {
     s.ReadInt("num_pucks", &out->num_pucks, 1, 6);
   }
-  if (s.Has("connections"))
-    ParseItems(s, "connections", ParseConnection, &out->connections, &connection_items);
+  if (s.Has("connections")) ParseItems(s, "connections", ParseConnection, &out->connections, &connection_items);
   ParseObjectSets(s, "object_sets", &out->object_sets);
   ParseObjectSets(s, "eval_object_sets", &out->eval_object_sets);
   s.ReadBool("velocities", &out->velocities);

@@ -41,7 +41,7 @@ struct ConnectionConfig {
   int first = 2;
   int second = 3;
   ConnectionKind kind = ConnectionKind::kRope;
-  double length = 0.13;     // rope length or spring rest length; goal rule uses it too
+  double length = 0.13;  // rope length or spring rest length; goal rule uses it too
   // time constant of the rope's soft length limit (MuJoCo solreflimit, damping ratio 1);
   // MuJoCo's default 0.02 lets a hard pull stretch the rope by ~1 cm, 0.005 by a few mm
   double limit_timeconst = 0.005;
@@ -53,7 +53,8 @@ struct ConnectionConfig {
 enum class StaticObjects {
   // the reference's: a free body whose xy is put back after every env step. In between it is
   // free: hit by the hand it flies (up to ~20 cm in one step), hits other objects and is put
-  // back, so they start moving with no visible cause (graph_service/README.md, "Static objects")
+  // back, so they start moving with no visible cause (docs/results/graph-service-history.md, "Static objects and fast
+  // hands")
   kPutBack,
   // a body fixed in the world (a mocap body placed at reset): nothing moves it. The default:
   // the graph service's onsets at a distance need a static object that stays where it is seen
@@ -62,9 +63,9 @@ enum class StaticObjects {
 
 // MuJoCo options and geom defaults.
 struct PhysicsConfig {
-  double timestep = 0.002;    // s
+  double timestep = 0.002;  // s
   int solver_iterations = 50;
-  int frame_skip = 50;        // physics steps per env step (one env step = 0.1 s)
+  int frame_skip = 50;  // physics steps per env step (one env step = 0.1 s)
   std::vector<double> geom_solref = {0.008, 1.0};
   std::vector<double> geom_solimp = {0.95, 0.95, 0.01};
   double geom_margin = 0.001;
@@ -80,9 +81,9 @@ struct PhysicsConfig {
 struct TableConfig {
   std::vector<double> center = {0.0, 0.6};
   std::vector<double> friction = {1.0, 0.005, 0.001};
-  double wall_x = 0.25;        // walls at x = +-wall_x
-  double wall_y_low = 0.35;    // wall at y = wall_y_low
-  double wall_y_high = 0.76;   // wall at y = wall_y_high
+  double wall_x = 0.25;       // walls at x = +-wall_x
+  double wall_y_low = 0.35;   // wall at y = wall_y_low
+  double wall_y_high = 0.76;  // wall at y = wall_y_high
   double wall_half_thickness = 0.005;
   double wall_half_height = 0.1;
   // every object's xy is clipped into this box after every env step
@@ -92,8 +93,8 @@ struct TableConfig {
 
 // The hand: a body welded to a mocap body, moved by the action.
 struct HandConfig {
-  double action_scale = 0.1;  // m per env step for an action of 1
-  double z = 0.02;            // mocap height, held every step
+  double action_scale = 0.1;               // m per env step for an action of 1
+  double z = 0.02;                         // mocap height, held every step
   std::vector<double> start = {0.0, 0.4};  // also the hand's evaluation goal
   std::vector<double> mocap_low = {-0.245, 0.40};
   std::vector<double> mocap_high = {0.245, 0.75};
@@ -177,8 +178,6 @@ inline double BoundingRadius(const ObjectConfig& object) {
 }
 
 // Human-readable shape name ("cylinder", "box").
-inline const char* ShapeName(ObjectShape shape) {
-  return shape == ObjectShape::kBox ? "box" : "cylinder";
-}
+inline const char* ShapeName(ObjectShape shape) { return shape == ObjectShape::kBox ? "box" : "cylinder"; }
 
 }  // namespace srics::config

@@ -24,8 +24,7 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadInt("warmup_updates", &out->warmup_updates, 0, 1 << 30);
   s.ReadInt("kl_ramp_updates", &out->kl_ramp_updates, 0, 1 << 30);
   s.ReadDouble("gumbel_temperature", &out->gumbel_temperature, 1e-3, 100);
-  s.ReadEnum("readout", &out->readout,
-             {{"cut", GraphReadout::kCut}, {"mean_weight", GraphReadout::kMeanWeight}});
+  s.ReadEnum("readout", &out->readout, {{"cut", GraphReadout::kCut}, {"mean_weight", GraphReadout::kMeanWeight}});
   s.ReadDouble("threshold", &out->threshold, 0, 1);
   s.ReadEnum("object_edges", &out->object_edges,
              {{"apart", ObjectEdgeReadout::kApart}, {"every_step", ObjectEdgeReadout::kEveryStep}});
@@ -38,8 +37,7 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   // recorded in the resolved settings only when given: every config written before the key
   // resolves to the same settings as before, so a run continued with this binary is no change
   if (s.Has("object_ties"))
-    s.ReadEnum("object_ties", &out->object_ties,
-               {{"two_way", ObjectTies::kTwoWay}, {"one_way", ObjectTies::kOneWay}});
+    s.ReadEnum("object_ties", &out->object_ties, {{"two_way", ObjectTies::kTwoWay}, {"one_way", ObjectTies::kOneWay}});
   s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
   s.ReadDouble("onset_loss_weight", &out->onset_loss_weight, 0, 1e3);
   s.ReadDouble("onset_motion_m", &out->onset_motion_m, 0, 1);
@@ -60,7 +58,8 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   if (out->refine_after_publish && (out->refine_share <= 0 || out->refine_updates_per_episode <= 0))
     s.FailRule("refine_after_publish", "needs refine_share and refine_updates_per_episode above 0");
   if (out->object_ties == ObjectTies::kOneWay && (out->ground_truth || !out->file.empty()))
-    s.FailRule("object_ties", "one_way orients a learned graph's ties; graph.ground_truth and graph.file publish theirs as they are");
+    s.FailRule("object_ties",
+               "one_way orients a learned graph's ties; graph.ground_truth and graph.file publish theirs as they are");
   if (out->ground_truth && !out->file.empty())
     s.FailRule("file", "and graph.ground_truth both name the graph to use: set one");
   if (out->min_updates > out->max_updates)

@@ -25,7 +25,8 @@ enum class ObjectEdgeReadout {
   kEveryStep,
   // the mean over the steps where the two stay more than contact_margin_m beyond touching
   // (their footprints' bounding radii) along the step's straight paths: the paper's graphs leave
-  // out occasional object-object contact, a tie acts at a distance. Needs the run's object sizes (the role programs pass
+  // out occasional object-object contact, a tie acts at a distance. Needs the run's object sizes (the role programs
+  // pass
   // them); without them every step counts.
   kApart,
 };
@@ -49,12 +50,12 @@ struct GraphConfig {
   bool ground_truth = false;
   // a graph file of an earlier run (graph.json): published as it is, no graph is learned
   std::string file;
-  int episodes = 1000;             // random-action episodes collected
+  int episodes = 1000;  // random-action episodes collected
   int episode_steps = 50;
   double held_out_fraction = 0.1;
-  int hidden_dim = 20;             // per-entity recurrent state
+  int hidden_dim = 20;  // per-entity recurrent state
   int mlp_hidden = 100;
-  int window = 20;                 // training windows of this many steps
+  int window = 20;  // training windows of this many steps
   int batch_windows = 100;
   // paper / reference: RMSprop, 5e-4. Adam at 1e-3 learns the pushes and the rope within the
   // ~3500 updates that fit 15 minutes of one core (RMSprop 5e-4 had not learned the rope)
@@ -75,7 +76,7 @@ struct GraphConfig {
   bool standardize_inputs = true;
   // > 0: the edge networks also see (xy_i - xy_j) / edge_relative_scale (metres); 0: off
   double edge_relative_scale = 0.05;
-  bool use_adam = true;            // Adam instead of RMSprop (reference: RMSprop)
+  bool use_adam = true;  // Adam instead of RMSprop (reference: RMSprop)
   // Bernoulli prior of an edge. Paper / reference: 0.05. With 0.05 the unused edges settle
   // at the prior, 0.03-0.07, on both sides of the threshold 0.06; with 0.01 they settle
   // near 0.01 and the threshold separates them.
@@ -90,19 +91,19 @@ struct GraphConfig {
   // effect networks learn the dynamics before the gates decide; then the gates are sampled
   // and the KL weight grows linearly to kl_weight over kl_ramp_updates. A ramp of 500 closed
   // every object gate, the tie's too, in seed 2 of both tie presets under the onset weight;
-  // 1500 kept the ties in every seed (graph_service/README.md, "Static objects and fast hands")
-  int warmup_updates = 1500;       // (not in the reference)
+  // 1500 kept the ties in every seed (docs/results/graph-service-history.md, "Static objects and fast hands")
+  int warmup_updates = 1500;  // (not in the reference)
   int kl_ramp_updates = 1500;
   double gumbel_temperature = 0.5;
   // the paper's read-out stays the default until the acceptance shows the cut read-out finds
   // at least as many graphs (relational-4 seed 1: the cut found the rope in one direction only)
   GraphReadout readout = GraphReadout::kMeanWeight;
-  double threshold = 0.06;         // mean_weight read-out: keep edges with mean weight above this
+  double threshold = 0.06;  // mean_weight read-out: keep edges with mean weight above this
   // apart (not the paper's every_step): contacts leave the object pairs' scores; README
   ObjectEdgeReadout object_edges = ObjectEdgeReadout::kApart;
   // metres beyond the arm's and an object's footprints that still count as touching (the
   // apart scores and the onset weight). 0: the paths' test already covers the hand's jumps, and
-  // 2 cm threw away onsets a spring caused (graph_service/README.md)
+  // 2 cm threw away onsets a spring caused (docs/results/graph-service-history.md, "Springs")
   double contact_margin_m = 0.0;
   // onset weight: metres beyond two objects' bounding radii that still count as touching
   // (small: a tie may be barely longer than the two radii together)
@@ -126,7 +127,7 @@ struct GraphConfig {
   // share of the strongest object pair either of its two ends has (0: off, the paper's). A
   // tie pulls at every distance; a contact that leaks into the apart weights (a recurrent
   // receiver remembers the collision) is a fraction of it: within a run a tie scored 1.6-7x
-  // the largest contact (graph_service/README.md, "Object pairs by their share"), while across
+  // the largest contact (docs/results/graph-service-history.md, "Object pairs by their share"), while across
   // runs ties and contacts meet at the threshold (relational-4-spring seed 1: contact 3-4
   // 0.061, spring 0.164). Two ties that share an object and differ by more than 1 / share
   // would lose the weaker (no preset or generated table 1-10 has such a chain).
@@ -152,7 +153,7 @@ struct GraphConfig {
   // push; the hand jumps ~10 cm a step, so its two ends are not enough) or another object
   // touches (within object_contact_margin_m of their bounding radii: a collision): what is
   // left is motion started at a distance, by a tie. 30: 10 lost the spring (0.012-0.016), 30
-  // found it (0.098) on relational-4-spring's data (graph_service/README.md, "Static objects and
+  // found it (0.098) on relational-4-spring's data (docs/results/graph-service-history.md, "Static objects and
   // fast hands"). It needs env.physics.static_objects: fixed (the default): the reference's
   // put-back static puck flies unseen within a step and sets pucks moving with no visible cause.
   double onset_loss_weight = 30.0;
@@ -161,13 +162,13 @@ struct GraphConfig {
   // decay of the reference's RMSprop); see GnnTrainer::Update. Not in the reference.
   bool restart_adam_after_warmup = true;
   double adam_beta2_after_warmup = 0.99;
-  bool hard_edges = true;          // straight-through (hard) Gumbel-softmax edge samples
+  bool hard_edges = true;  // straight-through (hard) Gumbel-softmax edge samples
   // paper 100k, reference code 300k updates: far beyond 15 minutes of one core here
   int max_updates = 5000;
-  int min_updates = 4500;          // no stop on a stable graph before this many updates
-  int eval_every_updates = 500;    // held-out loss and thresholded graph
-  int stable_evaluations = 2;      // stop once the graph is unchanged this many times
-  int eval_chunk_episodes = 100;   // episodes per forward pass when averaging edge weights
+  int min_updates = 4500;         // no stop on a stable graph before this many updates
+  int eval_every_updates = 500;   // held-out loss and thresholded graph
+  int stable_evaluations = 2;     // stop once the graph is unchanged this many times
+  int eval_chunk_episodes = 100;  // episodes per forward pass when averaging edge weights
   // An update whose loss is not finite or whose gradient is beyond nn::kMaxUsableGradient is
   // skipped (the parameters stay as they were); this many in a row end the service with an
   // error (GnnTrainingDivergedError) instead of publishing the graph of a model that no longer

@@ -16,9 +16,12 @@ void ParseRun(YamlSection s, RunConfig* out) {
   s.ReadDouble("max_wall_minutes", &out->max_wall_minutes, 0, 1e6);
   s.ReadString("output_dir", &out->output_dir, false);
   s.ReadEnum("log_level", &out->log_level,
-             std::vector<std::pair<std::string, std::string>>{
-                 {"trace", "trace"}, {"debug", "debug"}, {"info", "info"},
-                 {"warn", "warn"}, {"error", "error"}, {"off", "off"}});
+             std::vector<std::pair<std::string, std::string>>{{"trace", "trace"},
+                                                              {"debug", "debug"},
+                                                              {"info", "info"},
+                                                              {"warn", "warn"},
+                                                              {"error", "error"},
+                                                              {"off", "off"}});
   s.ReadBool("log_to_file", &out->log_to_file);
   s.Finish();
 }

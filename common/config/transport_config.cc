@@ -38,8 +38,9 @@ void ParseTransport(YamlSection s, TransportConfig* out) {
     security.Fail("identity", "the name of a folder under the keystore's identities/ (e.g. monitor)");
   security.Finish();
   if (!out->security.keystore.empty() && out->domain_id > 230)
-    s.FailRule("domain_id", "with transport.security.keystore, domain_id must be 0..230 (the range Cyclone 0.10's "
-                            "DDS Security governance parser accepts)");
+    s.FailRule("domain_id",
+               "with transport.security.keystore, domain_id must be 0..230 (the range Cyclone 0.10's "
+               "DDS Security governance parser accepts)");
   if (out->profile == CycloneProfile::kFile && out->cyclone_xml.empty())
     s.FailRule("cyclone_xml", "profile 'file' needs cyclone_xml: the path of a Cyclone XML file");
   if (out->profile == CycloneProfile::kUnicast && out->peers.empty())
@@ -51,7 +52,7 @@ KeystoreFiles KeystoreFilesOf(const SecurityConfig& security, const std::string&
   const std::filesystem::path dir = std::filesystem::absolute(security.keystore);
   const std::filesystem::path id = dir / "identities" / identity;
   return {(dir / "ca.cert.pem").string(), (dir / "governance.p7s").string(), (id / "cert.pem").string(),
-          (id / "key.pem").string(), (id / "permissions.p7s").string(), (dir / "crl.pem").string()};
+          (id / "key.pem").string(),      (id / "permissions.p7s").string(), (dir / "crl.pem").string()};
 }
 
 std::string CheckKeystore(const SecurityConfig& security, const std::string& own_name) {

@@ -33,7 +33,8 @@ class PlainYamlCheck : public YAML::EventHandler {
     Open(mark, anchor);
   }
   void OnSequenceEnd() override { --depth_; }
-  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+  void OnMapStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor,
+                  YAML::EmitterStyle::value) override {
     Open(mark, anchor);
   }
   void OnMapEnd() override { --depth_; }
@@ -85,17 +86,15 @@ std::string Describe(const YAML::Node& node) {
   return "a mapping";
 }
 
-std::string Join(const std::string& path, const std::string& key) {
-  return path.empty() ? key : path + "." + key;
-}
+std::string Join(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
 
 // The text of a mapping's key. Keys were checked by CheckKeys when the text was loaded.
 std::string KeyText(const YAML::Node& key) { return key.IsScalar() ? key.Scalar() : std::string(); }
 
 // Merges `top` into `base`; when `file` is given, records it as the origin of every key of
 // `top` (a base file's own origins were recorded when it was loaded, so it passes none).
-void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
-               const std::string* file, OriginMap* origins) {
+void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path, const std::string* file,
+               OriginMap* origins) {
   for (auto it = top.begin(); it != top.end(); ++it) {
     const std::string key = KeyText(it->first);
     const std::string key_path = Join(path, key);
@@ -107,22 +106,23 @@ void MergeInto(YAML::Node& base, const YAML::Node& top, const std::string& path,
       if (!file) continue;
       // every key below this one now comes from `file`
       for (auto o = origins->begin(); o != origins->end();) {
-        if (o->first.rfind(key_path + ".", 0) == 0) o = origins->erase(o); else ++o;
+        if (o->first.rfind(key_path + ".", 0) == 0)
+          o = origins->erase(o);
+        else
+          ++o;
       }
       // YAML::Clone drops positions, so the line of each value is taken here from the
       // original (as for a parsed text: a mapping or list starts at its first item)
       const bool has_lines = *file != "command line";
       auto line_of = [&](const YAML::Node& n) { return has_lines ? n.Mark().line + 1 : 0; };
-      std::function<void(const YAML::Node&, const std::string&, int)> mark =
-          [&](const YAML::Node& n, const std::string& p, int line) {
-            (*origins)[p] = Origin{*file, line};
-            if (n.IsMap())
-              for (auto c = n.begin(); c != n.end(); ++c)
-                mark(c->second, Join(p, KeyText(c->first)), line_of(c->second));
-            if (n.IsSequence())
-              for (size_t i = 0; i < n.size(); ++i)
-                mark(n[i], p + "[" + std::to_string(i) + "]", line_of(n[i]));
-          };
+      std::function<void(const YAML::Node&, const std::string&, int)> mark = [&](const YAML::Node& n,
+                                                                                 const std::string& p, int line) {
+        (*origins)[p] = Origin{*file, line};
+        if (n.IsMap())
+          for (auto c = n.begin(); c != n.end(); ++c) mark(c->second, Join(p, KeyText(c->first)), line_of(c->second));
+        if (n.IsSequence())
+          for (size_t i = 0; i < n.size(); ++i) mark(n[i], p + "[" + std::to_string(i) + "]", line_of(n[i]));
+      };
       mark(it->second, key_path, line_of(it->second));
     }
   }
@@ -183,17 +183,16 @@ std::string InRange(const std::string& what, N lo, N hi) {
 
 }  // namespace
 
-YamlSection::YamlSection(YAML::Node node, std::string path,
-                         std::shared_ptr<const OriginMap> origins, std::string default_file,
-                         YAML::Node resolved)
+YamlSection::YamlSection(YAML::Node node, std::string path, std::shared_ptr<const OriginMap> origins,
+                         std::string default_file, YAML::Node resolved)
     : node_(std::move(node)),
       path_(std::move(path)),
       origins_(std::move(origins)),
       default_file_(std::move(default_file)),
       resolved_(std::move(resolved)) {
   if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) {
-    throw ConfigError(Where("") + ": " + (path_.empty() ? "<top>" : path_) +
-                      ": expected a mapping, got " + Describe(node_));
+    throw ConfigError(Where("") + ": " + (path_.empty() ? "<top>" : path_) + ": expected a mapping, got " +
+                      Describe(node_));
   }
 }
 
@@ -221,8 +220,7 @@ std::string YamlSection::Where(const std::string& key) const {
   // one parsed text: the nodes still carry their positions
   const YAML::Node& const_node = node_;
   YAML::Node value = (!key.empty() && node_.IsMap()) ? YAML::Node(const_node[key]) : node_;
-  if (value.IsDefined() && value.Mark().line >= 0)
-    return default_file_ + ":" + std::to_string(value.Mark().line + 1);
+  if (value.IsDefined() && value.Mark().line >= 0) return default_file_ + ":" + std::to_string(value.Mark().line + 1);
   return default_file_;
 }
 
@@ -245,8 +243,7 @@ std::string YamlSection::Quote(const std::string& key) const {
 }
 
 void YamlSection::Fail(const std::string& key, const std::string& expected) const {
-  throw ConfigError(Where(key) + ": " + KeyPath(key) + ": expected " + expected + ", got " +
-                    Quote(key));
+  throw ConfigError(Where(key) + ": " + KeyPath(key) + ": expected " + expected + ", got " + Quote(key));
 }
 
 void YamlSection::FailRule(const std::string& key, const std::string& message) const {
@@ -265,9 +262,11 @@ void YamlSection::ReadUint64(const std::string& key, uint64_t* out, uint64_t lo)
   if (!Has(key)) return RecordDefault(key, *out);
   YAML::Node value = Get(key);
   uint64_t parsed = 0;
-  if (!value.IsScalar() || value.Scalar().starts_with("-") ||
-      !YAML::convert<uint64_t>::decode(value, parsed) || parsed < lo)
-    Fail(key, lo == 0 ? "a non-negative integer" : lo == 1 ? "a positive integer" : "an integer >= " + std::to_string(lo));
+  if (!value.IsScalar() || value.Scalar().starts_with("-") || !YAML::convert<uint64_t>::decode(value, parsed) ||
+      parsed < lo)
+    Fail(key, lo == 0   ? "a non-negative integer"
+              : lo == 1 ? "a positive integer"
+                        : "an integer >= " + std::to_string(lo));
   *out = parsed;
   Record(key, *out);
 }
@@ -284,8 +283,7 @@ void YamlSection::ReadBool(const std::string& key, bool* out) {
   if (!Has(key)) return RecordDefault(key, *out);
   YAML::Node value = Get(key);
   bool parsed = false;
-  if (!value.IsScalar() || !YAML::convert<bool>::decode(value, parsed))
-    Fail(key, "true or false");
+  if (!value.IsScalar() || !YAML::convert<bool>::decode(value, parsed)) Fail(key, "true or false");
   *out = parsed;
   Record(key, *out);
 }
@@ -299,12 +297,11 @@ void YamlSection::ReadString(const std::string& key, std::string* out, bool allo
   Record(key, *out);
 }
 
-void YamlSection::ReadDoubleList(const std::string& key, std::vector<double>* out, size_t size,
-                                 double lo, double hi) {
+void YamlSection::ReadDoubleList(const std::string& key, std::vector<double>* out, size_t size, double lo, double hi) {
   if (!Has(key)) return RecordDefault(key, *out);
   YAML::Node value = Get(key);
-  const std::string expected = InRange(
-      size ? "a list of " + std::to_string(size) + " numbers" : "a list of numbers", lo, hi);
+  const std::string expected =
+      InRange(size ? "a list of " + std::to_string(size) + " numbers" : "a list of numbers", lo, hi);
   if (!value.IsSequence() || (size && value.size() != size)) Fail(key, expected);
   std::vector<double> parsed;
   for (const auto& item : value) {
@@ -316,8 +313,7 @@ void YamlSection::ReadDoubleList(const std::string& key, std::vector<double>* ou
   Record(key, *out);
 }
 
-void YamlSection::ReadIntList(const std::string& key, std::vector<int>* out, int64_t lo,
-                              int64_t hi) {
+void YamlSection::ReadIntList(const std::string& key, std::vector<int>* out, int64_t lo, int64_t hi) {
   if (!Has(key)) return RecordDefault(key, *out);
   YAML::Node value = Get(key);
   const std::string expected = InRange("a list of integers", lo, hi);
@@ -335,7 +331,8 @@ void YamlSection::ReadIntList(const std::string& key, std::vector<int>* out, int
 YamlSection YamlSection::Child(const std::string& key) {
   // the same node: what the child records lands here (a section read twice shares one)
   const YAML::Node& recorded = resolved_;
-  YAML::Node resolved = recorded[key] && recorded[key].IsMap() ? YAML::Node(recorded[key]) : YAML::Node(YAML::NodeType::Map);
+  YAML::Node resolved =
+      recorded[key] && recorded[key].IsMap() ? YAML::Node(recorded[key]) : YAML::Node(YAML::NodeType::Map);
   resolved_[key] = resolved;
   if (!Has(key)) return YamlSection(YAML::Node(YAML::NodeType::Map), KeyPath(key), origins_, default_file_, resolved);
   YAML::Node value = Get(key);
@@ -354,8 +351,7 @@ std::vector<YamlSection> YamlSection::ChildList(const std::string& key) {
     if (!value[i].IsMap()) Fail(key, "a list of mappings");
     YAML::Node resolved(YAML::NodeType::Map);
     resolved_list.push_back(resolved);
-    children.emplace_back(value[i], KeyPath(key) + "[" + std::to_string(i) + "]", origins_,
-                          default_file_, resolved);
+    children.emplace_back(value[i], KeyPath(key) + "[" + std::to_string(i) + "]", origins_, default_file_, resolved);
   }
   return children;
 }
@@ -390,7 +386,8 @@ void CheckKeys(const YAML::Node& node, const std::string& path, const std::strin
   for (auto it = node.begin(); it != node.end(); ++it) {
     const YAML::Node key = it->first;  // a copy: it-> is a proxy that dies with this statement
     if (!key.IsScalar() || key.Scalar().empty()) {
-      const std::string where = has_lines && key.Mark().line >= 0 ? file + ":" + std::to_string(key.Mark().line + 1) : file;
+      const std::string where =
+          has_lines && key.Mark().line >= 0 ? file + ":" + std::to_string(key.Mark().line + 1) : file;
       throw ConfigError(where + ": " + (path.empty() ? "<top>" : path) +
                         ": expected a plain key (a name such as 'domain_id'), got " +
                         (key.IsScalar() ? std::string("an empty key") : Describe(key) + " as a key"));

@@ -37,8 +37,8 @@ class YamlSection {
  public:
   // `path` is the dotted key path of this mapping ("" for the root).
   // `resolved`: the mapping every read key and its value are recorded into (a new one if absent)
-  YamlSection(YAML::Node node, std::string path, std::shared_ptr<const OriginMap> origins,
-              std::string default_file, YAML::Node resolved = YAML::Node(YAML::NodeType::Map));
+  YamlSection(YAML::Node node, std::string path, std::shared_ptr<const OriginMap> origins, std::string default_file,
+              YAML::Node resolved = YAML::Node(YAML::NodeType::Map));
 
   bool Has(const std::string& key) const;
   // Each Read* leaves *out untouched when the key is absent and throws ConfigError when the
@@ -52,8 +52,7 @@ class YamlSection {
                       double hi);  // size 0 = any length
   void ReadIntList(const std::string& key, std::vector<int>* out, int64_t lo, int64_t hi);
   template <typename Enum>
-  void ReadEnum(const std::string& key, Enum* out,
-                const std::vector<std::pair<std::string, Enum>>& names);
+  void ReadEnum(const std::string& key, Enum* out, const std::vector<std::pair<std::string, Enum>>& names);
 
   // A nested mapping; absent gives an empty mapping so nested defaults apply.
   YamlSection Child(const std::string& key);
@@ -101,8 +100,7 @@ class YamlSection {
 };
 
 template <typename Enum>
-void YamlSection::ReadEnum(const std::string& key, Enum* out,
-                           const std::vector<std::pair<std::string, Enum>>& names) {
+void YamlSection::ReadEnum(const std::string& key, Enum* out, const std::vector<std::pair<std::string, Enum>>& names) {
   std::string text;
   std::string expected = "one of";
   for (const auto& [name, value] : names) expected += " '" + name + "'";

@@ -64,8 +64,8 @@ void WriteTemporary(const std::string& path, const std::string& tmp, std::string
     if (fd) fd->Reset();
     fs.Unlink(tmp);
     throw FileError("cannot write " + path + ": " + step + " " + tmp + " failed: " + Reason(error_number) + "; " +
-                        (had_previous ? "the previous " + path + " is kept" : "there is no previous " + path) +
-                        ", " + tmp + " removed",
+                        (had_previous ? "the previous " + path + " is kept" : "there is no previous " + path) + ", " +
+                        tmp + " removed",
                     error_number);
   };
   UniqueFd fd(fs.Open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644), &fs);
@@ -76,7 +76,8 @@ void WriteTemporary(const std::string& path, const std::string& tmp, std::string
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       const int error_number = n < 0 ? errno : ENOSPC;
-      fail("writing " + std::to_string(bytes.size()) + " bytes (" + std::to_string(done) + " written) to", error_number, &fd);
+      fail("writing " + std::to_string(bytes.size()) + " bytes (" + std::to_string(done) + " written) to", error_number,
+           &fd);
     }
     done += static_cast<size_t>(n);
   }

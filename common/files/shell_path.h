@@ -12,8 +12,10 @@ namespace srics::files {
 inline std::string ShellQuote(const std::string& word) {
   std::string quoted = "'";
   for (const char c : word) {
-    if (c == '\'') quoted += "'\\''";
-    else quoted += c;
+    if (c == '\'')
+      quoted += "'\\''";
+    else
+      quoted += c;
   }
   return quoted + "'";
 }

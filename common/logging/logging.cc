@@ -34,9 +34,8 @@ std::shared_ptr<spdlog::logger> SetUpLogger(const std::string& name, const LogOp
 }
 
 bool RateLimiter::Allow(uint64_t* suppressed) {
-  const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                          std::chrono::steady_clock::now().time_since_epoch())
-                          .count();
+  const int64_t now =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
   int64_t next = next_allowed_ns_.load();
   if (now >= next && next_allowed_ns_.compare_exchange_strong(
                          next, now + std::chrono::duration_cast<std::chrono::nanoseconds>(interval_).count())) {

@@ -7,10 +7,10 @@
 #include <string>
 
 #ifdef SRICS_WITH_ONEDNN
-#include <pthread.h>
-#include <signal.h>
 #include <omp.h>
 #include <oneapi/dnnl/dnnl.h>
+#include <pthread.h>
+#include <signal.h>
 #endif
 
 namespace srics::nn {
@@ -38,8 +38,9 @@ GemmBackend BackendFromEnvironment() {
   if (want == "eigen") return GemmBackend::kEigen;
   if (want == "onednn") {
     if (!kHaveOneDnn) {
-      throw std::invalid_argument("SRICS_GEMM=onednn, but this build has no oneDNN "
-                                  "(install libdnnl-dev and rebuild with SRICS_ONEDNN=ON)");
+      throw std::invalid_argument(
+          "SRICS_GEMM=onednn, but this build has no oneDNN "
+          "(install libdnnl-dev and rebuild with SRICS_ONEDNN=ON)");
     }
     return GemmBackend::kOneDnn;
   }
@@ -63,9 +64,8 @@ GemmBackend Active() {
   return static_cast<GemmBackend>(b);
 }
 
-void EigenSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a,
-                Eigen::Index lda, const float* b, Eigen::Index ldb, float beta, float* c,
-                Eigen::Index ldc) {
+void EigenSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a, Eigen::Index lda,
+                const float* b, Eigen::Index ldb, float beta, float* c, Eigen::Index ldc) {
   const ConstMap A(a, ta ? k : m, ta ? m : k, Stride(lda));
   const ConstMap B(b, tb ? n : k, tb ? k : n, Stride(ldb));
   EigenGemm(ta, tb, A, B, beta, Map(c, m, n, Stride(ldc)));
@@ -99,9 +99,8 @@ class AsynchronousSignalsBlocked {
   sigset_t saved_;
 };
 
-void OneDnnSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a,
-                 Eigen::Index lda, const float* b, Eigen::Index ldb, float beta, float* c,
-                 Eigen::Index ldc) {
+void OneDnnSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a, Eigen::Index lda,
+                 const float* b, Eigen::Index ldb, float beta, float* c, Eigen::Index ldc) {
   // oneDNN (Debian's build) threads with OpenMP and would start a team of every core in each
   // of our threads; the learner splits its work itself (nn::WorkerPool), so one per caller.
   thread_local const bool single_threaded = (omp_set_num_threads(1), true);
@@ -112,9 +111,8 @@ void OneDnnSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index 
     status = dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', m, n, k, 1.0f, a, lda, b, ldb, beta, c, ldc);
   }
   if (status != dnnl_success) {
-    throw std::runtime_error("oneDNN sgemm failed (status " + std::to_string(status) + ") on " +
-                             std::to_string(m) + "x" + std::to_string(k) + " * " +
-                             std::to_string(k) + "x" + std::to_string(n));
+    throw std::runtime_error("oneDNN sgemm failed (status " + std::to_string(status) + ") on " + std::to_string(m) +
+                             "x" + std::to_string(k) + " * " + std::to_string(k) + "x" + std::to_string(n));
   }
 }
 
@@ -135,9 +133,7 @@ std::string IsaName(dnnl_cpu_isa_t isa) {
 
 }  // namespace
 
-bool GemmBackendAvailable(GemmBackend backend) {
-  return backend == GemmBackend::kEigen || kHaveOneDnn;
-}
+bool GemmBackendAvailable(GemmBackend backend) { return backend == GemmBackend::kEigen || kHaveOneDnn; }
 
 GemmBackend ActiveGemmBackend() { return Active(); }
 
@@ -158,9 +154,8 @@ std::string GemmBackendDescription() {
 #endif
 }
 
-void Sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::Index k,
-           const float* a, Eigen::Index lda, const float* b, Eigen::Index ldb, float beta,
-           float* c, Eigen::Index ldc) {
+void Sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a, Eigen::Index lda,
+           const float* b, Eigen::Index ldb, float beta, float* c, Eigen::Index ldc) {
   if (m == 0 || n == 0) return;
 #ifdef SRICS_WITH_ONEDNN
   // oneDNN allocates its packing buffers on every call (posix_memalign): small products, such

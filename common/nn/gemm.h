@@ -1,3 +1,4 @@
+#pragma once
 // The one place where float matrices are multiplied. With oneDNN in the build (the default when
 // Debian's libdnnl-dev is installed), products run on oneDNN's sgemm, whose JIT kernels are
 // chosen at run time for the CPU at hand (AVX2, AVX-512, ...); otherwise, or when the
@@ -8,8 +9,6 @@
 // times 80x80, 256x128 times 128x128, ...) on an AVX2 machine: tests/bench/nn, docs/results.md.
 // oneDNN's own cap on instruction sets (DNNL_MAX_CPU_ISA=AVX2, SSE41, ...) selects its other
 // kernels; the tests run under several caps.
-#ifndef SRICS_COMMON_NN_GEMM_H_
-#define SRICS_COMMON_NN_GEMM_H_
 
 #include <Eigen/Core>
 #include <stdexcept>
@@ -43,30 +42,34 @@ std::string GemmBackendDescription();
 // beta 0 overwrites C (whatever it held, NaN included). Runs on the calling thread only.
 // Products of fewer than 2^19 multiply-adds run on Eigen whatever the backend: oneDNN
 // allocates heap buffers on every call, and the actors' action path must not allocate.
-void Sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::Index k,
-           const float* a, Eigen::Index lda, const float* b, Eigen::Index ldb, float beta,
-           float* c, Eigen::Index ldc);
+void Sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a, Eigen::Index lda,
+           const float* b, Eigen::Index ldb, float beta, float* c, Eigen::Index ldc);
 
 // c = op(a) * op(b) + beta * c on Eigen's own product, any Eigen operands; c has the product's
 // shape. Eigen's path of Sgemm and of Gemm for doubles.
 template <typename A, typename B, typename C>
-void EigenGemm(bool trans_a, bool trans_b, const A& a, const B& b, typename std::decay_t<C>::Scalar beta,
-               C&& c) {
+void EigenGemm(bool trans_a, bool trans_b, const A& a, const B& b, typename std::decay_t<C>::Scalar beta, C&& c) {
   using T = typename std::decay_t<C>::Scalar;
-  if (beta == T(0)) c.setZero();  // beta 0 ignores what c held (BLAS convention), NaN included
-  else if (beta != T(1)) c *= beta;
-  if (!trans_a && !trans_b) c.noalias() += a * b;
-  else if (trans_a && !trans_b) c.noalias() += a.transpose() * b;
-  else if (!trans_a && trans_b) c.noalias() += a * b.transpose();
-  else c.noalias() += a.transpose() * b.transpose();
+  if (beta == T(0))
+    c.setZero();  // beta 0 ignores what c held (BLAS convention), NaN included
+  else if (beta != T(1))
+    c *= beta;
+  if (!trans_a && !trans_b)
+    c.noalias() += a * b;
+  else if (trans_a && !trans_b)
+    c.noalias() += a.transpose() * b;
+  else if (!trans_a && trans_b)
+    c.noalias() += a * b.transpose();
+  else
+    c.noalias() += a.transpose() * b.transpose();
 }
 
 // c = op(a) * op(b) + beta * c for tensors: floats through Sgemm, other scalars (the double
 // gradient checks) through Eigen. beta 0 resizes c to the product's shape first; otherwise c
 // must have it.
 template <typename T>
-void Gemm(bool trans_a, bool trans_b, const Eigen::Ref<const Matrix<T>>& a,
-          const Eigen::Ref<const Matrix<T>>& b, T beta, Matrix<T>& c) {
+void Gemm(bool trans_a, bool trans_b, const Eigen::Ref<const Matrix<T>>& a, const Eigen::Ref<const Matrix<T>>& b,
+          T beta, Matrix<T>& c) {
   const Eigen::Index m = trans_a ? a.cols() : a.rows();
   const Eigen::Index k = trans_a ? a.rows() : a.cols();
   const Eigen::Index n = trans_b ? b.rows() : b.cols();
@@ -77,13 +80,10 @@ void Gemm(bool trans_a, bool trans_b, const Eigen::Ref<const Matrix<T>>& a,
     throw std::invalid_argument("nn::Gemm: accumulator has the wrong shape");
   }
   if constexpr (std::is_same_v<T, float>) {
-    Sgemm(trans_a, trans_b, m, n, k, a.data(), a.outerStride(), b.data(), b.outerStride(), beta,
-          c.data(), c.cols());
+    Sgemm(trans_a, trans_b, m, n, k, a.data(), a.outerStride(), b.data(), b.outerStride(), beta, c.data(), c.cols());
   } else {
     EigenGemm(trans_a, trans_b, a, b, beta, c);
   }
 }
 
 }  // namespace srics::nn
-
-#endif  // SRICS_COMMON_NN_GEMM_H_

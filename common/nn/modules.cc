@@ -33,8 +33,7 @@ void ActivateInPlace(Matrix<T>& y, Activation act) {
 // ---- Linear
 
 template <typename T>
-Linear<T>::Linear(std::string name, int in, int out, bool bias, Rng& rng)
-    : in_(in), out_(out) {
+Linear<T>::Linear(std::string name, int in, int out, bool bias, Rng& rng) : in_(in), out_(out) {
   if (in <= 0 || out <= 0) throw std::invalid_argument("nn::Linear " + name + ": bad size");
   w_ = std::make_unique<Parameter<T>>(name + ".w", in, out);
   XavierUniform(w_->value, in, out, rng);
@@ -78,8 +77,8 @@ void Linear<T>::Parameters(ParameterList<T>& list) {
 // ---- Mlp
 
 template <typename T>
-Mlp<T>::Mlp(std::string name, int in, const std::vector<int>& hidden, int out, Rng& rng,
-            Activation hidden_act, Activation out_act)
+Mlp<T>::Mlp(std::string name, int in, const std::vector<int>& hidden, int out, Rng& rng, Activation hidden_act,
+            Activation out_act)
     : hidden_act_(hidden_act), out_act_(out_act) {
   int prev = in;
   for (size_t i = 0; i <= hidden.size(); ++i) {
@@ -131,7 +130,9 @@ void Mlp<T>::Parameters(ParameterList<T>& list) {
 
 template <typename T>
 GruCell<T>::GruCell(std::string name, int in, int hidden, Rng& rng)
-    : in_(in), hidden_(hidden), input_(name + ".input", in, 3 * hidden, true, rng),
+    : in_(in),
+      hidden_(hidden),
+      input_(name + ".input", in, 3 * hidden, true, rng),
       state_(name + ".state", hidden, 3 * hidden, true, rng) {}
 
 template <typename T>
@@ -141,8 +142,7 @@ Var<T> GruCell<T>::Forward(Tape<T>& tape, Var<T> x, Var<T> h, bool trainable) {
   Var<T> gh = state_.Forward(tape, h, trainable);
   Var<T> r = tape.Sigmoid(tape.Add(tape.Slice(gi, 1, 0, H), tape.Slice(gh, 1, 0, H)));
   Var<T> z = tape.Sigmoid(tape.Add(tape.Slice(gi, 1, H, H), tape.Slice(gh, 1, H, H)));
-  Var<T> n = tape.Tanh(
-      tape.Add(tape.Slice(gi, 1, 2 * H, H), tape.Mul(r, tape.Slice(gh, 1, 2 * H, H))));
+  Var<T> n = tape.Tanh(tape.Add(tape.Slice(gi, 1, 2 * H, H), tape.Mul(r, tape.Slice(gh, 1, 2 * H, H))));
   // h' = n + z * (h - n)
   return tape.Add(n, tape.Mul(z, tape.Sub(h, n)));
 }
@@ -165,15 +165,13 @@ GoalAttention<T>::GoalAttention(std::string name, const AttentionConfig& c, Rng&
       value_(name + ".value", c.embed_dim, c.embed_dim, true, rng),
       out_(name + ".out", c.embed_dim, c.embed_dim, true, rng) {
   if (c.num_heads <= 0 || c.embed_dim % c.num_heads != 0) {
-    throw std::invalid_argument("nn::GoalAttention " + name + ": embed_dim " +
-                                std::to_string(c.embed_dim) + " not divisible by " +
-                                std::to_string(c.num_heads) + " heads");
+    throw std::invalid_argument("nn::GoalAttention " + name + ": embed_dim " + std::to_string(c.embed_dim) +
+                                " not divisible by " + std::to_string(c.num_heads) + " heads");
   }
 }
 
 template <typename T>
-typename GoalAttention<T>::Output GoalAttention<T>::Forward(Tape<T>& tape, Var<T> entities,
-                                                            Var<T> mask, Var<T> goals,
+typename GoalAttention<T>::Output GoalAttention<T>::Forward(Tape<T>& tape, Var<T> entities, Var<T> mask, Var<T> goals,
                                                             bool trainable) {
   // Entity tokens feed only the key and value projections, and the goal embedding's query
   // projection follows it directly: with narrow inputs (6-7 features into 80) the composed
@@ -203,9 +201,8 @@ typename GoalAttention<T>::Output GoalAttention<T>::Forward(Tape<T>& tape, Var<T
 }
 
 template <typename T>
-void GoalAttention<T>::Apply(const Eigen::Ref<const Matrix<T>>& entities,
-                             const Eigen::Ref<const Matrix<T>>& goal, Matrix<T>& attention,
-                             Matrix<T>& goal_embedding) {
+void GoalAttention<T>::Apply(const Eigen::Ref<const Matrix<T>>& entities, const Eigen::Ref<const Matrix<T>>& goal,
+                             Matrix<T>& attention, Matrix<T>& goal_embedding) {
   const Eigen::Index ents = entities.rows(), E = config_.embed_dim;
   const Eigen::Index dh = E / config_.num_heads;
   entity_.Apply(entities, tok_);
@@ -259,16 +256,14 @@ typename TanhGaussian<T>::Sample TanhGaussian<T>::Forward(Tape<T>& tape, Var<T> 
   const T half_log_2pi = T(0.5) * std::log(T(2) * T(M_PI));
   Var<T> base = tape.Constant((T(-0.5) * eps.array().square() - half_log_2pi).matrix());
   // tanh correction, stable form: log(1 - tanh(u)^2) = -2 (u + softplus(-2u) - log 2)
-  Var<T> corr = tape.MulScalar(
-      tape.AddScalar(tape.Add(u, tape.Softplus(tape.MulScalar(u, T(-2)))), -std::log(T(2))),
-      T(-2));
+  Var<T> corr =
+      tape.MulScalar(tape.AddScalar(tape.Add(u, tape.Softplus(tape.MulScalar(u, T(-2)))), -std::log(T(2))), T(-2));
   Var<T> log_prob = tape.Sum(tape.Sub(tape.Sub(base, log_std), corr), 1);
   return {action, log_prob};
 }
 
 template <typename T>
-T TanhGaussian<T>::Apply(const T* mean_log_std, int action_dim, const T* eps,
-                         T* action) const {
+T TanhGaussian<T>::Apply(const T* mean_log_std, int action_dim, const T* eps, T* action) const {
   const T half_log_2pi = T(0.5) * std::log(T(2) * T(M_PI));
   T log_prob = 0;
   for (int i = 0; i < action_dim; ++i) {

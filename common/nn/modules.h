@@ -1,9 +1,8 @@
+#pragma once
 // Layers built on the tape: Linear, MLP, GRU cell, goal-conditioned multi-head attention and
 // the tanh-Gaussian policy head. Each module owns its parameters (stable addresses), lists
 // them in a fixed order with Parameters(), runs on a tape with Forward(), and offers an
 // Apply() inference path that writes into caller-owned buffers without a tape.
-#ifndef SRICS_COMMON_NN_MODULES_H_
-#define SRICS_COMMON_NN_MODULES_H_
 
 #include <memory>
 #include <string>
@@ -101,10 +100,10 @@ class GruCell {
 
 // Sizes of the goal-conditioned attention block.
 struct AttentionConfig {
-  int entity_dim;   // features per entity token
-  int goal_dim;     // features of the goal token
-  int embed_dim;    // token embedding size (paper: 80)
-  int num_heads;    // heads (paper: 5, of 16 each); must divide embed_dim
+  int entity_dim;  // features per entity token
+  int goal_dim;    // features of the goal token
+  int embed_dim;   // token embedding size (paper: 80)
+  int num_heads;   // heads (paper: 5, of 16 each); must divide embed_dim
 };
 
 // The goal-conditioned multi-head attention block: entity tokens -> Linear(embed) -> keys and
@@ -122,14 +121,13 @@ class GoalAttention {
   };
   // entities: (B*N) x entity_dim, row b*N + n; mask: B x N (1 = real entity) or id < 0;
   // goals: B x goal_dim.
-  Output Forward(Tape<T>& tape, Var<T> entities, Var<T> mask, Var<T> goals,
-                 bool trainable = true);
+  Output Forward(Tape<T>& tape, Var<T> entities, Var<T> mask, Var<T> goals, bool trainable = true);
 
   // Single-sample inference: entities N x entity_dim (all valid), goal 1 x goal_dim; writes
   // the attention output and goal embedding (1 x embed each) without a tape or allocation
   // once N has been seen.
-  void Apply(const Eigen::Ref<const Matrix<T>>& entities, const Eigen::Ref<const Matrix<T>>& goal,
-             Matrix<T>& attention, Matrix<T>& goal_embedding);
+  void Apply(const Eigen::Ref<const Matrix<T>>& entities, const Eigen::Ref<const Matrix<T>>& goal, Matrix<T>& attention,
+             Matrix<T>& goal_embedding);
 
   const AttentionConfig& config() const { return config_; }
   void Parameters(ParameterList<T>& list);
@@ -172,5 +170,3 @@ extern template struct TanhGaussian<float>;
 extern template struct TanhGaussian<double>;
 
 }  // namespace srics::nn
-
-#endif  // SRICS_COMMON_NN_MODULES_H_

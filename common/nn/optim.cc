@@ -50,9 +50,8 @@ template <typename T, typename Rule>
 void Optimizer<T, Rule>::ImportState(const std::vector<float>& state) {
   const size_t expected = 2 + Rule::kMoments * static_cast<size_t>(NumScalars(params_));
   if (state.size() != expected) {
-    throw std::invalid_argument(std::string(Rule::kName) + "::ImportState: " +
-                                std::to_string(state.size()) + " values, expected " +
-                                std::to_string(expected));
+    throw std::invalid_argument(std::string(Rule::kName) + "::ImportState: " + std::to_string(state.size()) +
+                                " values, expected " + std::to_string(expected));
   }
   steps_ = static_cast<std::int64_t>(state[0]) * kHalf + static_cast<std::int64_t>(state[1]);
   size_t pos = 2;
@@ -61,8 +60,7 @@ void Optimizer<T, Rule>::ImportState(const std::vector<float>& state) {
 }
 
 template <typename T>
-void AdamRule::Update(const Options& o, std::int64_t step, Parameter<T>& p,
-                      std::array<Matrix<T>, 2>& moments) {
+void AdamRule::Update(const Options& o, std::int64_t step, Parameter<T>& p, std::array<Matrix<T>, 2>& moments) {
   const double c1 = 1.0 - std::pow(o.beta1, static_cast<double>(step));
   const double c2 = 1.0 - std::pow(o.beta2, static_cast<double>(step));
   const T b1 = static_cast<T>(o.beta1), b2 = static_cast<T>(o.beta2);
@@ -79,8 +77,7 @@ void AdamRule::Update(const Options& o, std::int64_t step, Parameter<T>& p,
 }
 
 template <typename T>
-void RmsPropRule::Update(const Options& o, std::int64_t, Parameter<T>& p,
-                         std::array<Matrix<T>, 1>& moments) {
+void RmsPropRule::Update(const Options& o, std::int64_t, Parameter<T>& p, std::array<Matrix<T>, 1>& moments) {
   const T a = static_cast<T>(o.alpha), lr = static_cast<T>(o.lr);
   const T eps = static_cast<T>(o.eps);
   const auto g = p.grad.array();
@@ -137,9 +134,7 @@ template double ClipGradNorm<float>(const ParameterList<float>&, double);
 template double ClipGradNorm<double>(const ParameterList<double>&, double);
 template bool GradientsUsable<float>(const ParameterList<float>&);
 template bool GradientsUsable<double>(const ParameterList<double>&);
-template void SoftUpdate<float>(const ParameterList<float>&, const ParameterList<float>&,
-                                double);
-template void SoftUpdate<double>(const ParameterList<double>&, const ParameterList<double>&,
-                                 double);
+template void SoftUpdate<float>(const ParameterList<float>&, const ParameterList<float>&, double);
+template void SoftUpdate<double>(const ParameterList<double>&, const ParameterList<double>&, double);
 
 }  // namespace srics::nn

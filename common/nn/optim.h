@@ -1,8 +1,7 @@
+#pragma once
 // Optimizers and parameter-list utilities. An optimizer keeps one state slot per parameter
 // of the list it was built with (index-aligned, named after the parameter), never keyed by
 // memory address; its state can be exported and imported for checkpoints.
-#ifndef SRICS_COMMON_NN_OPTIM_H_
-#define SRICS_COMMON_NN_OPTIM_H_
 
 #include <array>
 #include <cstdint>
@@ -59,8 +58,7 @@ struct AdamRule {
   static constexpr const char* kName = "nn::Adam";
   static constexpr int kMoments = 2;
   template <typename T>
-  static void Update(const Options& o, std::int64_t step, Parameter<T>& p,
-                     std::array<Matrix<T>, 2>& moments);
+  static void Update(const Options& o, std::int64_t step, Parameter<T>& p, std::array<Matrix<T>, 2>& moments);
 };
 
 // RMSprop as in PyTorch (no momentum, not centered): v = a v + (1 - a) g^2,
@@ -74,8 +72,7 @@ struct RmsPropRule {
   static constexpr const char* kName = "nn::RmsProp";
   static constexpr int kMoments = 1;
   template <typename T>
-  static void Update(const Options& o, std::int64_t step, Parameter<T>& p,
-                     std::array<Matrix<T>, 1>& moments);
+  static void Update(const Options& o, std::int64_t step, Parameter<T>& p, std::array<Matrix<T>, 1>& moments);
 };
 
 template <typename T>
@@ -109,5 +106,3 @@ template <typename T>
 void SoftUpdate(const ParameterList<T>& target, const ParameterList<T>& source, double tau);
 
 }  // namespace srics::nn
-
-#endif  // SRICS_COMMON_NN_OPTIM_H_

@@ -1,3 +1,4 @@
+#pragma once
 // Running one computation on several threads with the same result up to summation order:
 // a fixed pool of worker threads (WorkerPool) and per-thread gradient buffers
 // (GradientBuffer) that a tape fills instead of Parameter::grad, added in a fixed order
@@ -8,8 +9,6 @@
 //   tape1.set_gradient_buffer(&shard1);
 //   pool.Run([&](int part) { /* forward + Backward on part's rows, tape of `part` */ });
 //   shard1.AddInto();                           // params' grad += part 1's gradients
-#ifndef SRICS_COMMON_NN_PARALLEL_H_
-#define SRICS_COMMON_NN_PARALLEL_H_
 
 #include <algorithm>
 #include <condition_variable>
@@ -20,8 +19,8 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
-#include <utility>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "common/nn/tensor.h"
@@ -64,8 +63,8 @@ class WorkerPool {
 template <typename T>
 class GradientBuffer {
  public:
-  explicit GradientBuffer(const ParameterList<T>& params) : params_(params), grads_(params.size()),
-                                                            touched_(params.size(), false) {
+  explicit GradientBuffer(const ParameterList<T>& params)
+      : params_(params), grads_(params.size()), touched_(params.size(), false) {
     for (size_t i = 0; i < params_.size(); ++i) index_[params_[i]] = i;
   }
 
@@ -111,5 +110,3 @@ inline std::pair<int, int> PartRows(int rows, int parts, int part) {
 }
 
 }  // namespace srics::nn
-
-#endif  // SRICS_COMMON_NN_PARALLEL_H_

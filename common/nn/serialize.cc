@@ -20,8 +20,7 @@ void Put(std::string& out, V v) {
 // reads from a byte buffer; every read past the end is a truncated file
 class Reader {
  public:
-  Reader(const std::string& data, size_t end, const std::string& path)
-      : data_(data), end_(end), path_(path) {}
+  Reader(const std::string& data, size_t end, const std::string& path) : data_(data), end_(end), path_(path) {}
   template <typename V>
   V Get() {
     V v;
@@ -30,9 +29,8 @@ class Reader {
   }
   const char* Take(size_t n) {
     if (n > end_ - pos_) {
-      throw CorruptCheckpointError("checkpoint " + path_ + ": truncated (needs " +
-                            std::to_string(pos_ + n) + " bytes, has " + std::to_string(end_) +
-                            ")");
+      throw CorruptCheckpointError("checkpoint " + path_ + ": truncated (needs " + std::to_string(pos_ + n) +
+                                   " bytes, has " + std::to_string(end_) + ")");
     }
     const char* p = data_.data() + pos_;
     pos_ += n;
@@ -77,8 +75,7 @@ template <typename T>
 std::string SignatureString(const ParameterList<T>& params) {
   std::string s;
   for (const Parameter<T>* p : params) {
-    s += p->name + ":" + std::to_string(p->value.rows()) + "x" +
-         std::to_string(p->value.cols()) + ";";
+    s += p->name + ":" + std::to_string(p->value.rows()) + "x" + std::to_string(p->value.cols()) + ";";
   }
   return s;
 }
@@ -105,8 +102,8 @@ template <typename T>
 void LoadFlat(const ParameterList<T>& params, std::span<const float> flat) {
   const auto expected = static_cast<size_t>(NumScalars(params));
   if (flat.size() != expected) {
-    throw std::invalid_argument("nn::LoadFlat: " + std::to_string(flat.size()) +
-                                " values for a model of " + std::to_string(expected));
+    throw std::invalid_argument("nn::LoadFlat: " + std::to_string(flat.size()) + " values for a model of " +
+                                std::to_string(expected));
   }
   size_t pos = 0;
   for (Parameter<T>* p : params) {
@@ -153,8 +150,10 @@ void WriteCheckpoint(const std::string& path, std::vector<CheckpointSection> sec
   const std::string bytes = CheckpointBytes(sections);
   std::vector<CheckpointSection>().swap(sections);
   try {
-    if (keep > 1) files::WriteGeneration(path, keep, bytes, fs);
-    else files::WriteFileDurably(path, bytes, fs);
+    if (keep > 1)
+      files::WriteGeneration(path, keep, bytes, fs);
+    else
+      files::WriteFileDurably(path, bytes, fs);
   } catch (const files::FileError& e) {
     throw CheckpointError(std::string("checkpoint not written: ") + e.what());
   }
@@ -169,8 +168,7 @@ std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
   }
   const size_t min_size = sizeof(kMagic) + 8 + 8;
   if (data.size() < min_size) {
-    throw CorruptCheckpointError("checkpoint " + path + ": truncated (" + std::to_string(data.size()) +
-                                 " bytes)");
+    throw CorruptCheckpointError("checkpoint " + path + ": truncated (" + std::to_string(data.size()) + " bytes)");
   }
   std::uint64_t stored;
   std::memcpy(&stored, data.data() + data.size() - 8, 8);
@@ -181,9 +179,8 @@ std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
   // another format version is not called corrupt (whatever its checksum): a newer build's
   // checkpoint must not be set aside by an older build
   if (version < kOldestCheckpointVersion || version > kCheckpointVersion) {
-    throw CheckpointError("checkpoint " + path + ": unsupported format version " +
-                          std::to_string(version) + " (this build reads versions " +
-                          std::to_string(kOldestCheckpointVersion) + " to " +
+    throw CheckpointError("checkpoint " + path + ": unsupported format version " + std::to_string(version) +
+                          " (this build reads versions " + std::to_string(kOldestCheckpointVersion) + " to " +
                           std::to_string(kCheckpointVersion) + ")");
   }
   // the sections are parsed before the checksum so that a cut file reports "truncated"
@@ -213,8 +210,8 @@ std::vector<CheckpointSection> ReadCheckpoint(const std::string& path) {
   return sections;
 }
 
-const CheckpointSection& FindSection(const std::vector<CheckpointSection>& sections,
-                                     const std::string& name, const std::string& path) {
+const CheckpointSection& FindSection(const std::vector<CheckpointSection>& sections, const std::string& name,
+                                     const std::string& path) {
   for (const CheckpointSection& s : sections) {
     if (s.name == name) return s;
   }
@@ -222,14 +219,13 @@ const CheckpointSection& FindSection(const std::vector<CheckpointSection>& secti
 }
 
 template <typename T>
-void LoadSection(const CheckpointSection& section, const ParameterList<T>& params,
-                 const std::string& path) {
+void LoadSection(const CheckpointSection& section, const ParameterList<T>& params, const std::string& path) {
   const std::string sig = SignatureString(params);
   if (section.signature != sig) {
     const auto h = [](const std::string& s) { return std::to_string(Fnv1a(s.data(), s.size())); };
-    throw CheckpointError("checkpoint " + path + ": architecture mismatch in section '" +
-                          section.name + "' (signature " + h(section.signature) + " vs " +
-                          h(sig) + "; " + FirstDifference(section.signature, sig) + ")");
+    throw CheckpointError("checkpoint " + path + ": architecture mismatch in section '" + section.name +
+                          "' (signature " + h(section.signature) + " vs " + h(sig) + "; " +
+                          FirstDifference(section.signature, sig) + ")");
   }
   LoadFlat(params, section.values);
 }
@@ -240,22 +236,19 @@ void SaveParameters(const std::string& path, const ParameterList<T>& params) {
 }
 
 template <typename T>
-void LoadParameters(const std::string& path, const ParameterList<T>& params,
-                    const std::string& section) {
+void LoadParameters(const std::string& path, const ParameterList<T>& params, const std::string& section) {
   const auto sections = ReadCheckpoint(path);
   LoadSection(FindSection(sections, section, path), params, path);
 }
 
-#define SRICS_NN_INSTANTIATE(T)                                                           \
-  template std::string SignatureString<T>(const ParameterList<T>&);                       \
-  template std::uint64_t SignatureHash<T>(const ParameterList<T>&);                       \
-  template std::vector<float> Flatten<T>(const ParameterList<T>&);                        \
-  template void LoadFlat<T>(const ParameterList<T>&, std::span<const float>);             \
-  template void LoadSection<T>(const CheckpointSection&, const ParameterList<T>&,         \
-                               const std::string&);                                       \
-  template void SaveParameters<T>(const std::string&, const ParameterList<T>&);           \
-  template void LoadParameters<T>(const std::string&, const ParameterList<T>&,            \
-                                  const std::string&);
+#define SRICS_NN_INSTANTIATE(T)                                                                        \
+  template std::string SignatureString<T>(const ParameterList<T>&);                                    \
+  template std::uint64_t SignatureHash<T>(const ParameterList<T>&);                                    \
+  template std::vector<float> Flatten<T>(const ParameterList<T>&);                                     \
+  template void LoadFlat<T>(const ParameterList<T>&, std::span<const float>);                          \
+  template void LoadSection<T>(const CheckpointSection&, const ParameterList<T>&, const std::string&); \
+  template void SaveParameters<T>(const std::string&, const ParameterList<T>&);                        \
+  template void LoadParameters<T>(const std::string&, const ParameterList<T>&, const std::string&);
 SRICS_NN_INSTANTIATE(float)
 SRICS_NN_INSTANTIATE(double)
 #undef SRICS_NN_INSTANTIATE

@@ -1,3 +1,4 @@
+#pragma once
 // Parameters as one flat float vector (the PolicyWeights payload) and checkpoint files.
 //
 // The architecture signature names every parameter and its shape in list order
@@ -11,8 +12,6 @@
 //   checksum u64 (FNV-1a over every byte before it).
 // Version 1 (before the replay was checkpointed) has no byte count and bytes; it is still
 // read (its sections have empty bytes).
-#ifndef SRICS_COMMON_NN_SERIALIZE_H_
-#define SRICS_COMMON_NN_SERIALIZE_H_
 
 #include <cstdint>
 #include <cstring>
@@ -66,7 +65,7 @@ struct CheckpointSection {
   std::string name;
   std::string signature;  // SignatureString of what the values belong to (may be empty)
   std::vector<float> values;
-  std::string bytes;      // anything else (a replay buffer, counters, RNG states): ByteWriter
+  std::string bytes;  // anything else (a replay buffer, counters, RNG states): ByteWriter
 };
 
 // The format version written by WriteCheckpoint, and the oldest one ReadCheckpoint reads.
@@ -176,18 +175,14 @@ void SaveParameters(const std::string& path, const ParameterList<T>& params);
 // Throws CheckpointError; an "architecture mismatch" message names both signatures' hashes
 // and the first differing parameter.
 template <typename T>
-void LoadParameters(const std::string& path, const ParameterList<T>& params,
-                    const std::string& section = "parameters");
+void LoadParameters(const std::string& path, const ParameterList<T>& params, const std::string& section = "parameters");
 
 // Finds a section by name in sections read from path; throws CheckpointError if absent.
-const CheckpointSection& FindSection(const std::vector<CheckpointSection>& sections,
-                                     const std::string& name, const std::string& path);
+const CheckpointSection& FindSection(const std::vector<CheckpointSection>& sections, const std::string& name,
+                                     const std::string& path);
 
 // Checks that a section's signature matches params and loads its values.
 template <typename T>
-void LoadSection(const CheckpointSection& section, const ParameterList<T>& params,
-                 const std::string& path);
+void LoadSection(const CheckpointSection& section, const ParameterList<T>& params, const std::string& path);
 
 }  // namespace srics::nn
-
-#endif  // SRICS_COMMON_NN_SERIALIZE_H_

@@ -101,9 +101,7 @@ Matrix<T> Reduce(const Matrix<T>& g, Index rows, Index cols) {
   return g.rowwise().sum();
 }
 
-bool Broadcastable(Index r, Index c, Index rows, Index cols) {
-  return (r == rows || r == 1) && (c == cols || c == 1);
-}
+bool Broadcastable(Index r, Index c, Index rows, Index cols) { return (r == rows || r == 1) && (c == cols || c == 1); }
 
 // softmax of each row over entries with non-zero mask (mask may be null); rows with no
 // valid entry become zero
@@ -225,9 +223,8 @@ Var<T> Tape<T>::Binary(Op op, Var<T> a, Var<T> b) {
   const Mat& B = Val(b.id);
   const Index rows = std::max(A.rows(), B.rows());
   const Index cols = std::max(A.cols(), B.cols());
-  SRICS_NN_CHECK(Broadcastable(A.rows(), A.cols(), rows, cols) &&
-            Broadcastable(B.rows(), B.cols(), rows, cols),
-        "elementwise", Shape(A) + " vs " + Shape(B));
+  SRICS_NN_CHECK(Broadcastable(A.rows(), A.cols(), rows, cols) && Broadcastable(B.rows(), B.cols(), rows, cols),
+                 "elementwise", Shape(A) + " vs " + Shape(B));
   if (op == Op::kMin) {
     SRICS_NN_CHECK(A.rows() == B.rows() && A.cols() == B.cols(), "Min", Shape(A) + " vs " + Shape(B));
   }
@@ -248,7 +245,6 @@ Var<T> Tape<T>::Binary(Op op, Var<T> a, Var<T> b) {
   }
   return Out(n);
 }
-
 
 template <typename T>
 Var<T> Tape<T>::AddScalar(Var<T> a, T s) {
@@ -292,7 +288,6 @@ Var<T> Tape<T>::Unary(Op op, Var<T> a) {
   }
   return Out(n);
 }
-
 
 template <typename T>
 Var<T> Tape<T>::Sum(Var<T> a, int axis) {
@@ -366,9 +361,9 @@ Var<T> Tape<T>::Slice(Var<T> a, int axis, Index start, Index length) {
   Node& n = NewNode(Op::kSlice, a.id);
   const Mat& A = Val(a.id);
   const Index extent = axis == 0 ? A.rows() : A.cols();
-  SRICS_NN_CHECK((axis == 0 || axis == 1) && start >= 0 && length >= 0 && start + length <= extent,
-        "Slice", "axis " + std::to_string(axis) + " [" + std::to_string(start) + ", +" +
-                     std::to_string(length) + ") of " + Shape(A));
+  SRICS_NN_CHECK((axis == 0 || axis == 1) && start >= 0 && length >= 0 && start + length <= extent, "Slice",
+                 "axis " + std::to_string(axis) + " [" + std::to_string(start) + ", +" + std::to_string(length) +
+                     ") of " + Shape(A));
   n.i0 = axis;
   n.i1 = start;
   if (axis == 1) {
@@ -383,8 +378,8 @@ template <typename T>
 Var<T> Tape<T>::Reshape(Var<T> a, Index rows, Index cols) {
   Node& n = NewNode(Op::kReshape, a.id);
   const Mat& A = Val(a.id);
-  SRICS_NN_CHECK(rows * cols == A.size(), "Reshape", Shape(A) + " to " + std::to_string(rows) + "x" +
-                                                std::to_string(cols));
+  SRICS_NN_CHECK(rows * cols == A.size(), "Reshape",
+                 Shape(A) + " to " + std::to_string(rows) + "x" + std::to_string(cols));
   n.value = Eigen::Map<const Mat>(A.data(), rows, cols);
   return Out(n);
 }
@@ -405,7 +400,7 @@ Var<T> Tape<T>::MaskedSoftmax(Var<T> a, Var<T> mask) {
   if (mask.id >= 0) {
     M = &Val(mask.id);
     SRICS_NN_CHECK(M->rows() == A.rows() && M->cols() == A.cols(), "MaskedSoftmax",
-          "mask " + Shape(*M) + " for " + Shape(A));
+                   "mask " + Shape(*M) + " for " + Shape(A));
   }
   RowSoftmax(A, M, n.value);
   return Out(n);
@@ -426,12 +421,11 @@ Var<T> Tape<T>::LogSoftmax(Var<T> a) {
 }
 
 template <typename T>
-Var<T> Tape<T>::GumbelSoftmax(Var<T> logits, const Mat& gumbel_noise, T temperature,
-                              bool hard) {
+Var<T> Tape<T>::GumbelSoftmax(Var<T> logits, const Mat& gumbel_noise, T temperature, bool hard) {
   Node& n = NewNode(Op::kGumbelSoftmax, logits.id);
   const Mat& L = Val(logits.id);
   SRICS_NN_CHECK(gumbel_noise.rows() == L.rows() && gumbel_noise.cols() == L.cols(), "GumbelSoftmax",
-        "noise " + Shape(gumbel_noise) + " for " + Shape(L));
+                 "noise " + Shape(gumbel_noise) + " for " + Shape(L));
   SRICS_NN_CHECK(temperature > T(0), "GumbelSoftmax", "temperature must be positive");
   n.f0 = temperature;
   n.flag = hard;
@@ -458,19 +452,18 @@ Var<T> Tape<T>::Gather(Var<T> a, const std::vector<int>& index) {
   n.value.resize(static_cast<Index>(index.size()), A.cols());
   for (size_t i = 0; i < index.size(); ++i) {
     SRICS_NN_CHECK(index[i] >= 0 && index[i] < A.rows(), "Gather",
-          "index " + std::to_string(index[i]) + " of " + Shape(A));
+                   "index " + std::to_string(index[i]) + " of " + Shape(A));
     n.value.row(i) = A.row(index[i]);
   }
   return Out(n);
 }
 
 template <typename T>
-Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_rows,
-                           Var<T> weight) {
+Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_rows, Var<T> weight) {
   Node& n = NewNode(Op::kScatterAdd, a.id, weight.id);
   const Mat& A = Val(a.id);
   SRICS_NN_CHECK(static_cast<Index>(index.size()) == A.rows(), "ScatterAdd",
-        std::to_string(index.size()) + " indices for " + Shape(A));
+                 std::to_string(index.size()) + " indices for " + Shape(A));
   const Mat* W = weight.id >= 0 ? &Val(weight.id) : nullptr;
   SRICS_NN_CHECK(!W || (W->rows() == A.rows() && W->cols() == 1), "ScatterAdd",
                  "weight " + Shape(*W) + " for " + Shape(A));
@@ -478,38 +471,36 @@ Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_ro
   n.value.setZero(num_rows, A.cols());
   for (size_t i = 0; i < index.size(); ++i) {
     SRICS_NN_CHECK(index[i] >= 0 && index[i] < num_rows, "ScatterAdd",
-          "index " + std::to_string(index[i]) + " of " + std::to_string(num_rows));
-    if (W) n.value.row(index[i]) += (*W)(i, 0) * A.row(i);
-    else n.value.row(index[i]) += A.row(i);
+                   "index " + std::to_string(index[i]) + " of " + std::to_string(num_rows));
+    if (W)
+      n.value.row(index[i]) += (*W)(i, 0) * A.row(i);
+    else
+      n.value.row(index[i]) += A.row(i);
   }
   return Out(n);
 }
 
 template <typename T>
-Var<T> Tape<T>::GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b,
-                              const std::vector<int>& b_index, Index col, Index width) {
+Var<T> Tape<T>::GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b, const std::vector<int>& b_index,
+                              Index col, Index width) {
   Node& n = NewNode(Op::kGatherSumRelu, a.id, b.id);
   const Mat& A = Val(a.id);
   const Mat& B = Val(b.id);
   if (width < 0) width = A.cols() - col;
-  SRICS_NN_CHECK(A.cols() == B.cols() && a_index.size() == b_index.size() && col >= 0 &&
-                     col + width <= A.cols(),
-                 "GatherSumRelu",
-                 "columns " + std::to_string(col) + " +" + std::to_string(width) + " of " +
-                     Shape(A) + " and " + Shape(B) + " with " + std::to_string(a_index.size()) +
-                     " and " + std::to_string(b_index.size()) + " indices");
+  SRICS_NN_CHECK(
+      A.cols() == B.cols() && a_index.size() == b_index.size() && col >= 0 && col + width <= A.cols(), "GatherSumRelu",
+      "columns " + std::to_string(col) + " +" + std::to_string(width) + " of " + Shape(A) + " and " + Shape(B) +
+          " with " + std::to_string(a_index.size()) + " and " + std::to_string(b_index.size()) + " indices");
   n.index = a_index;
   n.index_b = b_index;
   n.i0 = col;
   n.value.resize(static_cast<Index>(a_index.size()), width);
   for (size_t i = 0; i < a_index.size(); ++i) {
-    SRICS_NN_CHECK(a_index[i] >= 0 && a_index[i] < A.rows() && b_index[i] >= 0 &&
-                       b_index[i] < B.rows(),
-                   "GatherSumRelu", "indices " + std::to_string(a_index[i]) + ", " +
-                                        std::to_string(b_index[i]) + " of " + Shape(A) + ", " +
-                                        Shape(B));
-    n.value.row(i) = (A.row(a_index[i]).segment(col, width) + B.row(b_index[i]).segment(col, width))
-                         .cwiseMax(T(0));
+    SRICS_NN_CHECK(a_index[i] >= 0 && a_index[i] < A.rows() && b_index[i] >= 0 && b_index[i] < B.rows(),
+                   "GatherSumRelu",
+                   "indices " + std::to_string(a_index[i]) + ", " + std::to_string(b_index[i]) + " of " + Shape(A) +
+                       ", " + Shape(B));
+    n.value.row(i) = (A.row(a_index[i]).segment(col, width) + B.row(b_index[i]).segment(col, width)).cwiseMax(T(0));
   }
   return Out(n);
 }
@@ -526,10 +517,9 @@ Var<T> Tape<T>::Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_hea
   const Mat& V = Val(v.id);
   const Index batch = Q.rows(), embed = Q.cols();
   SRICS_NN_CHECK(num_heads > 0 && embed % num_heads == 0, "Attention",
-        std::to_string(embed) + " not divisible into " + std::to_string(num_heads) + " heads");
-  SRICS_NN_CHECK(batch > 0 && K.rows() % batch == 0 && K.cols() == embed && V.rows() == K.rows() &&
-            V.cols() == embed,
-        "Attention", "q " + Shape(Q) + " k " + Shape(K) + " v " + Shape(V));
+                 std::to_string(embed) + " not divisible into " + std::to_string(num_heads) + " heads");
+  SRICS_NN_CHECK(batch > 0 && K.rows() % batch == 0 && K.cols() == embed && V.rows() == K.rows() && V.cols() == embed,
+                 "Attention", "q " + Shape(Q) + " k " + Shape(K) + " v " + Shape(V));
   const Index ents = K.rows() / batch, dh = embed / num_heads;
   const Mat* M = nullptr;
   if (mask.id >= 0) {
@@ -583,7 +573,7 @@ template <typename T>
 void Tape<T>::Backward(Var<T> out, const Mat& seed) {
   SRICS_NN_CHECK(out.tape == this && out.id >= 0 && out.id < count_, "Backward", "foreign variable");
   SRICS_NN_CHECK(seed.rows() == Val(out.id).rows() && seed.cols() == Val(out.id).cols(), "Backward",
-        "seed " + Shape(seed) + " for " + Shape(Val(out.id)));
+                 "seed " + Shape(seed) + " for " + Shape(Val(out.id)));
   for (int i = 0; i < count_; ++i) nodes_[i].has_grad = false;
   Node& o = nodes_[out.id];
   o.grad = seed;
@@ -625,8 +615,7 @@ void Tape<T>::BackwardBinary(Node& n) {
         if (Needs(n.b)) Acc(nodes_[n.b], (g.array() * (T(1) - pick_a)).matrix());
         break;
       }
-      default:
-        break;
+      default: break;
     }
     return;
   }
@@ -635,9 +624,18 @@ void Tape<T>::BackwardBinary(Node& n) {
   const Mat Bf = Expand(B, g.rows(), g.cols());
   Mat ga, gb;
   switch (n.op) {
-    case Op::kAdd: ga = g; gb = g; break;
-    case Op::kSub: ga = g; gb = -g; break;
-    case Op::kMul: ga = g.cwiseProduct(Bf); gb = g.cwiseProduct(Af); break;
+    case Op::kAdd:
+      ga = g;
+      gb = g;
+      break;
+    case Op::kSub:
+      ga = g;
+      gb = -g;
+      break;
+    case Op::kMul:
+      ga = g.cwiseProduct(Bf);
+      gb = g.cwiseProduct(Af);
+      break;
     case Op::kDiv:
       ga = g.cwiseQuotient(Bf);
       gb = (-g.array() * Af.array() / Bf.array().square()).matrix();
@@ -695,12 +693,13 @@ void Tape<T>::BackwardNode(int id) {
   Node& n = nodes_[id];
   const Mat& g = n.grad;
   switch (n.op) {
-    case Op::kConstant:
-      break;
+    case Op::kConstant: break;
     case Op::kParam:
       if (n.flag) {
-        if (gradient_buffer_) gradient_buffer_->Add(n.param, g);
-        else n.param->grad += g;
+        if (gradient_buffer_)
+          gradient_buffer_->Add(n.param, g);
+        else
+          n.param->grad += g;
       }
       break;
     case Op::kMatMul:
@@ -726,19 +725,12 @@ void Tape<T>::BackwardNode(int id) {
     case Op::kSub:
     case Op::kMul:
     case Op::kDiv:
-    case Op::kMin:
-      BackwardBinary(n);
-      break;
-    case Op::kAddScalar:
-      Acc(nodes_[n.a], g);
-      break;
-    case Op::kMulScalar:
-      Acc(nodes_[n.a], g * n.f0);
-      break;
+    case Op::kMin: BackwardBinary(n); break;
+    case Op::kAddScalar: Acc(nodes_[n.a], g); break;
+    case Op::kMulScalar: Acc(nodes_[n.a], g * n.f0); break;
     case Op::kClamp: {
       const auto x = Val(n.a).array();
-      Acc(nodes_[n.a],
-          (g.array() * ((x >= n.f0) && (x <= n.f1)).template cast<T>()).matrix());
+      Acc(nodes_[n.a], (g.array() * ((x >= n.f0) && (x <= n.f1)).template cast<T>()).matrix());
       break;
     }
     case Op::kRelu: {
@@ -748,24 +740,12 @@ void Tape<T>::BackwardNode(int id) {
       in.has_grad = true;
       break;
     }
-    case Op::kTanh:
-      Acc(nodes_[n.a], (g.array() * (T(1) - n.value.array().square())).matrix());
-      break;
-    case Op::kSigmoid:
-      Acc(nodes_[n.a], (g.array() * n.value.array() * (T(1) - n.value.array())).matrix());
-      break;
-    case Op::kExp:
-      Acc(nodes_[n.a], g.cwiseProduct(n.value));
-      break;
-    case Op::kLog:
-      Acc(nodes_[n.a], g.cwiseQuotient(Val(n.a)));
-      break;
-    case Op::kSoftplus:
-      Acc(nodes_[n.a], (g.array() / (T(1) + (-Val(n.a).array()).exp())).matrix());
-      break;
-    case Op::kSquare:
-      Acc(nodes_[n.a], (T(2) * g.array() * Val(n.a).array()).matrix());
-      break;
+    case Op::kTanh: Acc(nodes_[n.a], (g.array() * (T(1) - n.value.array().square())).matrix()); break;
+    case Op::kSigmoid: Acc(nodes_[n.a], (g.array() * n.value.array() * (T(1) - n.value.array())).matrix()); break;
+    case Op::kExp: Acc(nodes_[n.a], g.cwiseProduct(n.value)); break;
+    case Op::kLog: Acc(nodes_[n.a], g.cwiseQuotient(Val(n.a))); break;
+    case Op::kSoftplus: Acc(nodes_[n.a], (g.array() / (T(1) + (-Val(n.a).array()).exp())).matrix()); break;
+    case Op::kSquare: Acc(nodes_[n.a], (T(2) * g.array() * Val(n.a).array()).matrix()); break;
     case Op::kSum:
     case Op::kMean: {
       const Mat& A = Val(n.a);
@@ -808,9 +788,7 @@ void Tape<T>::BackwardNode(int id) {
       Acc(nodes_[n.a], Eigen::Map<const Mat>(g.data(), A.rows(), A.cols()));
       break;
     }
-    case Op::kTranspose:
-      Acc(nodes_[n.a], g.transpose());
-      break;
+    case Op::kTranspose: Acc(nodes_[n.a], g.transpose()); break;
     case Op::kMaskedSoftmax: {
       const Mat& Y = n.value;
       const auto dot = (g.cwiseProduct(Y)).rowwise().sum();
@@ -843,8 +821,10 @@ void Tape<T>::BackwardNode(int id) {
         Node& in = nodes_[n.a];
         EnsureGrad(in, A.rows(), A.cols());
         for (size_t i = 0; i < n.index.size(); ++i) {
-          if (W) in.grad.row(i) += (*W)(i, 0) * g.row(n.index[i]);
-          else in.grad.row(i) += g.row(n.index[i]);
+          if (W)
+            in.grad.row(i) += (*W)(i, 0) * g.row(n.index[i]);
+          else
+            in.grad.row(i) += g.row(n.index[i]);
         }
       }
       if (Needs(n.b)) {
@@ -869,9 +849,7 @@ void Tape<T>::BackwardNode(int id) {
       }
       break;
     }
-    case Op::kAttention:
-      BackwardAttention(n);
-      break;
+    case Op::kAttention: BackwardAttention(n); break;
   }
 }
 

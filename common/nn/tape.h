@@ -1,3 +1,4 @@
+#pragma once
 // Reverse-mode automatic differentiation over whole-matrix operations.
 //
 // A Tape records each operation of a forward pass as one node holding its output; Backward
@@ -6,8 +7,6 @@
 // buffers, so a training loop that builds the same graph each iteration stops allocating after
 // the first one. Single-threaded: a tape belongs to one thread; several tapes may read the same
 // parameters at once when each writes its gradients to its own GradientBuffer.
-#ifndef SRICS_COMMON_NN_TAPE_H_
-#define SRICS_COMMON_NN_TAPE_H_
 
 #include <cstdint>
 #include <vector>
@@ -44,10 +43,39 @@ struct GemmShape {
 
 // The operations a node can hold.
 enum class Op : std::uint8_t {
-  kConstant, kParam, kMatMul, kLinear, kAddBias, kAdd, kSub, kMul, kDiv, kAddScalar,
-  kMulScalar, kRelu, kTanh, kSigmoid, kExp, kLog, kSoftplus, kSquare, kSum, kMean, kConcat,
-  kSlice, kReshape, kTranspose, kMaskedSoftmax, kLogSoftmax, kMin, kClamp, kGumbelSoftmax,
-  kGather, kScatterAdd, kAttention, kGatherSumRelu,
+  kConstant,
+  kParam,
+  kMatMul,
+  kLinear,
+  kAddBias,
+  kAdd,
+  kSub,
+  kMul,
+  kDiv,
+  kAddScalar,
+  kMulScalar,
+  kRelu,
+  kTanh,
+  kSigmoid,
+  kExp,
+  kLog,
+  kSoftplus,
+  kSquare,
+  kSum,
+  kMean,
+  kConcat,
+  kSlice,
+  kReshape,
+  kTranspose,
+  kMaskedSoftmax,
+  kLogSoftmax,
+  kMin,
+  kClamp,
+  kGumbelSoftmax,
+  kGather,
+  kScatterAdd,
+  kAttention,
+  kGatherSumRelu,
 };
 
 template <typename T>
@@ -74,9 +102,9 @@ class Tape {
   Var<T> Param(Parameter<T>& p, bool trainable = true);
 
   // Linear algebra.
-  Var<T> MatMul(Var<T> a, Var<T> b);                 // a (m x k) * b (k x n)
-  Var<T> Linear(Var<T> x, Var<T> w, Var<T> b);       // x w + b, b is 1 x n (b.id < 0: none)
-  Var<T> AddBias(Var<T> x, Var<T> b);                // x + b broadcast over rows, b is 1 x n
+  Var<T> MatMul(Var<T> a, Var<T> b);            // a (m x k) * b (k x n)
+  Var<T> Linear(Var<T> x, Var<T> w, Var<T> b);  // x w + b, b is 1 x n (b.id < 0: none)
+  Var<T> AddBias(Var<T> x, Var<T> b);           // x + b broadcast over rows, b is 1 x n
 
   // Elementwise arithmetic. Either operand may broadcast: shape 1 x 1, 1 x n or m x 1.
   Var<T> Add(Var<T> a, Var<T> b) { return Binary(Op::kAdd, a, b); }
@@ -87,7 +115,7 @@ class Tape {
   Var<T> MulScalar(Var<T> a, T s);
   // same shapes; ties send the gradient to a
   Var<T> Min(Var<T> a, Var<T> b) { return Binary(Op::kMin, a, b); }
-  Var<T> Clamp(Var<T> a, T lo, T hi);                // zero gradient outside [lo, hi]
+  Var<T> Clamp(Var<T> a, T lo, T hi);  // zero gradient outside [lo, hi]
 
   // Elementwise functions.
   Var<T> Relu(Var<T> a) { return Unary(Op::kRelu, a); }
@@ -112,7 +140,7 @@ class Tape {
   // mask must be a node of a's shape (usually a Constant); pass mask.id < 0 for no mask.
   Var<T> MaskedSoftmax(Var<T> a, Var<T> mask);
   Var<T> Softmax(Var<T> a) { return MaskedSoftmax(a, Var<T>{this, -1}); }
-  Var<T> LogSoftmax(Var<T> a);                       // along rows, no mask
+  Var<T> LogSoftmax(Var<T> a);  // along rows, no mask
 
   // Gumbel-softmax along rows with the given Gumbel noise (same shape as logits) and
   // temperature. hard = true returns the one-hot argmax in the forward pass while the
@@ -123,14 +151,12 @@ class Tape {
   Var<T> Gather(Var<T> a, const std::vector<int>& index);
   // out (num_rows x n) with out.row(index[i]) += a.row(i), times weight(i, 0) when a
   // weight (a.rows() x 1) is given; gradients gather back.
-  Var<T> ScatterAdd(Var<T> a, const std::vector<int>& index, Eigen::Index num_rows,
-                    Var<T> weight = {});
+  Var<T> ScatterAdd(Var<T> a, const std::vector<int>& index, Eigen::Index num_rows, Var<T> weight = {});
   // out.row(i) = relu(a.row(a_index[i]) + b.row(b_index[i])) over the columns col ..
   // col + width - 1 (width < 0: all): a first layer on pairs of rows (graph edges) from its
   // per-row halves in one pass, without pair-sized temporaries; gradients scatter-add back.
-  Var<T> GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b,
-                       const std::vector<int>& b_index, Eigen::Index col = 0,
-                       Eigen::Index width = -1);
+  Var<T> GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b, const std::vector<int>& b_index,
+                       Eigen::Index col = 0, Eigen::Index width = -1);
 
   // Multi-head attention of one query per sample over that sample's entities.
   // q: B x E; k, v: (B*N) x E with row b*N + n holding entity n of sample b; mask: B x N
@@ -161,13 +187,13 @@ class Tape {
     Op op = Op::kConstant;
     bool needs_grad = false;
     bool has_grad = false;
-    bool flag = false;           // op-specific: trainable, hard
+    bool flag = false;  // op-specific: trainable, hard
     int a = -1, b = -1, c = -1, d = -1;
     Eigen::Index i0 = 0, i1 = 0;
     T f0 = 0, f1 = 0;
-    std::vector<int> inputs;     // concat parts
-    std::vector<int> index;      // gather / scatter
-    std::vector<int> index_b;    // second index of GatherSumRelu
+    std::vector<int> inputs;   // concat parts
+    std::vector<int> index;    // gather / scatter
+    std::vector<int> index_b;  // second index of GatherSumRelu
     Parameter<T>* param = nullptr;
     Mat value, grad, aux;
   };
@@ -186,7 +212,7 @@ class Tape {
   Node& Product(Op op, Var<T> a, Var<T> b, const char* what);
   Var<T> Unary(Op op, Var<T> a);
   void BackwardNode(int id);
-  void BackwardBinary(Node& n);     // Add, Sub, Mul, Div, Min (broadcast operands summed down)
+  void BackwardBinary(Node& n);  // Add, Sub, Mul, Div, Min (broadcast operands summed down)
   void BackwardAttention(Node& n);
   void LogGemm(Eigen::Index m, Eigen::Index k, Eigen::Index n, bool ta, bool tb) {
     if (gemm_log_) gemm_log_->push_back({m, k, n, ta, tb});
@@ -203,5 +229,3 @@ extern template class Tape<float>;
 extern template class Tape<double>;
 
 }  // namespace srics::nn
-
-#endif  // SRICS_COMMON_NN_TAPE_H_

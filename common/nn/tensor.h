@@ -1,7 +1,6 @@
+#pragma once
 // Tensors and trainable parameters: plain Eigen matrices with a scalar type parameter, so that
 // the same code runs in float (training, inference) and double (gradient checks).
-#ifndef SRICS_COMMON_NN_TENSOR_H_
-#define SRICS_COMMON_NN_TENSOR_H_
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -29,12 +28,11 @@ template <typename T>
 struct Parameter {
   // Creates a zero parameter called `name` of shape rows x cols.
   Parameter(std::string name, Eigen::Index rows, Eigen::Index cols)
-      : name(std::move(name)), value(Matrix<T>::Zero(rows, cols)),
-        grad(Matrix<T>::Zero(rows, cols)) {}
+      : name(std::move(name)), value(Matrix<T>::Zero(rows, cols)), grad(Matrix<T>::Zero(rows, cols)) {}
 
   std::string name;  // unique, dotted path such as "policy.mlp.0.w"
   Matrix<T> value;
-  Matrix<T> grad;    // accumulated by Tape::Backward until ZeroGrad
+  Matrix<T> grad;  // accumulated by Tape::Backward until ZeroGrad
 };
 
 // The ordered parameter list of a model; the order defines the flat layout and signature.
@@ -84,5 +82,3 @@ Matrix<T> RandomGumbel(Eigen::Index rows, Eigen::Index cols, Rng& rng) {
 }
 
 }  // namespace srics::nn
-
-#endif  // SRICS_COMMON_NN_TENSOR_H_

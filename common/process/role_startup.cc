@@ -30,7 +30,8 @@ std::optional<int> ParseRoleCommandLine(int argc, char** argv, const RoleProgram
       ->type_name("LEVEL");
   CLI::Option* id = nullptr;
   if (program.needs_id) {
-    id = app.add_option_function<int>("--id", [cl](int k) { cl->id = k; }, "which actor: seed, evaluator or not, log name")
+    id = app.add_option_function<int>(
+                "--id", [cl](int k) { cl->id = k; }, "which actor: seed, evaluator or not, log name")
              ->check(cli::Integer(0, std::numeric_limits<int>::max()));
   }
   if (const auto code = cli::Parse(app, argc, argv)) return *code;
@@ -48,14 +49,15 @@ std::optional<int> StartRole(int argc, char** argv, const RoleProgram& program, 
                                 ": transport.run_id: expected the run's id (the same for every role of the run, "
                                 "e.g. --set transport.run_id=exp7), got 'auto', which only srics run and srics "
                                 "sweep resolve (they write it into the run folder's config.yaml)");
-    role->name = program.needs_id ? program.base_name + "-" + std::to_string(*role->command_line.id)
-                                  : program.base_name;
+    role->name =
+        program.needs_id ? program.base_name + "-" + std::to_string(*role->command_line.id) : program.base_name;
     // DDS Security: the process's own identity of the keystore, every file checked before DDS starts.
     // Its samples are accepted only from the identity named as the role (transport::SenderIdentity).
     auto& security = role->config.transport.security;
     if (!security.keystore.empty() && !security.identity.empty() && security.identity != role->name)
       throw config::ConfigError("transport.security.identity: '" + security.identity + "' cannot speak for " +
-                                role->name + ": under DDS Security the run accepts a role's samples only from the "
+                                role->name +
+                                ": under DDS Security the run accepts a role's samples only from the "
                                 "keystore identity named as the role (actor-K, learner, graph); leave "
                                 "transport.security.identity empty for the roles");
     security.identity = config::CheckKeystore(security, role->name);
@@ -66,13 +68,12 @@ std::optional<int> StartRole(int argc, char** argv, const RoleProgram& program, 
     logging::SetUpLogger(role->name, log);
   } catch (const std::exception& e) {
     std::cerr << program.program << ": " << e.what() << "\n";
-    return kExitConfig;
+    return kExitUsage;
   }
   return std::nullopt;
 }
 
-int RunRole(int argc, char** argv, const RoleProgram& program,
-            const std::function<int(const Role&)>& body) {
+int RunRole(int argc, char** argv, const RoleProgram& program, const std::function<int(const Role&)>& body) {
   Role role;
   if (const auto code = StartRole(argc, argv, program, &role)) return *code;
   try {

@@ -8,7 +8,9 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+
 #include <vector>
+#include "common/cli/exit_codes.h"
 
 #include "common/config/config.h"
 
@@ -24,9 +26,8 @@ struct CommandLine {
   std::string log_level;               // empty: the config's run.log_level
 };
 
-// Exit codes of the role programs (besides 0, done, and 1, failed: a restart may help).
-inline constexpr int kExitConfig = 2;         // bad command line or config
-inline constexpr int kExitUnusableState = 65;  // state on disk it must not start over (unusable checkpoints; EX_DATAERR)
+// Exit codes of the role programs: common/cli/exit_codes.h (kExitUsage for a bad command line
+// or config, kExitUnusableState for an UnusableStateError).
 
 // Thrown by a role body when its state on disk cannot be used and a restart cannot help:
 // RunRole logs it and exits with kExitUnusableState.
@@ -43,27 +44,26 @@ struct Role {
 
 // What distinguishes one role program from another at start-up.
 struct RoleProgram {
-  std::string program;    // "srics-actor"
-  std::string base_name;  // "actor"
-  bool needs_id = false;  // --id K required, appended to the name ("actor-3")
+  std::string program;      // "srics-actor"
+  std::string base_name;    // "actor"
+  bool needs_id = false;    // --id K required, appended to the name ("actor-3")
   std::string description;  // the first line of --help
 };
 
 // Parses a role program's command line (argv[0] is the program). Returns nothing when the
 // program goes on; else the exit code after printing the help or the version (0) or what is
-// wrong with the arguments, naming the argument (kExitConfig).
+// wrong with the arguments, naming the argument (kExitUsage).
 std::optional<int> ParseRoleCommandLine(int argc, char** argv, const RoleProgram& program, CommandLine* command_line);
 
 // Fills *role and returns nothing; or returns the exit code of the program: 0 after printing
-// --help or --version, kExitConfig after printing "<program>: <what is wrong>" to stderr when
+// --help or --version, kExitUsage after printing "<program>: <what is wrong>" to stderr when
 // the command line, the config or the log level is bad.
 std::optional<int> StartRole(int argc, char** argv, const RoleProgram& program, Role* role);
 
-// StartRole, then body(role) (not after --help or --version: exit 0); an exception out of the body is logged as "<name> failed: ..."
-// and gives exit code 1 (kExitUnusableState for an UnusableStateError). Returns the exit
-// code of the process.
-int RunRole(int argc, char** argv, const RoleProgram& program,
-            const std::function<int(const Role&)>& body);
+// StartRole, then body(role) (not after --help or --version: exit 0); an exception out of the body is logged as "<name>
+// failed: ..." and gives exit code 1 (kExitUnusableState for an UnusableStateError). Returns the exit code of the
+// process.
+int RunRole(int argc, char** argv, const RoleProgram& program, const std::function<int(const Role&)>& body);
 
 // The first episode id of an actor starting in the run folder `run_dir` (in its own process
 // or in process): a small state file, <run_dir>/state/<name>.generation, counts the actor's

@@ -24,16 +24,14 @@ struct EntityLayout {
 };
 
 // Euclidean distance between entity i's xy in a state and a goal xy.
-inline double DistanceToGoal(const EntityLayout& layout, const float* state, int entity,
-                             const float* goal_xy) {
+inline double DistanceToGoal(const EntityLayout& layout, const float* state, int entity, const float* goal_xy) {
   const double dx = layout.x(state, entity) - goal_xy[0];
   const double dy = layout.y(state, entity) - goal_xy[1];
   return std::sqrt(dx * dx + dy * dy);
 }
 
 // How far entity i moved between two states (xy only).
-inline double Displacement(const EntityLayout& layout, const float* before, const float* after,
-                           int entity) {
+inline double Displacement(const EntityLayout& layout, const float* before, const float* after, int entity) {
   const double dx = layout.x(after, entity) - layout.x(before, entity);
   const double dy = layout.y(after, entity) - layout.y(before, entity);
   return std::sqrt(dx * dx + dy * dy);

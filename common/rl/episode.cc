@@ -17,8 +17,8 @@ std::string OutOfRange(const char* field, long long value, long long lo, long lo
 }
 
 std::string SizeMismatch(const char* field, size_t got, size_t expected, const char* layout) {
-  return std::string(field) + " has " + std::to_string(got) + " values, expected " +
-         std::to_string(expected) + " (" + layout + ")";
+  return std::string(field) + " has " + std::to_string(got) + " values, expected " + std::to_string(expected) + " (" +
+         layout + ")";
 }
 
 // "" when every value is finite and |value| <= bound, else names the first offender.
@@ -26,8 +26,8 @@ std::string SizeMismatch(const char* field, size_t got, size_t expected, const c
 template <typename Where>
 std::string CheckBounded(float value, float bound, Where where) {
   if (std::isfinite(value) && std::fabs(value) <= bound) return "";
-  return where() + " = " + Str(value) + (std::isfinite(value) ? " outside [-" + Str(bound) + ", " + Str(bound) + "]"
-                                                              : " is not finite");
+  return where() + " = " + Str(value) +
+         (std::isfinite(value) ? " outside [-" + Str(bound) + ", " + Str(bound) + "]" : " is not finite");
 }
 
 // The fast checks below answer only "all good?" in one branch-free pass over the values (the
@@ -44,8 +44,10 @@ float Tolerance(float bound) { return std::min(bound, std::numeric_limits<float>
 template <bool kPattern>
 int Outside(const float* v, size_t n, const float* center, const float* tolerance, float bound) {
   auto outside = [&](size_t i) {
-    if constexpr (kPattern) return static_cast<int>(!(std::fabs(v[i] - center[i]) <= tolerance[i]));
-    else return static_cast<int>(!(std::fabs(v[i]) <= bound));
+    if constexpr (kPattern)
+      return static_cast<int>(!(std::fabs(v[i] - center[i]) <= tolerance[i]));
+    else
+      return static_cast<int>(!(std::fabs(v[i]) <= bound));
   };
   int lanes[8] = {};  // one accumulator per lane: no horizontal step inside the loop
   size_t i = 0;
@@ -148,7 +150,8 @@ std::string CheckSizes(const Episode& e) {
   if (e.actions.size() != actions) return SizeMismatch("actions", e.actions.size(), actions, "T x A");
   if (e.subgoal_entity < -1 || e.subgoal_entity >= l.num_entities)
     return "subgoal_entity " + std::to_string(e.subgoal_entity) + " outside [-1, N)";
-  if (e.subgoal_entity >= 0 && e.goal.size() != 2) return SizeMismatch("goal", e.goal.size(), 2, "xy of the subgoal entity");
+  if (e.subgoal_entity >= 0 && e.goal.size() != 2)
+    return SizeMismatch("goal", e.goal.size(), 2, "xy of the subgoal entity");
   if (e.subgoal_entity < 0 && !e.goal.empty() && e.goal.size() != 2 * n)
     return SizeMismatch("goal", e.goal.size(), 2 * n, "2N for a full goal, or none");
   if (e.mode != EpisodeMode::kExplore && e.goal.empty()) return "goal missing from a train or eval episode";
@@ -170,8 +173,9 @@ std::string CheckStates(const Episode& e, const EpisodeLimits& limits) {
     };
     if (column < l.num_kinds) {
       const float want = column == e.entity_kinds[entity] ? 1.0f : 0.0f;
-      if (v != want) return where() + " = " + Str(v) + ": the identifier one-hot of kind " +
-                            std::to_string(e.entity_kinds[entity]) + " needs " + Str(want);
+      if (v != want)
+        return where() + " = " + Str(v) + ": the identifier one-hot of kind " + std::to_string(e.entity_kinds[entity]) +
+               " needs " + Str(want);
     } else {
       const float bound = column < l.num_kinds + 2 ? limits.max_abs_position : limits.max_abs_velocity;
       if (auto r = CheckBounded(v, bound, where); !r.empty()) return r;

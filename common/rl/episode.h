@@ -50,21 +50,21 @@ struct Episode {
 // Bounds that hold for every run: the wire contract's (idl/srics.idl has 16-bit counts and
 // 64-bit ancestor masks) and sanity bounds on values. A state 1e30 m away is finite but
 // poisons the networks, so magnitudes are bounded too.
-inline constexpr int kMaxEntities = 64;          // ancestor masks are 64-bit
-inline constexpr int kMaxEpisodeSteps = 10000;   // T, on the wire and in memory
+inline constexpr int kMaxEntities = 64;         // ancestor masks are 64-bit
+inline constexpr int kMaxEpisodeSteps = 10000;  // T, on the wire and in memory
 inline constexpr int kMaxActionDim = 64;
-inline constexpr float kMaxAbsPosition = 10.0f;  // m: |x|, |y| of states and goals (the table is < 1 m)
-inline constexpr float kMaxAbsVelocity = 100.0f; // m/s: |vx|, |vy| (the hand moves at ~1 m/s)
+inline constexpr float kMaxAbsPosition = 10.0f;   // m: |x|, |y| of states and goals (the table is < 1 m)
+inline constexpr float kMaxAbsVelocity = 100.0f;  // m/s: |vx|, |vy| (the hand moves at ~1 m/s)
 
 // What a valid episode of one run looks like. The defaults accept every layout the contract
 // allows (a value of 0 below means "any"); EpisodeLimitsFor (agent_shape.h) narrows them to
 // the run's environment.
 struct EpisodeLimits {
-  int min_entities = 1;            // N, the arm plus the objects present: the environment may
-  int max_entities = kMaxEntities; // present fewer objects than its catalogue
-  int num_kinds = 0;               // K, the identifier one-hot; 0: any in [1, kMaxEntities]
-  bool velocities = false;         // states carry vx, vy after x, y (the wire cannot say)
-  int action_dim = 0;              // A; 0: any in [1, kMaxActionDim]
+  int min_entities = 1;             // N, the arm plus the objects present: the environment may
+  int max_entities = kMaxEntities;  // present fewer objects than its catalogue
+  int num_kinds = 0;                // K, the identifier one-hot; 0: any in [1, kMaxEntities]
+  bool velocities = false;          // states carry vx, vy after x, y (the wire cannot say)
+  int action_dim = 0;               // A; 0: any in [1, kMaxActionDim]
   int max_steps = kMaxEpisodeSteps;
   float max_abs_position = kMaxAbsPosition;
   float max_abs_velocity = kMaxAbsVelocity;
@@ -86,8 +86,8 @@ EpisodeLimits LimitsOfLayout(const EntityLayout& layout, int action_dim);
 // Empty when the episode is whole and fits `limits`: layout and sizes, entity kinds and their
 // one-hot identifiers in the states, subgoal and goal, ancestor mask, mode, every value finite
 // and bounded, actions in range, HAC's subgoals (train episodes only, starting at step 0,
-// increasing, each held at most max_subgoal_steps, K x 2N bounded values, test flags 0 or 1). Otherwise what is wrong, naming the field. The learner and
-// the graph service call it on everything that came from another process.
+// increasing, each held at most max_subgoal_steps, K x 2N bounded values, test flags 0 or 1). Otherwise what is wrong,
+// naming the field. The learner and the graph service call it on everything that came from another process.
 std::string ValidateEpisode(const Episode& episode, const EpisodeLimits& limits);
 
 }  // namespace srics::rl

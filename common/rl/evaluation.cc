@@ -4,8 +4,8 @@
 
 namespace srics::rl {
 
-AttemptSchedule::AttemptSchedule(const SubgoalStructure& structure, SubgoalOrder order,
-                                 EvaluationProtocol protocol, std::mt19937_64& rng)
+AttemptSchedule::AttemptSchedule(const SubgoalStructure& structure, SubgoalOrder order, EvaluationProtocol protocol,
+                                 std::mt19937_64& rng)
     : protocol_(protocol), ordered_(structure.SubgoalEntities()) {
   if (ordered_.empty()) return;
   const int num_entities = structure.num_entities();
@@ -91,8 +91,7 @@ void EvaluationSummary::Add(const EpisodeMetrics& metrics, double threshold) {
   auto running_mean = [&](double mean, double value) { return (mean * previous + value) / episodes; };
   for (size_t i = 0; i < n && i < entity_distance.size(); ++i) {
     entity_distance[i] = running_mean(entity_distance[i], metrics.entity_distance[i]);
-    subgoal_success[i] =
-        running_mean(subgoal_success[i], metrics.entity_distance[i] < threshold ? 1.0 : 0.0);
+    subgoal_success[i] = running_mean(subgoal_success[i], metrics.entity_distance[i] < threshold ? 1.0 : 0.0);
   }
   avg_distance = running_mean(avg_distance, metrics.avg_distance);
   avg_object_distance = running_mean(avg_object_distance, metrics.avg_object_distance);

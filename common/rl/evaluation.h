@@ -63,14 +63,14 @@ class AttemptSchedule {
 
   EvaluationProtocol protocol_;
   std::vector<int> ordered_;
-  std::vector<int> draws_;       // kIndependentDraws: the first phase
+  std::vector<int> draws_;  // kIndependentDraws: the first phase
   int slots_ = 0;
-  int first_phase_ = 0;          // slots before the ordered phase (kReference + kDepth: 2N - 1 - m)
-  bool ordered_phase_ = false;   // kReference: kDepth's last m slots restart at L[0]
+  int first_phase_ = 0;         // slots before the ordered phase (kReference + kDepth: 2N - 1 - m)
+  bool ordered_phase_ = false;  // kReference: kDepth's last m slots restart at L[0]
   int next_slot_ = 0;
-  size_t position_ = 0;          // kReference: where the walk stands in L
-  size_t origin_ = 0;            // ... and the subgoal of the last real attempt
-  bool walking_ = false;         // the last slot was skipped: the walk goes on from there
+  size_t position_ = 0;   // kReference: where the walk stands in L
+  size_t origin_ = 0;     // ... and the subgoal of the last real attempt
+  bool walking_ = false;  // the last slot was skipped: the walk goes on from there
 };
 
 // A structure where every entity is a subgoal of depth 1 with no ancestors (SMORL's view:
@@ -83,7 +83,7 @@ struct EpisodeMetrics {
   double avg_distance = 0;              // arm and objects
   double avg_object_distance = 0;       // objects only
   bool success = false;
-  double selectivity = -1;              // mean selectivity over the episode, -1 if undefined
+  double selectivity = -1;  // mean selectivity over the episode, -1 if undefined
   // Compatibility: over the episode's subgoal attempts (skipped slots not counted), the
   // objects solved when an attempt began that are not the attempted entity's ancestors, and
   // how many of those it undid
@@ -100,9 +100,9 @@ struct EvaluationSummary {
   double avg_distance = 0;
   double avg_object_distance = 0;
   double success_rate = 0;
-  double selectivity = 0;               // mean over episodes where it was defined
+  double selectivity = 0;  // mean over episodes where it was defined
   int selectivity_episodes = 0;
-  uint32_t independent_solved = 0;      // summed over episodes (EpisodeMetrics)
+  uint32_t independent_solved = 0;  // summed over episodes (EpisodeMetrics)
   uint32_t independent_undone = 0;
   // independent_undone / independent_solved, -1 when no attempt began with such an object solved
   double UndoneShare() const {

@@ -55,8 +55,8 @@ std::vector<int> SubgoalStructure::SubgoalEntities() const {
 
 std::string ValidateGraph(const InteractionGraph& graph) {
   if (graph.num_entities < 1 || graph.num_entities > kMaxGraphEntities)
-    return "num_entities " + std::to_string(graph.num_entities) + " outside [1, " +
-           std::to_string(kMaxGraphEntities) + "]";
+    return "num_entities " + std::to_string(graph.num_entities) + " outside [1, " + std::to_string(kMaxGraphEntities) +
+           "]";
   if (graph.adjacency.size() != static_cast<size_t>(graph.num_entities) * graph.num_entities)
     return "adjacency has " + std::to_string(graph.adjacency.size()) + " entries, expected " +
            std::to_string(graph.num_entities * graph.num_entities);

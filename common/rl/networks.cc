@@ -16,8 +16,8 @@ nn::AttentionConfig AttentionOf(const AttentionNetworkConfig& c) {
 void AttentionNetworkConfig::Validate() const {
   auto positive = [](int v, const char* field) {
     if (v <= 0) {
-      throw std::invalid_argument(std::string("AttentionNetworkConfig.") + field +
-                                  " must be positive, is " + std::to_string(v));
+      throw std::invalid_argument(std::string("AttentionNetworkConfig.") + field + " must be positive, is " +
+                                  std::to_string(v));
     }
   };
   positive(entity_dim, "entity_dim");
@@ -61,10 +61,8 @@ EntityBatch<T> PackEntities(const std::vector<nn::Matrix<T>>& sets, const nn::Ma
 // ---- AttentionMlpNetwork
 
 template <typename T>
-AttentionMlpNetwork<T>::AttentionMlpNetwork(const std::string& name,
-                                            const AttentionNetworkConfig& config,
-                                            int extra_inputs, const std::vector<int>& hidden,
-                                            int outputs, nn::Rng& rng)
+AttentionMlpNetwork<T>::AttentionMlpNetwork(const std::string& name, const AttentionNetworkConfig& config,
+                                            int extra_inputs, const std::vector<int>& hidden, int outputs, nn::Rng& rng)
     : config_(config),
       attention_(name + ".attention", AttentionOf(config), rng),
       mlp_(name + ".mlp", 2 * config.embed_dim + extra_inputs, hidden, outputs, rng) {
@@ -82,22 +80,21 @@ nn::ParameterList<T> AttentionMlpNetwork<T>::Parameters() {
 // ---- PolicyNetwork
 
 template <typename T>
-PolicyNetwork<T>::PolicyNetwork(const std::string& name, const AttentionNetworkConfig& config,
-                                nn::Rng& rng)
+PolicyNetwork<T>::PolicyNetwork(const std::string& name, const AttentionNetworkConfig& config, nn::Rng& rng)
     : AttentionMlpNetwork<T>(name, config, 0, config.policy_hidden, 2 * config.action_dim, rng),
       head_{static_cast<T>(config.log_std_min), static_cast<T>(config.log_std_max)},
       eps_(static_cast<size_t>(config.action_dim)) {
   // outputs [mean | log std]: the log-std half's biases start at log(initial std)
   if (config.initial_policy_std > 0)
-    mlp_.output_layer().bias()->value.rightCols(config.action_dim).setConstant(
-        static_cast<T>(std::log(config.initial_policy_std)));
+    mlp_.output_layer()
+        .bias()
+        ->value.rightCols(config.action_dim)
+        .setConstant(static_cast<T>(std::log(config.initial_policy_std)));
 }
 
 template <typename T>
-typename PolicyNetwork<T>::Output PolicyNetwork<T>::Forward(nn::Tape<T>& tape,
-                                                            nn::Var<T> entities,
-                                                            nn::Var<T> mask, nn::Var<T> goals,
-                                                            const nn::Matrix<T>& eps,
+typename PolicyNetwork<T>::Output PolicyNetwork<T>::Forward(nn::Tape<T>& tape, nn::Var<T> entities, nn::Var<T> mask,
+                                                            nn::Var<T> goals, const nn::Matrix<T>& eps,
                                                             bool trainable) {
   auto att = attention_.Forward(tape, entities, mask, goals, trainable);
   nn::Var<T> features = tape.Concat({att.attention, att.goal_embedding}, 1);
@@ -107,18 +104,16 @@ typename PolicyNetwork<T>::Output PolicyNetwork<T>::Forward(nn::Tape<T>& tape,
 }
 
 template <typename T>
-typename PolicyNetwork<T>::Output PolicyNetwork<T>::Forward(nn::Tape<T>& tape,
-                                                            const EntityBatch<T>& batch,
-                                                            const nn::Matrix<T>& eps,
-                                                            bool trainable) {
-  return Forward(tape, tape.Constant(batch.entities), tape.Constant(batch.mask),
-                 tape.Constant(batch.goals), eps, trainable);
+typename PolicyNetwork<T>::Output PolicyNetwork<T>::Forward(nn::Tape<T>& tape, const EntityBatch<T>& batch,
+                                                            const nn::Matrix<T>& eps, bool trainable) {
+  return Forward(tape, tape.Constant(batch.entities), tape.Constant(batch.mask), tape.Constant(batch.goals), eps,
+                 trainable);
 }
 
 template <typename T>
 const nn::Matrix<T>& PolicyNetwork<T>::Act(const Eigen::Ref<const nn::Matrix<T>>& entities,
-                                           const Eigen::Ref<const nn::Matrix<T>>& goal,
-                                           bool deterministic, nn::Rng& rng) {
+                                           const Eigen::Ref<const nn::Matrix<T>>& goal, bool deterministic,
+                                           nn::Rng& rng) {
   const int E = config_.embed_dim, A = config_.action_dim;
   attention_.Apply(entities, goal, att_, goal_emb_);
   features_.resize(1, 2 * E);
@@ -130,37 +125,32 @@ const nn::Matrix<T>& PolicyNetwork<T>::Act(const Eigen::Ref<const nn::Matrix<T>>
     std::normal_distribution<double> normal(0.0, 1.0);
     for (int i = 0; i < A; ++i) eps_[i] = static_cast<T>(normal(rng));
   }
-  last_log_prob_ =
-      head_.Apply(head_out_.data(), A, deterministic ? nullptr : eps_.data(), action_.data());
+  last_log_prob_ = head_.Apply(head_out_.data(), A, deterministic ? nullptr : eps_.data(), action_.data());
   return action_;
 }
 
 // ---- QNetwork
 
 template <typename T>
-QNetwork<T>::QNetwork(const std::string& name, const AttentionNetworkConfig& config,
-                      nn::Rng& rng)
+QNetwork<T>::QNetwork(const std::string& name, const AttentionNetworkConfig& config, nn::Rng& rng)
     : AttentionMlpNetwork<T>(name, config, config.action_dim, config.q_hidden, 1, rng) {}
 
 template <typename T>
-nn::Var<T> QNetwork<T>::Forward(nn::Tape<T>& tape, nn::Var<T> entities, nn::Var<T> mask,
-                                nn::Var<T> goals, nn::Var<T> actions, bool trainable) {
+nn::Var<T> QNetwork<T>::Forward(nn::Tape<T>& tape, nn::Var<T> entities, nn::Var<T> mask, nn::Var<T> goals,
+                                nn::Var<T> actions, bool trainable) {
   auto att = attention_.Forward(tape, entities, mask, goals, trainable);
   nn::Var<T> features = tape.Concat({att.attention, att.goal_embedding, actions}, 1);
   return mlp_.Forward(tape, features, trainable);
 }
 
 template <typename T>
-nn::Var<T> QNetwork<T>::Forward(nn::Tape<T>& tape, const EntityBatch<T>& batch,
-                                nn::Var<T> actions, bool trainable) {
-  return Forward(tape, tape.Constant(batch.entities), tape.Constant(batch.mask),
-                 tape.Constant(batch.goals), actions, trainable);
+nn::Var<T> QNetwork<T>::Forward(nn::Tape<T>& tape, const EntityBatch<T>& batch, nn::Var<T> actions, bool trainable) {
+  return Forward(tape, tape.Constant(batch.entities), tape.Constant(batch.mask), tape.Constant(batch.goals), actions,
+                 trainable);
 }
 
-template EntityBatch<float> PackEntities(const std::vector<nn::Matrix<float>>&,
-                                         const nn::Matrix<float>&);
-template EntityBatch<double> PackEntities(const std::vector<nn::Matrix<double>>&,
-                                          const nn::Matrix<double>&);
+template EntityBatch<float> PackEntities(const std::vector<nn::Matrix<float>>&, const nn::Matrix<float>&);
+template EntityBatch<double> PackEntities(const std::vector<nn::Matrix<double>>&, const nn::Matrix<double>&);
 template class AttentionMlpNetwork<float>;
 template class AttentionMlpNetwork<double>;
 template class PolicyNetwork<float>;

@@ -1,3 +1,4 @@
+#pragma once
 // The goal-conditioned attention networks of SAC (docs/method.md section 3): a policy and a
 // Q function, each with its own attention block over the entity set.
 //
@@ -7,8 +8,6 @@
 //   policy: [attention | goal embedding] -> MLP policy_hidden -> tanh-Gaussian over actions
 //   Q:      [attention | goal embedding | action] -> MLP q_hidden -> 1
 // Sizes come from a plain config struct (filled from YAML by the caller).
-#ifndef SRICS_COMMON_RL_NETWORKS_H_
-#define SRICS_COMMON_RL_NETWORKS_H_
 
 #include <string>
 #include <vector>
@@ -21,17 +20,17 @@ namespace srics::rl {
 
 // Sizes of the policy and Q networks. No defaults: values come from the config file.
 struct AttentionNetworkConfig {
-  int entity_dim = 0;               // features per entity token
-  int goal_dim = 0;                 // features of the goal token
-  int action_dim = 0;               // action size (2 for the rearrange tasks)
-  int embed_dim = 0;                // token embedding (paper: 80)
-  int num_heads = 0;                // heads (paper: 5 of 16)
-  std::vector<int> policy_hidden;   // paper: {128, 128}
-  std::vector<int> q_hidden;        // paper: {128, 128, 128}
-  double log_std_min = -20;         // tanh-Gaussian log std clipping
+  int entity_dim = 0;              // features per entity token
+  int goal_dim = 0;                // features of the goal token
+  int action_dim = 0;              // action size (2 for the rearrange tasks)
+  int embed_dim = 0;               // token embedding (paper: 80)
+  int num_heads = 0;               // heads (paper: 5 of 16)
+  std::vector<int> policy_hidden;  // paper: {128, 128}
+  std::vector<int> q_hidden;       // paper: {128, 128, 128}
+  double log_std_min = -20;        // tanh-Gaussian log std clipping
   double log_std_max = 2;
-  double initial_policy_std = 0;    // > 0: the policy's log-std output biases start at its log
-  double hidden_bias = 0;           // the MLP hidden layers' biases start here (0: zero)
+  double initial_policy_std = 0;  // > 0: the policy's log-std output biases start at its log
+  double hidden_bias = 0;         // the MLP hidden layers' biases start here (0: zero)
 
   // Throws std::invalid_argument naming the first bad field.
   void Validate() const;
@@ -64,8 +63,8 @@ class AttentionMlpNetwork {
 
  protected:
   // Throws std::invalid_argument naming the first bad field of `config`.
-  AttentionMlpNetwork(const std::string& name, const AttentionNetworkConfig& config,
-                      int extra_inputs, const std::vector<int>& hidden, int outputs, nn::Rng& rng);
+  AttentionMlpNetwork(const std::string& name, const AttentionNetworkConfig& config, int extra_inputs,
+                      const std::vector<int>& hidden, int outputs, nn::Rng& rng);
 
   AttentionNetworkConfig config_;
   nn::GoalAttention<T> attention_;
@@ -84,19 +83,17 @@ class PolicyNetwork : public AttentionMlpNetwork<T> {
   };
   // Reparameterised actions with standard normal noise eps (B x action_dim); eps = 0 gives
   // the deterministic mode. trainable = false freezes the parameters for this pass.
-  Output Forward(nn::Tape<T>& tape, nn::Var<T> entities, nn::Var<T> mask, nn::Var<T> goals,
-                 const nn::Matrix<T>& eps, bool trainable = true);
-  // Same, from a packed batch (constants are added to the tape).
-  Output Forward(nn::Tape<T>& tape, const EntityBatch<T>& batch, const nn::Matrix<T>& eps,
+  Output Forward(nn::Tape<T>& tape, nn::Var<T> entities, nn::Var<T> mask, nn::Var<T> goals, const nn::Matrix<T>& eps,
                  bool trainable = true);
+  // Same, from a packed batch (constants are added to the tape).
+  Output Forward(nn::Tape<T>& tape, const EntityBatch<T>& batch, const nn::Matrix<T>& eps, bool trainable = true);
 
   // Single-observation fast path for actors: entities N x entity_dim (all real), goal
   // 1 x goal_dim. Samples (or takes the mean when deterministic) without a tape and without
   // heap allocation once N has been seen. Returns the 1 x action_dim action (valid until the
   // next call). Not thread-safe: one network per acting thread.
-  const nn::Matrix<T>& Act(const Eigen::Ref<const nn::Matrix<T>>& entities,
-                           const Eigen::Ref<const nn::Matrix<T>>& goal, bool deterministic,
-                           nn::Rng& rng);
+  const nn::Matrix<T>& Act(const Eigen::Ref<const nn::Matrix<T>>& entities, const Eigen::Ref<const nn::Matrix<T>>& goal,
+                           bool deterministic, nn::Rng& rng);
   // Log-probability of the last Act's action.
   T last_log_prob() const { return last_log_prob_; }
 
@@ -118,10 +115,9 @@ class QNetwork : public AttentionMlpNetwork<T> {
   QNetwork(const std::string& name, const AttentionNetworkConfig& config, nn::Rng& rng);
 
   // B x 1 Q values for actions (B x action_dim, a tape node so gradients reach the policy).
-  nn::Var<T> Forward(nn::Tape<T>& tape, nn::Var<T> entities, nn::Var<T> mask, nn::Var<T> goals,
-                     nn::Var<T> actions, bool trainable = true);
-  nn::Var<T> Forward(nn::Tape<T>& tape, const EntityBatch<T>& batch, nn::Var<T> actions,
+  nn::Var<T> Forward(nn::Tape<T>& tape, nn::Var<T> entities, nn::Var<T> mask, nn::Var<T> goals, nn::Var<T> actions,
                      bool trainable = true);
+  nn::Var<T> Forward(nn::Tape<T>& tape, const EntityBatch<T>& batch, nn::Var<T> actions, bool trainable = true);
 
  private:
   using AttentionMlpNetwork<T>::attention_;
@@ -136,5 +132,3 @@ extern template class QNetwork<float>;
 extern template class QNetwork<double>;
 
 }  // namespace srics::rl
-
-#endif  // SRICS_COMMON_RL_NETWORKS_H_

@@ -20,8 +20,7 @@ class RateLimiter {
   }
   // True when one more update keeps the learner within the buffer.
   bool CanUpdate(uint64_t inserted, uint64_t updates) const {
-    return inserted >= warmup_ && ratio_ > 0 &&
-           static_cast<double>(updates + 1) <= Target(inserted) + buffer_;
+    return inserted >= warmup_ && ratio_ > 0 && static_cast<double>(updates + 1) <= Target(inserted) + buffer_;
   }
   // Updates the learner may do now without waiting for data.
   uint64_t UpdatesAllowed(uint64_t inserted, uint64_t updates) const {

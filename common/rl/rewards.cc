@@ -12,8 +12,8 @@ struct IndependentMotion {
   double mean() const { return count ? sum / count : 0.0; }
 };
 
-IndependentMotion MotionOfOthers(const EntityLayout& layout, const float* before,
-                                 const float* after, int entity, uint64_t ancestors) {
+IndependentMotion MotionOfOthers(const EntityLayout& layout, const float* before, const float* after, int entity,
+                                 uint64_t ancestors) {
   IndependentMotion motion;
   for (int j = 0; j < layout.num_entities; ++j) {
     if (j == entity || ((ancestors >> j) & 1u)) continue;
@@ -51,9 +51,8 @@ double FormReward(double distance, double own_motion, const IndependentMotion& o
 
 }  // namespace
 
-double SelectivityReward(const EntityLayout& layout, const float* before, const float* after,
-                         int entity, const float* goal, uint64_t ancestors,
-                         const config::RewardConfig& config) {
+double SelectivityReward(const EntityLayout& layout, const float* before, const float* after, int entity,
+                         const float* goal, uint64_t ancestors, const config::RewardConfig& config) {
   const double distance = DistanceToGoal(layout, after, entity, goal);
   const double own_motion = Displacement(layout, before, after, entity);
   const IndependentMotion others = MotionOfOthers(layout, before, after, entity, ancestors);
@@ -62,8 +61,7 @@ double SelectivityReward(const EntityLayout& layout, const float* before, const 
   return config.disturbance_weight > 0 ? reward - config.disturbance_weight * others.sum : reward;
 }
 
-double DistanceReward(const EntityLayout& layout, const float* after, int entity,
-                      const float* goal) {
+double DistanceReward(const EntityLayout& layout, const float* after, int entity, const float* goal) {
   return -DistanceToGoal(layout, after, entity, goal);
 }
 
@@ -77,9 +75,8 @@ double FullGoalReward(const EntityLayout& layout, const float* after, const floa
   return -std::sqrt(squared);
 }
 
-std::optional<double> SelectivityMeasure(const EntityLayout& layout, const float* before,
-                                         const float* after, int entity, uint64_t ancestors,
-                                         double epsilon) {
+std::optional<double> SelectivityMeasure(const EntityLayout& layout, const float* before, const float* after,
+                                         int entity, uint64_t ancestors, double epsilon) {
   const double own_motion = Displacement(layout, before, after, entity);
   const double total = own_motion + MotionOfOthers(layout, before, after, entity, ancestors).mean();
   if (total <= epsilon) return std::nullopt;

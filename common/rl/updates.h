@@ -31,8 +31,8 @@ struct WeightsUpdate {
 struct GraphUpdate {
   uint64_t version = 0;
   InteractionGraph graph;
-  SubgoalStructure structure;       // derived from `graph`, never trusted from the wire
-  std::vector<double> mean_weights; // N x N, [i * N + j]
+  SubgoalStructure structure;        // derived from `graph`, never trusted from the wire
+  std::vector<double> mean_weights;  // N x N, [i * N + j]
   double threshold = 0;
   double held_out_loss = 0;
   uint64_t training_updates = 0;
@@ -46,7 +46,7 @@ struct LearnerProgress {
   uint64_t policy_version = 0;
   uint64_t training_env_steps = 0;  // counted against the budget
   uint64_t budget_env_steps = 0;
-  uint64_t replay_size = 0;         // transitions held (small after a learner restart)
+  uint64_t replay_size = 0;  // transitions held (small after a learner restart)
   // updates the learner's own rate limit owes the data it counts: actors hold back while it is
   // above learner.rate_error_buffer (0 while the learner cannot update: warm-up, no graph)
   double update_backlog = 0;
@@ -67,7 +67,7 @@ struct LearnerReport {
   uint64_t training_env_steps = 0;  // counted against the budget
   uint64_t budget_env_steps = 0;
   uint64_t replay_size = 0;
-  double update_backlog = 0;       // see LearnerProgress
+  double update_backlog = 0;  // see LearnerProgress
   uint64_t episodes_accepted = 0;
   uint64_t episodes_rejected = 0;
   uint64_t policy_version = 0;
@@ -77,10 +77,10 @@ struct LearnerReport {
   double entropy = 0;
   double mean_reward = 0;
   double updates_per_second = 0;
-  double inserts_per_second = 0;   // transitions
+  double inserts_per_second = 0;  // transitions
   LearnerProgress progress() const {
-    return {updates, transitions_inserted, policy_version, training_env_steps, budget_env_steps, replay_size,
-            update_backlog};
+    return {updates,          transitions_inserted, policy_version, training_env_steps,
+            budget_env_steps, replay_size,          update_backlog};
   }
 };
 
@@ -89,7 +89,7 @@ struct EvalReport {
   uint32_t actor_id = 0;
   uint64_t policy_version = 0;  // 0 = the passive policy (the baseline)
   uint64_t graph_version = 0;
-  uint64_t env_steps = 0;       // system env steps when it ran
+  uint64_t env_steps = 0;  // system env steps when it ran
   EvaluationSummary summary;
 };
 
@@ -100,8 +100,8 @@ struct NodeReport {
   NodePhase phase = NodePhase::kStarting;
   uint64_t policy_version = 0;
   uint64_t graph_version = 0;
-  uint64_t steps = 0;     // env steps (actors) or updates (learner)
-  uint64_t dropped = 0;   // samples rejected by this node's own checks
+  uint64_t steps = 0;    // env steps (actors) or updates (learner)
+  uint64_t dropped = 0;  // samples rejected by this node's own checks
   std::string detail;
   // what the node's own checks rejected, per counter ("weights.architecture": 2); the
   // transport adds its own and shows them in NodeStatus.detail

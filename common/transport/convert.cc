@@ -23,7 +23,8 @@ static_assert(rl::kMaxEpisodeSteps <= std::numeric_limits<uint16_t>::max() && rl
 
 namespace {
 
-template <typename T> using Mutable = std::remove_const_t<T>;
+template <typename T>
+using Mutable = std::remove_const_t<T>;
 
 // Message -> C: strings copied into their bounded arrays, sequences borrowed (DDS only reads
 // them while writing), scalars cast.
@@ -31,13 +32,13 @@ struct ToCOp {
   template <size_t N>
   void operator()(const std::string& in, char (&out)[N], const char* field) const {
     if (in.size() >= N)
-      throw InvalidMessage(std::string(field) + ": " + std::to_string(in.size()) +
-                           " characters, the IDL allows " + std::to_string(N - 1));
+      throw InvalidMessage(std::string(field) + ": " + std::to_string(in.size()) + " characters, the IDL allows " +
+                           std::to_string(N - 1));
     std::memcpy(out, in.data(), in.size());
     out[in.size()] = '\0';
   }
   template <typename V, typename Seq>
-    requires requires(Seq s) { s._buffer; }
+  requires requires(Seq s) { s._buffer; }
   void operator()(const std::vector<V>& in, Seq& out, const char*) const {
     using Element = std::remove_pointer_t<decltype(out._buffer)>;
     static_assert(sizeof(Element) == sizeof(V));
@@ -46,15 +47,19 @@ struct ToCOp {
     out._release = false;
   }
   template <typename A, typename B>
-  void operator()(const A& in, B& out, const char*) const { out = static_cast<B>(in); }
+  void operator()(const A& in, B& out, const char*) const {
+    out = static_cast<B>(in);
+  }
 };
 
 // C -> message: everything copied once, strings never read past their array.
 struct FromCOp {
   template <size_t N>
-  void operator()(std::string& out, const char (&in)[N], const char*) const { out.assign(in, strnlen(in, N)); }
+  void operator()(std::string& out, const char (&in)[N], const char*) const {
+    out.assign(in, strnlen(in, N));
+  }
   template <typename V, typename Seq>
-    requires requires(Seq s) { s._buffer; }
+  requires requires(Seq s) { s._buffer; }
   void operator()(std::vector<V>& out, const Seq& in, const char*) const {
     static_assert(sizeof(*in._buffer) == sizeof(V));
     if (in._length == 0 || in._buffer == nullptr) {
@@ -65,7 +70,9 @@ struct FromCOp {
     out.assign(first, first + in._length);
   }
   template <typename A, typename B>
-  void operator()(A& out, const B& in, const char*) const { out = static_cast<A>(in); }
+  void operator()(A& out, const B& in, const char*) const {
+    out = static_cast<A>(in);
+  }
 };
 
 // Each type's fields, used in both directions: op(message field, C field, name). M and C carry
@@ -76,9 +83,8 @@ concept Is = std::is_same_v<Mutable<C>, Wanted>;
 template <typename Op, typename M, Is<srics_Episode> C>
 void Fields(const Op& op, M& m, C& c) {
   // the envelope and entity_dim are not rl::Episode fields: ToC and FromC handle them
-  SRICS_FIELDS(op, m, c, actor_id, episode_id, mode, policy_version, graph_version, action_dim, num_steps,
-               entity_kinds, states, actions, subgoal_entity, goal, ancestor_mask, subgoal_starts, subgoals,
-               subgoal_tests);
+  SRICS_FIELDS(op, m, c, actor_id, episode_id, mode, policy_version, graph_version, action_dim, num_steps, entity_kinds,
+               states, actions, subgoal_entity, goal, ancestor_mask, subgoal_starts, subgoals, subgoal_tests);
   op(m.layout.num_entities, c.num_entities, "num_entities");
 }
 
@@ -102,9 +108,9 @@ void Fields(const Op& op, M& m, C& c) {
 
 template <typename Op, typename M, Is<srics_LearnerStats> C>
 void Fields(const Op& op, M& m, C& c) {
-  SRICS_FIELDS(op, m, c, contract_version, run_id, updates, transitions_inserted, training_env_steps,
-               budget_env_steps, replay_size, update_backlog, episodes_accepted, episodes_rejected, policy_version,
-               q_loss, policy_loss, alpha, entropy, updates_per_second, inserts_per_second, mean_reward);
+  SRICS_FIELDS(op, m, c, contract_version, run_id, updates, transitions_inserted, training_env_steps, budget_env_steps,
+               replay_size, update_backlog, episodes_accepted, episodes_rejected, policy_version, q_loss, policy_loss,
+               alpha, entropy, updates_per_second, inserts_per_second, mean_reward);
 }
 
 template <typename Op, typename M, Is<srics_NodeStatus> C>

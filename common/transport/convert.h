@@ -11,13 +11,38 @@
 namespace srics::transport::internal {
 
 // The generated C type and type descriptor of each message struct.
-template <typename T> struct CType;
-template <> struct CType<rl::Episode> { using type = srics_Episode; static const dds_topic_descriptor_t* Descriptor() { return &srics_Episode_desc; } };
-template <> struct CType<PolicyWeights> { using type = srics_PolicyWeights; static const dds_topic_descriptor_t* Descriptor() { return &srics_PolicyWeights_desc; } };
-template <> struct CType<InteractionGraph> { using type = srics_InteractionGraph; static const dds_topic_descriptor_t* Descriptor() { return &srics_InteractionGraph_desc; } };
-template <> struct CType<EvalResult> { using type = srics_EvalResult; static const dds_topic_descriptor_t* Descriptor() { return &srics_EvalResult_desc; } };
-template <> struct CType<LearnerStats> { using type = srics_LearnerStats; static const dds_topic_descriptor_t* Descriptor() { return &srics_LearnerStats_desc; } };
-template <> struct CType<NodeStatus> { using type = srics_NodeStatus; static const dds_topic_descriptor_t* Descriptor() { return &srics_NodeStatus_desc; } };
+template <typename T>
+struct CType;
+template <>
+struct CType<rl::Episode> {
+  using type = srics_Episode;
+  static const dds_topic_descriptor_t* Descriptor() { return &srics_Episode_desc; }
+};
+template <>
+struct CType<PolicyWeights> {
+  using type = srics_PolicyWeights;
+  static const dds_topic_descriptor_t* Descriptor() { return &srics_PolicyWeights_desc; }
+};
+template <>
+struct CType<InteractionGraph> {
+  using type = srics_InteractionGraph;
+  static const dds_topic_descriptor_t* Descriptor() { return &srics_InteractionGraph_desc; }
+};
+template <>
+struct CType<EvalResult> {
+  using type = srics_EvalResult;
+  static const dds_topic_descriptor_t* Descriptor() { return &srics_EvalResult_desc; }
+};
+template <>
+struct CType<LearnerStats> {
+  using type = srics_LearnerStats;
+  static const dds_topic_descriptor_t* Descriptor() { return &srics_LearnerStats_desc; }
+};
+template <>
+struct CType<NodeStatus> {
+  using type = srics_NodeStatus;
+  static const dds_topic_descriptor_t* Descriptor() { return &srics_NodeStatus_desc; }
+};
 
 // X(T) for each message struct of messages.h (rl::Episode apart).
 #define SRICS_FOR_EACH_MESSAGE(X) X(PolicyWeights) X(InteractionGraph) X(EvalResult) X(LearnerStats) X(NodeStatus)
@@ -32,8 +57,10 @@ struct Envelope {
 // *out, and *out must never be freed with the generated _free functions. Throws
 // InvalidMessage for a string longer than its IDL bound.
 // FromC copies everything once (a loaned sample goes back to DDS right after).
-template <typename T> void ToC(const T& in, typename CType<T>::type* out);
-template <typename T> void FromC(const typename CType<T>::type& in, T* out);
+template <typename T>
+void ToC(const T& in, typename CType<T>::type* out);
+template <typename T>
+void FromC(const typename CType<T>::type& in, T* out);
 
 // The wire cannot say whether states carry velocities: `velocities` decides how entity_dim
 // splits into identifier one-hot and xy(vxy). FromC takes any sample: rl::ValidateEpisode

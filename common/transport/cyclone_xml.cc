@@ -9,8 +9,7 @@
 namespace srics::transport {
 namespace internal {
 
-std::string ExpandVariables(const std::string& text,
-                            const std::map<std::string, std::string>& values) {
+std::string ExpandVariables(const std::string& text, const std::map<std::string, std::string>& values) {
   std::string out;
   size_t pos = 0;
   while (true) {
@@ -21,7 +20,10 @@ std::string ExpandVariables(const std::string& text,
     const std::string name = inner.substr(0, inner.find(":-"));
     out.append(text, pos, start - pos);
     auto it = values.find(name);
-    if (it != values.end()) out += it->second; else out.append(text, start, end + 1 - start);
+    if (it != values.end())
+      out += it->second;
+    else
+      out.append(text, start, end + 1 - start);
     pos = end + 1;
   }
   out.append(text, pos, std::string::npos);
@@ -64,14 +66,12 @@ std::string CycloneConfigFor(const config::TransportConfig& config) {
     return "file://" + path.string();
   }
   // RTPS unicast ports: 7400 + 250 * domain + 10 + 2 * participant index (+1 for data)
-  const int64_t top_port = 7400 + 250 * int64_t{config.domain_id} + 11 +
-                           2 * int64_t{config.max_participants_per_host};
+  const int64_t top_port = 7400 + 250 * int64_t{config.domain_id} + 11 + 2 * int64_t{config.max_participants_per_host};
   if (top_port > 65535)
-    throw std::invalid_argument(
-        "transport: domain_id " + std::to_string(config.domain_id) + " with " +
-        std::to_string(config.max_participants_per_host) +
-        " participants per host needs UDP port " + std::to_string(top_port) +
-        " (> 65535): lower domain_id or max_participants_per_host");
+    throw std::invalid_argument("transport: domain_id " + std::to_string(config.domain_id) + " with " +
+                                std::to_string(config.max_participants_per_host) +
+                                " participants per host needs UDP port " + std::to_string(top_port) +
+                                " (> 65535): lower domain_id or max_participants_per_host");
   if (config.network_interface.find_first_of("\"<>&") != std::string::npos)
     throw std::invalid_argument("transport.network_interface: '" + config.network_interface +
                                 "' is not an interface name");

@@ -140,8 +140,8 @@ void DdsLearnerLink::PublishStatus(const rl::NodeReport& report) {
 
 // -------------------------------------------------------------------------- episode source
 
-DdsEpisodeSource::DdsEpisodeSource(const Participant& participant, const rl::EpisodeLimits& limits,
-                                   size_t max_pending, bool training_episodes)
+DdsEpisodeSource::DdsEpisodeSource(const Participant& participant, const rl::EpisodeLimits& limits, size_t max_pending,
+                                   bool training_episodes)
     : participant_(participant),
       max_pending_(max_pending),
       training_episodes_(training_episodes),
@@ -183,8 +183,7 @@ void DdsEpisodeSource::TakeLoop() {
 
 // ----------------------------------------------------------------------------- graph sink
 
-DdsGraphSink::DdsGraphSink(const Participant& participant)
-    : writer_(participant), status_(participant, "graph", 0) {}
+DdsGraphSink::DdsGraphSink(const Participant& participant) : writer_(participant), status_(participant, "graph", 0) {}
 
 void DdsGraphSink::Publish(const rl::GraphUpdate& graph) {
   if (writer_.Write(ToMessage(graph)) != WriteResult::kSent) throw std::runtime_error("shutting down");

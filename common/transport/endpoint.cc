@@ -36,8 +36,8 @@ std::string TopicName(TopicId id, const std::string& override_name) {
 // Waits on a fresh waitset holding `entity` (with `status` enabled) and the shutdown guard
 // until ready() or the deadline; false on timeout or shutdown.
 template <typename Ready>
-bool WaitForStatus(int32_t participant, int32_t guard, const Shutdown& shutdown, int32_t entity,
-                   uint32_t status, std::chrono::milliseconds timeout, Ready ready) {
+bool WaitForStatus(int32_t participant, int32_t guard, const Shutdown& shutdown, int32_t entity, uint32_t status,
+                   std::chrono::milliseconds timeout, Ready ready) {
   const auto deadline = Clock::now() + timeout;
   Check(dds_set_status_mask(entity, status), "dds_set_status_mask");
   const int32_t waitset = Check(dds_create_waitset(participant), "dds_create_waitset");
@@ -93,9 +93,9 @@ std::string CounterPrefix(TopicId id) {
 
 template <typename T>
 Topic<T>::Topic(const Participant& participant, const std::string& name) : name_(name) {
-  topic_ = Check(dds_create_topic(participant.handle(), internal::CType<T>::Descriptor(),
-                                  name.c_str(), nullptr, nullptr),
-                 ("dds_create_topic " + name).c_str());
+  topic_ =
+      Check(dds_create_topic(participant.handle(), internal::CType<T>::Descriptor(), name.c_str(), nullptr, nullptr),
+            ("dds_create_topic " + name).c_str());
 }
 
 template <typename T>
@@ -104,8 +104,7 @@ Topic<T>::~Topic() {
 }
 
 template <typename T>
-Topic<T>::Topic(Topic&& other) noexcept
-    : topic_(std::exchange(other.topic_, 0)), name_(std::move(other.name_)) {}
+Topic<T>::Topic(Topic&& other) noexcept : topic_(std::exchange(other.topic_, 0)), name_(std::move(other.name_)) {}
 
 template <typename T>
 Topic<T>& Topic<T>::operator=(Topic&& other) noexcept {
@@ -312,15 +311,14 @@ uint64_t Writer<T>::timed_flushes() const {
 
 template <typename T>
 uint32_t Writer<T>::matched_readers() const {
-  return StatusOf(dds_get_publication_matched_status, impl_->writer,
-                  "dds_get_publication_matched_status").current_count;
+  return StatusOf(dds_get_publication_matched_status, impl_->writer, "dds_get_publication_matched_status")
+      .current_count;
 }
 
 template <typename T>
 bool Writer<T>::WaitForReaders(uint32_t count, std::chrono::milliseconds timeout) {
   return WaitForStatus(impl_->participant, impl_->guard, *impl_->shutdown, impl_->writer,
-                       DDS_PUBLICATION_MATCHED_STATUS, timeout,
-                       [&] { return matched_readers() >= count; });
+                       DDS_PUBLICATION_MATCHED_STATUS, timeout, [&] { return matched_readers() >= count; });
 }
 
 template <typename T>
@@ -352,9 +350,11 @@ struct Reader<T>::Impl {
     dds_listener_t* listener = nullptr;
     if (bind_senders) {
       listener = dds_create_listener(this);
-      dds_lset_subscription_matched(listener, [](dds_entity_t, const dds_subscription_matched_status_t status, void* self) {
-        if (status.current_count_change > 0) static_cast<Impl*>(self)->WriterIdentity(status.last_publication_handle);
-      });
+      dds_lset_subscription_matched(listener,
+                                    [](dds_entity_t, const dds_subscription_matched_status_t status, void* self) {
+                                      if (status.current_count_change > 0)
+                                        static_cast<Impl*>(self)->WriterIdentity(status.last_publication_handle);
+                                    });
     }
     reader = dds_create_reader(participant, topic.handle(), qos.qos, listener);
     if (listener) dds_delete_listener(listener);
@@ -384,8 +384,7 @@ struct Reader<T>::Impl {
       for (size_t i = 0; i < kBatch; ++i) samples[i] = &taken[i];
       dds_sample_info_t infos[kBatch];
       const size_t want = std::min(kBatch, max - appended);
-      const int32_t n = Check(dds_take(reader, samples, infos, want, static_cast<uint32_t>(want)),
-                              "dds_take");
+      const int32_t n = Check(dds_take(reader, samples, infos, want, static_cast<uint32_t>(want)), "dds_take");
       if (n == 0) break;
       for (int32_t i = 0; i < n; ++i) {
         // invalid_data samples only announce instance state changes (disposed, no writers)
@@ -429,8 +428,7 @@ struct Reader<T>::Impl {
     const std::string claimed = ClaimedSender(sample);
     const std::string identity = WriterIdentity(writer);
     if (identity == claimed) return {};
-    return {Verdict::kMalformed,
-            "it names " + claimed + " as its sender, but identity '" + identity + "' wrote it",
+    return {Verdict::kMalformed, "it names " + claimed + " as its sender, but identity '" + identity + "' wrote it",
             CounterPrefix(TopicOf<T>::kId) + ".sender"};
   }
 
@@ -482,8 +480,10 @@ struct Reader<T>::Impl {
         shared->CountRejection(v.counter.empty() ? std::string(Spec(TopicOf<T>::kId).name) : v.counter);
         uint64_t suppressed = 0;
         if (limiter.Allow(&suppressed))
-          spdlog::warn("transport: dropped a malformed {} sample: {} ({} rejected so far, {} "
-                       "warnings suppressed)", topic.name(), v.reason, local.rejected, suppressed);
+          spdlog::warn(
+              "transport: dropped a malformed {} sample: {} ({} rejected so far, {} "
+              "warnings suppressed)",
+              topic.name(), v.reason, local.rejected, suppressed);
         return false;
       }
     }
@@ -510,7 +510,7 @@ struct Reader<T>::Impl {
   int32_t reader = 0;
   int32_t condition = 0;
   int32_t waitset = 0;
-  std::vector<T> batch;  // reused by Take
+  std::vector<T> batch;     // reused by Take
   const bool bind_senders;  // DDS Security and a topic that names its sender
   std::mutex identities_mutex;
   std::unordered_map<dds_instance_handle_t, std::string> writer_identities;  // see WriterIdentity
@@ -557,21 +557,19 @@ size_t Reader<T>::TakeMany(std::vector<T>* out, size_t max, std::chrono::millise
 
 template <typename T>
 uint32_t Reader<T>::matched_writers() const {
-  return StatusOf(dds_get_subscription_matched_status, impl_->reader,
-                  "dds_get_subscription_matched_status").current_count;
+  return StatusOf(dds_get_subscription_matched_status, impl_->reader, "dds_get_subscription_matched_status")
+      .current_count;
 }
 
 template <typename T>
 uint32_t Reader<T>::alive_writers() const {
-  return StatusOf(dds_get_liveliness_changed_status, impl_->reader,
-                  "dds_get_liveliness_changed_status").alive_count;
+  return StatusOf(dds_get_liveliness_changed_status, impl_->reader, "dds_get_liveliness_changed_status").alive_count;
 }
 
 template <typename T>
 bool Reader<T>::WaitForWriters(uint32_t count, std::chrono::milliseconds timeout) {
   return WaitForStatus(impl_->participant, impl_->guard, *impl_->shutdown, impl_->reader,
-                       DDS_SUBSCRIPTION_MATCHED_STATUS, timeout,
-                       [&] { return matched_writers() >= count; });
+                       DDS_SUBSCRIPTION_MATCHED_STATUS, timeout, [&] { return matched_writers() >= count; });
 }
 
 template <typename T>

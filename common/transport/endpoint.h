@@ -30,13 +30,32 @@
 namespace srics::transport {
 
 // The topic of each message struct.
-template <typename T> struct TopicOf;
-template <> struct TopicOf<rl::Episode> { static constexpr TopicId kId = TopicId::kEpisode; };
-template <> struct TopicOf<PolicyWeights> { static constexpr TopicId kId = TopicId::kPolicyWeights; };
-template <> struct TopicOf<InteractionGraph> { static constexpr TopicId kId = TopicId::kInteractionGraph; };
-template <> struct TopicOf<EvalResult> { static constexpr TopicId kId = TopicId::kEvalResult; };
-template <> struct TopicOf<LearnerStats> { static constexpr TopicId kId = TopicId::kLearnerStats; };
-template <> struct TopicOf<NodeStatus> { static constexpr TopicId kId = TopicId::kNodeStatus; };
+template <typename T>
+struct TopicOf;
+template <>
+struct TopicOf<rl::Episode> {
+  static constexpr TopicId kId = TopicId::kEpisode;
+};
+template <>
+struct TopicOf<PolicyWeights> {
+  static constexpr TopicId kId = TopicId::kPolicyWeights;
+};
+template <>
+struct TopicOf<InteractionGraph> {
+  static constexpr TopicId kId = TopicId::kInteractionGraph;
+};
+template <>
+struct TopicOf<EvalResult> {
+  static constexpr TopicId kId = TopicId::kEvalResult;
+};
+template <>
+struct TopicOf<LearnerStats> {
+  static constexpr TopicId kId = TopicId::kLearnerStats;
+};
+template <>
+struct TopicOf<NodeStatus> {
+  static constexpr TopicId kId = TopicId::kNodeStatus;
+};
 
 enum class WriteResult {
   kSent,          // accepted by DDS (delivered reliably to matched readers)

@@ -20,8 +20,8 @@ void GraphFeed::Refuse(const char* counter, const InteractionGraph& message, con
   participant_.CountRejection(counter);
   uint64_t suppressed = 0;
   if (limiter_.Allow(&suppressed))
-    spdlog::warn("graph v{} refused: {} ({} refused so far, {} warnings suppressed)", message.version, why,
-                 rejected_, suppressed);
+    spdlog::warn("graph v{} refused: {} ({} refused so far, {} warnings suppressed)", message.version, why, rejected_,
+                 suppressed);
 }
 
 std::optional<rl::GraphUpdate> GraphFeed::PollNewest() {

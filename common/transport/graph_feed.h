@@ -23,8 +23,9 @@ class GraphFeed {
   GraphFeed(const Participant& participant, int num_entities);
   // The newest graph with a version above every one returned before, if any (non-blocking).
   // A sample that fails the checks is counted (per reason, in the participant: graph.entities,
-  // graph.structure, graph.stale for an older version; the same version again is skipped), logged at a limited rate, never returned, and leaves the
-  // version where it was: a refused graph with a huge version does not hide the next good one.
+  // graph.structure, graph.stale for an older version; the same version again is skipped), logged at a limited rate,
+  // never returned, and leaves the version where it was: a refused graph with a huge version does not hide the next
+  // good one.
   std::optional<rl::GraphUpdate> PollNewest();
   uint64_t rejected() const { return rejected_; }
 

@@ -41,10 +41,10 @@ const char* NodeStateName(NodeState state);
 struct PolicyWeights {
   uint32_t contract_version = kContractVersion;
   std::string run_id;
-  uint64_t version = 0;        // 1, 2, ... per publication, across restarts
-  uint64_t update_count = 0;   // SAC updates done when these weights were taken
-  std::string architecture;    // signature that must match the actor's network
-  uint32_t checksum = 0;       // CRC-32 of the parameter bytes (see ParameterChecksum)
+  uint64_t version = 0;       // 1, 2, ... per publication, across restarts
+  uint64_t update_count = 0;  // SAC updates done when these weights were taken
+  std::string architecture;   // signature that must match the actor's network
+  uint32_t checksum = 0;      // CRC-32 of the parameter bytes (see ParameterChecksum)
   std::vector<float> parameters;
 
   bool operator==(const PolicyWeights&) const = default;
@@ -61,7 +61,7 @@ struct InteractionGraph {
   int16_t action_entity = 0;        // entity the action node drives (the arm)
   float threshold = 0;
   std::vector<uint64_t> ancestor_masks;  // N: bit j = j on a path action -> i
-  std::vector<int16_t> depths;      // N: longest simple path from the action node, -1 = none
+  std::vector<int16_t> depths;           // N: longest simple path from the action node, -1 = none
   float held_out_loss = 0;
   uint64_t training_updates = 0;
   uint32_t episodes_used = 0;
@@ -76,10 +76,10 @@ struct EvalResult {
   uint32_t actor_id = 0;
   uint64_t policy_version = 0;
   uint64_t graph_version = 0;
-  uint64_t env_steps = 0;          // training env steps of the whole system when run
+  uint64_t env_steps = 0;  // training env steps of the whole system when run
   uint32_t episodes = 0;
-  float avg_distance = 0;          // arm and objects
-  float avg_object_distance = 0;   // objects only
+  float avg_distance = 0;         // arm and objects
+  float avg_object_distance = 0;  // objects only
   float success_rate = 0;
   std::vector<float> entity_distance;  // N
   std::vector<float> subgoal_success;  // N, fractions in [0, 1]
@@ -99,7 +99,7 @@ struct LearnerStats {
   uint64_t training_env_steps = 0;  // env steps counted against the run's budget
   uint64_t budget_env_steps = 0;    // the budget; training_env_steps >= it: the run is done
   uint64_t replay_size = 0;
-  double update_backlog = 0;        // updates the learner's rate limit owes the data it counts
+  double update_backlog = 0;  // updates the learner's rate limit owes the data it counts
   uint64_t episodes_accepted = 0;
   uint64_t episodes_rejected = 0;
   uint64_t policy_version = 0;
@@ -118,7 +118,7 @@ struct LearnerStats {
 struct NodeStatus {
   uint32_t contract_version = kContractVersion;
   std::string run_id;
-  std::string role;               // actor, learner, graph, monitor, launcher
+  std::string role;  // actor, learner, graph, monitor, launcher
   uint32_t node_id = 0;
   std::string host;
   int32_t pid = 0;
@@ -126,7 +126,7 @@ struct NodeStatus {
   uint64_t policy_version = 0;
   uint64_t graph_version = 0;
   uint64_t env_steps = 0;
-  uint64_t dropped_samples = 0;   // malformed samples rejected by this node
+  uint64_t dropped_samples = 0;  // malformed samples rejected by this node
   uint64_t uptime_ms = 0;
   std::string detail;
 

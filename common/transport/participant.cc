@@ -14,8 +14,7 @@
 namespace srics::transport {
 
 DdsError::DdsError(const std::string& operation, int32_t retcode)
-    : std::runtime_error(operation + ": " + dds_strretcode(retcode) + " (" +
-                         std::to_string(retcode) + ")"),
+    : std::runtime_error(operation + ": " + dds_strretcode(retcode) + " (" + std::to_string(retcode) + ")"),
       retcode_(retcode) {}
 
 namespace internal {
@@ -26,17 +25,14 @@ constexpr int32_t kLatestReaderDepth = 8;
 dds_qos_t* CreateQos(const TopicSpec& spec, Side side, const config::TransportConfig& config) {
   dds_qos_t* qos = dds_create_qos();
   // a blocked reliable write gives up after this and reports back-pressure
-  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE,
-                       DDS_MSECS(config.writer_max_blocking_ms));
-  dds_qset_durability(qos, spec.durability == Durability::kTransientLocal
-                               ? DDS_DURABILITY_TRANSIENT_LOCAL
-                               : DDS_DURABILITY_VOLATILE);
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(config.writer_max_blocking_ms));
+  dds_qset_durability(
+      qos, spec.durability == Durability::kTransientLocal ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
   if (spec.history == HistoryKind::kKeepAllBounded) {
     dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
     // a reader that is full does not acknowledge: the writer blocks instead of data being lost
     if (side == Side::kReader)
-      dds_qset_resource_limits(qos, config.episode_history_depth, DDS_LENGTH_UNLIMITED,
-                               DDS_LENGTH_UNLIMITED);
+      dds_qset_resource_limits(qos, config.episode_history_depth, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
   } else {
     // Readers of the run's latest weights and graph keep a few samples of the one instance: a
     // late joiner gets the newest sample of every matched writer, and with one slot a
@@ -47,8 +43,7 @@ dds_qos_t* CreateQos(const TopicSpec& spec, Side side, const config::TransportCo
                      side == Side::kReader && latest ? std::max(spec.depth, kLatestReaderDepth) : spec.depth);
   }
   if (spec.liveliness_lease && side == Side::kWriter)
-    dds_qset_liveliness(qos, DDS_LIVELINESS_AUTOMATIC,
-                        static_cast<dds_duration_t>(config.liveliness_lease_s * 1e9));
+    dds_qset_liveliness(qos, DDS_LIVELINESS_AUTOMATIC, static_cast<dds_duration_t>(config.liveliness_lease_s * 1e9));
   // Under DDS Security a sample that names its sender travels in the partition of the writer's
   // identity, which only that identity's permissions allow; readers take every partition and
   // check the sender against it (the Reader). Open, everything stays in the default partition,

@@ -56,8 +56,7 @@ class Participant {
   // `shutdown` (which must outlive it). Throws DdsError when Cyclone refuses (bad XML, no
   // free participant index, ...), std::invalid_argument for a domain id already configured
   // differently in this process.
-  explicit Participant(const config::TransportConfig& config,
-                       Shutdown& shutdown = Shutdown::Process());
+  explicit Participant(const config::TransportConfig& config, Shutdown& shutdown = Shutdown::Process());
   ~Participant();
   Participant(Participant&& other) noexcept;
   Participant& operator=(Participant&& other) noexcept;

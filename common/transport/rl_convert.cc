@@ -53,8 +53,8 @@ void EvalFields(const Op& op, M& m, R& r) {
 template <typename Op, typename M, typename R>
 void LearnerFields(const Op& op, M& m, R& r) {
   SRICS_FIELDS(op, m, r, updates, transitions_inserted, training_env_steps, budget_env_steps, replay_size,
-               update_backlog, episodes_accepted, episodes_rejected, policy_version, q_loss, policy_loss, alpha, entropy,
-               updates_per_second, inserts_per_second, mean_reward);
+               update_backlog, episodes_accepted, episodes_rejected, policy_version, q_loss, policy_loss, alpha,
+               entropy, updates_per_second, inserts_per_second, mean_reward);
 }
 
 template <typename Op, typename M, typename R>

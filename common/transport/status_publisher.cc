@@ -31,9 +31,8 @@ void StatusPublisher::Publish(const rl::NodeReport& report) {
     detail = detail.empty() ? tail : detail + " | " + tail;
     if (detail.size() > kDetailMaxLength) detail.resize(kDetailMaxLength);
   }
-  status_.uptime_ms = static_cast<uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
-                                                std::chrono::steady_clock::now() - start_)
-                                                .count());
+  status_.uptime_ms = static_cast<uint64_t>(
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start_).count());
   (void)writer_.TryWrite(status_);  // a status lost to back-pressure is replaced by the next
 }
 

@@ -10,16 +10,15 @@
 
 namespace srics::transport {
 
-enum class TopicId { kEpisode, kPolicyWeights, kInteractionGraph, kEvalResult, kLearnerStats,
-                     kNodeStatus };
+enum class TopicId { kEpisode, kPolicyWeights, kInteractionGraph, kEvalResult, kLearnerStats, kNodeStatus };
 
 enum class Durability { kVolatile, kTransientLocal };
 
 // Where a history depth comes from: a constant or TransportConfig::episode_history_depth.
 enum class HistoryKind {
-  kKeepLast,         // keep the last `depth` samples per instance
-  kKeepAllBounded,   // keep all; the reader holds at most episode_history_depth samples, so a
-                     // full reader throttles the writer instead of losing data
+  kKeepLast,        // keep the last `depth` samples per instance
+  kKeepAllBounded,  // keep all; the reader holds at most episode_history_depth samples, so a
+                    // full reader throttles the writer instead of losing data
 };
 
 struct TopicSpec {
@@ -29,8 +28,8 @@ struct TopicSpec {
   std::string_view keys;       // key fields, "" for event topics without key
   Durability durability;
   HistoryKind history;
-  int32_t depth;               // for kKeepLast
-  bool liveliness_lease;       // writers offer AUTOMATIC liveliness with the configured lease
+  int32_t depth;          // for kKeepLast
+  bool liveliness_lease;  // writers offer AUTOMATIC liveliness with the configured lease
   // The sample names its sender (Episode and EvalResult: actor_id; NodeStatus: role and
   // node_id). Under DDS Security its writers write in the partition of their identity and its
   // readers refuse a sample whose sender is not that identity (SenderIdentity).
@@ -39,16 +38,16 @@ struct TopicSpec {
 
 // Every topic is RELIABLE. Order follows TopicId.
 inline constexpr std::array<TopicSpec, 6> kTopics = {{
-    {TopicId::kEpisode, "srics/episode", "srics::Episode", "", Durability::kVolatile,
-     HistoryKind::kKeepAllBounded, 0, false, true},
-    {TopicId::kPolicyWeights, "srics/policy_weights", "srics::PolicyWeights", "run_id",
-     Durability::kTransientLocal, HistoryKind::kKeepLast, 1, false, false},
+    {TopicId::kEpisode, "srics/episode", "srics::Episode", "", Durability::kVolatile, HistoryKind::kKeepAllBounded, 0,
+     false, true},
+    {TopicId::kPolicyWeights, "srics/policy_weights", "srics::PolicyWeights", "run_id", Durability::kTransientLocal,
+     HistoryKind::kKeepLast, 1, false, false},
     {TopicId::kInteractionGraph, "srics/interaction_graph", "srics::InteractionGraph", "run_id",
      Durability::kTransientLocal, HistoryKind::kKeepLast, 1, false, false},
-    {TopicId::kEvalResult, "srics/eval_result", "srics::EvalResult", "", Durability::kVolatile,
-     HistoryKind::kKeepLast, 64, false, true},
-    {TopicId::kLearnerStats, "srics/learner_stats", "srics::LearnerStats", "run_id",
-     Durability::kVolatile, HistoryKind::kKeepLast, 1, false, false},
+    {TopicId::kEvalResult, "srics/eval_result", "srics::EvalResult", "", Durability::kVolatile, HistoryKind::kKeepLast,
+     64, false, true},
+    {TopicId::kLearnerStats, "srics/learner_stats", "srics::LearnerStats", "run_id", Durability::kVolatile,
+     HistoryKind::kKeepLast, 1, false, false},
     {TopicId::kNodeStatus, "srics/node_status", "srics::NodeStatus", "run_id, role, node_id",
      Durability::kTransientLocal, HistoryKind::kKeepLast, 1, true, true},
 }};

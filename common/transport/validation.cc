@@ -37,16 +37,15 @@ Validation CheckRun(const std::string& msg_run_id, std::string_view run_id) {
 }
 
 std::string SizeMismatch(const char* field, size_t got, uint64_t expected, const char* layout) {
-  return std::string(field) + " has " + std::to_string(got) + " values, expected " +
-         std::to_string(expected) + " (" + layout + ")";
+  return std::string(field) + " has " + std::to_string(got) + " values, expected " + std::to_string(expected) + " (" +
+         layout + ")";
 }
 
 // Reason for the first non-finite value of `field`, or "".
 std::string NonFinite(const char* field, const std::vector<float>& values) {
   const int64_t i = FirstNonFinite(values);
   if (i < 0) return "";
-  return std::string(field) + "[" + std::to_string(i) + "] is not finite (" +
-         std::to_string(values[i]) + ")";
+  return std::string(field) + "[" + std::to_string(i) + "] is not finite (" + std::to_string(values[i]) + ")";
 }
 
 // True when every bit of `mask` is below bit n.
@@ -78,20 +77,19 @@ Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool veri
   if (msg.architecture.empty() || msg.architecture.size() > kArchitectureMaxLength)
     return Malformed("weights.architecture", "architecture empty or longer than 256 characters");
   if (msg.parameters.empty() || msg.parameters.size() > kMaxParameters)
-    return Malformed("weights.size", "parameters: " + std::to_string(msg.parameters.size()) +
-                                         " values, expected 1 to 64 Mi");
+    return Malformed("weights.size",
+                     "parameters: " + std::to_string(msg.parameters.size()) + " values, expected 1 to 64 Mi");
   // one vectorized pass over the megabytes; the two named checks below only when it failed
   if (!rl::AllFiniteWithin(msg.parameters.data(), msg.parameters.size(), rl::kMaxAbsParameter)) {
     if (auto r = NonFinite("parameters", msg.parameters); !r.empty()) return Malformed("weights.nonfinite", r);
     // finite but huge parameters overflow the policy's activations into NaN actions
     for (size_t i = 0; i < msg.parameters.size(); ++i)
       if (std::fabs(msg.parameters[i]) > rl::kMaxAbsParameter)
-        return Malformed("weights.magnitude", "parameters[" + std::to_string(i) + "] = " +
-                                                  std::to_string(msg.parameters[i]) + " outside +-" +
+        return Malformed("weights.magnitude", "parameters[" + std::to_string(i) +
+                                                  "] = " + std::to_string(msg.parameters[i]) + " outside +-" +
                                                   std::to_string(rl::kMaxAbsParameter));
   }
-  if (const uint32_t crc = verify_checksum ? ParameterChecksum(msg.parameters) : msg.checksum;
-      crc != msg.checksum)
+  if (const uint32_t crc = verify_checksum ? ParameterChecksum(msg.parameters) : msg.checksum; crc != msg.checksum)
     return Malformed("weights.checksum", "checksum " + std::to_string(msg.checksum) +
                                              " does not match the parameters (" + std::to_string(crc) + ")");
   return CheckRun(msg.run_id, run_id);
@@ -120,8 +118,8 @@ Validation Validate(const InteractionGraph& msg, std::string_view run_id) {
       return Malformed("graph.range", "ancestor_masks[" + std::to_string(i) + "] has bits at or above N");
     // a longest simple path from the action node has at most N edges
     if (msg.depths[i] < -1 || msg.depths[i] > static_cast<int32_t>(n))
-      return Malformed("graph.range", "depths[" + std::to_string(i) + "] = " + std::to_string(msg.depths[i]) +
-                                          " not in [-1, N]");
+      return Malformed("graph.range",
+                       "depths[" + std::to_string(i) + "] = " + std::to_string(msg.depths[i]) + " not in [-1, N]");
   }
   if (auto r = NonFinite("mean_weights", msg.mean_weights); !r.empty()) return Malformed("graph.nonfinite", r);
   if (!std::isfinite(msg.threshold)) return Malformed("graph.nonfinite", "threshold is not finite");

@@ -17,7 +17,7 @@ namespace srics::transport {
 // Sane bounds beyond which a sample is treated as malformed (keeps a hostile or corrupt
 // sample from making a reader allocate or loop without limit). Episodes: rl::EpisodeLimits.
 inline constexpr uint32_t kMaxEntities = rl::kMaxEntities;  // ancestor masks are 64-bit
-inline constexpr uint64_t kMaxParameters = 64ull << 20;  // 64 Mi floats = 256 MiB
+inline constexpr uint64_t kMaxParameters = 64ull << 20;     // 64 Mi floats = 256 MiB
 
 enum class Verdict {
   kAccept,     // well-formed and of this run

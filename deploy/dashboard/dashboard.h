@@ -22,12 +22,12 @@
 namespace srics::dashboard {
 
 struct DashboardOptions {
-  std::string bind = "127.0.0.1";  // --http-bind
-  int port = 0;                    // --http (0 = any free port)
-  std::string source;              // "dds", "in-process", "run folder"
-  std::string run_dir;             // episode media come from <run_dir>/eval ("" = none yet)
+  std::string bind = "127.0.0.1";                  // --http-bind
+  int port = 0;                                    // --http (0 = any free port)
+  std::string source;                              // "dds", "in-process", "run folder"
+  std::string run_dir;                             // episode media come from <run_dir>/eval ("" = none yet)
   std::chrono::milliseconds publish_period{1000};  // the JSON is rebuilt at most this often
-  int poll_ms = 2000;              // how often the page asks for it
+  int poll_ms = 2000;                              // how often the page asks for it
 };
 
 class Dashboard {
@@ -36,8 +36,8 @@ class Dashboard {
 
   // Rebuilds and publishes the document when the publish period has passed since the last
   // one (or `force`). Returns whether it did.
-  bool Update(const monitor::MonitorState& state, monitor::Clock::time_point now,
-              const monitor::RenderOptions& render, bool force = false);
+  bool Update(const monitor::MonitorState& state, monitor::Clock::time_point now, const monitor::RenderOptions& render,
+              bool force = false);
   // Whether Update would publish now (for callers whose RenderOptions cost something to build).
   bool Due(monitor::Clock::time_point now) const {
     return !last_publish_ || now - *last_publish_ >= options_.publish_period;

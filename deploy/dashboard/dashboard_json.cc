@@ -143,8 +143,10 @@ void Run(JsonWriter* json, const std::string& id, const mon::RunView& run, mon::
   json->Key("env_steps_per_second");
   rate ? json->Number(*rate) : json->Null();
   json->Key("eta_s");
-  if (rate && *rate > 0 && budget > steps) json->Number(static_cast<double>(budget - steps) / *rate);
-  else json->Null();
+  if (rate && *rate > 0 && budget > steps)
+    json->Number(static_cast<double>(budget - steps) / *rate);
+  else
+    json->Null();
   json->Key("learner");
   Learner(json, run, now);
   json->Key("learner_history");
@@ -201,8 +203,8 @@ void Nodes(JsonWriter* json, const mon::MonitorState& state, mon::Clock::time_po
   }
   json->EndArray();
   json->Key("node_counts").BeginObject();
-  for (mon::NodeHealth h : {mon::NodeHealth::kAlive, mon::NodeHealth::kQuiet, mon::NodeHealth::kExited,
-                            mon::NodeHealth::kLost}) {
+  for (mon::NodeHealth h :
+       {mon::NodeHealth::kAlive, mon::NodeHealth::kQuiet, mon::NodeHealth::kExited, mon::NodeHealth::kLost}) {
     std::string name = mon::NodeHealthName(h);
     std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
     json->Key(name).Unsigned(counts[static_cast<int>(h)]);
@@ -230,8 +232,8 @@ void Episode(JsonWriter* json, const std::optional<EpisodeMedia>& episode) {
 
 }  // namespace
 
-std::string DashboardJson(const mon::MonitorState& state, mon::Clock::time_point now,
-                          const mon::RenderOptions& options, const JsonContext& context) {
+std::string DashboardJson(const mon::MonitorState& state, mon::Clock::time_point now, const mon::RenderOptions& options,
+                          const JsonContext& context) {
   JsonWriter json;
   json.BeginObject();
   json.Key("schema").String("srics-dashboard/1");

@@ -2,9 +2,10 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <regex>
 #include <vector>
+
+#include "deploy/run_folder/csv.h"
 
 namespace srics::dashboard {
 namespace {
@@ -16,27 +17,16 @@ double UnixTime(fs::file_time_type time) {
   return std::chrono::duration<double>(system.time_since_epoch()).count();
 }
 
-std::vector<std::string> SplitCommas(const std::string& line) {
-  std::vector<std::string> fields(1);
-  for (char c : line) {
-    if (c == ',') fields.emplace_back();
-    else fields.back() += c;
-  }
-  return fields;
-}
-
-// The row of episodes.csv whose "video" column is `name`.
+// The row of episodes.csv (or recorded.csv) whose last column, the video, is `name`.
 std::map<std::string, std::string> MetricsOf(const fs::path& csv_path, const std::string& name) {
-  std::ifstream in(csv_path);
-  std::string header_line, line;
-  if (!std::getline(in, header_line)) return {};
-  const std::vector<std::string> header = SplitCommas(header_line);
-  while (std::getline(in, line)) {
-    const std::vector<std::string> fields = SplitCommas(line);
-    if (fields.size() != header.size() || fields.back() != name) continue;
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < header.size(); ++i) row[header[i]] = fields[i];
-    return row;
+  const std::optional<run_folder::CsvTable> table = run_folder::CsvTable::Read(csv_path);
+  if (!table) return {};
+  for (const run_folder::CsvRow& row : table->Rows()) {
+    const std::vector<std::string>& fields = row.fields();
+    if (fields.size() != table->header().size() || fields.back() != name) continue;
+    std::map<std::string, std::string> metrics;
+    for (size_t i = 0; i < fields.size(); ++i) metrics[table->header()[i]] = fields[i];
+    return metrics;
   }
   return {};
 }
@@ -65,8 +55,7 @@ std::optional<EpisodeMedia> FindLatestEpisode(const std::string& run_dir) {
     if (it->is_directory(error)) {
       media.kind = "frames";
       char frame[32];
-      while (std::snprintf(frame, sizeof frame, "frame-%05d.png", media.frames),
-             fs::exists(it->path() / frame, error))
+      while (std::snprintf(frame, sizeof frame, "frame-%05d.png", media.frames), fs::exists(it->path() / frame, error))
         ++media.frames;
       if (media.frames == 0) continue;
     } else {

@@ -11,11 +11,11 @@
 namespace srics::dashboard {
 
 struct EpisodeMedia {
-  std::string name;      // "episode-003.gif", "episode-003" (a frame folder)
-  std::string path;      // relative to the run folder: "eval/episode-003.gif"
-  std::string kind;      // "gif", "mp4" or "frames"
-  int frames = 0;        // frame folders: frame-00000.png .. frame-<frames-1>.png
-  double modified = 0;   // Unix time of the file (frame folders: of the folder)
+  std::string name;     // "episode-003.gif", "episode-003" (a frame folder)
+  std::string path;     // relative to the run folder: "eval/episode-003.gif"
+  std::string kind;     // "gif", "mp4" or "frames"
+  int frames = 0;       // frame folders: frame-00000.png .. frame-<frames-1>.png
+  double modified = 0;  // Unix time of the file (frame folders: of the folder)
   // the episode's row of episodes.csv beside it (column -> value), empty when missing
   std::map<std::string, std::string> metrics;
 };

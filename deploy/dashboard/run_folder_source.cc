@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <functional>
+#include <sstream>
 #include <stdexcept>
 #include <variant>
 #include <vector>
@@ -13,6 +13,7 @@
 #include "common/files/small_file.h"
 #include "common/transport/rl_convert.h"
 #include "deploy/monitor/csv_sink.h"
+#include "deploy/run_folder/csv.h"
 #include "graph_service/learned_graph.h"
 #include "graph_service/service.h"
 
@@ -24,88 +25,6 @@ namespace mon = srics::monitor;
 namespace tr = srics::transport;
 
 constexpr const char* kFiles[] = {"eval.csv", "learner.csv", "nodes.csv", "config.yaml", "graph.json", "outcome.yaml"};
-
-// One CSV line into fields (quoted fields with doubled quotes, as CsvField writes them).
-std::vector<std::string> Fields(const std::string& line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-      fields.back() += '"';
-      ++i;
-    } else if (c == '"') {
-      quoted = !quoted;
-    } else if (c == ',' && !quoted) {
-      fields.emplace_back();
-    } else {
-      fields.back() += c;
-    }
-  }
-  return fields;
-}
-
-// A row by column name; the parse functions throw std::invalid_argument on a bad number.
-class Row {
- public:
-  Row(const std::vector<std::string>& header, std::vector<std::string> fields) : fields_(std::move(fields)) {
-    for (size_t i = 0; i < header.size(); ++i) index_[header[i]] = i;
-  }
-  const std::string& Text(const std::string& column) const {
-    auto it = index_.find(column);
-    if (it == index_.end() || it->second >= fields_.size()) throw std::invalid_argument("no column " + column);
-    return fields_[it->second];
-  }
-  double Double(const std::string& column) const {
-    const std::string& text = Text(column);
-    char* end = nullptr;
-    const double value = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0') throw std::invalid_argument(column + ": not a number");
-    return value;
-  }
-  uint64_t Unsigned(const std::string& column) const {
-    const std::string& text = Text(column);
-    char* end = nullptr;
-    const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || text[0] == '-') throw std::invalid_argument(column + ": not a count");
-    return value;
-  }
-  float Float(const std::string& column) const { return static_cast<float>(Double(column)); }
-  std::vector<float> Floats(const std::string& column) const {
-    std::vector<float> values;
-    const std::string& text = Text(column);
-    size_t start = 0;
-    while (start < text.size()) {
-      const size_t end = std::min(text.find(';', start), text.size());
-      char* stop = nullptr;
-      const std::string item = text.substr(start, end - start);
-      values.push_back(std::strtof(item.c_str(), &stop));
-      if (item.empty() || *stop != '\0') throw std::invalid_argument(column + ": not a list of numbers");
-      start = end + 1;
-    }
-    return values;
-  }
-
- private:
-  std::vector<std::string> fields_;
-  std::map<std::string, size_t> index_;
-};
-
-// Calls `parse` on every complete row of a CSV file; counts the rows it throws on.
-void ForEachRow(const fs::path& path, const std::function<void(const Row&)>& parse, uint64_t* skipped) {
-  std::ifstream in(path);
-  std::string line;
-  if (!std::getline(in, line)) return;
-  const std::vector<std::string> header = Fields(line);
-  while (std::getline(in, line)) {
-    if (in.eof()) break;  // the last line without its '\n' is still being written
-    try {
-      parse(Row(header, Fields(line)));
-    } catch (const std::exception&) {
-      ++*skipped;
-    }
-  }
-}
 
 std::optional<tr::NodeState> ParseNodeState(const std::string& name) {
   for (int s = 0; s <= static_cast<int>(tr::NodeState::kFailed); ++s)
@@ -173,64 +92,73 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
   // every row of the three files, then applied in wall-time order
   uint64_t skipped = 0;
   std::vector<Timed> rows;
-  ForEachRow(dir / "eval.csv", [&](const Row& r) {
-    tr::EvalResult e;
-    e.run_id = r.Text("run_id");
-    e.actor_id = static_cast<uint32_t>(r.Unsigned("actor_id"));
-    e.policy_version = r.Unsigned("policy_version");
-    e.graph_version = r.Unsigned("graph_version");
-    e.env_steps = r.Unsigned("env_steps");
-    e.episodes = static_cast<uint32_t>(r.Unsigned("episodes"));
-    e.avg_distance = r.Float("avg_distance");
-    e.avg_object_distance = r.Float("avg_object_distance");
-    e.success_rate = r.Float("success_rate");
-    e.selectivity = r.Float("selectivity");
-    e.entity_distance = r.Floats("entity_distance");
-    e.subgoal_success = r.Floats("subgoal_success");
-    rows.push_back({r.Double("wall_time"), std::move(e)});
-  }, &skipped);
-  ForEachRow(dir / "learner.csv", [&](const Row& r) {
-    tr::LearnerStats s;
-    s.run_id = r.Text("run_id");
-    s.updates = r.Unsigned("updates");
-    s.transitions_inserted = r.Unsigned("transitions_inserted");
-    s.replay_size = r.Unsigned("replay_size");
-    s.episodes_accepted = r.Unsigned("episodes_accepted");
-    s.episodes_rejected = r.Unsigned("episodes_rejected");
-    s.policy_version = r.Unsigned("policy_version");
-    s.q_loss = r.Float("q_loss");
-    s.policy_loss = r.Float("policy_loss");
-    s.alpha = r.Float("alpha");
-    s.entropy = r.Float("entropy");
-    s.updates_per_second = r.Float("updates_per_second");
-    s.inserts_per_second = r.Float("inserts_per_second");
-    s.mean_reward = r.Float("mean_reward");
-    s.budget_env_steps = budget;
-    rows.push_back({r.Double("wall_time"), std::move(s)});
-  }, &skipped);
-  ForEachRow(dir / "nodes.csv", [&](const Row& r) {
-    NodeRow n;
-    n.status.run_id = r.Text("run_id");
-    n.status.role = r.Text("role");
-    n.status.node_id = static_cast<uint32_t>(r.Unsigned("node_id"));
-    n.status.host = r.Text("host");
-    n.status.pid = static_cast<int32_t>(r.Double("pid"));
-    const std::string& state_name = r.Text("state");
-    if (state_name == "lost" || state_name == "exited") {
-      n.event = state_name;
-    } else {
-      const std::optional<tr::NodeState> parsed = ParseNodeState(state_name);
-      if (!parsed) throw std::invalid_argument("state: unknown");
-      n.status.state = *parsed;
-    }
-    n.status.policy_version = r.Unsigned("policy_version");
-    n.status.graph_version = r.Unsigned("graph_version");
-    n.status.env_steps = r.Unsigned("env_steps");
-    n.status.dropped_samples = r.Unsigned("dropped_samples");
-    n.status.uptime_ms = r.Unsigned("uptime_ms");
-    n.status.detail = r.Text("detail");
-    rows.push_back({r.Double("wall_time"), std::move(n)});
-  }, &skipped);
+  run_folder::ForEachRow(
+      dir / "eval.csv",
+      [&](const run_folder::CsvRow& r) {
+        tr::EvalResult e;
+        e.run_id = r.TextOrThrow("run_id");
+        e.actor_id = static_cast<uint32_t>(r.Unsigned("actor_id"));
+        e.policy_version = r.Unsigned("policy_version");
+        e.graph_version = r.Unsigned("graph_version");
+        e.env_steps = r.Unsigned("env_steps");
+        e.episodes = static_cast<uint32_t>(r.Unsigned("episodes"));
+        e.avg_distance = r.Float("avg_distance");
+        e.avg_object_distance = r.Float("avg_object_distance");
+        e.success_rate = r.Float("success_rate");
+        e.selectivity = r.Float("selectivity");
+        e.entity_distance = r.Floats("entity_distance");
+        e.subgoal_success = r.Floats("subgoal_success");
+        rows.push_back({r.Double("wall_time"), std::move(e)});
+      },
+      &skipped);
+  run_folder::ForEachRow(
+      dir / "learner.csv",
+      [&](const run_folder::CsvRow& r) {
+        tr::LearnerStats s;
+        s.run_id = r.TextOrThrow("run_id");
+        s.updates = r.Unsigned("updates");
+        s.transitions_inserted = r.Unsigned("transitions_inserted");
+        s.replay_size = r.Unsigned("replay_size");
+        s.episodes_accepted = r.Unsigned("episodes_accepted");
+        s.episodes_rejected = r.Unsigned("episodes_rejected");
+        s.policy_version = r.Unsigned("policy_version");
+        s.q_loss = r.Float("q_loss");
+        s.policy_loss = r.Float("policy_loss");
+        s.alpha = r.Float("alpha");
+        s.entropy = r.Float("entropy");
+        s.updates_per_second = r.Float("updates_per_second");
+        s.inserts_per_second = r.Float("inserts_per_second");
+        s.mean_reward = r.Float("mean_reward");
+        s.budget_env_steps = budget;
+        rows.push_back({r.Double("wall_time"), std::move(s)});
+      },
+      &skipped);
+  run_folder::ForEachRow(
+      dir / "nodes.csv",
+      [&](const run_folder::CsvRow& r) {
+        NodeRow n;
+        n.status.run_id = r.TextOrThrow("run_id");
+        n.status.role = r.TextOrThrow("role");
+        n.status.node_id = static_cast<uint32_t>(r.Unsigned("node_id"));
+        n.status.host = r.TextOrThrow("host");
+        n.status.pid = static_cast<int32_t>(r.Double("pid"));
+        const std::string& state_name = r.TextOrThrow("state");
+        if (state_name == "lost" || state_name == "exited") {
+          n.event = state_name;
+        } else {
+          const std::optional<tr::NodeState> parsed = ParseNodeState(state_name);
+          if (!parsed) throw std::invalid_argument("state: unknown");
+          n.status.state = *parsed;
+        }
+        n.status.policy_version = r.Unsigned("policy_version");
+        n.status.graph_version = r.Unsigned("graph_version");
+        n.status.env_steps = r.Unsigned("env_steps");
+        n.status.dropped_samples = r.Unsigned("dropped_samples");
+        n.status.uptime_ms = r.Unsigned("uptime_ms");
+        n.status.detail = r.TextOrThrow("detail");
+        rows.push_back({r.Double("wall_time"), std::move(n)});
+      },
+      &skipped);
   std::stable_sort(rows.begin(), rows.end(), [](const Timed& a, const Timed& b) { return a.wall < b.wall; });
 
   const double wall_now = mon::WallTimeNow();
@@ -254,8 +182,8 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
       }
       // the monitor saw the node go: its last status stands (and with it the health the display
       // computes: LOST after a quiet without goodbye); "exited" means it said goodbye
-      auto it = state.nodes.find({mon::PrintableText(n->status.run_id), mon::PrintableText(n->status.role),
-                                  n->status.node_id});
+      auto it = state.nodes.find(
+          {mon::PrintableText(n->status.run_id), mon::PrintableText(n->status.role), n->status.node_id});
       if (it != state.nodes.end() && n->event == "exited") it->second.status.state = tr::NodeState::kStopping;
     }
   }

@@ -8,6 +8,7 @@
 #include <optional>
 #include <thread>
 
+#include "common/cli/exit_codes.h"
 #include "common/transport/shutdown.h"
 #include "deploy/dashboard/dashboard.h"
 #include "deploy/dashboard/run_folder_source.h"
@@ -41,12 +42,13 @@ int WatchRunFolder(const RunFolderWatch& options) {
     }
   } catch (const std::exception& e) {  // not a run folder, or a port that cannot be served
     std::cerr << "srics-monitor: " << e.what() << "\n";
-    return 2;
+    return kExitUsage;
   }
   try {
     const bool live = !options.once && !options.json && isatty(STDOUT_FILENO);
     const auto& stop = transport::Shutdown::Process().flag();
-    const auto refresh = std::chrono::duration_cast<mon::Clock::duration>(std::chrono::duration<double>(options.refresh_s));
+    const auto refresh =
+        std::chrono::duration_cast<mon::Clock::duration>(std::chrono::duration<double>(options.refresh_s));
     const auto start = mon::Clock::now();
     auto json_line = [&] {
       return DocumentFor(folder->state(), mon::Clock::now(), folder->render_options(), "run folder", options.run_dir);
@@ -82,8 +84,10 @@ int WatchRunFolder(const RunFolderWatch& options) {
       }
       ++tick;
     }
-    if (options.json && options.once) std::cout << json_line() << std::endl;
-    else if (!options.json && (options.once || !live)) std::cout << screen() << std::flush;
+    if (options.json && options.once)
+      std::cout << json_line() << std::endl;
+    else if (!options.json && (options.once || !live))
+      std::cout << screen() << std::flush;
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "srics-monitor: " << e.what() << "\n";

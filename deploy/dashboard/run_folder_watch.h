@@ -10,12 +10,12 @@ namespace srics::dashboard {
 
 struct RunFolderWatch {
   std::string run_dir;
-  int http_port = -1;              // -1: no dashboard; 0: any free port
+  int http_port = -1;  // -1: no dashboard; 0: any free port
   std::string http_bind = "127.0.0.1";
-  bool json = false;               // the JSON document instead of the display
-  bool once = false;               // one display (or JSON line) and exit
-  double for_s = 0;                // stop after this long (0: until Ctrl-C)
-  double refresh_s = 1;            // how often the folder is re-read and the display redrawn
+  bool json = false;     // the JSON document instead of the display
+  bool once = false;     // one display (or JSON line) and exit
+  double for_s = 0;      // stop after this long (0: until Ctrl-C)
+  double refresh_s = 1;  // how often the folder is re-read and the display redrawn
 };
 
 // Runs until Ctrl-C, --for or --once. Returns the exit code: 0, 2 when DIR is not a run

@@ -36,7 +36,8 @@ int ParseHttpPort(const std::string& text) {
   return static_cast<int>(value);
 }
 
-HttpServer::HttpServer(ServerOptions options) : options_(std::move(options)), server_(std::make_unique<httplib::Server>()) {
+HttpServer::HttpServer(ServerOptions options)
+    : options_(std::move(options)), server_(std::make_unique<httplib::Server>()) {
   // httplib's default also sets SO_REUSEPORT, with which a second server binds the same port
   // and the two share its connections: only SO_REUSEADDR here, so a taken port is an error
   server_->set_socket_options([](socket_t sock) {
@@ -97,9 +98,10 @@ HttpServer::HttpServer(ServerOptions options) : options_(std::move(options)), se
   }
   if (port_ <= 0) {
     const int error = errno;
-    std::string reason = error == EADDRINUSE ? "the port is in use (another dashboard or program: choose another --http PORT)"
-                         : error != 0        ? std::strerror(error)
-                                             : "not an address of this host?";
+    std::string reason = error == EADDRINUSE
+                             ? "the port is in use (another dashboard or program: choose another --http PORT)"
+                         : error != 0 ? std::strerror(error)
+                                      : "not an address of this host?";
     throw BindError("--http " + std::to_string(options_.port) + ": cannot listen on " + options_.bind + ":" +
                     std::to_string(options_.port) + ": " + reason);
   }

@@ -36,8 +36,9 @@ std::string BestEvaluationYaml(const BestEvaluation& best) {
   std::snprintf(text, sizeof text,
                 "# the evaluation whose policy best.srics holds: the lowest average distance so far\n"
                 "policy_version: %llu\nupdate_count: %llu\nenv_steps: %llu\navg_distance: %.9g\n",
-                static_cast<unsigned long long>(best.policy_version), static_cast<unsigned long long>(best.update_count),
-                static_cast<unsigned long long>(best.env_steps), best.avg_distance);
+                static_cast<unsigned long long>(best.policy_version),
+                static_cast<unsigned long long>(best.update_count), static_cast<unsigned long long>(best.env_steps),
+                best.avg_distance);
   return text;
 }
 
@@ -94,9 +95,10 @@ std::optional<BestEvaluation> BestPolicy::OnEval(uint64_t policy_version, uint64
   for (const Kept& k : kept_)
     if (k.version == policy_version) kept = &k;
   if (kept == nullptr) {
-    spdlog::warn("evaluation of policy v{} (avg distance {:.4f}) is the best so far, but its weights are no longer "
-                 "kept: best.srics not updated",
-                 policy_version, avg_distance);
+    spdlog::warn(
+        "evaluation of policy v{} (avg distance {:.4f}) is the best so far, but its weights are no longer "
+        "kept: best.srics not updated",
+        policy_version, avg_distance);
     return std::nullopt;
   }
   // the weights into the networks (HAC: the high level's parameters first, as published)

@@ -90,8 +90,7 @@ ChildProcess ChildProcess::Spawn(const std::vector<std::string>& argv, const Spa
   Fd output;
   if (!options.output_file.empty()) {
     output.Reset(open(options.output_file.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644));
-    if (output.get() < 0)
-      throw std::runtime_error("cannot open " + options.output_file + ": " + strerror(errno));
+    if (output.get() < 0) throw std::runtime_error("cannot open " + options.output_file + ": " + strerror(errno));
   }
   int pipe_fds[2];
   if (pipe2(pipe_fds, O_CLOEXEC) != 0) throw std::runtime_error(std::string("pipe2: ") + strerror(errno));
@@ -145,8 +144,10 @@ std::optional<ExitStatus> ChildProcess::Poll() {
   do {
     r = waitpid(pid_, &status, WNOHANG);
   } while (r < 0 && errno == EINTR);
-  if (r == pid_) exit_ = FromWaitStatus(status);
-  else if (r < 0) exit_ = ExitStatus{false, -1};  // ECHILD: reaped elsewhere; treat as gone
+  if (r == pid_)
+    exit_ = FromWaitStatus(status);
+  else if (r < 0)
+    exit_ = ExitStatus{false, -1};  // ECHILD: reaped elsewhere; treat as gone
   return exit_;
 }
 

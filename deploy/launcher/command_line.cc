@@ -14,8 +14,10 @@ namespace {
 
 // --display auto|live|plain|none (srics run, srics sweep)
 void AddDisplayOption(CLI::App& app, DisplayMode* display, const std::string& help) {
-  static const std::map<std::string, DisplayMode> kModes = {
-      {"auto", DisplayMode::kAuto}, {"live", DisplayMode::kLive}, {"plain", DisplayMode::kPlain}, {"none", DisplayMode::kNone}};
+  static const std::map<std::string, DisplayMode> kModes = {{"auto", DisplayMode::kAuto},
+                                                            {"live", DisplayMode::kLive},
+                                                            {"plain", DisplayMode::kPlain},
+                                                            {"none", DisplayMode::kNone}};
   app.add_option("--display", *display, help)
       ->transform(CLI::CheckedTransformer(kModes).description(""))
       ->type_name("MODE")
@@ -89,10 +91,12 @@ void AddRunOptions(CLI::App& app, LaunchOptions* o, RunText* text) {
                  "<prefix>/share/srics-dds/configs/default.yaml)")
       ->required()
       ->transform(cli::InstalledConfig());
-  app.add_flag("--in-process", o->in_process,
-               "the same loops in one process and one thread, wired in memory (no DDS): deterministic, the same run folder");
+  app.add_flag(
+      "--in-process", o->in_process,
+      "the same loops in one process and one thread, wired in memory (no DDS): deterministic, the same run folder");
   app.add_option("--actors", o->actors, "actor processes (default: actors.count of the config)")
-      ->check(cli::Integer(1))->default_str("");
+      ->check(cli::Integer(1))
+      ->default_str("");
   AddSetOption(app, &o->overrides, "override a config value (recorded in the run folder's config.yaml)");
   app.add_option("--run-dir", o->run_dir,
                  "the run folder (default <run.output_dir>/<run.name>-<timestamp>); an existing one is continued: the "
@@ -102,25 +106,34 @@ void AddRunOptions(CLI::App& app, LaunchOptions* o, RunText* text) {
                "continue a run folder with a changed config (the change is recorded in its config-changes.log, the old "
                "config.yaml kept beside it)");
   app.add_option("--bin-dir", o->bin_dir,
-                 "where srics-graph, srics-learner, srics-actor are (default: beside this program, or its build tree)")->type_name("DIR");
-  AddDisplayOption(app, &o->display, "live (refreshing screen), plain (a line every 10 s), none, auto (live on a terminal)");
+                 "where srics-graph, srics-learner, srics-actor are (default: beside this program, or its build tree)")
+      ->type_name("DIR");
+  AddDisplayOption(app, &o->display,
+                   "live (refreshing screen), plain (a line every 10 s), none, auto (live on a terminal)");
   app.add_option("--stop-timeout", o->stop_timeout_s, "seconds between SIGINT and SIGKILL when stopping")
       ->check(cli::Number(0));
-  app.add_option("--final-eval-grace", o->final_eval_grace_s,
-                 "once the learner finished, seconds to wait for the actors' final evaluation and exit before stopping them")
+  app.add_option(
+         "--final-eval-grace", o->final_eval_grace_s,
+         "once the learner finished, seconds to wait for the actors' final evaluation and exit before stopping them")
       ->check(cli::Number(0));
-  app.add_option("--label", o->label, "shown in the display's title (srics sweep: which run of how many)")->type_name("TEXT");
-  CLI::Option* http = app.add_option("--http", o->http_port,
-                                     "serve the live web dashboard on PORT (0: any free port; 127.0.0.1 only unless --http-bind)")
-                          ->check(cli::Integer(0, 65535))->type_name("PORT")->default_str("");
+  app.add_option("--label", o->label, "shown in the display's title (srics sweep: which run of how many)")
+      ->type_name("TEXT");
+  CLI::Option* http =
+      app.add_option("--http", o->http_port,
+                     "serve the live web dashboard on PORT (0: any free port; 127.0.0.1 only unless --http-bind)")
+          ->check(cli::Integer(0, 65535))
+          ->type_name("PORT")
+          ->default_str("");
   app.add_option("--http-bind", o->http_bind, "the address to serve the dashboard on (0.0.0.0 = every interface)")
-      ->needs(http)->type_name("ADDR");
+      ->needs(http)
+      ->type_name("ADDR");
   app.add_option("--roles", text->roles,
                  "this host's share of a run on several hosts: graph, learner, actor, comma-separated (default: all); "
                  "every host needs the same explicit transport.run_id")
       ->type_name("LIST");
-  app.add_option("--ids", text->ids, "with --roles actor: this host's actor ids, comma-separated, A-B for a range "
-                                     "(default: 0 to actors.count - 1)")
+  app.add_option("--ids", text->ids,
+                 "with --roles actor: this host's actor ids, comma-separated, A-B for a range "
+                 "(default: 0 to actors.count - 1)")
       ->type_name("LIST");
 }
 
@@ -159,9 +172,11 @@ void AddSweepOptions(CLI::App& app, SweepOptions* o, SweepText* text) {
       ->required()
       ->transform(cli::InstalledConfig());
   app.add_option("--methods", text->methods, "run.method names, comma-separated (srics, smorl, sac_her, ...)")
-      ->required()->type_name("LIST");
+      ->required()
+      ->type_name("LIST");
   app.add_option("--seeds", text->seeds, "run.seed values, comma-separated; A-B for a range (1-3)")
-      ->required()->type_name("LIST");
+      ->required()
+      ->type_name("LIST");
   AddSetOption(app, &o->overrides, "a config override for every run");
   app.add_option("--out", o->out_dir,
                  "the sweep folder (default <run.output_dir>/<run.name>-sweep); DIR/sweep.yaml records the grid and "
@@ -169,9 +184,10 @@ void AddSweepOptions(CLI::App& app, SweepOptions* o, SweepText* text) {
       ->type_name("DIR");
   app.add_flag("--in-process", o->in_process, "each run in one process (srics run --in-process)");
   app.add_option("--parallel", o->parallel, "runs at a time (one per core at most)")->check(cli::Integer(1, 64));
-  AddDisplayOption(app, &o->display,
-                   "each run's display: live, plain, none, auto (with --parallel > 1: plain lines in DIR/logs/<run>.out, "
-                   "the sweep prints each run's latest line every 10 s)");
+  AddDisplayOption(
+      app, &o->display,
+      "each run's display: live, plain, none, auto (with --parallel > 1: plain lines in DIR/logs/<run>.out, "
+      "the sweep prints each run's latest line every 10 s)");
   app.add_option("--stop-timeout", o->stop_timeout_s,
                  "on Ctrl-C, seconds a run has to checkpoint and exit before it is killed")
       ->check(cli::Number(0));
@@ -198,10 +214,11 @@ void AddCompareOptions(CLI::App& app, CompareOptions* o) {
   app.add_option("--out", o->out_dir,
                  "where the figures and results.md go (default DIR/compare for one DIR, ./compare for several)")
       ->type_name("DIR");
-  app.add_option("--final-eval", o->final_eval,
-                 "the run folders' subfolder holding the final evaluation of the last checkpoint (its passive policy in "
-                 "NAME-passive/); deploy/campaign.sh writes final-eval (the run's own goals) and final-eval-selection "
-                 "(other goals, to choose variants on)")
+  app.add_option(
+         "--final-eval", o->final_eval,
+         "the run folders' subfolder holding the final evaluation of the last checkpoint (its passive policy in "
+         "NAME-passive/); deploy/campaign.sh writes final-eval (the run's own goals) and final-eval-selection "
+         "(other goals, to choose variants on)")
       ->type_name("NAME")
       ->default_val("final-eval");
   app.add_option("--methods", o->methods,
@@ -212,9 +229,8 @@ void AddCompareOptions(CLI::App& app, CompareOptions* o) {
   app.add_option("--panel", o->panel, "names the files <env>-NAME-*.png (and the titles) so that panels share --out")
       ->type_name("NAME");
   app.add_option("--band", o->band, "the curves' band: std (mean ± 1 sample sd over seeds, as the paper) or minmax")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, CompareOptions::Band>{{"std", CompareOptions::Band::kStd},
-                                                     {"minmax", CompareOptions::Band::kMinMax}}))
+      ->transform(CLI::CheckedTransformer(std::map<std::string, CompareOptions::Band>{
+          {"std", CompareOptions::Band::kStd}, {"minmax", CompareOptions::Band::kMinMax}}))
       ->default_str("std");
 }
 
@@ -230,7 +246,8 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
                  "(config.yaml and graph.json from its folder)")
       ->required();
   app.add_option("--episodes", a->episodes, "evaluation episodes (default: the config's actors.eval_episodes)")
-      ->check(cli::Integer(1, 100000))->default_str("");
+      ->check(cli::Integer(1, 100000))
+      ->default_str("");
   app.add_option("--out", a->out_dir, "default: <run folder>/eval")->type_name("DIR");
   app.add_option("--format", a->format,
                  "mp4 (ffmpeg), gif (ffmpeg) or png (frames; no ffmpeg needed); default mp4 when ffmpeg is installed "
@@ -241,11 +258,14 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
           },
           ""));
   app.add_flag("--no-video", *no_video, "write the metrics only");
-  app.add_option("--config", a->config_file, "the run's config (default: config.yaml beside the checkpoint)")->type_name("FILE");
-  app.add_option("--graph", a->graph_file, "the run's graph (default: graph.json beside the checkpoint)")->type_name("FILE");
+  app.add_option("--config", a->config_file, "the run's config (default: config.yaml beside the checkpoint)")
+      ->type_name("FILE");
+  app.add_option("--graph", a->graph_file, "the run's graph (default: graph.json beside the checkpoint)")
+      ->type_name("FILE");
   AddSetOption(app, &a->overrides, "override a value of the run's config");
   app.add_option("--width", a->render.width, "frame width in pixels (even, 16 to 4096)")->check(cli::Integer(1, 4096));
-  app.add_option("--height", a->render.height, "frame height in pixels (even, 16 to 4096)")->check(cli::Integer(1, 4096));
+  app.add_option("--height", a->render.height, "frame height in pixels (even, 16 to 4096)")
+      ->check(cli::Integer(1, 4096));
   app.add_option("--fps", a->fps, "video frames per second (10: real time)")->check(cli::Integer(1, 240));
   app.add_option("--protocol", a->protocol,
                  "depth (the graph's subgoals in depth order, as SRICS evaluates; methods without a graph use the "
@@ -255,7 +275,8 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
   app.add_option("--goal-set", a->goal_set,
                  "the evaluation goals of a run with this seed (default: the run's own), to compare runs on the same "
                  "goals")
-      ->check(cli::Integer(1, 1000000000))->default_str("");
+      ->check(cli::Integer(1, 1000000000))
+      ->default_str("");
   app.add_flag("--passive", a->passive,
                "play the passive baseline (the hand never moves) on the same goals instead of the checkpoint's "
                "policy (no checkpoint needed): the figure the run's eval.csv divides by");
@@ -277,8 +298,8 @@ void AddLearnGraphOptions(CLI::App& app, LearnGraphOptions* o) {
       "random, the graph service trains its GNN; DIR gets graph.json and its pictures. The last line compares the\n"
       "learned graph with the one by construction");
   CLI::Option* env = app.add_option("--env", o->env_file, "an environment preset or run config")
-                          ->transform(cli::InstalledConfig())
-                          ->type_name("FILE");
+                         ->transform(cli::InstalledConfig())
+                         ->type_name("FILE");
   CLI::Option* table = app.add_option_function<uint64_t>(
       "--random-table", [o](uint64_t seed) { o->table_seed = seed; },
       "a random table (objects, shapes, masses, static objects, ropes and springs drawn from seed N) instead of a "
@@ -349,9 +370,10 @@ LearnGraphOptions ParseLearnGraphArgs(const std::vector<std::string>& args) {
 }
 
 std::optional<int> ParseSricsCommandLine(int argc, char** argv, SricsCommand* command) {
-  CLI::App app{"SRICS-DDS: distributed SRICS training runs, experiments over methods and seeds, trained policies "
-               "watched. `srics SUBCOMMAND --help` for each one's options.",
-               "srics"};
+  CLI::App app{
+      "SRICS-DDS: distributed SRICS training runs, experiments over methods and seeds, trained policies "
+      "watched. `srics SUBCOMMAND --help` for each one's options.",
+      "srics"};
   cli::Configure(app);
   app.require_subcommand(1);
   using Kind = SricsCommand::Kind;

@@ -16,56 +16,18 @@
 
 #include "common/config/config.h"
 #include "common/files/small_file.h"
+#include "common/rl/graph.h"
 #include "common/rl/ground_truth.h"
-#include "graph_service/learned_graph.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/launcher/sweep.h"
+#include "deploy/run_folder/csv.h"
+#include "graph_service/learned_graph.h"
 
 namespace srics::launcher {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// A CSV file as its header's column positions and its rows.
-struct Csv {
-  std::map<std::string, size_t> columns;
-  std::vector<std::vector<std::string>> rows;
-
-  std::optional<double> Number(const std::vector<std::string>& row, const std::string& column) const {
-    const auto it = columns.find(column);
-    if (it == columns.end() || it->second >= row.size() || row[it->second].empty()) return std::nullopt;
-    char* end = nullptr;
-    const double v = std::strtod(row[it->second].c_str(), &end);
-    if (end == row[it->second].c_str() || !std::isfinite(v)) return std::nullopt;
-    return v;
-  }
-  std::string Text(const std::vector<std::string>& row, const std::string& column) const {
-    const auto it = columns.find(column);
-    return it == columns.end() || it->second >= row.size() ? "" : row[it->second];
-  }
-};
-
-std::optional<Csv> ReadCsv(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  Csv csv;
-  std::string line;
-  if (!std::getline(in, line)) return std::nullopt;
-  const std::vector<std::string> header = SplitCsvLine(line);
-  for (size_t i = 0; i < header.size(); ++i) csv.columns[header[i]] = i;
-  while (std::getline(in, line))
-    if (!line.empty()) csv.rows.push_back(SplitCsvLine(line));
-  return csv;
-}
-
-std::vector<double> SplitValues(const std::string& text) {
-  std::vector<double> values;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ';');)
-    if (!item.empty()) values.push_back(std::strtod(item.c_str(), nullptr));
-  return values;
-}
 
 // The stem of the config file a sweep folder's sweep.yaml names ("relational-4").
 std::optional<std::string> SweepEnvironment(const fs::path& sweep_dir) {
@@ -107,12 +69,12 @@ struct EpisodeMeans {
   double distance = 0, object_distance = 0;
 };
 std::optional<EpisodeMeans> ReadEpisodeMeans(const fs::path& path) {
-  const std::optional<Csv> episodes = ReadCsv(path);
+  const std::optional<run_folder::CsvTable> episodes = run_folder::CsvTable::Read(path);
   if (!episodes) return std::nullopt;
   EpisodeMeans means;
-  for (const auto& row : episodes->rows) {
-    const auto distance = episodes->Number(row, "avg_distance"), object = episodes->Number(row, "avg_object_distance");
-    if (!distance || !object || episodes->Text(row, "status") != "ok") continue;
+  for (const run_folder::CsvRow& row : episodes->Rows()) {
+    const auto distance = row.Number("avg_distance"), object = row.Number("avg_object_distance");
+    if (!distance || !object || row.Text("status") != "ok") continue;
     means.distance += *distance, means.object_distance += *object, ++means.n;
   }
   if (means.n > 0) means.distance /= means.n, means.object_distance /= means.n;
@@ -120,7 +82,9 @@ std::optional<EpisodeMeans> ReadEpisodeMeans(const fs::path& path) {
 }
 
 // NAME/ (and NAME-passive/) of a run folder, when present and readable.
+// `movable[e]`: entity e of the evaluation episodes is an object the arm can move (empty: not known).
 std::optional<FinalEvaluation> ReadFinalEvaluation(const fs::path& dir, const std::string& name,
+                                                   const std::vector<bool>& movable,
                                                    std::vector<std::string>* warnings) {
   const std::optional<EpisodeMeans> means = ReadEpisodeMeans(dir / name / "episodes.csv");
   if (!means) return std::nullopt;
@@ -132,11 +96,17 @@ std::optional<FinalEvaluation> ReadFinalEvaluation(const fs::path& dir, const st
   f.episodes = means->n;
   f.avg_distance = means->distance;
   f.avg_object_distance = means->object_distance;
-  if (const std::optional<Csv> attempts = ReadCsv(dir / name / "attempts.csv"))
-    for (const auto& row : attempts->rows) {
-      if (attempts->Text(row, "skipped") == "1") continue;  // no steps, nothing undone
-      f.independent_solved += attempts->Number(row, "independent_solved").value_or(0);
-      f.independent_undone += attempts->Number(row, "independent_undone").value_or(0);
+  if (const std::optional<run_folder::CsvTable> attempts = run_folder::CsvTable::Read(dir / name / "attempts.csv"))
+    for (const run_folder::CsvRow& row : attempts->Rows()) {
+      if (row.Text("skipped") == "1") continue;  // no steps, nothing undone
+      f.independent_solved += row.Number("independent_solved").value_or(0);
+      f.independent_undone += row.Number("independent_undone").value_or(0);
+      const std::optional<double> entity = row.Number("entity");
+      if (movable.empty() || !entity || *entity < 0 || *entity >= static_cast<double>(movable.size()) ||
+          !movable[static_cast<size_t>(*entity)])
+        continue;
+      f.object_attempt_solved = f.object_attempt_solved.value_or(0) + row.Number("others_solved").value_or(0);
+      f.object_attempt_undone = f.object_attempt_undone.value_or(0) + row.Number("others_undone").value_or(0);
     }
   const std::optional<EpisodeMeans> passive = ReadEpisodeMeans(dir / (name + "-passive") / "episodes.csv");
   if (passive && passive->n > 0) f.passive_object_distance = passive->object_distance;
@@ -168,26 +138,26 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     }
   }
   if (config && config->env.eval_object_sets.size() == 1) run.eval_objects = config->env.eval_object_sets.front();
-  const std::optional<Csv> eval = ReadCsv(dir / "eval.csv");
-  if (!eval || !eval->columns.count("env_steps") || !eval->columns.count("avg_distance")) {
+  const std::optional<run_folder::CsvTable> eval = run_folder::CsvTable::Read(dir / "eval.csv");
+  if (!eval || !eval->HasColumn("env_steps") || !eval->HasColumn("avg_distance")) {
     warnings->push_back(dir.string() + ": no readable eval.csv (columns env_steps, avg_distance): skipped");
     return std::nullopt;
   }
   // rows at the same env-step count (several evaluators, a resumed run) are averaged
   std::map<double, std::pair<EvalPoint, int>> by_steps;
-  for (const auto& row : eval->rows) {
-    const auto steps = eval->Number(row, "env_steps");
-    const auto distance = eval->Number(row, "avg_distance");
+  for (const run_folder::CsvRow& row : eval->Rows()) {
+    const auto steps = row.Number("env_steps");
+    const auto distance = row.Number("avg_distance");
     if (!steps || !distance) continue;
     EvalPoint p;
     p.env_steps = *steps;
     p.avg_distance = *distance;
-    p.avg_object_distance = eval->Number(row, "avg_object_distance").value_or(0);
-    p.success_rate = eval->Number(row, "success_rate").value_or(0);
-    p.subgoal_success = SplitValues(eval->Text(row, "subgoal_success"));
-    const auto solved = eval->Number(row, "independent_solved"), undone = eval->Number(row, "independent_undone");
+    p.avg_object_distance = row.Number("avg_object_distance").value_or(0);
+    p.success_rate = row.Number("success_rate").value_or(0);
+    p.subgoal_success = run_folder::SplitValues(row.Text("subgoal_success"));
+    const auto solved = row.Number("independent_solved"), undone = row.Number("independent_undone");
     if (solved && undone) p.independent_solved = *solved, p.independent_undone = *undone, p.has_compatibility = true;
-    if (eval->Number(row, "policy_version").value_or(1) == 0) {
+    if (row.Number("policy_version").value_or(1) == 0) {
       if (!run.passive) run.passive = p;
       continue;
     }
@@ -212,7 +182,15 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     for (double& s : p.subgoal_success) s /= count;
     run.evaluations.push_back(p);
   }
-  run.final_evaluation = ReadFinalEvaluation(dir, final_eval, warnings);
+  // the objects the arm can move: depth 2 or more in the table's graph (a static object has no path)
+  std::vector<bool> movable;
+  if (config && config->env.eval_object_sets.empty()) {
+    const rl::InteractionGraph truth = rl::GroundTruthGraph(config->env);
+    const rl::SubgoalStructure structure = rl::ComputeSubgoalStructure(truth);
+    for (int e = 0; e < structure.num_entities(); ++e)
+      movable.push_back(e != truth.action_entity && structure.has_subgoal(e));
+  }
+  run.final_evaluation = ReadFinalEvaluation(dir, final_eval, movable, warnings);
   if (fs::is_regular_file(dir / "graph.json")) {
     try {
       const graph_service::LearnedGraph learned = graph_service::LoadGraph((dir / "graph.json").string());
@@ -224,18 +202,19 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     if (config) run.graph_by_construction = rl::DescribeGraph(rl::GroundTruthGraph(config->env));
     if (fs::is_regular_file(dir / "graph.png")) run.graph_picture = (dir / "graph.png").string();
   }
-  if (const std::optional<Csv> train = ReadCsv(dir / "train.csv")) {
+  if (const std::optional<run_folder::CsvTable> train = run_folder::CsvTable::Read(dir / "train.csv")) {
     // measured with the table's graph where the run has it (the same ancestor sets for every
     // method); else with each episode's own (SMORL's: none, so the pushing arm counts against it)
     bool table_graph = false;
-    for (const auto& row : train->rows) table_graph |= train->Number(row, "table_graph_selectivity").has_value();
+    for (const run_folder::CsvRow& row : train->Rows())
+      table_graph |= row.Number("table_graph_selectivity").has_value();
     const std::string column = table_graph ? "table_graph_selectivity" : "selectivity";
     run.selectivity_with_table_graph = table_graph;
     std::map<double, double> by_steps_selectivity;
-    for (const auto& row : train->rows) {
-      const auto steps = train->Number(row, "env_steps");
-      const auto selectivity = train->Number(row, column);
-      if (!steps || !selectivity || train->Number(row, column + "_episodes").value_or(1) <= 0) continue;
+    for (const run_folder::CsvRow& row : train->Rows()) {
+      const auto steps = row.Number("env_steps");
+      const auto selectivity = row.Number(column);
+      if (!steps || !selectivity || row.Number(column + "_episodes").value_or(1) <= 0) continue;
       by_steps_selectivity[*steps] = *selectivity;  // the last row of a step count wins
     }
     run.selectivity.assign(by_steps_selectivity.begin(), by_steps_selectivity.end());
@@ -438,8 +417,9 @@ std::optional<double> ValueAt(const std::vector<std::pair<double, double>>& c, d
 
 // Writes one figure's data: per method a block "x mean min max n sd" (blocks separated by two
 // blank lines, gnuplot's `index`). Returns the methods with data, in block order.
-std::vector<std::string> WriteCurveBlocks(const std::string& path, const std::map<std::string, Group>& methods,
-                                          const std::function<std::vector<std::pair<double, double>>(const RunData&)>& curve_of) {
+std::vector<std::string> WriteCurveBlocks(
+    const std::string& path, const std::map<std::string, Group>& methods,
+    const std::function<std::vector<std::pair<double, double>>(const RunData&)>& curve_of) {
   std::ofstream out(path);
   out << "# per method (blocks in the order of the plot): env_steps mean min max seeds sample_sd\n";
   std::vector<std::string> written;
@@ -490,13 +470,14 @@ void PlotCurves(std::ostream& script, const std::string& png, const std::string&
   script << "set output '" << GnuplotQuote(png) << "'\n"
          << "set title '" << GnuplotQuote(title) << "' noenhanced\n"
          << "set xlabel 'environment steps'\nset ylabel '" << GnuplotQuote(ylabel) << "' noenhanced\n"
-         << "set format x '%.0s%c'\n" << KeyBelow(methods.size() + passive.size()) << "set grid\nset yrange [0:*]\n"
+         << "set format x '%.0s%c'\n"
+         << KeyBelow(methods.size() + passive.size()) << "set grid\nset yrange [0:*]\n"
          << "set style fill transparent solid 0.2 noborder\n"
          << "plot ";
   for (size_t i = 0; i < methods.size(); ++i) {
     const char* color = kColors[i % (sizeof kColors / sizeof *kColors)];
-    script << (i ? ", " : "") << "'" << GnuplotQuote(dat) << "' index " << i
-           << " using " << BandColumns(band) << " with filledcurves lc rgb '" << color << "' notitle, '' index " << i
+    script << (i ? ", " : "") << "'" << GnuplotQuote(dat) << "' index " << i << " using " << BandColumns(band)
+           << " with filledcurves lc rgb '" << color << "' notitle, '' index " << i
            << " using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '" << color << "' title '"
            << GnuplotQuote(LegendTitle(methods[i], groups.at(methods[i]), has_data)) << "'";
   }
@@ -525,10 +506,12 @@ std::string FinalTable(const std::vector<RunData>& runs) {
   for (const auto& [env, methods] : GroupRuns(runs)) {
     const std::vector<std::string> names = EntityNames(methods);
     const size_t entities = names.size();
-    out << "\n## " << env << "\n\n| method | n | finished | env steps | avg distance (arm incl.) | avg object distance | "
+    out << "\n## " << env
+        << "\n\n| method | n | finished | env steps | avg distance (arm incl.) | avg object distance | "
            "success rate |";
     for (size_t i = 0; i < entities; ++i) out << " success " << names[i] << " |";
-    out << " training selectivity | passive avg distance | avg object distance / passive's |\n|---|---|---|---|---|---|---|";
+    out << " training selectivity | passive avg distance | avg object distance / passive's "
+           "|\n|---|---|---|---|---|---|---|";
     for (size_t i = 0; i < entities; ++i) out << "---|";
     out << "---|---|---|\n";
     for (const auto& [method, group] : methods) {
@@ -567,13 +550,17 @@ std::string FinalTable(const std::vector<RunData>& runs) {
            "that were not the attempted entity's ancestors, the share an attempt undid; eval.csv since "
            "2026-12-04); and the final evaluation of its last checkpoint by `srics eval` where the run "
            "folder has one (final-eval/ or the folder `--final-eval` names, its passive policy on the same goals "
-           "beside it in NAME-passive/).\n\n"
-           "| method | n | avg distance, last 5 | avg object distance, last 5 | undone share, last eval | final eval: episodes "
-           "| avg distance | avg object distance | object / passive's | undone share |\n"
-           "|---|---|---|---|---|---|---|---|---|---|\n";
+           "beside it in NAME-passive/); of its attempts on movable objects (not the arm, not a static object) the "
+           "share of the solved objects they undid, graph-free (every solved object counts, ancestor or not: the "
+           "same measure for every method).\n\n"
+           "| method | n | avg distance, last 5 | avg object distance, last 5 | undone share, last eval | final eval: "
+           "episodes "
+           "| avg distance | avg object distance | object / passive's | undone share | undone share, object attempts "
+           "(graph-free) |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& [method, group] : methods) {
       std::vector<double> late_distance, late_object, undone, episodes, final_distance, final_object, final_ratio,
-          final_undone;
+          final_undone, object_undone;
       for (const RunData* r : CountedRuns(group)) {
         if (!r->evaluations.empty()) {
           const size_t from = r->evaluations.size() > 5 ? r->evaluations.size() - 5 : 0;
@@ -588,15 +575,21 @@ std::string FinalTable(const std::vector<RunData>& runs) {
           episodes.push_back(f->episodes);
           final_distance.push_back(f->avg_distance);
           final_object.push_back(f->avg_object_distance);
-          if (f->passive_object_distance > 0) final_ratio.push_back(f->avg_object_distance / f->passive_object_distance);
-          if (const auto share = UndoneShare(f->independent_solved, f->independent_undone)) final_undone.push_back(*share);
+          if (f->passive_object_distance > 0)
+            final_ratio.push_back(f->avg_object_distance / f->passive_object_distance);
+          if (const auto share = UndoneShare(f->independent_solved, f->independent_undone))
+            final_undone.push_back(*share);
+          if (f->object_attempt_solved && f->object_attempt_undone)
+            if (const auto share = UndoneShare(*f->object_attempt_solved, *f->object_attempt_undone))
+              object_undone.push_back(*share);
         }
       }
       out << "| " << method << " | " << late_distance.size() << " | " << MeanStd(SpreadOf(late_distance)) << " | "
           << MeanStd(SpreadOf(late_object)) << " | " << MeanStd(SpreadOf(undone), 2) << " | "
           << (episodes.empty() ? "-" : Format(SpreadOf(episodes).mean, 0) + " x " + std::to_string(episodes.size()))
           << " | " << MeanStd(SpreadOf(final_distance)) << " | " << MeanStd(SpreadOf(final_object)) << " | "
-          << MeanStd(SpreadOf(final_ratio), 2) << " | " << MeanStd(SpreadOf(final_undone), 2) << " |\n";
+          << MeanStd(SpreadOf(final_ratio), 2) << " | " << MeanStd(SpreadOf(final_undone), 2) << " | "
+          << MeanStd(SpreadOf(object_undone), 2) << " |\n";
     }
     bool any_graph = false;
     for (const auto& [method, group] : methods)
@@ -610,7 +603,10 @@ std::string FinalTable(const std::vector<RunData>& runs) {
           const std::string& truth = r->graph_by_construction;
           out << "| " << fs::path(r->dir).filename().string() << " | " << r->graph << " | "
               << (truth.empty() ? "-" : truth) << " | "
-              << (truth.empty() ? "-" : truth == r->graph ? "yes" : "no") << " |\n";
+              << (truth.empty()       ? "-"
+                  : truth == r->graph ? "yes"
+                                      : "no")
+              << " |\n";
         }
     }
     out << "\nRuns:";
@@ -643,9 +639,9 @@ int Compare(const CompareOptions& options) {
     std::cerr << "srics compare: no runs found\n";
     return 1;
   }
-  const std::string out_dir = !options.out_dir.empty() ? options.out_dir
+  const std::string out_dir = !options.out_dir.empty()   ? options.out_dir
                               : options.dirs.size() == 1 ? options.dirs[0] + "/compare"
-                                                          : std::string("compare");
+                                                         : std::string("compare");
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error) throw std::runtime_error("cannot create " + out_dir + ": " + error.message());
@@ -687,16 +683,15 @@ int Compare(const CompareOptions& options) {
       return c;
     });
     PlotCurves(script, base + "-object_distance.png", base + "-object_distance.dat",
-               figure + ": average object distance (mean, " + band + ")", "final distance to goal (m)", object,
-               methods, passive_object, options.band);
+               figure + ": average object distance (mean, " + band + ")", "final distance to goal (m)", object, methods,
+               passive_object, options.band);
     pictures.push_back(base + "-object_distance.png");
     bool any_selectivity = false;
     for (const auto& [method, group] : methods)
       for (const RunData* r : group) any_selectivity |= !r->selectivity.empty();
     if (any_selectivity) {
-      const auto selectivity = WriteCurveBlocks(base + "-selectivity.dat", methods, [](const RunData& r) {
-        return r.selectivity;
-      });
+      const auto selectivity =
+          WriteCurveBlocks(base + "-selectivity.dat", methods, [](const RunData& r) { return r.selectivity; });
       PlotCurves(script, base + "-selectivity.png", base + "-selectivity.dat",
                  figure + ": selectivity of training episodes, the table's ancestor sets (mean, " + band + ")",
                  "selectivity", selectivity, methods, {}, options.band, HasSelectivity);
@@ -708,8 +703,8 @@ int Compare(const CompareOptions& options) {
     if (any_undone) {
       const auto undone = WriteCurveBlocks(base + "-undone.dat", methods, UndoneCurve);
       PlotCurves(script, base + "-undone.png", base + "-undone.dat",
-                 figure + ": solved non-ancestor objects an attempt undid (mean, " + band + ")",
-                 "share undone", undone, methods, {}, options.band, HasUndone);
+                 figure + ": solved non-ancestor objects an attempt undid (mean, " + band + ")", "share undone", undone,
+                 methods, {}, options.band, HasUndone);
       pictures.push_back(base + "-undone.png");
     }
     // per-subgoal success at the final evaluation: one bar per method and entity
@@ -718,7 +713,8 @@ int Compare(const CompareOptions& options) {
     if (entities > 0) {
       std::ofstream bars(base + "-subgoal_success.dat");
       const bool std_bars = options.band == CompareOptions::Band::kStd;
-      bars << "# entity, then per method: mean and the error bar's ends (" << (std_bars ? "mean ± 1 sample sd" : "min, max")
+      bars << "# entity, then per method: mean and the error bar's ends ("
+           << (std_bars ? "mean ± 1 sample sd" : "min, max")
            << ") over seeds of the final evaluation's success\n# entity";
       for (const auto& [method, group] : methods) bars << ' ' << method << (std_bars ? " low high" : " min max");
       bars << '\n';
@@ -730,24 +726,29 @@ int Compare(const CompareOptions& options) {
             if (!r->evaluations.empty() && i < r->evaluations.back().subgoal_success.size())
               values.push_back(r->evaluations.back().subgoal_success[i]);
           const Spread s = SpreadOf(values);
-          if (std_bars) bars << ' ' << s.mean << ' ' << s.mean - s.std << ' ' << s.mean + s.std;
-          else bars << ' ' << s.mean << ' ' << s.min << ' ' << s.max;
+          if (std_bars)
+            bars << ' ' << s.mean << ' ' << s.mean - s.std << ' ' << s.mean + s.std;
+          else
+            bars << ' ' << s.mean << ' ' << s.min << ' ' << s.max;
         }
         bars << '\n';
       }
-      script << "set output '" << GnuplotQuote(base + "-subgoal_success.png") << "'\n"
-             << "set title '" << GnuplotQuote(figure) << ": success per subgoal at the final evaluation (mean, "
-             << (std_bars ? "bars ±1 sd" : "bars min-max") << " over seeds)' noenhanced\n"
-             << "set xlabel ''\nset ylabel 'success rate'\nset yrange [0:1.05]\nset grid ytics\n"
-             << "set format x '% h'\n" << KeyBelow(methods.size())
-             << "set style data histograms\nset style histogram errorbars gap 2 lw 1\nset style fill solid 0.8 border -1\n"
-             << "set bars 2\nplot ";
+      script
+          << "set output '" << GnuplotQuote(base + "-subgoal_success.png") << "'\n"
+          << "set title '" << GnuplotQuote(figure) << ": success per subgoal at the final evaluation (mean, "
+          << (std_bars ? "bars ±1 sd" : "bars min-max") << " over seeds)' noenhanced\n"
+          << "set xlabel ''\nset ylabel 'success rate'\nset yrange [0:1.05]\nset grid ytics\n"
+          << "set format x '% h'\n"
+          << KeyBelow(methods.size())
+          << "set style data histograms\nset style histogram errorbars gap 2 lw 1\nset style fill solid 0.8 border -1\n"
+          << "set bars 2\nplot ";
       size_t k = 0;
       for (const auto& [method, group] : methods) {
         const size_t column = 2 + 3 * k;
         script << (k ? ", " : "") << "'" << GnuplotQuote(base + "-subgoal_success.dat") << "' using " << column << ":"
                << column + 1 << ":" << column + 2 << (k ? "" : ":xtic(1)") << " lc rgb '"
-               << kColors[k % (sizeof kColors / sizeof *kColors)] << "' title '" << GnuplotQuote(LegendTitle(method, group)) << "'";
+               << kColors[k % (sizeof kColors / sizeof *kColors)] << "' title '"
+               << GnuplotQuote(LegendTitle(method, group)) << "'";
         ++k;
       }
       script << "\n";
@@ -759,12 +760,16 @@ int Compare(const CompareOptions& options) {
         if (!r->graph_picture.empty()) {
           std::error_code copy_error;
           fs::copy_file(r->graph_picture, copy, fs::copy_options::overwrite_existing, copy_error);
-          if (copy_error) std::cerr << "srics compare: cannot copy " << r->graph_picture << ": " << copy_error.message() << "\n";
-          else pictures.push_back(copy);
+          if (copy_error)
+            std::cerr << "srics compare: cannot copy " << r->graph_picture << ": " << copy_error.message() << "\n";
+          else
+            pictures.push_back(copy);
         } else if (!r->graph_dot.empty()) {
           std::string draw_error;
-          if (graph_service::RenderDotToPng(r->graph_dot, copy, &draw_error)) pictures.push_back(copy);
-          else std::cerr << "srics compare: " << r->dir << "/graph.json: " << draw_error << "\n";
+          if (graph_service::RenderDotToPng(r->graph_dot, copy, &draw_error))
+            pictures.push_back(copy);
+          else
+            std::cerr << "srics compare: " << r->dir << "/graph.json: " << draw_error << "\n";
         }
       }
     script.close();

@@ -36,7 +36,7 @@ namespace srics::launcher {
 
 struct CompareOptions {
   std::vector<std::string> dirs;
-  std::string out_dir;  // "" = DIR/compare for one DIR, ./compare for several
+  std::string out_dir;                    // "" = DIR/compare for one DIR, ./compare for several
   std::string final_eval = "final-eval";  // subfolder of the final evaluation (FinalEvaluation)
   std::vector<std::string> methods;       // the methods drawn and tabled; empty: every method
   std::string panel;                      // "" or the files' infix: <env>-<panel>-distance.png
@@ -65,6 +65,11 @@ struct FinalEvaluation {
   double avg_distance = 0, avg_object_distance = 0;
   double passive_object_distance = -1;  // -1 without final-eval-passive/
   double independent_solved = 0, independent_undone = 0;
+  // Attempts on movable objects only (not the arm, not a static object), graph-free: of the
+  // solved objects an attempt began with, how many it undid, whatever the graph. The same
+  // measure for every method (SMORL also attempts the static object, SRICS does not); empty
+  // without the run's config.yaml or when its evaluations draw object sets.
+  std::optional<double> object_attempt_solved, object_attempt_undone;
 };
 
 // What compare reads of one run folder.
@@ -73,12 +78,12 @@ struct RunData {
   std::string environment;
   std::string method;
   uint64_t seed = 0;
-  bool finished = false;               // outcome.yaml says so
-  std::vector<EvalPoint> evaluations;  // trained policy, env-step order
-  std::optional<EvalPoint> passive;    // the first evaluation of policy version 0
+  bool finished = false;                               // outcome.yaml says so
+  std::vector<EvalPoint> evaluations;                  // trained policy, env-step order
+  std::optional<EvalPoint> passive;                    // the first evaluation of policy version 0
   std::vector<std::pair<double, double>> selectivity;  // train.csv: env steps, selectivity
   std::optional<FinalEvaluation> final_evaluation;
-  bool selectivity_with_table_graph = false;           // measured with the table's graph (else the episodes' own ancestor sets)
+  bool selectivity_with_table_graph = false;  // measured with the table's graph (else the episodes' own ancestor sets)
   // the run's graph.json as edges ("action->0, 0->2"), empty when it has none; the graph its
   // config.yaml implies by construction, empty when that cannot be read; graph.png if drawn;
   // the graph in graphviz's language, to draw it when the folder has no graph.png (the

@@ -18,6 +18,8 @@
 #include "common/rl/evaluation.h"
 #include "common/rl/ground_truth.h"
 #include "common/rl/seeds.h"
+#include "deploy/run_folder/csv.h"
+#include "deploy/run_folder/schema.h"
 #include "graph_service/learned_graph.h"
 #include "learner/acting_policy.h"
 
@@ -32,10 +34,10 @@ std::string EntityName(int entity) { return entity == 0 ? "arm" : "object " + st
 
 // What each attempt did, summed over episodes (printed at the end).
 struct AttemptTally {
-  int attempts = 0;        // attempts that took steps
-  int reached = 0;         // ... and ended with their own subgoal within the threshold
-  int others_solved = 0;   // objects solved when an attempt started
-  int others_undone = 0;   // ... that the attempt left unsolved
+  int attempts = 0;            // attempts that took steps
+  int reached = 0;             // ... and ended with their own subgoal within the threshold
+  int others_solved = 0;       // objects solved when an attempt started
+  int others_undone = 0;       // ... that the attempt left unsolved
   int independent_solved = 0;  // the same over objects that are not the entity's ancestors
   int independent_undone = 0;
 };
@@ -46,20 +48,26 @@ class EpisodeRecorder : public actor::EvalEpisodeObserver {
  public:
   EpisodeRecorder(env::EpisodeRenderer* renderer, env::VideoWriter* video, std::ostream& attempts,
                   std::map<int, AttemptTally>& tally, double threshold, int episode)
-      : renderer_(renderer), video_(video), attempts_(attempts), tally_(tally), threshold_(threshold), episode_(episode) {}
+      : renderer_(renderer),
+        video_(video),
+        attempts_(attempts),
+        tally_(tally),
+        threshold_(threshold),
+        episode_(episode) {}
 
   void OnState(const env::Environment& env, int entity) override {
     if (!renderer_) return;
     const std::string what = env.steps() == 0 ? "start" : entity < 0 ? "full goal" : "subgoal: " + EntityName(entity);
-    const std::string caption = "episode " + std::to_string(episode_) + "  step " + std::to_string(env.steps()) + "  " + what;
+    const std::string caption =
+        "episode " + std::to_string(episode_) + "  step " + std::to_string(env.steps()) + "  " + what;
     video_->Write(renderer_->Render(entity, caption).rgb.data());
   }
 
   void OnAttempt(const Attempt& a) override {
     const bool reached = a.distance_after < threshold_;
-    attempts_ << episode_ << "," << a.index << "," << a.entity << "," << (a.skipped ? 1 : 0) << ","
-              << a.distance_before << "," << a.distance_after << "," << (reached ? 1 : 0) << "," << a.others_solved
-              << "," << a.others_undone << "," << a.independent_solved << "," << a.independent_undone << "\n";
+    attempts_ << episode_ << "," << a.index << "," << a.entity << "," << (a.skipped ? 1 : 0) << "," << a.distance_before
+              << "," << a.distance_after << "," << (reached ? 1 : 0) << "," << a.others_solved << "," << a.others_undone
+              << "," << a.independent_solved << "," << a.independent_undone << "\n";
     if (a.skipped) return;
     AttemptTally& t = tally_[a.entity];
     ++t.attempts;
@@ -135,7 +143,8 @@ int Eval(const EvalArgs& args) {
   learner::LearnerCounters counters;
   if (!args.passive) {
     if (!fs::exists(files.checkpoint))
-      throw std::runtime_error("no checkpoint: " + files.checkpoint + " does not exist (has the run checkpointed yet?)");
+      throw std::runtime_error("no checkpoint: " + files.checkpoint +
+                               " does not exist (has the run checkpointed yet?)");
     counters = learner::LoadActingPolicies(files.checkpoint, policy, high.get());
   }
 
@@ -146,7 +155,8 @@ int Eval(const EvalArgs& args) {
   std::string graph_text = "none (" + std::string(config::MethodName(config.run.method)) + " uses no graph)";
   actor::EvalOptions eval_options = actor.eval;
   const bool depth_protocol = args.protocol == "depth";
-  if (!args.protocol.empty()) eval_options.order = depth_protocol ? rl::SubgoalOrder::kDepth : rl::SubgoalOrder::kRandom;
+  if (!args.protocol.empty())
+    eval_options.order = depth_protocol ? rl::SubgoalOrder::kDepth : rl::SubgoalOrder::kRandom;
   if (args.protocol == "random") {
     graph_text = "none (--protocol random: every entity, in random order)";
   } else if (depth_protocol && !actor.uses_graph && args.graph_file.empty()) {
@@ -185,13 +195,15 @@ int Eval(const EvalArgs& args) {
     std::printf("the passive baseline (--passive): the hand never moves\n");
   else
     std::printf("checkpoint %s: %llu updates, policy v%llu, %llu training env steps\n", files.checkpoint.c_str(),
-                static_cast<unsigned long long>(counters.updates), static_cast<unsigned long long>(counters.policy_version),
+                static_cast<unsigned long long>(counters.updates),
+                static_cast<unsigned long long>(counters.policy_version),
                 static_cast<unsigned long long>(counters.training_env_steps));
   const uint64_t goal_seed = args.goal_set ? args.goal_set : config.run.seed;
   std::printf("method %s, graph %s, subgoal order %s, goals of evaluation seed %llu\n",
               config::MethodName(config.run.method), graph_text.c_str(),
-              eval_options.full_goal || eval_options.hac ? "(full goal)"
-              : eval_options.order == rl::SubgoalOrder::kDepth ? "depth" : "random",
+              eval_options.full_goal || eval_options.hac       ? "(full goal)"
+              : eval_options.order == rl::SubgoalOrder::kDepth ? "depth"
+                                                               : "random",
               static_cast<unsigned long long>(goal_seed));
   if (gl) std::printf("renderer: %s\n", gl->description().c_str());
 
@@ -202,13 +214,12 @@ int Eval(const EvalArgs& args) {
   const int num_entities = environment.layout().num_entities;
   const std::vector<int> subgoal_entities = subgoals.For(environment.layout().kinds).SubgoalEntities();
   std::ofstream csv(fs::path(out_dir) / "episodes.csv");
-  csv << "episode,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity,independent_solved,"
-         "independent_undone";
+  csv << run_folder::HeaderLine(run_folder::kEpisodesLeadingColumns);
   for (int e = 0; e < num_entities; ++e) csv << ",distance_" << e;
   for (int e : subgoal_entities) csv << ",subgoal_success_" << e;
   csv << ",video\n";
   std::ofstream attempts_csv(fs::path(out_dir) / "attempts.csv");
-  attempts_csv << "episode,attempt,entity,skipped,distance_before,distance_after,reached,others_solved,others_undone,independent_solved,independent_undone\n";
+  attempts_csv << run_folder::HeaderLine(run_folder::kAttemptsColumns) << "\n";
   std::map<int, AttemptTally> tally;
   rl::EvaluationSummary summary;
   int unstable = 0;
@@ -260,8 +271,9 @@ int Eval(const EvalArgs& args) {
         "attempts on %s: %d, reached %.2f; objects solved before them: %d, undone by them: %d (%.2f); of those not "
         "its ancestors: %d, undone %d (%.2f)\n",
         EntityName(entity).c_str(), t.attempts, t.attempts ? static_cast<double>(t.reached) / t.attempts : 0.0,
-        t.others_solved, t.others_undone, t.others_solved ? static_cast<double>(t.others_undone) / t.others_solved : 0.0,
-        t.independent_solved, t.independent_undone,
+        t.others_solved, t.others_undone,
+        t.others_solved ? static_cast<double>(t.others_undone) / t.others_solved : 0.0, t.independent_solved,
+        t.independent_undone,
         t.independent_solved ? static_cast<double>(t.independent_undone) / t.independent_solved : 0.0);
   std::printf("wrote %s/episodes.csv and attempts.csv\n", out_dir.c_str());
   return 0;

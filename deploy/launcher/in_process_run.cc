@@ -5,8 +5,8 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -19,10 +19,10 @@
 
 #include "actor/actor_loop.h"
 #include "actor/env/random_table.h"
-#include "common/rl/ground_truth.h"
 #include "common/process/role_startup.h"
 #include "common/profile/phase_clock.h"
 #include "common/rl/agent_shape.h"
+#include "common/rl/ground_truth.h"
 #include "common/rl/seeds.h"
 #include "common/transport/rl_convert.h"
 #include "common/transport/shutdown.h"
@@ -65,7 +65,8 @@ class MonitorObserver : public links::BusObserver {
     mon::Apply(&state_, m, mon::Clock::now());
     // the learner reports after every step in process: one CSV row a second, as over DDS
     const auto now = mon::Clock::now();
-    if (csv_ && (now - last_stats_row_ >= std::chrono::seconds(1) || report.training_env_steps >= report.budget_env_steps)) {
+    if (csv_ &&
+        (now - last_stats_row_ >= std::chrono::seconds(1) || report.training_env_steps >= report.budget_env_steps)) {
       csv_->Append(m, mon::WallTimeNow());
       last_stats_row_ = now;
     }
@@ -137,8 +138,8 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
     l.graph_source = l.bus.GraphSourceEnd(config.graph.refine_after_publish);
     l.graph_sink = l.bus.GraphSinkEnd();
     const graph_service::ServiceOptions options = graph_service::ServiceOptionsFor(config, dir);
-    l.graph = std::make_unique<graph_service::GraphService>(config.graph, options, l.graph_source.get(), l.graph_sink.get(),
-                                                    options_.on_graph_progress);
+    l.graph = std::make_unique<graph_service::GraphService>(config.graph, options, l.graph_source.get(),
+                                                            l.graph_sink.get(), options_.on_graph_progress);
   }
   learner::LearnerLoopOptions learner_options =
       learner::LearnerLoopOptionsFor(config, dir.empty() ? "" : dir + "/checkpoint.srics");
@@ -299,10 +300,11 @@ int LearnGraph(const LearnGraphOptions& o) {
   InProcessOptions options;
   options.graph_only = true;
   options.on_graph_progress = [](const graph_service::Progress& p) {
-    std::printf("[%7.1fs] %-10s episodes %d/%d (dropped %d) updates %lld held-out %.3g (no-motion %.3g) stable %d  %s\n",
-                p.elapsed_seconds, graph_service::PhaseName(p.phase), p.episodes, p.target_episodes, p.dropped,
-                static_cast<long long>(p.updates), p.held_out_loss, p.held_out_zero_loss, p.stable_evaluations,
-                p.graph.c_str());
+    std::printf(
+        "[%7.1fs] %-10s episodes %d/%d (dropped %d) updates %lld held-out %.3g (no-motion %.3g) stable %d  %s\n",
+        p.elapsed_seconds, graph_service::PhaseName(p.phase), p.episodes, p.target_episodes, p.dropped,
+        static_cast<long long>(p.updates), p.held_out_loss, p.held_out_zero_loss, p.stable_evaluations,
+        p.graph.c_str());
     // the read-out's score of every edge above 0.01, so a user sees how clear the decision was
     const int n = static_cast<int>(std::sqrt(static_cast<double>(p.edge_scores.size())) + 0.5);
     std::string scores;

@@ -76,7 +76,7 @@ Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const RoleS
     return v;
   };
   // a role that exits with 2 (config) or 65 (unusable state on disk) fails the run at once
-  const std::vector<int> finals = {process::kExitConfig, process::kExitUnusableState};
+  const std::vector<int> finals = {kExitUsage, kExitUnusableState};
   Roles roles;
   if (share.graph)
     roles.graph = supervisor->Add({.name = "graph",
@@ -147,7 +147,6 @@ class EndWatch {
     return {WallLimitReason(config_, session.elapsed_s())};
   }
 
-
  private:
   // The run's learner stats say its budget is done.
   bool BudgetDone(const monitor::MonitorState& state) const {
@@ -160,7 +159,7 @@ class EndWatch {
   const LaunchOptions& options_;
   const config::Config& config_;
   const Roles& roles_;
-  std::optional<SteadyClock::time_point> learner_done_;   // the learner exited with 0
+  std::optional<SteadyClock::time_point> learner_done_;    // the learner exited with 0
   std::optional<SteadyClock::time_point> actors_down_at_;  // no actor running or restarting
 };
 
@@ -197,7 +196,9 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config, tr:
       return std::nullopt;
     }
   };
-  monitor_options.on_eval = [&](const tr::EvalResult& e) { session.OnEval(e.policy_version, e.env_steps, e.avg_distance); };
+  monitor_options.on_eval = [&](const tr::EvalResult& e) {
+    session.OnEval(e.policy_version, e.env_steps, e.avg_distance);
+  };
   monitor_options.on_weights = [&](const tr::PolicyWeights& w) {
     session.OnWeights(w.version, w.update_count, w.architecture, w.parameters);
   };
@@ -302,7 +303,8 @@ int Run(const LaunchOptions& options) {
   // config first: a bad one stops everything before a folder or a process exists
   config::Config config = config::LoadConfig(options.config_file, options.overrides);
   if (!ShareOf(options, config).whole_run) {
-    if (options.in_process) throw std::invalid_argument("--roles, --ids: not with --in-process (one process runs every role)");
+    if (options.in_process)
+      throw std::invalid_argument("--roles, --ids: not with --in-process (one process runs every role)");
     if (config.transport.run_id == config::kAutoRunId)
       throw std::invalid_argument(
           "--roles, --ids: a share of a run needs the run's id, the same on every host (e.g. --set "
@@ -316,7 +318,8 @@ int Run(const LaunchOptions& options) {
     // folder's config.yaml with the rest of the effective configuration; in process there is
     // no DDS to share, and a fixed id keeps eval.csv the same from launch to launch
     std::vector<std::string> overrides = options.overrides;
-    overrides.push_back("transport.run_id=" + (options.in_process ? std::string("in-process") : ChooseRunId(options.run_dir)));
+    overrides.push_back("transport.run_id=" +
+                        (options.in_process ? std::string("in-process") : ChooseRunId(options.run_dir)));
     config = config::LoadConfig(options.config_file, overrides);
   }
   try {

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "common/cli/exit_codes.h"
 #include "common/config/config.h"
 #include "deploy/launcher/supervisor.h"
 
@@ -44,14 +45,14 @@ struct LaunchOptions {
   std::string run_dir;                 // --run-dir ("" = <output_dir>/<name>-<timestamp>)
   std::string bin_dir;                 // --bin-dir ("" = next to this executable / build tree)
   DisplayMode display = DisplayMode::kAuto;
-  bool in_process = false;             // --in-process: one process, in-memory links
-  double stop_timeout_s = 15;          // SIGINT -> SIGKILL
-  double final_eval_grace_s = 180;     // after the learner finished: wait for the actors
-  BackoffPolicy backoff;               // restarts of crashed processes
-  int max_restarts_service = 5;        // learner and graph service (actors: no limit)
-  std::string label;                   // --label: shown in the display's title ("sweep run 2/6")
-  bool allow_config_change = false;    // --allow-config-change: a continued run may take another config
-  int http_port = -1;                  // --http PORT: serve the web dashboard (-1 = none, 0 = any free port)
+  bool in_process = false;              // --in-process: one process, in-memory links
+  double stop_timeout_s = 15;           // SIGINT -> SIGKILL
+  double final_eval_grace_s = 180;      // after the learner finished: wait for the actors
+  BackoffPolicy backoff;                // restarts of crashed processes
+  int max_restarts_service = 5;         // learner and graph service (actors: no limit)
+  std::string label;                    // --label: shown in the display's title ("sweep run 2/6")
+  bool allow_config_change = false;     // --allow-config-change: a continued run may take another config
+  int http_port = -1;                   // --http PORT: serve the web dashboard (-1 = none, 0 = any free port)
   std::string http_bind = "127.0.0.1";  // --http-bind ADDR
   // --roles graph,learner,actor: this host's share of a run on several hosts (empty: every
   // role, the whole run here); --ids 2-5: its actors (empty: 0 .. actors.count - 1)
@@ -69,11 +70,9 @@ struct RoleShare {
 // The share that options.roles and options.actor_ids ask for, with the config's actors.count.
 RoleShare ShareOf(const LaunchOptions& options, const config::Config& config);
 
-// Exit codes of `srics run`.
-inline constexpr int kExitDone = 0;         // the run finished (budget, learner, wall time)
-inline constexpr int kExitFailed = 1;       // a role failed for good, or no child could start
-inline constexpr int kExitUsage = 2;        // bad arguments or config, or a run of this run id is live (run_guard.h)
-inline constexpr int kExitInterrupted = 130;  // stopped by SIGINT/SIGTERM
+// `srics run` exits with kExitDone, kExitFailed (a role failed for good, or no child could
+// start), kExitUsage (bad arguments or config, or a run of this run id is live: run_guard.h) or
+// kExitInterrupted (common/cli/exit_codes.h).
 
 // Runs to the end; returns one of the exit codes above. Config errors throw ConfigError
 // before anything is started; a share of a run (--roles) without an explicit

@@ -25,7 +25,7 @@ int RunCommand(const launcher::SricsCommand& command) {
     case Kind::kEval: return launcher::Eval(command.eval);
     case Kind::kLearnGraph: return launcher::LearnGraph(command.learn_graph);
   }
-  return launcher::kExitFailed;
+  return srics::kExitFailed;
 }
 
 }  // namespace
@@ -39,12 +39,12 @@ int main(int argc, char** argv) {
     return RunCommand(command);
   } catch (const srics::config::ConfigError& e) {  // names the file, line and key
     std::cerr << command.name << ": " << e.what() << "\n";
-    return launcher::kExitUsage;
+    return srics::kExitUsage;
   } catch (const std::invalid_argument& e) {  // an argument that does not fit the files it names
     std::cerr << command.name << ": " << e.what() << "\n";
-    return launcher::kExitUsage;
+    return srics::kExitUsage;
   } catch (const std::exception& e) {
     std::cerr << command.name << ": " << e.what() << "\n";
-    return launcher::kExitFailed;
+    return srics::kExitFailed;
   }
 }

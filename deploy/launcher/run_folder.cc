@@ -3,8 +3,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -17,6 +17,7 @@
 #include "common/files/shell_path.h"
 #include "common/files/small_file.h"
 #include "common/rl/ground_truth.h"
+#include "deploy/run_folder/csv.h"
 #include "graph_service/learned_graph.h"
 
 namespace srics::launcher {
@@ -58,8 +59,9 @@ std::string NewRunId() {
   if (name.empty()) name = "host";
   // milliseconds since the epoch, strictly increasing within this process
   static std::atomic<int64_t> last{0};
-  const int64_t now = std::chrono::duration_cast<std::chrono::milliseconds>(
-                          std::chrono::system_clock::now().time_since_epoch()).count();
+  const int64_t now =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count();
   int64_t previous = last.load(), ms = 0;
   do {
     ms = std::max(now, previous + 1);
@@ -95,16 +97,6 @@ bool IsExecutable(const fs::path& path) {
   std::error_code error;
   return fs::is_regular_file(path, error) && access(path.c_str(), X_OK) == 0;
 }
-
-std::vector<double> SplitList(const std::string& text) {
-  std::vector<double> values;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ';'))
-    if (!item.empty()) values.push_back(std::strtod(item.c_str(), nullptr));
-  return values;
-}
-
 
 }  // namespace
 
@@ -182,30 +174,9 @@ std::string PrepareRunFolder(const config::Config& config, const std::string& re
                               ")\n" + config.effective_yaml + "\n");
   files::WriteFileDurably((dir / "resolved-config.yaml").string(),
                           "# every setting of this run, defaults filled in by the srics binary that wrote it (from " +
-                              config.source_file + "); a continued run is compared with it\n" +
-                              config.resolved_yaml + "\n");
+                              config.source_file + "); a continued run is compared with it\n" + config.resolved_yaml +
+                              "\n");
   return fs::absolute(dir).lexically_normal().string();
-}
-
-// Splits one CSV line (fields of eval.csv may be quoted).
-std::vector<std::string> SplitCsvLine(const std::string& line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
-      else if (c == '"') quoted = false;
-      else fields.back() += c;
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      fields.emplace_back();
-    } else {
-      fields.back() += c;
-    }
-  }
-  return fields;
 }
 
 std::string GnuplotQuote(const std::string& text) {
@@ -217,10 +188,14 @@ std::string GnuplotQuote(const std::string& text) {
 std::string QuotedString(const std::string& text) {
   std::string out = "\"";
   for (char c : text) {
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if (c == '\n') out += "\\n";
-    else if (static_cast<unsigned char>(c) < 0x20) out += ' ';
-    else out += c;
+    if (c == '"' || c == '\\')
+      out += '\\', out += c;
+    else if (c == '\n')
+      out += "\\n";
+    else if (static_cast<unsigned char>(c) < 0x20)
+      out += ' ';
+    else
+      out += c;
   }
   return out + "\"";
 }
@@ -259,9 +234,12 @@ std::optional<RunOutcome> ReadRunOutcome(const std::string& dir) {
   RunOutcome outcome;
   bool have_state = false;
   for (std::string line; std::getline(in, line);) {
-    if (line.rfind("state: ", 0) == 0) outcome.state = line.substr(7), have_state = true;
-    else if (line.rfind("exit_code: ", 0) == 0) outcome.exit_code = std::atoi(line.c_str() + 11);
-    else if (line.rfind("reason: ", 0) == 0) outcome.reason = UnquotedString(line.substr(8));
+    if (line.rfind("state: ", 0) == 0)
+      outcome.state = line.substr(7), have_state = true;
+    else if (line.rfind("exit_code: ", 0) == 0)
+      outcome.exit_code = std::atoi(line.c_str() + 11);
+    else if (line.rfind("reason: ", 0) == 0)
+      outcome.reason = UnquotedString(line.substr(8));
   }
   if (!have_state) return std::nullopt;
   return outcome;
@@ -314,23 +292,18 @@ struct EvalCurve {
   size_t entities = 0;  // the longest per-subgoal success list
 };
 
-EvalCurve ReadEvalCurve(std::istream& in) {
+EvalCurve ReadEvalCurve(const run_folder::CsvTable& eval) {
   EvalCurve curve;
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    const std::vector<std::string> f = SplitCsvLine(line);
-    if (f.size() < 13) continue;
-    const double version = std::strtod(f[3].c_str(), nullptr);
-    const double steps = std::strtod(f[5].c_str(), nullptr);
-    const double distance = std::strtod(f[7].c_str(), nullptr);
-    const double object = std::strtod(f[8].c_str(), nullptr);
-    if (version == 0) {
+  for (const run_folder::CsvRow& row : eval.Rows()) {
+    const auto version = row.Number("policy_version"), steps = row.Number("env_steps");
+    const auto distance = row.Number("avg_distance"), object = row.Number("avg_object_distance");
+    if (!version || !steps || !distance || !object) continue;
+    if (*version == 0) {
       if (!curve.have_passive)
-        curve.passive_distance = distance, curve.passive_object = object, curve.have_passive = true;
+        curve.passive_distance = *distance, curve.passive_object = *object, curve.have_passive = true;
       continue;
     }
-    curve.points.push_back({steps, distance, object, SplitList(f[12])});
+    curve.points.push_back({*steps, *distance, *object, run_folder::SplitValues(row.Text("subgoal_success"))});
   }
   std::stable_sort(curve.points.begin(), curve.points.end(),
                    [](const EvalCurve::Point& a, const EvalCurve::Point& b) { return a.steps < b.steps; });
@@ -359,7 +332,8 @@ void WriteGnuplotScript(const std::string& path, const std::string& dir, const s
          << "set title '" << GnuplotQuote(title) << "' noenhanced\n"
          << "set xlabel 'environment steps'\nset ylabel 'final distance to goal (m)'\n"
          << "set key outside right top\nset grid\nset yrange [0:*]\n";
-  std::string plot = "plot '" + GnuplotQuote(dir) + "/curve.dat' using 1:3 with linespoints lw 2 title 'avg object distance', "
+  std::string plot = "plot '" + GnuplotQuote(dir) +
+                     "/curve.dat' using 1:3 with linespoints lw 2 title 'avg object distance', "
                      "'' using 1:2 with linespoints lw 2 title 'avg distance (arm incl.)'";
   if (curve.have_passive) {
     char buffer[256];
@@ -402,12 +376,12 @@ bool RunGnuplot(const std::string& script_path, std::string* error) {
 }
 
 bool PlotEvalCurves(const std::string& dir, const std::string& title, std::string* error) {
-  std::ifstream in(dir + "/eval.csv");
-  if (!in) {
+  const std::optional<run_folder::CsvTable> eval = run_folder::CsvTable::Read(dir + "/eval.csv");
+  if (!eval) {
     *error = "no eval.csv";
     return false;
   }
-  const EvalCurve curve = ReadEvalCurve(in);
+  const EvalCurve curve = ReadEvalCurve(*eval);
   if (curve.points.empty()) {
     *error = "no evaluation of a trained policy in eval.csv";
     return false;

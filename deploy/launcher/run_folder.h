@@ -73,9 +73,6 @@ void WriteRunOutcome(const std::string& dir, const RunOutcome& outcome);
 std::optional<RunOutcome> ReadRunOutcome(const std::string& dir);
 void RemoveRunOutcome(const std::string& dir);
 
-// Splits one CSV line (fields may be quoted, with doubled quotes inside).
-std::vector<std::string> SplitCsvLine(const std::string& line);
-
 // Runs gnuplot on a script; false with *error (its output) when it fails or is missing.
 bool RunGnuplot(const std::string& script_path, std::string* error);
 

@@ -68,9 +68,9 @@ Incarnation ThisIncarnation(const RoleShare& share) {
   gethostname(host, sizeof host - 1);
   return {.host = host,
           .pid = static_cast<int32_t>(getpid()),
-          .start_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
-                          std::chrono::system_clock::now().time_since_epoch())
-                          .count(),
+          .start_ms =
+              std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+                  .count(),
           .share = share};
 }
 
@@ -125,7 +125,9 @@ std::optional<Incarnation> IncarnationOf(const tr::NodeStatus& status) {
 
 bool SharesOverlap(const RoleShare& a, const RoleShare& b) {
   if ((a.graph && b.graph) || (a.learner && b.learner)) return true;
-  const auto any = [](const RoleShare& s) { return std::find(s.actor_ids.begin(), s.actor_ids.end(), kAnyActor) != s.actor_ids.end(); };
+  const auto any = [](const RoleShare& s) {
+    return std::find(s.actor_ids.begin(), s.actor_ids.end(), kAnyActor) != s.actor_ids.end();
+  };
   if ((any(a) && !b.actor_ids.empty()) || (any(b) && !a.actor_ids.empty())) return true;
   for (int k : a.actor_ids)
     if (std::find(b.actor_ids.begin(), b.actor_ids.end(), k) != b.actor_ids.end()) return true;
@@ -141,7 +143,9 @@ Judgement Judge(const Incarnation& self, const tr::NodeStatus& status, bool role
       other = *parsed;
     } else {
       // says no roles or start: taken as the whole run, there from the start
-      other = {.host = status.host, .pid = status.pid, .start_ms = 0,
+      other = {.host = status.host,
+               .pid = status.pid,
+               .start_ms = 0,
                .share = {.graph = true, .learner = true, .actor_ids = {kAnyActor}, .whole_run = true}};
     }
     if (!SharesOverlap(self.share, other.share)) return {};
@@ -172,7 +176,9 @@ std::chrono::milliseconds ListenWindow(const config::TransportConfig& transport)
 }
 
 RunGuard::RunGuard(const tr::Participant& participant, const RoleShare& share)
-    : participant_(participant), self_(ThisIncarnation(share)), status_(participant, "launcher", static_cast<uint32_t>(self_.pid)) {}
+    : participant_(participant),
+      self_(ThisIncarnation(share)),
+      status_(participant, "launcher", static_cast<uint32_t>(self_.pid)) {}
 
 void RunGuard::Publish(rl::NodePhase phase) {
   rl::NodeReport report;
@@ -195,7 +201,8 @@ std::string RunGuard::CheckAlone(std::chrono::milliseconds window) {
       Publish(rl::NodePhase::kStarting);
       next_status = now + period;
     }
-    const auto wait = std::min(std::chrono::duration_cast<std::chrono::milliseconds>(end - now), std::chrono::milliseconds(100));
+    const auto wait =
+        std::min(std::chrono::duration_cast<std::chrono::milliseconds>(end - now), std::chrono::milliseconds(100));
     const tr::TakeStatus taken = statuses.Take(&status, wait);
     if (taken == tr::TakeStatus::kShutdown) return "";
     if (taken != tr::TakeStatus::kSample) continue;

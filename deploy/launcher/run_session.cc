@@ -77,7 +77,8 @@ void RunSession::OnEval(uint64_t policy_version, uint64_t env_steps, double avg_
   try {
     if (const auto best = best_->OnEval(policy_version, env_steps, avg_distance)) {
       char text[160];
-      std::snprintf(text, sizeof text, "best evaluation so far: avg distance %.4f (policy v%llu, %llu env steps): best.srics",
+      std::snprintf(text, sizeof text,
+                    "best evaluation so far: avg distance %.4f (policy v%llu, %llu env steps): best.srics",
                     best->avg_distance, static_cast<unsigned long long>(best->policy_version),
                     static_cast<unsigned long long>(best->env_steps));
       Event(text);
@@ -121,7 +122,8 @@ void RunSession::Show(const mon::MonitorState& state, std::vector<mon::ProcessRo
     next_draw_ = now + std::chrono::seconds(1);
     mon::RenderOptions render = Render(std::move(rows));
     if (dashboard_) render.title += "  dashboard " + dashboard_->url();  // the screen hides the printed URL
-    std::cout << "\033[H\033[2J" << mon::ClipLines(mon::Render(state, mon::Clock::now(), render), mon::OutputWidth(STDOUT_FILENO))
+    std::cout << "\033[H\033[2J"
+              << mon::ClipLines(mon::Render(state, mon::Clock::now(), render), mon::OutputWidth(STDOUT_FILENO))
               << std::flush;
   } else if (display_ == DisplayMode::kPlain && now >= next_line_) {
     next_line_ = now + std::chrono::seconds(10);
@@ -136,7 +138,8 @@ void RunSession::Show(const mon::MonitorState& state, std::vector<mon::ProcessRo
 int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessRow> rows, const std::string& reason,
                        int exit_code, bool clean, uint32_t restarts) {
   std::string plot_error;
-  const std::string title = config::MethodName(config_.run.method) + std::string(" - ") + fs::path(dir_).filename().string();
+  const std::string title =
+      config::MethodName(config_.run.method) + std::string(" - ") + fs::path(dir_).filename().string();
   if (!PlotEvalCurves(dir_, title, &plot_error)) Event("no learning-curve plot: " + plot_error);
 
   mon::RenderOptions render = Render(std::move(rows));
@@ -146,9 +149,9 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
   if (dashboard_) dashboard_->Update(state, mon::Clock::now(), render, /*force=*/true);
 
   std::string files;
-  for (const char* name : {"config.yaml", "resolved-config.yaml", "eval.csv", "learner.csv", "train.csv", "nodes.csv", "curve.png",
-                           "subgoal_success.png", "graph.json", "graph.png", "checkpoint.srics", "best.srics", "summary.txt",
-                           "outcome.yaml", "logs"})
+  for (const char* name : {"config.yaml", "resolved-config.yaml", "eval.csv", "learner.csv", "train.csv", "nodes.csv",
+                           "curve.png", "subgoal_success.png", "graph.json", "graph.png", "checkpoint.srics",
+                           "best.srics", "summary.txt", "outcome.yaml", "logs"})
     if (fs::exists(fs::path(dir_) / name)) files += std::string(files.empty() ? "" : ", ") + name;
   const char* outcome = exit_code == kExitDone ? "finished" : exit_code == kExitInterrupted ? "interrupted" : "FAILED";
   try {

@@ -6,7 +6,10 @@
 namespace srics::launcher {
 
 StallWatch::StallWatch(std::chrono::milliseconds stall_after, std::string run_id, std::vector<WatchedNode> nodes)
-    : stall_after_(stall_after), run_id_(std::move(run_id)), nodes_(std::move(nodes)), reported_pid_(nodes_.size(), 0) {}
+    : stall_after_(stall_after),
+      run_id_(std::move(run_id)),
+      nodes_(std::move(nodes)),
+      reported_pid_(nodes_.size(), 0) {}
 
 std::vector<std::pair<size_t, std::string>> StallWatch::Check(const Supervisor& supervisor,
                                                               const monitor::MonitorState& state,

@@ -139,8 +139,8 @@ std::vector<size_t> Supervisor::Tick() {
       ++s.restarts;
       std::string error;
       if (Launch(&child, &error)) {
-        Event(child.spec.name + " restarted (pid " + std::to_string(s.pid) + ", restart " +
-              std::to_string(s.restarts) + ")");
+        Event(child.spec.name + " restarted (pid " + std::to_string(s.pid) + ", restart " + std::to_string(s.restarts) +
+              ")");
       } else {
         // counts as another failure: back off further (or give up at the limit)
         ++s.consecutive_failures;

@@ -35,7 +35,7 @@ struct ChildSpec {
   std::vector<std::string> argv;  // argv[0]: path of the program
   std::string output_file;        // stdout + stderr appended here ("" = the launcher's)
   RestartPolicy restart = RestartPolicy::kOnFailure;
-  int max_restarts = -1;          // restarts allowed in all (-1 = no limit)
+  int max_restarts = -1;  // restarts allowed in all (-1 = no limit)
   // exit codes after which a restart cannot help (the role programs' 2: a bad config or
   // command line; 65: state on disk it must not start over, e.g. unusable checkpoints): the
   // child is failed at once
@@ -43,17 +43,17 @@ struct ChildSpec {
 };
 
 struct BackoffPolicy {
-  std::chrono::milliseconds initial{1000};    // delay before the first restart
-  double factor = 2.0;                        // each consecutive failure multiplies it
-  std::chrono::milliseconds max{30000};       // cap
+  std::chrono::milliseconds initial{1000};       // delay before the first restart
+  double factor = 2.0;                           // each consecutive failure multiplies it
+  std::chrono::milliseconds max{30000};          // cap
   std::chrono::milliseconds reset_after{60000};  // a child that ran this long starts over at `initial`
 };
 
 struct SupervisorOptions {
   BackoffPolicy backoff;
-  std::chrono::milliseconds stop_timeout{10000};  // SIGINT -> SIGKILL
-  int stop_signal = 2;                            // SIGINT
-  SpawnOptions spawn;                             // output_file is taken from each ChildSpec
+  std::chrono::milliseconds stop_timeout{10000};     // SIGINT -> SIGKILL
+  int stop_signal = 2;                               // SIGINT
+  SpawnOptions spawn;                                // output_file is taken from each ChildSpec
   std::function<void(const std::string&)> on_event;  // "actor-1 ended: signal 9 ...; restart in 1.0s"
 };
 
@@ -70,8 +70,8 @@ const char* ChildPhaseName(ChildPhase phase);
 struct ChildStatus {
   std::string name;
   ChildPhase phase = ChildPhase::kNotStarted;
-  int pid = 0;                      // 0 unless running
-  uint32_t restarts = 0;            // restarts done so far
+  int pid = 0;            // 0 unless running
+  uint32_t restarts = 0;  // restarts done so far
   uint32_t consecutive_failures = 0;
   std::optional<ExitStatus> last_exit;
   SteadyClock::time_point started_at;  // of the current or last incarnation

@@ -89,7 +89,8 @@ SweepPlan PlanSweep(const SweepOptions& options) {
   plan.config = fs::absolute(options.config_file).lexically_normal().string();
   // the base config decides the default folder (and must load on its own)
   const config::Config base = config::LoadConfig(plan.config, options.overrides);
-  const std::string dir = options.out_dir.empty() ? base.run.output_dir + "/" + base.run.name + "-sweep" : options.out_dir;
+  const std::string dir =
+      options.out_dir.empty() ? base.run.output_dir + "/" + base.run.name + "-sweep" : options.out_dir;
   plan.dir = fs::absolute(dir).lexically_normal().string();
   plan.manifest = ManifestText(plan.config, options.methods, options.seeds, options.overrides);
   std::string launch_id;  // NewRunId(), when a run needs one
@@ -141,8 +142,7 @@ void CheckSweepFolder(const SweepPlan& plan) {
   for (const SweepRun& run : plan.runs) {
     const std::string difference = ConfigChangeSince(run.dir, run.effective_yaml, run.resolved_yaml);
     if (!difference.empty())
-      throw std::invalid_argument("the configuration of " + run.dir + " changed since it started (" +
-                                  difference +
+      throw std::invalid_argument("the configuration of " + run.dir + " changed since it started (" + difference +
                                   "): a resumed run must go on with the configuration it started with; "
                                   "restore the config file or choose another --out");
   }

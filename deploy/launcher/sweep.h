@@ -33,8 +33,8 @@ struct SweepOptions {
   // each run's own display; with --parallel above 1 runs print plain lines into
   // <sweep>/logs/<run>.out and the sweep shows each one's latest line
   DisplayMode display = DisplayMode::kAuto;
-  std::string program;                 // --program: the srics to run ("" = this executable)
-  double stop_timeout_s = 180;         // after the SIGINT, the time a run has to checkpoint and exit
+  std::string program;          // --program: the srics to run ("" = this executable)
+  double stop_timeout_s = 180;  // after the SIGINT, the time a run has to checkpoint and exit
 };
 
 // One cell of the grid.

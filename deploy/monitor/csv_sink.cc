@@ -1,6 +1,8 @@
 #include "deploy/monitor/csv_sink.h"
 
 #include "deploy/monitor/monitor_state.h"
+#include "deploy/run_folder/csv.h"
+#include "deploy/run_folder/schema.h"
 
 #include <chrono>
 #include <filesystem>
@@ -12,20 +14,13 @@
 namespace srics::monitor {
 namespace {
 
-void Open(const std::string& path, const char* header, std::ofstream* out) {
+void Open(const std::string& path, const std::string& header, std::ofstream* out) {
   std::error_code error;
   const bool empty = !std::filesystem::exists(path, error) || std::filesystem::file_size(path, error) == 0;
   out->open(path, std::ios::out | std::ios::app);
   if (!*out) throw std::runtime_error("cannot open " + path + " for appending");
   *out << std::setprecision(7);
   if (empty) *out << header << '\n' << std::flush;
-}
-
-std::string Joined(const std::vector<float>& values) {
-  std::ostringstream out;
-  out << std::setprecision(6);
-  for (size_t i = 0; i < values.size(); ++i) out << (i ? ";" : "") << values[i];
-  return out.str();
 }
 
 std::string Time(double wall_time) {
@@ -37,14 +32,7 @@ std::string Time(double wall_time) {
 }  // namespace
 
 std::string CsvField(const std::string& raw) {
-  const std::string text = PrintableText(raw);  // a peer's string: no control characters
-  if (text.find_first_of(",\"") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
+  return run_folder::QuoteCsvField(PrintableText(raw));  // a peer's string: no control characters
 }
 
 double WallTimeNow() {
@@ -55,44 +43,34 @@ CsvSink::CsvSink(const std::string& dir) : dir_(dir) {
   std::error_code error;
   std::filesystem::create_directories(dir, error);
   if (error) throw std::runtime_error("cannot create " + dir + ": " + error.message());
-  Open(dir + "/eval.csv",
-       "wall_time,run_id,actor_id,policy_version,graph_version,env_steps,episodes,avg_distance,"
-       "avg_object_distance,success_rate,selectivity,entity_distance,subgoal_success,independent_solved,"
-       "independent_undone",
-       &eval_);
-  Open(dir + "/learner.csv",
-       "wall_time,run_id,updates,transitions_inserted,replay_size,episodes_accepted,episodes_rejected,"
-       "policy_version,q_loss,policy_loss,alpha,entropy,updates_per_second,inserts_per_second,mean_reward",
-       &learner_);
-  Open(dir + "/nodes.csv",
-       "wall_time,run_id,role,node_id,host,pid,state,policy_version,graph_version,env_steps,"
-       "dropped_samples,uptime_ms,detail",
-       &nodes_);
+  Open(dir + "/eval.csv", run_folder::HeaderLine(run_folder::kEvalColumns), &eval_);
+  Open(dir + "/learner.csv", run_folder::HeaderLine(run_folder::kLearnerColumns), &learner_);
+  Open(dir + "/nodes.csv", run_folder::HeaderLine(run_folder::kNodesColumns), &nodes_);
 }
 
 void CsvSink::Append(const transport::EvalResult& r, double wall_time) {
   eval_ << Time(wall_time) << ',' << CsvField(r.run_id) << ',' << r.actor_id << ',' << r.policy_version << ','
         << r.graph_version << ',' << r.env_steps << ',' << r.episodes << ',' << r.avg_distance << ','
         << r.avg_object_distance << ',' << r.success_rate << ',' << r.selectivity << ','
-        << Joined(r.entity_distance) << ',' << Joined(r.subgoal_success) << ',' << r.independent_solved << ','
-        << r.independent_undone << '\n'
+        << run_folder::JoinedValues(r.entity_distance) << ',' << run_folder::JoinedValues(r.subgoal_success) << ','
+        << r.independent_solved << ',' << r.independent_undone << '\n'
         << std::flush;
 }
 
 void CsvSink::Append(const transport::LearnerStats& s, double wall_time) {
-  learner_ << Time(wall_time) << ',' << CsvField(s.run_id) << ',' << s.updates << ',' << s.transitions_inserted
-           << ',' << s.replay_size << ',' << s.episodes_accepted << ',' << s.episodes_rejected << ','
-           << s.policy_version << ',' << s.q_loss << ',' << s.policy_loss << ',' << s.alpha << ',' << s.entropy
-           << ',' << s.updates_per_second << ',' << s.inserts_per_second << ',' << s.mean_reward << '\n'
+  learner_ << Time(wall_time) << ',' << CsvField(s.run_id) << ',' << s.updates << ',' << s.transitions_inserted << ','
+           << s.replay_size << ',' << s.episodes_accepted << ',' << s.episodes_rejected << ',' << s.policy_version
+           << ',' << s.q_loss << ',' << s.policy_loss << ',' << s.alpha << ',' << s.entropy << ','
+           << s.updates_per_second << ',' << s.inserts_per_second << ',' << s.mean_reward << '\n'
            << std::flush;
 }
 
 void CsvSink::Append(const transport::NodeStatus& s, double wall_time, const std::string& state_override) {
   nodes_ << Time(wall_time) << ',' << CsvField(s.run_id) << ',' << CsvField(s.role) << ',' << s.node_id << ','
          << CsvField(s.host) << ',' << s.pid << ','
-         << (state_override.empty() ? transport::NodeStateName(s.state) : state_override) << ','
-         << s.policy_version << ',' << s.graph_version << ',' << s.env_steps << ',' << s.dropped_samples << ','
-         << s.uptime_ms << ',' << CsvField(s.detail) << '\n'
+         << (state_override.empty() ? transport::NodeStateName(s.state) : state_override) << ',' << s.policy_version
+         << ',' << s.graph_version << ',' << s.env_steps << ',' << s.dropped_samples << ',' << s.uptime_ms << ','
+         << CsvField(s.detail) << '\n'
          << std::flush;
 }
 

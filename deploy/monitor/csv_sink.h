@@ -4,19 +4,7 @@
 // new or empty gets a header first; an existing one is appended to (a restarted monitor or
 // launcher continues the same files).
 //
-// Columns (wall_time is Unix time in seconds; per-entity vectors are ';'-joined in one field):
-//   eval.csv     wall_time,run_id,actor_id,policy_version,graph_version,env_steps,episodes,
-//                avg_distance,avg_object_distance,success_rate,selectivity,entity_distance,
-//                subgoal_success,independent_solved,independent_undone
-//                (the last two summed over the evaluation's attempts: solved objects an attempt
-//                began with that are not its entity's ancestors, and how many it undid; files
-//                written before 2026-12-04 end at subgoal_success)
-//   learner.csv  wall_time,run_id,updates,transitions_inserted,replay_size,episodes_accepted,
-//                episodes_rejected,policy_version,q_loss,policy_loss,alpha,entropy,
-//                updates_per_second,inserts_per_second,mean_reward
-//   nodes.csv    wall_time,run_id,role,node_id,host,pid,state,policy_version,graph_version,
-//                env_steps,dropped_samples,uptime_ms,detail
-//                (state is the node's own state, or "lost" / "exited" when the monitor saw it go)
+// Columns: deploy/run_folder/schema.h.
 
 #include <fstream>
 #include <string>

@@ -4,10 +4,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cinttypes>
 #include <cstdarg>
 #include <cstdio>
+#include <cstdlib>
 
 namespace srics::monitor {
 namespace {
@@ -33,9 +33,7 @@ std::string Thousands(uint64_t value) {
   return out;
 }
 
-std::string Seconds(Clock::duration d) {
-  return Format("%.1fs", std::chrono::duration<double>(d).count());
-}
+std::string Seconds(Clock::duration d) { return Format("%.1fs", std::chrono::duration<double>(d).count()); }
 
 std::string HoursMinutesSeconds(double seconds) {
   const auto s = static_cast<int64_t>(seconds);
@@ -54,8 +52,7 @@ std::string RateAndEta(const RunView& run, uint64_t steps, uint64_t budget, cons
 std::string ProgressBar(uint64_t done, uint64_t total, int width) {
   const double fraction = total ? std::min(1.0, static_cast<double>(done) / static_cast<double>(total)) : 0.0;
   const int filled = static_cast<int>(fraction * width + 0.5);
-  return "[" + std::string(filled, '#') + std::string(width - filled, '.') + "] " +
-         Format("%.0f%%", 100.0 * fraction);
+  return "[" + std::string(filled, '#') + std::string(width - filled, '.') + "] " + Format("%.0f%%", 100.0 * fraction);
 }
 
 // "-46%" for how much `value` is below `baseline`
@@ -79,14 +76,14 @@ void RenderLearner(const RunView& run, Clock::time_point now, std::string* out) 
     *out += "learner   no stats yet\n";
   } else {
     const transport::LearnerStats& s = *run.learner;
-    *out += Format("learner   updates %s (%.1f/s)  inserts %.1f/s  replay %s  episodes %s ok / %s bad  "
-                   "policy v%" PRIu64 "  (%s ago)\n",
-                   Thousands(s.updates).c_str(), s.updates_per_second, s.inserts_per_second,
-                   Thousands(s.replay_size).c_str(), Thousands(s.episodes_accepted).c_str(),
-                   Thousands(s.episodes_rejected).c_str(), s.policy_version,
-                   Seconds(now - run.learner_received).c_str());
-    *out += Format("          q_loss %.4g  policy_loss %.4g  alpha %.4g  entropy %.3g  mean reward %.4g\n",
-                   s.q_loss, s.policy_loss, s.alpha, s.entropy, s.mean_reward);
+    *out += Format(
+        "learner   updates %s (%.1f/s)  inserts %.1f/s  replay %s  episodes %s ok / %s bad  "
+        "policy v%" PRIu64 "  (%s ago)\n",
+        Thousands(s.updates).c_str(), s.updates_per_second, s.inserts_per_second, Thousands(s.replay_size).c_str(),
+        Thousands(s.episodes_accepted).c_str(), Thousands(s.episodes_rejected).c_str(), s.policy_version,
+        Seconds(now - run.learner_received).c_str());
+    *out += Format("          q_loss %.4g  policy_loss %.4g  alpha %.4g  entropy %.3g  mean reward %.4g\n", s.q_loss,
+                   s.policy_loss, s.alpha, s.entropy, s.mean_reward);
   }
   if (run.weights) {
     const WeightsInfo& w = *run.weights;
@@ -108,7 +105,8 @@ std::string GraphServiceDetail(const MonitorState& state, const std::string& run
 
 void RenderGraph(const RunView& run, const std::string& service_detail, Clock::time_point now, std::string* out) {
   if (!run.graph) {
-    *out += service_detail.empty() ? "graph     none yet\n" : "graph     none yet; the graph service: " + service_detail + "\n";
+    *out += service_detail.empty() ? "graph     none yet\n"
+                                   : "graph     none yet; the graph service: " + service_detail + "\n";
     return;
   }
   const transport::InteractionGraph& g = *run.graph;
@@ -122,17 +120,17 @@ void RenderGraph(const RunView& run, const std::string& service_detail, Clock::t
       edges += Format("%zu->%zu", i, j);
       if (k < g.mean_weights.size()) edges += Format(" %.2f", g.mean_weights[k]);
     }
-  *out += Format("graph     v%" PRIu64 ": %zu entities, %zu edges (%s), action -> e%d, threshold %.2f, "
+  *out += Format("graph     v%" PRIu64
+                 ": %zu entities, %zu edges (%s), action -> e%d, threshold %.2f, "
                  "held-out loss %.4g, %u episodes  (%s ago)\n",
-                 g.version, n, EdgeCount(g), edges.empty() ? "none" : edges.c_str(), g.action_entity,
-                 g.threshold, g.held_out_loss, g.episodes_used, Seconds(now - run.graph_received).c_str());
+                 g.version, n, EdgeCount(g), edges.empty() ? "none" : edges.c_str(), g.action_entity, g.threshold,
+                 g.held_out_loss, g.episodes_used, Seconds(now - run.graph_received).c_str());
   std::string depths;
   for (size_t i = 0; i < g.depths.size(); ++i) {
     if (i) depths += "  ";
     depths += "e" + std::to_string(i) + " " + (g.depths[i] < 0 ? std::string("-") : std::to_string(g.depths[i]));
   }
-  *out += "          depth: " + (depths.empty() ? std::string("-") : depths) +
-          "   (- = not controllable)\n";
+  *out += "          depth: " + (depths.empty() ? std::string("-") : depths) + "   (- = not controllable)\n";
 }
 
 void RenderEval(const RunView& run, size_t history_rows, std::string* out) {
@@ -141,17 +139,18 @@ void RenderEval(const RunView& run, size_t history_rows, std::string* out) {
     *out += "eval      no evaluation of a trained policy yet";
   } else {
     const transport::EvalResult& e = *latest;
-    *out += Format("eval      policy v%" PRIu64 " at %s env steps (actor %u, %u episodes): object distance "
+    *out += Format("eval      policy v%" PRIu64
+                   " at %s env steps (actor %u, %u episodes): object distance "
                    "%.4f  distance %.4f  success %.2f  selectivity %.3g\n",
-                   e.policy_version, Thousands(e.env_steps).c_str(), e.actor_id, e.episodes,
-                   e.avg_object_distance, e.avg_distance, e.success_rate, e.selectivity);
+                   e.policy_version, Thousands(e.env_steps).c_str(), e.actor_id, e.episodes, e.avg_object_distance,
+                   e.avg_distance, e.success_rate, e.selectivity);
     *out += "          subgoal success: " + PerEntity(e.subgoal_success, "%.2f") + "\n";
     *out += "          entity distance: " + PerEntity(e.entity_distance, "%.3f") + "\n";
   }
   if (run.passive) {
     const transport::EvalResult& p = *run.passive;
-    std::string line = Format("%spassive   object distance %.4f  distance %.4f  success %.2f",
-                              latest ? "" : "\n", p.avg_object_distance, p.avg_distance, p.success_rate);
+    std::string line = Format("%spassive   object distance %.4f  distance %.4f  success %.2f", latest ? "" : "\n",
+                              p.avg_object_distance, p.avg_distance, p.success_rate);
     if (latest)
       line += "   -> trained: object distance " + Relative(latest->avg_object_distance, p.avg_object_distance) +
               ", distance " + Relative(latest->avg_distance, p.avg_distance);
@@ -173,8 +172,8 @@ void RenderEval(const RunView& run, size_t history_rows, std::string* out) {
   }
 }
 
-void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderOptions& options,
-                 bool show_run, std::string* out) {
+void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderOptions& options, bool show_run,
+                 std::string* out) {
   size_t alive = 0, quiet = 0, lost = 0, exited = 0, shown = 0;
   std::string rows;
   for (const auto& [key, node] : state.nodes) {
@@ -187,8 +186,7 @@ void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderO
                                     : exited)++;
     const transport::NodeStatus& s = node.status;
     std::string row = show_run ? Format("  %-12.12s", key.run_id.c_str()) : std::string("  ");
-    row += Format("%-8.8s %3u %-14.14s %7d %-10.10s %-6s %6" PRIu64 " %5" PRIu64 " %11s %7" PRIu64
-                  " %9s %6s  %s\n",
+    row += Format("%-8.8s %3u %-14.14s %7d %-10.10s %-6s %6" PRIu64 " %5" PRIu64 " %11s %7" PRIu64 " %9s %6s  %s\n",
                   s.role.c_str(), s.node_id, s.host.c_str(), s.pid, transport::NodeStateName(s.state),
                   NodeHealthName(health), s.policy_version, s.graph_version, Thousands(s.env_steps).c_str(),
                   s.dropped_samples, HoursMinutesSeconds(static_cast<double>(s.uptime_ms) / 1000.0).c_str(),
@@ -198,8 +196,9 @@ void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderO
   *out += Format("nodes     %zu alive, %zu lost, %zu exited", alive, lost, exited);
   if (quiet) *out += Format(", %zu quiet (busy: no status lately, DDS liveliness fine)", quiet);
   if (state.evicted_nodes || state.evicted_runs)
-    *out += Format(", forgotten past the limits (transport.monitor_max_nodes / _runs): %" PRIu64 " nodes, %" PRIu64 " runs",
-                   state.evicted_nodes, state.evicted_runs);
+    *out +=
+        Format(", forgotten past the limits (transport.monitor_max_nodes / _runs): %" PRIu64 " nodes, %" PRIu64 " runs",
+               state.evicted_nodes, state.evicted_runs);
   *out += Format("   (NodeStatus writers alive: %u, dropped malformed samples here: %" PRIu64 ")\n",
                  state.status_writers_alive, state.dropped_samples);
   if (shown == 0) {
@@ -207,8 +206,8 @@ void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderO
     return;
   }
   *out += (show_run ? Format("  %-12s", "RUN") : std::string("  ")) +
-          Format("%-8s %3s %-14s %7s %-10s %-6s %6s %5s %11s %7s %9s %6s  %s\n", "ROLE", "ID", "HOST", "PID",
-                 "STATE", "HEALTH", "POLICY", "GRAPH", "ENV STEPS", "DROPPED", "UPTIME", "LAST", "DETAIL");
+          Format("%-8s %3s %-14s %7s %-10s %-6s %6s %5s %11s %7s %9s %6s  %s\n", "ROLE", "ID", "HOST", "PID", "STATE",
+                 "HEALTH", "POLICY", "GRAPH", "ENV STEPS", "DROPPED", "UPTIME", "LAST", "DETAIL");
   *out += rows;
 }
 

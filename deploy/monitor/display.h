@@ -12,22 +12,22 @@ namespace srics::monitor {
 
 // One supervised process, as the launcher sees it (not from DDS: from waitpid).
 struct ProcessRow {
-  std::string name;      // "actor-1"
-  int pid = 0;           // 0 while not running
-  std::string state;     // running, restarting in 2.0s, exited, failed
+  std::string name;   // "actor-1"
+  int pid = 0;        // 0 while not running
+  std::string state;  // running, restarting in 2.0s, exited, failed
   uint32_t restarts = 0;
   std::string last_exit;  // "exit code 3", "signal 9 (Killed)", "" if it never exited
 };
 
 struct RenderOptions {
   std::string title = "srics-monitor";
-  std::string run_id;              // show only this run ("" = every run in the state)
-  uint64_t total_env_steps = 0;    // the budget, for the progress bar (0 = unknown)
-  double elapsed_s = -1;           // wall time of the run so far (< 0 = not shown)
-  double max_wall_minutes = 0;     // shown next to the elapsed time when > 0
+  std::string run_id;                 // show only this run ("" = every run in the state)
+  uint64_t total_env_steps = 0;       // the budget, for the progress bar (0 = unknown)
+  double elapsed_s = -1;              // wall time of the run so far (< 0 = not shown)
+  double max_wall_minutes = 0;        // shown next to the elapsed time when > 0
   std::vector<ProcessRow> processes;  // the launcher's children (empty for the monitor)
   std::vector<std::string> events;    // the launcher's recent events, oldest first
-  size_t history_rows = 5;         // evaluations listed under "history"
+  size_t history_rows = 5;            // evaluations listed under "history"
 };
 
 // Whether options show the run run_id: every run when options.run_id is "".

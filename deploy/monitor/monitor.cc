@@ -59,7 +59,8 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   tr::LearnerStats stats;
   for (size_t i = 0; i < kMaxPerTopic && readers_->learner.Take(&stats, kNoWait) == tr::TakeStatus::kSample; ++i) {
     if (options_.budget_env_steps) {
-      const std::string problem = rl::ImplausibleProgress(tr::FromMessage(stats).progress(), *options_.budget_env_steps);
+      const std::string problem =
+          rl::ImplausibleProgress(tr::FromMessage(stats).progress(), *options_.budget_env_steps);
       if (!problem.empty()) {
         Refuse("stats.implausible", "learner stats refused: " + problem);
         continue;
@@ -93,8 +94,8 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   tr::InteractionGraph graph;
   for (size_t i = 0; i < kMaxPerTopic && readers_->graph.Take(&graph, kNoWait) == tr::TakeStatus::kSample; ++i) {
     if (options_.num_entities > 0 && graph.num_entities != options_.num_entities) {
-      Refuse("graph.entities", "graph v" + std::to_string(graph.version) + " refused: " +
-                                   std::to_string(graph.num_entities) + " entities, this run has " +
+      Refuse("graph.entities", "graph v" + std::to_string(graph.version) +
+                                   " refused: " + std::to_string(graph.num_entities) + " entities, this run has " +
                                    std::to_string(options_.num_entities));
       continue;
     }
@@ -103,8 +104,7 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   }
   if (readers_->weights) {
     tr::PolicyWeights weights;
-    for (size_t i = 0; i < kMaxPerTopic && readers_->weights->Take(&weights, kNoWait) == tr::TakeStatus::kSample;
-         ++i) {
+    for (size_t i = 0; i < kMaxPerTopic && readers_->weights->Take(&weights, kNoWait) == tr::TakeStatus::kSample; ++i) {
       Apply(&state_, weights, Clock::now());
       if (options_.on_weights) options_.on_weights(weights);
       ++taken;
@@ -120,12 +120,14 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   for (const NodeKey& key : NewlyGone(state_, now, &known_gone_)) {
     const NodeEntry& node = state_.nodes.at(key);
     const NodeHealth health = known_gone_.at(key);
-    std::string line = key.role + " " + std::to_string(key.node_id) + " (" + node.status.host + ", pid " +
-                       std::to_string(node.status.pid) + ", run " + key.run_id + ") " + NodeHealthName(health) +
-                       ": no status for " +
-                       std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(now - node.last_seen).count()) +
-                       " ms";
-    if (health == NodeHealth::kLost) spdlog::warn("{}", line); else spdlog::info("{}", line);
+    std::string line =
+        key.role + " " + std::to_string(key.node_id) + " (" + node.status.host + ", pid " +
+        std::to_string(node.status.pid) + ", run " + key.run_id + ") " + NodeHealthName(health) + ": no status for " +
+        std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(now - node.last_seen).count()) + " ms";
+    if (health == NodeHealth::kLost)
+      spdlog::warn("{}", line);
+    else
+      spdlog::info("{}", line);
     node_events_.push_back(std::move(line));
     if (csv_) csv_->Append(node.status, wall, health == NodeHealth::kLost ? "lost" : "exited");
   }

@@ -27,9 +27,9 @@
 namespace srics::monitor {
 
 struct MonitorOptions {
-  bool all_runs = false;     // accept samples of every run id (else only the participant's)
-  bool weights = true;       // subscribe to PolicyWeights (5 MB per publication over the wire)
-  std::string csv_dir;       // append eval.csv, learner.csv, nodes.csv here ("" = no CSV)
+  bool all_runs = false;          // accept samples of every run id (else only the participant's)
+  bool weights = true;            // subscribe to PolicyWeights (5 MB per publication over the wire)
+  std::string csv_dir;            // append eval.csv, learner.csv, nodes.csv here ("" = no CSV)
   bool csv_node_statuses = true;  // every NodeStatus as a row (else only lost/exited events)
   // What the run's own samples look like, when the monitor knows its run (the launcher):
   // LearnerStats that rl::ImplausibleProgress refuses for this budget ("stats.implausible")

@@ -56,24 +56,27 @@ struct Args {
 // Parses the command line into *args: nothing when the program goes on, else its exit code
 // (0 after --help or --version, 2 for a bad argument).
 std::optional<int> ParseArgs(int argc, char** argv, Args* args) {
-  CLI::App app{"attaches to a running system (this host or another) and shows nodes, learner stats, evaluations and "
-               "the graph live; optionally appends everything to CSV files. Exit codes: 0 ok, 1 DDS failure, 2 bad "
-               "arguments or config, 3 with --once: nothing received",
-               "srics-monitor"};
+  CLI::App app{
+      "attaches to a running system (this host or another) and shows nodes, learner stats, evaluations and "
+      "the graph live; optionally appends everything to CSV files. Exit codes: 0 ok, 1 DDS failure, 2 bad "
+      "arguments or config, 3 with --once: nothing received",
+      "srics-monitor"};
   srics::cli::Configure(app);
   app.add_option("CONFIG", args->config,
                  "the run's config (domain id, run id, Cyclone profile come from it); optional with --run-dir")
       ->transform(srics::cli::InstalledConfig());
   app.add_option("--set", args->overrides, "override a config value, as for the other srics programs")
       ->allow_extra_args(false)
-      ->type_name("K=V")->default_str("");
+      ->type_name("K=V")
+      ->default_str("");
   app.add_option("--csv", args->csv_dir, "append eval.csv, learner.csv, nodes.csv in DIR as samples arrive")
       ->type_name("DIR");
   app.add_flag("--once", args->once,
                "listen for --wait seconds, print one display and exit (exit code 3 when nothing at all was received)");
   app.add_flag("--all-runs", args->all_runs, "show every run id on the domain, not only the config's");
-  app.add_flag_callback("--no-weights", [args] { args->weights = false; },
-                        "do not subscribe to PolicyWeights (saves 5 MB per publication per host)");
+  app.add_flag_callback(
+      "--no-weights", [args] { args->weights = false; },
+      "do not subscribe to PolicyWeights (saves 5 MB per publication per host)");
   app.add_option("--for", args->for_s, "stop after S seconds (0: until Ctrl-C)")->check(srics::cli::Number(0));
   app.add_option("--wait", args->wait_s, "with --once: seconds to listen")->check(srics::cli::Number(0));
   app.add_option("--refresh", args->refresh_s, "display refresh period in seconds (at least 0.1)")
@@ -82,12 +85,17 @@ std::optional<int> ParseArgs(int argc, char** argv, Args* args) {
                  "a run folder's files (eval.csv, learner.csv, nodes.csv, graph.json; a finished run or one going on) "
                  "instead of DDS; with CONFIG: where recorded episodes are")
       ->type_name("DIR");
-  CLI::Option* http =
-      app.add_option("--http", args->http_port, "serve the web dashboard on PORT (0: any free port; the URL is printed)")
-          ->check(srics::cli::Integer(0, 65535))->type_name("PORT")->default_str("");
-  app.add_option("--http-bind", args->http_bind, "the dashboard's address (127.0.0.1: this host only; 0.0.0.0 = every interface)")
-      ->needs(http)->type_name("ADDR");
-  app.add_flag("--json", args->json, "print the dashboard's JSON document, one line per refresh, instead of the display");
+  CLI::Option* http = app.add_option("--http", args->http_port,
+                                     "serve the web dashboard on PORT (0: any free port; the URL is printed)")
+                          ->check(srics::cli::Integer(0, 65535))
+                          ->type_name("PORT")
+                          ->default_str("");
+  app.add_option("--http-bind", args->http_bind,
+                 "the dashboard's address (127.0.0.1: this host only; 0.0.0.0 = every interface)")
+      ->needs(http)
+      ->type_name("ADDR");
+  app.add_flag("--json", args->json,
+               "print the dashboard's JSON document, one line per refresh, instead of the display");
   if (const auto code = srics::cli::Parse(app, argc, argv)) return code;
   if (args->config.empty() && args->run_dir.empty())
     return srics::cli::UsageError("srics-monitor", "missing CONFIG (or --run-dir DIR)");
@@ -104,15 +112,19 @@ int main(int argc, char** argv) {
   srics::config::Config config;
   try {
     if (args.config.empty())  // --run-dir alone: the folder's files, not DDS
-      return srics::dashboard::WatchRunFolder({.run_dir = args.run_dir, .http_port = args.http_port,
-                                               .http_bind = args.http_bind, .json = args.json, .once = args.once,
-                                               .for_s = args.for_s, .refresh_s = args.refresh_s});
+      return srics::dashboard::WatchRunFolder({.run_dir = args.run_dir,
+                                               .http_port = args.http_port,
+                                               .http_bind = args.http_bind,
+                                               .json = args.json,
+                                               .once = args.once,
+                                               .for_s = args.for_s,
+                                               .refresh_s = args.refresh_s});
     config = srics::config::LoadConfig(args.config, args.overrides);
     // DDS Security: the keystore's "monitor" identity (read-only) unless the config names another
     config.transport.security.identity = srics::config::CheckKeystore(config.transport.security, "monitor");
   } catch (const std::exception& e) {
     std::cerr << "srics-monitor: " << e.what() << "\n";
-    return srics::cli::kExitUsage;
+    return srics::kExitUsage;
   }
   // the config's run id is chosen per launch (a config file, not a run folder's config.yaml):
   // show every run on the domain
@@ -128,7 +140,7 @@ int main(int argc, char** argv) {
           .bind = args.http_bind, .port = args.http_port, .source = "dds", .run_dir = args.run_dir});
   } catch (const srics::dashboard::BindError& e) {
     std::cerr << "srics-monitor: " << e.what() << "\n";
-    return 2;
+    return srics::kExitUsage;
   }
   if (dashboard) std::cerr << "srics-monitor: dashboard on " << dashboard->url() << std::endl;
   auto json_line = [&](const srics::monitor::MonitorState& state, const srics::monitor::RenderOptions& render) {
@@ -137,7 +149,9 @@ int main(int argc, char** argv) {
 
   try {
     tr::Participant participant(config.transport);
-    mon::Monitor monitor(participant, {.all_runs = args.all_runs, .weights = args.weights, .csv_dir = args.csv_dir, .csv_node_statuses = true});
+    mon::Monitor monitor(
+        participant,
+        {.all_runs = args.all_runs, .weights = args.weights, .csv_dir = args.csv_dir, .csv_node_statuses = true});
     mon::RenderOptions render;
     render.run_id = args.all_runs ? "" : config.transport.run_id;
     render.total_env_steps = config.run.total_env_steps;
@@ -146,7 +160,8 @@ int main(int argc, char** argv) {
     std::deque<std::string> events;
 
     const auto start = mon::Clock::now();
-    const auto refresh = std::chrono::duration_cast<mon::Clock::duration>(std::chrono::duration<double>(args.refresh_s));
+    const auto refresh =
+        std::chrono::duration_cast<mon::Clock::duration>(std::chrono::duration<double>(args.refresh_s));
     auto next_draw = start;
     size_t received = 0;
     while (!participant.shutdown_requested()) {
@@ -180,7 +195,8 @@ int main(int argc, char** argv) {
       }
     }
     render.events.assign(events.begin(), events.end());
-    if (args.json && args.once) std::cout << json_line(monitor.state(), render) << std::endl;
+    if (args.json && args.once)
+      std::cout << json_line(monitor.state(), render) << std::endl;
     else if (!args.json && (args.once || !live))
       std::cout << mon::ClipLines(mon::Render(monitor.state(), mon::Clock::now(), render),
                                   mon::OutputWidth(STDOUT_FILENO))

@@ -38,7 +38,10 @@ typename Map::iterator LeastHeard(Map& map, Count count, LastHeard last_heard, E
   auto victim = map.end();
   for (auto it = map.begin(); it != map.end(); ++it) {
     if (!evictable(it)) continue;
-    if (victim == map.end()) { victim = it; continue; }
+    if (victim == map.end()) {
+      victim = it;
+      continue;
+    }
     const bool once = count(it->second) <= 1, victim_once = count(victim->second) <= 1;
     if (once != victim_once ? once : last_heard(it->second) < last_heard(victim->second)) victim = it;
   }
@@ -94,8 +97,10 @@ namespace {
 // library builds against either.
 template <typename Stats>
 uint64_t TrainingSteps(const Stats& stats) {
-  if constexpr (requires { stats.training_env_steps; }) return stats.training_env_steps;
-  else return stats.transitions_inserted;
+  if constexpr (requires { stats.training_env_steps; })
+    return stats.training_env_steps;
+  else
+    return stats.transitions_inserted;
 }
 
 }  // namespace
@@ -110,9 +115,14 @@ void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::tim
     run.step_history.clear();
     run.learner_history = LearnerHistory{.max_points = run.learner_history.max_points};
   }
-  Add(&run.learner_history, {.updates = stats.updates, .env_steps = steps, .q_loss = stats.q_loss,
-                             .policy_loss = stats.policy_loss, .alpha = stats.alpha, .entropy = stats.entropy,
-                             .mean_reward = stats.mean_reward, .updates_per_second = stats.updates_per_second,
+  Add(&run.learner_history, {.updates = stats.updates,
+                             .env_steps = steps,
+                             .q_loss = stats.q_loss,
+                             .policy_loss = stats.policy_loss,
+                             .alpha = stats.alpha,
+                             .entropy = stats.entropy,
+                             .mean_reward = stats.mean_reward,
+                             .updates_per_second = stats.updates_per_second,
                              .inserts_per_second = stats.inserts_per_second});
   run.step_history.emplace_back(now, steps);
   while (run.step_history.size() > 2 && now - run.step_history.front().first > kRateWindow)
@@ -232,8 +242,10 @@ namespace {
 
 template <typename Stats>
 uint64_t Budget(const Stats& stats) {
-  if constexpr (requires { stats.budget_env_steps; }) return stats.budget_env_steps;
-  else return 0;
+  if constexpr (requires { stats.budget_env_steps; })
+    return stats.budget_env_steps;
+  else
+    return 0;
 }
 
 }  // namespace
@@ -246,9 +258,7 @@ uint64_t EnvSteps(const RunView& run) {
   return steps;
 }
 
-const transport::EvalResult* LatestEval(const RunView& run) {
-  return run.evals.empty() ? nullptr : &run.evals.back();
-}
+const transport::EvalResult* LatestEval(const RunView& run) { return run.evals.empty() ? nullptr : &run.evals.back(); }
 
 size_t EdgeCount(const transport::InteractionGraph& graph) {
   const size_t n = graph.num_entities;

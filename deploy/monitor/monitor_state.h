@@ -48,7 +48,7 @@ struct NodeEntry {
   transport::NodeStatus status;  // the latest one
   Clock::time_point first_seen;
   Clock::time_point last_seen;
-  uint64_t statuses = 0;         // samples received
+  uint64_t statuses = 0;  // samples received
 };
 
 // The latest policy weights, without their parameters (megabytes the monitor has no use for).
@@ -88,7 +88,7 @@ struct RunView {
   // policy-version-0 results refused as not this run's passive baseline (PassiveMismatch;
   // counted by Monitor, which knows the baseline), shown beside the passive line
   uint64_t passive_refused = 0;
-  std::vector<transport::EvalResult> evals;      // policy_version > 0, oldest first (bounded)
+  std::vector<transport::EvalResult> evals;  // policy_version > 0, oldest first (bounded)
   std::optional<transport::InteractionGraph> graph;
   Clock::time_point graph_received;
   std::optional<WeightsInfo> weights;
@@ -115,10 +115,10 @@ struct MonitorState {
   // never `own_run_id`'s run; evictions are counted and shown.
   size_t max_nodes = 1024;
   size_t max_runs = 64;
-  std::string own_run_id;         // the run this monitor belongs to ("" = none)
+  std::string own_run_id;  // the run this monitor belongs to ("" = none)
   uint64_t evicted_nodes = 0;
   uint64_t evicted_runs = 0;
-  uint64_t dropped_samples = 0;  // malformed samples the monitor's readers rejected
+  uint64_t dropped_samples = 0;       // malformed samples the monitor's readers rejected
   uint32_t status_writers_alive = 0;  // NodeStatus writers alive by their liveliness lease
   bool liveliness_known = false;      // status_writers_alive is filled in (by Monitor)
 };

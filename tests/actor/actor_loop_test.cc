@@ -25,9 +25,9 @@ namespace {
 
 config::Config SmallConfig() {
   return config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
-                            {"graph.episodes=4", "graph.held_out_fraction=0.25", "actors.count=2", "actors.evaluators=1", "actors.eval_episodes=2",
-                             "actors.eval_every_env_steps=100", "learner.warmup_steps=40",
-                             "learner.updates_per_step=1", "learner.rate_error_buffer=10"});
+                            {"graph.episodes=4", "graph.held_out_fraction=0.25", "actors.count=2",
+                             "actors.evaluators=1", "actors.eval_episodes=2", "actors.eval_every_env_steps=100",
+                             "learner.warmup_steps=40", "learner.updates_per_step=1", "learner.rate_error_buffer=10"});
 }
 
 // Weights of a policy with the actor's own architecture, as the learner would publish them.
@@ -61,8 +61,12 @@ class CountingObserver : public links::BusObserver {
 // (version 1) and weights of version 1 published from the start.
 struct EvaluatorOnBus {
   EvaluatorOnBus()
-      : config(SmallConfig()), bus(&observer), link(bus.ActorEnd(0)), learner(bus.LearnerEnd()),
-        options(ActorOptionsFor(config, 0)), actor(options, link.get()) {
+      : config(SmallConfig()),
+        bus(&observer),
+        link(bus.ActorEnd(0)),
+        learner(bus.LearnerEnd()),
+        options(ActorOptionsFor(config, 0)),
+        actor(options, link.get()) {
     bus.PublishGraph(GroundTruth(config, 1));
     learner->PublishWeights(WeightsFor(options, 1, 21));
   }
@@ -166,11 +170,10 @@ std::vector<float> StateRow(const rl::Episode& e, int t) {
 TEST(ActorLoopTest, ChainedTrainingEpisodesStartWhereTheLastLeftTheTable) {
   for (const int chain : {1, 3}) {
     SCOPED_TRACE("train_chain_episodes " + std::to_string(chain));
-    config::Config config = config::LoadConfig(
-        std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
-        {"graph.episodes=4", "graph.held_out_fraction=0.25", "actors.count=2", "actors.evaluators=1",
-         "learner.warmup_steps=100000",
-         "actors.train_chain_episodes=" + std::to_string(chain)});
+    config::Config config =
+        config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+                           {"graph.episodes=4", "graph.held_out_fraction=0.25", "actors.count=2", "actors.evaluators=1",
+                            "learner.warmup_steps=100000", "actors.train_chain_episodes=" + std::to_string(chain)});
     EXPECT_EQ(config.actors.train_chain_episodes, chain);
     links::InMemoryBus bus;
     auto link = bus.ActorEnd(1);

@@ -44,7 +44,8 @@ Motion Measure(const config::Config& config, double push_fraction, int episodes)
     }
     for (int e = 1; e < n; ++e) {
       const int last = episode->num_steps;
-      m.largest_travel = std::max<double>(m.largest_travel, std::hypot(xy(last, e, 0) - xy(0, e, 0), xy(last, e, 1) - xy(0, e, 1)));
+      m.largest_travel =
+          std::max<double>(m.largest_travel, std::hypot(xy(last, e, 0) - xy(0, e, 0), xy(last, e, 1) - xy(0, e, 1)));
     }
   }
   m.moving_fraction = static_cast<double>(moving) / std::max(1, transitions);
@@ -59,8 +60,9 @@ TEST(ExploreTest, PushesMoveObjectsMoreThanRandomActions) {
   EXPECT_GT(pushed.moving_fraction, 2 * random.moving_fraction)
       << "random " << random.moving_fraction << ", pushed " << pushed.moving_fraction;
   EXPECT_GT(pushed.largest_travel, 0.1);
-  std::printf("objects moving in %.1f%% of transitions with random actions, %.1f%% with pushes; furthest %.2f / %.2f m\n",
-              100 * random.moving_fraction, 100 * pushed.moving_fraction, random.largest_travel, pushed.largest_travel);
+  std::printf(
+      "objects moving in %.1f%% of transitions with random actions, %.1f%% with pushes; furthest %.2f / %.2f m\n",
+      100 * random.moving_fraction, 100 * pushed.moving_fraction, random.largest_travel, pushed.largest_travel);
 }
 
 // The same seed and random stream give the same episode; a random-only run keeps its stream

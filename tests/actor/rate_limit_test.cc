@@ -14,12 +14,12 @@ namespace srics::actor {
 namespace {
 
 config::Config SmallConfig() {
-  return config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
-                            {"actors.count=1", "actors.evaluators=0", "learner.warmup_steps=100",
-                             "learner.updates_per_step=1", "learner.rate_error_buffer=2",
-                             "learner.publish_every_updates=1000", "run.total_env_steps=100000",
-                             "agent.network.embed_dim=16", "agent.network.heads=2", "agent.network.policy_hidden=[16]",
-                             "agent.network.q_hidden=[16]", "agent.sac.batch_size=16"});
+  return config::LoadConfig(
+      std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+      {"actors.count=1", "actors.evaluators=0", "learner.warmup_steps=100", "learner.updates_per_step=1",
+       "learner.rate_error_buffer=2", "learner.publish_every_updates=1000", "run.total_env_steps=100000",
+       "agent.network.embed_dim=16", "agent.network.heads=2", "agent.network.policy_hidden=[16]",
+       "agent.network.q_hidden=[16]", "agent.sac.batch_size=16"});
 }
 
 rl::GraphUpdate GroundTruth(const config::Config& config) {

@@ -34,7 +34,7 @@ class WireReader {
   size_t left() const { return size_ - pos_; }
 
   template <typename V>
-    requires std::is_arithmetic_v<V> || std::is_enum_v<V>
+  requires std::is_arithmetic_v<V> || std::is_enum_v<V>
   void operator()(V& out) {
     unsigned char bytes[sizeof(V)] = {};
     Take(bytes, sizeof(V));
@@ -48,7 +48,7 @@ class WireReader {
     Take(out, std::min<size_t>({length, N, left()}));
   }
   template <typename Seq>
-    requires requires(Seq s) { s._buffer; }
+  requires requires(Seq s) { s._buffer; }
   void operator()(Seq& out) {
     using Element = std::remove_pointer_t<decltype(out._buffer)>;
     uint32_t count = 0;
@@ -79,10 +79,8 @@ class WireReader {
 class WireWriter {
  public:
   template <typename V>
-    requires std::is_arithmetic_v<V> || std::is_enum_v<V>
-  void operator()(const V& in) {
-    bytes_.append(reinterpret_cast<const char*>(&in), sizeof(V));
-  }
+  requires std::is_arithmetic_v<V> || std::is_enum_v<V>
+  void operator()(const V& in) { bytes_.append(reinterpret_cast<const char*>(&in), sizeof(V)); }
   template <size_t N>
   void operator()(const char (&in)[N]) {
     const uint16_t length = static_cast<uint16_t>(strnlen(in, N));
@@ -90,7 +88,7 @@ class WireWriter {
     bytes_.append(in, length);
   }
   template <typename Seq>
-    requires requires(Seq s) { s._buffer; }
+  requires requires(Seq s) { s._buffer; }
   void operator()(const Seq& in) {
     (*this)(static_cast<uint32_t>(in._length));
     bytes_.append(reinterpret_cast<const char*>(in._buffer), in._length * sizeof(*in._buffer));

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <stdexcept>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 
@@ -23,7 +23,8 @@ namespace {
 
 using namespace srics::transport;
 
-template <typename V, typename C> void Visit(V& v, C& c);
+template <typename V, typename C>
+void Visit(V& v, C& c);
 
 // An IDL enum: 4 bytes on the wire, which Cyclone's deserializer refuses beyond the enum's
 // largest value, so the sample carries one of its values (a C++ load of any other value of
@@ -44,39 +45,106 @@ void VisitEnum(V& v, E& e, uint32_t largest) {
 
 template <typename V>
 void Visit(V& v, srics_Episode& c) {
-  v(c.contract_version); v(c.run_id); v(c.actor_id); v(c.episode_id); VisitEnum(v, c.mode, srics_EPISODE_EVAL); v(c.policy_version);
-  v(c.graph_version); v(c.num_entities); v(c.entity_dim); v(c.action_dim); v(c.num_steps);
-  v(c.entity_kinds); v(c.states); v(c.actions); v(c.subgoal_entity); v(c.goal); v(c.ancestor_mask);
-  v(c.subgoal_starts); v(c.subgoals); v(c.subgoal_tests);
+  v(c.contract_version);
+  v(c.run_id);
+  v(c.actor_id);
+  v(c.episode_id);
+  VisitEnum(v, c.mode, srics_EPISODE_EVAL);
+  v(c.policy_version);
+  v(c.graph_version);
+  v(c.num_entities);
+  v(c.entity_dim);
+  v(c.action_dim);
+  v(c.num_steps);
+  v(c.entity_kinds);
+  v(c.states);
+  v(c.actions);
+  v(c.subgoal_entity);
+  v(c.goal);
+  v(c.ancestor_mask);
+  v(c.subgoal_starts);
+  v(c.subgoals);
+  v(c.subgoal_tests);
 }
 template <typename V>
 void Visit(V& v, srics_PolicyWeights& c) {
-  v(c.contract_version); v(c.run_id); v(c.version); v(c.update_count); v(c.architecture); v(c.checksum);
+  v(c.contract_version);
+  v(c.run_id);
+  v(c.version);
+  v(c.update_count);
+  v(c.architecture);
+  v(c.checksum);
   v(c.parameters);
 }
 template <typename V>
 void Visit(V& v, srics_InteractionGraph& c) {
-  v(c.contract_version); v(c.run_id); v(c.version); v(c.num_entities); v(c.mean_weights); v(c.adjacency);
-  v(c.action_entity); v(c.threshold); v(c.ancestor_masks); v(c.depths); v(c.held_out_loss);
-  v(c.training_updates); v(c.episodes_used);
+  v(c.contract_version);
+  v(c.run_id);
+  v(c.version);
+  v(c.num_entities);
+  v(c.mean_weights);
+  v(c.adjacency);
+  v(c.action_entity);
+  v(c.threshold);
+  v(c.ancestor_masks);
+  v(c.depths);
+  v(c.held_out_loss);
+  v(c.training_updates);
+  v(c.episodes_used);
 }
 template <typename V>
 void Visit(V& v, srics_EvalResult& c) {
-  v(c.contract_version); v(c.run_id); v(c.actor_id); v(c.policy_version); v(c.graph_version); v(c.env_steps);
-  v(c.episodes); v(c.avg_distance); v(c.avg_object_distance); v(c.success_rate); v(c.entity_distance);
-  v(c.subgoal_success); v(c.selectivity); v(c.independent_solved); v(c.independent_undone);
+  v(c.contract_version);
+  v(c.run_id);
+  v(c.actor_id);
+  v(c.policy_version);
+  v(c.graph_version);
+  v(c.env_steps);
+  v(c.episodes);
+  v(c.avg_distance);
+  v(c.avg_object_distance);
+  v(c.success_rate);
+  v(c.entity_distance);
+  v(c.subgoal_success);
+  v(c.selectivity);
+  v(c.independent_solved);
+  v(c.independent_undone);
 }
 template <typename V>
 void Visit(V& v, srics_LearnerStats& c) {
-  v(c.contract_version); v(c.run_id); v(c.updates); v(c.transitions_inserted); v(c.training_env_steps);
-  v(c.budget_env_steps); v(c.replay_size); v(c.episodes_accepted); v(c.episodes_rejected); v(c.policy_version);
-  v(c.q_loss); v(c.policy_loss); v(c.alpha); v(c.entropy); v(c.updates_per_second); v(c.inserts_per_second);
+  v(c.contract_version);
+  v(c.run_id);
+  v(c.updates);
+  v(c.transitions_inserted);
+  v(c.training_env_steps);
+  v(c.budget_env_steps);
+  v(c.replay_size);
+  v(c.episodes_accepted);
+  v(c.episodes_rejected);
+  v(c.policy_version);
+  v(c.q_loss);
+  v(c.policy_loss);
+  v(c.alpha);
+  v(c.entropy);
+  v(c.updates_per_second);
+  v(c.inserts_per_second);
   v(c.mean_reward);
 }
 template <typename V>
 void Visit(V& v, srics_NodeStatus& c) {
-  v(c.contract_version); v(c.run_id); v(c.role); v(c.node_id); v(c.host); v(c.pid); VisitEnum(v, c.state, srics_NODE_FAILED);
-  v(c.policy_version); v(c.graph_version); v(c.env_steps); v(c.dropped_samples); v(c.uptime_ms); v(c.detail);
+  v(c.contract_version);
+  v(c.run_id);
+  v(c.role);
+  v(c.node_id);
+  v(c.host);
+  v(c.pid);
+  VisitEnum(v, c.state, srics_NODE_FAILED);
+  v(c.policy_version);
+  v(c.graph_version);
+  v(c.env_steps);
+  v(c.dropped_samples);
+  v(c.uptime_ms);
+  v(c.detail);
 }
 
 enum Topic : uint8_t { kEpisode, kWeights, kGraph, kEval, kStats, kStatus, kTopics };

@@ -48,8 +48,7 @@ TEST(GraphDatasetTest, SplitIsDeterministicAndDisjoint) {
   EXPECT_EQ(a.held_out_episodes().size(), 4u);
   EXPECT_EQ(a.train_episodes().size(), 36u);
   EXPECT_EQ(a.held_out_episodes(), b.held_out_episodes());
-  for (int h : a.held_out_episodes())
-    EXPECT_EQ(std::count(a.train_episodes().begin(), a.train_episodes().end(), h), 0);
+  for (int h : a.held_out_episodes()) EXPECT_EQ(std::count(a.train_episodes().begin(), a.train_episodes().end(), h), 0);
   b.Split(0.1, 6);
   EXPECT_NE(a.held_out_episodes(), b.held_out_episodes());
   GraphDataset tiny = ToyData(1);

@@ -40,8 +40,7 @@ struct ToyBatch {
 
 TEST(GnnModelTest, EdgeIndexingIsConsistent) {
   nn::Rng rng(1);
-  GnnModel<float> model({.num_entities = 4, .input_dim = 8, .hidden_dim = 3, .mlp_hidden = 5},
-                        rng);
+  GnnModel<float> model({.num_entities = 4, .input_dim = 8, .hidden_dim = 3, .mlp_hidden = 5}, rng);
   const auto& s = model.senders(2);
   const auto& r = model.receivers(2);
   ASSERT_EQ(s.size(), 2u * 4 * 3);
@@ -58,12 +57,11 @@ TEST(GnnModelTest, HardSamplesAreZeroOrOne) {
   auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
   auto& rng = toy.rng;
   auto& batch = toy.batch;
-  GnnModel<float> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 6,
-                         .mlp_hidden = 8, .hard = true}, rng);
+  GnnModel<float> model(
+      {.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 6, .mlp_hidden = 8, .hard = true}, rng);
   nn::Tape<float> tape;
   auto h = tape.Constant(nn::Tensor::Zero(9, 6));
-  auto step = model.Forward(tape, h, tape.Constant(batch.inputs[0]), 3,
-                            nn::RandomGumbel<float>(18, 2, rng));
+  auto step = model.Forward(tape, h, tape.Constant(batch.inputs[0]), 3, nn::RandomGumbel<float>(18, 2, rng));
   for (Eigen::Index e = 0; e < step.edge_weight.rows(); ++e) {
     const float w = step.edge_weight.value()(e, 0);
     EXPECT_TRUE(w == 0.f || w == 1.f) << w;
@@ -78,7 +76,8 @@ TEST(GnnModelTest, HardSamplesAreZeroOrOne) {
 double WindowLossGradientError(GnnModel<double>& model, const WindowBatch<double>& batch, nn::Rng& rng) {
   nn::ParameterList<double> params;
   model.Parameters(params);
-  for (nn::Parameter<double>* p : params) p->value += 0.3 * nn::RandomNormal<double>(p->value.rows(), p->value.cols(), rng);
+  for (nn::Parameter<double>* p : params)
+    p->value += 0.3 * nn::RandomNormal<double>(p->value.rows(), p->value.cols(), rng);
   return nn::testing::GradCheck(params, [&](nn::Tape<double>& tape) {
     nn::Rng noise(11);
     return model.WindowLoss(tape, batch, noise).total;
@@ -91,8 +90,13 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
   auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
   auto& rng = toy.rng;
   auto& batch = toy.batch;
-  GnnModel<double> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 3,
-                          .mlp_hidden = 4, .kl_weight = 0.1, .hard = false}, rng);
+  GnnModel<double> model({.num_entities = 3,
+                          .input_dim = data.input_dim(),
+                          .hidden_dim = 3,
+                          .mlp_hidden = 4,
+                          .kl_weight = 0.1,
+                          .hard = false},
+                         rng);
   nn::ParameterList<double> params;
   model.Parameters(params);
   ASSERT_GT(params.size(), 10u);
@@ -106,9 +110,15 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferencesWithEdgeInputs) {
   auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
   auto& rng = toy.rng;
   auto& batch = toy.batch;
-  GnnModel<double> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 3,
-                          .mlp_hidden = 4, .edge_node_inputs = true, .edge_relative_scale = 0.2,
-                          .kl_weight = 0.1, .hard = false, .gate_logit_decay = 0.5},
+  GnnModel<double> model({.num_entities = 3,
+                          .input_dim = data.input_dim(),
+                          .hidden_dim = 3,
+                          .mlp_hidden = 4,
+                          .edge_node_inputs = true,
+                          .edge_relative_scale = 0.2,
+                          .kl_weight = 0.1,
+                          .hard = false,
+                          .gate_logit_decay = 0.5},
                          rng);
   std::vector<double> mean(data.input_dim(), 0.1), inv_std(data.input_dim(), 2.0);
   model.set_input_normalization(mean, inv_std);
@@ -166,9 +176,14 @@ TEST(GnnModelTest, OnsetWeightCountsOnlyOnsets) {
   batch.deltas[1](n + 1, 1) = 0.02;
   batch.deltas[3](n + 1, 1) = -0.015;
   nn::Rng init(7);
-  GnnModel<double> model({.num_entities = n, .input_dim = input_dim, .hidden_dim = 3,
-                          .mlp_hidden = 4, .edge_relative_scale = 0.05, .kl_weight = 0.1,
-                          .hard = false}, init);
+  GnnModel<double> model({.num_entities = n,
+                          .input_dim = input_dim,
+                          .hidden_dim = 3,
+                          .mlp_hidden = 4,
+                          .edge_relative_scale = 0.05,
+                          .kl_weight = 0.1,
+                          .hard = false},
+                         init);
   const std::vector<double> entity_weight = {1.0, 2.0, 0.5};
   model.set_entity_loss_weights(entity_weight);
   auto mse = [&](double onset_weight) {
@@ -220,8 +235,7 @@ TEST(GnnModelTest, LossGoesDownOnAFixedBatch) {
   auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
   auto& rng = toy.rng;
   auto& batch = toy.batch;
-  GnnModel<float> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 10,
-                         .mlp_hidden = 32}, rng);
+  GnnModel<float> model({.num_entities = 3, .input_dim = data.input_dim(), .hidden_dim = 10, .mlp_hidden = 32}, rng);
   nn::ParameterList<float> params;
   model.Parameters(params);
   nn::RmsProp<float> opt(params, {.lr = 1e-3});

@@ -58,7 +58,8 @@ class VectorSource : public graph_service::EpisodeSource {
 };
 
 // distance between the segments a0-a1 and b0-b1 in the plane
-double SegmentDistance(const std::array<double, 2>& a0, const std::array<double, 2>& a1, const std::array<double, 2>& b0, const std::array<double, 2>& b1) {
+double SegmentDistance(const std::array<double, 2>& a0, const std::array<double, 2>& a1,
+                       const std::array<double, 2>& b0, const std::array<double, 2>& b1) {
   return graph_service::SegmentDistance(a0[0], a0[1], a1[0], a1[1], b0[0], b0[1], b1[0], b1[1]);
 }
 
@@ -77,14 +78,17 @@ int main(int argc, char** argv) {
   std::vector<std::string> overrides;
   for (int i = 4; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--stats-only") stats_only = true;
-    else if (a == "--set" && i + 1 < argc) overrides.push_back(argv[++i]);
-    else if (a == "--replay") replay = true;
+    if (a == "--stats-only")
+      stats_only = true;
+    else if (a == "--set" && i + 1 < argc)
+      overrides.push_back(argv[++i]);
+    else if (a == "--replay")
+      replay = true;
   }
   config::Config cfg = config::LoadConfig(env_file, overrides);
   cfg.graph.episodes = count;
-  const std::string cache = "/tmp/graph_probe_" + std::filesystem::path(env_file).stem().string() +
-                            "_" + std::to_string(count) + "_" + std::to_string(seed) + ".bin";
+  const std::string cache = "/tmp/graph_probe_" + std::filesystem::path(env_file).stem().string() + "_" +
+                            std::to_string(count) + "_" + std::to_string(seed) + ".bin";
   if (replay) {
     env::RearrangeEnv env(cfg.env);
     const mjModel* m = env.model();
@@ -107,9 +111,11 @@ int main(int argc, char** argv) {
         if (getenv("TRACE") && ep == atoi(getenv("TRACE")) && std::abs(t - atoi(getenv("TRACE_T"))) <= 3) {
           std::printf("t=%d (state after the step):", t);
           for (int j = 0; j < n; ++j) {
-            const int body = j == 0 ? mj_name2id(m, mjOBJ_BODY, "hand") : mj_name2id(m, mjOBJ_BODY, ("object" + std::to_string(j)).c_str());
+            const int body = j == 0 ? mj_name2id(m, mjOBJ_BODY, "hand")
+                                    : mj_name2id(m, mjOBJ_BODY, ("object" + std::to_string(j)).c_str());
             const int dof = m->body_dofadr[body];
-            std::printf("  %d: (%.3f %.3f %.4f) v (%.2f %.2f %.2f)", j, d->xpos[3 * body], d->xpos[3 * body + 1], d->xpos[3 * body + 2], d->qvel[dof], d->qvel[dof + 1], d->qvel[dof + 2]);
+            std::printf("  %d: (%.3f %.3f %.4f) v (%.2f %.2f %.2f)", j, d->xpos[3 * body], d->xpos[3 * body + 1],
+                        d->xpos[3 * body + 2], d->qvel[dof], d->qvel[dof + 1], d->qvel[dof + 2]);
           }
           std::printf("\n");
         }
@@ -127,13 +133,17 @@ int main(int argc, char** argv) {
             bool clear = true;
             for (int i = 0; i < n && clear; ++i)
               if (i != j)
-                clear = SegmentDistance({prev[i][0], prev[i][1]}, {now[i][0], now[i][1]}, {prev[j][0], prev[j][1]}, {now[j][0], now[j][1]}) - radius[i] - radius[j] > 0.02;
+                clear = SegmentDistance({prev[i][0], prev[i][1]}, {now[i][0], now[i][1]}, {prev[j][0], prev[j][1]},
+                                        {now[j][0], now[j][1]}) -
+                            radius[i] - radius[j] >
+                        0.02;
             clear_onsets += clear;
             if (clear && shown < (getenv("SHOWN") ? atoi(getenv("SHOWN")) : 30)) {
               ++shown;
               const int body = mj_name2id(m, mjOBJ_BODY, ("object" + std::to_string(j)).c_str());
               const mjtNum* xq = d->xquat + 4 * body;
-              std::printf("onset of %d, episode %d step %d: moved %.4f, z %.4f, quat %.3f %.3f %.3f %.3f, contacts:", j, ep, t, mv, d->xpos[3 * body + 2], xq[0], xq[1], xq[2], xq[3]);
+              std::printf("onset of %d, episode %d step %d: moved %.4f, z %.4f, quat %.3f %.3f %.3f %.3f, contacts:", j,
+                          ep, t, mv, d->xpos[3 * body + 2], xq[0], xq[1], xq[2], xq[3]);
               for (int c = 0; c < d->ncon; ++c) {
                 const mjContact& k = d->contact[c];
                 const int b1 = m->geom_bodyid[k.geom1], b2 = m->geom_bodyid[k.geom2];
@@ -151,7 +161,8 @@ int main(int argc, char** argv) {
         prev = now;
       }
     }
-    std::printf("%g steps: onsets clear of everything by 4 cm %g, object-steps without any contact %g\n", steps_done, clear_onsets, airborne);
+    std::printf("%g steps: onsets clear of everything by 4 cm %g, object-steps without any contact %g\n", steps_done,
+                clear_onsets, airborne);
     return 0;
   }
   std::vector<rl::Episode> episodes;
@@ -219,8 +230,7 @@ int main(int argc, char** argv) {
   std::printf("fraction of transitions with motion > 1 mm (rms step):");
   for (int j = 0; j < n; ++j)
     std::printf(" %d: %.4f (%.4f m)", j, moved[j] / transitions, std::sqrt(sq[j] / transitions));
-  std::printf("\nfraction of 20-step windows with some puck motion: %.3f\n",
-              windows_moving / windows);
+  std::printf("\nfraction of 20-step windows with some puck motion: %.3f\n", windows_moving / windows);
   // onsets (moving > 1 mm after a step that did not) per entity, and those with every other
   // entity farther than its closest approach in the data + 2 cm before and after the step
   // (what graph.onset_loss_weight emphasises)
@@ -230,23 +240,32 @@ int main(int argc, char** argv) {
       for (int t = 0; t <= steps; ++t)
         for (int i = 0; i < n; ++i)
           for (int j = 0; j < n; ++j)
-            if (i != j) closest[i * n + j] = std::min(closest[i * n + j], (double)std::hypot(l.x(e.state(t), i) - l.x(e.state(t), j), l.y(e.state(t), i) - l.y(e.state(t), j)));
+            if (i != j)
+              closest[i * n + j] = std::min(
+                  closest[i * n + j],
+                  (double)std::hypot(l.x(e.state(t), i) - l.x(e.state(t), j), l.y(e.state(t), i) - l.y(e.state(t), j)));
     std::vector<double> onsets(n, 0), clear(n, 0);
     for (const auto& e : episodes)
       for (int t = 1; t < steps; ++t)
         for (int j = 0; j < n; ++j) {
-          auto step = [&](int k, int s) { return std::hypot(l.x(e.state(s + 1), k) - l.x(e.state(s), k), l.y(e.state(s + 1), k) - l.y(e.state(s), k)); };
+          auto step = [&](int k, int s) {
+            return std::hypot(l.x(e.state(s + 1), k) - l.x(e.state(s), k), l.y(e.state(s + 1), k) - l.y(e.state(s), k));
+          };
           if (!(step(j, t) > 1e-3 && step(j, t - 1) <= 1e-3)) continue;
           onsets[j] += 1;
           bool ok = true;
           for (int i = 0; i < n && ok; ++i) {
             if (i == j) continue;
             for (int s : {t, t + 1})
-              ok = ok && std::hypot(l.x(e.state(s), i) - l.x(e.state(s), j), l.y(e.state(s), i) - l.y(e.state(s), j)) > (getenv("CLEAR") ? atof(getenv("CLEAR")) : closest[i * n + j] + 0.02);
+              ok = ok && std::hypot(l.x(e.state(s), i) - l.x(e.state(s), j), l.y(e.state(s), i) - l.y(e.state(s), j)) >
+                             (getenv("CLEAR") ? atof(getenv("CLEAR")) : closest[i * n + j] + 0.02);
           }
           clear[j] += ok;
         }
-    std::printf("closest approach:"); for (int i = 0; i < n; ++i) for (int j = i + 1; j < n; ++j) std::printf(" %d-%d %.3f", i, j, closest[i * n + j]); std::printf("\n");
+    std::printf("closest approach:");
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) std::printf(" %d-%d %.3f", i, j, closest[i * n + j]);
+    std::printf("\n");
     std::printf("onsets per entity (fraction of transitions; clear of every other entity):");
     for (int j = 0; j < n; ++j) std::printf(" %d: %.4f (%.4f)", j, onsets[j] / transitions, clear[j] / transitions);
     std::printf("\n");
@@ -254,10 +273,10 @@ int main(int argc, char** argv) {
   // motion the arm did not cause directly: object j moves > 1 mm while the arm is farther than
   // 12 cm from it before and after the step; then, per other object i, how often i moved in the same step or was within
   // 7 cm (contact or tie at work). A tie that never shows here cannot be learned from the data.
-  auto dist = [&](const float* s, int a, int b) {
-    return std::hypot(l.x(s, a) - l.x(s, b), l.y(s, a) - l.y(s, b));
-  };
-  std::printf("motion without the arm within 12 cm (fraction of transitions); per other object i: [i moved too / i within 7 cm]\n");
+  auto dist = [&](const float* s, int a, int b) { return std::hypot(l.x(s, a) - l.x(s, b), l.y(s, a) - l.y(s, b)); };
+  std::printf(
+      "motion without the arm within 12 cm (fraction of transitions); per other object i: [i moved too / i within 7 "
+      "cm]\n");
   for (int j = 1; j < n; ++j) {
     double alone = 0;
     std::vector<double> with_moving(n, 0), with_near(n, 0);
@@ -309,11 +328,14 @@ int main(int argc, char** argv) {
     std::printf("tie %d-%d (length %.3f): distance minus length [fraction of steps, %d moved]:", a, b, link.length, b);
     const char* names[] = {"< -3cm", "-3..0cm", "0..1cm", "1..3cm", "3..5cm", ">= 5cm"};
     for (int k = 0; k < 6; ++k)
-      std::printf("  %s [%.4f, %.2f]", names[k], count[k] / transitions, count[k] > 0 ? partner_moved[k] / count[k] : 0.0);
+      std::printf("  %s [%.4f, %.2f]", names[k], count[k] / transitions,
+                  count[k] > 0 ? partner_moved[k] / count[k] : 0.0);
     std::printf("\n");
-    std::printf("  partner %d: share of its squared motion with the arm >= 12 cm away %.3f (%.4f of steps, rms step then %.4f m)\n",
-                b, sq_all > 0 ? sq_far / sq_all : 0.0, steps_far / transitions,
-                steps_far > 0 ? std::sqrt(sq_far / steps_far) : 0.0);
+    std::printf(
+        "  partner %d: share of its squared motion with the arm >= 12 cm away %.3f (%.4f of steps, rms step then %.4f "
+        "m)\n",
+        b, sq_all > 0 ? sq_far / sq_all : 0.0, steps_far / transitions,
+        steps_far > 0 ? std::sqrt(sq_far / steps_far) : 0.0);
   }
   // the onsets graph.onset_loss_weight weights (the arm's, pushes and collisions left out by
   // the clearances of GnnTrainer), per object; and of those, how many some other object could
@@ -325,13 +347,16 @@ int main(int argc, char** argv) {
     int shown = 0;
     for (const auto& e : episodes)
       for (int t = 1; t < steps; ++t) {
-        auto move = [&](int k, int s) { return std::hypot(l.x(e.state(s + 1), k) - l.x(e.state(s), k), l.y(e.state(s + 1), k) - l.y(e.state(s), k)); };
+        auto move = [&](int k, int s) {
+          return std::hypot(l.x(e.state(s + 1), k) - l.x(e.state(s), k), l.y(e.state(s + 1), k) - l.y(e.state(s), k));
+        };
         for (int j = 1; j < n; ++j) {
           if (!(move(j, t) > cfg.graph.onset_motion_m && move(j, t - 1) <= cfg.graph.onset_motion_m)) continue;
           bool clear = true;
           for (int i = 0; i < n && clear; ++i) {
             if (i == j) continue;
-            const double c = radius[i] + radius[j] + (i == 0 ? cfg.graph.contact_margin_m : cfg.graph.object_contact_margin_m);
+            const double c =
+                radius[i] + radius[j] + (i == 0 ? cfg.graph.contact_margin_m : cfg.graph.object_contact_margin_m);
             clear = dist(e.state(t), i, j) > c && dist(e.state(t + 1), i, j) > c;
           }
           if (!clear) continue;
@@ -339,7 +364,8 @@ int main(int argc, char** argv) {
           bool swept_clear = true;
           for (int i = 0; i < n && swept_clear; ++i) {
             if (i == j) continue;
-            const double c = radius[i] + radius[j] + (i == 0 ? cfg.graph.contact_margin_m : cfg.graph.object_contact_margin_m);
+            const double c =
+                radius[i] + radius[j] + (i == 0 ? cfg.graph.contact_margin_m : cfg.graph.object_contact_margin_m);
             auto P = [&](int k, int s) { return std::array<double, 2>{l.x(e.state(s), k), l.y(e.state(s), k)}; };
             swept_clear = SegmentDistance(P(i, t), P(i, t + 1), P(j, t), P(j, t + 1)) > c;
           }
@@ -353,23 +379,39 @@ int main(int argc, char** argv) {
           }
           unreached[j] += !anyone;
           if (!anyone && j == n - 1 && getenv("SHOW") && shown++ < 25) {
-            double nearest = 1e9, ngap = 0; int who = -1;
-            for (int i = 0; i < n; ++i) if (i != j) for (int s = std::max(0, t - 2); s <= t + 1; ++s) { const double gap = dist(e.state(s), i, j) - radius[i] - radius[j]; if (gap < nearest) nearest = gap, who = i, ngap = s - t; }
-            std::printf("    unreached onset of %d at t=%d: moves %.5f -> %.5f (before: %.5f), nearest gap %.4f by %d at step %+g, travel of %d: %.4f %.4f %.4f\n", j, t, move(j, t - 1), move(j, t), t >= 2 ? move(j, t - 2) : -1.0, nearest, who, ngap, who, t >= 2 ? move(who, t - 2) : -1.0, move(who, t - 1), move(who, t));
+            double nearest = 1e9, ngap = 0;
+            int who = -1;
+            for (int i = 0; i < n; ++i)
+              if (i != j)
+                for (int s = std::max(0, t - 2); s <= t + 1; ++s) {
+                  const double gap = dist(e.state(s), i, j) - radius[i] - radius[j];
+                  if (gap < nearest) nearest = gap, who = i, ngap = s - t;
+                }
+            std::printf(
+                "    unreached onset of %d at t=%d: moves %.5f -> %.5f (before: %.5f), nearest gap %.4f by %d at step "
+                "%+g, travel of %d: %.4f %.4f %.4f\n",
+                j, t, move(j, t - 1), move(j, t), t >= 2 ? move(j, t - 2) : -1.0, nearest, who, ngap, who,
+                t >= 2 ? move(who, t - 2) : -1.0, move(who, t - 1), move(who, t));
             // the arm's segment from t to t+1: closest approach of its centre to j's start
-            const double ax = l.x(e.state(t), 0), ay = l.y(e.state(t), 0), bx = l.x(e.state(t + 1), 0), by = l.y(e.state(t + 1), 0);
+            const double ax = l.x(e.state(t), 0), ay = l.y(e.state(t), 0), bx = l.x(e.state(t + 1), 0),
+                         by = l.y(e.state(t + 1), 0);
             const double px = l.x(e.state(t), j), py = l.y(e.state(t), j);
             const double len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay);
-            const double u = len2 > 0 ? std::clamp(((px - ax) * (bx - ax) + (py - ay) * (by - ay)) / len2, 0.0, 1.0) : 0.0;
-            std::printf("      arm gap at t-1 %.4f t %.4f t+1 %.4f, on the segment %.4f; j at (%.3f, %.3f) -> (%.3f, %.3f)\n",
-                        dist(e.state(t - 1), 0, j) - radius[0] - radius[j], dist(e.state(t), 0, j) - radius[0] - radius[j], dist(e.state(t + 1), 0, j) - radius[0] - radius[j],
-                        std::hypot(ax + u * (bx - ax) - px, ay + u * (by - ay) - py) - radius[0] - radius[j], px, py, l.x(e.state(t + 1), j), l.y(e.state(t + 1), j));
+            const double u =
+                len2 > 0 ? std::clamp(((px - ax) * (bx - ax) + (py - ay) * (by - ay)) / len2, 0.0, 1.0) : 0.0;
+            std::printf(
+                "      arm gap at t-1 %.4f t %.4f t+1 %.4f, on the segment %.4f; j at (%.3f, %.3f) -> (%.3f, %.3f)\n",
+                dist(e.state(t - 1), 0, j) - radius[0] - radius[j], dist(e.state(t), 0, j) - radius[0] - radius[j],
+                dist(e.state(t + 1), 0, j) - radius[0] - radius[j],
+                std::hypot(ax + u * (bx - ax) - px, ay + u * (by - ay) - py) - radius[0] - radius[j], px, py,
+                l.x(e.state(t + 1), j), l.y(e.state(t + 1), j));
           }
         }
       }
     std::printf("weighted onsets per object (fraction of transitions) [reachable within the step by i: count]:\n");
     for (int j = 1; j < n; ++j) {
-      std::printf("  %d: %.5f (%g, %g reachable by nobody, %g with every path of the step apart)", j, weighted[j] / transitions, weighted[j], unreached[j], swept[j]);
+      std::printf("  %d: %.5f (%g, %g reachable by nobody, %g with every path of the step apart)", j,
+                  weighted[j] / transitions, weighted[j], unreached[j], swept[j]);
       for (int i = 0; i < n; ++i)
         if (i != j) std::printf("  %d:%g", i, reachable[i * n + j]);
       std::printf("\n");
@@ -386,10 +428,10 @@ int main(int argc, char** argv) {
   options.state_dir = "/tmp/graph_probe_out_" + std::filesystem::path(env_file).stem().string() + "_" +
                       std::to_string(seed) + "_" + std::to_string(getpid());
   std::filesystem::remove_all(options.state_dir);
-  graph_service::GraphService service(cfg.graph, options, &source, &sink, graph_service::testing::PrintTrainingProgress);
+  graph_service::GraphService service(cfg.graph, options, &source, &sink,
+                                      graph_service::testing::PrintTrainingProgress);
   std::atomic<bool> stop{false};
   const int rc = service.Run(stop);
-  if (!sink.graphs.empty())
-    std::printf("FINAL %s\n", rl::DescribeGraph(sink.graphs[0].graph).c_str());
+  if (!sink.graphs.empty()) std::printf("FINAL %s\n", rl::DescribeGraph(sink.graphs[0].graph).c_str());
   return rc;
 }

@@ -4,11 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 namespace srics::graph_service {
@@ -25,7 +25,7 @@ std::vector<double> RelationalWeights() {
   set(0, 4, 0.4);
   set(2, 3, 0.12);
   set(3, 2, 0.0601);
-  set(0, 1, 0.06);   // exactly the threshold: not kept (strictly greater)
+  set(0, 1, 0.06);  // exactly the threshold: not kept (strictly greater)
   set(4, 1, 0.059);
   return w;
 }
@@ -59,11 +59,13 @@ TEST(AggregateGraphTest, ActionEntityAndThresholdMatter) {
 TEST(ReadOutScoresTest, MeanWeightReadOutCompletesTheRopeBothWays) {
   EdgeStatistics stats;
   stats.num_entities = 5;
+  // clang-format off
   stats.mean_weight = {0,       0.00015, 0.402,   0.332,   0.313,    // arm -> pucks (static puck 1: ~0)
                        0.0,     0,       0.00012, 0.00002, 0.00002,  // static puck 1 -> others
                        0.00076, 0.0,     0,       0.0570,  0.0182,   // puck 2 -> 3 under the threshold
                        0.00033, 0.0,     0.0662,  0,       0.0112,   // puck 3 -> 2 over it
                        0.0,     0.0,     0.0030,  0.0013,  0};
+  // clang-format on
   // no-motion error per entity: puck 1 does not move
   stats.held_out_entity_zero_mse = {1e-3, 1e-9, 2e-4, 2e-4, 1.5e-4};
   config::GraphConfig config;  // defaults: mean_weight read-out, threshold 0.06, reciprocal pairs
@@ -94,11 +96,13 @@ TEST(ReadOutScoresTest, NothingEntersOrLeavesAnEntityThatDoesNotMove) {
   // static puck 1 -> puck 4 at 0.078 (seed 1 through srics learn-graph, 4000 updates)
   EdgeStatistics stats;
   stats.num_entities = 5;
+  // clang-format off
   stats.mean_weight = {0,     0.075, 0.512, 0.514, 0.456,
                        0.000, 0,     0.032, 0.024, 0.078,
                        0.001, 0.001, 0,     0.111, 0.044,
                        0.001, 0.001, 0.111, 0,     0.045,
                        0.000, 0.000, 0.044, 0.045, 0};
+  // clang-format on
   stats.held_out_entity_zero_mse = {2.7e-3, 0, 2.8e-4, 2.3e-4, 1.8e-4};
   config::GraphConfig config;
   for (bool reciprocal : {true, false}) {
@@ -122,23 +126,27 @@ TEST(ReadOutScoresTest, ObjectPairsApartReplaceTheirEveryStepWeights) {
   // contact only (every-step weights over the threshold, apart weights under it)
   EdgeStatistics stats;
   stats.num_entities = 5;
+  // clang-format off
   stats.mean_weight = {0,     0.0,   0.350, 0.345, 0.310,
                        0.0,   0,     0.030, 0.025, 0.040,
                        0.0,   0.0,   0,     0.090, 0.070,
                        0.0,   0.0,   0.090, 0,     0.065,
                        0.0,   0.0,   0.070, 0.065, 0};
+  // clang-format on
+  // clang-format off
   stats.apart_weight = {0.9,  0.9,   0.9,   0.9,   0.9,    // the arm's: ignored
                         0.0,  0,     0.001, 0.001, 0.002,
                         0.0,  0.0,   0,     0.080, 0.020,
                         0.0,  0.0,   0.010, 0,     0.015,
                         0.0,  0.0,   0.020, 0.015, 0};
+  // clang-format on
   stats.held_out_entity_zero_mse = {2.7e-3, 0, 2.8e-4, 2.3e-4, 1.8e-4};
   config::GraphConfig config;
   auto graph = [&] {
     return rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph);
   };
   EXPECT_EQ(graph(), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");  // 3 -> 2 by reciprocity
-  stats.apart_weight.clear();  // the paper's every-step weights: the contacts too
+  stats.apart_weight.clear();                                     // the paper's every-step weights: the contacts too
   EXPECT_EQ(graph(), "action->0, 0->2, 0->3, 0->4, 2->3, 2->4, 3->2, 3->4, 4->2, 4->3");
 }
 
@@ -148,11 +156,14 @@ TEST(ReciprocalObjectScoresTest, ObjectPairsTakeTheLargerDirectionArmAndStaticUn
   const int n = 5;
   std::vector<double> s(n * n, 0.0);
   auto at = [&](std::vector<double>& m, int i, int j) -> double& { return m[i * n + j]; };
-  at(s, 0, 2) = 0.9; at(s, 0, 3) = 1.0; at(s, 0, 4) = 0.95;
-  at(s, 3, 2) = 0.15; at(s, 2, 3) = 0.02;  // the rope, one direction seen
-  at(s, 4, 2) = 0.03;                       // an occasional contact
-  at(s, 1, 2) = 0.2;                        // static puck acting on 2: stays one-way
-  at(s, 2, 0) = 0.3;                        // into the arm: left as it is
+  at(s, 0, 2) = 0.9;
+  at(s, 0, 3) = 1.0;
+  at(s, 0, 4) = 0.95;
+  at(s, 3, 2) = 0.15;
+  at(s, 2, 3) = 0.02;  // the rope, one direction seen
+  at(s, 4, 2) = 0.03;  // an occasional contact
+  at(s, 1, 2) = 0.2;   // static puck acting on 2: stays one-way
+  at(s, 2, 0) = 0.3;   // into the arm: left as it is
   const std::vector<bool> moving = {true, false, true, true, true};
   const std::vector<double> r = ReciprocalObjectScores(s, 0, moving);
   EXPECT_EQ(r[2 * n + 3], 0.15);
@@ -170,14 +181,16 @@ TEST(ReciprocalObjectScoresTest, ObjectPairsTakeTheLargerDirectionArmAndStaticUn
   EXPECT_THROW(ReciprocalObjectScores(std::vector<double>(24, 0.0), 0, moving), std::invalid_argument);
 }
 
-// relational-4-spring seed 1 under the candidate settings (graph_service/README.md, AVX-512
+// relational-4-spring seed 1 under the candidate settings (docs/results/graph-service-history.md, AVX-512
 // EPYC): the spring 2-3 at 0.164, contacts 3-4 at 0.061 and 2-4 at 0.046, threshold 0.06. The
 // contact 3-4 passed the threshold; at half the spring it is cut.
 TEST(CutWeakObjectPairsTest, AContactBelowHalfItsObjectsTieIsCut) {
   const int n = 5;  // 0 arm, 1 static puck, 2-3 spring, 4 free
   std::vector<double> s(n * n, 0.0);
   auto at = [&](std::vector<double>& m, int i, int j) -> double& { return m[i * n + j]; };
-  at(s, 0, 2) = 0.708; at(s, 0, 3) = 0.677; at(s, 0, 4) = 0.625;
+  at(s, 0, 2) = 0.708;
+  at(s, 0, 3) = 0.677;
+  at(s, 0, 4) = 0.625;
   at(s, 2, 3) = at(s, 3, 2) = 0.164;
   at(s, 3, 4) = at(s, 4, 3) = 0.061;
   at(s, 2, 4) = at(s, 4, 2) = 0.046;
@@ -228,12 +241,16 @@ TEST(CutWeakObjectPairsTest, TiesOfDifferentObjectsAndALoneContactStay) {
 TEST(OneWayObjectTiesTest, ReadOutKeepsTheStrongerDirectionOfATiedPair) {
   EdgeStatistics stats;
   stats.num_entities = 5;
+  // clang-format off
   stats.mean_weight = {0,      0.0006, 0.386, 0.410, 0.355,
                        0.0,    0,      0.0001, 0.0001, 0.0001,
                        0.0045, 0.0001, 0,      0.100,  0.027,
                        0.0028, 0.0,    0.087,  0,      0.024,
                        0.0005, 0.0,    0.017,  0.018,  0};
+  // clang-format on
+  // clang-format off
   stats.held_out_entity_zero_mse = {1e-3, 0, 2e-4, 2e-4, 1.5e-4};  // puck 1 never moves
+  // clang-format on
   config::GraphConfig config;
   ASSERT_EQ(config.object_ties, config::ObjectTies::kTwoWay);  // the default: today's graphs
   auto read_out = [&] { return AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0); };
@@ -249,8 +266,8 @@ TEST(OneWayObjectTiesTest, ReadOutKeepsTheStrongerDirectionOfATiedPair) {
   // depth 3, ancestors {arm, 2}); 4 from the arm (depth 2)
   EXPECT_EQ(one_way.structure.depth, (std::vector<int>{1, -1, 2, 3, 2}));
   EXPECT_EQ(one_way.structure.ancestor_mask, (std::vector<uint64_t>{0, 0, 0b00001, 0b00101, 0b00001}));
-  EXPECT_EQ(one_way.edge_scores[2 * 5 + 3], 0.100);  // the pair's score, as two_way gives it
-  EXPECT_EQ(one_way.edge_scores[3 * 5 + 2], 0.0);    // the weaker direction: dropped
+  EXPECT_EQ(one_way.edge_scores[2 * 5 + 3], 0.100);                           // the pair's score, as two_way gives it
+  EXPECT_EQ(one_way.edge_scores[3 * 5 + 2], 0.0);                             // the weaker direction: dropped
   EXPECT_EQ(one_way.edge_scores[0 * 5 + 2], two_way.edge_scores[0 * 5 + 2]);  // the arm's: untouched
 
   // the data the other way round (the ablation's seed 1 on the AVX-512 EPYC: 3 -> 2 at 0.0662,
@@ -433,21 +450,15 @@ TEST(GraphFileTest, RejectsCorruptedFiles) {
   flipped[good.find("0.31")] = '9';
   ExpectRejected(flipped, "checksum mismatch");
   // well-formed and re-signed, but inconsistent
-  ExpectRejected(Resign(Replace(good, "\"format_version\": 2", "\"format_version\": 3")),
-                 "unsupported format version");
-  ExpectRejected(Resign(Replace(good, "\"readout\": \"cut\"", "\"readout\": \"guess\"")),
-                 "unknown readout");
-  ExpectRejected(Resign(Replace(good, "\"num_entities\": 5", "\"num_entities\": 4")),
-                 "differs from num_entities");
-  ExpectRejected(Resign(Replace(good, "[0, 0, 1, 1, 1]", "[0, 1, 1, 1, 1]")),
-                 "adjacency does not match");
+  ExpectRejected(Resign(Replace(good, "\"format_version\": 2", "\"format_version\": 3")), "unsupported format version");
+  ExpectRejected(Resign(Replace(good, "\"readout\": \"cut\"", "\"readout\": \"guess\"")), "unknown readout");
+  ExpectRejected(Resign(Replace(good, "\"num_entities\": 5", "\"num_entities\": 4")), "differs from num_entities");
+  ExpectRejected(Resign(Replace(good, "[0, 0, 1, 1, 1]", "[0, 1, 1, 1, 1]")), "adjacency does not match");
   ExpectRejected(Resign(Replace(good, "0.31", "1.31")), "outside [0, 1]");
-  ExpectRejected(Resign(Replace(good, "\"depths\": [1, -1, 3, 3, 2]",
-                                "\"depths\": [1, -1, 2, 3, 2]")), "depths do not follow");
-  ExpectRejected(Resign(Replace(good, "\"action_entity\": 0", "\"action_entity\": 9")),
-                 "action_entity out of range");
-  ExpectRejected(Resign(Replace(good, "srics-interaction-graph", "something-else")),
-                 "format");
+  ExpectRejected(Resign(Replace(good, "\"depths\": [1, -1, 3, 3, 2]", "\"depths\": [1, -1, 2, 3, 2]")),
+                 "depths do not follow");
+  ExpectRejected(Resign(Replace(good, "\"action_entity\": 0", "\"action_entity\": 9")), "action_entity out of range");
+  ExpectRejected(Resign(Replace(good, "srics-interaction-graph", "something-else")), "format");
   ExpectRejected("", "checksum");
   EXPECT_THROW(LoadGraph("/nonexistent/graph.json"), std::runtime_error);
 }

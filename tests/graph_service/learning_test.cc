@@ -27,8 +27,7 @@ namespace {
 class EnvSource : public EpisodeSource {
  public:
   EnvSource(const config::EnvConfig& env, int episodes, int steps, uint64_t seed)
-      : env_(env::MakeRearrangeEnv(env)), left_(episodes), steps_(steps), seed_(seed),
-        rng_(seed) {}
+      : env_(env::MakeRearrangeEnv(env)), left_(episodes), steps_(steps), seed_(seed), rng_(seed) {}
   bool Poll(std::chrono::milliseconds, std::vector<rl::Episode>* out) override {
     for (int i = 0; i < 50 && left_ > 0; ++i) {
       auto episode = actor::RunExploreEpisode(*env_, steps_, seed_ * 1000003 + next_++, rng_);

@@ -1,7 +1,6 @@
+#pragma once
 // The graph service's training progress on stdout, for the development tools (toy_learn,
 // graph_probe).
-#ifndef SRICS_TESTS_GRAPH_SERVICE_PROGRESS_PRINTER_H_
-#define SRICS_TESTS_GRAPH_SERVICE_PROGRESS_PRINTER_H_
 
 #include <cmath>
 #include <cstdio>
@@ -15,8 +14,7 @@ namespace srics::graph_service::testing {
 inline void PrintTrainingProgress(const Progress& p) {
   if (p.phase != Progress::Phase::kTraining) return;
   std::printf("%7.1fs upd %6lld train %.3g held %.3g (zero %.3g)  %s\n   ", p.elapsed_seconds,
-              static_cast<long long>(p.updates), p.train_loss, p.held_out_loss,
-              p.held_out_zero_loss, p.graph.c_str());
+              static_cast<long long>(p.updates), p.train_loss, p.held_out_loss, p.held_out_zero_loss, p.graph.c_str());
   const int n = static_cast<int>(std::sqrt(p.edge_scores.size()) + 0.5);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) std::printf(" %.3f", p.edge_scores[i * n + j]);
@@ -29,5 +27,3 @@ inline void PrintTrainingProgress(const Progress& p) {
 }
 
 }  // namespace srics::graph_service::testing
-
-#endif  // SRICS_TESTS_GRAPH_SERVICE_PROGRESS_PRINTER_H_

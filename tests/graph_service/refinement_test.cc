@@ -100,8 +100,10 @@ TEST(GraphRefinementTest, TrainingEpisodesBringInTheRopeRandomActionsMissed) {
     // the saved graph is the new version: a restart re-publishes it
     EXPECT_EQ(LoadGraph(dir + "/graph.json").version, 2u);
     EXPECT_GE(service.progress().refine_episodes, 180) << "not before the ring of training episodes is full";
-    if (rl::DescribeGraph(v2.graph) == rope) ++found;
-    else ADD_FAILURE() << "seed " << seed << " published " << rl::DescribeGraph(v2.graph);
+    if (rl::DescribeGraph(v2.graph) == rope)
+      ++found;
+    else
+      ADD_FAILURE() << "seed " << seed << " published " << rl::DescribeGraph(v2.graph);
   }
   EXPECT_GE(found, 2) << "seeds 1-4 whose refinement found exactly the rope";
 }

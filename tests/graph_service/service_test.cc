@@ -65,8 +65,8 @@ TEST(GraphServiceTest, TrainsPublishesSavesAndRepublishesAfterRestart) {
   ListSource source(episodes);
   RecordingSink sink;
   std::vector<Progress> seen;
-  GraphService service(TinyConfig(), {.state_dir = dir, .seed = 3, .render_pictures = false},
-                       &source, &sink, [&](const Progress& p) { seen.push_back(p); });
+  GraphService service(TinyConfig(), {.state_dir = dir, .seed = 3, .render_pictures = false}, &source, &sink,
+                       [&](const Progress& p) { seen.push_back(p); });
   std::atomic<bool> stop{false};
   ASSERT_EQ(service.Run(stop), 0);
   ASSERT_EQ(sink.graphs.size(), 1u);
@@ -126,8 +126,7 @@ TEST(GraphServiceTest, CorruptedSavedGraphIsSetAsideAndLearnedAgain) {
   }
   ToySource source({.num_pucks = 2, .steps = 10}, 20, 7);
   RecordingSink sink;
-  GraphService service(TinyConfig(), {.state_dir = dir, .seed = 1, .render_pictures = false},
-                       &source, &sink, {});
+  GraphService service(TinyConfig(), {.state_dir = dir, .seed = 1, .render_pictures = false}, &source, &sink, {});
   std::atomic<bool> stop{false};
   ASSERT_EQ(service.Run(stop), 0);
   EXPECT_EQ(sink.graphs.size(), 1u);
@@ -394,7 +393,8 @@ TEST(GraphServiceTest, RefinementKeepsItsStateAcrossARestartAndRefusesWhatDoesNo
     for (int i = 0; i < 50; ++i) service.Step();  // the updates owed to the last episodes
     EXPECT_EQ(service.progress().refine_episodes, 30);
     EXPECT_EQ(service.progress().dropped, 1);
-    EXPECT_NE(service.progress().last_drop_reason.find("steps"), std::string::npos) << service.progress().last_drop_reason;
+    EXPECT_NE(service.progress().last_drop_reason.find("steps"), std::string::npos)
+        << service.progress().last_drop_reason;
     EXPECT_EQ(service.progress().updates, 30 + 30 * 3) << "refine_updates_per_episode per training episode";
     taken = service.progress().refine_episodes;
   }  // killed; its state was saved at the last evaluation (update 120)

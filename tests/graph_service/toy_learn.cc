@@ -2,9 +2,9 @@
 //   toy_learn PRESET SEED MAX_UPDATES [EPISODES]   PRESET: small | rearrange3 | relational4
 #include <atomic>
 #include <cmath>
-#include <filesystem>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include "tests/graph_service/progress_printer.h"
@@ -16,9 +16,16 @@ int main(int argc, char** argv) {
   const std::string preset = argc > 1 ? argv[1] : "small";
   const uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
   graph_service::testing::ToyWorldConfig world;
-  if (preset == "small") { world.num_pucks = 2; world.static_pucks = {2}; }
+  if (preset == "small") {
+    world.num_pucks = 2;
+    world.static_pucks = {2};
+  }
   if (preset == "rearrange3") world.num_pucks = 3;
-  if (preset == "relational4") { world.num_pucks = 4; world.static_pucks = {1}; world.ropes = {{2, 3}}; }
+  if (preset == "relational4") {
+    world.num_pucks = 4;
+    world.static_pucks = {1};
+    world.ropes = {{2, 3}};
+  }
   config::GraphConfig cfg;
   cfg.max_updates = argc > 3 ? std::atoi(argv[3]) : 3000;
   cfg.episodes = argc > 4 ? std::atoi(argv[4]) : 1000;

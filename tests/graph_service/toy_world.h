@@ -1,9 +1,8 @@
+#pragma once
 // A tiny hand-written 2-D physics for the graph service's tests (no MuJoCo): an arm moved by
 // the action, pucks pushed out of the arm's way, static pucks that never move, and ropes
 // that keep two pucks within a length. Its true interaction graph is known, so learning can
 // be checked against it quickly.
-#ifndef SRICS_TESTS_GRAPH_SERVICE_TOY_WORLD_H_
-#define SRICS_TESTS_GRAPH_SERVICE_TOY_WORLD_H_
 
 #include <algorithm>
 #include <array>
@@ -21,8 +20,8 @@ namespace srics::graph_service::testing {
 
 struct ToyWorldConfig {
   int num_pucks = 2;
-  std::vector<int> static_pucks;                 // entity numbers (1..n) that never move
-  std::vector<std::pair<int, int>> ropes;        // pairs kept within rope_length
+  std::vector<int> static_pucks;           // entity numbers (1..n) that never move
+  std::vector<std::pair<int, int>> ropes;  // pairs kept within rope_length
   double rope_length = 0.13;
   double puck_radius = 0.04;
   double arm_radius = 0.03;
@@ -67,7 +66,8 @@ class ToyWorld {
     Record(&ep);
     for (int t = 0; t < c_.steps; ++t) {
       const double sign = t < push_steps ? 1.0 : -1.0;
-      const double ax = std::clamp(sign * ux + noise(rng), -1.0, 1.0), ay = std::clamp(sign * uy + noise(rng), -1.0, 1.0);
+      const double ax = std::clamp(sign * ux + noise(rng), -1.0, 1.0),
+                   ay = std::clamp(sign * uy + noise(rng), -1.0, 1.0);
       ep.actions.push_back(static_cast<float>(ax));
       ep.actions.push_back(static_cast<float>(ay));
       Step(ax, ay);
@@ -91,8 +91,7 @@ class ToyWorld {
         bool ok = Dist(pos_[i], pos_[0]) >= 0.06 + c_.puck_radius;
         for (int j = 1; j < i; ++j) ok = ok && Dist(pos_[i], pos_[j]) >= 0.10;
         for (auto [a, b] : c_.ropes)
-          if ((a == i && b < i) || (b == i && a < i))
-            ok = ok && Dist(pos_[a], pos_[b]) <= c_.rope_length;
+          if ((a == i && b < i) || (b == i && a < i)) ok = ok && Dist(pos_[a], pos_[b]) <= c_.rope_length;
         if (ok) break;
       }
     }
@@ -134,7 +133,11 @@ class ToyWorld {
     double dx = pos_[b][0] - pos_[a][0], dy = pos_[b][1] - pos_[a][1];
     double d = std::hypot(dx, dy);
     if (d >= gap) return;
-    if (d < 1e-9) { dx = 1; dy = 0; d = 1; }
+    if (d < 1e-9) {
+      dx = 1;
+      dy = 0;
+      d = 1;
+    }
     const double push = gap - d;
     const bool b_moves = !IsStatic(b);
     if (!b_moves && !a_moves) return;
@@ -162,16 +165,20 @@ class ToyWorld {
       // pucks push each other, static ones do not give way
       for (int i = 1; i < n; ++i)
         for (int j = i + 1; j < n; ++j)
-          if (!IsStatic(i)) Separate(i, j, 2 * c_.puck_radius, true);
-          else Separate(i, j, 2 * c_.puck_radius, false);
+          if (!IsStatic(i))
+            Separate(i, j, 2 * c_.puck_radius, true);
+          else
+            Separate(i, j, 2 * c_.puck_radius, false);
       // ropes pull the pair together when stretched
       for (auto [a, b] : c_.ropes) {
         const double dx = pos_[b][0] - pos_[a][0], dy = pos_[b][1] - pos_[a][1];
         const double d = std::hypot(dx, dy);
         if (d <= c_.rope_length) continue;
         const double pull = (d - c_.rope_length) / 2;
-        pos_[a][0] += dx / d * pull; pos_[a][1] += dy / d * pull;
-        pos_[b][0] -= dx / d * pull; pos_[b][1] -= dy / d * pull;
+        pos_[a][0] += dx / d * pull;
+        pos_[a][1] += dy / d * pull;
+        pos_[b][0] -= dx / d * pull;
+        pos_[b][1] -= dy / d * pull;
       }
       for (int i = 1; i < n; ++i) {
         pos_[i][0] = std::clamp(pos_[i][0], -0.24, 0.24);
@@ -247,5 +254,3 @@ class RecordingSink : public GraphSink {
 };
 
 }  // namespace srics::graph_service::testing
-
-#endif  // SRICS_TESTS_GRAPH_SERVICE_TOY_WORLD_H_

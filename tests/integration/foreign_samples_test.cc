@@ -8,9 +8,9 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <cmath>
 #include <limits>
 #include <map>
 #include <optional>
@@ -39,8 +39,8 @@ namespace {
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 using transport::Participant;
-using transport::WriteResult;
 using transport::Writer;
+using transport::WriteResult;
 using transport::WriterOptions;
 
 // Calls poll() until it returns true or `timeout` passes.
@@ -141,14 +141,16 @@ TEST_F(ForeignSamplesTest, CompleteGraphOf16EntitiesIsRefusedAtOnceAndTheRunsGra
   double slowest_poll = 0;
   ASSERT_TRUE(Eventually([&] {
     slowest_poll = std::max(slowest_poll, SecondsOf([&] {
-      if (auto g = learner.PollGraph()) ADD_FAILURE() << "the learner took graph v" << g->version;
-      if (auto g = actor.PollGraph()) ADD_FAILURE() << "the actor took graph v" << g->version;
-      if (!any_graph) any_graph = any.PollNewest();
-    }));
+                              if (auto g = learner.PollGraph())
+                                ADD_FAILURE() << "the learner took graph v" << g->version;
+                              if (auto g = actor.PollGraph()) ADD_FAILURE() << "the actor took graph v" << g->version;
+                              if (!any_graph) any_graph = any.PollNewest();
+                            }));
     return Rejections(learner_side, "graph.entities") == 1 && Rejections(actor_side, "graph.entities") == 1 &&
            any_graph.has_value();
-  })) << "learner " << Rejections(learner_side, "graph.entities") << ", actor "
-      << Rejections(actor_side, "graph.entities") << ", any " << any_graph.has_value();
+  })) << "learner "
+      << Rejections(learner_side, "graph.entities") << ", actor " << Rejections(actor_side, "graph.entities")
+      << ", any " << any_graph.has_value();
   EXPECT_LT(slowest_poll, 1.0);
   EXPECT_EQ(any_graph->structure.depth[5], 16);
 
@@ -276,8 +278,12 @@ TEST_F(ForeignSamplesTest, ForeignLearnerStatsDoNotEndTheActor) {
   ASSERT_TRUE(raw.WaitForReaders(1, 10s));
   ASSERT_TRUE(other.WaitForReaders(1, 10s));
   const uint64_t budget = config_.run.total_env_steps;
-  const rl::LearnerReport done{.updates = 4000, .transitions_inserted = budget, .training_env_steps = budget,
-                               .budget_env_steps = budget, .replay_size = budget, .policy_version = 40};
+  const rl::LearnerReport done{.updates = 4000,
+                               .transitions_inserted = budget,
+                               .training_env_steps = budget,
+                               .budget_env_steps = budget,
+                               .replay_size = budget,
+                               .policy_version = 40};
 
   auto step_until = [&](auto condition) {
     return Eventually([&] {
@@ -371,7 +377,8 @@ TEST_F(ForeignSamplesTest, GraphServiceLayoutIsTheRunsNotTheFirstEpisodes) {
   ASSERT_TRUE(Eventually([&] {
     service.Step(20ms);
     return service.progress().episodes == config_.graph.episodes;
-  })) << service.progress().episodes << " episodes, last drop: " << service.progress().last_drop_reason;
+  })) << service.progress().episodes
+      << " episodes, last drop: " << service.progress().last_drop_reason;
   EXPECT_EQ(service.progress().dropped, 1);
 }
 
@@ -403,12 +410,15 @@ TEST_F(ForeignSamplesTest, ALateJoinerGetsTheRunsGraphAndWeightsBesideAStrangers
     std::this_thread::sleep_for(300ms);  // both writers' historical samples are in the reader
     std::optional<rl::GraphUpdate> graph;
     std::optional<rl::WeightsUpdate> weights;
-    EXPECT_TRUE(Eventually([&] {
-      if (!graph) graph = actor.PollGraph();
-      if (!weights) weights = actor.PollWeights(0);
-      return graph && weights;
-    }, 5s)) << "joiner " << joiner << ": graph " << graph.has_value() << ", weights " << weights.has_value()
-            << ", graphs refused " << Rejections(actor_side, "graph.entities");
+    EXPECT_TRUE(Eventually(
+        [&] {
+          if (!graph) graph = actor.PollGraph();
+          if (!weights) weights = actor.PollWeights(0);
+          return graph && weights;
+        },
+        5s))
+        << "joiner " << joiner << ": graph " << graph.has_value() << ", weights " << weights.has_value()
+        << ", graphs refused " << Rejections(actor_side, "graph.entities");
     if (graph) EXPECT_EQ(graph->version, 1u);
     if (weights) EXPECT_EQ(weights->version, 1u);
   }
@@ -443,14 +453,18 @@ TEST_F(ForeignSamplesTest, LaunchersMonitorRefusesStatsAndGraphsThatCannotBeTheR
     ASSERT_TRUE(Eventually([&] {
       monitor.Poll(20ms);
       return Rejections(monitor_side, "stats.implausible") == 1 && Rejections(monitor_side, "graph.entities") == 1;
-    })) << "stats " << Rejections(monitor_side, "stats.implausible") << ", graphs "
-        << Rejections(monitor_side, "graph.entities");
+    })) << "stats "
+        << Rejections(monitor_side, "stats.implausible") << ", graphs " << Rejections(monitor_side, "graph.entities");
     const auto& runs = monitor.state().runs;
     auto run = runs.find(config_.transport.run_id);
     EXPECT_TRUE(run == runs.end() || (!run->second.learner && !run->second.graph));
 
-    const rl::LearnerReport real{.updates = 10, .transitions_inserted = 200, .training_env_steps = 200,
-                                 .budget_env_steps = budget, .replay_size = 200, .policy_version = 2};
+    const rl::LearnerReport real{.updates = 10,
+                                 .transitions_inserted = 200,
+                                 .training_env_steps = 200,
+                                 .budget_env_steps = budget,
+                                 .replay_size = 200,
+                                 .policy_version = 2};
     learner.PublishStats(real);
     sink.Publish(GroundTruth(config_, 1));
     ASSERT_TRUE(Eventually([&] {
@@ -480,7 +494,9 @@ TEST_F(ForeignSamplesTest, MonitorShowsForeignStringsWithoutControlCharacters) {
   status.role = "actor\x1b[31m";
   status.node_id = 3;
   status.host = "lab\r\nhost";
-  status.detail = "\x1b]0;owned\x07\x1b[2J\xc2\x9b" "2J done";
+  status.detail =
+      "\x1b]0;owned\x07\x1b[2J\xc2\x9b"
+      "2J done";
   status.state = transport::NodeState::kTraining;
   ASSERT_EQ(raw.Write(status), WriteResult::kSent);
   ASSERT_TRUE(Eventually([&] {

@@ -20,8 +20,8 @@
 #include <gtest/gtest.h>
 
 #include "common/config/config.h"
-#include "deploy/launcher/child_process.h"
 #include "common/transport/transport.h"
+#include "deploy/launcher/child_process.h"
 
 namespace srics::testing {
 
@@ -77,9 +77,12 @@ class System {
   // Starts a role process ("graph", "learner", "actor-K").
   void Start(const std::string& name) {
     std::vector<std::string> argv;
-    if (name == "graph") argv = {BinaryDir() + "/graph_service/srics-graph"};
-    else if (name == "learner") argv = {BinaryDir() + "/learner/srics-learner"};
-    else argv = {BinaryDir() + "/actor/srics-actor", "--id", name.substr(6)};
+    if (name == "graph")
+      argv = {BinaryDir() + "/graph_service/srics-graph"};
+    else if (name == "learner")
+      argv = {BinaryDir() + "/learner/srics-learner"};
+    else
+      argv = {BinaryDir() + "/actor/srics-actor", "--id", name.substr(6)};
     argv.push_back(config_path_);
     for (const auto& o : overrides_) {
       argv.push_back("--set");
@@ -134,7 +137,8 @@ class System {
     for (const char* name : names) {
       std::optional<launcher::ExitStatus> status;
       ASSERT_TRUE(WaitUntil([&] { return (status = child(name).Poll()).has_value(); }, timeout))
-          << name << " did not finish\n" << Output(name);
+          << name << " did not finish\n"
+          << Output(name);
       EXPECT_TRUE(status->success()) << name << ": " << status->Describe() << "\n" << Output(name);
     }
   }

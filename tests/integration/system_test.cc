@@ -24,7 +24,8 @@ TEST(SystemTest, GraphServiceLearnerAndTwoActorsLearnAndFinish) {
   ASSERT_TRUE(system.WaitUntil([&] { return system.graph.has_value(); }, 120s)) << system.Output("graph");
   EXPECT_GE(system.graph->version, 1u);
   EXPECT_TRUE(std::filesystem::exists(system.run_dir() + "/graph.json"));
-  ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 0; }, 60s)) << system.Output("learner");
+  ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 0; }, 60s))
+      << system.Output("learner");
   // an actor process stays small: MuJoCo, one policy network, one episode at a time
   for (const char* actor : {"actor-0", "actor-1"}) {
     const double mb = system.ResidentMb(actor);
@@ -51,13 +52,15 @@ TEST(SystemTest, GraphServiceLearnerAndTwoActorsLearnAndFinish) {
 TEST(SystemTest, KilledActorLeavesNoPartialEpisodeAndResumesWithLatestWeightsAndGraph) {
   System system("kill-actor", {"run.total_env_steps=1000000"});
   system.StartAll(2);
-  ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 50; }, 180s)) << system.Output("learner");
+  ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 50; }, 180s))
+      << system.Output("learner");
   // mid-episode: an actor spends nearly all its time inside episodes
   system.child("actor-1").Signal(SIGKILL);
   system.child("actor-1").WaitFor(5s);
   const uint64_t updates_at_kill = system.stats->updates;
   ASSERT_TRUE(system.WaitUntil([&] { return system.stats->updates > updates_at_kill + 20; }, 30s))
-      << "the learner stopped training after an actor died\n" << system.Output("learner");
+      << "the learner stopped training after an actor died\n"
+      << system.Output("learner");
   EXPECT_TRUE(system.child("learner").running());
   // restart: within 2 s it reports the latest weights and the graph
   const uint64_t graph_version = system.graph->version;
@@ -81,14 +84,17 @@ TEST(SystemTest, KilledActorLeavesNoPartialEpisodeAndResumesWithLatestWeightsAnd
 TEST(SystemTest, LearnerRestartsFromItsCheckpointAndVersionsKeepIncreasing) {
   System system("kill-learner", {"run.total_env_steps=1000000", "learner.checkpoint_every_updates=100"});
   system.StartAll(2);
-  ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 250; }, 180s)) << system.Output("learner");
+  ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 250; }, 180s))
+      << system.Output("learner");
   system.child("learner").Signal(SIGKILL);
   system.child("learner").WaitFor(5s);
   const uint64_t updates_before = system.stats->updates;
   const uint64_t weights_before = system.latest_weights;
   system.Start("learner");
-  ASSERT_TRUE(system.WaitUntil([&] { return system.latest_weights > weights_before + 2; }, 60s)) << system.Output("learner");
-  ASSERT_TRUE(system.WaitUntil([&] { return system.stats->updates > updates_before; }, 120s)) << system.Output("learner");
+  ASSERT_TRUE(system.WaitUntil([&] { return system.latest_weights > weights_before + 2; }, 60s))
+      << system.Output("learner");
+  ASSERT_TRUE(system.WaitUntil([&] { return system.stats->updates > updates_before; }, 120s))
+      << system.Output("learner");
   EXPECT_TRUE(Increasing(system.weight_versions)) << "weight versions went backwards after the restart";
   // it resumed (at least the last checkpoint's updates) rather than starting from zero
   EXPECT_NE(system.Output("learner").find("resumed from"), std::string::npos);
@@ -121,7 +127,8 @@ TEST(SystemTest, RestartedGraphServiceRepublishesTheSavedGraphWithoutRetraining)
 TEST(SystemTest, LateActorGetsGraphAndWeightsWithinTwoSeconds) {
   System system("late-actor", {"run.total_env_steps=1000000"});
   system.StartAll(1);
-  ASSERT_TRUE(system.WaitUntil([&] { return system.graph && system.latest_weights > 1; }, 180s)) << system.Output("learner");
+  ASSERT_TRUE(system.WaitUntil([&] { return system.graph && system.latest_weights > 1; }, 180s))
+      << system.Output("learner");
   system.Start("actor-5");
   const auto started = std::chrono::steady_clock::now();
   ASSERT_TRUE(system.WaitUntil(
@@ -138,7 +145,8 @@ TEST(SystemTest, LateActorGetsGraphAndWeightsWithinTwoSeconds) {
 TEST(SystemTest, MalformedEpisodesFromAForeignParticipantAreDroppedAndCounted) {
   System system("foreign", {"run.total_env_steps=1000000"});
   system.StartAll(1);
-  ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 20; }, 180s)) << system.Output("learner");
+  ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 20; }, 180s))
+      << system.Output("learner");
   // a participant of our own, writing what the contract forbids (validation switched off)
   tr::WriterOptions raw;
   raw.validate = false;

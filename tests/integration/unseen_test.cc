@@ -14,12 +14,24 @@ namespace {
 
 // The system test's small settings (tests/integration/system-test.yaml) on the preset.
 std::vector<std::string> ShortRun() {
-  return {"run.name=unseen-test", "run.seed=3", "run.total_env_steps=3000", "transport.status_period_s=0.5",
-          "graph.episodes=60", "graph.batch_windows=20", "graph.warmup_updates=100",
-          "graph.kl_ramp_updates=100", "graph.min_updates=200", "graph.max_updates=400",
-          "graph.eval_every_updates=100", "graph.stable_evaluations=2", "learner.warmup_steps=500",
-          "learner.publish_every_updates=20", "learner.checkpoint_every_updates=200",
-          "agent.sac.batch_size=64", "actors.count=2", "actors.eval_every_env_steps=1500",
+  return {"run.name=unseen-test",
+          "run.seed=3",
+          "run.total_env_steps=3000",
+          "transport.status_period_s=0.5",
+          "graph.episodes=60",
+          "graph.batch_windows=20",
+          "graph.warmup_updates=100",
+          "graph.kl_ramp_updates=100",
+          "graph.min_updates=200",
+          "graph.max_updates=400",
+          "graph.eval_every_updates=100",
+          "graph.stable_evaluations=2",
+          "learner.warmup_steps=500",
+          "learner.publish_every_updates=20",
+          "learner.checkpoint_every_updates=200",
+          "agent.sac.batch_size=64",
+          "actors.count=2",
+          "actors.eval_every_env_steps=1500",
           "actors.eval_episodes=3"};
 }
 

@@ -7,9 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "common/links/in_memory_bus.h"
 #include "common/rl/agent_shape.h"
 #include "learner/acting_policy.h"
-#include "common/links/in_memory_bus.h"
 #include "learner/learner.h"
 #include "learner/learner_loop.h"
 #include "tests/learner/learner_testing.h"
@@ -379,7 +379,8 @@ TEST(ActingPolicyTest, LoadsBothLevelsOfAHacCheckpointAndRefusesOthers) {
   for (int i = 0; i < 2; ++i) learner.Update();
   learner.SaveCheckpoint(path);
   nn::Rng rng(7);
-  rl::PolicyNetwork<float> low("policy", rl::MakeNetworkConfig(rl::AgentShapeFor(run.env, run.run.method), run.agent), rng);
+  rl::PolicyNetwork<float> low("policy", rl::MakeNetworkConfig(rl::AgentShapeFor(run.env, run.run.method), run.agent),
+                               rng);
   rl::PolicyNetwork<float> high("policy", rl::MakeNetworkConfig(rl::HighLevelShapeFor(run.env), run.agent), rng);
   ASSERT_NE(nn::Flatten(low.Parameters()), learner.agent().PolicyWeights());
   const LearnerCounters counters = LoadActingPolicies(path, low, &high);
@@ -391,7 +392,8 @@ TEST(ActingPolicyTest, LoadsBothLevelsOfAHacCheckpointAndRefusesOthers) {
   // another architecture (a table with more pucks): refused, naming the file
   config::Config bigger = run;
   bigger.env.num_pucks = 3;
-  rl::PolicyNetwork<float> other("policy", rl::MakeNetworkConfig(rl::AgentShapeFor(bigger.env, run.run.method), run.agent), rng);
+  rl::PolicyNetwork<float> other("policy",
+                                 rl::MakeNetworkConfig(rl::AgentShapeFor(bigger.env, run.run.method), run.agent), rng);
   try {
     LoadActingPolicies(path, other, nullptr);
     ADD_FAILURE() << "loaded into another architecture";

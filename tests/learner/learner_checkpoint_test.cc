@@ -135,8 +135,10 @@ TEST_F(LearnerCheckpointTest, ACorruptNewestIsSetAsideAndThePreviousOneLoaded) {
   EXPECT_TRUE(fs::exists(path_ + ".corrupt"));
   EXPECT_FALSE(fs::exists(path_));
   const std::string log = Log();
-  EXPECT_NE(log.find("checkpoint " + path_ + " is corrupt (checkpoint " + path_ + ": checksum mismatch (corrupted)): "
-                     "set aside as " + path_ + ".corrupt"),
+  EXPECT_NE(log.find("checkpoint " + path_ + " is corrupt (checkpoint " + path_ +
+                     ": checksum mismatch (corrupted)): "
+                     "set aside as " +
+                     path_ + ".corrupt"),
             std::string::npos)
       << log;
   EXPECT_NE(log.find("resumed from " + path_ + ".1 (an older checkpoint"), std::string::npos) << log;

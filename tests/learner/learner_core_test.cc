@@ -221,8 +221,8 @@ TEST(LearnerCoreTest, ACheckpointsBuffersDoNotStayResident) {
       for (int u = 0; u < 3 && learner.CanUpdate(); ++u) learner.Update();
       most = std::max(most, testing::MemoryInUseKb());
     }
-    EXPECT_LT(most - before, file_kb / 4) << "resident " << before << " kB before, up to " << most
-                                           << " kB after checkpoints of " << file_kb << " kB";
+    EXPECT_LT(most - before, file_kb / 4)
+        << "resident " << before << " kB before, up to " << most << " kB after checkpoints of " << file_kb << " kB";
   }).join();
 }
 

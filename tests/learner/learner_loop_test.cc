@@ -17,7 +17,10 @@ namespace {
 
 class StatsObserver : public links::BusObserver {
  public:
-  void OnLearnerStats(const rl::LearnerReport& report) override { last = report; ++reports; }
+  void OnLearnerStats(const rl::LearnerReport& report) override {
+    last = report;
+    ++reports;
+  }
   rl::LearnerReport last;
   int reports = 0;
 };

@@ -16,8 +16,8 @@
 
 namespace srics::learner::testing {
 
-inline rl::Episode MakeEpisode(int num_entities, int num_steps, uint64_t seed,
-                               int subgoal_entity = 1, int num_kinds = 0) {
+inline rl::Episode MakeEpisode(int num_entities, int num_steps, uint64_t seed, int subgoal_entity = 1,
+                               int num_kinds = 0) {
   rl::Episode e;
   e.layout = {num_entities, num_kinds ? num_kinds : num_entities, false};
   e.num_steps = num_steps;

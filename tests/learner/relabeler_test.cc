@@ -65,9 +65,9 @@ TEST_F(RelabelerTest, RewardsAreRecomputedForTheRelabeledGoal) {
       EXPECT_GE(goal_xy[1], 0.45f);
       EXPECT_LE(goal_xy[1], 0.7f);
     }
-    const double expected = rl::SelectivityReward(
-        layout, &batch.entities[b * 4 * batch.entity_dim],
-        &batch.next_entities[b * 4 * batch.entity_dim], 2, goal_xy, 0b1, reward_);
+    const double expected =
+        rl::SelectivityReward(layout, &batch.entities[b * 4 * batch.entity_dim],
+                              &batch.next_entities[b * 4 * batch.entity_dim], 2, goal_xy, 0b1, reward_);
     EXPECT_NEAR(batch.reward[b], expected, 1e-6);
     ++checked;
   }
@@ -87,15 +87,15 @@ TEST_F(RelabelerTest, FutureGoalsComeFromTheSameEntityLaterInTheEpisode) {
     // find the transition's time step from its state, then the goal among later states
     int t = -1;
     for (int s = 0; s < e.num_steps && t < 0; ++s)
-      if (std::equal(e.state(s), e.state(s) + e.layout.state_size(), &batch.entities[b * 4 * batch.entity_dim]))
-        t = s;
+      if (std::equal(e.state(s), e.state(s) + e.layout.state_size(), &batch.entities[b * 4 * batch.entity_dim])) t = s;
     ASSERT_GE(t, 0);
     bool found = false;
     for (int f = t + 1; f <= e.num_steps; ++f)
       found |= e.layout.x(e.state(f), 1) == gx && e.layout.y(e.state(f), 1) == gy;
     EXPECT_TRUE(found) << "sample " << b;
     // SMORL: the reward is the plain distance
-    EXPECT_NEAR(batch.reward[b], -std::hypot(e.layout.x(e.state(t + 1), 1) - gx, e.layout.y(e.state(t + 1), 1) - gy), 1e-6);
+    EXPECT_NEAR(batch.reward[b], -std::hypot(e.layout.x(e.state(t + 1), 1) - gx, e.layout.y(e.state(t + 1), 1) - gy),
+                1e-6);
   }
 }
 
@@ -185,8 +185,7 @@ TEST_F(RelabelerTest, FullGoalForSacHer) {
   const rl::EntityLayout layout{4, 4, false};
   for (int b = 0; b < batch.size; ++b)
     EXPECT_NEAR(batch.reward[b],
-                rl::FullGoalReward(layout, &batch.next_entities[b * 4 * batch.entity_dim], &batch.goal[b * 8]),
-                1e-6);
+                rl::FullGoalReward(layout, &batch.next_entities[b * 4 * batch.entity_dim], &batch.goal[b * 8]), 1e-6);
 }
 
 TEST_F(RelabelerTest, MixedEntityCountsArePaddedAndMasked) {

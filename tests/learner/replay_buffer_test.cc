@@ -120,7 +120,8 @@ TEST(ReplayBufferTest, RestoreRefusesTruncatedOrForeignPayloadsAndChangesNothing
     ASSERT_EQ(target.episodes(), 1u);
     EXPECT_EQ(target.contents().front().episode_id, 77u);
   };
-  for (size_t keep : {size_t{0}, size_t{10}, bytes.size() / 2, bytes.size() - 1}) expect_error(bytes.substr(0, keep), {}, "truncated");
+  for (size_t keep : {size_t{0}, size_t{10}, bytes.size() / 2, bytes.size() - 1})
+    expect_error(bytes.substr(0, keep), {}, "truncated");
   expect_error(bytes + "xyz", {}, "3 bytes after the replay");
   // a replay of another environment (4 entities expected)
   rl::EpisodeLimits four;

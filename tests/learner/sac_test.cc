@@ -63,8 +63,7 @@ UpdateStats TrainOnAConstantReward(std::optional<std::pair<float, float>> bound)
   if (bound) agent.BoundTargets(bound->first, bound->second);
   std::mt19937_64 rng(2);
   UpdateStats stats;
-  for (int i = 0; i < 1500; ++i)
-    stats = agent.Update(RandomBatch(rng, 64, [](const float*) { return -1.0; }));
+  for (int i = 0; i < 1500; ++i) stats = agent.Update(RandomBatch(rng, 64, [](const float*) { return -1.0; }));
   return stats;
 }
 
@@ -93,7 +92,8 @@ TEST(SacTest, NonFiniteBatchChangesNoNetwork) {
     SCOPED_TRACE(std::to_string(threads) + " threads");
     SacAgent agent(kShape, SmallConfig(), 1, threads);
     std::mt19937_64 rng(3);
-    for (int i = 0; i < 5; ++i) EXPECT_FALSE(agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; })).non_finite);
+    for (int i = 0; i < 5; ++i)
+      EXPECT_FALSE(agent.Update(RandomBatch(rng, 64, [](const float*) { return 0.5; })).non_finite);
     const std::vector<float> policy_before = agent.PolicyWeights();
     const std::vector<float> q1_before = nn::Flatten(agent.q1().Parameters());
     const double alpha_before = agent.alpha();
@@ -141,9 +141,7 @@ TEST(SacTest, PolicyMovesToTheBestActionOfTheCritic) {
   c.sac.discount = 0.0;
   SacAgent agent(kShape, c, 3, 1);
   std::mt19937_64 rng(4);
-  auto reward = [](const float* a) {
-    return -4.0 * ((a[0] - 0.5) * (a[0] - 0.5) + (a[1] + 0.3) * (a[1] + 0.3));
-  };
+  auto reward = [](const float* a) { return -4.0 * ((a[0] - 0.5) * (a[0] - 0.5) + (a[1] + 0.3) * (a[1] + 0.3)); };
   for (int i = 0; i < 2000; ++i) agent.Update(RandomBatch(rng, 64, reward));
   nn::Rng act_rng(5);
   double error = 0;
@@ -221,7 +219,6 @@ TEST(SacTest, ABadCheckpointIsRefusedAndChangesNothing) {
     EXPECT_NE(std::string(e.what()).find("architecture mismatch"), std::string::npos) << e.what();
   }
 }
-
 
 // Relative distance of two flat vectors: |a - b| / max(|a|, tiny).
 double RelativeDistance(const std::vector<float>& a, const std::vector<float>& b) {

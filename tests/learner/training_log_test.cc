@@ -26,8 +26,8 @@ rl::Episode PushEpisode(uint64_t own_ancestor_mask) {
   e.layout = {.num_entities = 3, .num_kinds = 0, .velocities = false};
   e.entity_kinds = {0, 1, 2};
   e.num_steps = 1;
-  e.states = {0.0f, 0.0f, 0.1f, 0.5f, 0.4f, 0.5f,    // t = 0
-              0.1f, 0.0f, 0.2f, 0.5f, 0.4f, 0.5f};   // t = 1
+  e.states = {0.0f, 0.0f, 0.1f, 0.5f, 0.4f, 0.5f,   // t = 0
+              0.1f, 0.0f, 0.2f, 0.5f, 0.4f, 0.5f};  // t = 1
   e.actions = {1.0f, 0.0f};
   e.subgoal_entity = 1;
   e.goal = {0.25f, 0.5f};
@@ -88,9 +88,10 @@ TEST(TrainingLogTest, RowsCarryBothMeasuresAndAnOldFileKeepsItsRowsOnResume) {
   fs::create_directories(dir);
   const fs::path path = dir / "train.csv";
   // a file of a run started before the table-graph columns existed
-  std::ofstream(path) << "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success\n"
-                      << "1.0,5000,10,0.3,10,0.2,0.1\n"
-                      << "2.0,10000,10,0.4,10,0.15,0.2\n";
+  std::ofstream(path)
+      << "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success\n"
+      << "1.0,5000,10,0.3,10,0.2,0.1\n"
+      << "2.0,10000,10,0.4,10,0.15,0.2\n";
   TrainingLogOptions options;
   options.path = path.string();
   options.every_env_steps = 5000;

@@ -13,8 +13,8 @@
 namespace srics::env {
 namespace {
 
-constexpr int kExtraGeoms = 64;              // room in the scene for the floor and goal markers
-constexpr double kMarkerHalfHeight = 0.001;  // flat markers lying on the table
+constexpr int kExtraGeoms = 64;                           // room in the scene for the floor and goal markers
+constexpr double kMarkerHalfHeight = 0.001;               // flat markers lying on the table
 constexpr float kHandGoalRgb[3] = {0.95f, 0.55f, 0.05f};  // orange: unlike the grey hand
 // a floor under the table, so that nothing of the frame is the black of an empty scene
 constexpr float kFloorRgba[4] = {0.30f, 0.37f, 0.48f, 1.0f};
@@ -142,7 +142,9 @@ mjvGeom_* EpisodeRenderer::NewGeom() {
 void EpisodeRenderer::AddConnections() {
   const mjData* d = env_.data();
   const auto& present = env_.present();
-  auto is_present = [&](int catalogue) { return std::find(present.begin(), present.end(), catalogue) != present.end(); };
+  auto is_present = [&](int catalogue) {
+    return std::find(present.begin(), present.end(), catalogue) != present.end();
+  };
   for (const auto& k : env_.config().connections) {
     // an absent object is parked off the table, its link with it
     if (!is_present(k.first) || !is_present(k.second)) continue;
@@ -185,9 +187,10 @@ void EpisodeRenderer::AddStaticPins() {
       const mjtNum* size;
       const mjtNum* pos;
       const float* rgba;
-    } parts[] = {{o.shape == config::ObjectShape::kBox ? mjGEOM_BOX : mjGEOM_CYLINDER, washer_size, washer_pos, kPinRgba},
-                 {mjGEOM_CYLINDER, shaft_size, shaft_pos, kPinRgba},
-                 {mjGEOM_SPHERE, head_size, head_pos, kPinHeadRgba}};
+    } parts[] = {
+        {o.shape == config::ObjectShape::kBox ? mjGEOM_BOX : mjGEOM_CYLINDER, washer_size, washer_pos, kPinRgba},
+        {mjGEOM_CYLINDER, shaft_size, shaft_pos, kPinRgba},
+        {mjGEOM_SPHERE, head_size, head_pos, kPinHeadRgba}};
     for (const auto& part : parts) {
       mjvGeom* g = NewGeom();
       if (g == nullptr) return;

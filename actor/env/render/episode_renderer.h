@@ -1,7 +1,7 @@
 #pragma once
 // Frames of a rearrange episode from MuJoCo's own renderer: the table (on a blue-grey floor
-// that is only in the picture), the hand and the objects as the simulator has them, the episode's goals drawn as translucent markers added
-// to the scene (a flat disc or square of the object's size and colour at its goal, a flat
+// that is only in the picture), the hand and the objects as the simulator has them, the episode's goals drawn as
+// translucent markers added to the scene (a flat disc or square of the object's size and colour at its goal, a flat
 // orange square of the hand's size for the hand's goal; the subgoal being attempted more opaque),
 // the constraints (each rope or spring as a capsule between its two objects' centres: a rope
 // brown, darker when taut; a spring violet, darker when stretched; a static object with a
@@ -27,17 +27,17 @@ namespace srics::env {
 
 // How frames look (defaults: 640 x 480, the whole table from the front and above).
 struct RenderOptions {
-  int width = 640;    // pixels; even (video encoders want even sizes)
+  int width = 640;  // pixels; even (video encoders want even sizes)
   int height = 480;
-  Vec2 lookat{0.0, 0.56};     // camera target on the table, metres
-  double distance = 0.72;     // camera distance to the target, metres
-  double elevation = -58;     // degrees (negative: looking down)
-  double azimuth = 90;        // degrees (90: looking along +y, the table's depth)
-  double goal_alpha = 0.35;   // opacity of the goal markers
+  Vec2 lookat{0.0, 0.56};           // camera target on the table, metres
+  double distance = 0.72;           // camera distance to the target, metres
+  double elevation = -58;           // degrees (negative: looking down)
+  double azimuth = 90;              // degrees (90: looking along +y, the table's depth)
+  double goal_alpha = 0.35;         // opacity of the goal markers
   double active_goal_alpha = 0.75;  // opacity of the marker of the subgoal being attempted
-  int multisamples = 0;       // anti-aliasing samples per pixel (4: smoother edges, 2x the time on llvmpipe)
+  int multisamples = 0;             // anti-aliasing samples per pixel (4: smoother edges, 2x the time on llvmpipe)
   bool draw_goals = true;
-  bool caption = true;        // the caption's text in the top-left corner
+  bool caption = true;  // the caption's text in the top-left corner
 };
 
 // Throws std::invalid_argument naming the field when a value is out of range (sizes from 16

@@ -37,9 +37,9 @@ struct GlContext::Egl {
     EGLint major = 0, minor = 0;
     if (!eglInitialize(candidate, &major, &minor)) return "eglInitialize failed (" + EglErrorText() + ")";
     // no surface: MuJoCo renders into its own offscreen framebuffer object
-    const EGLint config_attributes[] = {EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8,
-                                        EGL_DEPTH_SIZE, 24, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                        EGL_NONE};
+    const EGLint config_attributes[] = {
+        EGL_RED_SIZE,   8,       EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_DEPTH_SIZE, 24, EGL_RENDERABLE_TYPE,
+        EGL_OPENGL_BIT, EGL_NONE};
     EGLConfig config = nullptr;
     EGLint configs = 0;
     const bool chose = eglChooseConfig(candidate, config_attributes, &config, 1, &configs) && configs > 0;
@@ -78,10 +78,11 @@ GlContext::GlContext() : egl_(std::make_unique<Egl>()) {
     EGLint count = 0;
     if (query_devices(16, devices, &count) && count > 0) {
       for (EGLint i = 0; i < count && platform.empty(); ++i) {
-        const std::string problem =
-            egl_->Open(get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr));
-        if (problem.empty()) platform = "device " + std::to_string(i);
-        else tried += "device " + std::to_string(i) + ": " + problem + "; ";
+        const std::string problem = egl_->Open(get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr));
+        if (problem.empty())
+          platform = "device " + std::to_string(i);
+        else
+          tried += "device " + std::to_string(i) + ": " + problem + "; ";
       }
     } else {
       tried += "devices: none; ";
@@ -91,13 +92,17 @@ GlContext::GlContext() : egl_(std::make_unique<Egl>()) {
   if (platform.empty() && get_platform_display) {
     const std::string problem =
         egl_->Open(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr));
-    if (problem.empty()) platform = "surfaceless";
-    else tried += "surfaceless: " + problem + "; ";
+    if (problem.empty())
+      platform = "surfaceless";
+    else
+      tried += "surfaceless: " + problem + "; ";
   }
   if (platform.empty()) {
     const std::string problem = egl_->Open(eglGetDisplay(EGL_DEFAULT_DISPLAY));
-    if (problem.empty()) platform = "default display";
-    else tried += "default display: " + problem;
+    if (problem.empty())
+      platform = "default display";
+    else
+      tried += "default display: " + problem;
   }
   if (platform.empty())
     throw RenderError("no headless OpenGL context through EGL (" + tried +
@@ -106,8 +111,8 @@ GlContext::GlContext() : egl_(std::make_unique<Egl>()) {
   const char* vendor = eglQueryString(egl_->display, EGL_VENDOR);
   EGLint major = 0, minor = 0;
   eglInitialize(egl_->display, &major, &minor);  // already initialised: returns the version
-  description_ = "EGL " + std::to_string(major) + "." + std::to_string(minor) + " (" + (vendor ? vendor : "?") +
-                 "), " + platform;
+  description_ =
+      "EGL " + std::to_string(major) + "." + std::to_string(minor) + " (" + (vendor ? vendor : "?") + "), " + platform;
   using GetString = const unsigned char* (*)(unsigned);
   if (const auto get_string = reinterpret_cast<GetString>(eglGetProcAddress("glGetString")))
     if (const unsigned char* renderer = get_string(kGlRenderer))

@@ -73,8 +73,10 @@ class SpawnActions {
 // `log` ("" : /dev/null). Returns the pid, or -1 with errno set.
 pid_t Spawn(const std::vector<std::string>& args, int stdin_fd, const std::string& log) {
   SpawnActions actions;
-  if (stdin_fd >= 0) posix_spawn_file_actions_adddup2(actions.get(), stdin_fd, 0);
-  else posix_spawn_file_actions_addopen(actions.get(), 0, "/dev/null", O_RDONLY, 0);
+  if (stdin_fd >= 0)
+    posix_spawn_file_actions_adddup2(actions.get(), stdin_fd, 0);
+  else
+    posix_spawn_file_actions_addopen(actions.get(), 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(actions.get(), 1, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(actions.get(), 2, log.empty() ? "/dev/null" : log.c_str(),
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -138,8 +140,7 @@ void WritePng(const std::string& path, const uint8_t* rgb, int width, int height
   png_set_IHDR(png, info, width, height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
-  for (int y = 0; y < height; ++y)
-    png_write_row(png, const_cast<png_bytep>(rgb + static_cast<size_t>(y) * width * 3));
+  for (int y = 0; y < height; ++y) png_write_row(png, const_cast<png_bytep>(rgb + static_cast<size_t>(y) * width * 3));
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
 }
@@ -156,13 +157,24 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, const V
     if (error) throw VideoError("cannot create " + path_ + ": " + error.message());
     return;
   }
-  std::vector<std::string> args = {options_.ffmpeg, "-hide_banner", "-loglevel", "error", "-y",
-                                   "-f", "rawvideo", "-pix_fmt", "rgb24",
-                                   "-s", std::to_string(width) + "x" + std::to_string(height),
-                                   "-r", std::to_string(options_.fps), "-i", "pipe:0"};
+  std::vector<std::string> args = {options_.ffmpeg,
+                                   "-hide_banner",
+                                   "-loglevel",
+                                   "error",
+                                   "-y",
+                                   "-f",
+                                   "rawvideo",
+                                   "-pix_fmt",
+                                   "rgb24",
+                                   "-s",
+                                   std::to_string(width) + "x" + std::to_string(height),
+                                   "-r",
+                                   std::to_string(options_.fps),
+                                   "-i",
+                                   "pipe:0"};
   if (options_.format == VideoFormat::kMp4) {
-    args.insert(args.end(), {"-c:v", "libx264", "-pix_fmt", "yuv420p", "-preset", "veryfast", "-crf", "20",
-                             "-movflags", "+faststart"});
+    args.insert(args.end(), {"-c:v", "libx264", "-pix_fmt", "yuv420p", "-preset", "veryfast", "-crf", "20", "-movflags",
+                             "+faststart"});
   } else {
     // one palette for the whole clip, made from the clip itself
     const std::string scale =

@@ -9,11 +9,11 @@
 // An ffmpeg that died is a VideoError here, never a SIGPIPE: writes block SIGPIPE on the
 // calling thread.
 
+#include <sys/types.h>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <sys/types.h>
 
 namespace srics::env {
 
@@ -35,8 +35,8 @@ std::string VideoExtension(VideoFormat format);
 
 struct VideoOptions {
   VideoFormat format = VideoFormat::kMp4;
-  int fps = 10;            // frames per second (an env step is 0.1 s: 10 is real time)
-  int gif_width = 0;       // GIF only: scaled to this width (0: the frames' width)
+  int fps = 10;                   // frames per second (an env step is 0.1 s: 10 is real time)
+  int gif_width = 0;              // GIF only: scaled to this width (0: the frames' width)
   std::string ffmpeg = "ffmpeg";  // the program (looked up on the PATH)
 };
 
@@ -74,8 +74,8 @@ class VideoWriter {
   std::string path_;
   int width_, height_;
   VideoOptions options_;
-  int pipe_ = -1;     // ffmpeg's stdin
-  pid_t pid_ = -1;    // ffmpeg
+  int pipe_ = -1;   // ffmpeg's stdin
+  pid_t pid_ = -1;  // ffmpeg
   int frames_ = 0;
   bool closed_ = false;
 };

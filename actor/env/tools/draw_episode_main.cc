@@ -39,7 +39,10 @@ std::optional<int> Parse(int argc, char** argv, Args* a) {
   CLI::App app{"runs one episode of a rearrange environment and draws it from above", "srics-draw-episode"};
   srics::cli::Configure(app);
   app.add_option("--config", a->config, "an environment preset or run config");
-  app.add_option("--set", a->overrides, "override a config value")->allow_extra_args(false)->type_name("K=V")->default_str("");
+  app.add_option("--set", a->overrides, "override a config value")
+      ->allow_extra_args(false)
+      ->type_name("K=V")
+      ->default_str("");
   app.add_option("--seed", a->seed, "the episode's seed (initial state and goals)")->check(srics::cli::Integer(0));
   app.add_option("--steps", a->steps, "env steps")->check(srics::cli::Integer(1, 100000));
   app.add_option("--policy", a->policy,
@@ -97,15 +100,15 @@ int main(int argc, char** argv) {
     const env::Metrics m = environment.ComputeMetrics();
     char title[256];
     std::snprintf(title, sizeof(title), "%s seed %llu, %s policy, %d steps: avg distance %.3f, success %d",
-                  args.config.c_str(), static_cast<unsigned long long>(args.seed),
-                  args.policy.c_str(), environment.steps(), m.avg_distance, m.success ? 1 : 0);
+                  args.config.c_str(), static_cast<unsigned long long>(args.seed), args.policy.c_str(),
+                  environment.steps(), m.avg_distance, m.success ? 1 : 0);
     trace.title = title;
     env::DrawEpisode(trace, args.out);
     std::printf("%s\nwrote %s\n", title, args.out.c_str());
     return 0;
   } catch (const config::ConfigError& e) {  // names the file, line and key
     std::fprintf(stderr, "srics-draw-episode: %s\n", e.what());
-    return cli::kExitUsage;
+    return kExitUsage;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "srics-draw-episode: %s\n", e.what());
     return 1;

@@ -44,18 +44,18 @@ TEST(BehaviourTest, ScriptedPusherSolvesMostRandomPolicyDoesNot) {
   const PushGeometry g = MakePushGeometry(c, 1);
   double pusher_distance = 0, random_distance = 0;
   const int pusher = Solved(
-      env, [&](const std::vector<Vec2>& p, const std::vector<Vec2>& goals) {
-        return PushAction(p[0], p[1], goals[1], g);
-      },
+      env,
+      [&](const std::vector<Vec2>& p, const std::vector<Vec2>& goals) { return PushAction(p[0], p[1], goals[1], g); },
       &pusher_distance);
   Rng rng(5);
   const int random = Solved(
-      env, [&](const std::vector<Vec2>&, const std::vector<Vec2>&) {
+      env,
+      [&](const std::vector<Vec2>&, const std::vector<Vec2>&) {
         return Vec2{Uniform(rng, -1, 1), Uniform(rng, -1, 1)};
       },
       &random_distance);
-  std::printf("pusher: %d/%d within 0.05 (mean final distance %.3f); random: %d/%d (%.3f)\n",
-              pusher, kEpisodes, pusher_distance, random, kEpisodes, random_distance);
+  std::printf("pusher: %d/%d within 0.05 (mean final distance %.3f); random: %d/%d (%.3f)\n", pusher, kEpisodes,
+              pusher_distance, random, kEpisodes, random_distance);
   EXPECT_GE(pusher, 14);
   EXPECT_LE(random, 3);
   EXPECT_LT(pusher_distance, 0.5 * random_distance);
@@ -70,9 +70,8 @@ TEST(BehaviourTest, ScriptedPusherMovesABoxToo) {
   const PushGeometry g = MakePushGeometry(c, 1);
   double distance = 0;
   const int solved = Solved(
-      env, [&](const std::vector<Vec2>& p, const std::vector<Vec2>& goals) {
-        return PushAction(p[0], p[1], goals[1], g);
-      },
+      env,
+      [&](const std::vector<Vec2>& p, const std::vector<Vec2>& goals) { return PushAction(p[0], p[1], goals[1], g); },
       &distance);
   std::printf("pusher on a box: %d/%d (mean final distance %.3f)\n", solved, kEpisodes, distance);
   EXPECT_GE(solved, 10);

@@ -13,9 +13,8 @@ namespace srics::env {
 namespace {
 
 EpisodeTrace RelationalTrace() {
-  const config::EnvConfig c = config::LoadConfig(std::string(SRICS_SOURCE_DIR) +
-                                                 "/deploy/configs/env/relational-4.yaml")
-                                  .env;
+  const config::EnvConfig c =
+      config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/relational-4.yaml").env;
   RearrangeEnv env(c);
   env.Reset(2);
   EpisodeTrace trace;
@@ -46,7 +45,7 @@ TEST(DrawingTest, WritesPngAndSvg) {
     return (static_cast<unsigned char>(png[at]) << 24) | (static_cast<unsigned char>(png[at + 1]) << 16) |
            (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]);
   };
-  EXPECT_EQ(be32(16), 660);  // (0.255 + 0.02) * 2 * 1200
+  EXPECT_EQ(be32(16), 660);       // (0.255 + 0.02) * 2 * 1200
   EXPECT_NEAR(be32(20), 552, 1);  // (0.765 - 0.345 + 0.04) * 1200
   DrawEpisode(trace, (dir / "e.svg").string());
   const std::string svg = ReadFile(dir / "e.svg");

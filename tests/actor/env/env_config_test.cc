@@ -60,8 +60,7 @@ TEST(EnvConfigTest, DefaultsAreTheReferenceNumbers) {
 
 TEST(EnvConfigTest, EveryPresetLoadsAndBuildsAnEnvironment) {
   int count = 0;
-  for (const auto& entry :
-       std::filesystem::directory_iterator(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env")) {
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env")) {
     SCOPED_TRACE(entry.path().string());
     const Config config = LoadConfig(entry.path().string());
     env::RearrangeEnv environment(config.env);
@@ -119,8 +118,7 @@ TEST(EnvConfigTest, PresetsSayWhatTheirNamesSay) {
   ASSERT_EQ(combos.eval_object_sets.size(), 1u);
   EXPECT_EQ(combos.eval_object_sets[0], (std::vector<int>{2, 3, 4}));
   for (const auto& set : combos.object_sets) EXPECT_NE(set, combos.eval_object_sets[0]);
-  EXPECT_EQ(LoadConfig(PresetPath("rearrange-4-heldout")).env.object_sets,
-            (std::vector<std::vector<int>>{{2, 3, 4}}));
+  EXPECT_EQ(LoadConfig(PresetPath("rearrange-4-heldout")).env.object_sets, (std::vector<std::vector<int>>{{2, 3, 4}}));
 }
 
 TEST(EnvConfigTest, NegativeMassNamesFileLineAndKey) {
@@ -175,8 +173,7 @@ TEST(EnvConfigTest, CrowdedTableFailsInTheEnvironmentToo) {
     env::RearrangeEnv environment(c);
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("more objects than fit the table"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("more objects than fit the table"), std::string::npos) << e.what();
   }
 }
 
@@ -192,19 +189,17 @@ TEST(EnvConfigTest, ConnectionAndObjectSetRules) {
       {"both or neither"});
   ExpectError("env:\n  object_sets:\n    - {present: [1, 1]}\n", {"repeated"});
   // two 6 cm cylinders overlap at a 0.11 m tie's full length
-  ExpectError("env:\n  objects:\n    - {size: 0.06}\n    - {size: 0.06}\n  connections:\n"
-              "    - {objects: [1, 2], length: 0.11}\n",
-              {"env.connections[0].length: must be at least the two objects' bounding radii together (0.12)"});
+  ExpectError(
+      "env:\n  objects:\n    - {size: 0.06}\n    - {size: 0.06}\n  connections:\n"
+      "    - {objects: [1, 2], length: 0.11}\n",
+      {"env.connections[0].length: must be at least the two objects' bounding radii together (0.12)"});
   ExpectError("env:\n  num_pucks: 2\n  objects:\n    - {}\n", {"env.num_pucks"});
 }
 
 TEST(EnvConfigTest, ExtendsAndOverridesMergeIntoEnv) {
   const auto dir = std::filesystem::temp_directory_path() / "srics_env_config_test";
   std::filesystem::create_directories(dir);
-  {
-    std::ofstream(dir / "run.yaml") << "extends: " << PresetPath("relational-4")
-                                    << "\nenv:\n  velocities: true\n";
-  }
+  { std::ofstream(dir / "run.yaml") << "extends: " << PresetPath("relational-4") << "\nenv:\n  velocities: true\n"; }
   const Config c = LoadConfig((dir / "run.yaml").string(), {"env.hand.action_scale=0.05"});
   EXPECT_TRUE(c.env.velocities);
   EXPECT_EQ(c.env.connections.size(), 1u);

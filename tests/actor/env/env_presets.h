@@ -1,6 +1,5 @@
+#pragma once
 // The environment presets of deploy/configs/env/ as the environment tests load them.
-#ifndef SRICS_TESTS_ACTOR_ENV_ENV_PRESETS_H_
-#define SRICS_TESTS_ACTOR_ENV_ENV_PRESETS_H_
 
 #include <string>
 
@@ -17,5 +16,3 @@ inline std::string PresetPath(const std::string& name) {
 inline config::EnvConfig Preset(const std::string& name) { return config::LoadConfig(PresetPath(name)).env; }
 
 }  // namespace srics::env::testing
-
-#endif  // SRICS_TESTS_ACTOR_ENV_ENV_PRESETS_H_

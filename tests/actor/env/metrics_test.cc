@@ -17,9 +17,9 @@ TEST(MetricsTest, DistancesAveragesAndSuccess) {
   EXPECT_NEAR(m.distances[2], 0.0, 1e-12);
   EXPECT_NEAR(m.distances[3], 0.1, 1e-12);
   EXPECT_NEAR(m.hand_distance, 0.03, 1e-12);
-  EXPECT_NEAR(m.avg_distance, 0.17 / 4, 1e-12);         // arm included
-  EXPECT_NEAR(m.avg_object_distance, 0.14 / 3, 1e-12);  // objects only
-  EXPECT_TRUE(m.success);                               // 0.17 < 4 * 0.05
+  EXPECT_NEAR(m.avg_distance, 0.17 / 4, 1e-12);           // arm included
+  EXPECT_NEAR(m.avg_object_distance, 0.14 / 3, 1e-12);    // objects only
+  EXPECT_TRUE(m.success);                                 // 0.17 < 4 * 0.05
   EXPECT_FALSE(ComputeMetrics(pos, goal, 0.04).success);  // 0.17 >= 0.16
 }
 
@@ -28,8 +28,7 @@ TEST(MetricsTest, ArmAloneAndBadSizes) {
   EXPECT_NEAR(m.avg_distance, 0.05, 1e-12);
   EXPECT_EQ(m.avg_object_distance, 0.0);
   EXPECT_FALSE(m.success);  // strict inequality
-  EXPECT_THROW(ComputeMetrics(std::vector<Vec2>{{0, 0}}, std::vector<Vec2>{}, 0.05),
-               std::invalid_argument);
+  EXPECT_THROW(ComputeMetrics(std::vector<Vec2>{{0, 0}}, std::vector<Vec2>{}, 0.05), std::invalid_argument);
 }
 
 }  // namespace

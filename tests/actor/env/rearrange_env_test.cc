@@ -19,8 +19,8 @@ using config::EnvConfig;
 using testing::Preset;
 
 double PuckZ(RearrangeEnv& env, int entity) {
-  const int q = env.model()->jnt_qposadr[mj_name2id(
-      env.model(), mjOBJ_JOINT, ("object" + std::to_string(entity)).c_str())];
+  const int q =
+      env.model()->jnt_qposadr[mj_name2id(env.model(), mjOBJ_JOINT, ("object" + std::to_string(entity)).c_str())];
   return env.data()->qpos[q + 2];
 }
 
@@ -113,11 +113,11 @@ TEST(RearrangeEnvTest, StaticPuckDoesNotMoveWhenPushed) {
 // neighbour). physics.static_objects: fixed makes it a body nothing moves.
 TEST(RearrangeEnvTest, OnlyAFixedStaticPuckShieldsThePuckBehindIt) {
   EnvConfig c = Preset("relational-4");
-  c.objects[0].fixed_position = {0.0, 0.55};     // static, in the hand's way
-  c.objects[3].fixed_position = {0.0, 0.65};     // free, 2 cm behind it
+  c.objects[0].fixed_position = {0.0, 0.55};  // static, in the hand's way
+  c.objects[3].fixed_position = {0.0, 0.65};  // free, 2 cm behind it
   c.sampling.init_min_object_distance = 0.09;
-  c.objects[1].fixed_position = {-0.18, 0.45};   // the tied pair, out of the way (its partner
-                                                 // is placed by the rope)
+  c.objects[1].fixed_position = {-0.18, 0.45};  // the tied pair, out of the way (its partner
+                                                // is placed by the rope)
   auto behind_moved = [&](config::StaticObjects mode) {
     c.physics.static_objects = mode;
     RearrangeEnv env(c);
@@ -150,8 +150,7 @@ TEST(RearrangeEnvTest, TiedPairNeverSeparatesBeyondTheRope) {
     for (int t = 0; t < 60; ++t) {
       const auto p = env.Positions();
       const double dx = p[2][0] - p[3][0], dy = p[2][1] - p[3][1], n = std::hypot(dx, dy);
-      const Vec2 goal{std::clamp(p[2][0] + 0.3 * dx / n, -0.2, 0.2),
-                      std::clamp(p[2][1] + 0.3 * dy / n, 0.45, 0.7)};
+      const Vec2 goal{std::clamp(p[2][0] + 0.3 * dx / n, -0.2, 0.2), std::clamp(p[2][1] + 0.3 * dy / n, 0.45, 0.7)};
       PushGeometry g = MakePushGeometry(c, 2);
       g.push_speed = 0.5;
       ASSERT_EQ(env.Step(PushAction(p[0], p[2], goal, g)), StepStatus::kOk);
@@ -255,8 +254,8 @@ TEST(RearrangeEnvTest, HeldOutCombinationKeepsIdentifiers) {
     // absent objects are parked far off the table
     for (int e = 1; e <= 4; ++e) {
       if (std::find(env.present().begin(), env.present().end(), e) != env.present().end()) continue;
-      const int q = env.model()->jnt_qposadr[mj_name2id(env.model(), mjOBJ_JOINT,
-                                                        ("object" + std::to_string(e)).c_str())];
+      const int q =
+          env.model()->jnt_qposadr[mj_name2id(env.model(), mjOBJ_JOINT, ("object" + std::to_string(e)).c_str())];
       EXPECT_LT(env.data()->qpos[q], -5.0);
     }
   }

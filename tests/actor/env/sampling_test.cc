@@ -48,8 +48,7 @@ void CheckThousandDraws(const EnvConfig& c) {
       const auto pinned = [&](size_t k) {
         return objects[present[k] - 1].is_static && !c.sampling.static_object_random_goal;
       };
-      if (!pinned(i))
-        EXPECT_GE(Distance(goals[i + 1], goals[0]), c.sampling.goal_min_hand_distance + extra_i);
+      if (!pinned(i)) EXPECT_GE(Distance(goals[i + 1], goals[0]), c.sampling.goal_min_hand_distance + extra_i);
       // apart from each other; a tied pair's distance is its tie's (checked below)
       for (size_t j = 0; j < i; ++j) {
         const double rj = config::BoundingRadius(objects[present[j] - 1]);
@@ -86,9 +85,7 @@ void CheckThousandDraws(const EnvConfig& c) {
 
 TEST(SamplingTest, Rearrange4SpacingOverThousandDraws) { CheckThousandDraws(Preset("rearrange-4")); }
 
-TEST(SamplingTest, Relational4RopeRuleOverThousandDraws) {
-  CheckThousandDraws(Preset("relational-4"));
-}
+TEST(SamplingTest, Relational4RopeRuleOverThousandDraws) { CheckThousandDraws(Preset("relational-4")); }
 
 TEST(SamplingTest, DifferentObjectsOverThousandDraws) { CheckThousandDraws(Preset("different-6")); }
 
@@ -136,9 +133,7 @@ TEST(SamplingTest, TiesShorterThanTheGoalSpacingArePlaced) {
   CheckThousandDraws(c);
 }
 
-TEST(SamplingTest, CombinationsOverThousandDraws) {
-  CheckThousandDraws(Preset("rearrange-4-combinations"));
-}
+TEST(SamplingTest, CombinationsOverThousandDraws) { CheckThousandDraws(Preset("rearrange-4-combinations")); }
 
 TEST(SamplingTest, ObjectSetsDrawOnlyTheirSplit) {
   const EnvConfig c = Preset("rearrange-4-combinations");
@@ -150,8 +145,7 @@ TEST(SamplingTest, ObjectSetsDrawOnlyTheirSplit) {
     seen.insert(set);
   }
   EXPECT_EQ(seen.size(), 3u);  // every training combination comes up
-  for (int i = 0; i < 10; ++i)
-    EXPECT_EQ(SampleObjectSet(c, true, rng), (std::vector<int>{2, 3, 4}));
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(SampleObjectSet(c, true, rng), (std::vector<int>{2, 3, 4}));
   // no sets: every object
   EXPECT_EQ(SampleObjectSet(Preset("rearrange-3"), false, rng), (std::vector<int>{1, 2, 3}));
 }

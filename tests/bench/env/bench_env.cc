@@ -10,10 +10,10 @@
 
 #include <algorithm>
 #include <array>
-#include <span>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -42,8 +42,7 @@ struct Result {
 
 Result Measure(const std::string& preset, int episodes, int repeats) {
   const config::EnvConfig c =
-      config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/" + preset + ".yaml")
-          .env;
+      config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/" + preset + ".yaml").env;
   env::RearrangeEnv environment(c);
   const mjModel* m = environment.model();
   env::DataPtr bare = env::MakeData(m);
@@ -73,8 +72,7 @@ Result Measure(const std::string& preset, int episodes, int repeats) {
         mj_copyData(starts.back().get(), m, environment.data());
       }
       for (int t = 0; t < kEpisodeSteps; ++t) {
-        if (environment.Step(std::span<const double>(&actions[e][2 * t], 2)) !=
-            env::StepStatus::kOk) {
+        if (environment.Step(std::span<const double>(&actions[e][2 * t], 2)) != env::StepStatus::kOk) {
           std::fprintf(stderr, "unstable step in %s\n", preset.c_str());
           std::exit(1);
         }
@@ -113,11 +111,13 @@ int main(int argc, char** argv) {
   const int episodes = argc > 1 ? std::atoi(argv[1]) : 6;
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 5;
   const std::vector<std::string> presets = {
-      "rearrange-1", "rearrange-2", "rearrange-3", "rearrange-4", "relational-4",
-      "relational-4-spring", "rearrange-4-velocity", "rearrange-4-combinations", "different-6"};
-  std::printf("env steps/s on one core (%d episodes x %d steps, median of %d repeats;\n"
-              "bare = mj_step x frame_skip on the same model and mocap targets)\n\n",
-              episodes, kEpisodeSteps, repeats);
+      "rearrange-1",  "rearrange-2",         "rearrange-3",          "rearrange-4",
+      "relational-4", "relational-4-spring", "rearrange-4-velocity", "rearrange-4-combinations",
+      "different-6"};
+  std::printf(
+      "env steps/s on one core (%d episodes x %d steps, median of %d repeats;\n"
+      "bare = mj_step x frame_skip on the same model and mocap targets)\n\n",
+      episodes, kEpisodeSteps, repeats);
   std::printf("%-26s %12s %12s %8s %14s\n", "preset", "env/s", "bare/s", "ratio", "mj_step/s");
   std::vector<Result> results;
   double worst = 1e9;
@@ -135,10 +135,9 @@ int main(int argc, char** argv) {
                      ",\"repeats\":" + std::to_string(repeats) + ",\"presets\":{";
   for (size_t i = 0; i < results.size(); ++i) {
     char item[256];
-    std::snprintf(item, sizeof(item),
-                  "%s\"%s\":{\"env_steps_per_s\":%.1f,\"bare_steps_per_s\":%.1f,\"ratio\":%.4f}",
-                  i ? "," : "", results[i].preset.c_str(), results[i].env_rate,
-                  results[i].bare_rate, results[i].env_rate / results[i].bare_rate);
+    std::snprintf(item, sizeof(item), "%s\"%s\":{\"env_steps_per_s\":%.1f,\"bare_steps_per_s\":%.1f,\"ratio\":%.4f}",
+                  i ? "," : "", results[i].preset.c_str(), results[i].env_rate, results[i].bare_rate,
+                  results[i].env_rate / results[i].bare_rate);
     json += item;
   }
   char tail[64];

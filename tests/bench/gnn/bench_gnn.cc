@@ -8,8 +8,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <vector>
 
 #include "common/nn/gemm.h"
@@ -51,8 +51,7 @@ Best BestOf(int repeats, F&& f) {
 int main() {
   Eigen::setNbThreads(1);
   // relational-4 shaped toy data: 5 entities
-  srics::graph_service::testing::ToyWorld world(
-      {.num_pucks = 4, .static_pucks = {1}, .ropes = {{2, 3}}});
+  srics::graph_service::testing::ToyWorld world({.num_pucks = 4, .static_pucks = {1}, .ropes = {{2, 3}}});
   srics::graph_service::GraphDataset data = srics::graph_service::GraphDataset::ShapedLike(world.RandomEpisode(0));
   for (int e = 0; e < 60; ++e) data.Add(world.RandomEpisode(e + 1));
   data.Split(0.1, 1);
@@ -75,16 +74,16 @@ int main() {
   floor.Run();
   const Best floor_best = BestOf(repeats, [&] { floor.Run(); });
   const Best eval = BestOf(1, [&] { trainer.Evaluate(); });
-  std::printf("GNN training update, one thread (batch %d windows x %d steps, %d entities, "
-              "hidden %d, MLP %d), matrix products on %s\n", config.batch_windows, config.window,
-              data.num_entities(), config.hidden_dim, config.mlp_hidden,
-              srics::nn::GemmBackendDescription().c_str());
+  std::printf(
+      "GNN training update, one thread (batch %d windows x %d steps, %d entities, "
+      "hidden %d, MLP %d), matrix products on %s\n",
+      config.batch_windows, config.window, data.num_entities(), config.hidden_dim, config.mlp_hidden,
+      srics::nn::GemmBackendDescription().c_str());
   std::printf("  %-40s %10s %10s\n", "measure (best of 10)", "wall", "CPU");
   std::printf("  %-40s %10.2f %10.2f\n", "update ms", update.wall, update.cpu);
   std::printf("  %-40s %10.2f %10.2f\n", "update ms with Eigen's GEMM", update_eigen.wall, update_eigen.cpu);
   std::printf("  %-40s %10.2f %10.2f\n", "GEMM floor ms (same products)", floor_best.wall, floor_best.cpu);
-  std::printf("  %-40s %10.2f %10.2f\n", "update / floor", update.wall / floor_best.wall,
-              update.cpu / floor_best.cpu);
+  std::printf("  %-40s %10.2f %10.2f\n", "update / floor", update.wall / floor_best.wall, update.cpu / floor_best.cpu);
   std::printf("  %-40s %10zu\n", "matrix products per update", shapes.size());
   std::printf("  %-40s %10.3f\n", "GFLOP per update (products)", flops * 1e-9);
   std::printf("  %-40s %10.2f %10.2f\n", "GEMM floor GFLOP/s", flops * 1e-6 / floor_best.wall,
@@ -92,13 +91,13 @@ int main() {
   std::printf("  %-40s %10.1f %10.1f\n", "evaluation ms (60 episodes x 50)", eval.wall, eval.cpu);
   std::printf("  %-40s %10.0f %10.0f\n", "updates per 15 min (no evals)", 900000.0 / update.wall,
               900000.0 / update.cpu);
-  std::printf("{\"bench\":\"gnn\",\"update_ms\":%.3f,\"update_cpu_ms\":%.3f,\"update_cpu_ms_eigen\":%.3f,"
-              "\"gemm_floor_ms\":%.3f,\"gemm_floor_cpu_ms\":%.3f,\"gemms\":%zu,\"gflop\":%.4f,"
-              "\"entities\":%d,\"batch\":%d,\"window\":%d,\"gemm_backend\":\"%s\",\"ratio_wall\":%.3f,"
-              "\"ratio\":%.3f}\n",
-              update.wall, update.cpu, update_eigen.cpu, floor_best.wall, floor_best.cpu, shapes.size(),
-              flops * 1e-9, data.num_entities(), config.batch_windows, config.window,
-              srics::nn::GemmBackendDescription().c_str(), update.wall / floor_best.wall,
-              update.cpu / floor_best.cpu);
+  std::printf(
+      "{\"bench\":\"gnn\",\"update_ms\":%.3f,\"update_cpu_ms\":%.3f,\"update_cpu_ms_eigen\":%.3f,"
+      "\"gemm_floor_ms\":%.3f,\"gemm_floor_cpu_ms\":%.3f,\"gemms\":%zu,\"gflop\":%.4f,"
+      "\"entities\":%d,\"batch\":%d,\"window\":%d,\"gemm_backend\":\"%s\",\"ratio_wall\":%.3f,"
+      "\"ratio\":%.3f}\n",
+      update.wall, update.cpu, update_eigen.cpu, floor_best.wall, floor_best.cpu, shapes.size(), flops * 1e-9,
+      data.num_entities(), config.batch_windows, config.window, srics::nn::GemmBackendDescription().c_str(),
+      update.wall / floor_best.wall, update.cpu / floor_best.cpu);
   return 0;
 }

@@ -34,10 +34,9 @@ namespace tr = transport;
 const std::string kConfig = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-3.yaml";
 
 config::Config BenchConfig(int domain, const std::string& run_id) {
-  return config::LoadConfig(kConfig, {"transport.domain_id=" + std::to_string(domain),
-                                      "transport.run_id=" + run_id, "transport.status_period_s=0.1",
-                                      "learner.updates_per_step=0", "run.method=smorl", "run.log_level=warn",
-                                      "run.total_env_steps=1000000000"});
+  return config::LoadConfig(kConfig, {"transport.domain_id=" + std::to_string(domain), "transport.run_id=" + run_id,
+                                      "transport.status_period_s=0.1", "learner.updates_per_step=0", "run.method=smorl",
+                                      "run.log_level=warn", "run.total_env_steps=1000000000"});
 }
 
 // Writes COUNT training episodes (20 steps of Rearrange 3, recorded once) as fast as it can.
@@ -70,8 +69,8 @@ std::vector<launcher::ChildProcess> StartWriters(int writers, int domain, const 
   char self[4096] = {};
   readlink("/proc/self/exe", self, sizeof self - 1);
   for (int w = 0; w < writers; ++w)
-    children.push_back(launcher::ChildProcess::Spawn({self, "--writer", std::to_string(domain), run_id,
-                                                      std::to_string(per_writer), std::to_string(w)}));
+    children.push_back(launcher::ChildProcess::Spawn(
+        {self, "--writer", std::to_string(domain), run_id, std::to_string(per_writer), std::to_string(w)}));
   return children;
 }
 
@@ -85,8 +84,8 @@ double LearnerIngest(int writers, uint64_t per_writer, int domain) {
   auto learner = launcher::ChildProcess::Spawn(
       {std::string(SRICS_BINARY_DIR) + "/learner/srics-learner", kConfig, "--set",
        "transport.domain_id=" + std::to_string(domain), "--set", "transport.run_id=" + run_id, "--set",
-       "transport.status_period_s=0.1", "--set", "learner.updates_per_step=0", "--set", "run.method=smorl",
-       "--set", "run.log_level=warn", "--set", "run.total_env_steps=1000000000"});
+       "transport.status_period_s=0.1", "--set", "learner.updates_per_step=0", "--set", "run.method=smorl", "--set",
+       "run.log_level=warn", "--set", "run.total_env_steps=1000000000"});
   auto children = StartWriters(writers, domain, run_id, per_writer);
   const uint64_t total = writers * per_writer * 20;
   tr::LearnerStats s;

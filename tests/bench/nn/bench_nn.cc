@@ -12,8 +12,8 @@
 
 #include "common/nn/gemm.h"
 #include "common/nn/tape.h"
-#include "tests/bench/bench_util.h"
 #include "common/rl/networks.h"
+#include "tests/bench/bench_util.h"
 #include "tests/common/rl/network_configs.h"
 
 namespace {
@@ -107,8 +107,8 @@ std::vector<ShapeRate> ShapeRates(const std::vector<GemmShape>& shapes) {
   std::vector<ShapeRate> out;
   for (const GemmShape& s : shapes) {
     const bool seen = std::any_of(out.begin(), out.end(), [&](const ShapeRate& r) {
-      return r.shape.m == s.m && r.shape.k == s.k && r.shape.n == s.n &&
-             r.shape.transpose_a == s.transpose_a && r.shape.transpose_b == s.transpose_b;
+      return r.shape.m == s.m && r.shape.k == s.k && r.shape.n == s.n && r.shape.transpose_a == s.transpose_a &&
+             r.shape.transpose_b == s.transpose_b;
     });
     if (!seen) out.push_back({s});
   }
@@ -137,47 +137,43 @@ int main() {
   }
   const double act4 = ActMicros(4), act7 = ActMicros(7);
 
-  std::printf("nn benchmark: SAC attention networks (embed 80, 5 heads, policy [128,128], "
-              "Q [128,128,128]), forward+backward, 1 thread, medians\n");
-  std::printf("%6s %9s %11s %8s %14s %8s\n", "batch", "entities", "policy ms", "Q ms",
-              "GEMM floor ms", "ratio");
+  std::printf(
+      "nn benchmark: SAC attention networks (embed 80, 5 heads, policy [128,128], "
+      "Q [128,128,128]), forward+backward, 1 thread, medians\n");
+  std::printf("%6s %9s %11s %8s %14s %8s\n", "batch", "entities", "policy ms", "Q ms", "GEMM floor ms", "ratio");
   double total2048 = 0, floor2048 = 0;
   std::string json = "{\"bench\":\"nn\"";
   char buf[256];
   for (const Case& c : cases) {
     const double ratio = (c.policy_ms + c.q_ms) / c.floor_ms;
-    std::printf("%6d %9d %11.2f %8.2f %14.2f %7.2fx\n", c.batch, c.entities, c.policy_ms, c.q_ms,
-                c.floor_ms, ratio);
+    std::printf("%6d %9d %11.2f %8.2f %14.2f %7.2fx\n", c.batch, c.entities, c.policy_ms, c.q_ms, c.floor_ms, ratio);
     if (c.batch == 2048) {
       total2048 += c.policy_ms + c.q_ms;
       floor2048 += c.floor_ms;
     }
-    std::snprintf(buf, sizeof(buf),
-                  ",\"policy_ms_b%d_n%d\":%.3f,\"q_ms_b%d_n%d\":%.3f,\"floor_ms_b%d_n%d\":%.3f",
-                  c.batch, c.entities, c.policy_ms, c.batch, c.entities, c.q_ms, c.batch,
-                  c.entities, c.floor_ms);
+    std::snprintf(buf, sizeof(buf), ",\"policy_ms_b%d_n%d\":%.3f,\"q_ms_b%d_n%d\":%.3f,\"floor_ms_b%d_n%d\":%.3f",
+                  c.batch, c.entities, c.policy_ms, c.batch, c.entities, c.q_ms, c.batch, c.entities, c.floor_ms);
     json += buf;
   }
   const double ratio = total2048 / floor2048;
-  std::printf("batch 2048 total: %.2f ms vs floor %.2f ms -> %.2fx (target <= 2x)\n", total2048,
-              floor2048, ratio);
-  std::printf("single-observation action: %.1f us (4 entities), %.1f us (7 entities); "
-              "target < 75 us (5%% of a 1.5 ms env step)\n",
-              act4, act7);
-  std::snprintf(buf, sizeof(buf), ",\"act_us_n4\":%.2f,\"act_us_n7\":%.2f,\"ratio\":%.3f}", act4,
-                act7, ratio);
+  std::printf("batch 2048 total: %.2f ms vs floor %.2f ms -> %.2fx (target <= 2x)\n", total2048, floor2048, ratio);
+  std::printf(
+      "single-observation action: %.1f us (4 entities), %.1f us (7 entities); "
+      "target < 75 us (5%% of a 1.5 ms env step)\n",
+      act4, act7);
+  std::snprintf(buf, sizeof(buf), ",\"act_us_n4\":%.2f,\"act_us_n7\":%.2f,\"ratio\":%.3f}", act4, act7, ratio);
   json += buf;
   // products of batch 256 with 4 entities (the CPU profile's SAC batch)
   const std::vector<ShapeRate> rates = ShapeRates(cases[2].shapes);
-  std::printf("\nproducts of policy + Q at batch 256, 4 entities, GFLOP/s per distinct shape "
-              "(matrix products now on %s)\n%22s %8s %8s %8s\n", srics::nn::GemmBackendDescription().c_str(),
-              "m x k x n (ta tb)", "Eigen", "oneDNN", "ratio");
+  std::printf(
+      "\nproducts of policy + Q at batch 256, 4 entities, GFLOP/s per distinct shape "
+      "(matrix products now on %s)\n%22s %8s %8s %8s\n",
+      srics::nn::GemmBackendDescription().c_str(), "m x k x n (ta tb)", "Eigen", "oneDNN", "ratio");
   double eigen_ms = 0, onednn_ms = 0;
   for (const ShapeRate& r : rates) {
     const GemmShape& g = r.shape;
-    std::printf("%5ld x%5ld x%5ld (%d %d) %8.1f %8.1f %8.2f\n", static_cast<long>(g.m),
-                static_cast<long>(g.k), static_cast<long>(g.n), g.transpose_a, g.transpose_b, r.eigen,
-                r.onednn, r.onednn / r.eigen);
+    std::printf("%5ld x%5ld x%5ld (%d %d) %8.1f %8.1f %8.2f\n", static_cast<long>(g.m), static_cast<long>(g.k),
+                static_cast<long>(g.n), g.transpose_a, g.transpose_b, r.eigen, r.onednn, r.onednn / r.eigen);
     const double flop = 2.0 * g.m * g.k * g.n;
     eigen_ms += flop / (r.eigen * 1e6);
     onednn_ms += r.onednn > 0 ? flop / (r.onednn * 1e6) : 0;

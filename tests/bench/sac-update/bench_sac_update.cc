@@ -11,8 +11,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <memory>
 #include <stdexcept>
@@ -191,11 +191,12 @@ int main(int argc, char** argv) {
   for (int i = 0; i < 200; ++i)
     if (auto e = actor::RunExploreEpisode(*env, 50, 1000 + i, rng)) episodes.push_back(std::move(*e));
 
-  std::printf("SAC update, paper networks (attention 80 = 5 x 16, policy [128,128], Q [128,128,128]),\n"
-              "Rearrange 3 (4 entities), median of repeats. update = Learner::Update (sampling, relabeling,\n"
-              "SAC step); agent = SacAgent::Update on a fixed batch; floor = its matrix products as bare Eigen\n\n");
-  std::printf("%-6s %8s %11s %10s %12s %7s %14s %8s %7s\n", "batch", "threads", "update ms", "agent ms",
-              "agent cpu ms", "cores", "GEMM floor ms", "ratio", "gemms");
+  std::printf(
+      "SAC update, paper networks (attention 80 = 5 x 16, policy [128,128], Q [128,128,128]),\n"
+      "Rearrange 3 (4 entities), median of repeats. update = Learner::Update (sampling, relabeling,\n"
+      "SAC step); agent = SacAgent::Update on a fixed batch; floor = its matrix products as bare Eigen\n\n");
+  std::printf("%-6s %8s %11s %10s %12s %7s %14s %8s %7s\n", "batch", "threads", "update ms", "agent ms", "agent cpu ms",
+              "cores", "GEMM floor ms", "ratio", "gemms");
   const Result big1 = Measure(2048, 1, episodes, 11, dump_dir);
   const Result big2 = Measure(2048, 2, episodes, 11, "");
   const Result small1 = Measure(256, 1, episodes, 41, dump_dir);
@@ -212,22 +213,25 @@ int main(int argc, char** argv) {
   const double eigen_gflops = eigen.wall;
   const bool have_onednn = nn::GemmBackendAvailable(nn::GemmBackend::kOneDnn);
   const Rate onednn = have_onednn ? SgemmGflops(nn::GemmBackend::kOneDnn) : Rate{};
-  std::printf("\nGEMM in use: %s; the agent's update with Eigen's GEMM instead, CPU ms: %.2f at 2048, %.2f at 256\n"
-              "(this GEMM over Eigen's, by CPU time: %.2fx at 2048, %.2fx at 256)\n",
-              nn::GemmBackendDescription().c_str(), big1.agent_eigen.cpu_ms, small1.agent_eigen.cpu_ms,
-              big1.agent_eigen.cpu_ms / big1.agent.cpu_ms, small1.agent_eigen.cpu_ms / small1.agent.cpu_ms);
+  std::printf(
+      "\nGEMM in use: %s; the agent's update with Eigen's GEMM instead, CPU ms: %.2f at 2048, %.2f at 256\n"
+      "(this GEMM over Eigen's, by CPU time: %.2fx at 2048, %.2fx at 256)\n",
+      nn::GemmBackendDescription().c_str(), big1.agent_eigen.cpu_ms, small1.agent_eigen.cpu_ms,
+      big1.agent_eigen.cpu_ms / big1.agent.cpu_ms, small1.agent_eigen.cpu_ms / small1.agent.cpu_ms);
   std::printf("\nupdates per second, 1 thread: %.1f at batch 2048, %.0f at 256; 2 threads: %.1f, %.0f\n",
               1000.0 / big1.update_ms, 1000.0 / small1.update_ms, 1000.0 / big2.update_ms, 1000.0 / small2.update_ms);
   std::printf("2 threads vs 1 (updates/s): %.2fx at batch 2048, %.2fx at 256 (agent alone: %.2fx, %.2fx)\n",
               big1.update_ms / big2.update_ms, small1.update_ms / small2.update_ms, big1.agent_ms / big2.agent_ms,
               small1.agent_ms / small2.agent_ms);
-  std::printf("cores obtained by the 2-thread agent update (process CPU / wall): %.2f at 2048, %.2f at 256;\n"
-              "its CPU time over the 1-thread update's (the cost of sharding): %.2f at 2048, %.2f at 256\n",
-              big2.agent.cores, small2.agent.cores, big2.agent.cpu_ms / big1.agent.cpu_ms,
-              small2.agent.cpu_ms / small1.agent.cpu_ms);
-  std::printf("GEMM work per update (layer shapes, forward + backward): %.2f GFLOP at 2048, %.3f at 256;\n"
-              "sgemm 2048^3 one thread: Eigen %.1f, oneDNN %.1f GFLOP/s; the agent's update at 2048, 1 thread: %.1f GFLOP/s\n",
-              big1.gflop, small1.gflop, eigen_gflops, onednn.wall, big1.gflop / (big1.agent_ms * 1e-3));
+  std::printf(
+      "cores obtained by the 2-thread agent update (process CPU / wall): %.2f at 2048, %.2f at 256;\n"
+      "its CPU time over the 1-thread update's (the cost of sharding): %.2f at 2048, %.2f at 256\n",
+      big2.agent.cores, small2.agent.cores, big2.agent.cpu_ms / big1.agent.cpu_ms,
+      small2.agent.cpu_ms / small1.agent.cpu_ms);
+  std::printf(
+      "GEMM work per update (layer shapes, forward + backward): %.2f GFLOP at 2048, %.3f at 256;\n"
+      "sgemm 2048^3 one thread: Eigen %.1f, oneDNN %.1f GFLOP/s; the agent's update at 2048, 1 thread: %.1f GFLOP/s\n",
+      big1.gflop, small1.gflop, eigen_gflops, onednn.wall, big1.gflop / (big1.agent_ms * 1e-3));
   std::printf(
       "{\"bench\":\"sac-update\",\"ms_batch2048\":%.3f,\"ms_batch256\":%.3f,\"floor_ms_batch2048\":%.3f,"
       "\"floor_ms_batch256\":%.3f,\"agent_ms_batch2048\":%.3f,\"agent_ms_batch256\":%.3f,"
@@ -235,16 +239,17 @@ int main(int argc, char** argv) {
       "\"agent_ms_batch256_2threads\":%.3f,\"speedup_2_threads_2048\":%.3f,\"speedup_2_threads_256\":%.3f,"
       "\"agent_cpu_ms_batch2048\":%.3f,\"agent_cpu_ms_batch256\":%.3f,\"cores_1thread_2048\":%.2f,"
       "\"cores_2threads_2048\":%.2f,\"cores_2threads_256\":%.2f,\"cpu_ratio_2threads_2048\":%.3f,"
-      "\"cpu_ratio_2threads_256\":%.3f,\"gflop_update_2048\":%.4f,\"gflop_update_256\":%.5f,\"eigen_sgemm_gflops\":%.2f,\"eigen_sgemm_gflops_cpu\":%.2f,"
+      "\"cpu_ratio_2threads_256\":%.3f,\"gflop_update_2048\":%.4f,\"gflop_update_256\":%.5f,\"eigen_sgemm_gflops\":%."
+      "2f,\"eigen_sgemm_gflops_cpu\":%.2f,"
       "\"onednn_sgemm_gflops\":%.2f,\"onednn_sgemm_gflops_cpu\":%.2f,\"gemm_backend\":\"%s\","
       "\"agent_cpu_ms_batch2048_eigen\":%.3f,\"agent_cpu_ms_batch256_eigen\":%.3f,"
       "\"speedup_vs_eigen_cpu_2048\":%.3f,\"speedup_vs_eigen_cpu_256\":%.3f,\"ratio\":%.3f}\n",
       big1.update_ms, small1.update_ms, big1.floor_ms, small1.floor_ms, big1.agent_ms, small1.agent_ms, big2.update_ms,
       small2.update_ms, big2.agent_ms, small2.agent_ms, big1.update_ms / big2.update_ms,
-      small1.update_ms / small2.update_ms, big1.agent.cpu_ms, small1.agent.cpu_ms, big1.agent.cores, big2.agent.cores, small2.agent.cores, big2.agent.cpu_ms / big1.agent.cpu_ms,
-      small2.agent.cpu_ms / small1.agent.cpu_ms, big1.gflop, small1.gflop, eigen_gflops, eigen.cpu,
-      onednn.wall, onednn.cpu, nn::GemmBackendDescription().c_str(), big1.agent_eigen.cpu_ms,
-      small1.agent_eigen.cpu_ms, big1.agent_eigen.cpu_ms / big1.agent.cpu_ms,
+      small1.update_ms / small2.update_ms, big1.agent.cpu_ms, small1.agent.cpu_ms, big1.agent.cores, big2.agent.cores,
+      small2.agent.cores, big2.agent.cpu_ms / big1.agent.cpu_ms, small2.agent.cpu_ms / small1.agent.cpu_ms, big1.gflop,
+      small1.gflop, eigen_gflops, eigen.cpu, onednn.wall, onednn.cpu, nn::GemmBackendDescription().c_str(),
+      big1.agent_eigen.cpu_ms, small1.agent_eigen.cpu_ms, big1.agent_eigen.cpu_ms / big1.agent.cpu_ms,
       small1.agent_eigen.cpu_ms / small1.agent.cpu_ms, big1.update_ms / big1.floor_ms);
   return 0;
 }

@@ -50,7 +50,7 @@ struct Options {
   uint64_t episodes = 100000;
   uint64_t weights = 150;
   int ddsperf_seconds = 4;
-  std::string keystore;  // DDS Security for our rows (empty: open)
+  std::string keystore;      // DDS Security for our rows (empty: open)
   std::string rows = "012";  // which rows to run (profiling one path): 0 batched, 1 unbatched, 2 weights
   bool ddsperf = true;       // --no-ddsperf: our rows only (profiling)
 };
@@ -72,8 +72,7 @@ double Median(std::vector<double> v) {
 
 // Approximate CDR size of an episode (header, scalars, strings, sequences).
 size_t EpisodeBytes(const srics::rl::Episode& e) {
-  return 96 + 20 /* run id */ + 2 * e.entity_kinds.size() +
-         4 * (e.states.size() + e.actions.size() + e.goal.size());
+  return 96 + 20 /* run id */ + 2 * e.entity_kinds.size() + 4 * (e.states.size() + e.actions.size() + e.goal.size());
 }
 
 // ------------------------------------------------------------------- the reader process
@@ -104,8 +103,8 @@ int RunReader(const Participant& participant, uint64_t count, size_t bytes_per_s
   }
   // the first sample's arrival starts the clock, so it does not count
   const double s = std::chrono::duration<double>(last - first).count();
-  std::cout << "result " << (received - 1) / s << " " << (received - 1) * bytes_per_sample / s / 1e6
-            << " " << received << std::endl;
+  std::cout << "result " << (received - 1) / s << " " << (received - 1) * bytes_per_sample / s / 1e6 << " " << received
+            << std::endl;
   return 0;
 }
 
@@ -139,8 +138,8 @@ std::string Self() {
 // actor_path: the writer an actor's DdsActorLink creates (ActorEpisodeWriterOptions: batched,
 // each episode sent within transport.episode_batch_ms), checking each episode as the link does.
 template <typename T>
-std::optional<Figure> RunOnce(const std::string& kind, T sample, uint64_t count, int domain,
-                              bool actor_path, const std::string& keystore) {
+std::optional<Figure> RunOnce(const std::string& kind, T sample, uint64_t count, int domain, bool actor_path,
+                              const std::string& keystore) {
   srics::config::TransportConfig config;
   config.domain_id = domain;
   config.run_id = "bench-" + std::to_string(getpid());
@@ -199,12 +198,11 @@ std::optional<Figure> RunDdsperf(size_t bytes, int domain, int duration_s, const
                                  bool unbatched = false) {
   setenv("CYCLONEDDS_URI", ("file://" + xml).c_str(), 1);
   const std::string d = std::to_string(domain);
-  testing::PeerProcess sub("/usr/bin/ddsperf",
-                           {"-i", d, "-D", std::to_string(duration_s + 1), "-k", "all", "sub"});
+  testing::PeerProcess sub("/usr/bin/ddsperf", {"-i", d, "-D", std::to_string(duration_s + 1), "-k", "all", "sub"});
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   if (unbatched) setenv("LD_PRELOAD", SRICS_DDSPERF_UNBATCHED, 1);
-  testing::PeerProcess pub("/usr/bin/ddsperf", {"-i", d, "-D", std::to_string(duration_s), "-k",
-                                                "all", "pub", "size", std::to_string(bytes)});
+  testing::PeerProcess pub("/usr/bin/ddsperf", {"-i", d, "-D", std::to_string(duration_s), "-k", "all", "pub", "size",
+                                                std::to_string(bytes)});
   unsetenv("LD_PRELOAD");
   // "... size S total N lost L delta D lost L rate R kS/s B Mb/s (...)"
   const std::regex rate(R"(size \d+ total \d+ lost \d+ delta \d+ lost \d+ rate ([0-9.]+) kS/s ([0-9.]+) Mb/s)");
@@ -262,12 +260,18 @@ int main(int argc, char** argv) {
       return 2;
     }
     const std::string& value = args[++i];
-    if (args[i - 1] == "--repeats") o.repeats = std::stoi(value);
-    else if (args[i - 1] == "--episodes") o.episodes = std::stoull(value);
-    else if (args[i - 1] == "--weights") o.weights = std::stoull(value);
-    else if (args[i - 1] == "--ddsperf-seconds") o.ddsperf_seconds = std::stoi(value);
-    else if (args[i - 1] == "--keystore") o.keystore = value;
-    else if (args[i - 1] == "--rows") o.rows = value;
+    if (args[i - 1] == "--repeats")
+      o.repeats = std::stoi(value);
+    else if (args[i - 1] == "--episodes")
+      o.episodes = std::stoull(value);
+    else if (args[i - 1] == "--weights")
+      o.weights = std::stoull(value);
+    else if (args[i - 1] == "--ddsperf-seconds")
+      o.ddsperf_seconds = std::stoi(value);
+    else if (args[i - 1] == "--keystore")
+      o.keystore = value;
+    else if (args[i - 1] == "--rows")
+      o.rows = value;
     else {
       std::cerr << "unknown option " << args[i - 1] << "\n";
       return 2;
@@ -286,9 +290,10 @@ int main(int argc, char** argv) {
   // the actor path (row 0) is what actors use; ddsperf batches its writes too
   constexpr int kRows = 3;
   const int batch_ms = srics::config::TransportConfig{}.episode_batch_ms;
-  Row rows[kRows] = {{"episode, actor path (batch " + std::to_string(batch_ms) + " ms)", EpisodeBytes(episode), {}, {}, {}, {}, {}},
-                     {"episode, unbatched writer", EpisodeBytes(episode), {}, {}, {}, {}, {}},
-                     {"policy weights 5 MiB", kWeightBytes + 360, {}, {}, {}, {}, {}}};
+  Row rows[kRows] = {
+      {"episode, actor path (batch " + std::to_string(batch_ms) + " ms)", EpisodeBytes(episode), {}, {}, {}, {}, {}},
+      {"episode, unbatched writer", EpisodeBytes(episode), {}, {}, {}, {}, {}},
+      {"policy weights 5 MiB", kWeightBytes + 360, {}, {}, {}, {}, {}}};
   std::vector<double> ddsperf_unbatched;
   int domain = 20 + static_cast<int>(getpid() % 150);
   for (int r = 0; r < o.repeats; ++r) {
@@ -298,7 +303,9 @@ int main(int argc, char** argv) {
       if (o.rows.find(static_cast<char>('0' + k)) == std::string::npos) continue;
       std::optional<Figure> f = k < 2 ? RunOnce("episode", episode, o.episodes, domain++, k == 0, o.keystore)
                                       : RunOnce("weights", weights, o.weights, domain++, false, o.keystore);
-      if (f) std::fprintf(stderr, "%s: writer %.0f/s, reader %.0f/s, %.0f delivered\n", rows[k].name.c_str(), f->written_per_s, f->samples_per_s, f->delivered);
+      if (f)
+        std::fprintf(stderr, "%s: writer %.0f/s, reader %.0f/s, %.0f delivered\n", rows[k].name.c_str(),
+                     f->written_per_s, f->samples_per_s, f->delivered);
       if (f) {
         ours_now[k] = f->samples_per_s;
         rows[k].ours.push_back(f->samples_per_s);
@@ -330,43 +337,47 @@ int main(int argc, char** argv) {
       }
     }
   }
-  std::printf("transport benchmark: one writer process -> one reader process, loopback, reliable "
-              "keep-all, medians of %d runs%s\n", o.repeats,
-              o.keystore.empty() ? "" : "; ours with DDS Security (encrypted payloads, signed submessages)");
-  std::printf("%-36s %10s %14s %10s %14s %10s %7s %7s\n", "payload", "bytes", "ours samples/s",
-              "ours MB/s", "ddsperf smp/s", "ddsp MB/s", "ratio", "paired");
+  std::printf(
+      "transport benchmark: one writer process -> one reader process, loopback, reliable "
+      "keep-all, medians of %d runs%s\n",
+      o.repeats, o.keystore.empty() ? "" : "; ours with DDS Security (encrypted payloads, signed submessages)");
+  std::printf("%-36s %10s %14s %10s %14s %10s %7s %7s\n", "payload", "bytes", "ours samples/s", "ours MB/s",
+              "ddsperf smp/s", "ddsp MB/s", "ratio", "paired");
   double ratio[kRows], paired[kRows];
   for (int k = 0; k < kRows; ++k) {
     const double ours = Median(rows[k].ours), ref = Median(rows[k].ddsperf);
     ratio[k] = ref > 0 ? ours / ref : 0;
     paired[k] = Median(rows[k].paired);
-    std::printf("%-36s %10zu %14.0f %10.1f %14.0f %10.1f %7.2f %7.2f\n", rows[k].name.c_str(), rows[k].bytes,
-                ours, Median(rows[k].ours_mb), ref, Median(rows[k].ddsperf_mb), ratio[k], paired[k]);
+    std::printf("%-36s %10zu %14.0f %10.1f %14.0f %10.1f %7.2f %7.2f\n", rows[k].name.c_str(), rows[k].bytes, ours,
+                Median(rows[k].ours_mb), ref, Median(rows[k].ddsperf_mb), ratio[k], paired[k]);
   }
   const double floor = Median(ddsperf_unbatched);
   const double unbatched_vs_floor = floor > 0 ? Median(rows[1].ours) / floor : 0;
-  std::printf("%-36s %10zu %14s %10s %14.0f %10s %7.2f\n", "ddsperf with batching off (floor)", rows[1].bytes,
-              "", "", floor, "", unbatched_vs_floor);
-  std::printf("ratio: median of our rates over the median of ddsperf's (JSON \"ratio\", \"unbatched_ratio\",\n"
-              "\"weights_ratio\"); paired: the median of each repeat's ratio, ours and ddsperf measured back\n"
-              "to back (JSON \"*_paired\"), steadier on a loaded machine.\n");
-  std::printf("The actor path is the writer actors use (\"ratio\"): batched, each episode sent within\n"
-              "transport.episode_batch_ms; ddsperf batches too. The unbatched writer sends a datagram per\n"
-              "episode; its like-for-like reference is ddsperf with batching off (last row: our unbatched\n"
-              "rate over it). Weights are keep-last 1 (latest wins): their rate counts the distinct samples\n"
-              "the reader got while the writer published as fast as it could; ddsperf's is keep-all.\n");
-  std::printf("{\"bench\":\"transport\",\"episode_bytes\":%zu,\"episodes_per_s\":%.0f,"
-              "\"episode_mb_per_s\":%.1f,\"episodes_per_s_unbatched\":%.0f,"
-              "\"ddsperf_episode_size_samples_per_s\":%.0f,\"ddsperf_episode_size_mb_per_s\":%.1f,"
-              "\"unbatched_ratio\":%.3f,\"ddsperf_unbatched_samples_per_s\":%.0f,"
-              "\"unbatched_vs_ddsperf_unbatched\":%.3f,"
-              "\"weights_bytes\":%zu,\"weights_per_s\":%.1f,\"weights_mb_per_s\":%.1f,"
-              "\"ddsperf_weights_size_samples_per_s\":%.1f,\"weights_ratio\":%.3f,"
-              "\"ratio_paired\":%.3f,\"unbatched_ratio_paired\":%.3f,\"weights_ratio_paired\":%.3f,"
-              "\"episode_batch_ms\":%d,\"repeats\":%d,\"secured\":%s,\"ratio\":%.3f}\n",
-              rows[0].bytes, Median(rows[0].ours), Median(rows[0].ours_mb), Median(rows[1].ours),
-              Median(rows[0].ddsperf), Median(rows[0].ddsperf_mb), ratio[1], floor, unbatched_vs_floor,
-              rows[2].bytes, Median(rows[2].ours), Median(rows[2].ours_mb), Median(rows[2].ddsperf),
-              ratio[2], paired[0], paired[1], paired[2], batch_ms, o.repeats, o.keystore.empty() ? "false" : "true", ratio[0]);
+  std::printf("%-36s %10zu %14s %10s %14.0f %10s %7.2f\n", "ddsperf with batching off (floor)", rows[1].bytes, "", "",
+              floor, "", unbatched_vs_floor);
+  std::printf(
+      "ratio: median of our rates over the median of ddsperf's (JSON \"ratio\", \"unbatched_ratio\",\n"
+      "\"weights_ratio\"); paired: the median of each repeat's ratio, ours and ddsperf measured back\n"
+      "to back (JSON \"*_paired\"), steadier on a loaded machine.\n");
+  std::printf(
+      "The actor path is the writer actors use (\"ratio\"): batched, each episode sent within\n"
+      "transport.episode_batch_ms; ddsperf batches too. The unbatched writer sends a datagram per\n"
+      "episode; its like-for-like reference is ddsperf with batching off (last row: our unbatched\n"
+      "rate over it). Weights are keep-last 1 (latest wins): their rate counts the distinct samples\n"
+      "the reader got while the writer published as fast as it could; ddsperf's is keep-all.\n");
+  std::printf(
+      "{\"bench\":\"transport\",\"episode_bytes\":%zu,\"episodes_per_s\":%.0f,"
+      "\"episode_mb_per_s\":%.1f,\"episodes_per_s_unbatched\":%.0f,"
+      "\"ddsperf_episode_size_samples_per_s\":%.0f,\"ddsperf_episode_size_mb_per_s\":%.1f,"
+      "\"unbatched_ratio\":%.3f,\"ddsperf_unbatched_samples_per_s\":%.0f,"
+      "\"unbatched_vs_ddsperf_unbatched\":%.3f,"
+      "\"weights_bytes\":%zu,\"weights_per_s\":%.1f,\"weights_mb_per_s\":%.1f,"
+      "\"ddsperf_weights_size_samples_per_s\":%.1f,\"weights_ratio\":%.3f,"
+      "\"ratio_paired\":%.3f,\"unbatched_ratio_paired\":%.3f,\"weights_ratio_paired\":%.3f,"
+      "\"episode_batch_ms\":%d,\"repeats\":%d,\"secured\":%s,\"ratio\":%.3f}\n",
+      rows[0].bytes, Median(rows[0].ours), Median(rows[0].ours_mb), Median(rows[1].ours), Median(rows[0].ddsperf),
+      Median(rows[0].ddsperf_mb), ratio[1], floor, unbatched_vs_floor, rows[2].bytes, Median(rows[2].ours),
+      Median(rows[2].ours_mb), Median(rows[2].ddsperf), ratio[2], paired[0], paired[1], paired[2], batch_ms, o.repeats,
+      o.keystore.empty() ? "false" : "true", ratio[0]);
   return 0;
 }

@@ -24,13 +24,14 @@ TEST(InstalledConfigTest, InstalledProgramsFindTheirConfigsFromAnyFolder) {
   const fs::path elsewhere = prefix / "elsewhere";
   fs::remove_all(prefix);
   fs::create_directories(elsewhere);
-  auto [code, output] = Shell("cmake --install '" + std::string(SRICS_BINARY_DIR) + "' --prefix '" + prefix.string() + "'");
+  auto [code, output] =
+      Shell("cmake --install '" + std::string(SRICS_BINARY_DIR) + "' --prefix '" + prefix.string() + "'");
   ASSERT_EQ(code, 0) << output;
   ASSERT_TRUE(fs::exists(prefix / "share/srics-dds/configs/default.yaml"));
   const std::string srics = (prefix / "bin/srics").string();
 
-  std::tie(code, output) = Shell("cd '" + elsewhere.string() + "' && '" + srics +
-                                 "' learn-graph --expected --env env/relational-4.yaml");
+  std::tie(code, output) =
+      Shell("cd '" + elsewhere.string() + "' && '" + srics + "' learn-graph --expected --env env/relational-4.yaml");
   EXPECT_EQ(code, 0) << output;
   EXPECT_THAT(output, HasSubstr("action->0, 0->2, 0->3, 0->4, 2->3, 3->2"));
   // the name as the checkout's READMEs write it
@@ -40,8 +41,8 @@ TEST(InstalledConfigTest, InstalledProgramsFindTheirConfigsFromAnyFolder) {
   // a file where the user is wins over the installed one
   fs::create_directories(elsewhere / "env");
   fs::copy_file(prefix / "share/srics-dds/configs/env/rearrange-1.yaml", elsewhere / "env/relational-4.yaml");
-  std::tie(code, output) = Shell("cd '" + elsewhere.string() + "' && '" + srics +
-                                 "' learn-graph --expected --env env/relational-4.yaml");
+  std::tie(code, output) =
+      Shell("cd '" + elsewhere.string() + "' && '" + srics + "' learn-graph --expected --env env/relational-4.yaml");
   EXPECT_EQ(code, 0) << output;
   EXPECT_THAT(output, HasSubstr("action->0"));
   EXPECT_THAT(output, ::testing::Not(HasSubstr("0->2"))) << "the local file, one object";

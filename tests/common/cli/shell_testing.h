@@ -1,6 +1,5 @@
+#pragma once
 // Running the project's programs from a test the way a user's shell does.
-#ifndef SRICS_TESTS_COMMON_CLI_SHELL_TESTING_H_
-#define SRICS_TESTS_COMMON_CLI_SHELL_TESTING_H_
 
 #include <sys/wait.h>
 
@@ -23,5 +22,3 @@ inline std::pair<int, std::string> Shell(const std::string& command) {
 }
 
 }  // namespace srics::cli::testing
-
-#endif  // SRICS_TESTS_COMMON_CLI_SHELL_TESTING_H_

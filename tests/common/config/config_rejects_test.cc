@@ -51,20 +51,24 @@ class RejectedConfig : public ::testing::Test {
 TEST_F(RejectedConfig, NonScalarKeyNamesFileLineAndWhereItIs) {
   // a list as a key (a flow sequence before the colon) and a mapping as a key
   const std::string list_key = Write("list-key.yaml", "run:\n  name: x\ntransport:\n  [domain_id, run_id]: 5\n");
-  EXPECT_EQ(ErrorOf(list_key), list_key + ":4: transport: expected a plain key (a name such as 'domain_id'), "
-                                          "got a list as a key");
+  EXPECT_EQ(ErrorOf(list_key), list_key +
+                                   ":4: transport: expected a plain key (a name such as 'domain_id'), "
+                                   "got a list as a key");
   const std::string map_key = Write("map-key.yaml", "actors:\n  count: 2\n  ? {a: 1}\n  : 3\n");
-  EXPECT_EQ(ErrorOf(map_key), map_key + ":3: actors: expected a plain key (a name such as 'domain_id'), "
-                                        "got a mapping as a key");
+  EXPECT_EQ(ErrorOf(map_key), map_key +
+                                  ":3: actors: expected a plain key (a name such as 'domain_id'), "
+                                  "got a mapping as a key");
   // nothing as a key, at the top level
   const std::string null_key = Write("null-key.yaml", "run:\n  name: x\n~: 3\n");
-  EXPECT_EQ(ErrorOf(null_key), null_key + ":3: <top>: expected a plain key (a name such as 'domain_id'), "
-                                          "got nothing as a key");
+  EXPECT_EQ(ErrorOf(null_key), null_key +
+                                   ":3: <top>: expected a plain key (a name such as 'domain_id'), "
+                                   "got nothing as a key");
   // through extends: the base file is named
   const std::string base = Write("base.yaml", "learner:\n  relabel:\n    [x]: 1\n");
   const std::string top = Write("top.yaml", "extends: base.yaml\nrun:\n  name: y\n");
-  EXPECT_EQ(ErrorOf(top), base + ":3: learner.relabel: expected a plain key (a name such as 'domain_id'), "
-                                 "got a list as a key");
+  EXPECT_EQ(ErrorOf(top), base +
+                              ":3: learner.relabel: expected a plain key (a name such as 'domain_id'), "
+                              "got a list as a key");
   // and on the command line
   const std::string fine = Write("fine.yaml", "run:\n  name: z\n");
   EXPECT_EQ(ErrorOf(fine, {"env={[a]: 1}"}),
@@ -76,7 +80,8 @@ TEST_F(RejectedConfig, NonScalarKeyInParsedTextToo) {
     ParseConfig("graph:\n  {a: 1}: 2\n", "inline.yaml");
     ADD_FAILURE() << "accepted";
   } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(), "inline.yaml:2: graph: expected a plain key (a name such as 'domain_id'), got a mapping as a key");
+    EXPECT_STREQ(e.what(),
+                 "inline.yaml:2: graph: expected a plain key (a name such as 'domain_id'), got a mapping as a key");
   }
 }
 
@@ -98,8 +103,10 @@ TEST_F(RejectedConfig, OtherZeroSizesPeriodsAndRates) {
       {"learner:\n  publish_every_updates: -1\n", ":2: learner.publish_every_updates: expected an integer in"},
       {"agent:\n  sac:\n    q_lr: 0\n", ":3: agent.sac.q_lr: expected a number in [1e-12, 1], got '0'"},
       {"graph:\n  learning_rate: 0\n", ":2: graph.learning_rate: expected a number in [1e-12, 1], got '0'"},
-      {"env:\n  physics:\n    static_objects: glued\n", ":3: env.physics.static_objects: expected one of 'put_back' 'fixed', got 'glued'"},
-      {"graph:\n  object_contact_margin_m: -0.01\n", ":2: graph.object_contact_margin_m: expected a number in [0, 1], got '-0.01'"},
+      {"env:\n  physics:\n    static_objects: glued\n",
+       ":3: env.physics.static_objects: expected one of 'put_back' 'fixed', got 'glued'"},
+      {"graph:\n  object_contact_margin_m: -0.01\n",
+       ":2: graph.object_contact_margin_m: expected a number in [0, 1], got '-0.01'"},
       {"graph:\n  object_pair_share: 2\n", ":2: graph.object_pair_share: expected a number in [0, 1], got '2'"},
       {"transport:\n  status_period_s: 0\n", ":2: transport.status_period_s: expected a number in [0.01, 3600]"},
       {"transport:\n  episode_batch_ms: -1\n", ":2: transport.episode_batch_ms: expected an integer in [0, 10000]"},
@@ -113,13 +120,17 @@ TEST_F(RejectedConfig, OtherZeroSizesPeriodsAndRates) {
 
 TEST_F(RejectedConfig, RefinementNeedsALearnedGraphAndWindowsThatFitTrainingEpisodes) {
   const std::string fixed = Write("fixed.yaml", "graph:\n  ground_truth: true\n  refine_after_publish: true\n");
-  EXPECT_NE(ErrorOf(fixed).find("graph.refine_after_publish: needs a learned graph"), std::string::npos) << ErrorOf(fixed);
+  EXPECT_NE(ErrorOf(fixed).find("graph.refine_after_publish: needs a learned graph"), std::string::npos)
+      << ErrorOf(fixed);
   const std::string no_share = Write("share.yaml", "graph:\n  refine_after_publish: true\n  refine_share: 0\n");
   EXPECT_NE(ErrorOf(no_share).find("needs refine_share and refine_updates_per_episode above 0"), std::string::npos);
   // windows of 20 steps do not fit training episodes of 10
-  const std::string windows = Write("windows.yaml", "graph:\n  refine_after_publish: true\n  window: 20\nactors:\n  train_episode_steps: 10\n");
-  EXPECT_NE(ErrorOf(windows).find("graph.window: must not exceed actors.train_episode_steps (10) with refine_after_publish"),
-            std::string::npos) << ErrorOf(windows);
+  const std::string windows =
+      Write("windows.yaml", "graph:\n  refine_after_publish: true\n  window: 20\nactors:\n  train_episode_steps: 10\n");
+  EXPECT_NE(
+      ErrorOf(windows).find("graph.window: must not exceed actors.train_episode_steps (10) with refine_after_publish"),
+      std::string::npos)
+      << ErrorOf(windows);
   // the same without refinement is fine
   EXPECT_NO_THROW(LoadConfig(windows, {"graph.refine_after_publish=false"}));
 }
@@ -146,8 +157,9 @@ std::string AnchorBomb() {
 TEST_F(RejectedConfig, AnchorBombIsRefusedInUnderASecondNamingAnchors) {
   const std::string bomb = Write("bomb.yaml", AnchorBomb());
   const auto start = std::chrono::steady_clock::now();
-  EXPECT_EQ(ErrorOf(bomb), bomb + ":1: an anchor (&name): anchors and aliases are not accepted in a config; "
-                                  "write the values out");
+  EXPECT_EQ(ErrorOf(bomb), bomb +
+                               ":1: an anchor (&name): anchors and aliases are not accepted in a config; "
+                               "write the values out");
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
   // the same text given as a config's text (a resolved-config from elsewhere, the fuzzer)
   try {
@@ -171,7 +183,9 @@ TEST_F(RejectedConfig, TooManyNodesTooDeepOrTooLargeIsRefusedNamingTheLimit) {
   const std::string deep = Write("deep.yaml", "run: " + std::string(100, '[') + std::string(100, ']') + "\n");
   EXPECT_NE(ErrorOf(deep).find(deep + ":1: nested deeper than 64 levels"), std::string::npos) << ErrorOf(deep);
   const std::string big = Write("big.yaml", "run:\n  name: x\n#" + std::string(size_t{1} << 20, 'x') + "\n");
-  EXPECT_NE(ErrorOf(big).find(big + ": " + std::to_string(fs::file_size(big)) + " bytes, over the limit of 1048576 bytes"), std::string::npos)
+  EXPECT_NE(
+      ErrorOf(big).find(big + ": " + std::to_string(fs::file_size(big)) + " bytes, over the limit of 1048576 bytes"),
+      std::string::npos)
       << ErrorOf(big);
   // the shipped configs are far inside every limit
   EXPECT_NO_THROW(LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/campaign/relational-4-750k.yaml"));
@@ -181,8 +195,10 @@ TEST_F(RejectedConfig, TooManyNodesTooDeepOrTooLargeIsRefusedNamingTheLimit) {
 TEST_F(RejectedConfig, InitialPolicyStdMustLieInsideTheLogStdClamp) {
   const std::string tiny = Write("tiny.yaml", "agent:\n  network:\n    initial_policy_std: 1.0e-12\n");
   EXPECT_NE(ErrorOf(tiny).find("agent.network.initial_policy_std: its log must lie in [log_std_min, log_std_max]"),
-            std::string::npos) << ErrorOf(tiny);
-  const Config reference = LoadConfig(Write("ok.yaml", "agent:\n  network:\n    initial_policy_std: 0.2\n    hidden_bias: 0.1\n"));
+            std::string::npos)
+      << ErrorOf(tiny);
+  const Config reference =
+      LoadConfig(Write("ok.yaml", "agent:\n  network:\n    initial_policy_std: 0.2\n    hidden_bias: 0.1\n"));
   EXPECT_DOUBLE_EQ(reference.agent.network.initial_policy_std, 0.2);
   EXPECT_DOUBLE_EQ(reference.agent.network.hidden_bias, 0.1);
   EXPECT_EQ(LoadConfig(Write("none.yaml", "")).agent.network.initial_policy_std, 0.0);  // off by default

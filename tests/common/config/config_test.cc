@@ -18,9 +18,8 @@ namespace fs = std::filesystem;
 class ConfigFiles : public ::testing::Test {
  protected:
   ConfigFiles() {
-    dir_ = fs::temp_directory_path() /
-           ("srics-config-test-" + std::to_string(getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("srics-config-test-" + std::to_string(getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   ~ConfigFiles() override { fs::remove_all(dir_); }
@@ -94,7 +93,7 @@ TEST_F(ConfigFiles, ResolvedYamlHoldsEveryDefaultAndEveryGivenValue) {
   EXPECT_NE(c.resolved_yaml.find("selectivity_form: paper"), std::string::npos) << c.resolved_yaml;
   EXPECT_EQ(c.effective_yaml.find("selectivity_form"), std::string::npos) << c.effective_yaml;
   EXPECT_NE(c.resolved_yaml.find("batch_size: 2048"), std::string::npos) << c.resolved_yaml;  // agent.sac default
-  EXPECT_NE(c.resolved_yaml.find("static: true"), std::string::npos) << c.resolved_yaml;       // lists of mappings
+  EXPECT_NE(c.resolved_yaml.find("static: true"), std::string::npos) << c.resolved_yaml;      // lists of mappings
   // num_pucks follows the objects list: not recorded at its default of 3 beside a list of 2
   EXPECT_EQ(c.resolved_yaml.find("num_pucks"), std::string::npos) << c.resolved_yaml;
   EXPECT_EQ(c.env.num_pucks, 2);
@@ -126,13 +125,11 @@ TEST_F(ConfigFiles, TypoedSectionIsAnErrorToo) {
   const std::string message = ErrorOf([&] { LoadConfig(file); });
   // the line of the value: a mapping starts at its first key
   EXPECT_NE(message.find(file + ":2"), std::string::npos) << message;
-  EXPECT_NE(message.find("trasport: unknown key (did you mean 'transport'?)"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find("trasport: unknown key (did you mean 'transport'?)"), std::string::npos) << message;
 }
 
 TEST_F(ConfigFiles, FarFetchedKeyGetsNoSuggestion) {
-  const std::string message =
-      ErrorOf([&] { LoadConfig(Write("far.yaml", "transport:\n  completely_else: 1\n")); });
+  const std::string message = ErrorOf([&] { LoadConfig(Write("far.yaml", "transport:\n  completely_else: 1\n")); });
   EXPECT_NE(message.find("transport.completely_else: unknown key"), std::string::npos) << message;
   EXPECT_EQ(message.find("did you mean"), std::string::npos) << message;
 }
@@ -150,8 +147,7 @@ TEST_F(ConfigFiles, WrongTypeNamesFileLineKeyExpectationAndValue) {
 TEST_F(ConfigFiles, OutOfRangeNamesFileLineKeyAndRange) {
   const std::string file = Write("range.yaml", "transport:\n  liveliness_lease_s: 0.001\n");
   const std::string message = ErrorOf([&] { LoadConfig(file); });
-  EXPECT_EQ(message,
-            file + ":2: transport.liveliness_lease_s: expected a number in [0.05, 3600], got '0.001'");
+  EXPECT_EQ(message, file + ":2: transport.liveliness_lease_s: expected a number in [0.05, 3600], got '0.001'");
 }
 
 TEST_F(ConfigFiles, OtherTypeErrors) {
@@ -178,8 +174,7 @@ TEST_F(ConfigFiles, CrossFieldRulesNameTheKey) {
   const std::string file = Write("rule.yaml", "transport:\n  profile: unicast\n");
   const std::string message = ErrorOf([&] { LoadConfig(file); });
   EXPECT_NE(message.find(file), std::string::npos) << message;
-  EXPECT_NE(message.find("transport.peers: profile 'unicast' needs peers"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find("transport.peers: profile 'unicast' needs peers"), std::string::npos) << message;
 }
 
 TEST_F(ConfigFiles, InvalidYamlAndMissingFile) {
@@ -187,8 +182,7 @@ TEST_F(ConfigFiles, InvalidYamlAndMissingFile) {
   const std::string message = ErrorOf([&] { LoadConfig(file); });
   EXPECT_NE(message.find(file + ":"), std::string::npos) << message;
   EXPECT_NE(message.find("not valid YAML"), std::string::npos) << message;
-  EXPECT_NE(ErrorOf([&] { LoadConfig((dir_ / "nope.yaml").string()); }).find("no such config file"),
-            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig((dir_ / "nope.yaml").string()); }).find("no such config file"), std::string::npos);
 }
 
 // ------------------------------------------------------------------------------- extends
@@ -206,9 +200,9 @@ TEST_F(ConfigFiles, ExtendsMergesKeyByKeyAndTheExtendingFileWins) {
                                 "transport:\n"
                                 "  domain_id: 11\n");
   const Config c = LoadConfig(top);
-  EXPECT_EQ(c.transport.domain_id, 11);          // overridden
-  EXPECT_EQ(c.transport.run_id, "base-run");     // kept from the base (same mapping)
-  EXPECT_EQ(c.run.name, "base");                 // kept from the base (other mapping)
+  EXPECT_EQ(c.transport.domain_id, 11);       // overridden
+  EXPECT_EQ(c.transport.run_id, "base-run");  // kept from the base (same mapping)
+  EXPECT_EQ(c.run.name, "base");              // kept from the base (other mapping)
   EXPECT_EQ(c.run.seed, 5u);
 }
 
@@ -222,8 +216,9 @@ TEST_F(ConfigFiles, ExtendsChainsAndErrorsNameTheFileTheKeyCameFrom) {
   const std::string top = Write("top.yaml", "extends: middle.yaml\ntransport:\n  domain_id: 3\n");
   const std::string message = ErrorOf([&] { LoadConfig(top); });
   // the bad value lives on line 4 of base.yaml, not in top.yaml
-  EXPECT_EQ(message, base + ":4: transport.max_participants_per_host: expected an integer in "
-                            "[1, 1000], got '5000'");
+  EXPECT_EQ(message, base +
+                         ":4: transport.max_participants_per_host: expected an integer in "
+                         "[1, 1000], got '5000'");
 }
 
 TEST_F(ConfigFiles, UnknownKeyInBaseFileNamesTheBase) {
@@ -238,11 +233,9 @@ TEST_F(ConfigFiles, ExtendsCycleAndBadExtends) {
   const std::string b = Write("b.yaml", "extends: a.yaml\n");
   EXPECT_NE(ErrorOf([&] { LoadConfig(b); }).find("deeper than 8"), std::string::npos);
   const std::string bad = Write("c.yaml", "extends: {a: 1}\n");
-  EXPECT_NE(ErrorOf([&] { LoadConfig(bad); }).find("extends: expected a file name"),
-            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(bad); }).find("extends: expected a file name"), std::string::npos);
   const std::string missing = Write("d.yaml", "extends: missing.yaml\n");
-  EXPECT_NE(ErrorOf([&] { LoadConfig(missing); }).find("missing.yaml: no such config file"),
-            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(missing); }).find("missing.yaml: no such config file"), std::string::npos);
 }
 
 TEST_F(ConfigFiles, ExtendsListMergesInOrderLaterWins) {
@@ -271,13 +264,10 @@ TEST_F(ConfigFiles, OverrideErrorsNameTheCommandLine) {
   const std::string message = ErrorOf([&] { LoadConfig(file, {"transport.domain_id=500"}); });
   EXPECT_EQ(message, "command line: transport.domain_id: expected an integer in [0, 232], got '500'");
   const std::string typo = ErrorOf([&] { LoadConfig(file, {"transport.domainid=5"}); });
-  EXPECT_NE(typo.find("command line: transport.domainid: unknown key (did you mean 'domain_id'?)"),
-            std::string::npos)
+  EXPECT_NE(typo.find("command line: transport.domainid: unknown key (did you mean 'domain_id'?)"), std::string::npos)
       << typo;
-  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"no-equals-sign"}); }).find("expected key.path=value"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"transport..domain_id=1"}); }).find("empty key"),
-            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"no-equals-sign"}); }).find("expected key.path=value"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"transport..domain_id=1"}); }).find("empty key"), std::string::npos);
 }
 
 TEST_F(ConfigFiles, OverrideReplacesAWholeMappingWithAScalarOnlyWhenAsked) {
@@ -308,11 +298,13 @@ TEST_F(ConfigFiles, HacSettingsHaveDefaultsAndRanges) {
   EXPECT_EQ(defaults.agent.hac.hindsight_goals, 3);
   const std::string file = Write("hac.yaml", "agent:\n  hac:\n    horizon: 10\n    hindsight_goals: 0\n");
   EXPECT_EQ(LoadConfig(file).agent.hac.horizon, 10);
-  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"agent.hac.horizon=101"}); })
-                .find("agent.hac.horizon: expected an integer in [1, 100], got '101'"),
+  EXPECT_NE(ErrorOf([&] {
+              LoadConfig(file, {"agent.hac.horizon=101"});
+            }).find("agent.hac.horizon: expected an integer in [1, 100], got '101'"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"agent.hac.subgoal_test_probability=1.5"}); })
-                .find("agent.hac.subgoal_test_probability"),
+  EXPECT_NE(ErrorOf([&] {
+              LoadConfig(file, {"agent.hac.subgoal_test_probability=1.5"});
+            }).find("agent.hac.subgoal_test_probability"),
             std::string::npos);
   EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"agent.hac.goal_threshold=0"}); }).find("agent.hac.goal_threshold"),
             std::string::npos);
@@ -322,8 +314,9 @@ TEST_F(ConfigFiles, LearnerThreadsDefaultToOneAndAreChecked) {
   const std::string file = Write("threads.yaml", "");
   EXPECT_EQ(LoadConfig(file).learner.threads, 1);
   EXPECT_EQ(LoadConfig(file, {"learner.threads=2"}).learner.threads, 2);
-  EXPECT_NE(ErrorOf([&] { LoadConfig(file, {"learner.threads=0"}); })
-                .find("learner.threads: expected an integer in [1, 64], got '0'"),
+  EXPECT_NE(ErrorOf([&] {
+              LoadConfig(file, {"learner.threads=0"});
+            }).find("learner.threads: expected an integer in [1, 64], got '0'"),
             std::string::npos);
 }
 

@@ -34,7 +34,8 @@ TEST(GraphTiesConfigTest, UnknownFormsAndGivenGraphsAreRefused) {
       LoadConfig(Configs() + "relational-4.yaml", {"graph.object_ties=one_way", given});
       FAIL() << given << " accepted";
     } catch (const ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find("graph.object_ties: one_way orients a learned graph's ties"), std::string::npos)
+      EXPECT_NE(std::string(e.what()).find("graph.object_ties: one_way orients a learned graph's ties"),
+                std::string::npos)
           << e.what();
     }
   }

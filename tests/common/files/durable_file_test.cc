@@ -88,8 +88,11 @@ TEST_F(DurableFileTest, TheFileIsFlushedBeforeTheRenameAndTheFolderAfter) {
   WriteFileDurably(Path("graph.json"), "{\"v\": 1}", scripted);
   EXPECT_EQ(ReadFile(Path("graph.json")), "{\"v\": 1}");
   EXPECT_FALSE(fs::exists(Path("graph.json.tmp")));
-  const std::vector<std::string> expected = {"open graph.json.tmp", "write",      "fsync",
-                                             "rename graph.json.tmp graph.json", "open-dir " + dir_.filename().string(),
+  const std::vector<std::string> expected = {"open graph.json.tmp",
+                                             "write",
+                                             "fsync",
+                                             "rename graph.json.tmp graph.json",
+                                             "open-dir " + dir_.filename().string(),
                                              "fsync-dir"};
   EXPECT_EQ(scripted.calls, expected);
 }
@@ -189,7 +192,8 @@ TEST_F(DurableFileTest, ARealFullDiskKeepsThePreviousCheckpoint) {
   ASSERT_EQ(waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFEXITED(status));
   if (WEXITSTATUS(status) == 77) GTEST_SKIP() << "cannot mount a tmpfs here";
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "1 no error, 2 not ENOSPC, 3 message, 4 previous changed, 5 .tmp left, 6 generations";
+  EXPECT_EQ(WEXITSTATUS(status), 0)
+      << "1 no error, 2 not ENOSPC, 3 message, 4 previous changed, 5 .tmp left, 6 generations";
 }
 
 }  // namespace

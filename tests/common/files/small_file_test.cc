@@ -40,8 +40,9 @@ TEST_F(SmallFileTest, RefusesAFileOverTheLimitNamingFileSizeAndLimit) {
     ReadSmallFile(path, 100);
     FAIL() << "accepted";
   } catch (const SmallFileError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": 101 bytes, over the limit of 100 bytes for this file (it is not one "
-                                            "this project wrote)");
+    EXPECT_EQ(std::string(e.what()), path +
+                                         ": 101 bytes, over the limit of 100 bytes for this file (it is not one "
+                                         "this project wrote)");
   }
 }
 

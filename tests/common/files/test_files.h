@@ -1,7 +1,6 @@
+#pragma once
 // Files in tests: reading back what the code under test wrote (logs, CSVs, checkpoints,
 // pictures, stand-in outputs) and a scratch folder for it to write into.
-#ifndef SRICS_TESTS_COMMON_FILES_TEST_FILES_H_
-#define SRICS_TESTS_COMMON_FILES_TEST_FILES_H_
 
 #include <unistd.h>
 
@@ -29,5 +28,3 @@ inline std::filesystem::path FreshFolder(const std::string& name) {
 }
 
 }  // namespace srics::files::testing
-
-#endif  // SRICS_TESTS_COMMON_FILES_TEST_FILES_H_

@@ -6,15 +6,15 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <cstdlib>
 #include <dirent.h>
 #include <pthread.h>
 #include <signal.h>
 #include <unistd.h>
-#include <limits>
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <random>
 #include <string>
 #include <thread>
@@ -29,9 +29,8 @@ struct Shape {
 
 // shapes of the networks (entity tokens x embedding, MLP layers, their backward products) and
 // odd ones that leave remainders in every kernel tile
-const std::vector<Shape> kShapes = {{1, 1, 1},     {3, 7, 5},      {17, 33, 9},  {1280, 80, 80},
-                                    {1280, 15, 80}, {256, 128, 128}, {80, 1280, 80},
-                                    {257, 129, 65}, {2048, 208, 128}};
+const std::vector<Shape> kShapes = {{1, 1, 1},       {3, 7, 5},      {17, 33, 9},    {1280, 80, 80},  {1280, 15, 80},
+                                    {256, 128, 128}, {80, 1280, 80}, {257, 129, 65}, {2048, 208, 128}};
 
 std::vector<GemmBackend> Backends() {
   std::vector<GemmBackend> out = {GemmBackend::kEigen};
@@ -89,8 +88,7 @@ TEST(GemmTest, EveryBackendMatchesADoubleLoopInEveryTranspositionWithBothBetas) 
         }
         // float rounding of k products of numbers under 1: a few ulps times sqrt(k)
         EXPECT_LT(worst, 2e-6 * std::sqrt(double(s.k)) * 8)
-            << GemmBackendDescription() << " " << s.m << "x" << s.k << "x" << s.n << " ta " << ta
-            << " tb " << tb;
+            << GemmBackendDescription() << " " << s.m << "x" << s.k << "x" << s.n << " ta " << ta << " tb " << tb;
       }
     }
   }

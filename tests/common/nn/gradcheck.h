@@ -1,6 +1,5 @@
+#pragma once
 // Finite-difference gradient checks in double precision for the tape and modules.
-#ifndef SRICS_TESTS_COMMON_NN_GRADCHECK_H_
-#define SRICS_TESTS_COMMON_NN_GRADCHECK_H_
 
 #include <algorithm>
 #include <cmath>
@@ -19,8 +18,7 @@ using MatD = Matrix<double>;
 // differences of loss = sum(out * R) (R fixed random weights, so every output element
 // matters differently) with respect to every variable. Returns the worst over variables.
 // A correct backward gives ~1e-9; any wrong formula gives ~1e-1 or more.
-inline double GradCheck(const ParameterList<D>& vars,
-                        const std::function<Var<D>(Tape<D>&)>& build, double h = 1e-6) {
+inline double GradCheck(const ParameterList<D>& vars, const std::function<Var<D>(Tape<D>&)>& build, double h = 1e-6) {
   Tape<D> tape;
   Rng rng(123);
   MatD weights;
@@ -56,8 +54,8 @@ inline double GradCheck(const ParameterList<D>& vars,
 
 // Uniform values in [lo, hi] with a random sign when `signed_values`, keeping every entry at
 // least lo away from zero (kinks of relu, clamp and min stay out of the difference step).
-inline MatD AwayFromZero(Eigen::Index rows, Eigen::Index cols, Rng& rng, double lo = 0.05,
-                         double hi = 1.5, bool signed_values = true) {
+inline MatD AwayFromZero(Eigen::Index rows, Eigen::Index cols, Rng& rng, double lo = 0.05, double hi = 1.5,
+                         bool signed_values = true) {
   std::uniform_real_distribution<double> u(lo, hi);
   std::bernoulli_distribution s(0.5);
   MatD m(rows, cols);
@@ -68,5 +66,3 @@ inline MatD AwayFromZero(Eigen::Index rows, Eigen::Index cols, Rng& rng, double 
 }
 
 }  // namespace srics::nn::testing
-
-#endif  // SRICS_TESTS_COMMON_NN_GRADCHECK_H_

@@ -48,9 +48,7 @@ TEST(ModulesTest, LinearXavierRangeAndGradient) {
   Parameter<D> x = Input("x", 4, 30, rng);
   ParameterList<D> params;
   layer.Parameters(params);
-  EXPECT_LT(GradCheck(WithInputs(params, {&x}),
-                      [&](Tape<D>& t) { return layer.Forward(t, t.Param(x)); }),
-            kTol);
+  EXPECT_LT(GradCheck(WithInputs(params, {&x}), [&](Tape<D>& t) { return layer.Forward(t, t.Param(x)); }), kTol);
   ExpectApplyMatchesForward(layer, x);
 }
 
@@ -61,9 +59,7 @@ TEST(ModulesTest, MlpGradientAndApply) {
   ParameterList<D> params;
   mlp.Parameters(params);
   EXPECT_EQ(params.size(), 6u);
-  EXPECT_LT(GradCheck(WithInputs(params, {&x}),
-                      [&](Tape<D>& t) { return mlp.Forward(t, t.Param(x)); }),
-            kTol);
+  EXPECT_LT(GradCheck(WithInputs(params, {&x}), [&](Tape<D>& t) { return mlp.Forward(t, t.Param(x)); }), kTol);
   Mlp<D> relu("r", 5, {8}, 2, rng);
   ParameterList<D> rp;
   relu.Parameters(rp);
@@ -121,10 +117,11 @@ TEST_F(AttentionTest, GradientWithPaddingMask) {
   Parameter<D> g = Input("g", batch, 6, rng_);
   MatD mask = MatD::Ones(batch, ents);
   mask(0, 3) = mask(2, 1) = mask(2, 2) = 0;
-  EXPECT_LT(GradCheck(WithInputs(params_, {&e, &g}), [&](Tape<D>& t) {
-              auto out = att_.Forward(t, t.Param(e), t.Constant(mask), t.Param(g));
-              return t.Concat({out.attention, out.goal_embedding}, 1);
-            }),
+  EXPECT_LT(GradCheck(WithInputs(params_, {&e, &g}),
+                      [&](Tape<D>& t) {
+                        auto out = att_.Forward(t, t.Param(e), t.Constant(mask), t.Param(g));
+                        return t.Concat({out.attention, out.goal_embedding}, 1);
+                      }),
             // 1.4e-6 on an AVX2-only EPYC (below 1e-6 with AVX-512): the central difference
             // meets a relu kink of this draw; a wrong backward formula gives ~1e-1
             10 * kTol);
@@ -137,8 +134,7 @@ TEST_F(AttentionTest, PermutationInvariantAndPaddingIgnored) {
   Tape<D> t;
   auto run = [&](const MatD& entities, const MatD& mask) {
     t.Reset();
-    return MatD(att_.Forward(t, t.Constant(entities), t.Constant(mask), t.Constant(goal))
-                    .attention.value());
+    return MatD(att_.Forward(t, t.Constant(entities), t.Constant(mask), t.Constant(goal)).attention.value());
   };
   const MatD base = run(set, MatD::Ones(1, ents));
   std::vector<int> perm = {3, 0, 4, 1, 2};
@@ -196,11 +192,14 @@ TEST(ComposingTest, ComposedAttentionIsTheLayeredFunctionWithItsGradient) {
     EXPECT_LT((a - out.attention.value().row(b)).norm(), 1e-12) << "sample " << b;
     EXPECT_LT((ge - out.goal_embedding.value().row(b)).norm(), 1e-12) << "sample " << b;
   }
-  EXPECT_LT(GradCheck(WithInputs(params, {&e, &g}), [&](Tape<D>& tape) {
-              auto o = att.Forward(tape, tape.Param(e), tape.Constant(mask), tape.Param(g));
-              return tape.Concat({o.attention, o.goal_embedding}, 1);
-            }, /*h=*/1e-5),  // with 16 samples, 1e-6 steps leave ~2e-6 of differencing noise
-            kTol);               // on the key bias's zero gradient; a wrong formula gives ~1e-1
+  EXPECT_LT(GradCheck(
+                WithInputs(params, {&e, &g}),
+                [&](Tape<D>& tape) {
+                  auto o = att.Forward(tape, tape.Param(e), tape.Constant(mask), tape.Param(g));
+                  return tape.Concat({o.attention, o.goal_embedding}, 1);
+                },
+                /*h=*/1e-5),  // with 16 samples, 1e-6 steps leave ~2e-6 of differencing noise
+            kTol);            // on the key bias's zero gradient; a wrong formula gives ~1e-1
 }
 
 TEST(TanhGaussianTest, LogProbGradientAndDensity) {
@@ -208,10 +207,11 @@ TEST(TanhGaussianTest, LogProbGradientAndDensity) {
   TanhGaussian<D> head;
   Parameter<D> out = Input("out", 4, 4, rng);  // [mean | log std] for 2 actions
   const MatD eps = RandomNormal<D>(4, 2, rng);
-  EXPECT_LT(GradCheck({&out}, [&](Tape<D>& t) {
-              auto s = head.Forward(t, t.Param(out), eps);
-              return t.Concat({s.action, s.log_prob}, 1);
-            }),
+  EXPECT_LT(GradCheck({&out},
+                      [&](Tape<D>& t) {
+                        auto s = head.Forward(t, t.Param(out), eps);
+                        return t.Concat({s.action, s.log_prob}, 1);
+                      }),
             kTol);
   // density of a = tanh(u), u ~ N(mean, std): log N(u) - sum log(1 - a^2), computed directly
   Tape<D> t;
@@ -221,8 +221,8 @@ TEST(TanhGaussianTest, LogProbGradientAndDensity) {
     for (int i = 0; i < 2; ++i) {
       const double ls = std::clamp(out.value(b, 2 + i), -20.0, 2.0);
       const double u = out.value(b, i) + std::exp(ls) * eps(b, i);
-      expect += -0.5 * eps(b, i) * eps(b, i) - ls - 0.5 * std::log(2 * M_PI) -
-                std::log(1 - std::tanh(u) * std::tanh(u));
+      expect +=
+          -0.5 * eps(b, i) * eps(b, i) - ls - 0.5 * std::log(2 * M_PI) - std::log(1 - std::tanh(u) * std::tanh(u));
       EXPECT_NEAR(s.action.value()(b, i), std::tanh(u), 1e-12);
     }
     EXPECT_NEAR(s.log_prob.value()(b, 0), expect, 1e-9);

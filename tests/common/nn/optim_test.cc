@@ -88,9 +88,9 @@ TEST(ClipGradNormTest, ScalesToMaxNormAndReportsNorm) {
 TEST(GradientsUsableTest, FiniteGradientsUpToTheBoundOnly) {
   Parameter<float> a("a", 1, 2), b("b", 2, 1);
   EXPECT_TRUE(GradientsUsable<float>({&a, &b}));  // zeros
-  a.grad << 1e17f, -1e18f;                          // the bound itself is usable
+  a.grad << 1e17f, -1e18f;                        // the bound itself is usable
   EXPECT_TRUE(GradientsUsable<float>({&a, &b}));
-  b.grad << 0.f, -2e18f;                            // its square would overflow Adam's float moment
+  b.grad << 0.f, -2e18f;  // its square would overflow Adam's float moment
   EXPECT_FALSE(GradientsUsable<float>({&a, &b}));
   b.grad << std::numeric_limits<float>::infinity(), 0.f;
   EXPECT_FALSE(GradientsUsable<float>({&a, &b}));
@@ -126,8 +126,7 @@ TEST(TrainingTest, MlpFitsSmallRegression) {
   float first = 0, last = 0;
   for (int step = 0; step < 1500; ++step) {
     tape.Reset();
-    Var<float> loss = tape.Mean(tape.Square(tape.Sub(mlp.Forward(tape, tape.Constant(x)),
-                                                     tape.Constant(y))));
+    Var<float> loss = tape.Mean(tape.Square(tape.Sub(mlp.Forward(tape, tape.Constant(x)), tape.Constant(y))));
     ZeroGrad(params);
     tape.Backward(loss);
     adam.Step();

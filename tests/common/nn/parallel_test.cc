@@ -42,8 +42,8 @@ TEST(WorkerPoolTest, OneThreadRunsInline) {
 TEST(WorkerPoolTest, AnExceptionOfAWorkerReachesTheCallerAndThePoolStaysUsable) {
   WorkerPool pool(2);
   EXPECT_THROW(pool.Run([](int part) {
-                 if (part == 1) throw std::runtime_error("part 1 failed");
-               }),
+    if (part == 1) throw std::runtime_error("part 1 failed");
+  }),
                std::runtime_error);
   std::atomic<int> done{0};
   pool.Run([&](int) { ++done; });

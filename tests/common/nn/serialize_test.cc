@@ -23,8 +23,7 @@ class SerializeTest : public ::testing::Test {
  protected:
   SerializeTest() : mlp_("net", 3, {5}, 2, rng_) { mlp_.Parameters(params_); }
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("srics_nn_serialize_" + std::to_string(::getpid()));
+    dir_ = std::filesystem::temp_directory_path() / ("srics_nn_serialize_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir_);
     path_ = (dir_ / "ckpt.bin").string();
   }
@@ -57,8 +56,7 @@ TEST_F(SerializeTest, FlattenLoadRoundTripIsExact) {
   EXPECT_NE(params_[0]->value, copy_params[0]->value);
   LoadFlat(copy_params, flat);
   for (size_t i = 0; i < params_.size(); ++i) EXPECT_EQ(params_[i]->value, copy_params[i]->value);
-  EXPECT_THROW(LoadFlat(copy_params, std::span<const float>(flat).first(flat.size() - 1)),
-               std::invalid_argument);
+  EXPECT_THROW(LoadFlat(copy_params, std::span<const float>(flat).first(flat.size() - 1)), std::invalid_argument);
 }
 
 TEST_F(SerializeTest, SignatureNamesShapes) {
@@ -78,8 +76,8 @@ TEST_F(SerializeTest, CheckpointRoundTripIsExact) {
   LoadParameters(path_, cp);
   for (size_t i = 0; i < params_.size(); ++i) EXPECT_EQ(params_[i]->value, cp[i]->value);
   // several sections, e.g. weights and optimizer state
-  WriteCheckpoint(path_, {{"policy", SignatureString(params_), Flatten(params_), {}},
-                          {"policy.adam", "", {1.f, 2.f, 3.f}, {}}});
+  WriteCheckpoint(
+      path_, {{"policy", SignatureString(params_), Flatten(params_), {}}, {"policy.adam", "", {1.f, 2.f, 3.f}, {}}});
   const auto sections = ReadCheckpoint(path_);
   ASSERT_EQ(sections.size(), 2u);
   EXPECT_EQ(FindSection(sections, "policy.adam", path_).values, (std::vector<float>{1, 2, 3}));

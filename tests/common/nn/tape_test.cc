@@ -19,9 +19,8 @@ class TapeGradTest : public ::testing::Test {
  protected:
   // A variable of the given shape filled away from zero.
   Parameter<D>& NewVar(Eigen::Index rows, Eigen::Index cols, double lo = 0.05, double hi = 1.5,
-                    bool signed_values = true) {
-    vars_.push_back(std::make_unique<Parameter<D>>("v" + std::to_string(vars_.size()), rows,
-                                                   cols));
+                       bool signed_values = true) {
+    vars_.push_back(std::make_unique<Parameter<D>>("v" + std::to_string(vars_.size()), rows, cols));
     vars_.back()->value = AwayFromZero(rows, cols, rng_, lo, hi, signed_values);
     return *vars_.back();
   }
@@ -39,13 +38,8 @@ TEST_F(TapeGradTest, MatMulLinearAddBias) {
   auto& b = NewVar(3, 4);
   auto& bias = NewVar(1, 4);
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.MatMul(t.Param(a), t.Param(b)); }), kTol);
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.Linear(t.Param(a), t.Param(b), t.Param(bias));
-            }),
-            kTol);
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.AddBias(t.MatMul(t.Param(a), t.Param(b)), t.Param(bias));
-            }),
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Linear(t.Param(a), t.Param(b), t.Param(bias)); }), kTol);
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.AddBias(t.MatMul(t.Param(a), t.Param(b)), t.Param(bias)); }),
             kTol);
 }
 
@@ -57,18 +51,15 @@ TEST_F(TapeGradTest, ElementwiseBinarySameShapeAndBroadcast) {
   auto& scalar = NewVar(1, 1, 0.5, 1.5);
   using BinOp = Var<D> (Tape<D>::*)(Var<D>, Var<D>);
   const std::vector<std::pair<const char*, BinOp>> ops = {
-      {"add", &Tape<D>::Add}, {"sub", &Tape<D>::Sub}, {"mul", &Tape<D>::Mul},
-      {"div", &Tape<D>::Div}};
+      {"add", &Tape<D>::Add}, {"sub", &Tape<D>::Sub}, {"mul", &Tape<D>::Mul}, {"div", &Tape<D>::Div}};
   for (const auto& [name, op_entry] : ops) {
     const BinOp op = op_entry;  // a copy: clang 14 cannot capture a structured binding
     for (Parameter<D>* rhs : {&b, &row, &col, &scalar}) {
       SCOPED_TRACE(std::string(name) + " with " + rhs->name);
-      EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return (t.*op)(t.Param(a), t.Param(*rhs)); }),
-                kTol);
+      EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return (t.*op)(t.Param(a), t.Param(*rhs)); }), kTol);
     }
     // broadcast on the left operand too
-    EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return (t.*op)(t.Param(row), t.Param(b)); }),
-              kTol);
+    EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return (t.*op)(t.Param(row), t.Param(b)); }), kTol);
   }
 }
 
@@ -79,8 +70,7 @@ TEST_F(TapeGradTest, ScalarMinClamp) {
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.MulScalar(t.Param(a), -1.3); }), kTol);
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Min(t.Param(a), t.Param(b)); }), kTol);
   // clamp bounds chosen away from the values (all |a| >= 0.05)
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Clamp(t.Param(a), -0.02, 0.03); }),
-            kTol);
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Clamp(t.Param(a), -0.02, 0.03); }), kTol);
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Clamp(t.Param(a), -0.5, 0.5); }), kTol);
 }
 
@@ -89,9 +79,8 @@ TEST_F(TapeGradTest, UnaryFunctions) {
   auto& pos = NewVar(4, 3, 0.2, 3.0, false);
   using UnOp = Var<D> (Tape<D>::*)(Var<D>);
   const std::vector<std::pair<const char*, UnOp>> ops = {
-      {"relu", &Tape<D>::Relu},      {"tanh", &Tape<D>::Tanh}, {"sigmoid", &Tape<D>::Sigmoid},
-      {"exp", &Tape<D>::Exp},        {"softplus", &Tape<D>::Softplus},
-      {"square", &Tape<D>::Square}};
+      {"relu", &Tape<D>::Relu}, {"tanh", &Tape<D>::Tanh},         {"sigmoid", &Tape<D>::Sigmoid},
+      {"exp", &Tape<D>::Exp},   {"softplus", &Tape<D>::Softplus}, {"square", &Tape<D>::Square}};
   for (const auto& [name, op_entry] : ops) {
     const UnOp op = op_entry;  // a copy: clang 14 cannot capture a structured binding
     SCOPED_TRACE(name);
@@ -125,12 +114,8 @@ TEST_F(TapeGradTest, ShapeOps) {
   auto& a = NewVar(4, 3);
   auto& b = NewVar(4, 2);
   auto& c = NewVar(2, 3);
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.Concat({t.Param(a), t.Param(b), t.Param(a)}, 1);
-            }),
-            kTol);
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Concat({t.Param(a), t.Param(c)}, 0); }),
-            kTol);
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Concat({t.Param(a), t.Param(b), t.Param(a)}, 1); }), kTol);
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Concat({t.Param(a), t.Param(c)}, 0); }), kTol);
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Slice(t.Param(a), 1, 1, 2); }), kTol);
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Slice(t.Param(a), 0, 1, 2); }), kTol);
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Reshape(t.Param(a), 2, 6); }), kTol);
@@ -145,10 +130,7 @@ TEST_F(TapeGradTest, SoftmaxFamily) {
   MatD mask = MatD::Ones(3, 5);
   mask(0, 1) = mask(0, 4) = mask(2, 0) = 0;
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Softmax(t.Param(a)); }), kTol);
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.MaskedSoftmax(t.Param(a), t.Constant(mask));
-            }),
-            kTol);
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.MaskedSoftmax(t.Param(a), t.Constant(mask)); }), kTol);
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.LogSoftmax(t.Param(a)); }), kTol);
   Tape<D> t;
   const MatD y = t.MaskedSoftmax(t.Param(a), t.Constant(mask)).value();
@@ -163,10 +145,7 @@ TEST_F(TapeGradTest, GumbelSoftmaxSoftAndStraightThrough) {
   auto& logits = NewVar(6, 2);
   Rng rng(3);
   const MatD noise = RandomGumbel<D>(6, 2, rng);
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.GumbelSoftmax(t.Param(logits), noise, 0.5, false);
-            }),
-            kTol);
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.GumbelSoftmax(t.Param(logits), noise, 0.5, false); }), kTol);
   // hard: the forward is one-hot at the argmax of the soft sample, the gradient is the soft one
   Tape<D> t;
   const MatD w = RandomNormal<D>(6, 2, rng);
@@ -193,10 +172,7 @@ TEST_F(TapeGradTest, GatherScatter) {
   auto& a = NewVar(4, 3);
   const std::vector<int> idx = {2, 0, 2, 3, 1, 2};
   EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.Gather(t.Param(a), idx); }), kTol);
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.ScatterAdd(t.Param(a), {1, 1, 0, 4}, 5);
-            }),
-            kTol);
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.ScatterAdd(t.Param(a), {1, 1, 0, 4}, 5); }), kTol);
   Tape<D> t;
   const MatD s = t.ScatterAdd(t.Param(a), {1, 1, 0, 4}, 5).value();
   EXPECT_NEAR(s(1, 2), a.value(0, 2) + a.value(1, 2), 1e-12);
@@ -207,10 +183,7 @@ TEST_F(TapeGradTest, WeightedScatterAddMatchesMulThenScatter) {
   auto& a = NewVar(4, 3);
   auto& w = NewVar(4, 1);
   const std::vector<int> idx = {1, 1, 0, 4};
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.ScatterAdd(t.Param(a), idx, 5, t.Param(w));
-            }),
-            kTol);
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.ScatterAdd(t.Param(a), idx, 5, t.Param(w)); }), kTol);
   Tape<D> t;
   const MatD fused = t.ScatterAdd(t.Param(a), idx, 5, t.Param(w)).value();
   const MatD composed = t.ScatterAdd(t.Mul(t.Param(a), t.Param(w)), idx, 5).value();
@@ -222,23 +195,16 @@ TEST_F(TapeGradTest, GatherSumReluMatchesComposition) {
   auto& b = NewVar(4, 4);
   const std::vector<int> a_idx = {0, 2, 2, 1, 0};
   const std::vector<int> b_idx = {3, 3, 0, 1, 2};
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx);
-            }),
-            kTol);
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx); }), kTol);
   Tape<D> t;
   const MatD fused = t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx).value();
-  const MatD composed =
-      t.Relu(t.Add(t.Gather(t.Param(a), a_idx), t.Gather(t.Param(b), b_idx))).value();
+  const MatD composed = t.Relu(t.Add(t.Gather(t.Param(a), a_idx), t.Gather(t.Param(b), b_idx))).value();
   EXPECT_EQ(fused, composed);
   EXPECT_GT((fused.array() == 0).count(), 0);  // the relu cuts some entries
   // a column range, its gradient into those columns only
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 1, 2);
-            }),
+  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) { return t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 1, 2); }),
             kTol);
-  EXPECT_EQ(t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 1, 2).value(),
-            fused.middleCols(1, 2));
+  EXPECT_EQ(t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 1, 2).value(), fused.middleCols(1, 2));
   EXPECT_THROW(t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 3, 2), std::invalid_argument);
 }
 
@@ -249,17 +215,17 @@ TEST_F(TapeGradTest, AttentionMatchesCompositionAndDifferences) {
   auto& v = NewVar(batch * ents, embed);
   MatD mask = MatD::Ones(batch, ents);
   mask(0, 3) = mask(1, 0) = mask(1, 2) = 0;
-  EXPECT_LT(GradCheck(All(), [&](Tape<D>& t) {
-              return t.Attention(t.Param(q), t.Param(k), t.Param(v), t.Constant(mask), heads);
-            }),
-            kTol);
+  EXPECT_LT(
+      GradCheck(All(),
+                [&](Tape<D>& t) { return t.Attention(t.Param(q), t.Param(k), t.Param(v), t.Constant(mask), heads); }),
+      kTol);
   // the same attention composed from generic ops (gather, reshape, masked softmax, scatter)
   auto composed = [&](Tape<D>& t) {
     std::vector<int> rep, seg;
     for (int b = 0; b < batch; ++b) {
       for (int e = 0; e < ents; ++e) rep.push_back(b);
     }
-    Var<D> qr = t.Gather(t.Param(q), rep);                               // (B*N) x E
+    Var<D> qr = t.Gather(t.Param(q), rep);  // (B*N) x E
     Var<D> prod = t.Reshape(t.Mul(qr, t.Param(k)), batch * ents * heads, dh);
     Var<D> scores = t.MulScalar(t.Sum(prod, 1), 1.0 / std::sqrt(double(dh)));
     // (B*N*H) x 1 -> per (b, h) rows over n: transpose each sample's N x H block
@@ -275,7 +241,7 @@ TEST_F(TapeGradTest, AttentionMatchesCompositionAndDifferences) {
       for (int h = 0; h < heads; ++h) mrep.push_back(b);
     }
     Var<D> m = t.Gather(t.Constant(mask), mrep);
-    Var<D> w = t.MaskedSoftmax(s, m);                                    // (B*H) x N
+    Var<D> w = t.MaskedSoftmax(s, m);  // (B*H) x N
     // back to (B*N*H) x 1 in entity-major order, expand over the head's dims
     std::vector<int> inverse(order.size());
     for (size_t i = 0; i < order.size(); ++i) inverse[order[i]] = static_cast<int>(i);
@@ -291,8 +257,7 @@ TEST_F(TapeGradTest, AttentionMatchesCompositionAndDifferences) {
     return t.ScatterAdd(t.Mul(wexp, t.Param(v)), seg, batch);
   };
   Tape<D> t1, t2;
-  const MatD fused =
-      t1.Attention(t1.Param(q), t1.Param(k), t1.Param(v), t1.Constant(mask), heads).value();
+  const MatD fused = t1.Attention(t1.Param(q), t1.Param(k), t1.Param(v), t1.Constant(mask), heads).value();
   const MatD ref = composed(t2).value();
   EXPECT_LT((fused - ref).norm(), 1e-12);
   EXPECT_LT(GradCheck(All(), composed), kTol);
@@ -332,10 +297,8 @@ TEST(TapeTest, ReuseAfterResetGivesSameResultAndFrozenParamsGetNoGrad) {
 
 TEST(TapeTest, ShapeErrorsThrow) {
   Tape<float> t;
-  EXPECT_THROW(t.MatMul(t.Constant(Tensor::Zero(2, 3)), t.Constant(Tensor::Zero(2, 3))),
-               std::invalid_argument);
-  EXPECT_THROW(t.Add(t.Constant(Tensor::Zero(2, 3)), t.Constant(Tensor::Zero(3, 2))),
-               std::invalid_argument);
+  EXPECT_THROW(t.MatMul(t.Constant(Tensor::Zero(2, 3)), t.Constant(Tensor::Zero(2, 3))), std::invalid_argument);
+  EXPECT_THROW(t.Add(t.Constant(Tensor::Zero(2, 3)), t.Constant(Tensor::Zero(3, 2))), std::invalid_argument);
   EXPECT_THROW(t.Backward(t.Constant(Tensor::Zero(2, 2))), std::invalid_argument);
 }
 

@@ -17,14 +17,20 @@ void Burn(double seconds) {
 double Of(const Totals& t, Phase p) { return t[static_cast<size_t>(p)]; }
 
 TEST(PhaseClockTest, ChargesTheInnermostPhaseAndEvaluationsWhole) {
-  { PhaseScope off(Phase::kEnvStep); Burn(0.01); }
+  {
+    PhaseScope off(Phase::kEnvStep);
+    Burn(0.01);
+  }
   EXPECT_EQ(Of(Snapshot(), Phase::kEnvStep), 0.0) << "counted before Enable()";
   Enable();
   const Totals before = Snapshot();
   {
     PhaseScope acting(Phase::kActing);
     Burn(0.05);
-    { PhaseScope env(Phase::kEnvStep); Burn(0.10); }  // paused acting
+    {
+      PhaseScope env(Phase::kEnvStep);
+      Burn(0.10);
+    }  // paused acting
     {
       PhaseScope eval(Phase::kEvaluation);
       Burn(0.03);

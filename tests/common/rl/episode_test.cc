@@ -51,10 +51,10 @@ size_t At(const Episode& e, int t, int entity, int column) {
 
 #define EXPECT_VALID(episode, limits) EXPECT_EQ(ValidateEpisode(episode, limits), "")
 // Refused, and the reason names `field`.
-#define EXPECT_REFUSED(episode, limits, field)                                              \
-  do {                                                                                     \
-    const std::string reason = ValidateEpisode(episode, limits);                          \
-    EXPECT_NE(reason.find(field), std::string::npos) << "reason: '" << reason << "'";    \
+#define EXPECT_REFUSED(episode, limits, field)                                        \
+  do {                                                                                \
+    const std::string reason = ValidateEpisode(episode, limits);                      \
+    EXPECT_NE(reason.find(field), std::string::npos) << "reason: '" << reason << "'"; \
   } while (0)
 
 TEST(EpisodeLimitsTest, AValidEpisodePasses) { EXPECT_VALID(MakeValid(), Limits()); }

@@ -152,8 +152,7 @@ TEST(EvaluationTest, ReferenceOrderedPhaseEndsWhenItsWalkReachesTheLastCyclingAt
 TEST(EvaluationTest, ThreePucksGiveSevenAttemptsUnderBothProtocols) {
   for (EvaluationProtocol protocol : {EvaluationProtocol::kReference, EvaluationProtocol::kIndependentDraws}) {
     std::mt19937_64 rng(1);
-    AttemptSchedule schedule(ComputeSubgoalStructure(InteractionGraph::Star(4)), SubgoalOrder::kDepth,
-                             protocol, rng);
+    AttemptSchedule schedule(ComputeSubgoalStructure(InteractionGraph::Star(4)), SubgoalOrder::kDepth, protocol, rng);
     const auto slots = Play(schedule);
     EXPECT_EQ(slots.size(), 7u);
     EXPECT_EQ(slots.back().entity, 0);

@@ -78,8 +78,7 @@ TEST(GraphTest, MalformedGraphsAreRejectedWithTheReason) {
         try {
           ComputeSubgoalStructure(graph);
         } catch (const std::invalid_argument& e) {
-          EXPECT_NE(std::string(e.what()).find("adjacency has 8 entries, expected 9"),
-                    std::string::npos);
+          EXPECT_NE(std::string(e.what()).find("adjacency has 8 entries, expected 9"), std::string::npos);
           throw;
         }
       },
@@ -142,7 +141,6 @@ TEST(GraphTest, CompleteGraphOfTheLargestSizeIsQuick) {
 TEST(GraphTest, DescribeListsEdges) {
   EXPECT_EQ(DescribeGraph(FromEdges(3, {{0, 1}, {1, 2}})), "action->0, 0->1, 1->2");
 }
-
 
 // Relational Rearrange 4's shape with a tie both ways: action -> arm 0, 0 -> 2, 0 -> 3, 0 -> 4,
 // 2 <-> 3; object 1 has no edge (the static puck).

@@ -27,8 +27,7 @@ void CountAllocation(const volatile void*, size_t) {
   if (g_counting.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1);
 }
 void IgnoreFree(const volatile void*) {}
-const int g_hooks_installed =
-    __sanitizer_install_malloc_and_free_hooks(CountAllocation, IgnoreFree);
+const int g_hooks_installed = __sanitizer_install_malloc_and_free_hooks(CountAllocation, IgnoreFree);
 }  // namespace
 #else
 extern "C" void* __libc_malloc(size_t size);

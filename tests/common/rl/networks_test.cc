@@ -60,11 +60,12 @@ TEST_F(NetworksTest, PolicyGradientsIncludingLogProb) {
   ents.value = batch.entities;
   ParameterList<double> vars = policy_.Parameters();
   vars.push_back(&ents);
-  EXPECT_LT(nn::testing::GradCheck(vars, [&](Tape<double>& t) {
-              auto out = policy_.Forward(t, t.Param(ents), t.Constant(batch.mask),
-                                         t.Constant(batch.goals), eps);
-              return t.Concat({out.action, out.log_prob}, 1);
-            }),
+  EXPECT_LT(nn::testing::GradCheck(vars,
+                                   [&](Tape<double>& t) {
+                                     auto out = policy_.Forward(t, t.Param(ents), t.Constant(batch.mask),
+                                                                t.Constant(batch.goals), eps);
+                                     return t.Concat({out.action, out.log_prob}, 1);
+                                   }),
             kTol);
 }
 
@@ -74,9 +75,7 @@ TEST_F(NetworksTest, QGradientsReachParametersAndActions) {
   actions.value = nn::RandomNormal<double>(3, 2, rng_).array().tanh().matrix();
   ParameterList<double> vars = q_.Parameters();
   vars.push_back(&actions);
-  EXPECT_LT(nn::testing::GradCheck(vars, [&](Tape<double>& t) {
-              return q_.Forward(t, batch, t.Param(actions));
-            }),
+  EXPECT_LT(nn::testing::GradCheck(vars, [&](Tape<double>& t) { return q_.Forward(t, batch, t.Param(actions)); }),
             kTol);
 }
 
@@ -201,7 +200,8 @@ TEST(NetworksConfigTest, ReferenceInitialisationSetsBiasesOnlyAndStartsThePolicy
   Rng a(3), b(3);
   PolicyNetwork<double> plain("policy", plain_config, a), ref("policy", ref_config, b);
   QNetwork<double> plain_q("q1", plain_config, a), ref_q("q1", ref_config, b);
-  for (auto [x, y] : {std::pair{plain.Parameters(), ref.Parameters()}, std::pair{plain_q.Parameters(), ref_q.Parameters()}}) {
+  for (auto [x, y] :
+       {std::pair{plain.Parameters(), ref.Parameters()}, std::pair{plain_q.Parameters(), ref_q.Parameters()}}) {
     ASSERT_EQ(x.size(), y.size());
     for (size_t i = 0; i < x.size(); ++i) {
       const std::string& name = x[i]->name;

@@ -26,8 +26,8 @@ TEST(RateLimiterTest, LearnerCannotRunAheadOfTheBuffer) {
 
 TEST(RateLimiterTest, InsertersWaitWhenTooFarAhead) {
   RateLimiter limiter(1.0, 100, 50);
-  EXPECT_TRUE(limiter.CanInsert(200, 60, 20));    // target 120 vs 60 updates: 60 ahead <= 50 + 20
-  EXPECT_FALSE(limiter.CanInsert(200, 40, 20));   // 80 ahead
+  EXPECT_TRUE(limiter.CanInsert(200, 60, 20));   // target 120 vs 60 updates: 60 ahead <= 50 + 20
+  EXPECT_FALSE(limiter.CanInsert(200, 40, 20));  // 80 ahead
 }
 
 TEST(RateLimiterTest, SimulatedActorsAndLearnerKeepTheRatio) {

@@ -26,13 +26,12 @@ class RewardsTest : public ::testing::Test {
     }
     return s;
   }
-  double Selectivity(int entity, std::vector<float> goal, uint64_t ancestors,
-                     config::SelectivityForm form, const std::vector<float>* before = nullptr,
-                     const std::vector<float>* after = nullptr) {
+  double Selectivity(int entity, std::vector<float> goal, uint64_t ancestors, config::SelectivityForm form,
+                     const std::vector<float>* before = nullptr, const std::vector<float>* after = nullptr) {
     config::RewardConfig c;
     c.selectivity_form = form;
-    return SelectivityReward(layout_, (before ? *before : before_).data(),
-                             (after ? *after : after_).data(), entity, goal.data(), ancestors, c);
+    return SelectivityReward(layout_, (before ? *before : before_).data(), (after ? *after : after_).data(), entity,
+                             goal.data(), ancestors, c);
   }
   EntityLayout layout_;
   std::vector<float> before_, after_;
@@ -71,8 +70,8 @@ TEST_F(RewardsTest, DisturbanceTermChargesEveryIndependentMotion) {
       c.disturbance_weight = 0;
       const double without = SelectivityReward(layout_, before_.data(), after_.data(), 1, goal.data(), 0b101, c);
       c.disturbance_weight = 10;
-      EXPECT_NEAR(SelectivityReward(layout_, before_.data(), after_.data(), 1, goal.data(), 0b101, c),
-                  without - 0.4, kTol);
+      EXPECT_NEAR(SelectivityReward(layout_, before_.data(), after_.data(), 1, goal.data(), 0b101, c), without - 0.4,
+                  kTol);
     }
   }
   // the hand alone moving onto a solved puck's neighbour: the form sees nothing of puck 3's
@@ -85,9 +84,10 @@ TEST_F(RewardsTest, DisturbanceTermChargesEveryIndependentMotion) {
               SelectivityReward(layout_, still.data(), still.data(), 1, std::vector<float>{0.1f, 0.7f}.data(), 0b1, c),
               kTol);
   c.disturbance_weight = 10;
-  EXPECT_NEAR(SelectivityReward(layout_, still.data(), pushed.data(), 1, std::vector<float>{0.1f, 0.7f}.data(), 0b1, c),
-              SelectivityReward(layout_, still.data(), still.data(), 1, std::vector<float>{0.1f, 0.7f}.data(), 0b1, c) - 0.4,
-              kTol);
+  EXPECT_NEAR(
+      SelectivityReward(layout_, still.data(), pushed.data(), 1, std::vector<float>{0.1f, 0.7f}.data(), 0b1, c),
+      SelectivityReward(layout_, still.data(), still.data(), 1, std::vector<float>{0.1f, 0.7f}.data(), 0b1, c) - 0.4,
+      kTol);
 }
 
 TEST_F(RewardsTest, ArmSubgoalCountsEveryPuckAsIndependent) {

@@ -28,8 +28,12 @@ TEST(ParameterProblemTest, FiniteAndWithinTheBound) {
 // now act only on progress that can be their run's learner's.
 TEST(ImplausibleProgressTest, OnlyTheRunsBudgetAndConsistentCounters) {
   const uint64_t budget = 60000;
-  LearnerProgress p{.updates = 100, .transitions_inserted = 5000, .policy_version = 3, .training_env_steps = 4000,
-                    .budget_env_steps = budget, .replay_size = 5000};
+  LearnerProgress p{.updates = 100,
+                    .transitions_inserted = 5000,
+                    .policy_version = 3,
+                    .training_env_steps = 4000,
+                    .budget_env_steps = budget,
+                    .replay_size = 5000};
   EXPECT_EQ(ImplausibleProgress(p, budget), "");
   LearnerProgress done = p;
   done.training_env_steps = done.transitions_inserted = budget + 20;  // the last episode overshoots

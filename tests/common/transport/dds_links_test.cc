@@ -43,7 +43,8 @@ std::vector<rl::Episode> TakeFromLearner(DdsLearnerLink& link, size_t count, std
 }
 
 // Polls an episode source until `count` arrived or `timeout` passed.
-std::vector<rl::Episode> TakeFromSource(DdsEpisodeSource& source, size_t count, std::chrono::milliseconds timeout = 10s) {
+std::vector<rl::Episode> TakeFromSource(DdsEpisodeSource& source, size_t count,
+                                        std::chrono::milliseconds timeout = 10s) {
   std::vector<rl::Episode> got;
   const auto deadline = Clock::now() + timeout;
   while (got.size() < count && Clock::now() < deadline) source.Poll(100ms, &got);
@@ -161,9 +162,11 @@ TEST_F(DdsLinksTest, WeightsGraphAndStatsArriveAsTheNewestOnly) {
   DdsGraphSink sink(graph_side);
   for (uint64_t v : {1, 2, 3}) learner.PublishWeights(Weights(v));
   for (uint64_t v : {1, 2}) sink.Publish(Graph(v));
-  const rl::LearnerReport report{
-      .updates = 500, .transitions_inserted = 4000, .training_env_steps = 3000, .budget_env_steps = 9000,
-      .policy_version = 3};
+  const rl::LearnerReport report{.updates = 500,
+                                 .transitions_inserted = 4000,
+                                 .training_env_steps = 3000,
+                                 .budget_env_steps = 9000,
+                                 .policy_version = 3};
 
   // a late joiner: transient-local, keep-last 1
   DdsActorLink actor(actor_side, 0, limits_, kBudget, 0ms);
@@ -181,7 +184,8 @@ TEST_F(DdsLinksTest, WeightsGraphAndStatsArriveAsTheNewestOnly) {
   EXPECT_EQ(graph->structure.ancestor_mask, want.structure.ancestor_mask);
   EXPECT_EQ(graph->structure.depth, want.structure.depth);
   ASSERT_EQ(graph->mean_weights.size(), want.mean_weights.size());
-  for (size_t i = 0; i < want.mean_weights.size(); ++i) EXPECT_FLOAT_EQ(graph->mean_weights[i], want.mean_weights[i]);  // float on the wire
+  for (size_t i = 0; i < want.mean_weights.size(); ++i)
+    EXPECT_FLOAT_EQ(graph->mean_weights[i], want.mean_weights[i]);  // float on the wire
   EXPECT_DOUBLE_EQ(graph->threshold, 0.25);
   EXPECT_DOUBLE_EQ(graph->held_out_loss, 0.125);
   EXPECT_EQ(graph->training_updates, 2000u);
@@ -248,7 +252,8 @@ TEST_F(DdsLinksTest, BrokenEpisodesAreRefusedCountedAndDoNotStopTheNextGoodOne) 
   rl::Episode truncated = ExploreEpisode(5);
   truncated.actions.pop_back();
   const rl::Episode good = ExploreEpisode(6);
-  for (const rl::Episode* e : std::initializer_list<const rl::Episode*>{&oversized, &wrong_layout, &nan_state, &far_away, &truncated, &good})
+  for (const rl::Episode* e :
+       std::initializer_list<const rl::Episode*>{&oversized, &wrong_layout, &nan_state, &far_away, &truncated, &good})
     ASSERT_EQ(raw.Write(*e), WriteResult::kSent);
 
   const std::vector<rl::Episode> at_learner = TakeFromLearner(learner, 1);

@@ -48,8 +48,8 @@ int ReserveDomain(int first, int count) {
     }
     ::close(fd);
   }
-  throw std::runtime_error("every test domain in " + std::to_string(first) + ".." +
-                           std::to_string(first + count - 1) + " is held by another process");
+  throw std::runtime_error("every test domain in " + std::to_string(first) + ".." + std::to_string(first + count - 1) +
+                           " is held by another process");
 }
 
 config::TransportConfig IsolatedTransportConfig(const std::string& prefix) {
@@ -76,7 +76,7 @@ rl::Episode MakeEpisode(uint64_t seed, int steps, int entities) {
   for (size_t i = 0; i < e.states.size(); ++i) {
     const int column = static_cast<int>(i % d), entity = static_cast<int>(i / d) % entities;
     e.states[i] = column < kSampleKinds ? (column == e.entity_kinds[entity] ? 1.0f : 0.0f)  // identifier
-                                        : 0.5f * Value(seed, i);                           // xy in m
+                                        : 0.5f * Value(seed, i);                            // xy in m
   }
   e.actions.resize(static_cast<size_t>(steps) * e.action_dim);
   for (size_t i = 0; i < e.actions.size(); ++i) e.actions[i] = Value(seed + 1, i);

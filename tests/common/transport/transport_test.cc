@@ -56,8 +56,7 @@ void ExpectFromPeer(const config::TransportConfig& config, const std::string& to
 
 // Sends `msg` to a peer that compares it with its own copy (exit 0 when equal).
 template <typename T>
-void ExpectPeerReceives(const config::TransportConfig& config, const T& msg,
-                        const std::vector<std::string>& args) {
+void ExpectPeerReceives(const config::TransportConfig& config, const T& msg, const std::vector<std::string>& args) {
   Participant participant(config);
   Writer<T> writer(participant);
   PeerProcess peer(SRICS_TRANSPORT_PEER, args);
@@ -76,20 +75,17 @@ TEST_F(TransportTest, EveryTypeRoundTripsBetweenProcesses) {
                  PeerArgs("write", {"policy_weights", "4"}));
   ExpectFromPeer(config_, "interaction_graph", testing::MakeInteractionGraph(run, 5),
                  PeerArgs("write", {"interaction_graph", "5"}));
-  ExpectFromPeer(config_, "eval_result", testing::MakeEvalResult(run, 6),
-                 PeerArgs("write", {"eval_result", "6"}));
+  ExpectFromPeer(config_, "eval_result", testing::MakeEvalResult(run, 6), PeerArgs("write", {"eval_result", "6"}));
   ExpectFromPeer(config_, "learner_stats", testing::MakeLearnerStats(run, 7),
                  PeerArgs("write", {"learner_stats", "7"}));
-  ExpectFromPeer(config_, "node_status", testing::MakeNodeStatus(run, 8),
-                 PeerArgs("write", {"node_status", "8"}));
+  ExpectFromPeer(config_, "node_status", testing::MakeNodeStatus(run, 8), PeerArgs("write", {"node_status", "8"}));
 }
 
 TEST_F(TransportTest, EveryTypeRoundTripsToAnotherProcess) {
   const std::string& run = config_.run_id;
   ExpectPeerReceives(config_, testing::MakeEpisode(13), PeerArgs("read", {"episode", "13"}));
   ExpectPeerReceives(config_, testing::MakePolicyWeights(run, 14), PeerArgs("read", {"policy_weights", "14"}));
-  ExpectPeerReceives(config_, testing::MakeInteractionGraph(run, 15),
-                     PeerArgs("read", {"interaction_graph", "15"}));
+  ExpectPeerReceives(config_, testing::MakeInteractionGraph(run, 15), PeerArgs("read", {"interaction_graph", "15"}));
   ExpectPeerReceives(config_, testing::MakeEvalResult(run, 16), PeerArgs("read", {"eval_result", "16"}));
   ExpectPeerReceives(config_, testing::MakeLearnerStats(run, 17), PeerArgs("read", {"learner_stats", "17"}));
   ExpectPeerReceives(config_, testing::MakeNodeStatus(run, 18), PeerArgs("read", {"node_status", "18"}));
@@ -191,8 +187,7 @@ TEST_F(TransportTest, BatchingWriterSendsHeldSamplesAfterItsDelay) {
   // the flusher counts its flush after dds_write_flush returns, which may be after the peer
   // printed what that flush delivered (this failed once in a loaded suite)
   const auto counted_by = std::chrono::steady_clock::now() + 5s;
-  while (writer.timed_flushes() == 0 && std::chrono::steady_clock::now() < counted_by)
-    std::this_thread::sleep_for(1ms);
+  while (writer.timed_flushes() == 0 && std::chrono::steady_clock::now() < counted_by) std::this_thread::sleep_for(1ms);
   EXPECT_EQ(writer.timed_flushes(), 1u);
   EXPECT_EQ(peer.Wait(20s), 0);
 }

@@ -234,9 +234,8 @@ TEST(CycloneConfigTest, LoopbackRaisesParticipantIndexAndDisablesMulticast) {
   const std::string xml = CycloneConfigFor(c);
   // knobs not in the config stay for Cyclone to expand (environment or default)
   ExpectXml(xml,
-            {"<MaxAutoParticipantIndex>99</MaxAutoParticipantIndex>",
-             "<AllowMulticast>false</AllowMulticast>", "<MaxMessageSize>65500B</MaxMessageSize>",
-             "<Peer address=\"127.0.0.1\"/>", "${SRICS_DDS_WHC_HIGH:-8MB}"},
+            {"<MaxAutoParticipantIndex>99</MaxAutoParticipantIndex>", "<AllowMulticast>false</AllowMulticast>",
+             "<MaxMessageSize>65500B</MaxMessageSize>", "<Peer address=\"127.0.0.1\"/>", "${SRICS_DDS_WHC_HIGH:-8MB}"},
             {"${SRICS_DDS_MAX_PARTICIPANTS"});
 }
 
@@ -246,8 +245,8 @@ TEST(CycloneConfigTest, UnicastListsEveryPeerAndTheInterface) {
   c.peers = "10.0.0.1, 10.0.0.2,host-c";
   c.network_interface = "eth1";
   ExpectXml(CycloneConfigFor(c),
-            {"<Peer address=\"10.0.0.1\"/>", "<Peer address=\"10.0.0.2\"/>",
-             "<Peer address=\"host-c\"/>", "name=\"eth1\" autodetermine=\"false\""},
+            {"<Peer address=\"10.0.0.1\"/>", "<Peer address=\"10.0.0.2\"/>", "<Peer address=\"host-c\"/>",
+             "name=\"eth1\" autodetermine=\"false\""},
             {"<Peer address=\"${SRICS_DDS_PEER"});
   c.peers = "a\"/><Evil";
   EXPECT_THROW(CycloneConfigFor(c), std::invalid_argument);

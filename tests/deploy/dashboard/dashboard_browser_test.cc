@@ -19,6 +19,7 @@
 #include "deploy/launcher/child_process.h"
 #include "tests/common/files/test_files.h"
 #include "tests/deploy/dashboard/json_reader.h"
+#include "tests/deploy/tiny_run.h"
 
 namespace srics::dashboard {
 namespace {
@@ -31,12 +32,8 @@ using Json = testing::Json;
 
 // A short SRICS run (Rearrange 1, tiny graph phase and warm-up, an evaluation every 400 env
 // steps), long enough for the page to be loaded twice while it trains.
-const std::vector<std::string> kShortRun = {
-    "run.total_env_steps=20000", "learner.warmup_steps=200", "agent.sac.batch_size=32",
-    "learner.publish_every_updates=20", "actors.count=2", "actors.eval_every_env_steps=400",
-    "actors.eval_episodes=2", "graph.episodes=20", "graph.batch_windows=10", "graph.warmup_updates=10",
-    "graph.kl_ramp_updates=10", "graph.min_updates=40", "graph.max_updates=40", "graph.eval_every_updates=20",
-    "run.max_wall_minutes=0"};
+const std::vector<std::string> kShortRun =
+    srics::testing::TinyRunSettings({"run.total_env_steps=20000", "actors.count=2", "actors.eval_every_env_steps=400"});
 
 std::string Chromium() {
   for (const char* path : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
@@ -86,7 +83,8 @@ int64_t EnvStepsShown(const std::string& dom) {
 // The number of points of the learning curve's object-distance path, 0 when there is none.
 int CurvePoints(const std::string& dom) {
   std::smatch m;
-  if (!std::regex_search(dom, m, std::regex("<path class=\"series curve-object\" d=\"(M[^\"]+)\"[^>]*data-points=\"([0-9]+)\"")))
+  if (!std::regex_search(
+          dom, m, std::regex("<path class=\"series curve-object\" d=\"(M[^\"]+)\"[^>]*data-points=\"([0-9]+)\"")))
     return 0;
   const std::string d = m[1].str();
   const int segments = static_cast<int>(std::count(d.begin(), d.end(), 'L'));
@@ -139,8 +137,11 @@ TEST(DashboardBrowserTest, ThePageShowsALiveRunsCurveUpdatesAndServesTheFinished
   const Browser browser(root / "chromium-profile");
 
   auto srics_run = [](const std::string& port, const fs::path& dir) {
-    std::vector<std::string> argv = {SRICS_LAUNCHER, "run", std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
-                                     "--in-process", "--http", port, "--display", "plain", "--run-dir", dir.string()};
+    std::vector<std::string> argv = {
+        SRICS_LAUNCHER, "run",    std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+        "--in-process", "--http", port,
+        "--display",    "plain",  "--run-dir",
+        dir.string()};
     for (const std::string& o : kShortRun) argv.insert(argv.end(), {"--set", o});
     return argv;
   };
@@ -171,14 +172,13 @@ TEST(DashboardBrowserTest, ThePageShowsALiveRunsCurveUpdatesAndServesTheFinished
   EXPECT_GE(CurvePoints(first), 1) << first;
   EXPECT_THAT(first, HasSubstr("class=\"series passive-object\""));  // the passive policy's line
   EXPECT_THAT(first, HasSubstr("id=\"graph-svg\""));                 // the graph is drawn
-  EXPECT_THAT(first, HasSubstr("class=\"health alive\""));          // the node table
+  EXPECT_THAT(first, HasSubstr("class=\"health alive\""));           // the node table
   const int64_t steps_first = EnvStepsShown(first);
   ASSERT_GT(steps_first, 0) << first.substr(0, 3000);
 
   // later: more env steps on the page, and more points on the curve once an evaluation came
-  ASSERT_TRUE(WaitFor(port, std::chrono::seconds(240), [&](const Json& doc) {
-    return doc["runs"][0]["env_steps"].as<int64_t>() > steps_first + 400;
-  }));
+  ASSERT_TRUE(WaitFor(port, std::chrono::seconds(240),
+                      [&](const Json& doc) { return doc["runs"][0]["env_steps"].as<int64_t>() > steps_first + 400; }));
   const std::string second = browser.DumpDom(url);
   const int64_t steps_second = EnvStepsShown(second);
   EXPECT_GT(steps_second, steps_first);
@@ -195,8 +195,9 @@ TEST(DashboardBrowserTest, ThePageShowsALiveRunsCurveUpdatesAndServesTheFinished
   EXPECT_EQ(status->code, 130);
 
   // the stopped run's folder, served by srics-monitor: the same curve from eval.csv
-  ChildProcess monitor = ChildProcess::Spawn({SRICS_MONITOR, "--run-dir", run_dir.string(), "--http", "0", "--for", "60"},
-                                             {.output_file = (root / "monitor.out").string()});
+  ChildProcess monitor =
+      ChildProcess::Spawn({SRICS_MONITOR, "--run-dir", run_dir.string(), "--http", "0", "--for", "60"},
+                          {.output_file = (root / "monitor.out").string()});
   const int monitor_port = WaitForPort(root / "monitor.out", monitor);
   ASSERT_GT(monitor_port, 0) << ReadFile(root / "monitor.out");
   const std::string folder_page = browser.DumpDom("http://127.0.0.1:" + std::to_string(monitor_port) + "/");

@@ -38,8 +38,10 @@ Node Parse(const std::string& json) { return Node::Parse(json); }
 std::vector<std::string> Split(const std::string& text, char separator) {
   std::vector<std::string> out(1);
   for (char c : text) {
-    if (c == separator) out.emplace_back();
-    else out.back() += c;
+    if (c == separator)
+      out.emplace_back();
+    else
+      out.back() += c;
   }
   return out;
 }
@@ -168,8 +170,9 @@ class RunFolderTest : public ::testing::Test {
   // A run folder as the launcher leaves it: its config, the three CSV files, a graph. The
   // rows span 61 s and the last learner row is `last_age_s` seconds old.
   void WriteRunFolder(double last_age_s = 1.5) {
-    const config::Config config = config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
-                                                     {"run.total_env_steps=5000", "transport.run_id=folder-run"});
+    const config::Config config =
+        config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+                           {"run.total_env_steps=5000", "transport.run_id=folder-run"});
     std::ofstream(dir_ / "config.yaml") << config.effective_yaml;
     const double t0 = mon::WallTimeNow() - 60.5 - last_age_s;
     mon::CsvSink sink(dir_.string());
@@ -282,7 +285,8 @@ TEST_F(RunFolderTest, AStoppedRunHasNoRateAndItsSilentNodesAreLost) {
   EXPECT_EQ(doc["node_counts"]["lost"].as<int>(), 2);  // the learner and actor 0
   EXPECT_EQ(doc["node_counts"]["exited"].as<int>(), 1);
   EXPECT_THAT(doc["title"].as<std::string>(), ::testing::Not(::testing::HasSubstr("finished")));
-  std::ofstream(dir_ / "outcome.yaml") << "# how this run ended\nstate: finished\nexit_code: 0\nreason: \"the budget is done\"\n";
+  std::ofstream(dir_ / "outcome.yaml")
+      << "# how this run ended\nstate: finished\nexit_code: 0\nreason: \"the budget is done\"\n";
   ASSERT_TRUE(folder.Refresh(mon::Clock::now()));
   EXPECT_THAT(folder.render_options().title, ::testing::HasSubstr("(finished: the budget is done)"));
 }

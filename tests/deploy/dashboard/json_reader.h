@@ -43,10 +43,14 @@ class Json {
   // integer type, not an integer).
   template <typename T>
   T as() const {
-    if constexpr (std::is_same_v<T, std::string>) return value_->AsString();
-    else if constexpr (std::is_same_v<T, bool>) return value_->AsBool();
-    else if constexpr (std::is_integral_v<T>) return static_cast<T>(value_->AsInt());
-    else return static_cast<T>(value_->AsDouble());
+    if constexpr (std::is_same_v<T, std::string>)
+      return value_->AsString();
+    else if constexpr (std::is_same_v<T, bool>)
+      return value_->AsBool();
+    else if constexpr (std::is_integral_v<T>)
+      return static_cast<T>(value_->AsInt());
+    else
+      return static_cast<T>(value_->AsDouble());
   }
 
  private:

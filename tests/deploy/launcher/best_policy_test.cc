@@ -44,7 +44,8 @@ class BestPolicyTest : public ::testing::Test {
   std::pair<std::vector<float>, learner::LearnerCounters> Load() {
     nn::Rng rng(7);
     rl::PolicyNetwork<float> policy("policy", actor::ActorOptionsFor(config_, 0).policy, rng);
-    const learner::LearnerCounters counters = learner::LoadActingPolicies((dir_ / "best.srics").string(), policy, nullptr);
+    const learner::LearnerCounters counters =
+        learner::LoadActingPolicies((dir_ / "best.srics").string(), policy, nullptr);
     return {nn::Flatten(policy.Parameters()), counters};
   }
 

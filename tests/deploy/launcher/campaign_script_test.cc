@@ -3,8 +3,8 @@
 // others, the exit code 2 naming the line for a malformed queue or a missing config, and that a
 // run another queue is training (its lock held) is skipped, not started twice.
 
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -78,7 +78,8 @@ TEST(CampaignScriptTest, AnEditOfTheScriptWhileAQueueRunsDoesNotBreakIt) {
   std::ofstream(root / "queue.txt") << "q1 g srics deploy/configs/campaign/x.yaml srics 1\n";
   const std::string script = (root / "deploy/campaign.sh").string();
   const std::string edit = "sleep 0.5; { printf '# an edit while the queue runs\\n%.0s' $(seq 30); cat " + script +
-                           "; } > " + script + ".new && cat " + script + ".new > " + script;  // in place, as an editor writes
+                           "; } > " + script + ".new && cat " + script + ".new > " +
+                           script;  // in place, as an editor writes
   const auto [code, text] = srics::cli::testing::Shell(
       "cd " + root.string() + " && (" + edit + ") & " + script + " --final-episodes 0 --queue " +
       (root / "queue.txt").string() + " --runs " + (root / "runs").string() + " 2>&1; echo exit $?; wait");
@@ -98,14 +99,16 @@ TEST(CampaignScriptTest, SkipsFinishedRunsAndPlansTheOthers) {
       "some-folder relational-4-ablations srics_paper_selectivity deploy/configs/campaign/relational-4.yaml "
       "srics 7 --set agent.reward.selectivity_form=paper  # trailing comment\n");
   EXPECT_EQ(out.exit_code, 0) << out.text;
-  EXPECT_NE(out.text.find("srics_no_selectivity-seed2 (relational-4-ablations): finished"), std::string::npos) << out.text;
+  EXPECT_NE(out.text.find("srics_no_selectivity-seed2 (relational-4-ablations): finished"), std::string::npos)
+      << out.text;
   EXPECT_NE(out.text.find("sweep deploy/configs/campaign/relational-4.yaml --methods srics --seeds 7 --in-process "
                           "--out runs/campaign/some-folder --set agent.reward.selectivity_form=paper  -> "
                           "docs/results/campaign/raw/relational-4-ablations/srics_paper_selectivity-seed7"),
             std::string::npos)
       << out.text;
   EXPECT_EQ(out.text.find("--methods srics_no_selectivity --seeds 2"), std::string::npos)
-      << "a finished run is planned again:\n" << out.text;
+      << "a finished run is planned again:\n"
+      << out.text;
 }
 
 TEST(CampaignScriptTest, MalformedLinesAndMissingConfigsExitTwoNamingTheLine) {
@@ -158,7 +161,8 @@ TEST(CampaignScriptTest, FinishedRunsGetTheirFinalEvaluationAndFinalEvalOnlyTrai
       "free-folder group srics_paper_selectivity deploy/configs/campaign/relational-4.yaml srics 9\n";
   Output out = RunQueue(queue, runs.string(), "--final-eval-only");
   EXPECT_EQ(out.exit_code, 0) << out.text;
-  EXPECT_NE(out.text.find("would evaluate " + run.string() + "'s last checkpoint over 100 episodes -> "
+  EXPECT_NE(out.text.find("would evaluate " + run.string() +
+                          "'s last checkpoint over 100 episodes -> "
                           "docs/results/campaign/raw/relational-4-ablations/srics_no_selectivity-seed2/final-eval*"),
             std::string::npos)
       << out.text;

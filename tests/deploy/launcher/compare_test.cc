@@ -30,8 +30,8 @@ constexpr const char* kEvalHeader =
 // one eval.csv row: version, env steps, avg distance, avg object distance, success per subgoal
 std::string Row(int version, int steps, double distance, double object, const std::string& subgoals) {
   std::ostringstream row;
-  row << "1.0,r,0," << version << ",1," << steps << ",5," << distance << ',' << object << ",0.5,0.4,0.1;0.1," << subgoals
-      << "\n";
+  row << "1.0,r,0," << version << ",1," << steps << ",5," << distance << ',' << object << ",0.5,0.4,0.1;0.1,"
+      << subgoals << "\n";
   return row.str();
 }
 
@@ -42,19 +42,23 @@ class CompareTest : public ::testing::Test {
     fs::remove_all(root_);
     sweep_ = root_ / "sweep";
     fs::create_directories(sweep_);
-    std::ofstream(sweep_ / "sweep.yaml") << "# a sweep\nconfig: \"/somewhere/relational-4.yaml\"\nmethods: [smorl, srics]\n";
+    std::ofstream(sweep_ / "sweep.yaml")
+        << "# a sweep\nconfig: \"/somewhere/relational-4.yaml\"\nmethods: [smorl, srics]\n";
     // srics seed 1: its best evaluation (0.05) is not its last (0.10)
-    Write("srics-seed1", Row(0, 0, 0.30, 0.28, "0;0") + Row(3, 1000, 0.05, 0.04, "1;0.2") + Row(6, 2000, 0.10, 0.08, "1;0.4"),
+    Write("srics-seed1",
+          Row(0, 0, 0.30, 0.28, "0;0") + Row(3, 1000, 0.05, 0.04, "1;0.2") + Row(6, 2000, 0.10, 0.08, "1;0.4"),
           "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success\n"
           "1,1000,10,0.5,10,0.1,0.2\n1,2000,10,0.7,10,0.1,0.2\n");
     // srics seed 2: two evaluators at the final step count (averaged: 0.14)
-    Write("srics-seed2", Row(0, 0, 0.32, 0.30, "0;0") + Row(3, 1000, 0.20, 0.18, "1;0") +
-                             Row(6, 2000, 0.13, 0.10, "0.5;0.6") + Row(6, 2000, 0.15, 0.12, "1;0.6"),
+    Write("srics-seed2",
+          Row(0, 0, 0.32, 0.30, "0;0") + Row(3, 1000, 0.20, 0.18, "1;0") + Row(6, 2000, 0.13, 0.10, "0.5;0.6") +
+              Row(6, 2000, 0.15, 0.12, "1;0.6"),
           "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success\n"
           "1,1000,10,0.3,10,0.1,0.2\n1,2000,10,0.5,10,0.1,0.2\n");
     WriteRunOutcome((sweep_ / "srics-seed2").string(), {"finished", 0, "the budget is done"});
     // smorl seed 1 logs the selectivity with the table's graph too (0.8, against its own 0.3)
-    Write("smorl-seed1", Row(0, 0, 0.31, 0.29, "0;0") + Row(2, 1000, 0.25, 0.20, "1;0") + Row(4, 2000, 0.20, 0.18, "1;0"),
+    Write("smorl-seed1",
+          Row(0, 0, 0.31, 0.29, "0;0") + Row(2, 1000, 0.25, 0.20, "1;0") + Row(4, 2000, 0.20, 0.18, "1;0"),
           "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success,"
           "table_graph_selectivity,table_graph_selectivity_episodes\n"
           "1,1000,10,0.2,10,0.1,0.2,0.7,10\n1,2000,10,0.3,10,0.1,0.2,0.8,10\n");
@@ -169,7 +173,8 @@ TEST_F(CompareTest, NamesHeldOutObjectsByTheirCatalogueNumber) {
   const std::string held_out =
       "env:\n  num_pucks: 4\n  object_sets:\n    - {present: [1, 2, 3]}\n    - {present: [1, 2, 4]}\n"
       "  eval_object_sets:\n    - {present: [3, 4]}\n";
-  for (const char* run : {"srics-seed1", "srics-seed2", "smorl-seed1"}) std::ofstream(sweep_ / run / "config.yaml") << held_out;
+  for (const char* run : {"srics-seed1", "srics-seed2", "smorl-seed1"})
+    std::ofstream(sweep_ / run / "config.yaml") << held_out;
   std::vector<std::string> warnings;
   std::vector<RunData> runs = ReadRuns({sweep_.string()}, &warnings);
   ASSERT_EQ(runs.size(), 3u);
@@ -195,7 +200,8 @@ TEST_F(CompareTest, WritesCurvesWithMeanMinMaxAndSdAndPngFigures) {
   const std::string script = ReadFile(root_ / "out" / "relational-4.gnuplot");
   EXPECT_THAT(script, HasSubstr("using 1:($2-$6):($2+$6) with filledcurves")) << script;
   EXPECT_THAT(script, HasSubstr("set key at screen 0.5, screen 0.01 center bottom horizontal maxcols 2")) << script;
-  EXPECT_THAT(script, HasSubstr("relational-4: average distance of all entities, arm included (mean, band ±1 sd over seeds)"));
+  EXPECT_THAT(script,
+              HasSubstr("relational-4: average distance of all entities, arm included (mean, band ±1 sd over seeds)"));
   for (const char* name : {"relational-4-distance.png", "relational-4-object_distance.png",
                            "relational-4-subgoal_success.png", "relational-4-selectivity.png", "results.md"}) {
     const fs::path path = root_ / "out" / name;
@@ -242,9 +248,11 @@ TEST_F(CompareTest, ListsEachLearnedGraphAgainstTheGraphByConstruction) {
   EXPECT_EQ(runs[1].graph_by_construction, "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
   const std::string table = FinalTable(runs);
   EXPECT_THAT(table, HasSubstr("| srics-seed1 | action->0, 0->2, 0->3, 0->4, 3->2 | "
-                               "action->0, 0->2, 0->3, 0->4, 2->3, 3->2 | no |")) << table;
+                               "action->0, 0->2, 0->3, 0->4, 2->3, 3->2 | no |"))
+      << table;
   EXPECT_THAT(table, HasSubstr("| srics-seed2 | action->0, 0->2, 0->3, 0->4, 2->3, 3->2 | "
-                               "action->0, 0->2, 0->3, 0->4, 2->3, 3->2 | yes |")) << table;
+                               "action->0, 0->2, 0->3, 0->4, 2->3, 3->2 | yes |"))
+      << table;
   EXPECT_THAT(table, Not(HasSubstr("| smorl-seed1 | action"))) << table;
 }
 
@@ -291,21 +299,27 @@ TEST_F(CompareTest, UndoneShareLastFiveAndTheFinalEvaluationOfTheLastCheckpoint)
   std::ofstream(run / "final-eval" / "attempts.csv")
       << "episode,attempt,entity,skipped,distance_before,distance_after,reached,others_solved,others_undone,"
          "independent_solved,independent_undone\n"
-      << "0,0,2,0,0.1,0.1,0,3,1,3,1\n0,1,3,0,0.1,0.1,0,1,0,1,0\n";
+      << "0,0,2,0,0.1,0.1,0,3,1,3,1\n0,1,3,0,0.1,0.1,0,1,0,1,0\n"
+      // the arm's attempt and one at the static puck 1: in the undone share, not in the object attempts'
+      << "1,0,0,0,0.1,0.1,1,5,4,5,4\n1,1,1,0,0.1,0.1,0,2,0,2,0\n";
+  // the run's config: Relational Rearrange 4 (arm 0, static puck 1, pucks 2-4 movable)
+  std::ofstream(run / "config.yaml") << "extends: " << SRICS_SOURCE_DIR << "/deploy/configs/relational-4.yaml\n";
   fs::create_directories(run / "final-eval-passive");
   std::ofstream(run / "final-eval-passive" / "episodes.csv")
-      << "episode,seed,status,steps,frames,avg_distance,avg_object_distance\n0,1,ok,180,0,0.3,0.3\n1,2,ok,180,0,0.3,0.3\n";
+      << "episode,seed,status,steps,frames,avg_distance,avg_object_distance\n0,1,ok,180,0,0.3,0.3\n1,2,ok,180,0,0.3,0."
+         "3\n";
 
   std::vector<std::string> warnings;
   const std::string table = FinalTable(ReadRuns({sweep_.string()}, &warnings));
   EXPECT_TRUE(warnings.empty()) << warnings[0];
   // srics: only the finished seed 2 counts; last five = its two evaluations (0.20 and the two
-  // evaluators' 0.14); final share 3 / 10; final-eval: the two good episodes, 4 solved 1 undone
+  // evaluators' 0.14); final share 3 / 10; final-eval: the two good episodes, of all attempts
+  // 11 solved 5 undone (0.45), of the attempts on movable objects 2 and 3: 4 solved 1 undone
   EXPECT_THAT(table, HasSubstr("| srics | 1 | 0.170 ± 0.000 | 0.145 ± 0.000 | 0.30 ± 0.00 | 2 x 1 | 0.150 ± 0.000 | "
-                               "0.150 ± 0.000 | 0.50 ± 0.00 | 0.25 ± 0.00 |"))
+                               "0.150 ± 0.000 | 0.50 ± 0.00 | 0.45 ± 0.00 | 0.25 ± 0.00 |"))
       << table;
   // smorl's eval.csv predates the columns and it has no final-eval/
-  EXPECT_THAT(table, HasSubstr("| smorl | 1 | 0.225 ± 0.000 | 0.190 ± 0.000 | - | - | - | - | - | - |")) << table;
+  EXPECT_THAT(table, HasSubstr("| smorl | 1 | 0.225 ± 0.000 | 0.190 ± 0.000 | - | - | - | - | - | - | - |")) << table;
 
   ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
   const std::string dat = ReadFile(root_ / "out" / "relational-4-undone.dat");

@@ -3,9 +3,9 @@
 // the first state, decoded again and looked at (not blank, changing, the hand moving). Bad
 // arguments exit 2 naming the argument; a missing or corrupt checkpoint exits 1 saying so.
 
+#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <fcntl.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -19,6 +19,7 @@
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/launcher.h"
 #include "deploy/launcher/run_folder.h"
+#include "deploy/run_folder/csv.h"
 #include "tests/actor/env/render/frames_testing.h"
 #include "tests/common/files/test_files.h"
 #include "tests/deploy/launcher/sweep_testing.h"
@@ -27,12 +28,12 @@ namespace srics::launcher {
 namespace {
 
 namespace fs = std::filesystem;
-using files::testing::ReadFile;
 using env::testing::DecodeVideo;
 using env::testing::DifferingPixels;
 using env::testing::FindHand;
 using env::testing::PixelStdDev;
 using env::testing::ReadPng;
+using files::testing::ReadFile;
 using ::testing::HasSubstr;
 
 // `srics eval ARGS...`: the exit code and the output.
@@ -48,15 +49,12 @@ std::pair<int, std::string> SricsEval(const fs::path& root, std::vector<std::str
 
 // episodes.csv as rows of column -> value.
 std::vector<std::map<std::string, std::string>> ReadCsv(const fs::path& path) {
-  std::ifstream in(path);
-  std::string line;
   std::vector<std::map<std::string, std::string>> rows;
-  if (!std::getline(in, line)) return rows;
-  const std::vector<std::string> header = SplitCsvLine(line);
-  while (std::getline(in, line)) {
-    const std::vector<std::string> fields = SplitCsvLine(line);
+  const std::optional<run_folder::CsvTable> table = run_folder::CsvTable::Read(path);
+  if (!table) return rows;
+  for (const run_folder::CsvRow& fields : table->Rows()) {
     std::map<std::string, std::string> row;
-    for (size_t i = 0; i < header.size() && i < fields.size(); ++i) row[header[i]] = fields[i];
+    for (const std::string& column : table->header()) row[column] = fields.Text(column);
     rows.push_back(row);
   }
   return rows;
@@ -95,7 +93,9 @@ class CommittedPolicyTest : public ::testing::Test {
   void TearDown() override {
     if (!scratch_.empty()) fs::remove_all(scratch_);
   }
-  static fs::path Policy() { return fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1"; }
+  static fs::path Policy() {
+    return fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
+  }
   // A fresh, empty folder of this test process.
   fs::path Scratch(const std::string& name) {
     scratch_ = fs::temp_directory_path() / ("srics_" + name + "_" + std::to_string(getpid()));
@@ -114,8 +114,9 @@ class CommittedPolicyTest : public ::testing::Test {
   }
   // srics eval's arguments that load the committed policy with its config and graph.
   static std::vector<std::string> PolicyArgs(std::vector<std::string> extra) {
-    std::vector<std::string> args = {(Policy() / "policy.srics").string(), "--config", (Policy() / "config.yaml").string(),
-                                     "--graph", (Policy() / "graph.json").string()};
+    std::vector<std::string> args = {(Policy() / "policy.srics").string(), "--config",
+                                     (Policy() / "config.yaml").string(), "--graph",
+                                     (Policy() / "graph.json").string()};
     args.insert(args.end(), extra.begin(), extra.end());
     return args;
   }
@@ -193,13 +194,15 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
     // attempts' sums, the skipped slots (no steps, nothing undone) left out
     int solved = 0, undone = 0;
     for (const auto& a : list)
-      if (a.at("skipped") == "0") solved += std::stoi(a.at("independent_solved")), undone += std::stoi(a.at("independent_undone"));
+      if (a.at("skipped") == "0")
+        solved += std::stoi(a.at("independent_solved")), undone += std::stoi(a.at("independent_undone"));
     EXPECT_EQ(std::stoi(rows[episode].at("independent_solved")), solved) << "episode " << episode;
     EXPECT_EQ(std::stoi(rows[episode].at("independent_undone")), undone) << "episode " << episode;
     total_solved += solved;
     const auto& last = list.back();
-    EXPECT_NEAR(std::stod(last.at("distance_after")),
-                std::stod(rows[episode].at("distance_" + last.at("entity"))), 1e-4) << "episode " << episode;
+    EXPECT_NEAR(std::stod(last.at("distance_after")), std::stod(rows[episode].at("distance_" + last.at("entity"))),
+                1e-4)
+        << "episode " << episode;
   }
   EXPECT_GT(full_length, 10) << "the policy seldom solves the whole table";
   EXPECT_GT(total_solved, 20) << "attempts begin with solved objects";
@@ -211,9 +214,8 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
 // draw loses its slot), so those runs' evaluations can be replayed as they were.
 TEST_F(CommittedPolicyTest, IndependentDrawsScheduleGivesEightAttempts) {
   const fs::path out = Scratch("independent_draws");
-  const auto [code, output] = SricsEval(
-      out, PolicyArgs({"--episodes", "10", "--no-video", "--out", out.string(), "--set",
-                       "actors.eval_schedule=independent_draws"}));
+  const auto [code, output] = SricsEval(out, PolicyArgs({"--episodes", "10", "--no-video", "--out", out.string(),
+                                                         "--set", "actors.eval_schedule=independent_draws"}));
   ASSERT_EQ(code, 0) << output;
   const auto rows = ReadCsv(out / "episodes.csv");
   const auto attempts = ReadCsv(out / "attempts.csv");
@@ -236,8 +238,8 @@ TEST_F(CommittedPolicyTest, IndependentDrawsScheduleGivesEightAttempts) {
 TEST_F(CommittedPolicyTest, PassiveBaselineNeedsNoCheckpointAndIsTheRunsPassiveRow) {
   const fs::path out = Scratch("passive");
   AsRunFolder(out / "run", /*with_checkpoint=*/false);
-  const auto [code, output] = SricsEval(out, {(out / "run").string(), "--passive", "--episodes", "20", "--no-video",
-                                              "--out", (out / "eval").string()});
+  const auto [code, output] = SricsEval(
+      out, {(out / "run").string(), "--passive", "--episodes", "20", "--no-video", "--out", (out / "eval").string()});
   ASSERT_EQ(code, 0) << output;
   EXPECT_THAT(output, HasSubstr("the passive baseline"));
   const auto rows = ReadCsv(out / "eval/episodes.csv");
@@ -278,11 +280,11 @@ TEST_F(CommittedPolicyTest, SeenUnseenScriptDividesEachCombinationByItsPassiveBa
   const fs::path root = Scratch("seen_unseen");
   AsRunFolder(root / "run-a", /*with_checkpoint=*/true);
   const fs::path out = root / "out";
-  ChildProcess child = ChildProcess::Spawn(
-      {"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
-       std::string(SRICS_SOURCE_DIR) + "/deploy/seen-unseen.sh", "--out", out.string(), "--seen", "1,2,3,4", "--unseen",
-       "1,2,3", "--episodes", "2", (root / "run-a").string()},
-      {.output_file = (root / "script.out").string()});
+  ChildProcess child =
+      ChildProcess::Spawn({"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
+                           std::string(SRICS_SOURCE_DIR) + "/deploy/seen-unseen.sh", "--out", out.string(), "--seen",
+                           "1,2,3,4", "--unseen", "1,2,3", "--episodes", "2", (root / "run-a").string()},
+                          {.output_file = (root / "script.out").string()});
   const auto status = child.WaitFor(std::chrono::seconds(240));
   const std::string output = files::testing::ReadFile(root / "script.out");
   ASSERT_TRUE(status && !status->signaled && status->code == 0) << output;
@@ -294,14 +296,15 @@ TEST_F(CommittedPolicyTest, SeenUnseenScriptDividesEachCombinationByItsPassiveBa
   EXPECT_EQ(rows[1].at("kind"), "unseen");
   for (const auto& row : rows) {
     EXPECT_EQ(row.at("episodes"), "2");
-    const double policy_distance = std::stod(row.at("object_distance")), passive = std::stod(row.at("passive_object_distance"));
+    const double policy_distance = std::stod(row.at("object_distance")),
+                 passive = std::stod(row.at("passive_object_distance"));
     EXPECT_GT(passive, 0.05);
     EXPECT_NEAR(std::stod(row.at("ratio")), policy_distance / passive, 1e-3);
   }
   // the passive figure of three objects is srics eval --passive's on them
-  const auto [code, passive_output] = SricsEval(
-      root, {(root / "run-a").string(), "--passive", "--set", "env.eval_object_sets=[{present: [1, 2, 3]}]",
-             "--episodes", "2", "--no-video", "--out", (root / "passive").string()});
+  const auto [code, passive_output] =
+      SricsEval(root, {(root / "run-a").string(), "--passive", "--set", "env.eval_object_sets=[{present: [1, 2, 3]}]",
+                       "--episodes", "2", "--no-video", "--out", (root / "passive").string()});
   ASSERT_EQ(code, 0) << passive_output;
   EXPECT_NEAR(std::stod(rows[1].at("passive_object_distance")),
               MeanOf(ReadCsv(root / "passive/episodes.csv"), "avg_object_distance"), 1e-4);
@@ -317,8 +320,12 @@ TEST_F(CommittedPolicyTest, SeenUnseenScriptDividesEachCombinationByItsPassiveBa
 TEST_F(CommittedPolicyTest, PlaysUnderEitherProtocolOnAnotherSeedsGoals) {
   const fs::path policy = Policy();
   const fs::path out = Scratch("protocols");
-  const std::vector<std::string> common = {(policy / "policy.srics").string(), "--config",
-                                           (policy / "config.yaml").string(), "--episodes", "3", "--no-video"};
+  const std::vector<std::string> common = {(policy / "policy.srics").string(),
+                                           "--config",
+                                           (policy / "config.yaml").string(),
+                                           "--episodes",
+                                           "3",
+                                           "--no-video"};
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> args = common;
     args.insert(args.end(), extra.begin(), extra.end());
@@ -342,8 +349,8 @@ TEST_F(CommittedPolicyTest, PlaysUnderEitherProtocolOnAnotherSeedsGoals) {
       SricsEval(out, with({"--set", "run.method=srics_no_selectivity_no_order", "--protocol", "depth", "--graph",
                            (out / "no-such-graph.json").string(), "--out", (out / "depth").string()}));
   EXPECT_EQ(code, 2) << output;  // a --graph that does not exist
-  std::tie(code, output) = SricsEval(out, with({"--set", "run.method=smorl", "--protocol", "depth", "--out",
-                                                (out / "depth").string()}));
+  std::tie(code, output) =
+      SricsEval(out, with({"--set", "run.method=smorl", "--protocol", "depth", "--out", (out / "depth").string()}));
   ASSERT_EQ(code, 0) << output;
   EXPECT_THAT(output, ::testing::HasSubstr("the table's graph by construction")) << output;
   attempts = ReadCsv(out / "depth" / "attempts.csv");
@@ -415,7 +422,8 @@ TEST_F(EvalTest, WritesMetricsAndAVideoOfEveryStep) {
     ASSERT_TRUE(start.has_value()) << "no hand in the first frame";
     double farthest = 0;
     for (const auto& frame : frames)
-      if (const auto hand = FindHand(frame)) farthest = std::max(farthest, std::hypot(hand->x - start->x, hand->y - start->y));
+      if (const auto hand = FindHand(frame))
+        farthest = std::max(farthest, std::hypot(hand->x - start->x, hand->y - start->y));
     EXPECT_GT(farthest, 10) << "the hand never moved in the video";
   }
 }
@@ -424,10 +432,10 @@ TEST_F(EvalTest, WritesMetricsAndAVideoOfEveryStep) {
 // tables; the depth protocol's means equal those of `srics eval --protocol depth` itself.
 TEST_F(EvalTest, CrossEvalScriptPlaysBothProtocolsOnEachGoalSet) {
   const fs::path out = root_ / "cross";
-  ChildProcess child = ChildProcess::Spawn(
-      {"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash", std::string(SRICS_SOURCE_DIR) + "/deploy/cross-eval.sh",
-       "--out", out.string(), "--goal-sets", "3 4", "--episodes", "2", run().string()},
-      {.output_file = (root_ / "cross.out").string()});
+  ChildProcess child = ChildProcess::Spawn({"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
+                                            std::string(SRICS_SOURCE_DIR) + "/deploy/cross-eval.sh", "--out",
+                                            out.string(), "--goal-sets", "3 4", "--episodes", "2", run().string()},
+                                           {.output_file = (root_ / "cross.out").string()});
   const auto status = child.WaitFor(std::chrono::seconds(240));
   const std::string output = files::testing::ReadFile(root_ / "cross.out");
   ASSERT_TRUE(status && !status->signaled && status->code == 0) << output;
@@ -450,10 +458,10 @@ TEST_F(EvalTest, CrossEvalScriptPlaysBothProtocolsOnEachGoalSet) {
   EXPECT_THAT(table, HasSubstr("| srics | random | 1 |")) << table;
 
   // a folder without a checkpoint: exit 2, naming it
-  ChildProcess bad = ChildProcess::Spawn({"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
-                                          std::string(SRICS_SOURCE_DIR) + "/deploy/cross-eval.sh", "--out",
-                                          out.string(), root_.string()},
-                                         {.output_file = (root_ / "bad.out").string()});
+  ChildProcess bad = ChildProcess::Spawn(
+      {"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
+       std::string(SRICS_SOURCE_DIR) + "/deploy/cross-eval.sh", "--out", out.string(), root_.string()},
+      {.output_file = (root_ / "bad.out").string()});
   const auto bad_status = bad.WaitFor(std::chrono::seconds(30));
   ASSERT_TRUE(bad_status);
   EXPECT_EQ(bad_status->code, 2);

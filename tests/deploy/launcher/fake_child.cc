@@ -88,8 +88,7 @@ int main(int argc, char** argv) {
   if (mode[0] == "fail" && mode.size() == 2) return std::atoi(mode[1].c_str());
   if (mode[0] == "exit0-after" && mode.size() == 2) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(std::atoi(mode[1].c_str()));
-    while (!g_stop && std::chrono::steady_clock::now() < end)
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    while (!g_stop && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     return 0;
   }
   if (mode[0] == "stubborn") {

@@ -39,10 +39,17 @@ TEST(InProcessHacTest, TrainsBothLevelsAndEvaluatesOnTheFullGoal) {
   fs::remove_all(dir);
   LaunchOptions options;
   options.config_file = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml";
-  options.overrides = {"run.method=hac", "run.total_env_steps=1500", "learner.warmup_steps=300",
-                       "agent.sac.batch_size=32", "learner.publish_every_updates=20",
-                       "learner.checkpoint_every_updates=300", "actors.count=2", "actors.eval_every_env_steps=500",
-                       "actors.eval_episodes=2", "agent.hac.horizon=5", "run.max_wall_minutes=0"};
+  options.overrides = {"run.method=hac",
+                       "run.total_env_steps=1500",
+                       "learner.warmup_steps=300",
+                       "agent.sac.batch_size=32",
+                       "learner.publish_every_updates=20",
+                       "learner.checkpoint_every_updates=300",
+                       "actors.count=2",
+                       "actors.eval_every_env_steps=500",
+                       "actors.eval_episodes=2",
+                       "agent.hac.horizon=5",
+                       "run.max_wall_minutes=0"};
   options.run_dir = dir;
   options.display = DisplayMode::kNone;
   options.in_process = true;

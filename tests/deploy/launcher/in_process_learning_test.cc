@@ -73,8 +73,8 @@ TEST(InProcessRunTest, SricsLearnsToReachArmSubgoals) {
   fs::create_directories(dir);
   const config::Config config = config::LoadConfig(
       Config("rearrange-1-cpu.yaml"),
-      {"graph.ground_truth=true", "run.total_env_steps=5000", "learner.warmup_steps=1000",
-       "agent.sac.batch_size=128", "actors.count=1", "actors.eval_every_env_steps=100000", "actors.eval_episodes=5"});
+      {"graph.ground_truth=true", "run.total_env_steps=5000", "learner.warmup_steps=1000", "agent.sac.batch_size=128",
+       "actors.count=1", "actors.eval_every_env_steps=100000", "actors.eval_episodes=5"});
   // the in-process run is deterministic: a step budget, not a time limit, so a loaded machine
   // takes longer but learns the same (a 150 s limit failed with 3690 steps under load 6)
   InProcessRun run(config, dir, nullptr);
@@ -88,10 +88,10 @@ TEST(InProcessRunTest, SricsLearnsToReachArmSubgoals) {
   const ArmReach passive = ArmSubgoalSuccess(config, nullptr, 50);
   RecordProperty("trained_success", std::to_string(trained.success));
   RecordProperty("passive_success", std::to_string(passive.success));
-  std::printf("arm subgoal success: trained %.2f (mean distance %.3f), passive %.2f (%.3f) (%llu transitions, %llu updates)\n",
-              trained.success, trained.mean_distance, passive.success, passive.mean_distance,
-              (unsigned long long)restored.counters().transitions_inserted,
-              (unsigned long long)restored.counters().updates);
+  std::printf(
+      "arm subgoal success: trained %.2f (mean distance %.3f), passive %.2f (%.3f) (%llu transitions, %llu updates)\n",
+      trained.success, trained.mean_distance, passive.success, passive.mean_distance,
+      (unsigned long long)restored.counters().transitions_inserted, (unsigned long long)restored.counters().updates);
   EXPECT_GE(trained.success, 0.6);
   EXPECT_LT(trained.mean_distance, 0.5 * passive.mean_distance);
   EXPECT_LE(passive.success, 0.2);

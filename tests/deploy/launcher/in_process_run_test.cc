@@ -6,15 +6,15 @@
 
 #include "common/config/config.h"
 #include "graph_service/service.h"
+#include "tests/deploy/tiny_run.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <map>
-#include <vector>
 #include <fstream>
+#include <map>
 #include <sstream>
-
+#include <vector>
 
 namespace srics::launcher {
 namespace {
@@ -23,12 +23,9 @@ namespace fs = std::filesystem;
 
 std::string Config(const std::string& name) { return std::string(SRICS_SOURCE_DIR) + "/deploy/configs/" + name; }
 
-const std::vector<std::string> kSmallRun = {
-    "run.total_env_steps=1200", "learner.warmup_steps=200", "agent.sac.batch_size=32",
-    "learner.publish_every_updates=20", "learner.checkpoint_every_updates=300", "actors.count=2",
-    "actors.eval_every_env_steps=400", "actors.eval_episodes=2", "graph.episodes=20", "graph.batch_windows=10",
-    "graph.warmup_updates=10", "graph.kl_ramp_updates=10", "graph.min_updates=40", "graph.max_updates=40",
-    "graph.eval_every_updates=20", "run.max_wall_minutes=0"};
+const std::vector<std::string> kSmallRun =
+    srics::testing::TinyRunSettings({"run.total_env_steps=1200", "learner.checkpoint_every_updates=300",
+                                     "actors.count=2", "actors.eval_every_env_steps=400"});
 
 // eval.csv without its first column (wall_time)
 std::string EvalRows(const std::string& dir) {
@@ -59,8 +56,8 @@ TEST(InProcessRunTest, SameConfigSameEvalCsvAndAWholeRunFolder) {
   // the passive baseline, evaluations at 400 and 800 env steps and the final one
   EXPECT_GE(std::count(rows.begin(), rows.end(), '\n'), 4) << rows;
   EXPECT_EQ(rows, EvalRows(b));
-  for (const char* file : {"config.yaml", "resolved-config.yaml", "eval.csv", "learner.csv", "nodes.csv", "graph.json", "checkpoint.srics",
-                           "summary.txt", "logs/launcher.log"})
+  for (const char* file : {"config.yaml", "resolved-config.yaml", "eval.csv", "learner.csv", "nodes.csv", "graph.json",
+                           "checkpoint.srics", "summary.txt", "logs/launcher.log"})
     EXPECT_TRUE(fs::exists(fs::path(a) / file)) << file;
 }
 
@@ -121,8 +118,8 @@ TEST(InProcessRunTest, EvaluationsRecordTheirFirstEpisodeIntoTheRunFolder) {
   LaunchOptions options;
   options.config_file = Config("rearrange-1-cpu.yaml");
   options.overrides = kSmallRun;
-  for (const char* o : {"actors.eval_episodes=1", "actors.record_eval_episodes=1", "actors.record_width=64",
-                        "actors.record_height=48"})
+  for (const char* o :
+       {"actors.eval_episodes=1", "actors.record_eval_episodes=1", "actors.record_width=64", "actors.record_height=48"})
     options.overrides.push_back(o);
   options.run_dir = dir;
   options.display = DisplayMode::kNone;
@@ -146,7 +143,9 @@ TEST(InProcessRunTest, EvaluationsRecordTheirFirstEpisodeIntoTheRunFolder) {
   std::ifstream in(dir + "/eval/recorded.csv");
   std::string header, line;
   ASSERT_TRUE(std::getline(in, header)) << "no eval/recorded.csv";
-  EXPECT_EQ(header, "policy_version,actor_id,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity,video");
+  EXPECT_EQ(
+      header,
+      "policy_version,actor_id,seed,status,steps,frames,avg_distance,avg_object_distance,success,selectivity,video");
   size_t rows = 0;
   while (std::getline(in, line)) {
     std::vector<std::string> f;
@@ -160,8 +159,10 @@ TEST(InProcessRunTest, EvaluationsRecordTheirFirstEpisodeIntoTheRunFolder) {
     EXPECT_NEAR(std::stod(f[6]), evaluated[f[0]], 1e-5) << "the drawn episode is the evaluated one";
     const fs::path media = fs::path(dir) / "eval" / f[10];
     ASSERT_TRUE(fs::exists(media)) << media;
-    if (fs::is_directory(media)) EXPECT_TRUE(fs::exists(media / "frame-00000.png"));
-    else EXPECT_GT(fs::file_size(media), 100u);
+    if (fs::is_directory(media))
+      EXPECT_TRUE(fs::exists(media / "frame-00000.png"));
+    else
+      EXPECT_GT(fs::file_size(media), 100u);
   }
   EXPECT_EQ(rows, evaluated.size()) << "one recorded episode per evaluation of a trained policy";
 }

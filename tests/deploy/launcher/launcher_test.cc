@@ -21,6 +21,7 @@
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/command_line.h"
 #include "tests/common/files/test_files.h"
+#include "tests/deploy/tiny_run.h"
 #include "tests/sanitizer.h"
 
 namespace srics::launcher {
@@ -60,17 +61,28 @@ class LauncherTest : public ::testing::Test {
   }
 
   ChildProcess StartLauncher(std::vector<std::string> extra = {}, bool with_run_id = true,
-                             std::string config = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
+                             std::string config = std::string(SRICS_SOURCE_DIR) +
+                                                  "/deploy/configs/rearrange-1-cpu.yaml",
                              const std::string& output = "launcher.out") {
-    std::vector<std::string> argv = {
-        SRICS_LAUNCHER, "run", config,
-        "--actors", "2", "--bin-dir", (root_ / "bin").string(), "--run-dir", run_dir_.string(),
-        "--display", "plain", "--stop-timeout", "5",
-        "--set", "transport.domain_id=" + std::to_string(150 + getpid() % 50)};
+    std::vector<std::string> argv = {SRICS_LAUNCHER,
+                                     "run",
+                                     config,
+                                     "--actors",
+                                     "2",
+                                     "--bin-dir",
+                                     (root_ / "bin").string(),
+                                     "--run-dir",
+                                     run_dir_.string(),
+                                     "--display",
+                                     "plain",
+                                     "--stop-timeout",
+                                     "5",
+                                     "--set",
+                                     "transport.domain_id=" + std::to_string(150 + getpid() % 50)};
     if (with_run_id) argv.insert(argv.end(), {"--set", "transport.run_id=launcher-test-" + std::to_string(getpid())});
     argv.insert(argv.end(), extra.begin(), extra.end());
-    return ChildProcess::Spawn(argv, {.output_file = (root_ / output).string(),
-                                      .own_process_group = true, .parent_death_signal = SIGKILL});
+    return ChildProcess::Spawn(
+        argv, {.output_file = (root_ / output).string(), .own_process_group = true, .parent_death_signal = SIGKILL});
   }
 
   // every role's pid over all incarnations
@@ -233,19 +245,20 @@ TEST_F(LauncherTest, ASecondLauncherWithTheSameRunIdExits2NamingTheFirstWhichRun
   setenv("FAKE_LEARNER", "exit0-after:9000", 1);
   setenv("FAKE_ACTOR", "exit0-after:10000", 1);
   const fs::path first_dir = run_dir_;
-  ChildProcess first = StartLauncher({}, true, std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
-                                     "first.out");
+  ChildProcess first =
+      StartLauncher({}, true, std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml", "first.out");
   // the first is under way: its roles run
   const auto deadline = std::chrono::steady_clock::now() + milliseconds(20000);
-  while (RolePids().size() < 4 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(milliseconds(50));
+  while (RolePids().size() < 4 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(milliseconds(50));
   ASSERT_EQ(RolePids().size(), 4u) << ReadFile(root_ / "first.out");
   const std::vector<pid_t> first_roles = RolePids();
 
   // the second: same run id, same domain, its own folder
   run_dir_ = root_ / "second";
   const auto start = std::chrono::steady_clock::now();
-  ChildProcess second = StartLauncher({}, true, std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml",
-                                      "second.out");
+  ChildProcess second =
+      StartLauncher({}, true, std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml", "second.out");
   const auto second_exit = second.WaitFor(milliseconds(20000));
   ASSERT_TRUE(second_exit.has_value());
   EXPECT_LT(std::chrono::steady_clock::now() - start, milliseconds(8000));
@@ -297,8 +310,9 @@ TEST_F(LauncherTest, ANonScalarKeyOrAZeroEvaluationPeriodExitsWithCode2NamingFil
   auto exit = launcher.WaitFor(milliseconds(20000));
   ASSERT_TRUE(exit.has_value());
   EXPECT_EQ(exit->Describe(), "exit code 2");
-  EXPECT_THAT(ReadFile(root_ / "launcher.out"),
-              HasSubstr(config + ":3: transport: expected a plain key (a name such as 'domain_id'), got a list as a key"));
+  EXPECT_THAT(
+      ReadFile(root_ / "launcher.out"),
+      HasSubstr(config + ":3: transport: expected a plain key (a name such as 'domain_id'), got a list as a key"));
   EXPECT_FALSE(fs::exists(run_dir_));
 
   ChildProcess zero = StartLauncher({"--set", "actors.eval_every_env_steps=0"});
@@ -318,8 +332,8 @@ TEST_F(LauncherTest, AHungActorIsKilledRestartedAndTheRunFinishes) {
   const std::string config = std::string(SRICS_SOURCE_DIR) + "/tests/integration/system-test.yaml";
   ChildProcess launcher = ChildProcess::Spawn(
       {SRICS_LAUNCHER, "run", config, "--run-dir", run_dir_.string(), "--display", "plain", "--stop-timeout", "5",
-       "--set", "transport.domain_id=" + std::to_string(150 + getpid() % 50),
-       "--set", "transport.run_id=hung-test-" + std::to_string(getpid()),
+       "--set", "transport.domain_id=" + std::to_string(150 + getpid() % 50), "--set",
+       "transport.run_id=hung-test-" + std::to_string(getpid()),
        // a sanitized role can be busy that long between its NodeStatus samples
        "--set", "transport.stalled_node_restart_s=" + std::to_string(8 * testing::kSanitizerSlowdown)},
       {.output_file = (root_ / "launcher.out").string(), .own_process_group = true, .parent_death_signal = SIGKILL});
@@ -371,16 +385,12 @@ TEST_F(LauncherTest, AStrangersPassiveEvaluationIsRefusedAndTheRunsActorSetsTheB
   const std::string run_id = "passive-test-" + std::to_string(getpid());
   const std::string domain = std::to_string(150 + getpid() % 50);
   const std::string config_file = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml";
-  // a run of a few seconds (sweep_testing.h's kTinyRun): a graph from 20 episodes, 1500 steps
-  const std::vector<std::string> sets = {
-      "run.total_env_steps=1500", "learner.warmup_steps=200", "agent.sac.batch_size=32",
-      "learner.publish_every_updates=20", "learner.checkpoint_every_updates=100", "actors.count=1",
-      "actors.eval_every_env_steps=500", "actors.eval_episodes=2", "graph.episodes=20", "graph.batch_windows=10",
-      "graph.warmup_updates=10", "graph.kl_ramp_updates=10", "graph.min_updates=40", "graph.max_updates=40",
-      "graph.eval_every_updates=20", "run.max_wall_minutes=0", "transport.domain_id=" + domain,
-      "transport.run_id=" + run_id};
-  std::vector<std::string> argv = {SRICS_LAUNCHER, "run", config_file, "--run-dir", run_dir_.string(),
-                                   "--display", "plain", "--stop-timeout", "10"};
+  // a run of a few seconds (sweep_testing.h's kTinyRun)
+  const std::vector<std::string> sets = srics::testing::TinyRunSettings(
+      {"run.total_env_steps=1500", "learner.checkpoint_every_updates=100", "actors.count=1",
+       "actors.eval_every_env_steps=500", "transport.domain_id=" + domain, "transport.run_id=" + run_id});
+  std::vector<std::string> argv = {SRICS_LAUNCHER, "run",   config_file,      "--run-dir", run_dir_.string(),
+                                   "--display",    "plain", "--stop-timeout", "10"};
   for (const std::string& set : sets) argv.insert(argv.end(), {"--set", set});
 
   // the stranger: a participant of its own on the run's domain, with the run's id
@@ -388,7 +398,8 @@ TEST_F(LauncherTest, AStrangersPassiveEvaluationIsRefusedAndTheRunsActorSetsTheB
   transport::Participant stranger(config.transport);
   transport::Writer<transport::EvalResult> forger(stranger);
   ChildProcess launcher = ChildProcess::Spawn(
-      argv, {.output_file = (root_ / "launcher.out").string(), .own_process_group = true, .parent_death_signal = SIGKILL});
+      argv,
+      {.output_file = (root_ / "launcher.out").string(), .own_process_group = true, .parent_death_signal = SIGKILL});
   // the launcher's monitor reads evaluations before any role starts: the forgery is there
   // long before the actor's passive evaluation (after the graph and the first weights)
   ASSERT_TRUE(forger.WaitForReaders(1, std::chrono::seconds(30 * testing::kSanitizerSlowdown)))

@@ -44,13 +44,13 @@ TEST(RolesArgsTest, RolesAndActorIdsOfAHostsShare) {
   EXPECT_TRUE(share.whole_run && share.graph && share.learner);
   EXPECT_EQ(share.actor_ids.size(), 3u);
 
-  for (const std::vector<std::string>& bad : std::vector<std::vector<std::string>>{
-           {"c.yaml", "--roles", "learner,critic"},
-           {"c.yaml", "--roles", "actor,actor"},
-           {"c.yaml", "--roles", "learner", "--ids", "1"},
-           {"c.yaml", "--ids", "1"},
-           {"c.yaml", "--roles", "actor", "--ids", "3-1"},
-           {"c.yaml", "--roles", "actor", "--ids", "x"}}) {
+  for (const std::vector<std::string>& bad :
+       std::vector<std::vector<std::string>>{{"c.yaml", "--roles", "learner,critic"},
+                                             {"c.yaml", "--roles", "actor,actor"},
+                                             {"c.yaml", "--roles", "learner", "--ids", "1"},
+                                             {"c.yaml", "--ids", "1"},
+                                             {"c.yaml", "--roles", "actor", "--ids", "3-1"},
+                                             {"c.yaml", "--roles", "actor", "--ids", "x"}}) {
     try {
       ParseRunArgs(bad);
       ADD_FAILURE() << "accepted: " << ::testing::PrintToString(bad);
@@ -67,15 +67,16 @@ class RolesTest : public ::testing::Test {
 
   // `srics run CONFIG --roles ...` for one host of the run
   ChildProcess StartHost(const std::string& host, std::vector<std::string> share) {
-    std::vector<std::string> argv = {SRICS_LAUNCHER, "run", testing::kConfig, "--run-dir", (root_ / host).string(),
-                                     "--display", "plain", "--stop-timeout", "20"};
+    std::vector<std::string> argv = {SRICS_LAUNCHER, "run",   testing::kConfig, "--run-dir", (root_ / host).string(),
+                                     "--display",    "plain", "--stop-timeout", "20"};
     argv.insert(argv.end(), share.begin(), share.end());
     std::vector<std::string> sets = testing::kTinyRun;
     sets.insert(sets.end(), {"actors.count=2", "transport.run_id=roles-test-" + std::to_string(getpid()),
                              "transport.domain_id=" + std::to_string(100 + getpid() % 50)});
     for (const std::string& s : sets) argv.insert(argv.end(), {"--set", s});
-    return ChildProcess::Spawn(argv, {.output_file = (root_ / (host + ".out")).string(),
-                                      .own_process_group = true, .parent_death_signal = SIGKILL});
+    return ChildProcess::Spawn(
+        argv,
+        {.output_file = (root_ / (host + ".out")).string(), .own_process_group = true, .parent_death_signal = SIGKILL});
   }
 
   fs::path root_;

@@ -45,7 +45,8 @@ TEST(SeedGraphFileTest, AGivenFileIsCopiedAndAnExistingGraphIsKept) {
   SeedGraphFile(Load("rearrange-3.yaml", {"graph.ground_truth=true"}), source);
   const std::string dir = FreshDir("seed_file");
   SeedGraphFile(Load("rearrange-3.yaml", {"graph.file=" + source + "/graph.json"}), dir);
-  EXPECT_EQ(graph_service::LoadGraph(dir + "/graph.json").mean_weights, graph_service::LoadGraph(source + "/graph.json").mean_weights);
+  EXPECT_EQ(graph_service::LoadGraph(dir + "/graph.json").mean_weights,
+            graph_service::LoadGraph(source + "/graph.json").mean_weights);
   // a continued run keeps its own graph
   const auto before = fs::last_write_time(dir + "/graph.json");
   SeedGraphFile(Load("rearrange-3.yaml", {"graph.ground_truth=true"}), dir);
@@ -117,7 +118,7 @@ TEST(CheckResumedConfigTest, AnAllowedChangeKeepsTheOldFileAndRecordsTheChange) 
   std::string line;
   ASSERT_TRUE(std::getline(log, line));
   EXPECT_NE(line.find("seed: 2' now '  seed: 3'"), std::string::npos) << line;
-  const std::string kept = line.substr(line.find("config.yaml.") , std::string("config.yaml.20261202T004500Z").size());
+  const std::string kept = line.substr(line.find("config.yaml."), std::string("config.yaml.20261202T004500Z").size());
   EXPECT_EQ(WithoutComments(dir + "/" + kept), before) << kept;
   PrepareRunFolder(changed, dir);  // then the launch writes the new one
   EXPECT_NO_THROW(CheckResumedConfig(changed, dir, false));
@@ -146,7 +147,8 @@ TEST(CheckResumedConfigTest, TheResolvedSettingsDecide) {
     CheckResumedConfig(started, dir, false);
     FAIL() << "a changed default was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("selectivity_form: reference' now '    selectivity_form: paper'"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("selectivity_form: reference' now '    selectivity_form: paper'"),
+              std::string::npos)
         << e.what();
   }
   // a folder from before the record: its merged YAML decides (the pin is then a change)

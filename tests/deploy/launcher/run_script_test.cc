@@ -17,8 +17,9 @@ struct Output {
 };
 
 Output RunScript(const std::string& arguments) {
-  const auto [code, text] = srics::cli::testing::Shell("SRICS_NO_BUILD=1 SRICS_BUILD_DIR='" + std::string(SRICS_BINARY_DIR) +
-                                                       "' '" + std::string(SRICS_SOURCE_DIR) + "/deploy/run.sh' " + arguments);
+  const auto [code, text] =
+      srics::cli::testing::Shell("SRICS_NO_BUILD=1 SRICS_BUILD_DIR='" + std::string(SRICS_BINARY_DIR) + "' '" +
+                                 std::string(SRICS_SOURCE_DIR) + "/deploy/run.sh' " + arguments);
   return {code, text};
 }
 

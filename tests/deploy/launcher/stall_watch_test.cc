@@ -72,7 +72,8 @@ TEST_F(StallWatchTest, AKilledHungChildIsRestartedByTheSupervisor) {
   StallWatch watch(seconds(1), "run", Nodes());
   const int first_pid = supervisor_.status(actor_).pid;
   Heard("learner", supervisor_.status(learner_).pid, start_ + seconds(100));
-  for (const auto& [child, why] : watch.Check(supervisor_, state_, start_ + seconds(2))) EXPECT_TRUE(supervisor_.Kill(child, why));
+  for (const auto& [child, why] : watch.Check(supervisor_, state_, start_ + seconds(2)))
+    EXPECT_TRUE(supervisor_.Kill(child, why));
   const auto deadline = std::chrono::steady_clock::now() + seconds(10);
   while (supervisor_.status(actor_).restarts == 0 && std::chrono::steady_clock::now() < deadline) {
     supervisor_.Tick();

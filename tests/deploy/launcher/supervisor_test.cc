@@ -123,8 +123,9 @@ TEST_F(SupervisorTest, ChildKilledBySignalIsRestarted) {
   Supervisor supervisor(options_);
   const size_t i = supervisor.Add(Spec("actor-1", {"crash-once", Path("marker"), "kill"}));
   supervisor.StartAll();
-  ASSERT_TRUE(TickUntil(&supervisor, [&] { return supervisor.status(i).restarts == 1 &&
-                                                 supervisor.status(i).phase == ChildPhase::kRunning; }));
+  ASSERT_TRUE(TickUntil(&supervisor, [&] {
+    return supervisor.status(i).restarts == 1 && supervisor.status(i).phase == ChildPhase::kRunning;
+  }));
   ASSERT_TRUE(supervisor.status(i).last_exit.has_value());
   EXPECT_TRUE(supervisor.status(i).last_exit->signaled);
   EXPECT_EQ(supervisor.status(i).last_exit->code, SIGKILL);

@@ -25,10 +25,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using files::testing::ReadFile;
+using ::testing::HasSubstr;
 using testing::kConfig;
 using testing::kTinyRun;
 using testing::RunSrics;
-using ::testing::HasSubstr;
 
 class SweepTest : public ::testing::Test {
  protected:
@@ -47,7 +47,7 @@ std::unique_ptr<learner::Learner> LoadLearner(const std::string& run_dir) {
 
 TEST_F(SweepTest, AStoppedSweepResumesWithoutRepeatingFinishedRunsAndKeepsTheReplay) {
   const fs::path sweep = root_ / "sweep";
-  std::vector<std::string> argv = {SRICS_LAUNCHER, "sweep", kConfig, "--methods", "srics,smorl", "--seeds", "1",
+  std::vector<std::string> argv = {SRICS_LAUNCHER, "sweep", kConfig,        "--methods", "srics,smorl", "--seeds", "1",
                                    "--in-process", "--out", sweep.string(), "--display", "none"};
   for (const std::string& o : kTinyRun) argv.insert(argv.end(), {"--set", o});
   // stopped once the first run has finished and the second has checkpointed
@@ -55,8 +55,8 @@ TEST_F(SweepTest, AStoppedSweepResumesWithoutRepeatingFinishedRunsAndKeepsTheRep
 
   ChildProcess child = ChildProcess::Spawn(argv, {.output_file = (root_ / "first.out").string()});
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(240);
-  while (!(RunFinished(first) && fs::exists(second + "/checkpoint.srics")) && std::chrono::steady_clock::now() < deadline &&
-         child.running()) {
+  while (!(RunFinished(first) && fs::exists(second + "/checkpoint.srics")) &&
+         std::chrono::steady_clock::now() < deadline && child.running()) {
     child.Poll();
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
@@ -100,8 +100,9 @@ TEST_F(SweepTest, AStoppedSweepResumesWithoutRepeatingFinishedRunsAndKeepsTheRep
   EXPECT_TRUE(RunFinished(second));
   const std::string log = ReadFile(second + "/logs/launcher.log");
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(log, m, std::regex("resumed from \\S+: (\\d+) updates, \\d+ transitions inserted, "
-                                                   "policy v\\d+, replay (\\d+) transitions")))
+  ASSERT_TRUE(std::regex_search(log, m,
+                                std::regex("resumed from \\S+: (\\d+) updates, \\d+ transitions inserted, "
+                                           "policy v\\d+, replay (\\d+) transitions")))
       << log;
   EXPECT_EQ(std::stoull(m[1]), updates_at_stop);
   EXPECT_EQ(std::stoull(m[2]), replay_at_stop);

@@ -62,8 +62,8 @@ TEST_F(SweepTest, ParsesTheGridAndRefusesBadArguments) {
   EXPECT_EQ(o.overrides, std::vector<std::string>{"a.b=1"});
   EXPECT_TRUE(o.in_process);
   EXPECT_EQ(o.parallel, 2);
-  EXPECT_THROW(ParseSweepArgs({"c.yaml", "--seeds", "1"}), std::invalid_argument);              // no methods
-  EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "srics"}), std::invalid_argument);        // no seeds
+  EXPECT_THROW(ParseSweepArgs({"c.yaml", "--seeds", "1"}), std::invalid_argument);        // no methods
+  EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "srics"}), std::invalid_argument);  // no seeds
   EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "a,a", "--seeds", "1"}), std::invalid_argument);
   EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "a", "--seeds", "x"}), std::invalid_argument);
   EXPECT_THROW(ParseSweepArgs({"c.yaml", "--methods", "a", "--seeds", "1", "--parallel", "0"}), std::invalid_argument);
@@ -175,8 +175,8 @@ TEST_F(SweepTest, UnknownMethodsExitWithCode2NamingTheKey) {
   EXPECT_EQ(sweep_code, 2) << sweep_text;
   EXPECT_THAT(sweep_text, HasSubstr("run.method"));
   EXPECT_FALSE(fs::exists(root_ / "s")) << "nothing starts on a bad grid";
-  const auto [run_code, run_text] =
-      RunSrics(root_, {"run", kConfig, "--in-process", "--set", "run.method=hacc", "--run-dir", (root_ / "r").string()});
+  const auto [run_code, run_text] = RunSrics(
+      root_, {"run", kConfig, "--in-process", "--set", "run.method=hacc", "--run-dir", (root_ / "r").string()});
   EXPECT_EQ(run_code, 2) << run_text;
   EXPECT_THAT(run_text, HasSubstr("run.method"));
 }

@@ -1,7 +1,7 @@
 #include "deploy/monitor/csv_sink.h"
 
-#include <gtest/gtest.h>
 #include <gmock/gmock.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>

@@ -16,11 +16,11 @@ namespace srics::monitor {
 namespace {
 
 using std::chrono::milliseconds;
-using ::testing::HasSubstr;
-using ::testing::Not;
 using testing::Eval;
 using testing::Graph;
+using ::testing::HasSubstr;
 using testing::Node;
+using ::testing::Not;
 using transport::NodeState;
 
 // The line of `text` that contains `needle` ("" if none).
@@ -151,7 +151,8 @@ TEST_F(DisplayTest, ShowsLauncherProcessesAndEvents) {
   RenderOptions options;
   options.elapsed_s = 3725;
   options.max_wall_minutes = 30;
-  options.processes = {{"learner", 4242, "running", 0, ""}, {"actor-1", 0, "restarting in 2.0s", 3, "signal 9 (Killed)"}};
+  options.processes = {{"learner", 4242, "running", 0, ""},
+                       {"actor-1", 0, "restarting in 2.0s", 3, "signal 9 (Killed)"}};
   options.events = {"[00:01:00] actor-1 ended: signal 9 (Killed); restart 3 in 2.0s"};
   const std::string text = Render(state_, now_, options);
   EXPECT_THAT(LineWith(text, "srics-monitor"), HasSubstr("elapsed 01:02:05 / 00:30:00"));
@@ -214,9 +215,7 @@ TEST_F(DisplayTest, RateAndEtaFromTheLastMinuteOfLearnerStats) {
   EXPECT_FALSE(EnvStepRate(state_.runs["r1"]));
 }
 
-TEST_F(DisplayTest, RenderingIsPure) {
-  EXPECT_EQ(Render(state_, now_, {}), Render(state_, now_, {}));
-}
+TEST_F(DisplayTest, RenderingIsPure) { EXPECT_EQ(Render(state_, now_, {}), Render(state_, now_, {})); }
 
 // Characters (UTF-8 code points) of the longest line.
 size_t LongestLine(const std::string& text) {

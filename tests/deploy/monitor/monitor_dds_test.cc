@@ -68,8 +68,8 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   const auto deadline = Clock::now() + milliseconds(10000);
   auto complete = [&] {
     const auto it = monitor.state().runs.find(transport.run_id);
-    return it != monitor.state().runs.end() && it->second.learner && !it->second.evals.empty() &&
-           it->second.graph && it->second.weights && !monitor.state().nodes.empty();
+    return it != monitor.state().runs.end() && it->second.learner && !it->second.evals.empty() && it->second.graph &&
+           it->second.weights && !monitor.state().nodes.empty();
   };
   while (!complete() && Clock::now() < deadline) {
     monitor.Poll(milliseconds(100));
@@ -99,7 +99,8 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
 
   // the CSV files hold what arrived
   EXPECT_THAT(ReadFile(dir / "learner.csv"), HasSubstr("," + transport.run_id + ",777,"));
-  EXPECT_THAT(ReadFile(dir / "eval.csv"), HasSubstr("," + transport.run_id + "," + std::to_string(eval.actor_id) + ",9,"));
+  EXPECT_THAT(ReadFile(dir / "eval.csv"),
+              HasSubstr("," + transport.run_id + "," + std::to_string(eval.actor_id) + ",9,"));
   EXPECT_THAT(ReadFile(dir / "nodes.csv"), HasSubstr(",actor,3,"));
   EXPECT_THAT(ReadFile(dir / "nodes.csv"), HasSubstr(",lost,"));
   fs::remove_all(dir);

@@ -43,11 +43,15 @@ TEST(MonitorStateTest, NodeStatusIsKeyedByRunRoleAndId) {
 TEST(MonitorStateTest, PeerStringsAreKeptPrintable) {
   EXPECT_EQ(PrintableText("actor-1 on lab3, v2 (ok)"), "actor-1 on lab3, v2 (ok)");
   EXPECT_EQ(PrintableText("\x1b[2J\x1b]0;t\x07x\r\n\t\x7f"), "?[2J?]0;t?x????");
-  EXPECT_EQ(PrintableText("\xc2\x9b" "31m \xe2\x86\x92"), "??31m ???");  // C1 CSI in UTF-8, an arrow
+  EXPECT_EQ(PrintableText("\xc2\x9b"
+                          "31m \xe2\x86\x92"),
+            "??31m ???");  // C1 CSI in UTF-8, an arrow
   EXPECT_EQ(PrintableText(std::string("a\0b", 3)), "a?b");
 
   MonitorState state;
-  transport::NodeStatus status = Node("actor\x1b[31m", 0, NodeState::kTraining, "r\x1b" "1");
+  transport::NodeStatus status = Node("actor\x1b[31m", 0, NodeState::kTraining,
+                                      "r\x1b"
+                                      "1");
   status.host = "h\r";
   status.detail = "\x1b[H";
   Apply(&state, status, Clock::time_point{});
@@ -64,13 +68,9 @@ class NodeHealthTest : public ::testing::Test {
  protected:
   NodeHealthTest() { state.lost_after = milliseconds(1000); }
   // `role` `id` reports state `s` at `ms`.
-  void Report(const std::string& role, uint32_t id, NodeState s, int ms) {
-    Apply(&state, Node(role, id, s), At(ms));
-  }
+  void Report(const std::string& role, uint32_t id, NodeState s, int ms) { Apply(&state, Node(role, id, s), At(ms)); }
   Clock::time_point At(int ms) const { return t0 + milliseconds(ms); }
-  const NodeEntry& Entry(const std::string& role, uint32_t id) const {
-    return state.nodes.at({"r1", role, id});
-  }
+  const NodeEntry& Entry(const std::string& role, uint32_t id) const { return state.nodes.at({"r1", role, id}); }
 
   MonitorState state;
   const Clock::time_point t0{};
@@ -252,7 +252,8 @@ TEST(MonitorBoundsTest, AFloodOfInventedIdsKeepsTheTablesAtTheirLimitsAndTheReal
   const Clock::time_point t0{};
   // the run's real nodes, heard from a few times
   for (int k = 0; k < 3; ++k)
-    for (const char* role : {"learner", "graph"}) Apply(&state, testing::Node(role, 0, NodeState::kTraining), t0 + std::chrono::seconds(k));
+    for (const char* role : {"learner", "graph"})
+      Apply(&state, testing::Node(role, 0, NodeState::kTraining), t0 + std::chrono::seconds(k));
   transport::EvalResult own = testing::Eval(0, 0, 0.2f);
   Apply(&state, own, t0);
   for (uint32_t i = 0; i < 100000; ++i) {

@@ -49,8 +49,7 @@ std::string Value(const std::map<std::string, std::string>& values, const std::s
   return it == values.end() ? "" : it->second;
 }
 
-bool ListHas(const std::map<std::string, std::string>& values, const std::string& key,
-             const std::string& item) {
+bool ListHas(const std::map<std::string, std::string>& values, const std::string& key, const std::string& item) {
   const auto it = values.find(key);
   if (it == values.end()) return false;
   std::istringstream in(it->second);
@@ -124,8 +123,8 @@ TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsA
   // Node statuses every 10 s: a status written between the probe's match and the delivery of
   // the stored one replaces it (history depth 1); with a status every 2 s a CI run on
   // 2026-12-03 got one historical node status of two.
-  System system("fastdds", {"graph.ground_truth=true", "run.total_env_steps=1000000",
-                            "actors.eval_every_env_steps=500", "transport.status_period_s=10"});
+  System system("fastdds", {"graph.ground_truth=true", "run.total_env_steps=1000000", "actors.eval_every_env_steps=500",
+                            "transport.status_period_s=10"});
   launcher::SeedGraphFile(system.config(), system.run_dir());
   system.StartAll(2);
   ASSERT_TRUE(system.WaitUntil(
@@ -140,8 +139,7 @@ TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsA
   // weights, so the weights the probe gets first must come from the learner's history.
   for (const std::string name : {"actor-0", "actor-1"}) system.child(name).Signal(SIGINT);
   ASSERT_TRUE(system.WaitUntil(
-      [&] { return system.child("actor-0").Poll().has_value() && system.child("actor-1").Poll().has_value(); },
-      30s));
+      [&] { return system.child("actor-0").Poll().has_value() && system.child("actor-1").Poll().has_value(); }, 30s));
   bool quiet = false;
   for (int attempt = 0; attempt < 30 && !quiet; ++attempt) {
     const size_t published = system.weight_versions.size();
@@ -155,27 +153,26 @@ TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsA
   const std::string output = system.run_dir() + "/probe.out";
   launcher::SpawnOptions options;
   options.output_file = output;
-  launcher::ChildProcess child = launcher::ChildProcess::Spawn(
-      {probe, "--profile", SourceDir() + "/deploy/fastdds/loopback.xml", "--domain",
-       std::to_string(system.config().transport.domain_id), "--run-id",
-       system.config().transport.run_id, "--timeout-s", "120"},
-      options);
+  launcher::ChildProcess child =
+      launcher::ChildProcess::Spawn({probe, "--profile", SourceDir() + "/deploy/fastdds/loopback.xml", "--domain",
+                                     std::to_string(system.config().transport.domain_id), "--run-id",
+                                     system.config().transport.run_id, "--timeout-s", "120"},
+                                    options);
   // Once it has the transient-local samples, the actors come back: episodes, evaluations and
   // new weights flow again.
-  ASSERT_TRUE(system.WaitUntil(
-      [&] { return ReadFile(output).find("late-joiner:") != std::string::npos || child.Poll(); }, 30s))
+  ASSERT_TRUE(
+      system.WaitUntil([&] { return ReadFile(output).find("late-joiner:") != std::string::npos || child.Poll(); }, 30s))
       << ReadFile(output);
   ASSERT_TRUE(child.running()) << ReadFile(output);
   system.Start("actor-0");
   system.Start("actor-1");
   std::optional<launcher::ExitStatus> status;
-  ASSERT_TRUE(system.WaitUntil([&] { return (status = child.Poll()).has_value(); }, 150s))
-      << ReadFile(output);
+  ASSERT_TRUE(system.WaitUntil([&] { return (status = child.Poll()).has_value(); }, 150s)) << ReadFile(output);
   ASSERT_TRUE(status->success()) << status->Describe() << "\n" << ReadFile(output);
 
   auto topics = ParseProbeOutput(output);
-  for (const char* name : {"episode", "policy_weights", "interaction_graph", "eval_result",
-                           "learner_stats", "node_status"})
+  for (const char* name :
+       {"episode", "policy_weights", "interaction_graph", "eval_result", "learner_stats", "node_status"})
     EXPECT_GT(Number(topics[name], "samples"), 0u) << name << "\n" << ReadFile(output);
 
   // Late joiner: the latest weights, the graph and node statuses written before it joined.

@@ -55,11 +55,16 @@ Options ParseArguments(int argc, char** argv) {
     const std::string arg = argv[i];
     if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
     const std::string value = argv[++i];
-    if (arg == "--profile") o.profile = value;
-    else if (arg == "--domain") o.domain = std::stoi(value);
-    else if (arg == "--run-id") o.run_id = value;
-    else if (arg == "--timeout-s") o.timeout_s = std::stod(value);
-    else throw std::invalid_argument("unknown argument " + arg);
+    if (arg == "--profile")
+      o.profile = value;
+    else if (arg == "--domain")
+      o.domain = std::stoi(value);
+    else if (arg == "--run-id")
+      o.run_id = value;
+    else if (arg == "--timeout-s")
+      o.timeout_s = std::stod(value);
+    else
+      throw std::invalid_argument("unknown argument " + arg);
   }
   if (o.profile.empty() || o.domain < 0 || o.run_id.empty() || o.timeout_s <= 0)
     throw std::invalid_argument("usage: --profile XML --domain D --run-id R --timeout-s S");
@@ -67,8 +72,8 @@ Options ParseArguments(int argc, char** argv) {
 }
 
 int64_t WallClockNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::system_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
 }
 
 // Records when a reader matched each writer: a sample written before its own writer matched can
@@ -129,8 +134,7 @@ class Participant {
     if (t == nullptr) throw std::runtime_error("cannot create topic " + topic);
     dds::DataReaderQos q = dds::DATAREADER_QOS_DEFAULT;
     q.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
-    q.durability().kind =
-        transient_local ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
+    q.durability().kind = transient_local ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
     q.history().kind = keep_all ? dds::KEEP_ALL_HISTORY_QOS : dds::KEEP_LAST_HISTORY_QOS;
     q.history().depth = 1;
     if (keyed) {
@@ -150,9 +154,9 @@ class Participant {
 
 // What was read from one topic and what was wrong with it.
 struct TopicReport {
-  int samples = 0;        // of this run
-  int other_runs = 0;     // samples of other runs on the domain (ignored)
-  int historical = 0;     // samples written before the reader matched: from the writer's history
+  int samples = 0;                            // of this run
+  int other_runs = 0;                         // samples of other runs on the domain (ignored)
+  int historical = 0;                         // samples written before the reader matched: from the writer's history
   std::map<std::string, std::string> values;  // printed as key=value
   std::map<std::string, std::set<std::string>> sets;  // printed as key=a,b,c
   std::map<std::string, uint64_t> maxima;             // printed as key=max
@@ -189,14 +193,15 @@ void CheckEpisode(const srics::Episode& e, TopicReport* r) {
   r->Check(Finite(e.states()) && Finite(e.actions()), "non-finite states or actions");
   for (float x : e.actions()) r->Check(x >= -1.f && x <= 1.f, "action outside [-1, 1]");
   r->Check(e.goal().empty() || e.goal().size() == 2 || e.goal().size() == 2 * n, "goal size");
-  r->Check(e.subgoals().size() == e.subgoal_starts().size() * 2 * n &&
-               e.subgoal_tests().size() == e.subgoal_starts().size(),
-           "HAC subgoal sizes");
+  r->Check(
+      e.subgoals().size() == e.subgoal_starts().size() * 2 * n && e.subgoal_tests().size() == e.subgoal_starts().size(),
+      "HAC subgoal sizes");
   r->values["num_entities"] = std::to_string(n);
   r->values["num_steps_last"] = std::to_string(t);
   r->maxima["max_policy_version"] = std::max(r->maxima["max_policy_version"], e.policy_version());
   r->sets["modes"].insert(e.mode() == srics::EPISODE_EXPLORE ? "explore"
-                          : e.mode() == srics::EPISODE_TRAIN ? "train" : "eval");
+                          : e.mode() == srics::EPISODE_TRAIN ? "train"
+                                                             : "eval");
   r->sets["actors"].insert(std::to_string(e.actor_id()));
 }
 
@@ -261,8 +266,7 @@ void CheckStatus(const srics::NodeStatus& n, TopicReport* r) {
 
 // Takes every available sample of one reader into the report.
 template <typename Sample, typename CheckFn>
-void Drain(dds::DataReader* reader, const MatchClock& clock, const Options& o, TopicReport* r,
-           CheckFn check) {
+void Drain(dds::DataReader* reader, const MatchClock& clock, const Options& o, TopicReport* r, CheckFn check) {
   Sample sample;
   dds::SampleInfo info;
   while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
@@ -278,10 +282,13 @@ int Run(const Options& o) {
   Participant participant(o);
   // QoS per topic as in idl/README.md: (transient_local, keep_all, keyed)
   auto* episodes = participant.Reader<srics::EpisodePubSubType>("srics/episode", false, true, false, &clocks[0]);
-  auto* weights = participant.Reader<srics::PolicyWeightsPubSubType>("srics/policy_weights", true, false, true, &clocks[1]);
-  auto* graphs = participant.Reader<srics::InteractionGraphPubSubType>("srics/interaction_graph", true, false, true, &clocks[2]);
+  auto* weights =
+      participant.Reader<srics::PolicyWeightsPubSubType>("srics/policy_weights", true, false, true, &clocks[1]);
+  auto* graphs =
+      participant.Reader<srics::InteractionGraphPubSubType>("srics/interaction_graph", true, false, true, &clocks[2]);
   auto* evals = participant.Reader<srics::EvalResultPubSubType>("srics/eval_result", false, true, false, &clocks[3]);
-  auto* stats = participant.Reader<srics::LearnerStatsPubSubType>("srics/learner_stats", false, false, true, &clocks[4]);
+  auto* stats =
+      participant.Reader<srics::LearnerStatsPubSubType>("srics/learner_stats", false, false, true, &clocks[4]);
   auto* status = participant.Reader<srics::NodeStatusPubSubType>("srics/node_status", true, false, true, &clocks[5]);
 
   std::map<std::string, TopicReport> reports;
@@ -304,8 +311,8 @@ int Run(const Options& o) {
     }
     // evaluations: wait for one of a trained policy, not only the passive baseline
     all = all && reports["eval_result"].maxima["max_policy_version"] > 0;
-    if (!announced && reports["policy_weights"].samples > 0 &&
-        reports["interaction_graph"].samples > 0 && reports["node_status"].samples > 0) {
+    if (!announced && reports["policy_weights"].samples > 0 && reports["interaction_graph"].samples > 0 &&
+        reports["node_status"].samples > 0) {
       std::cout << "late-joiner: weights, graph and node status received" << std::endl;
       announced = true;
     }

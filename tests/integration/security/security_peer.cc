@@ -110,7 +110,8 @@ int WriteAs(const Participant& participant, uint32_t actor_id, int count, second
 // An episode writer in `partition`, made with Cyclone's C API (the library picks the partition
 // itself): DDS Security's own check on this side.
 int CreateWriterIn(const Participant& participant, const std::string& partition) {
-  const dds_entity_t topic = dds_create_topic(participant.handle(), &srics_Episode_desc, "srics/episode", nullptr, nullptr);
+  const dds_entity_t topic =
+      dds_create_topic(participant.handle(), &srics_Episode_desc, "srics/episode", nullptr, nullptr);
   if (topic < 0) return 6;
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
@@ -155,7 +156,8 @@ int Run(int argc, char** argv) {
     return 0;
   }
   if (mode == "actor-as" && argc == 9)
-    return WriteAs(participant, static_cast<uint32_t>(std::atoi(argv[6])), std::atoi(argv[7]), seconds(std::atoi(argv[8])));
+    return WriteAs(participant, static_cast<uint32_t>(std::atoi(argv[6])), std::atoi(argv[7]),
+                   seconds(std::atoi(argv[8])));
   if (mode == "write-in-partition" && argc == 7) return CreateWriterIn(participant, argv[6]);
   if (mode == "read-weights" && argc == 7) {
     ReadWeights(participant, seconds(std::atoi(argv[6])));
@@ -173,8 +175,7 @@ int Run(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     const int code = Run(argc, argv);
-    if (code == 2)
-      std::cerr << "usage: security_peer DOMAIN RUN_ID KEYSTORE|- IDENTITY MODE [ARGS...]\n";
+    if (code == 2) std::cerr << "usage: security_peer DOMAIN RUN_ID KEYSTORE|- IDENTITY MODE [ARGS...]\n";
     return code;
   } catch (const std::exception& e) {
     Say(std::string("exception ") + e.what());

@@ -13,15 +13,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstring>
 #include <cstdlib>
-#include <algorithm>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <mutex>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -105,7 +105,8 @@ std::string ReadText(const std::string& path) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   std::string seen;
   while (std::chrono::steady_clock::now() < deadline) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     const auto line = peer.ReadLine(left);
     if (!line) break;
     if (*line == expected) return ::testing::AssertionSuccess();
@@ -240,9 +241,10 @@ TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
   Participant actor(Secured("actor-0"));
   Reader<PolicyWeights> weights(actor);
   Reader<LearnerStats> stats(actor);
-  for (const auto& [identity, mode] : std::vector<std::pair<std::string, std::string>>{
-           {"monitor", "write-weights"}, {"monitor", "write-stats"}, {"actor-1", "write-weights"},
-           {"actor-1", "write-stats"}}) {
+  for (const auto& [identity, mode] : std::vector<std::pair<std::string, std::string>>{{"monitor", "write-weights"},
+                                                                                       {"monitor", "write-stats"},
+                                                                                       {"actor-1", "write-weights"},
+                                                                                       {"actor-1", "write-stats"}}) {
     SCOPED_TRACE(identity + " " + mode);
     auto peer = Peer(identity, {mode, "9"});
     EXPECT_TRUE(SaysLine(*peer, "refused"));
@@ -275,9 +277,11 @@ TEST_F(SecurityTest, MonitorBypassingItsOwnChecksDeliversNothing) {
   ASSERT_NE(governance.find(strict), std::string::npos);
   governance.replace(governance.find(strict), strict.size(), "<enable_write_access_control>false");
   std::ofstream(lenient + "/governance.xml") << governance;
-  ASSERT_EQ(std::system(("openssl smime -sign -in " + lenient + "/governance.xml -text -out " + lenient +
-                         "/governance.p7s -signer " + lenient + "/ca.cert.pem -inkey " + lenient +
-                         "/private/ca.key.pem").c_str()), 0);
+  ASSERT_EQ(
+      std::system(("openssl smime -sign -in " + lenient + "/governance.xml -text -out " + lenient +
+                   "/governance.p7s -signer " + lenient + "/ca.cert.pem -inkey " + lenient + "/private/ca.key.pem")
+                      .c_str()),
+      0);
 
   Participant actor(Secured("actor-0"));
   Reader<PolicyWeights> weights(actor);
@@ -485,7 +489,9 @@ TEST_F(SecurityTest, ForeignOrMismatchedPermissionsAreRefused) {
   const std::string other = *keystore_ + "-other";
   fs::remove_all(other);
   ASSERT_EQ(std::system((std::string(SRICS_SOURCE_DIR) + "/deploy/security/make-keystore.sh " + other +
-                         " --actors 0 > /dev/null 2>&1").c_str()), 0);
+                         " --actors 0 > /dev/null 2>&1")
+                            .c_str()),
+            0);
   fs::copy_file(other + "/identities/monitor/permissions.p7s", copy + "/identities/monitor/permissions.p7s",
                 fs::copy_options::overwrite_existing);
   for (const std::string identity : {"actor-0", "monitor"}) {
@@ -517,23 +523,26 @@ TEST_F(SecurityTest, KeystoreConfigIsCheckedBeforeAnythingStarts) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(error_of([&] { config::CheckKeystore(c.transport.security, "actor-7"); })
-                .find(*keystore_ + "/identities/actor-7/cert.pem is missing"),
+  EXPECT_NE(error_of([&] {
+              config::CheckKeystore(c.transport.security, "actor-7");
+            }).find(*keystore_ + "/identities/actor-7/cert.pem is missing"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { config::CheckKeystore({*keystore_ + "-nowhere", ""}, "learner"); }).find("is not a folder"),
+  EXPECT_NE(error_of([&] {
+              config::CheckKeystore({*keystore_ + "-nowhere", ""}, "learner");
+            }).find("is not a folder"),
             std::string::npos);
   EXPECT_NE(error_of([&] {
               config::ParseConfig("transport:\n  domain_id: 231\n  security:\n    keystore: x\n", "t.yaml");
             }).find("0..230"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { config::ParseConfig("transport:\n  security:\n    keystor: x\n", "t.yaml"); }),
-            "no error");
+  EXPECT_NE(error_of([&] { config::ParseConfig("transport:\n  security:\n    keystor: x\n", "t.yaml"); }), "no error");
 
   // a role program whose identity is missing: exit 2 before DDS, naming the file
   const std::string out = *keystore_ + ".actor-out";
   const std::string command = std::string(SRICS_ACTOR_BIN) + " " + SRICS_SOURCE_DIR +
                               "/deploy/configs/default.yaml --id 7 --set transport.run_id=x --set "
-                              "transport.security.keystore=" + *keystore_ + " > " + out + " 2>&1";
+                              "transport.security.keystore=" +
+                              *keystore_ + " > " + out + " 2>&1";
   const int status = std::system(command.c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 2);

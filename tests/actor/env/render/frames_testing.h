@@ -1,7 +1,6 @@
+#pragma once
 // Reading frames back and measuring them: PNG files (libpng), raw RGB decoded by ffmpeg, and
 // the hand's place in a frame (the renderer's tests and the srics eval test share them).
-#ifndef SRICS_TESTS_ACTOR_ENV_RENDER_FRAMES_TESTING_H_
-#define SRICS_TESTS_ACTOR_ENV_RENDER_FRAMES_TESTING_H_
 
 #include <png.h>
 
@@ -42,7 +41,8 @@ inline std::optional<Image> ReadPng(const std::string& path) {
   image.width = static_cast<int>(png_get_image_width(png, info));
   image.height = static_cast<int>(png_get_image_height(png, info));
   image.rgb.resize(static_cast<size_t>(image.width) * image.height * 3);
-  for (int y = 0; y < image.height; ++y) png_read_row(png, image.rgb.data() + static_cast<size_t>(y) * image.width * 3, nullptr);
+  for (int y = 0; y < image.height; ++y)
+    png_read_row(png, image.rgb.data() + static_cast<size_t>(y) * image.width * 3, nullptr);
   png_destroy_read_struct(&png, &info, nullptr);
   std::fclose(file);
   return image;
@@ -134,5 +134,3 @@ inline const uint8_t* PixelAt(const Image& image, double x, double y) {
 }
 
 }  // namespace srics::env::testing
-
-#endif  // SRICS_TESTS_ACTOR_ENV_RENDER_FRAMES_TESTING_H_

@@ -119,8 +119,8 @@ TEST_F(RenderTest, HandMovingRightMovesItsPixelsRight) {
 // The pixels of the segment between two tied objects' centres (at the centres' height) that
 // nothing else hides: farther than `clear` from each object's centre and from every other entity
 // (the objects' bodies, their tops projected a little further up the picture, and the hand).
-std::vector<const uint8_t*> LinkPixels(const Image& frame, const RearrangeEnv& env, const RenderOptions& options,
-                                       int a, int b, double clear) {
+std::vector<const uint8_t*> LinkPixels(const Image& frame, const RearrangeEnv& env, const RenderOptions& options, int a,
+                                       int b, double clear) {
   const auto positions = env.Positions();
   const double fovy = env.model()->vis.global.fovy;
   const double z = config::EffectiveObjects(env.config()).at(env.present()[a - 1] - 1).half_height;
