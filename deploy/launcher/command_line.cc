@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "common/cli/cli.h"
+#include "deploy/launcher/eval_studies.h"
 
 namespace srics::launcher {
 
@@ -241,9 +242,10 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
       "writes DIR/episodes.csv (per-episode distances, success, per-subgoal success) and a video of each episode\n"
       "(MuJoCo's renderer, headless EGL; goals as translucent markers). Exit codes: 0 done, 1 no or a corrupt\n"
       "checkpoint or graph, no renderer, ffmpeg failing; 2 bad arguments or config");
-  app.add_option("RUN_DIR|CHECKPOINT", a->target,
+  app.add_option("RUN_DIR|CHECKPOINT", a->targets,
                  "a run folder (its checkpoint.srics, config.yaml and, for SRICS, graph.json) or a checkpoint file "
-                 "(config.yaml and graph.json from its folder)")
+                 "(config.yaml and graph.json from its folder); several run folders with --cross-protocol or "
+                 "--seen/--unseen")
       ->required();
   app.add_option("--episodes", a->episodes, "evaluation episodes (default: the config's actors.eval_episodes)")
       ->check(cli::Integer(1, 100000))
@@ -277,6 +279,18 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
                  "goals")
       ->check(cli::Integer(1, 1000000000))
       ->default_str("");
+  app.add_flag("--cross-protocol", a->cross_protocol,
+               "a study over the RUN_DIRs: each final policy under both protocols (depth, random) on the goals of "
+               "each --goal-sets seed; writes OUT/cross-eval.csv and .md (episodes default 20)");
+  app.add_option("--goal-sets", a->goal_sets, "with --cross-protocol: evaluation seeds whose goals are played")
+      ->delimiter(',')
+      ->check(cli::Integer(1, 1000000000))
+      ->default_str("1,2,3");
+  app.add_option("--seen", a->seen,
+                 "a study over the RUN_DIRs: object combinations the runs trained on, catalogue ids ('1,2,3 1,2,4 "
+                 "1,3,4'); with --unseen, each final policy and the passive baseline play every combination; writes "
+                 "OUT/seen-unseen.csv and .md (episodes default 50)");
+  app.add_option("--unseen", a->unseen, "with --seen: the held-out combination ('2,3,4')");
   app.add_flag("--passive", a->passive,
                "play the passive baseline (the hand never moves) on the same goals instead of the checkpoint's "
                "policy (no checkpoint needed): the figure the run's eval.csv divides by");
@@ -284,6 +298,9 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
 
 void FinishEvalArgs(EvalArgs* a, bool no_video) {
   a->video = !no_video;
+  if (!a->targets.empty()) a->target = a->targets.front();
+  if (a->targets.size() > 1 && !IsEvalStudy(*a))
+    throw std::invalid_argument("several RUN_DIRs are a study: add --cross-protocol or --seen and --unseen");
   try {
     env::CheckRenderOptions(a->render);
   } catch (const std::invalid_argument& e) {

@@ -265,21 +265,6 @@ std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<
   return runs;
 }
 
-Spread SpreadOf(const std::vector<double>& values) {
-  Spread s;
-  s.n = static_cast<int>(values.size());
-  if (values.empty()) return s;
-  s.mean = std::accumulate(values.begin(), values.end(), 0.0) / s.n;
-  s.min = *std::min_element(values.begin(), values.end());
-  s.max = *std::max_element(values.begin(), values.end());
-  if (s.n > 1) {
-    double squares = 0;
-    for (double v : values) squares += (v - s.mean) * (v - s.mean);
-    s.std = std::sqrt(squares / (s.n - 1));
-  }
-  return s;
-}
-
 std::optional<double> Interpolate(const std::vector<std::pair<double, double>>& curve, double x) {
   if (curve.empty() || x < curve.front().first || x > curve.back().first) return std::nullopt;
   const auto upper = std::lower_bound(curve.begin(), curve.end(), x,
@@ -350,16 +335,8 @@ Groups GroupRuns(const std::vector<RunData>& runs) {
   return groups;
 }
 
-std::string Format(double v, int digits = 3) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
-  return buffer;
-}
-
-std::string MeanStd(const Spread& s, int digits = 3) {
-  if (s.n == 0) return "-";
-  return Format(s.mean, digits) + " ± " + Format(s.std, digits);
-}
+using analysis::Format;
+using analysis::MeanStd;
 
 // The names of a group's subgoal entities, as many as its final evaluations report: "arm",
 // then "object N", N the catalogue number when every run of the group plays the same single

@@ -32,6 +32,8 @@
 #include <string>
 #include <vector>
 
+#include "deploy/analysis/statistics.h"
+
 namespace srics::launcher {
 
 struct CompareOptions {
@@ -101,11 +103,8 @@ std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<
                               const std::string& final_eval = "final-eval");
 
 // Mean, sample standard deviation (0 for one value), minimum and maximum.
-struct Spread {
-  double mean = 0, std = 0, min = 0, max = 0;
-  int n = 0;
-};
-Spread SpreadOf(const std::vector<double>& values);
+using analysis::Spread;  // deploy/analysis/statistics.h
+using analysis::SpreadOf;
 
 // Linear interpolation of a curve (x ascending) at x; empty outside its range.
 std::optional<double> Interpolate(const std::vector<std::pair<double, double>>& curve, double x);

@@ -1,5 +1,6 @@
 #pragma once
 // `srics eval RUN_DIR|CHECKPOINT [--episodes N] [--out DIR] ...`: watches a trained policy.
+// (With several RUN_DIRs and --cross-protocol or --seen/--unseen: a study, eval_studies.h.)
 // Loads the run's effective config (config.yaml beside the checkpoint, or --config), the
 // learner checkpoint's policy (HAC: both levels) and, for the methods that use one, the run's
 // interaction graph (graph.json); then plays the evaluation protocol of the evaluating actors
@@ -25,7 +26,8 @@
 namespace srics::launcher {
 
 struct EvalArgs {
-  std::string target;                  // RUN_DIR or CHECKPOINT
+  std::string target;                  // RUN_DIR or CHECKPOINT (the first of targets)
+  std::vector<std::string> targets;    // several RUN_DIRs: a study (eval_studies.h)
   int episodes = -1;                   // --episodes (-1: actors.eval_episodes of the config)
   std::string out_dir;                 // --out ("" = <run folder>/eval)
   std::string config_file;             // --config ("" = config.yaml beside the checkpoint)
@@ -47,6 +49,12 @@ struct EvalArgs {
   // checkpoint's policy, which is then not needed: what the run's eval.csv divides by, for
   // goals or objects (--set env.eval_object_sets=...) the run never evaluated
   bool passive = false;
+  // The studies over several runs (eval_studies.h): --cross-protocol on the goals of each of
+  // --goal-sets (default 1,2,3; episodes default 20); --seen "1,2,3 1,2,4" and --unseen 2,3,4,
+  // catalogue ids of the present pucks (episodes default 50). Both need --out.
+  bool cross_protocol = false;
+  std::vector<uint64_t> goal_sets;
+  std::string seen, unseen;
 };
 
 // Runs the evaluation; returns 0. Throws std::invalid_argument (bad arguments: exit 2),

@@ -11,6 +11,7 @@
 #include "common/process/memory.h"
 #include "common/transport/shutdown.h"
 #include "deploy/launcher/command_line.h"
+#include "deploy/launcher/eval_studies.h"
 
 namespace {
 
@@ -22,7 +23,8 @@ int RunCommand(const launcher::SricsCommand& command) {
     case Kind::kRun: return launcher::Run(command.run);
     case Kind::kSweep: return launcher::Sweep(command.sweep);
     case Kind::kCompare: return launcher::Compare(command.compare);
-    case Kind::kEval: return launcher::Eval(command.eval);
+    case Kind::kEval:
+      return launcher::IsEvalStudy(command.eval) ? launcher::RunEvalStudy(command.eval) : launcher::Eval(command.eval);
     case Kind::kLearnGraph: return launcher::LearnGraph(command.learn_graph);
   }
   return srics::kExitFailed;

@@ -253,7 +253,7 @@ TEST_F(CommittedPolicyTest, PassiveBaselineNeedsNoCheckpointAndIsTheRunsPassiveR
 }
 
 // The same policy on fewer objects than it trained with (env.eval_object_sets: pucks 1-3, the
-// free puck 4 left out), as deploy/seen-unseen.sh plays combinations: episodes.csv has the
+// free puck 4 left out), as `srics eval --seen --unseen` plays combinations: episodes.csv has the
 // distances of the arm and the three pucks, and the free puck never gets an attempt. `srics
 // eval` refused it before ("episode 0 has another number of entities": it counted the entities
 // of the training objects).
@@ -272,22 +272,17 @@ TEST_F(CommittedPolicyTest, PlaysFewerObjectsThanItTrainedWith) {
   for (const auto& attempt : ReadCsv(out / "attempts.csv")) EXPECT_LE(std::stoi(attempt.at("entity")), 3);
 }
 
-// deploy/seen-unseen.sh on the committed policy (as a run folder: its checkpoint, config and
+// `srics eval --seen --unseen` on the committed policy (as a run folder: its checkpoint, config and
 // graph), all four pucks as the "seen" combination and pucks 1-3 as the "unseen" one: a row per
 // combination whose ratio is the policy's object distance over the passive baseline's, the
 // passive figure that of `srics eval --passive` on the same objects, and the per-run table.
-TEST_F(CommittedPolicyTest, SeenUnseenScriptDividesEachCombinationByItsPassiveBaseline) {
+TEST_F(CommittedPolicyTest, SeenUnseenStudyDividesEachCombinationByItsPassiveBaseline) {
   const fs::path root = Scratch("seen_unseen");
   AsRunFolder(root / "run-a", /*with_checkpoint=*/true);
   const fs::path out = root / "out";
-  ChildProcess child =
-      ChildProcess::Spawn({"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
-                           std::string(SRICS_SOURCE_DIR) + "/deploy/seen-unseen.sh", "--out", out.string(), "--seen",
-                           "1,2,3,4", "--unseen", "1,2,3", "--episodes", "2", (root / "run-a").string()},
-                          {.output_file = (root / "script.out").string()});
-  const auto status = child.WaitFor(std::chrono::seconds(240));
-  const std::string output = files::testing::ReadFile(root / "script.out");
-  ASSERT_TRUE(status && !status->signaled && status->code == 0) << output;
+  const auto [study_code, output] = SricsEval(root, {"--seen", "1,2,3,4", "--unseen", "1,2,3", "--episodes", "2",
+                                                     "--out", out.string(), (root / "run-a").string()});
+  ASSERT_EQ(study_code, 0) << output;
   const auto rows = ReadCsv(out / "seen-unseen.csv");
   ASSERT_EQ(rows.size(), 2u) << output;
   EXPECT_EQ(rows[0].at("combination"), "1 2 3 4");
@@ -428,17 +423,13 @@ TEST_F(EvalTest, WritesMetricsAndAVideoOfEveryStep) {
   }
 }
 
-// deploy/cross-eval.sh on the tiny run: both protocols on two goal sets, the CSV rows and the
+// `srics eval --cross-protocol` on the tiny run: both protocols on two goal sets, the CSV rows and the
 // tables; the depth protocol's means equal those of `srics eval --protocol depth` itself.
-TEST_F(EvalTest, CrossEvalScriptPlaysBothProtocolsOnEachGoalSet) {
+TEST_F(EvalTest, CrossProtocolStudyPlaysBothProtocolsOnEachGoalSet) {
   const fs::path out = root_ / "cross";
-  ChildProcess child = ChildProcess::Spawn({"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
-                                            std::string(SRICS_SOURCE_DIR) + "/deploy/cross-eval.sh", "--out",
-                                            out.string(), "--goal-sets", "3 4", "--episodes", "2", run().string()},
-                                           {.output_file = (root_ / "cross.out").string()});
-  const auto status = child.WaitFor(std::chrono::seconds(240));
-  const std::string output = files::testing::ReadFile(root_ / "cross.out");
-  ASSERT_TRUE(status && !status->signaled && status->code == 0) << output;
+  const auto [study_code, output] = SricsEval(
+      root_, {"--cross-protocol", "--goal-sets", "3,4", "--episodes", "2", "--out", out.string(), run().string()});
+  ASSERT_EQ(study_code, 0) << output;
   const auto rows = ReadCsv(out / "cross-eval.csv");
   ASSERT_EQ(rows.size(), 4u) << output;
   EXPECT_EQ(rows[0].at("protocol"), "depth");
@@ -457,15 +448,16 @@ TEST_F(EvalTest, CrossEvalScriptPlaysBothProtocolsOnEachGoalSet) {
   EXPECT_THAT(table, HasSubstr("| eval_test_run | srics | depth |")) << table;
   EXPECT_THAT(table, HasSubstr("| srics | random | 1 |")) << table;
 
-  // a folder without a checkpoint: exit 2, naming it
-  ChildProcess bad = ChildProcess::Spawn(
-      {"/usr/bin/env", std::string("SRICS=") + SRICS_LAUNCHER, "bash",
-       std::string(SRICS_SOURCE_DIR) + "/deploy/cross-eval.sh", "--out", out.string(), root_.string()},
-      {.output_file = (root_ / "bad.out").string()});
-  const auto bad_status = bad.WaitFor(std::chrono::seconds(30));
-  ASSERT_TRUE(bad_status);
-  EXPECT_EQ(bad_status->code, 2);
-  EXPECT_THAT(files::testing::ReadFile(root_ / "bad.out"), HasSubstr("has no checkpoint.srics"));
+  // a folder without a checkpoint: exit 2, naming it, before anything is played
+  const auto [bad_code, bad_output] =
+      SricsEval(root_, {"--cross-protocol", "--out", (root_ / "cross-bad").string(), run().string(), root_.string()});
+  EXPECT_EQ(bad_code, 2);
+  EXPECT_THAT(bad_output, HasSubstr("has no checkpoint.srics"));
+  EXPECT_FALSE(fs::exists(root_ / "cross-bad" / "raw" / "eval_test_run-depth-goals1")) << "played before the check";
+  // several run folders without a study: refused
+  const auto [several_code, several_output] = SricsEval(root_, {run().string(), run().string(), "--no-video"});
+  EXPECT_EQ(several_code, 2);
+  EXPECT_THAT(several_output, HasSubstr("several RUN_DIRs are a study"));
 }
 
 TEST_F(EvalTest, PngFramesWithoutFfmpegAndTheSameMetrics) {
