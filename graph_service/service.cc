@@ -73,19 +73,6 @@ ServiceOptions ServiceOptionsFor(const config::Config& config, const std::string
   return options;
 }
 
-rl::GraphUpdate ToGraphUpdate(const LearnedGraph& g) {
-  rl::GraphUpdate u;
-  u.version = g.version;
-  u.graph = g.graph;
-  u.structure = g.structure;
-  u.mean_weights = g.edge_scores;  // what the threshold applies to (the wire's name is older)
-  u.threshold = g.threshold;
-  u.held_out_loss = g.held_out_loss;
-  u.training_updates = static_cast<uint64_t>(g.updates);
-  u.episodes_used = static_cast<uint32_t>(g.episodes);
-  return u;
-}
-
 namespace {
 
 // Renames an unusable file to <path>.rejected (kept for inspection); returns the new name.

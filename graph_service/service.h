@@ -92,9 +92,6 @@ ServiceOptions ServiceOptionsFor(const config::Config& config, const std::string
 // then, with graph.object_ties: one_way, the ties made one way by the mean weights (OneWayObjectTies).
 std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::GraphConfig& config, int action_entity);
 
-// Converts the graph service's product to what the sink publishes.
-rl::GraphUpdate ToGraphUpdate(const LearnedGraph& graph);
-
 enum class StepResult {
   kWorked,  // took episodes, trained, or published
   kIdle,    // waits for episodes, or has published and only drains the source

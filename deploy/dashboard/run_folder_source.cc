@@ -11,11 +11,10 @@
 
 #include "common/config/config.h"
 #include "common/files/small_file.h"
+#include "common/graph_file/graph_file.h"
 #include "common/transport/rl_convert.h"
 #include "deploy/monitor/csv_sink.h"
 #include "deploy/run_folder/csv.h"
-#include "graph_service/learned_graph.h"
-#include "graph_service/service.h"
 
 namespace srics::dashboard {
 namespace {
@@ -192,7 +191,7 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
   if (fs::exists(dir / "graph.json", error)) {
     try {
       tr::InteractionGraph graph =
-          tr::ToMessage(graph_service::ToGraphUpdate(graph_service::LoadGraph((dir / "graph.json").string())));
+          tr::ToMessage(graph_file::ToGraphUpdate(graph_file::LoadGraph((dir / "graph.json").string())));
       // the run it belongs to: the folder's (the one with the most rows), else none
       std::string run_id = state.runs.empty() ? std::string() : state.runs.begin()->first;
       for (const auto& [id, run] : state.runs)

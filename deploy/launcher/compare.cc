@@ -16,12 +16,12 @@
 
 #include "common/config/config.h"
 #include "common/files/small_file.h"
+#include "common/graph_file/graph_file.h"
 #include "common/rl/graph.h"
 #include "common/rl/ground_truth.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/launcher/sweep.h"
 #include "deploy/run_folder/csv.h"
-#include "graph_service/learned_graph.h"
 
 namespace srics::launcher {
 
@@ -193,9 +193,9 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
   run.final_evaluation = ReadFinalEvaluation(dir, final_eval, movable, warnings);
   if (fs::is_regular_file(dir / "graph.json")) {
     try {
-      const graph_service::LearnedGraph learned = graph_service::LoadGraph((dir / "graph.json").string());
+      const graph_file::LearnedGraph learned = graph_file::LoadGraph((dir / "graph.json").string());
       run.graph = rl::DescribeGraph(learned.graph);
-      run.graph_dot = graph_service::GraphDot(learned);
+      run.graph_dot = graph_file::GraphDot(learned);
     } catch (const std::exception& e) {
       warnings->push_back(dir.string() + ": graph.json: " + e.what());
     }
@@ -743,7 +743,7 @@ int Compare(const CompareOptions& options) {
             pictures.push_back(copy);
         } else if (!r->graph_dot.empty()) {
           std::string draw_error;
-          if (graph_service::RenderDotToPng(r->graph_dot, copy, &draw_error))
+          if (graph_file::RenderDotToPng(r->graph_dot, copy, &draw_error))
             pictures.push_back(copy);
           else
             std::cerr << "srics compare: " << r->dir << "/graph.json: " << draw_error << "\n";

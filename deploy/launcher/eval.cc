@@ -14,13 +14,13 @@
 #include "actor/env/render/gl_context.h"
 #include "actor/rollout.h"
 #include "common/config/config.h"
+#include "common/graph_file/graph_file.h"
 #include "common/rl/agent_shape.h"
 #include "common/rl/evaluation.h"
 #include "common/rl/ground_truth.h"
 #include "common/rl/seeds.h"
 #include "deploy/run_folder/csv.h"
 #include "deploy/run_folder/schema.h"
-#include "graph_service/learned_graph.h"
 #include "learner/acting_policy.h"
 
 namespace srics::launcher {
@@ -167,7 +167,7 @@ int Eval(const EvalArgs& args) {
       throw std::runtime_error("no graph: " + files.graph + " does not exist; " +
                                config::MethodName(config.run.method) +
                                " evaluates in the order of the run's interaction graph (give --graph FILE)");
-    const graph_service::LearnedGraph graph = graph_service::LoadGraph(files.graph);
+    const graph_file::LearnedGraph graph = graph_file::LoadGraph(files.graph);
     if (const std::string problem = rl::GraphMismatch(graph.graph, catalogue_entities); !problem.empty())
       throw std::runtime_error(files.graph + ": " + problem);
     subgoals.graph = graph.graph;

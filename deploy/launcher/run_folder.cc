@@ -16,9 +16,9 @@
 #include "common/files/durable_file.h"
 #include "common/files/shell_path.h"
 #include "common/files/small_file.h"
+#include "common/graph_file/graph_file.h"
 #include "common/rl/ground_truth.h"
 #include "deploy/run_folder/csv.h"
-#include "graph_service/learned_graph.h"
 
 namespace srics::launcher {
 
@@ -28,16 +28,16 @@ void SeedGraphFile(const config::Config& config, const std::string& dir) {
   if (dir.empty()) throw std::runtime_error("a given graph (graph.ground_truth or graph.file) needs a run folder");
   const std::string path = dir + "/graph.json";
   if (std::filesystem::exists(path)) return;
-  graph_service::LearnedGraph learned;
+  graph_file::LearnedGraph learned;
   if (!g.file.empty()) {
-    learned = graph_service::LoadGraph(g.file);  // validated: the file is untrusted
+    learned = graph_file::LoadGraph(g.file);  // validated: the file is untrusted
   } else {
     const rl::InteractionGraph truth = rl::GroundTruthGraph(config.env);
     const int n = truth.num_entities;
     std::vector<double> weights(static_cast<size_t>(n) * n, 0.0);
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) weights[i * n + j] = i != j && truth.edge(i, j) ? 1.0 : 0.0;
-    learned = graph_service::AggregateGraph(n, weights, g.threshold, truth.action_entity);
+    learned = graph_file::AggregateGraph(n, weights, g.threshold, truth.action_entity);
     learned.version = 1;
     // entity i is catalogue kind i (every object present); only the action's own entity
     // follows the action (nothing was measured: the numbers say so)
@@ -46,7 +46,7 @@ void SeedGraphFile(const config::Config& config, const std::string& dir) {
       learned.action_correlation.push_back(i == truth.action_entity ? 1.0 : 0.0);
     }
   }
-  graph_service::SaveGraphWithPictures(learned, dir + "/graph");
+  graph_file::SaveGraphWithPictures(learned, dir + "/graph");
 }
 namespace fs = std::filesystem;
 

@@ -15,10 +15,10 @@
 #include <sstream>
 
 #include "common/config/config.h"
+#include "common/graph_file/graph_file.h"
 #include "deploy/dashboard/json_writer.h"
 #include "deploy/dashboard/run_folder_source.h"
 #include "deploy/monitor/csv_sink.h"
-#include "graph_service/learned_graph.h"
 #include "tests/deploy/dashboard/json_reader.h"
 #include "tests/deploy/monitor/test_states.h"
 
@@ -203,12 +203,11 @@ class RunFolderTest : public ::testing::Test {
     sink.Append(mon::testing::Node("actor", 1, NodeState::kStopping, "folder-run"), t0 + 50);
     sink.Append(mon::testing::Node("actor", 1, NodeState::kStopping, "folder-run"), t0 + 55, "exited");
     sink.Append(mon::testing::Node("actor", 0, NodeState::kTraining, "folder-run"), t0 + 55, "lost");
-    graph_service::LearnedGraph graph =
-        graph_service::AggregateGraph(2, {0.0, 0.46, 0.01, 0.0}, 0.06, /*action_entity=*/0);
+    graph_file::LearnedGraph graph = graph_file::AggregateGraph(2, {0.0, 0.46, 0.01, 0.0}, 0.06, /*action_entity=*/0);
     graph.version = 4;
     graph.entity_kinds = {0, 1};
     graph.action_correlation = {1.0, 0.4};
-    graph_service::SaveGraph(graph, (dir_ / "graph.json").string());
+    graph_file::SaveGraph(graph, (dir_ / "graph.json").string());
   }
 
   fs::path dir_;

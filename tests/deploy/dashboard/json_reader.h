@@ -1,6 +1,6 @@
 #pragma once
 // The dashboard tests read its documents with the project's own strict JSON parser
-// (graph_service/json.h: one value and nothing after it, no trailing commas, no NaN, else
+// (common/graph_file/json.h: one value and nothing after it, no trailing commas, no NaN, else
 // Parse throws), the way the tests use them: doc["runs"][0]["env_steps"].as<uint64_t>().
 
 #include <cstddef>
@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "graph_service/json.h"
+#include "common/graph_file/json.h"
 
 namespace srics::dashboard::testing {
 
@@ -18,8 +18,8 @@ namespace srics::dashboard::testing {
 class Json {
  public:
   static Json Parse(const std::string& text) {
-    auto document = std::make_shared<const graph_service::JsonValue>(graph_service::ParseJson(text));
-    const graph_service::JsonValue* value = document.get();
+    auto document = std::make_shared<const graph_file::JsonValue>(graph_file::ParseJson(text));
+    const graph_file::JsonValue* value = document.get();
     return Json(std::move(document), value);
   }
 
@@ -35,7 +35,7 @@ class Json {
   Json operator[](const std::string& key) const { return Json(document_, &value_->Get(key)); }
   std::vector<Json> items() const {
     std::vector<Json> out;
-    for (const graph_service::JsonValue& item : value_->AsArray()) out.push_back(Json(document_, &item));
+    for (const graph_file::JsonValue& item : value_->AsArray()) out.push_back(Json(document_, &item));
     return out;
   }
 
@@ -54,12 +54,12 @@ class Json {
   }
 
  private:
-  using Kind = graph_service::JsonValue::Kind;
-  Json(std::shared_ptr<const graph_service::JsonValue> document, const graph_service::JsonValue* value)
+  using Kind = graph_file::JsonValue::Kind;
+  Json(std::shared_ptr<const graph_file::JsonValue> document, const graph_file::JsonValue* value)
       : document_(std::move(document)), value_(value) {}
 
-  std::shared_ptr<const graph_service::JsonValue> document_;
-  const graph_service::JsonValue* value_;
+  std::shared_ptr<const graph_file::JsonValue> document_;
+  const graph_file::JsonValue* value_;
 };
 
 }  // namespace srics::dashboard::testing

@@ -11,8 +11,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/graph_file/graph_file.h"
 #include "deploy/launcher/run_folder.h"
-#include "graph_service/learned_graph.h"
 #include "tests/common/files/test_files.h"
 
 namespace srics::launcher {
@@ -227,10 +227,10 @@ TEST_F(CompareTest, LegendsCountOnlySeedsWithEvaluations) {
 void WriteGraph(const fs::path& run, const std::vector<std::pair<int, int>>& edges) {
   std::vector<double> scores(25, 0.0);
   for (auto [i, j] : edges) scores[i * 5 + j] = 0.5;
-  graph_service::LearnedGraph g = graph_service::AggregateGraph(5, scores, 0.06, 0);
+  graph_file::LearnedGraph g = graph_file::AggregateGraph(5, scores, 0.06, 0);
   g.version = 1;
   for (int i = 0; i < 5; ++i) g.entity_kinds.push_back(i), g.action_correlation.push_back(i == 0 ? 1.0 : 0.0);
-  graph_service::SaveGraph(g, (run / "graph.json").string());
+  graph_file::SaveGraph(g, (run / "graph.json").string());
   // relational-4's table as the effective config.yaml holds it: a static puck, a rope 2-3
   std::ofstream(run / "config.yaml") << "env:\n  objects:\n    - {static: true}\n    - {}\n    - {}\n    - {}\n"
                                         "  connections:\n    - {objects: [2, 3], kind: rope, length: 0.13}\n";

@@ -10,8 +10,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "common/graph_file/graph_file.h"
 #include "common/rl/ground_truth.h"
-#include "graph_service/learned_graph.h"
 
 namespace srics::launcher {
 namespace {
@@ -34,7 +34,7 @@ TEST(SeedGraphFileTest, GroundTruthIsAValidGraphFileWithTheConfigsEdges) {
   const config::Config config = Load("relational-4.yaml", {"graph.ground_truth=true"});
   SeedGraphFile(config, dir);
   // the graph service loads it (LoadGraph validates everything a saved graph must hold)
-  const auto loaded = graph_service::LoadGraph(dir + "/graph.json");
+  const auto loaded = graph_file::LoadGraph(dir + "/graph.json");
   EXPECT_EQ(loaded.graph.adjacency, rl::GroundTruthGraph(config.env).adjacency);
   EXPECT_EQ(rl::DescribeGraph(loaded.graph), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
   EXPECT_EQ(loaded.version, 1u);
@@ -45,8 +45,8 @@ TEST(SeedGraphFileTest, AGivenFileIsCopiedAndAnExistingGraphIsKept) {
   SeedGraphFile(Load("rearrange-3.yaml", {"graph.ground_truth=true"}), source);
   const std::string dir = FreshDir("seed_file");
   SeedGraphFile(Load("rearrange-3.yaml", {"graph.file=" + source + "/graph.json"}), dir);
-  EXPECT_EQ(graph_service::LoadGraph(dir + "/graph.json").mean_weights,
-            graph_service::LoadGraph(source + "/graph.json").mean_weights);
+  EXPECT_EQ(graph_file::LoadGraph(dir + "/graph.json").mean_weights,
+            graph_file::LoadGraph(source + "/graph.json").mean_weights);
   // a continued run keeps its own graph
   const auto before = fs::last_write_time(dir + "/graph.json");
   SeedGraphFile(Load("rearrange-3.yaml", {"graph.ground_truth=true"}), dir);

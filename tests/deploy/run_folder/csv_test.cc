@@ -27,7 +27,7 @@ TEST(QuoteCsvFieldTest, QuotesOnlyWhenNeededAndSplitsBackToTheText) {
   EXPECT_EQ(QuoteCsvField("plain"), "plain");
   EXPECT_EQ(QuoteCsvField("a,b"), "\"a,b\"");
   EXPECT_EQ(QuoteCsvField("say \"hi\""), "\"say \"\"hi\"\"\"");
-  for (const std::string text : {"plain", "a,b", "say \"hi\"", ",\"\",", ""})
+  for (const std::string& text : std::vector<std::string>{"plain", "a,b", "say \"hi\"", ",\"\",", ""})
     EXPECT_EQ(SplitCsvLine(QuoteCsvField(text) + "," + QuoteCsvField(text)), (std::vector<std::string>{text, text}));
 }
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace srics::graph_service {
+namespace srics::graph_file {
 
 class JsonValue {
  public:
@@ -41,4 +41,4 @@ class JsonValue {
 // Parses a whole document; throws std::runtime_error with the byte offset on a syntax error.
 JsonValue ParseJson(const std::string& text);
 
-}  // namespace srics::graph_service
+}  // namespace srics::graph_file

@@ -1,10 +1,10 @@
-#include "graph_service/json.h"
+#include "common/graph_file/json.h"
 
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 
-namespace srics::graph_service {
+namespace srics::graph_file {
 
 double JsonValue::AsDouble() const {
   if (kind_ != Kind::kNumber) throw std::runtime_error("expected a number");
@@ -188,4 +188,4 @@ class JsonParser {
 
 JsonValue ParseJson(const std::string& text) { return JsonParser(text).Document(); }
 
-}  // namespace srics::graph_service
+}  // namespace srics::graph_file

@@ -1,10 +1,10 @@
-#include "graph_service/json.h"
+#include "common/graph_file/json.h"
 
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 
-namespace srics::graph_service {
+namespace srics::graph_file {
 namespace {
 
 TEST(JsonTest, ParsesNestedValues) {
@@ -34,4 +34,4 @@ TEST(JsonTest, TypedAccessorsCheckTypes) {
 }
 
 }  // namespace
-}  // namespace srics::graph_service
+}  // namespace srics::graph_file
