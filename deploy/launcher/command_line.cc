@@ -203,7 +203,7 @@ void FinishSweepOptions(SweepOptions* o, const SweepText& text) {
 }
 
 // ---- srics compare
-void AddCompareOptions(CLI::App& app, CompareOptions* o) {
+void AddCompareOptions(CLI::App& app, analysis::CompareOptions* o) {
   app.description(
       "figures and a table of final figures from sweeps: per environment <env>-distance.png,\n"
       "<env>-object_distance.png, <env>-subgoal_success.png, <env>-selectivity.png, <env>-undone.png (mean over\n"
@@ -230,8 +230,8 @@ void AddCompareOptions(CLI::App& app, CompareOptions* o) {
   app.add_option("--panel", o->panel, "names the files <env>-NAME-*.png (and the titles) so that panels share --out")
       ->type_name("NAME");
   app.add_option("--band", o->band, "the curves' band: std (mean ± 1 sample sd over seeds, as the paper) or minmax")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, CompareOptions::Band>{
-          {"std", CompareOptions::Band::kStd}, {"minmax", CompareOptions::Band::kMinMax}}))
+      ->transform(CLI::CheckedTransformer(std::map<std::string, analysis::CompareOptions::Band>{
+          {"std", analysis::CompareOptions::Band::kStd}, {"minmax", analysis::CompareOptions::Band::kMinMax}}))
       ->default_str("std");
 }
 
@@ -365,8 +365,8 @@ SweepOptions ParseSweepArgs(const std::vector<std::string>& args) {
   return o;
 }
 
-CompareOptions ParseCompareArgs(const std::vector<std::string>& args) {
-  CompareOptions o;
+analysis::CompareOptions ParseCompareArgs(const std::vector<std::string>& args) {
+  analysis::CompareOptions o;
   ParseAlone("srics compare", args, [&](CLI::App& app) { AddCompareOptions(app, &o); });
   return o;
 }

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "deploy/launcher/compare.h"
+#include "deploy/analysis/compare.h"
 #include "deploy/launcher/eval.h"
 #include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/launcher.h"
@@ -24,7 +24,7 @@ struct SricsCommand {
   std::string name;  // "srics run": what messages start with
   LaunchOptions run;
   SweepOptions sweep;
-  CompareOptions compare;
+  analysis::CompareOptions compare;
   EvalArgs eval;
   LearnGraphOptions learn_graph;
 };
@@ -37,7 +37,7 @@ std::optional<int> ParseSricsCommandLine(int argc, char** argv, SricsCommand* co
 // throw std::invalid_argument naming the argument.
 LaunchOptions ParseRunArgs(const std::vector<std::string>& args);
 SweepOptions ParseSweepArgs(const std::vector<std::string>& args);
-CompareOptions ParseCompareArgs(const std::vector<std::string>& args);
+analysis::CompareOptions ParseCompareArgs(const std::vector<std::string>& args);
 EvalArgs ParseEvalArgs(const std::vector<std::string>& args);
 LearnGraphOptions ParseLearnGraphArgs(const std::vector<std::string>& args);
 

@@ -22,7 +22,7 @@ int RunCommand(const launcher::SricsCommand& command) {
   switch (command.kind) {
     case Kind::kRun: return launcher::Run(command.run);
     case Kind::kSweep: return launcher::Sweep(command.sweep);
-    case Kind::kCompare: return launcher::Compare(command.compare);
+    case Kind::kCompare: return srics::analysis::Compare(command.compare);
     case Kind::kEval:
       return launcher::IsEvalStudy(command.eval) ? launcher::RunEvalStudy(command.eval) : launcher::Eval(command.eval);
     case Kind::kLearnGraph: return launcher::LearnGraph(command.learn_graph);

@@ -59,33 +59,4 @@ std::string FindProgram(const std::string& program, const std::string& build_sub
 // The directory of the running executable (/proc/self/exe).
 std::string ExecutableDir();
 
-// How a run ended, in <dir>/outcome.yaml: written when a run stops in any way but a kill of
-// the launcher itself ("finished", "interrupted" or "failed", the exit code, the reason) and
-// removed when a run starts in the folder, so a folder without it holds a run that is going
-// on or was killed. `srics sweep` takes a run as done when it says "finished".
-struct RunOutcome {
-  std::string state;
-  int exit_code = 0;
-  std::string reason;
-};
-void WriteRunOutcome(const std::string& dir, const RunOutcome& outcome);
-// Empty when there is no readable outcome.yaml.
-std::optional<RunOutcome> ReadRunOutcome(const std::string& dir);
-void RemoveRunOutcome(const std::string& dir);
-
-// Runs gnuplot on a script; false with *error (its output) when it fails or is missing.
-bool RunGnuplot(const std::string& script_path, std::string* error);
-
-// `text` for inside a gnuplot single-quoted string (quotes doubled).
-std::string GnuplotQuote(const std::string& text);
-
-// `text` as a double-quoted YAML/JSON string (backslash escapes).
-std::string QuotedString(const std::string& text);
-
-// Draws <dir>/curve.png (avg object distance and avg distance vs env steps, the passive
-// policy's values as horizontal lines) and <dir>/subgoal_success.png from <dir>/eval.csv
-// with gnuplot. Also writes <dir>/curve.dat (the plotted points). Returns false with a
-// reason in *error when there is nothing to plot, gnuplot is missing or fails.
-bool PlotEvalCurves(const std::string& dir, const std::string& title, std::string* error);
-
 }  // namespace srics::launcher

@@ -12,7 +12,9 @@
 #include <spdlog/spdlog.h>
 
 #include "common/logging/logging.h"
+#include "deploy/analysis/gnuplot.h"
 #include "deploy/launcher/run_folder.h"
+#include "deploy/run_folder/outcome.h"
 
 namespace srics::launcher {
 
@@ -50,7 +52,7 @@ RunSession::RunSession(const LaunchOptions& options, const config::Config& confi
       dir_(PrepareRunFolder(config, options.run_dir)),
       label_(options.label),
       display_(options.display) {
-  RemoveRunOutcome(dir_);  // the run goes on: no longer ended
+  run_folder::RemoveRunOutcome(dir_);  // the run goes on: no longer ended
   if (display_ == DisplayMode::kAuto) display_ = isatty(STDOUT_FILENO) ? DisplayMode::kLive : DisplayMode::kPlain;
   auto logger = logging::SetUpLogger("launcher", {.level = config.run.log_level, .file = dir_ + "/logs/launcher.log"});
   if (display_ == DisplayMode::kLive) logger->sinks().front()->set_level(spdlog::level::off);
@@ -140,7 +142,7 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
   std::string plot_error;
   const std::string title =
       config::MethodName(config_.run.method) + std::string(" - ") + fs::path(dir_).filename().string();
-  if (!PlotEvalCurves(dir_, title, &plot_error)) Event("no learning-curve plot: " + plot_error);
+  if (!analysis::PlotEvalCurves(dir_, title, &plot_error)) Event("no learning-curve plot: " + plot_error);
 
   mon::RenderOptions render = Render(std::move(rows));
   render.title = "srics run  " + dir_ + "  finished: " + reason;
@@ -155,10 +157,10 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
     if (fs::exists(fs::path(dir_) / name)) files += std::string(files.empty() ? "" : ", ") + name;
   const char* outcome = exit_code == kExitDone ? "finished" : exit_code == kExitInterrupted ? "interrupted" : "FAILED";
   try {
-    WriteRunOutcome(dir_, {exit_code == kExitDone          ? "finished"
-                           : exit_code == kExitInterrupted ? "interrupted"
-                                                           : "failed",
-                           exit_code, reason});
+    run_folder::WriteRunOutcome(dir_, {exit_code == kExitDone          ? "finished"
+                                       : exit_code == kExitInterrupted ? "interrupted"
+                                                                       : "failed",
+                                       exit_code, reason});
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
   }

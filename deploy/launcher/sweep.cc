@@ -21,6 +21,7 @@
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/launcher/run_session.h"
+#include "deploy/run_folder/outcome.h"
 
 namespace srics::launcher {
 
@@ -44,12 +45,12 @@ std::string ManifestText(const std::string& config, std::vector<std::string> met
   std::sort(methods.begin(), methods.end());
   std::sort(seeds.begin(), seeds.end());
   std::ostringstream out;
-  out << "config: " << QuotedString(config) << "\nmethods: [";
+  out << "config: " << run_folder::QuotedString(config) << "\nmethods: [";
   for (size_t i = 0; i < methods.size(); ++i) out << (i ? ", " : "") << methods[i];
   out << "]\nseeds: [";
   for (size_t i = 0; i < seeds.size(); ++i) out << (i ? ", " : "") << seeds[i];
   out << "]\nset: [";
-  for (size_t i = 0; i < overrides.size(); ++i) out << (i ? ", " : "") << QuotedString(overrides[i]);
+  for (size_t i = 0; i < overrides.size(); ++i) out << (i ? ", " : "") << run_folder::QuotedString(overrides[i]);
   out << "]\n";
   return out.str();
 }
@@ -157,11 +158,6 @@ void CheckSweepFolder(const SweepPlan& plan) {
   }
 }
 
-bool RunFinished(const std::string& run_dir) {
-  const std::optional<RunOutcome> outcome = ReadRunOutcome(run_dir);
-  return outcome && outcome->state == "finished";
-}
-
 namespace {
 
 // The sweep's runs as child processes.
@@ -181,7 +177,7 @@ class SweepRunner {
     const size_t total = plan_.runs.size();
     std::vector<size_t> queue;
     for (size_t i = 0; i < total; ++i) {
-      if (RunFinished(plan_.runs[i].dir)) {
+      if (run_folder::RunFinished(plan_.runs[i].dir)) {
         ++finished_;
         log_("run " + Position(i) + " " + plan_.runs[i].name + ": finished earlier, skipped");
       } else {
@@ -262,7 +258,7 @@ class SweepRunner {
   void Ended(const Running& r, const ExitStatus& status) {
     const SweepRun& run = plan_.runs[r.index];
     const double seconds = std::chrono::duration<double>(SteadyClock::now() - r.start).count();
-    const std::optional<RunOutcome> outcome = ReadRunOutcome(run.dir);
+    const std::optional<run_folder::RunOutcome> outcome = run_folder::ReadRunOutcome(run.dir);
     std::string text = "run " + Position(r.index) + " " + run.name + ": ";
     if (outcome && outcome->state == "finished" && status.success()) {
       ++finished_;
@@ -286,7 +282,7 @@ class SweepRunner {
         log_("run " + plan_.runs[r.index].name + " did not stop in time: killed");
         status = r.child.Kill();
       }
-      const std::optional<RunOutcome> outcome = ReadRunOutcome(plan_.runs[r.index].dir);
+      const std::optional<run_folder::RunOutcome> outcome = run_folder::ReadRunOutcome(plan_.runs[r.index].dir);
       log_("run " + Position(r.index) + " " + plan_.runs[r.index].name + ": " +
            (outcome ? outcome->state : std::string("stopped")) + " (" + status->Describe() + ")");
     }

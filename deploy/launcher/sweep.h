@@ -67,9 +67,6 @@ SweepPlan PlanSweep(const SweepOptions& options);
 // with the difference otherwise.
 void CheckSweepFolder(const SweepPlan& plan);
 
-// True when the run folder's outcome.yaml says the run finished.
-bool RunFinished(const std::string& run_dir);
-
 // Runs the sweep; returns 0 when every run has finished, 1 when some run failed (the others
 // were run; the same command retries it), 2 for bad arguments, config or a different grid in
 // the folder (nothing is started), 130 when interrupted.

@@ -20,6 +20,7 @@
 #include "deploy/launcher/launcher.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/run_folder/csv.h"
+#include "deploy/run_folder/outcome.h"
 #include "tests/actor/env/render/frames_testing.h"
 #include "tests/common/files/test_files.h"
 #include "tests/deploy/launcher/sweep_testing.h"
@@ -67,7 +68,7 @@ int MakeOrReuseTinyRun(const fs::path& dir) {
   fs::create_directories(dir.parent_path());
   const int lock = open((dir.string() + ".lock").c_str(), O_CREAT | O_RDWR, 0644);
   if (lock < 0 || flock(lock, LOCK_EX) != 0) return -1;
-  const auto outcome = ReadRunOutcome(dir.string());
+  const auto outcome = run_folder::ReadRunOutcome(dir.string());
   std::error_code error;
   const bool fresh = outcome && outcome->state == "finished" &&
                      fs::last_write_time(dir / "outcome.yaml", error) > fs::last_write_time(SRICS_LAUNCHER, error);

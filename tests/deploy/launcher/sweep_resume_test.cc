@@ -16,6 +16,7 @@
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/launcher/sweep.h"
+#include "deploy/run_folder/outcome.h"
 #include "learner/learner.h"
 #include "tests/common/files/test_files.h"
 #include "tests/deploy/launcher/sweep_testing.h"
@@ -55,20 +56,20 @@ TEST_F(SweepTest, AStoppedSweepResumesWithoutRepeatingFinishedRunsAndKeepsTheRep
 
   ChildProcess child = ChildProcess::Spawn(argv, {.output_file = (root_ / "first.out").string()});
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(240);
-  while (!(RunFinished(first) && fs::exists(second + "/checkpoint.srics")) &&
+  while (!(run_folder::RunFinished(first) && fs::exists(second + "/checkpoint.srics")) &&
          std::chrono::steady_clock::now() < deadline && child.running()) {
     child.Poll();
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  ASSERT_TRUE(RunFinished(first)) << ReadFile(root_ / "first.out");
+  ASSERT_TRUE(run_folder::RunFinished(first)) << ReadFile(root_ / "first.out");
   ASSERT_TRUE(fs::exists(second + "/checkpoint.srics")) << ReadFile(root_ / "first.out");
-  ASSERT_FALSE(RunFinished(second)) << "the second run ended before the sweep could be stopped";
+  ASSERT_FALSE(run_folder::RunFinished(second)) << "the second run ended before the sweep could be stopped";
   child.Signal(SIGINT);  // Ctrl-C
   const auto stopped = child.WaitFor(std::chrono::seconds(60));
   ASSERT_TRUE(stopped);
   EXPECT_EQ(stopped->code, 130) << ReadFile(root_ / "first.out");
-  ASSERT_TRUE(ReadRunOutcome(second));
-  EXPECT_EQ(ReadRunOutcome(second)->state, "interrupted");
+  ASSERT_TRUE(run_folder::ReadRunOutcome(second));
+  EXPECT_EQ(run_folder::ReadRunOutcome(second)->state, "interrupted");
 
   // what was there when it stopped
   const std::string first_eval = ReadFile(first + "/eval.csv");
@@ -97,7 +98,7 @@ TEST_F(SweepTest, AStoppedSweepResumesWithoutRepeatingFinishedRunsAndKeepsTheRep
   EXPECT_EQ(fs::last_write_time(first + "/eval.csv"), first_eval_time);
   EXPECT_EQ(ReadFile(first + "/checkpoint.srics"), first_checkpoint);
   // the stopped run resumed from its checkpoint with the replay it had, and finished
-  EXPECT_TRUE(RunFinished(second));
+  EXPECT_TRUE(run_folder::RunFinished(second));
   const std::string log = ReadFile(second + "/logs/launcher.log");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(log, m,

@@ -18,6 +18,7 @@
 #include "deploy/launcher/child_process.h"
 #include "deploy/launcher/command_line.h"
 #include "deploy/launcher/run_folder.h"
+#include "deploy/run_folder/outcome.h"
 #include "tests/common/files/test_files.h"
 #include "tests/deploy/launcher/sweep_testing.h"
 
@@ -159,14 +160,14 @@ TEST_F(SweepTest, TwoSweepLaunchesGetDifferentRunIdsAndAResumedRunKeepsItsOwn) {
 TEST_F(SweepTest, RunFinishedOnlyWhenTheOutcomeSaysSo) {
   const std::string dir = (root_ / "run").string();
   fs::create_directories(dir);
-  EXPECT_FALSE(RunFinished(dir));
-  WriteRunOutcome(dir, {"interrupted", 130, "interrupted"});
-  EXPECT_FALSE(RunFinished(dir));
-  WriteRunOutcome(dir, {"finished", 0, "the \"budget\" is done"});
-  EXPECT_TRUE(RunFinished(dir));
-  EXPECT_EQ(ReadRunOutcome(dir)->reason, "the \"budget\" is done");
-  RemoveRunOutcome(dir);
-  EXPECT_FALSE(RunFinished(dir));
+  EXPECT_FALSE(run_folder::RunFinished(dir));
+  run_folder::WriteRunOutcome(dir, {"interrupted", 130, "interrupted"});
+  EXPECT_FALSE(run_folder::RunFinished(dir));
+  run_folder::WriteRunOutcome(dir, {"finished", 0, "the \"budget\" is done"});
+  EXPECT_TRUE(run_folder::RunFinished(dir));
+  EXPECT_EQ(run_folder::ReadRunOutcome(dir)->reason, "the \"budget\" is done");
+  run_folder::RemoveRunOutcome(dir);
+  EXPECT_FALSE(run_folder::RunFinished(dir));
 }
 
 TEST_F(SweepTest, UnknownMethodsExitWithCode2NamingTheKey) {

@@ -2,7 +2,7 @@
 // (never its best), summarized as mean ± sample std over seeds; curves are the mean over seeds
 // with a band of ±1 sample sd (or min-max); the figures are PNG files.
 
-#include "deploy/launcher/compare.h"
+#include "deploy/analysis/compare.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -12,10 +12,10 @@
 #include <fstream>
 
 #include "common/graph_file/graph_file.h"
-#include "deploy/launcher/run_folder.h"
+#include "deploy/run_folder/outcome.h"
 #include "tests/common/files/test_files.h"
 
-namespace srics::launcher {
+namespace srics::analysis {
 namespace {
 
 namespace fs = std::filesystem;
@@ -55,7 +55,7 @@ class CompareTest : public ::testing::Test {
               Row(6, 2000, 0.15, 0.12, "1;0.6"),
           "wall_time,env_steps,episodes,selectivity,selectivity_episodes,subgoal_distance,subgoal_success\n"
           "1,1000,10,0.3,10,0.1,0.2\n1,2000,10,0.5,10,0.1,0.2\n");
-    WriteRunOutcome((sweep_ / "srics-seed2").string(), {"finished", 0, "the budget is done"});
+    run_folder::WriteRunOutcome((sweep_ / "srics-seed2").string(), {"finished", 0, "the budget is done"});
     // smorl seed 1 logs the selectivity with the table's graph too (0.8, against its own 0.3)
     Write("smorl-seed1",
           Row(0, 0, 0.31, 0.29, "0;0") + Row(2, 1000, 0.25, 0.20, "1;0") + Row(4, 2000, 0.20, 0.18, "1;0"),
@@ -359,4 +359,4 @@ TEST_F(CompareTest, NoRunsIsAnError) {
 }
 
 }  // namespace
-}  // namespace srics::launcher
+}  // namespace srics::analysis

@@ -34,7 +34,7 @@
 
 #include "deploy/analysis/statistics.h"
 
-namespace srics::launcher {
+namespace srics::analysis {
 
 struct CompareOptions {
   std::vector<std::string> dirs;
@@ -103,8 +103,6 @@ std::vector<RunData> ReadRuns(const std::vector<std::string>& dirs, std::vector<
                               const std::string& final_eval = "final-eval");
 
 // Mean, sample standard deviation (0 for one value), minimum and maximum.
-using analysis::Spread;  // deploy/analysis/statistics.h
-using analysis::SpreadOf;
 
 // Linear interpolation of a curve (x ascending) at x; empty outside its range.
 std::optional<double> Interpolate(const std::vector<std::pair<double, double>>& curve, double x);
@@ -116,4 +114,4 @@ std::string FinalTable(const std::vector<RunData>& runs);
 // (the table is written anyway).
 int Compare(const CompareOptions& options);
 
-}  // namespace srics::launcher
+}  // namespace srics::analysis

@@ -1,4 +1,4 @@
-#include "deploy/launcher/compare.h"
+#include "deploy/analysis/compare.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,11 +19,11 @@
 #include "common/graph_file/graph_file.h"
 #include "common/rl/graph.h"
 #include "common/rl/ground_truth.h"
-#include "deploy/launcher/run_folder.h"
-#include "deploy/launcher/sweep.h"
+#include "deploy/analysis/gnuplot.h"
 #include "deploy/run_folder/csv.h"
+#include "deploy/run_folder/outcome.h"
 
-namespace srics::launcher {
+namespace srics::analysis {
 
 namespace fs = std::filesystem;
 
@@ -128,7 +128,7 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
     warnings->push_back(dir.string() + ": neither <method>-seed<N> nor a config.yaml naming run.method: skipped");
     return std::nullopt;
   }
-  run.finished = RunFinished(dir.string());
+  run.finished = run_folder::RunFinished(dir.string());
   std::optional<config::Config> config;
   if (fs::is_regular_file(dir / "config.yaml")) {
     try {
@@ -334,9 +334,6 @@ Groups GroupRuns(const std::vector<RunData>& runs) {
       std::sort(group.begin(), group.end(), [](const RunData* a, const RunData* b) { return a->seed < b->seed; });
   return groups;
 }
-
-using analysis::Format;
-using analysis::MeanStd;
 
 // The names of a group's subgoal entities, as many as its final evaluations report: "arm",
 // then "object N", N the catalogue number when every run of the group plays the same single
@@ -762,4 +759,4 @@ int Compare(const CompareOptions& options) {
   return code;
 }
 
-}  // namespace srics::launcher
+}  // namespace srics::analysis
