@@ -4,11 +4,17 @@
 
 namespace srics {
 
-inline constexpr int kExitDone = 0;    // finished (a run: budget, learner or wall time)
-inline constexpr int kExitFailed = 1;  // failed; a restart may help
-inline constexpr int kExitUsage = 2;   // bad command line, config or input file; a live run of this run id
-inline constexpr int kExitUnusableState =
-    65;                                       // state on disk it must not start over (unusable checkpoints; EX_DATAERR)
-inline constexpr int kExitInterrupted = 130;  // stopped by SIGINT/SIGTERM
+// finished (a run: budget, learner or wall time)
+inline constexpr int kExitDone = 0;
+// failed; a restart may help
+inline constexpr int kExitFailed = 1;
+// bad command line, config or input file; a live run of this run id
+inline constexpr int kExitUsage = 2;
+// srics-monitor --once: no sample arrived while it waited
+inline constexpr int kExitNothingReceived = 3;
+// state on disk a role must not start over from (unusable checkpoints; EX_DATAERR)
+inline constexpr int kExitUnusableState = 65;
+// stopped by SIGINT/SIGTERM
+inline constexpr int kExitInterrupted = 130;
 
 }  // namespace srics

@@ -184,7 +184,7 @@ std::optional<RunData> ReadRun(const fs::path& dir, const std::string& environme
   }
   // the objects the arm can move: depth 2 or more in the table's graph (a static object has no path)
   std::vector<bool> movable;
-  if (config && config->env.eval_object_sets.empty()) {
+  if (config && config->env.object_sets.empty() && config->env.eval_object_sets.empty()) {
     const rl::InteractionGraph truth = rl::GroundTruthGraph(config->env);
     const rl::SubgoalStructure structure = rl::ComputeSubgoalStructure(truth);
     for (int e = 0; e < structure.num_entities(); ++e)
@@ -525,12 +525,12 @@ std::string FinalTable(const std::vector<RunData>& runs) {
            "2026-12-04); and the final evaluation of its last checkpoint by `srics eval` where the run "
            "folder has one (final-eval/ or the folder `--final-eval` names, its passive policy on the same goals "
            "beside it in NAME-passive/); of its attempts on movable objects (not the arm, not a static object) the "
-           "share of the solved objects they undid, graph-free (every solved object counts, ancestor or not: the "
-           "same measure for every method).\n\n"
+           "share of the solved subgoal entities they undid, ancestors too (attempts.csv others_solved and "
+           "others_undone: every other subgoal entity of the protocol the evaluation played counts).\n\n"
            "| method | n | avg distance, last 5 | avg object distance, last 5 | undone share, last eval | final eval: "
            "episodes "
            "| avg distance | avg object distance | object / passive's | undone share | undone share, object attempts "
-           "(graph-free) |\n"
+           "(ancestors too) |\n"
            "|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& [method, group] : methods) {
       std::vector<double> late_distance, late_object, undone, episodes, final_distance, final_object, final_ratio,

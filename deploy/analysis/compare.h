@@ -67,10 +67,12 @@ struct FinalEvaluation {
   double avg_distance = 0, avg_object_distance = 0;
   double passive_object_distance = -1;  // -1 without final-eval-passive/
   double independent_solved = 0, independent_undone = 0;
-  // Attempts on movable objects only (not the arm, not a static object), graph-free: of the
-  // solved objects an attempt began with, how many it undid, whatever the graph. The same
-  // measure for every method (SMORL also attempts the static object, SRICS does not); empty
-  // without the run's config.yaml or when its evaluations draw object sets.
+  // Attempts on movable objects only (not the arm, not a static object): of the other subgoal
+  // entities solved when an attempt began (ancestors too: attempts.csv others_solved), how many
+  // it undid. Unlike the undone share above it does not depend on the graph's ancestor sets;
+  // the protocol's subgoal entities count (SMORL's random protocol includes a static object,
+  // rarely solved). Empty without the run's config.yaml or when its episodes draw object sets
+  // (attempts.csv's entity is then a place in the episode, not a catalogue index).
   std::optional<double> object_attempt_solved, object_attempt_undone;
 };
 

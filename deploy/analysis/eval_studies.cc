@@ -12,6 +12,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// An attempts.csv entity index, or nothing when the field is not a small whole number.
+std::optional<int> EntityOf(const run_folder::CsvRow& row) {
+  const std::optional<double> entity = row.Number("entity");
+  if (!entity || *entity < 0 || *entity > 1e6 || *entity != static_cast<double>(static_cast<int>(*entity)))
+    return std::nullopt;
+  return static_cast<int>(*entity);
+}
+
 std::string Printf(const char* format, double a) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, format, a);
@@ -33,7 +41,7 @@ std::set<int> AttemptedObjects(const fs::path& depth_eval_dir) {
   std::set<int> objects;
   if (const auto attempts = run_folder::CsvTable::Read(depth_eval_dir / "attempts.csv"))
     for (const run_folder::CsvRow& row : attempts->Rows())
-      if (const auto entity = row.Number("entity"); entity && *entity != 0) objects.insert(static_cast<int>(*entity));
+      if (const std::optional<int> entity = EntityOf(row); entity && *entity != 0) objects.insert(*entity);
   return objects;
 }
 
@@ -52,8 +60,8 @@ std::string CrossEvalRow(const std::string& run, const std::string& method, cons
   double reached = 0, solved = 0, undone = 0;
   if (const auto table = run_folder::CsvTable::Read(eval_dir / "attempts.csv"))
     for (const run_folder::CsvRow& row : table->Rows()) {
-      const auto entity = row.Number("entity");
-      if (row.Text("skipped") != "0" || !entity || !objects.count(static_cast<int>(*entity))) continue;
+      const std::optional<int> entity = EntityOf(row);
+      if (row.Text("skipped") != "0" || !entity || !objects.count(*entity)) continue;
       ++attempts;
       reached += row.Number("reached").value_or(0);
       solved += row.Number("others_solved").value_or(0);

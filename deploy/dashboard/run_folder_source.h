@@ -1,6 +1,6 @@
 #pragma once
 // A run folder as the dashboard and the monitor see it: eval.csv, learner.csv and nodes.csv
-// (written by the launcher's or a monitor's CsvSink, columns in deploy/monitor/csv_sink.h),
+// (written by the launcher's or a monitor's CsvSink, columns in deploy/run_folder/schema.h),
 // graph.json (the graph service), config.yaml (the budget, the liveliness settings) and
 // outcome.yaml (how the run ended, in the title) folded
 // into the same MonitorState a DDS monitor builds from samples. Works on a finished folder and

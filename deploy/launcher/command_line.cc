@@ -287,10 +287,10 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
       ->check(cli::Integer(1, 1000000000))
       ->default_str("1,2,3");
   app.add_option("--seen", a->seen,
-                 "a study over the RUN_DIRs: object combinations the runs trained on, catalogue ids ('1,2,3 1,2,4 "
-                 "1,3,4'); with --unseen, each final policy and the passive baseline play every combination; writes "
-                 "OUT/seen-unseen.csv and .md (episodes default 50)");
-  app.add_option("--unseen", a->unseen, "with --seen: the held-out combination ('2,3,4')");
+                 "a study over the RUN_DIRs: object combinations the runs trained on, catalogue ids (default "
+                 "'1,2,3 1,2,4 1,3,4'); each final policy and the passive baseline play every combination and "
+                 "--unseen's; writes OUT/seen-unseen.csv and .md (episodes default 50)");
+  app.add_option("--unseen", a->unseen, "the held-out combination of the --seen study (default '2,3,4')");
   app.add_flag("--passive", a->passive,
                "play the passive baseline (the hand never moves) on the same goals instead of the checkpoint's "
                "policy (no checkpoint needed): the figure the run's eval.csv divides by");

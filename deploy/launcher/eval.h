@@ -50,8 +50,9 @@ struct EvalArgs {
   // goals or objects (--set env.eval_object_sets=...) the run never evaluated
   bool passive = false;
   // The studies over several runs (eval_studies.h): --cross-protocol on the goals of each of
-  // --goal-sets (default 1,2,3; episodes default 20); --seen "1,2,3 1,2,4" and --unseen 2,3,4,
-  // catalogue ids of the present pucks (episodes default 50). Both need --out.
+  // --goal-sets (default 1,2,3; episodes default 20); --seen and --unseen (either starts the
+  // study; the other defaults to rearrange-4-unseen's "1,2,3 1,2,4 1,3,4" or 2,3,4), catalogue
+  // ids of the present pucks (episodes default 50). Both studies need --out.
   bool cross_protocol = false;
   std::vector<uint64_t> goal_sets;
   std::string seen, unseen;

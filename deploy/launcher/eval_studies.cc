@@ -18,10 +18,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void CheckRunFolders(const std::vector<std::string>& runs) {
-  for (const std::string& run : runs)
+// Every run folder has its final policy and config; with `subgoal_policies`, each run's method
+// attempts subgoals (the protocols do not apply to SAC+HER's and HAC's full goal).
+void CheckRunFolders(const std::vector<std::string>& runs, const std::vector<std::string>& overrides,
+                     bool subgoal_policies) {
+  for (const std::string& run : runs) {
     if (!fs::is_regular_file(fs::path(run) / "checkpoint.srics") || !fs::is_regular_file(fs::path(run) / "config.yaml"))
       throw std::invalid_argument(run + " has no checkpoint.srics and config.yaml");
+    if (!subgoal_policies) continue;
+    const config::Method method = config::LoadConfig((fs::path(run) / "config.yaml").string(), overrides).run.method;
+    if (method == config::Method::kSacHer || method == config::Method::kHac)
+      throw std::invalid_argument(run + ": " + config::MethodName(method) +
+                                  " attempts the full goal; the protocols apply to subgoal policies");
+  }
 }
 
 // While it lives, this process's stdout (fd 1) writes to `path`; restored when it goes.
@@ -30,7 +39,7 @@ class StdoutToFile {
   explicit StdoutToFile(const std::string& path) {
     std::cout.flush();
     std::fflush(stdout);
-    saved_ = dup(STDOUT_FILENO);
+    saved_ = fcntl(STDOUT_FILENO, F_DUPFD_CLOEXEC, 0);  // not inherited by a child of Eval
     const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (saved_ < 0 || fd < 0 || dup2(fd, STDOUT_FILENO) < 0) {
       if (fd >= 0) close(fd);
@@ -110,7 +119,8 @@ int CrossProtocol(const EvalArgs& args) {
   WriteText(out / "cross-eval.csv", csv);
   const std::string table = analysis::CrossEvalTable(csv, Joined(goal_sets, " "), base.episodes);
   WriteText(out / "cross-eval.md", table);
-  std::cerr << table << "wrote " << (out / "cross-eval.csv").string() << " and " << (out / "cross-eval.md").string()
+  std::cout << table << std::flush;
+  std::cerr << "wrote " << (out / "cross-eval.csv").string() << " and " << (out / "cross-eval.md").string()
             << std::endl;
   return 0;
 }
@@ -122,7 +132,7 @@ std::vector<std::string> Words(const std::string& text) {
   return words;
 }
 
-// "1,2,3" -> "1 2 3" (the CSV's and the table's form) and the --set of env.eval_object_sets
+// Refuses a combination that is not catalogue ids (from 1) joined by commas.
 void CheckCombination(const std::string& combination, const char* flag) {
   bool digit = false;
   for (size_t i = 0; i < combination.size(); ++i) {
@@ -143,10 +153,8 @@ void CheckCombination(const std::string& combination, const char* flag) {
 
 int SeenUnseen(const EvalArgs& args) {
   const fs::path out(args.out_dir);
-  fs::create_directories(out / "raw");
   const std::vector<std::string> seen = Words(args.seen);
-  for (const std::string& c : seen) CheckCombination(c, "--seen");
-  CheckCombination(args.unseen, "--unseen");
+  fs::create_directories(out / "raw");
   EvalArgs base = args;
   if (base.episodes <= 0) base.episodes = 50;
   std::vector<std::string> combinations = seen;
@@ -177,7 +185,8 @@ int SeenUnseen(const EvalArgs& args) {
   WriteText(out / "seen-unseen.csv", csv);
   const std::string table = analysis::SeenUnseenTable(csv, args.seen, args.unseen, base.episodes);
   WriteText(out / "seen-unseen.md", table);
-  std::cerr << table << "wrote " << (out / "seen-unseen.csv").string() << " and " << (out / "seen-unseen.md").string()
+  std::cout << table << std::flush;
+  std::cerr << "wrote " << (out / "seen-unseen.csv").string() << " and " << (out / "seen-unseen.md").string()
             << std::endl;
   return 0;
 }
@@ -191,10 +200,20 @@ int RunEvalStudy(const EvalArgs& args) {
     throw std::invalid_argument("--out DIR is required for --cross-protocol and --seen/--unseen");
   if (args.cross_protocol && (!args.seen.empty() || !args.unseen.empty()))
     throw std::invalid_argument("--cross-protocol and --seen/--unseen are two studies: one at a time");
-  if (!args.cross_protocol && (args.seen.empty() || args.unseen.empty()))
-    throw std::invalid_argument("--seen and --unseen go together");
-  CheckRunFolders(args.targets);
-  return args.cross_protocol ? CrossProtocol(args) : SeenUnseen(args);
+  if (args.cross_protocol) {
+    CheckRunFolders(args.targets, args.overrides, /*subgoal_policies=*/true);
+    return CrossProtocol(args);
+  }
+  // the combinations of deploy/configs/env/rearrange-4-unseen.yaml unless given
+  EvalArgs study = args;
+  if (study.seen.empty()) study.seen = "1,2,3 1,2,4 1,3,4";
+  if (study.unseen.empty()) study.unseen = "2,3,4";
+  if (Words(study.unseen).size() != 1)
+    throw std::invalid_argument("--unseen: one combination, got '" + study.unseen + "'");
+  for (const std::string& c : Words(study.seen)) CheckCombination(c, "--seen");
+  CheckCombination(study.unseen, "--unseen");
+  CheckRunFolders(study.targets, study.overrides, /*subgoal_policies=*/false);
+  return SeenUnseen(study);
 }
 
 }  // namespace srics::launcher

@@ -1,6 +1,6 @@
 // srics: the launcher. `srics run CONFIG ...` runs a whole training run on this machine
 // (launcher.h); `srics sweep` a grid of runs over methods and seeds (sweep.h); `srics compare`
-// draws figures and tables from sweeps (compare.h); `srics eval` plays a trained policy's
+// draws figures and tables from sweeps (deploy/analysis/compare.h); `srics eval` plays a trained policy's
 // evaluation episodes into metrics and videos (eval.h); `srics learn-graph` learns an
 // environment's graph (in_process_run.h). Options: command_line.h, `srics SUBCOMMAND --help`.
 

@@ -201,7 +201,7 @@ int main(int argc, char** argv) {
       std::cout << mon::ClipLines(mon::Render(monitor.state(), mon::Clock::now(), render),
                                   mon::OutputWidth(STDOUT_FILENO))
                 << std::flush;
-    if (args.once && received == 0) return 3;
+    if (args.once && received == 0) return srics::kExitNothingReceived;
     return 0;
   } catch (const std::exception& e) {
     spdlog::error("srics-monitor: {}", e.what());

@@ -1,8 +1,10 @@
 #pragma once
-// The one reader and writer of a run folder's CSV files (eval.csv, learner.csv, nodes.csv,
-// train.csv, episodes.csv, attempts.csv, recorded.csv): fields separated by commas, quoted
-// with doubled quotes when they hold a comma or a quote; per-entity vectors are ';'-joined in
-// one field. Columns are found by name, so a file with columns added later reads the same.
+// The one CSV reader of a run folder's files (eval.csv, learner.csv, nodes.csv, train.csv,
+// episodes.csv, attempts.csv, recorded.csv) and the writer of those deploy/ writes (all but
+// train.csv, the learner's, and recorded.csv, the video recorder's): fields separated by commas,
+// quoted with doubled quotes when they hold a comma or a quote; per-entity vectors are
+// ';'-joined in one field. Columns are found by name, so a file with columns added later reads
+// the same. Blank lines are no rows (ignored, not counted as refused).
 
 #include <cstdint>
 #include <filesystem>

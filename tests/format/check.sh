@@ -8,7 +8,12 @@ set -euo pipefail
 fix=0
 if [ "${1:-}" = "--fix" ]; then fix=1; shift; fi
 root=$(cd "${1:-$(dirname "$0")/../..}" && pwd)
-formatter=$(command -v clang-format-14 || command -v clang-format || true)
+# version 14 only: another formats some constructs differently and would fail formatted files
+formatter=$(command -v clang-format-14 || true)
+if [ -z "$formatter" ] && command -v clang-format > /dev/null &&
+  clang-format --version | grep -q 'version 14\.'; then
+  formatter=$(command -v clang-format)
+fi
 if [ -z "$formatter" ]; then
   echo "format check: SKIP, clang-format-14 is not installed (tests/install-test-deps.sh installs it)"
   exit 77

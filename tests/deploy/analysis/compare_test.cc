@@ -321,6 +321,13 @@ TEST_F(CompareTest, UndoneShareLastFiveAndTheFinalEvaluationOfTheLastCheckpoint)
   // smorl's eval.csv predates the columns and it has no final-eval/
   EXPECT_THAT(table, HasSubstr("| smorl | 1 | 0.225 ± 0.000 | 0.190 ± 0.000 | - | - | - | - | - | - | - |")) << table;
 
+  // a run whose episodes draw object sets: attempts.csv's entities are places in the episode, so
+  // the object attempts' share is not made
+  std::ofstream(run / "config.yaml") << "extends: " << SRICS_SOURCE_DIR
+                                     << "/deploy/configs/campaign/rearrange-4-unseen.yaml\n";
+  const std::string with_sets = FinalTable(ReadRuns({sweep_.string()}, &warnings));
+  EXPECT_THAT(with_sets, HasSubstr("| 0.50 ± 0.00 | 0.45 ± 0.00 | - |")) << with_sets;
+
   ASSERT_EQ(CompareSweepInto(root_ / "out"), 0);
   const std::string dat = ReadFile(root_ / "out" / "relational-4-undone.dat");
   EXPECT_THAT(dat, HasSubstr("# srics\n1000 0.5 0.5 0.5 1 0\n2000 0.3 0.3 0.3 1 0\n")) << dat;

@@ -54,6 +54,9 @@ std::vector<std::map<std::string, std::string>> ReadCsv(const fs::path& path) {
   const std::optional<run_folder::CsvTable> table = run_folder::CsvTable::Read(path);
   if (!table) return rows;
   for (const run_folder::CsvRow& fields : table->Rows()) {
+    if (fields.fields().size() != table->header().size())
+      ADD_FAILURE() << path << ": a row of " << fields.fields().size() << " fields under " << table->header().size()
+                    << " columns";
     std::map<std::string, std::string> row;
     for (const std::string& column : table->header()) row[column] = fields.Text(column);
     rows.push_back(row);
@@ -281,6 +284,16 @@ TEST_F(CommittedPolicyTest, SeenUnseenStudyDividesEachCombinationByItsPassiveBas
   const fs::path root = Scratch("seen_unseen");
   AsRunFolder(root / "run-a", /*with_checkpoint=*/true);
   const fs::path out = root / "out";
+  // refused before anything is played: a combination that is not ids, two held-out ones, both studies
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"--seen", "1,x", "--unseen", "1,2,3"},
+                                              {"--seen", "1,2,3,4", "--unseen", "1,2 1,3"},
+                                              {"--seen", "1,2,3,4", "--unseen", "1,2,3", "--cross-protocol"}}) {
+    std::vector<std::string> args = bad;
+    args.insert(args.end(), {"--out", (root / "refused").string(), (root / "run-a").string()});
+    const auto [bad_code, bad_output] = SricsEval(root, args);
+    EXPECT_EQ(bad_code, 2) << bad_output;
+    EXPECT_FALSE(fs::exists(root / "refused" / "raw" / "run-a-objects1-2-3-4-policy")) << bad_output;
+  }
   const auto [study_code, output] = SricsEval(root, {"--seen", "1,2,3,4", "--unseen", "1,2,3", "--episodes", "2",
                                                      "--out", out.string(), (root / "run-a").string()});
   ASSERT_EQ(study_code, 0) << output;
