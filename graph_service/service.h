@@ -7,7 +7,9 @@
 //
 //   GraphService service(config, options, &source, &sink, [](const Progress& p) { ... });
 //   int code = service.Run(stop_flag);   // returns when published, stopped, or the source closes
-//   // or step it: while (service.Step() != StepResult::kDone) ...
+//   // or step it (Step keeps draining the source after publishing: stop on the phase):
+//   while (service.progress().phase != Progress::Phase::kPublished &&
+//          service.Step() != StepResult::kDone) {}
 
 #include <atomic>
 #include <chrono>
