@@ -1,6 +1,6 @@
 #pragma once
 // The tables of two evaluation studies of trained policies (`srics eval --cross-protocol` and
-// `srics eval --seen ... --unseen ...`, deploy/launcher/eval_studies.h plays the episodes):
+// `srics eval --seen ... --unseen ...`, deploy/eval/eval_studies.h plays the episodes):
 // each evaluation's episodes.csv and attempts.csv summed into one CSV row, and the CSV into a
 // markdown table. Pure file and table logic: no MuJoCo, no DDS.
 

@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "common/cli/cli.h"
-#include "deploy/launcher/eval_studies.h"
+#include "deploy/eval/eval_studies.h"
 
 namespace srics::launcher {
 
@@ -236,7 +236,7 @@ void AddCompareOptions(CLI::App& app, analysis::CompareOptions* o) {
 }
 
 // ---- srics eval
-void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
+void AddEvalOptions(CLI::App& app, eval::EvalArgs* a, bool* no_video) {
   app.description(
       "plays the run's evaluation protocol with the checkpoint's policy (the evaluating actors' code and seeds) and\n"
       "writes DIR/episodes.csv (per-episode distances, success, per-subgoal success) and a video of each episode\n"
@@ -296,10 +296,10 @@ void AddEvalOptions(CLI::App& app, EvalArgs* a, bool* no_video) {
                "policy (no checkpoint needed): the figure the run's eval.csv divides by");
 }
 
-void FinishEvalArgs(EvalArgs* a, bool no_video) {
+void FinishEvalArgs(eval::EvalArgs* a, bool no_video) {
   a->video = !no_video;
   if (!a->targets.empty()) a->target = a->targets.front();
-  if (a->targets.size() > 1 && !IsEvalStudy(*a))
+  if (a->targets.size() > 1 && !eval::IsEvalStudy(*a))
     throw std::invalid_argument("several RUN_DIRs are a study: add --cross-protocol or --seen and --unseen");
   try {
     env::CheckRenderOptions(a->render);
@@ -371,8 +371,8 @@ analysis::CompareOptions ParseCompareArgs(const std::vector<std::string>& args) 
   return o;
 }
 
-EvalArgs ParseEvalArgs(const std::vector<std::string>& args) {
-  EvalArgs a;
+eval::EvalArgs ParseEvalArgs(const std::vector<std::string>& args) {
+  eval::EvalArgs a;
   bool no_video = false;
   ParseAlone("srics eval", args, [&](CLI::App& app) { AddEvalOptions(app, &a, &no_video); });
   FinishEvalArgs(&a, no_video);

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "deploy/analysis/compare.h"
-#include "deploy/launcher/eval.h"
+#include "deploy/eval/eval.h"
 #include "deploy/launcher/in_process_run.h"
 #include "deploy/launcher/launcher.h"
 #include "deploy/launcher/sweep.h"
@@ -25,7 +25,7 @@ struct SricsCommand {
   LaunchOptions run;
   SweepOptions sweep;
   analysis::CompareOptions compare;
-  EvalArgs eval;
+  eval::EvalArgs eval;
   LearnGraphOptions learn_graph;
 };
 
@@ -38,7 +38,7 @@ std::optional<int> ParseSricsCommandLine(int argc, char** argv, SricsCommand* co
 LaunchOptions ParseRunArgs(const std::vector<std::string>& args);
 SweepOptions ParseSweepArgs(const std::vector<std::string>& args);
 analysis::CompareOptions ParseCompareArgs(const std::vector<std::string>& args);
-EvalArgs ParseEvalArgs(const std::vector<std::string>& args);
+eval::EvalArgs ParseEvalArgs(const std::vector<std::string>& args);
 LearnGraphOptions ParseLearnGraphArgs(const std::vector<std::string>& args);
 
 }  // namespace srics::launcher

@@ -10,8 +10,8 @@
 #include "common/config/config_error.h"
 #include "common/process/memory.h"
 #include "common/transport/shutdown.h"
+#include "deploy/eval/eval_studies.h"
 #include "deploy/launcher/command_line.h"
-#include "deploy/launcher/eval_studies.h"
 
 namespace {
 
@@ -24,7 +24,8 @@ int RunCommand(const launcher::SricsCommand& command) {
     case Kind::kSweep: return launcher::Sweep(command.sweep);
     case Kind::kCompare: return srics::analysis::Compare(command.compare);
     case Kind::kEval:
-      return launcher::IsEvalStudy(command.eval) ? launcher::RunEvalStudy(command.eval) : launcher::Eval(command.eval);
+      return srics::eval::IsEvalStudy(command.eval) ? srics::eval::RunEvalStudy(command.eval)
+                                                    : srics::eval::Eval(command.eval);
     case Kind::kLearnGraph: return launcher::LearnGraph(command.learn_graph);
   }
   return srics::kExitFailed;

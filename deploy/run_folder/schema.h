@@ -11,7 +11,7 @@
 //   learner.csv  one row per LearnerStats sample.
 //   nodes.csv    one row per NodeStatus (state is the node's own, or "lost" / "exited" when the
 //                monitor saw it go).
-//   episodes.csv and attempts.csv of `srics eval` (deploy/launcher/eval.cc): one row per
+//   episodes.csv and attempts.csv of `srics eval` (deploy/eval/eval.cc): one row per
 //                evaluation episode, and per attempt of a subgoal within one.
 
 #include <string>

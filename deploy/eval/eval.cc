@@ -1,4 +1,4 @@
-#include "deploy/launcher/eval.h"
+#include "deploy/eval/eval.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -23,7 +23,7 @@
 #include "deploy/run_folder/schema.h"
 #include "learner/acting_policy.h"
 
-namespace srics::launcher {
+namespace srics::eval {
 
 namespace fs = std::filesystem;
 
@@ -279,4 +279,4 @@ int Eval(const EvalArgs& args) {
   return 0;
 }
 
-}  // namespace srics::launcher
+}  // namespace srics::eval

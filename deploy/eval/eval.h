@@ -23,7 +23,7 @@
 #include "actor/env/render/episode_renderer.h"
 #include "actor/env/render/video_writer.h"
 
-namespace srics::launcher {
+namespace srics::eval {
 
 struct EvalArgs {
   std::string target;                  // RUN_DIR or CHECKPOINT (the first of targets)
@@ -62,4 +62,4 @@ struct EvalArgs {
 // config::ConfigError (exit 2), nn::CheckpointError and std::runtime_error (exit 1).
 int Eval(const EvalArgs& args);
 
-}  // namespace srics::launcher
+}  // namespace srics::eval

@@ -1,4 +1,4 @@
-#include "deploy/launcher/eval_studies.h"
+#include "deploy/eval/eval_studies.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 #include "common/config/config.h"
 #include "deploy/analysis/eval_studies.h"
 
-namespace srics::launcher {
+namespace srics::eval {
 namespace {
 
 namespace fs = std::filesystem;
@@ -216,4 +216,4 @@ int RunEvalStudy(const EvalArgs& args) {
   return SeenUnseen(study);
 }
 
-}  // namespace srics::launcher
+}  // namespace srics::eval

@@ -9,9 +9,9 @@
 //                     ids of the present pucks), the held-out one too: OUT/seen-unseen.csv, .md
 // Progress goes to stderr, one line per evaluation.
 
-#include "deploy/launcher/eval.h"
+#include "deploy/eval/eval.h"
 
-namespace srics::launcher {
+namespace srics::eval {
 
 // Whether `args` asks for a study (several runs) rather than one evaluation.
 bool IsEvalStudy(const EvalArgs& args);
@@ -20,4 +20,4 @@ bool IsEvalStudy(const EvalArgs& args);
 // run folder without checkpoint.srics and config.yaml, before anything is played).
 int RunEvalStudy(const EvalArgs& args);
 
-}  // namespace srics::launcher
+}  // namespace srics::eval
