@@ -20,12 +20,6 @@ std::optional<int> EntityOf(const run_folder::CsvRow& row) {
   return static_cast<int>(*entity);
 }
 
-std::string Printf(const char* format, double a) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, a);
-  return buffer;
-}
-
 run_folder::CsvTable ParseOrThrow(const std::string& csv, const char* header, const char* what) {
   std::optional<run_folder::CsvTable> table = run_folder::CsvTable::Parse(csv);
   if (!table) throw std::invalid_argument(std::string(what) + ": empty");
@@ -69,9 +63,9 @@ std::string CrossEvalRow(const std::string& run, const std::string& method, cons
     }
   std::string line =
       run + "," + method + "," + protocol + "," + std::to_string(goal_set) + "," + std::to_string(episodes) + ",";
-  line += episodes ? Printf("%.5f", distance / episodes) + "," + Printf("%.5f", object_distance / episodes) : ",";
-  line += "," + std::to_string(attempts) + "," + Printf("%.4f", attempts ? reached / attempts : 0) + "," +
-          Printf("%.0f", solved) + "," + Printf("%.0f", undone);
+  line += episodes ? Format(distance / episodes, 5) + "," + Format(object_distance / episodes, 5) : ",";
+  line += "," + std::to_string(attempts) + "," + Format(attempts ? reached / attempts : 0, 4) + "," +
+          Format(solved, 0) + "," + Format(undone, 0);
   return line;
 }
 
@@ -139,7 +133,7 @@ std::string ObjectDistanceOf(const fs::path& episodes_csv) {
   if (const auto table = run_folder::CsvTable::Read(episodes_csv))
     for (const run_folder::CsvRow& row : table->Rows())
       if (row.Text("status") == "ok") ++n, sum += row.Number("avg_object_distance").value_or(0);
-  return std::to_string(n) + "," + (n ? Printf("%.5f", sum / n) : "");
+  return std::to_string(n) + "," + (n ? Format(sum / n, 5) : "");
 }
 
 std::string SeenUnseenRow(const std::string& run, const std::string& combination, const std::string& kind,
@@ -147,8 +141,7 @@ std::string SeenUnseenRow(const std::string& run, const std::string& combination
   const std::string policy = ObjectDistanceOf(policy_episodes), passive = ObjectDistanceOf(passive_episodes);
   const std::string a = policy.substr(policy.find(',') + 1), b = passive.substr(passive.find(',') + 1);
   // the ratio of the two means as the CSV holds them (5 decimals), so the table can be made again from it
-  const std::string ratio =
-      !a.empty() && !b.empty() && std::stod(b) > 0 ? Printf("%.4f", std::stod(a) / std::stod(b)) : "";
+  const std::string ratio = !a.empty() && !b.empty() && std::stod(b) > 0 ? Format(std::stod(a) / std::stod(b), 4) : "";
   return run + "," + combination + "," + kind + "," + policy + "," + passive + "," + ratio;
 }
 

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "deploy/analysis/statistics.h"
+#include "deploy/run_folder/csv.h"
 #include "tests/common/files/test_files.h"
 
 namespace srics::analysis {
@@ -58,12 +59,9 @@ TEST(CrossEvalTest, RowsAndTableOfTheCommittedStudyComeOutTheSame) {
   ASSERT_GT(rows.size(), 1u);
   EXPECT_EQ(rows[0], kCrossEvalHeader);
   for (size_t i = 1; i < rows.size(); ++i) {
-    std::istringstream fields(rows[i]);
-    std::string run, method, protocol, goal_set;
-    std::getline(fields, run, ',');
-    std::getline(fields, method, ',');
-    std::getline(fields, protocol, ',');
-    std::getline(fields, goal_set, ',');
+    const std::vector<std::string> fields = run_folder::SplitCsvLine(rows[i]);
+    ASSERT_GE(fields.size(), 4u) << rows[i];
+    const std::string &run = fields[0], &method = fields[1], &protocol = fields[2], &goal_set = fields[3];
     const fs::path raw = study / "raw";
     const std::set<int> objects = AttemptedObjects(raw / (run + "-depth-goals" + goal_set));
     EXPECT_EQ(CrossEvalRow(run, method, protocol, std::stoull(goal_set),
@@ -80,11 +78,9 @@ TEST(SeenUnseenTest, RowsAndTableOfTheCommittedStudyComeOutTheSame) {
   ASSERT_GT(rows.size(), 1u);
   EXPECT_EQ(rows[0], kSeenUnseenHeader);
   for (size_t i = 1; i < rows.size(); ++i) {
-    std::istringstream fields(rows[i]);
-    std::string run, combination, kind;
-    std::getline(fields, run, ',');
-    std::getline(fields, combination, ',');
-    std::getline(fields, kind, ',');
+    const std::vector<std::string> fields = run_folder::SplitCsvLine(rows[i]);
+    ASSERT_GE(fields.size(), 3u) << rows[i];
+    const std::string &run = fields[0], &combination = fields[1], &kind = fields[2];
     std::string tag = run + "-objects" + combination;
     for (char& c : tag) c = c == ' ' ? '-' : c;
     EXPECT_EQ(SeenUnseenRow(run, combination, kind, study / "raw" / (tag + "-policy") / "episodes.csv",
