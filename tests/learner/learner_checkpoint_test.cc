@@ -46,19 +46,12 @@ class FillableDisk : public files::FileSystem {
 class LearnerCheckpointTest : public ::testing::Test {
  protected:
   LearnerCheckpointTest() {
-    dir_ = fs::temp_directory_path() / ("srics-learner-ckpt-" + std::to_string(getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     path_ = (dir_ / "checkpoint.srics").string();
     log_ = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(200);
     previous_logger_ = spdlog::default_logger();
     spdlog::set_default_logger(std::make_shared<spdlog::logger>("test", log_));
   }
-  ~LearnerCheckpointTest() override {
-    spdlog::set_default_logger(previous_logger_);
-    fs::remove_all(dir_);
-  }
+  ~LearnerCheckpointTest() override { spdlog::set_default_logger(previous_logger_); }
 
   // SmallRun (warm-up 100, 0.5 updates per step) with a checkpoint every 10 updates, 3 kept.
   LearnerLoopOptions Options() const {
@@ -105,7 +98,7 @@ class LearnerCheckpointTest : public ::testing::Test {
     ASSERT_GE(loop.learner().counters().updates, 60u);
   }
 
-  fs::path dir_;
+  files::testing::ScratchFolder dir_{"srics-learner-ckpt"};
   std::string path_;
   std::shared_ptr<spdlog::sinks::ringbuffer_sink_mt> log_;
   std::shared_ptr<spdlog::logger> previous_logger_;

@@ -11,6 +11,8 @@
 
 #include "common/config/config.h"
 
+#include "tests/common/files/test_files.h"
+
 namespace srics::config {
 namespace {
 
@@ -18,13 +20,6 @@ namespace fs = std::filesystem;
 
 class RejectedConfig : public ::testing::Test {
  protected:
-  RejectedConfig() {
-    dir_ = fs::temp_directory_path() / ("srics-config-rejects-" + std::to_string(getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  ~RejectedConfig() override { fs::remove_all(dir_); }
-
   std::string Write(const std::string& name, const std::string& text) {
     const fs::path path = dir_ / name;
     std::ofstream(path) << text;
@@ -45,7 +40,7 @@ class RejectedConfig : public ::testing::Test {
     return "";
   }
 
-  fs::path dir_;
+  files::testing::ScratchFolder dir_{"srics-config-rejects"};
 };
 
 TEST_F(RejectedConfig, NonScalarKeyNamesFileLineAndWhereItIs) {

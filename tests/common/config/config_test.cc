@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/common/files/test_files.h"
+
 namespace srics::config {
 namespace {
 
@@ -17,13 +19,6 @@ namespace fs = std::filesystem;
 // A fresh folder of YAML files for one test, removed afterwards.
 class ConfigFiles : public ::testing::Test {
  protected:
-  ConfigFiles() {
-    dir_ = fs::temp_directory_path() / ("srics-config-test-" + std::to_string(getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  ~ConfigFiles() override { fs::remove_all(dir_); }
-
   std::string Write(const std::string& name, const std::string& text) {
     const fs::path path = dir_ / name;
     fs::create_directories(path.parent_path());
@@ -31,7 +26,7 @@ class ConfigFiles : public ::testing::Test {
     return path.string();
   }
 
-  fs::path dir_;
+  files::testing::ScratchFolder dir_{"srics-config-test"};
 };
 
 // The ConfigError message of `load`, or "" when it did not throw.

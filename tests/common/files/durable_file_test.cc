@@ -28,15 +28,8 @@ using testing::ReadFile;
 
 class DurableFileTest : public ::testing::Test {
  protected:
-  DurableFileTest() {
-    dir_ = fs::temp_directory_path() / ("srics-files-test-" + std::to_string(getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  ~DurableFileTest() override { fs::remove_all(dir_); }
   std::string Path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
+  files::testing::ScratchFolder dir_{"srics-files-test"};
 };
 
 // Records the calls in order and fails the chosen one (after `fail_after` successful ones).
@@ -92,7 +85,7 @@ TEST_F(DurableFileTest, TheFileIsFlushedBeforeTheRenameAndTheFolderAfter) {
                                              "write",
                                              "fsync",
                                              "rename graph.json.tmp graph.json",
-                                             "open-dir " + dir_.filename().string(),
+                                             "open-dir " + dir_.path().filename().string(),
                                              "fsync-dir"};
   EXPECT_EQ(scripted.calls, expected);
 }

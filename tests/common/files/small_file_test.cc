@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/common/files/test_files.h"
+
 namespace srics::files {
 namespace {
 
@@ -18,11 +20,7 @@ using ::testing::HasSubstr;
 
 class SmallFileTest : public ::testing::Test {
  protected:
-  SmallFileTest() : dir_(fs::temp_directory_path() / ("srics-small-file-" + std::to_string(getpid()))) {
-    fs::create_directories(dir_);
-  }
-  ~SmallFileTest() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  files::testing::ScratchFolder dir_{"srics-small-file"};
 };
 
 TEST_F(SmallFileTest, ReadsAFileUpToTheLimitWhole) {

@@ -22,12 +22,7 @@ void WriteAll(const std::string& path, const std::string& data) {
 class SerializeTest : public ::testing::Test {
  protected:
   SerializeTest() : mlp_("net", 3, {5}, 2, rng_) { mlp_.Parameters(params_); }
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / ("srics_nn_serialize_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir_);
-    path_ = (dir_ / "ckpt.bin").string();
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
+  void SetUp() override { path_ = (dir_ / "ckpt.bin").string(); }
   // Expects LoadParameters(path) to throw CheckpointError whose message contains `what`.
   void ExpectFailure(const std::string& what, const ParameterList<float>& params) {
     try {
@@ -41,7 +36,7 @@ class SerializeTest : public ::testing::Test {
   Rng rng_{9};
   Mlp<float> mlp_;
   ParameterList<float> params_;
-  std::filesystem::path dir_;
+  files::testing::ScratchFolder dir_{"srics_nn_serialize"};
   std::string path_;
 };
 

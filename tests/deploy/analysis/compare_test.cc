@@ -38,8 +38,6 @@ std::string Row(int version, int steps, double distance, double object, const st
 class CompareTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() / ("srics_compare_test_" + std::to_string(getpid()));
-    fs::remove_all(root_);
     sweep_ = root_ / "sweep";
     fs::create_directories(sweep_);
     std::ofstream(sweep_ / "sweep.yaml")
@@ -63,7 +61,6 @@ class CompareTest : public ::testing::Test {
           "table_graph_selectivity,table_graph_selectivity_episodes\n"
           "1,1000,10,0.2,10,0.1,0.2,0.7,10\n1,2000,10,0.3,10,0.1,0.2,0.8,10\n");
   }
-  void TearDown() override { fs::remove_all(root_); }
 
   // `srics compare` of the sweep folder into `out`: its exit code.
   int CompareSweepInto(const fs::path& out) const {
@@ -79,7 +76,8 @@ class CompareTest : public ::testing::Test {
     if (!train.empty()) std::ofstream(sweep_ / run / "train.csv") << train;
   }
 
-  fs::path root_, sweep_;
+  files::testing::ScratchFolder root_{"srics_compare_test"};
+  fs::path sweep_;
 };
 
 TEST(CompareMathTest, SpreadIsMeanSampleStdMinMax) {

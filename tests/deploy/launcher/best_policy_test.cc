@@ -25,14 +25,10 @@ using files::testing::ReadFile;
 class BestPolicyTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("srics_best_policy_test_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     config_ = config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml", {});
     net_ = std::make_unique<rl::PolicyNetwork<float>>("policy", actor::ActorOptionsFor(config_, 0).policy, rng_);
     signature_ = rl::PolicySignature(*net_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // Weights of version v: the network's initial parameters shifted by v.
   std::vector<float> Weights(uint64_t v) {
@@ -49,7 +45,7 @@ class BestPolicyTest : public ::testing::Test {
     return {nn::Flatten(policy.Parameters()), counters};
   }
 
-  fs::path dir_;
+  files::testing::ScratchFolder dir_{"srics_best_policy_test"};
   config::Config config_;
   nn::Rng rng_{3};
   std::unique_ptr<rl::PolicyNetwork<float>> net_;

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "actor/env/render/video_writer.h"
@@ -94,19 +95,11 @@ int MakeOrReuseTinyRun(const fs::path& dir) {
 // seed 1) and a scratch folder per test, removed after it.
 class CommittedPolicyTest : public ::testing::Test {
  protected:
-  void TearDown() override {
-    if (!scratch_.empty()) fs::remove_all(scratch_);
-  }
   static fs::path Policy() {
     return fs::path(SRICS_SOURCE_DIR) / "docs/results/campaign/policy-relational-4-srics-seed1";
   }
-  // A fresh, empty folder of this test process.
-  fs::path Scratch(const std::string& name) {
-    scratch_ = fs::temp_directory_path() / ("srics_" + name + "_" + std::to_string(getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
-    return scratch_;
-  }
+  // A fresh, empty folder of this test.
+  fs::path Scratch(const std::string& name) { return scratch_.emplace("srics_" + name).path(); }
   // `dir` made a run folder of the committed policy: its config and graph, and its checkpoint
   // when asked.
   static fs::path AsRunFolder(const fs::path& dir, bool with_checkpoint) {
@@ -126,7 +119,7 @@ class CommittedPolicyTest : public ::testing::Test {
   }
 
  private:
-  fs::path scratch_;
+  std::optional<files::testing::ScratchFolder> scratch_;
 };
 
 // The mean of a column over the rows.
@@ -382,16 +375,12 @@ TEST_F(CommittedPolicyTest, PlaysUnderEitherProtocolOnAnotherSeedsGoals) {
 class EvalTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() / ("srics_eval_test_" + std::to_string(getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
     run_ = fs::path(SRICS_BINARY_DIR) / "test-data" / "eval_test_run";
     ASSERT_EQ(MakeOrReuseTinyRun(run_), kExitDone) << "the tiny run failed";
   }
-  void TearDown() override { fs::remove_all(root_); }
   fs::path run() const { return run_; }
 
-  fs::path root_;
+  files::testing::ScratchFolder root_{"srics_eval_test"};
   fs::path run_;
 };
 

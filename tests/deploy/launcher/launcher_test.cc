@@ -48,8 +48,6 @@ bool ProcessExists(pid_t pid) { return kill(pid, 0) == 0 || errno != ESRCH; }
 class LauncherTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() / ("srics_launcher_test_" + std::to_string(getpid()));
-    fs::remove_all(root_);
     fs::create_directories(root_ / "bin");
     for (const char* name : {"srics-graph", "srics-learner", "srics-actor"})
       fs::create_symlink(FAKE_CHILD, root_ / "bin" / name);
@@ -57,7 +55,6 @@ class LauncherTest : public ::testing::Test {
   }
   void TearDown() override {
     for (const char* var : {"FAKE_GRAPH", "FAKE_LEARNER", "FAKE_ACTOR", "FAKE_ACTOR_0"}) unsetenv(var);
-    fs::remove_all(root_);
   }
 
   ChildProcess StartLauncher(std::vector<std::string> extra = {}, bool with_run_id = true,
@@ -93,7 +90,7 @@ class LauncherTest : public ::testing::Test {
     return pids;
   }
 
-  fs::path root_;
+  files::testing::ScratchFolder root_{"srics_launcher_test"};
   fs::path run_dir_;
 };
 

@@ -11,6 +11,8 @@
 #include <fstream>
 #include <thread>
 
+#include "tests/common/files/test_files.h"
+
 namespace srics::launcher {
 namespace {
 
@@ -37,15 +39,9 @@ int CountStarts(const std::string& output_file) {
 class SupervisorTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("srics_supervisor_test_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     options_.on_event = [this](const std::string& e) { events_.push_back(e); };
   }
-  void TearDown() override {
-    fs::remove_all(dir_);
-    ExpectNoChildren();
-  }
+  void TearDown() override { ExpectNoChildren(); }
   std::string Path(const std::string& name) const { return (dir_ / name).string(); }
   ChildSpec Spec(const std::string& name, std::vector<std::string> mode) const {
     std::vector<std::string> argv = {FAKE_CHILD};
@@ -69,7 +65,7 @@ class SupervisorTest : public ::testing::Test {
     return false;
   }
 
-  fs::path dir_;
+  files::testing::ScratchFolder dir_{"srics_supervisor_test"};
   SupervisorOptions options_;
   std::vector<std::string> events_;
   std::vector<size_t> ended_;  // what Tick reported as ended for good, in order

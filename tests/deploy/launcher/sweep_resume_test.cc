@@ -31,11 +31,9 @@ using testing::kConfig;
 using testing::kTinyRun;
 using testing::RunSrics;
 
-class SweepTest : public ::testing::Test {
+class SweepResumeTest : public ::testing::Test {
  protected:
-  void SetUp() override { root_ = files::testing::FreshFolder("srics_sweep_resume_test"); }
-  void TearDown() override { fs::remove_all(root_); }
-  fs::path root_;
+  files::testing::ScratchFolder root_{"srics_sweep_resume_test"};
 };
 
 // The learner's checkpoint of a run folder, loaded as a resumed learner would.
@@ -46,7 +44,7 @@ std::unique_ptr<learner::Learner> LoadLearner(const std::string& run_dir) {
   return learner;
 }
 
-TEST_F(SweepTest, AStoppedSweepResumesWithoutRepeatingFinishedRunsAndKeepsTheReplay) {
+TEST_F(SweepResumeTest, AStoppedSweepResumesWithoutRepeatingFinishedRunsAndKeepsTheReplay) {
   const fs::path sweep = root_ / "sweep";
   std::vector<std::string> argv = {SRICS_LAUNCHER, "sweep", kConfig,        "--methods", "srics,smorl", "--seeds", "1",
                                    "--in-process", "--out", sweep.string(), "--display", "none"};

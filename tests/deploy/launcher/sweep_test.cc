@@ -34,13 +34,6 @@ using testing::RunSrics;
 
 class SweepTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    root_ = fs::temp_directory_path() / ("srics_sweep_test_" + std::to_string(getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
-
   SweepOptions Options(std::vector<std::string> methods, std::vector<uint64_t> seeds) const {
     SweepOptions o;
     o.config_file = kConfig;
@@ -52,7 +45,7 @@ class SweepTest : public ::testing::Test {
     return o;
   }
 
-  fs::path root_;
+  files::testing::ScratchFolder root_{"srics_sweep_test"};
 };
 
 TEST_F(SweepTest, ParsesTheGridAndRefusesBadArguments) {

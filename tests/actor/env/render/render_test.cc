@@ -18,6 +18,7 @@
 #include "actor/env/render/video_writer.h"
 #include "tests/actor/env/env_presets.h"
 #include "tests/actor/env/render/frames_testing.h"
+#include "tests/common/files/test_files.h"
 
 #include "tests/sanitizer.h"
 #ifdef SRICS_TESTING_ASAN
@@ -62,14 +63,9 @@ class RenderTest : public ::testing::Test {
     delete gl_;
     gl_ = nullptr;
   }
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("srics_render_test_" + std::to_string(getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
 
   static GlContext* gl_;
-  fs::path dir_;
+  files::testing::ScratchFolder dir_{"srics_render_test"};
 };
 GlContext* RenderTest::gl_ = nullptr;
 
