@@ -400,6 +400,8 @@ std::optional<rl::EpisodeMetrics> RunEvaluationEpisode(env::Environment& env, rl
       }
       const std::vector<double> after_attempt = record.skipped ? before_attempt : env.ComputeMetrics().distances;
       record.distance_after = after_attempt[entity];
+      record.distances_before = before_attempt;
+      record.distances_after = after_attempt;
       for (int other : subgoal_entities) {
         if (other == entity || other == 0 || other >= layout.num_entities || before_attempt[other] >= options.threshold)
           continue;

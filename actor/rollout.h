@@ -118,6 +118,9 @@ class EvalEpisodeObserver {
     // episode uses (what selectivity asks to leave alone; every object without a graph)
     int independent_solved = 0;
     int independent_undone = 0;
+    // every entity's distance to its goal when the attempt started and ended (how far a solved
+    // object was pushed, not only whether it crossed the threshold)
+    std::vector<double> distances_before, distances_after;
   };
   virtual void OnAttempt(const Attempt&) {}
 };

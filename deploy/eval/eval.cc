@@ -67,7 +67,9 @@ class EpisodeRecorder : public actor::EvalEpisodeObserver {
     const bool reached = a.distance_after < threshold_;
     attempts_ << episode_ << "," << a.index << "," << a.entity << "," << (a.skipped ? 1 : 0) << "," << a.distance_before
               << "," << a.distance_after << "," << (reached ? 1 : 0) << "," << a.others_solved << "," << a.others_undone
-              << "," << a.independent_solved << "," << a.independent_undone << "\n";
+              << "," << a.independent_solved << "," << a.independent_undone << ","
+              << run_folder::JoinedValues(a.distances_before) << "," << run_folder::JoinedValues(a.distances_after)
+              << "\n";
     if (a.skipped) return;
     AttemptTally& t = tally_[a.entity];
     ++t.attempts;

@@ -38,12 +38,18 @@ std::string QuoteCsvField(const std::string& text) {
   return out + "\"";
 }
 
-std::string JoinedValues(const std::vector<float>& values, int precision) {
+namespace {
+template <typename T>
+std::string Joined(const std::vector<T>& values, int precision) {
   std::ostringstream out;
   out << std::setprecision(precision);
   for (size_t i = 0; i < values.size(); ++i) out << (i ? ";" : "") << values[i];
   return out.str();
 }
+}  // namespace
+
+std::string JoinedValues(const std::vector<float>& values, int precision) { return Joined(values, precision); }
+std::string JoinedValues(const std::vector<double>& values, int precision) { return Joined(values, precision); }
 
 std::vector<double> SplitValues(const std::string& text) {
   std::vector<double> values;

@@ -25,6 +25,7 @@ std::string QuoteCsvField(const std::string& text);
 
 // Numbers ';'-joined into one field with `precision` significant digits ("0.1;0.25").
 std::string JoinedValues(const std::vector<float>& values, int precision = 6);
+std::string JoinedValues(const std::vector<double>& values, int precision = 6);
 // The numbers of a ';'-joined field; empty items are skipped, a non-number reads as 0.
 std::vector<double> SplitValues(const std::string& text);
 

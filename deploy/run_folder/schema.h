@@ -58,9 +58,18 @@ inline const std::vector<std::string> kEpisodesLeadingColumns = {"episode",
                                                                  "independent_solved",
                                                                  "independent_undone"};
 
-inline const std::vector<std::string> kAttemptsColumns = {
-    "episode",           "attempt", "entity",        "skipped",       "distance_before",
-    "distance_after",    "reached", "others_solved", "others_undone", "independent_solved",
-    "independent_undone"};
+inline const std::vector<std::string> kAttemptsColumns = {"episode",
+                                                          "attempt",
+                                                          "entity",
+                                                          "skipped",
+                                                          "distance_before",
+                                                          "distance_after",
+                                                          "reached",
+                                                          "others_solved",
+                                                          "others_undone",
+                                                          "independent_solved",
+                                                          "independent_undone",
+                                                          "distances_before",
+                                                          "distances_after"};
 
 }  // namespace srics::run_folder

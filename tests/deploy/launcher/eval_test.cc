@@ -185,6 +185,25 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
       if (entity == 4) {
         EXPECT_EQ(a.at("independent_solved"), a.at("others_solved"));
       }
+      // every entity's distances at the attempt's start and end: the attempted one's are the
+      // scalar columns, and the other objects within 0.05 at the start and outside it at the end
+      // are the attempt's undone ones (the arm, entity 0, never counts)
+      const std::vector<double> all_before = run_folder::SplitValues(a.at("distances_before"));
+      const std::vector<double> all_after = run_folder::SplitValues(a.at("distances_after"));
+      ASSERT_EQ(all_before.size(), 5u) << "episode " << episode << " attempt " << k;
+      ASSERT_EQ(all_after.size(), 5u) << "episode " << episode << " attempt " << k;
+      EXPECT_NEAR(all_before[entity], before, 1e-5);
+      EXPECT_NEAR(all_after[entity], after, 1e-5);
+      int others_solved = 0, others_undone = 0;
+      for (int other : {2, 3, 4}) {
+        if (other == entity || all_before[other] >= 0.05) continue;
+        ++others_solved;
+        others_undone += all_after[other] >= 0.05;
+      }
+      EXPECT_EQ(std::stoi(a.at("others_solved")), others_solved) << "episode " << episode << " attempt " << k;
+      EXPECT_EQ(std::stoi(a.at("others_undone")), others_undone) << "episode " << episode << " attempt " << k;
+      // an attempt starts where the last one ended
+      if (k > 0) EXPECT_EQ(a.at("distances_before"), list[k - 1].at("distances_after"));
     }
     EXPECT_EQ(std::stoi(rows[episode].at("steps")), 20 * played) << "episode " << episode;
     // the episode's compatibility counts (what an in-run evaluation sends in EvalResult) are its

@@ -32,8 +32,10 @@ TEST(QuoteCsvFieldTest, QuotesOnlyWhenNeededAndSplitsBackToTheText) {
 }
 
 TEST(JoinedValuesTest, JoinsWithSemicolonsAndSplitsBack) {
-  EXPECT_EQ(JoinedValues({0.5f, 0.25f, 1.0f}), "0.5;0.25;1");
-  EXPECT_EQ(JoinedValues({}), "");
+  EXPECT_EQ(JoinedValues(std::vector<float>{0.5f, 0.25f, 1.0f}), "0.5;0.25;1");
+  EXPECT_EQ(JoinedValues(std::vector<float>{}), "");
+  // doubles (attempts.csv's distances) with the same precision: 6 significant digits
+  EXPECT_EQ(JoinedValues(std::vector<double>{0.123456789, 2.0}), "0.123457;2");
   EXPECT_EQ(SplitValues("0.5;0.25;1"), (std::vector<double>{0.5, 0.25, 1.0}));
   EXPECT_EQ(SplitValues("0.5;;2"), (std::vector<double>{0.5, 2.0}));
 }
@@ -104,7 +106,7 @@ TEST(SchemaTest, HeadersAreTheLinesTheFilesAlwaysHad) {
             "independent_undone");
   EXPECT_EQ(HeaderLine(kAttemptsColumns),
             "episode,attempt,entity,skipped,distance_before,distance_after,reached,others_solved,others_undone,"
-            "independent_solved,independent_undone");
+            "independent_solved,independent_undone,distances_before,distances_after");
   EXPECT_EQ(HeaderLine({"a", "b"}), "a,b");
   // the committed campaign's files read by name through these columns
   const auto eval =
