@@ -32,6 +32,13 @@ namespace {
 // The name of an entity in captions.
 std::string EntityName(int entity) { return entity == 0 ? "arm" : "object " + std::to_string(entity); }
 
+// "0.80 of 99": part / whole with the whole, for the summary lines.
+std::string ShareOf(int part, int whole) {
+  char text[48];
+  std::snprintf(text, sizeof(text), "%.2f of %d", whole ? static_cast<double>(part) / whole : 0.0, whole);
+  return text;
+}
+
 // What each attempt did, summed over episodes (printed at the end).
 struct AttemptTally {
   int attempts = 0;            // attempts that took steps
@@ -40,6 +47,11 @@ struct AttemptTally {
   int others_undone = 0;       // ... that the attempt left unsolved
   int independent_solved = 0;  // the same over objects that are not the entity's ancestors
   int independent_undone = 0;
+  // per other subgoal object: (times it was solved when an attempt started, times the attempt
+  // left it unsolved), and of those solved, how many ended beyond twice the threshold (knocked
+  // away rather than nudged across it)
+  std::map<int, std::pair<int, int>> by_object;
+  int pushed_far = 0;
 };
 
 // Draws every state of an episode into its video (when there is one) and writes each subgoal
@@ -47,12 +59,14 @@ struct AttemptTally {
 class EpisodeRecorder : public actor::EvalEpisodeObserver {
  public:
   EpisodeRecorder(env::EpisodeRenderer* renderer, env::VideoWriter* video, std::ostream& attempts,
-                  std::map<int, AttemptTally>& tally, double threshold, int episode)
+                  std::map<int, AttemptTally>& tally, double threshold, const std::vector<int>& subgoal_entities,
+                  int episode)
       : renderer_(renderer),
         video_(video),
         attempts_(attempts),
         tally_(tally),
         threshold_(threshold),
+        subgoal_entities_(subgoal_entities),
         episode_(episode) {}
 
   void OnState(const env::Environment& env, int entity) override {
@@ -78,6 +92,16 @@ class EpisodeRecorder : public actor::EvalEpisodeObserver {
     t.others_undone += a.others_undone;
     t.independent_solved += a.independent_solved;
     t.independent_undone += a.independent_undone;
+    // the objects others_solved counts (subgoal entities but the arm and the attempted one)
+    for (int other : subgoal_entities_) {
+      if (other == 0 || other == a.entity || other >= static_cast<int>(a.distances_before.size()) ||
+          a.distances_before[other] >= threshold_)
+        continue;
+      auto& [solved, undone] = t.by_object[other];
+      ++solved;
+      undone += a.distances_after[other] >= threshold_ ? 1 : 0;
+      t.pushed_far += a.distances_after[other] >= 2 * threshold_ ? 1 : 0;
+    }
   }
 
  private:
@@ -86,6 +110,7 @@ class EpisodeRecorder : public actor::EvalEpisodeObserver {
   std::ostream& attempts_;
   std::map<int, AttemptTally>& tally_;
   double threshold_;
+  const std::vector<int>& subgoal_entities_;
   int episode_;
 };
 
@@ -237,7 +262,7 @@ int Eval(const EvalArgs& args) {
       writer.emplace((fs::path(out_dir) / video_name).string(), args.render.width, args.render.height, video);
     }
     EpisodeRecorder recorder(renderer ? &*renderer : nullptr, writer ? &*writer : nullptr, attempts_csv, tally,
-                             eval_options.threshold, i);
+                             eval_options.threshold, subgoal_entities, i);
     const auto metrics =
         actor::RunEvaluationEpisode(environment, acting, subgoals, eval_options, seed, acting_high, &recorder);
     if (writer) writer->Close();
@@ -277,6 +302,16 @@ int Eval(const EvalArgs& args) {
         t.others_solved ? static_cast<double>(t.others_undone) / t.others_solved : 0.0, t.independent_solved,
         t.independent_undone,
         t.independent_solved ? static_cast<double>(t.independent_undone) / t.independent_solved : 0.0);
+  // ... and which of them: the share each solved object was undone (of how many), and the share
+  // of all solved ones that ended beyond twice the threshold
+  for (const auto& [entity, t] : tally) {
+    if (t.by_object.empty()) continue;
+    std::string line = "  solved objects undone by attempts on " + EntityName(entity) + ":";
+    for (const auto& [other, counts] : t.by_object)
+      line += " " + EntityName(other) + " " + ShareOf(counts.second, counts.first) + ",";
+    std::printf("%s beyond %.2f m %.2f\n", line.c_str(), 2 * eval_options.threshold,
+                t.others_solved ? static_cast<double>(t.pushed_far) / t.others_solved : 0.0);
+  }
   std::printf("wrote %s/episodes.csv and attempts.csv\n", out_dir.c_str());
   return 0;
 }

@@ -9,6 +9,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -149,6 +150,8 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
   std::vector<std::vector<std::map<std::string, std::string>>> by_episode(rows.size());
   for (const auto& a : attempts) by_episode.at(std::stoul(a.at("episode"))).push_back(a);
   int full_length = 0, total_solved = 0;
+  // (attempted entity, other object) -> (solved at the attempt's start, undone by it)
+  std::map<std::pair<int, int>, std::pair<int, int>> by_pair;
   for (size_t episode = 0; episode < rows.size(); ++episode) {
     const auto& list = by_episode[episode];
     ASSERT_FALSE(list.empty()) << "episode " << episode;
@@ -199,6 +202,10 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
         if (other == entity || all_before[other] >= 0.05) continue;
         ++others_solved;
         others_undone += all_after[other] >= 0.05;
+        if (a.at("skipped") == "0") {
+          ++by_pair[{entity, other}].first;
+          by_pair[{entity, other}].second += all_after[other] >= 0.05;
+        }
       }
       EXPECT_EQ(std::stoi(a.at("others_solved")), others_solved) << "episode " << episode << " attempt " << k;
       EXPECT_EQ(std::stoi(a.at("others_undone")), others_undone) << "episode " << episode << " attempt " << k;
@@ -223,6 +230,19 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
   EXPECT_GT(full_length, 10) << "the policy seldom solves the whole table";
   EXPECT_GT(total_solved, 20) << "attempts begin with solved objects";
   EXPECT_NE(output.find("attempts on object 4:"), std::string::npos) << output;
+  // the summary names which solved object each subgoal's attempts undid: the pairs recounted
+  for (const auto& [pair, counts] : by_pair) {
+    const std::string line = "solved objects undone by attempts on " +
+                             (pair.first == 0 ? std::string("arm") : "object " + std::to_string(pair.first)) + ":";
+    const size_t at = output.find(line);
+    ASSERT_NE(at, std::string::npos) << line << "\n" << output;
+    char share[64];
+    std::snprintf(share, sizeof(share), " object %d %.2f of %d,", pair.second,
+                  static_cast<double>(counts.second) / counts.first, counts.first);
+    EXPECT_NE(output.substr(at, output.find('\n', at) - at).find(share), std::string::npos)
+        << "expected '" << share << "' in: " << output.substr(at, output.find('\n', at) - at);
+  }
+  EXPECT_GE(by_pair.size(), 6u) << "attempts met solved objects of several kinds";
 }
 
 // actors.eval_schedule: independent_draws, the campaign's runs to 2026-12-04: 8 attempts on
