@@ -26,11 +26,13 @@ struct ActorConfig {
   int train_episode_steps = 20;     // one subgoal per episode
   // Training episodes per reset of the table (not in the paper: 1, every episode starts from a
   // reset). With N > 1 the next N - 1 episodes start where the one before left the table, as an
-  // evaluation's attempts do: objects an earlier episode pushed to its goal lie there while the
-  // next pursues another subgoal, so the selectivity term meets solved objects to keep
-  // (docs/results.md, "The paper's budget": attempts undo about half of what was solved). An
-  // evaluation, an explore episode or an unstable one ends a chain. Recorded in a run's
-  // resolved-config.yaml only when given (runs started before it resume unchanged).
+  // evaluation's attempts do: start states like an evaluation's (pucks where earlier pushes
+  // left them, the hand beside them), each episode with a new subgoal drawn as usual. Training
+  // never sees other objects' goals (the selectivity term charges their motion wherever they
+  // are), so this changes where training starts, not what it rewards (docs/results.md, "The
+  // paper's budget"). An evaluation, an explore episode or an unstable one ends a chain; 1 with
+  // HAC. Recorded in a run's resolved-config.yaml only when given (runs started before it
+  // resume unchanged).
   int train_chain_episodes = 1;
   int eval_attempt_steps = 20;  // steps per subgoal attempt at evaluation
   EvalSchedule eval_schedule = EvalSchedule::kReference;

@@ -24,6 +24,10 @@ Config ParseTree(const YAML::Node& root, std::shared_ptr<const OriginMap> origin
     top.Child("graph").FailRule(
         "window", "must not exceed actors.train_episode_steps (" + std::to_string(config.actors.train_episode_steps) +
                       ") with refine_after_publish: refinement trains on windows of training episodes");
+  // HAC's levels play whole episodes from a reset (actor_loop.cc): a chain would be ignored
+  if (config.run.method == Method::kHac && config.actors.train_chain_episodes > 1)
+    top.Child("actors").FailRule("train_chain_episodes",
+                                 "must be 1 with run.method hac: HAC's training episodes always start from a reset");
   top.Finish();
   YAML::Emitter emitter;
   emitter << root;

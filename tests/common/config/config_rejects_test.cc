@@ -130,6 +130,16 @@ TEST_F(RejectedConfig, RefinementNeedsALearnedGraphAndWindowsThatFitTrainingEpis
   EXPECT_NO_THROW(LoadConfig(windows, {"graph.refine_after_publish=false"}));
 }
 
+// HAC ignores chains of training episodes (its levels start each from a reset): refused, not
+// silently dropped; the other methods take them
+TEST_F(RejectedConfig, ChainedTrainingEpisodesAreRefusedForHac) {
+  const std::string hac = Write("hac.yaml", "run:\n  method: hac\nactors:\n  train_chain_episodes: 9\n");
+  EXPECT_NE(ErrorOf(hac).find("actors.train_chain_episodes: must be 1 with run.method hac"), std::string::npos)
+      << ErrorOf(hac);
+  EXPECT_NO_THROW(LoadConfig(hac, {"run.method=srics"}));
+  EXPECT_NO_THROW(LoadConfig(hac, {"actors.train_chain_episodes=1"}));
+}
+
 TEST_F(RejectedConfig, KeepCheckpointsDefaultsToThree) {
   EXPECT_EQ(LoadConfig(Write("empty.yaml", "")).learner.keep_checkpoints, 3);
   EXPECT_EQ(LoadConfig(Write("one.yaml", "learner:\n  keep_checkpoints: 1\n")).learner.keep_checkpoints, 1);
