@@ -9,7 +9,7 @@ set bmargin 6
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-750k-distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/relational-4-750k-distance.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (2 seeds)', 0.152267 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+plot '/work/main/docs/results/campaign/relational-4-750k-distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (3 seeds)', '/work/main/docs/results/campaign/relational-4-750k-distance.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (3 seeds)', 0.150183 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
 set output '/work/main/docs/results/campaign/relational-4-750k-object_distance.png'
 set title 'relational-4-750k: average object distance (mean, band ±1 sd over seeds)' noenhanced
 set xlabel 'environment steps'
@@ -20,7 +20,7 @@ set bmargin 6
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-750k-object_distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/relational-4-750k-object_distance.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (2 seeds)', 0.190333 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+plot '/work/main/docs/results/campaign/relational-4-750k-object_distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (3 seeds)', '/work/main/docs/results/campaign/relational-4-750k-object_distance.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (3 seeds)', 0.187729 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
 set output '/work/main/docs/results/campaign/relational-4-750k-selectivity.png'
 set title 'relational-4-750k: selectivity of training episodes, the table''s ancestor sets (mean, band ±1 sd over seeds)' noenhanced
 set xlabel 'environment steps'
@@ -31,7 +31,7 @@ set bmargin 5
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-750k-selectivity.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/relational-4-750k-selectivity.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (2 seeds)'
+plot '/work/main/docs/results/campaign/relational-4-750k-selectivity.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (3 seeds)', '/work/main/docs/results/campaign/relational-4-750k-selectivity.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (3 seeds)'
 set output '/work/main/docs/results/campaign/relational-4-750k-undone.png'
 set title 'relational-4-750k: solved non-ancestor objects an attempt undid (mean, band ±1 sd over seeds)' noenhanced
 set xlabel 'environment steps'
@@ -42,7 +42,7 @@ set bmargin 5
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/relational-4-750k-undone.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (1 seed)', '/work/main/docs/results/campaign/relational-4-750k-undone.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (2 seeds)'
+plot '/work/main/docs/results/campaign/relational-4-750k-undone.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/relational-4-750k-undone.dat' index 1 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#d62728' notitle, '' index 1 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#d62728' title 'srics (3 seeds)'
 set output '/work/main/docs/results/campaign/relational-4-750k-subgoal_success.png'
 set title 'relational-4-750k: success per subgoal at the final evaluation (mean, bars ±1 sd over seeds)' noenhanced
 set xlabel ''
@@ -56,4 +56,4 @@ set style data histograms
 set style histogram errorbars gap 2 lw 1
 set style fill solid 0.8 border -1
 set bars 2
-plot '/work/main/docs/results/campaign/relational-4-750k-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'smorl (2 seeds)', '/work/main/docs/results/campaign/relational-4-750k-subgoal_success.dat' using 5:6:7 lc rgb '#d62728' title 'srics (2 seeds)'
+plot '/work/main/docs/results/campaign/relational-4-750k-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'smorl (3 seeds)', '/work/main/docs/results/campaign/relational-4-750k-subgoal_success.dat' using 5:6:7 lc rgb '#d62728' title 'srics (3 seeds)'
