@@ -1,5 +1,6 @@
 #include "common/nn/modules.h"
 
+#include "common/nn/attention.h"
 #include "common/nn/gemm.h"
 
 #include <cmath>
@@ -204,28 +205,16 @@ template <typename T>
 void GoalAttention<T>::Apply(const Eigen::Ref<const Matrix<T>>& entities, const Eigen::Ref<const Matrix<T>>& goal,
                              Matrix<T>& attention, Matrix<T>& goal_embedding) {
   const Eigen::Index ents = entities.rows(), E = config_.embed_dim;
-  const Eigen::Index dh = E / config_.num_heads;
   entity_.Apply(entities, tok_);
   key_.Apply(tok_, k_);
   value_.Apply(tok_, v_);
   goal_.Apply(goal, goal_embedding);
   query_.Apply(goal_embedding, q_);
-  heads_.setZero(1, E);
-  w_.resize(1, ents);
-  const T scale = T(1) / std::sqrt(static_cast<T>(dh));
-  for (int h = 0; h < config_.num_heads; ++h) {
-    const auto qs = q_.row(0).segment(h * dh, dh);
-    T mx = -std::numeric_limits<T>::infinity();
-    for (Eigen::Index e = 0; e < ents; ++e) {
-      w_(0, e) = scale * qs.dot(k_.row(e).segment(h * dh, dh));
-      mx = std::max(mx, w_(0, e));
-    }
-    w_ = (w_.array() - mx).exp().matrix();
-    w_ /= w_.sum();
-    for (Eigen::Index e = 0; e < ents; ++e) {
-      heads_.row(0).segment(h * dh, dh) += w_(0, e) * v_.row(e).segment(h * dh, dh);
-    }
-  }
+  heads_.resize(1, E);
+  w_.resize(1, config_.num_heads * ents);
+  // the same math as the tape's Attention op (common/nn/attention.h), every entity present
+  attention::Forward(attention::Sample<T>{q_.data(), k_.data(), v_.data(), E, nullptr, ents}, E,
+                     static_cast<int64_t>(config_.num_heads), w_.data(), heads_.data());
   out_.Apply(heads_, attention);
 }
 

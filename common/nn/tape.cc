@@ -1,5 +1,6 @@
 #include "common/nn/tape.h"
 
+#include "common/nn/attention.h"
 #include "common/nn/gemm.h"
 #include "common/nn/parallel.h"
 
@@ -12,6 +13,20 @@ namespace srics::nn {
 namespace {
 
 using Eigen::Index;
+
+// Sample b of an Attention node's operands (row-major: Q's row b, rows b * ents .. of K and V,
+// the mask's row b when there is one).
+template <typename T>
+attention::Sample<T> SampleOf(const Matrix<T>& Q, const Matrix<T>& K, const Matrix<T>& V, const Matrix<T>* M, Index b,
+                              Index ents) {
+  const Index embed = Q.cols();
+  return {Q.data() + b * embed,
+          K.data() + b * ents * embed,
+          V.data() + b * ents * embed,
+          embed,
+          M ? M->data() + b * ents : nullptr,
+          ents};
+}
 
 // first contribution assigns (no zero fill), later ones add
 template <typename NodeT, typename Expr>
@@ -520,39 +535,17 @@ Var<T> Tape<T>::Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_hea
                  std::to_string(embed) + " not divisible into " + std::to_string(num_heads) + " heads");
   SRICS_NN_CHECK(batch > 0 && K.rows() % batch == 0 && K.cols() == embed && V.rows() == K.rows() && V.cols() == embed,
                  "Attention", "q " + Shape(Q) + " k " + Shape(K) + " v " + Shape(V));
-  const Index ents = K.rows() / batch, dh = embed / num_heads;
+  const Index ents = K.rows() / batch;
   const Mat* M = nullptr;
   if (mask.id >= 0) {
     M = &Val(mask.id);
     SRICS_NN_CHECK(M->rows() == batch && M->cols() == ents, "Attention", "mask " + Shape(*M));
   }
-  const T scale = T(1) / std::sqrt(static_cast<T>(dh));
   n.aux.resize(batch, num_heads * ents);
-  n.value.setZero(batch, embed);
-  for (Index b = 0; b < batch; ++b) {
-    for (Index h = 0; h < num_heads; ++h) {
-      const auto qs = Q.row(b).segment(h * dh, dh);
-      T* w = n.aux.data() + b * n.aux.cols() + h * ents;
-      // scores, then a masked softmax over this sample's entities
-      T mx = -std::numeric_limits<T>::infinity();
-      for (Index e = 0; e < ents; ++e) {
-        if (M && (*M)(b, e) == T(0)) continue;
-        w[e] = scale * qs.dot(K.row(b * ents + e).segment(h * dh, dh));
-        mx = std::max(mx, w[e]);
-      }
-      T sum = 0;
-      for (Index e = 0; e < ents; ++e) {
-        w[e] = (M && (*M)(b, e) == T(0)) ? T(0) : std::exp(w[e] - mx);
-        sum += w[e];
-      }
-      if (sum <= T(0)) continue;
-      auto out = n.value.row(b).segment(h * dh, dh);
-      for (Index e = 0; e < ents; ++e) {
-        w[e] /= sum;
-        out += w[e] * V.row(b * ents + e).segment(h * dh, dh);
-      }
-    }
-  }
+  n.value.resize(batch, embed);
+  for (Index b = 0; b < batch; ++b)
+    attention::Forward(SampleOf(Q, K, V, M, b, ents), embed, num_heads, n.aux.data() + b * n.aux.cols(),
+                       n.value.data() + b * embed);
   return Out(n);
 }
 
@@ -653,39 +646,19 @@ void Tape<T>::BackwardAttention(Node& n) {
   const Mat& K = Val(n.b);
   const Mat& V = Val(n.c);
   const Index batch = Q.rows(), embed = Q.cols(), heads = n.i0;
-  const Index ents = K.rows() / batch, dh = embed / heads;
-  const T scale = T(1) / std::sqrt(static_cast<T>(dh));
+  const Index ents = K.rows() / batch;
   const bool nq = Needs(n.a), nk = Needs(n.b), nv = Needs(n.c);
   if (nq) EnsureGrad(nodes_[n.a], batch, embed);
   if (nk) EnsureGrad(nodes_[n.b], K.rows(), embed);
   if (nv) EnsureGrad(nodes_[n.c], V.rows(), embed);
-  Mat* gq = nq ? &nodes_[n.a].grad : nullptr;
-  Mat* gk = nk ? &nodes_[n.b].grad : nullptr;
-  Mat* gv = nv ? &nodes_[n.c].grad : nullptr;
-  std::vector<T> gs(static_cast<size_t>(ents));
-  for (Index b = 0; b < batch; ++b) {
-    for (Index h = 0; h < heads; ++h) {
-      const T* w = n.aux.data() + b * n.aux.cols() + h * ents;
-      const auto go = g.row(b).segment(h * dh, dh);
-      // gradient of the weights, then through the softmax to the scores
-      T wg = 0;
-      for (Index e = 0; e < ents; ++e) {
-        if (w[e] == T(0)) {
-          gs[e] = 0;
-          continue;
-        }
-        gs[e] = go.dot(V.row(b * ents + e).segment(h * dh, dh));
-        wg += w[e] * gs[e];
-        if (gv) gv->row(b * ents + e).segment(h * dh, dh) += w[e] * go;
-      }
-      for (Index e = 0; e < ents; ++e) {
-        if (w[e] == T(0)) continue;
-        const T s = scale * w[e] * (gs[e] - wg);
-        if (gq) gq->row(b).segment(h * dh, dh) += s * K.row(b * ents + e).segment(h * dh, dh);
-        if (gk) gk->row(b * ents + e).segment(h * dh, dh) += s * Q.row(b).segment(h * dh, dh);
-      }
-    }
-  }
+  T* gq = nq ? nodes_[n.a].grad.data() : nullptr;
+  T* gk = nk ? nodes_[n.b].grad.data() : nullptr;
+  T* gv = nv ? nodes_[n.c].grad.data() : nullptr;
+  // the mask is in the weights (0 for an absent entity)
+  for (Index b = 0; b < batch; ++b)
+    attention::Backward(SampleOf<T>(Q, K, V, nullptr, b, ents), embed, heads, n.aux.data() + b * n.aux.cols(),
+                        g.data() + b * embed, gq ? gq + b * embed : nullptr, gk ? gk + b * ents * embed : nullptr,
+                        gv ? gv + b * ents * embed : nullptr);
 }
 
 template <typename T>
