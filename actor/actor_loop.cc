@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "actor/env/rearrange_env.h"
+#include "actor/episode_options.h"
 #include "common/logging/logging.h"
 #include "common/nn/serialize.h"
 #include "common/profile/phase_clock.h"

@@ -17,7 +17,9 @@
 #include <optional>
 #include <string>
 
-#include "actor/rollout.h"
+#include "actor/eval_episode.h"
+#include "actor/explore_episode.h"
+#include "actor/train_episode.h"
 #include "common/config/config.h"
 #include "common/links/links.h"
 #include "common/rl/networks.h"

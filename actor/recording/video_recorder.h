@@ -16,7 +16,7 @@
 #include <string>
 
 #include "actor/env/environment.h"
-#include "actor/rollout.h"
+#include "actor/eval_episode.h"
 #include "common/config/config.h"
 
 namespace srics::actor {

@@ -12,7 +12,7 @@
 #include "actor/actor_loop.h"
 #include "actor/env/rearrange_env.h"
 #include "actor/env/render/gl_context.h"
-#include "actor/rollout.h"
+#include "actor/eval_episode.h"
 #include "common/config/config.h"
 #include "common/graph_file/graph_file.h"
 #include "common/rl/agent_shape.h"

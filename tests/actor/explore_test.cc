@@ -6,7 +6,8 @@
 #include <cstdio>
 
 #include "actor/env/rearrange_env.h"
-#include "actor/rollout.h"
+#include "actor/episode_options.h"
+#include "actor/explore_episode.h"
 #include "common/config/config.h"
 
 namespace srics::actor {

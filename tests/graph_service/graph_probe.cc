@@ -18,7 +18,7 @@
 #include <mujoco/mujoco.h>
 
 #include "actor/env/rearrange_env.h"
-#include "actor/rollout.h"
+#include "actor/explore_episode.h"
 #include "common/config/config.h"
 #include "graph_service/gnn_model.h"
 #include "graph_service/service.h"

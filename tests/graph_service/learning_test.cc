@@ -11,7 +11,7 @@
 
 #include "actor/env/random_table.h"
 #include "actor/env/rearrange_env.h"
-#include "actor/rollout.h"
+#include "actor/explore_episode.h"
 #include "common/config/config.h"
 #include "common/config/env_config.h"
 #include "common/config/graph_config.h"

@@ -18,7 +18,8 @@
 
 #include "actor/actor_loop.h"
 #include "actor/env/rearrange_env.h"
-#include "actor/rollout.h"
+#include "actor/episode_options.h"
+#include "actor/explore_episode.h"
 #include "common/config/config.h"
 #include "common/nn/serialize.h"
 #include "common/rl/agent_shape.h"

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "actor/env/rearrange_env.h"
-#include "actor/rollout.h"
+#include "actor/explore_episode.h"
 #include "common/config/config.h"
 #include "common/rl/agent_shape.h"
 #include "common/transport/transport.h"

@@ -19,7 +19,7 @@
 #include <string>
 
 #include "actor/env/rearrange_env.h"
-#include "actor/rollout.h"
+#include "actor/explore_episode.h"
 #include "common/config/config.h"
 #include "common/nn/gemm.h"
 #include "learner/learner.h"

@@ -1,86 +1,20 @@
 #pragma once
-// The actor's episode loops, with no DDS in them: exploration (random actions), training
-// (one independently controllable subgoal per episode) and evaluation (a full goal split
-// into subgoals, attempted in depth order). Shared by the actor process and the in-process
-// trainer, so both behave the same.
+// Evaluation episodes: the environment's own full goal, split into subgoals attempted on the
+// method's schedule (SRICS, SMORL and the ablations), attempted whole (SAC+HER, the passive
+// baseline's full goal) or by HAC's two levels; and the evaluation of a policy over a run's
+// evaluation seeds.
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "actor/env/environment.h"
-#include "actor/env/scripted_policy.h"
-#include "common/config/config.h"
-#include "common/config/env_config.h"
-#include "common/nn/tensor.h"
-#include "common/rl/episode.h"
+#include "actor/hac_acting.h"
 #include "common/rl/evaluation.h"
 #include "common/rl/graph.h"
-#include "common/rl/hac.h"
 #include "common/rl/networks.h"
 
 namespace srics::actor {
-
-// The rl view of the environment's current layout.
-rl::EntityLayout LayoutOf(const env::Environment& env);
-
-// How explore episodes act (actors.explore_* of the config).
-struct ExploreOptions {
-  int steps = 50;
-  double push_fraction = 0;               // share of episodes driven by the pushing controller
-  int push_segment_steps = 10;            // steps per (object, target) pair
-  double push_noise = 0.3;                // std of the Gaussian noise on each action component
-  env::PushGeometry push;                 // hand and object geometry (the largest object of the table)
-  env::Vec2 target_low{}, target_high{};  // targets are drawn in this box (the subgoal box)
-};
-ExploreOptions ExploreOptionsFor(const config::Config& config);
-
-// Reset(seed), then `steps` steps of uniformly random actions or, for a push_fraction share
-// of the episodes, of noisy pushes of random objects toward random targets. Empty if the
-// physics became unstable (such an episode is never passed on).
-std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, const ExploreOptions& options, uint64_t seed,
-                                             nn::Rng& rng);
-// Uniformly random actions only.
-std::optional<rl::Episode> RunExploreEpisode(env::Environment& env, int steps, uint64_t seed, nn::Rng& rng);
-
-// How HAC's two levels act (agent.hac; the subgoal box from the table).
-struct HacActOptions {
-  int horizon = 20;               // H: low steps per subgoal at most, subgoals per training episode
-  double test_probability = 0.3;  // a subgoal is tested (the low level acts without noise)
-  double threshold = 0.05;        // a goal is reached with every entity this close
-  rl::SubgoalBox box;
-};
-
-struct TrainOptions {
-  int steps = 20;                    // episode length (HAC: the longest, H * H)
-  bool full_goal = false;            // SAC+HER: the environment's full goal instead of a subgoal
-  config::SamplingConfig sampling;   // subgoal goal region
-  std::optional<HacActOptions> hac;  // set for HAC: two levels on the full goal
-  int chain_episodes = 1;            // consecutive episodes per reset (actors.train_chain_episodes; not HAC)
-};
-
-// Where a training episode starts.
-enum class TrainStart {
-  kReset,          // a reset of the table with the episode's seed
-  kWhereTheEnvIs,  // the state the last episode left (a chain: actors.train_chain_episodes)
-};
-
-// One training episode: a subgoal entity drawn uniformly among the subgoal entities of this
-// episode's structure (subgoals.For the present entities' catalogue identities), its goal from the subgoal region,
-// actions sampled from the policy. The episode records the subgoal, goal and ancestor mask. Empty if the physics became
-// unstable.
-std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& policy,
-                                           const rl::CatalogueSubgoals& subgoals, const TrainOptions& options,
-                                           uint64_t seed, nn::Rng& rng, TrainStart start = TrainStart::kReset);
-
-// HAC's training episode: the high level proposes `horizon` subgoals (the xy of every entity)
-// for the environment's full goal; the low level pursues each for `horizon` steps at most,
-// ending early when it reaches the subgoal or the full goal. Each subgoal is a test subgoal
-// with test_probability (the low level then takes its mean action). The episode records the
-// full goal, the subgoals, where each started and which were tests. Empty if the physics
-// became unstable.
-std::optional<rl::Episode> RunHacTrainEpisode(env::Environment& env, rl::PolicyNetwork<float>& high,
-                                              rl::PolicyNetwork<float>& low, const HacActOptions& options,
-                                              uint64_t seed, nn::Rng& rng);
 
 struct EvalOptions {
   rl::SubgoalOrder order = rl::SubgoalOrder::kDepth;
@@ -124,13 +58,6 @@ class EvalEpisodeObserver {
   };
   virtual void OnAttempt(const Attempt&) {}
 };
-
-// The options a run's config implies (episode lengths, full goal for SAC+HER and HAC, HAC's
-// levels, subgoal order by method: depth for SRICS and its selectivity ablation, random
-// otherwise).
-HacActOptions HacActOptionsFor(const config::Config& config);
-TrainOptions TrainOptionsFor(const config::Config& config);
-EvalOptions EvalOptionsFor(const config::Config& config);
 
 // One evaluation episode on the environment's own goals (Reset(seed, kEval)). `policy` null
 // is the passive baseline (it never moves). Deterministic policy (its mean action). For HAC
