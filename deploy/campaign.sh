@@ -19,7 +19,7 @@
 #     --dry-run  print what each line would do, run nothing
 #     --runs DIR where the sweep folders go (default runs/campaign; a relative DIR is taken from
 #                the repository root)
-#     --final-episodes N  episodes of the final evaluation (default 100; 0: none)
+#     --final-episodes N  episodes of the final evaluation (default 300: fewer cannot separate methods closer than ~0.01 m; 0: none)
 #     --final-eval-only   train nothing: only the final evaluations finished runs lack (beside
 #                         two queues already training)
 # Run it from anywhere; niced (10, as the graph acceptance runs are, so that neither starves the
@@ -42,7 +42,7 @@ build=$root/build
 queue=$root/deploy/configs/campaign/queue.txt
 runs=runs/campaign
 dry_run=0
-final_episodes=100
+final_episodes=300
 final_eval_only=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
