@@ -92,6 +92,7 @@ class EvalEpisode {
         const bool undone = after_attempt[other] >= options_.threshold;
         ++record.others_solved;
         record.others_undone += undone ? 1 : 0;
+        record.solved_others.push_back(other);
         if ((structure_.ancestor_mask[entity] >> other) & 1u) continue;
         ++record.independent_solved;
         record.independent_undone += undone ? 1 : 0;

@@ -48,6 +48,7 @@ class EvalEpisodeObserver {
     // threshold at the start, and how many of those ended the attempt outside it
     int others_solved = 0;
     int others_undone = 0;
+    std::vector<int> solved_others;  // which entities others_solved counted, in index order
     // the same over the objects that are not the entity's ancestors in the structure the
     // episode uses (what selectivity asks to leave alone; every object without a graph)
     int independent_solved = 0;

@@ -59,14 +59,12 @@ struct AttemptTally {
 class EpisodeRecorder : public actor::EvalEpisodeObserver {
  public:
   EpisodeRecorder(env::EpisodeRenderer* renderer, env::VideoWriter* video, std::ostream& attempts,
-                  std::map<int, AttemptTally>& tally, double threshold, const std::vector<int>& subgoal_entities,
-                  int episode)
+                  std::map<int, AttemptTally>& tally, double threshold, int episode)
       : renderer_(renderer),
         video_(video),
         attempts_(attempts),
         tally_(tally),
         threshold_(threshold),
-        subgoal_entities_(subgoal_entities),
         episode_(episode) {}
 
   void OnState(const env::Environment& env, int entity) override {
@@ -92,11 +90,7 @@ class EpisodeRecorder : public actor::EvalEpisodeObserver {
     t.others_undone += a.others_undone;
     t.independent_solved += a.independent_solved;
     t.independent_undone += a.independent_undone;
-    // the objects others_solved counts (subgoal entities but the arm and the attempted one)
-    for (int other : subgoal_entities_) {
-      if (other == 0 || other == a.entity || other >= static_cast<int>(a.distances_before.size()) ||
-          a.distances_before[other] >= threshold_)
-        continue;
+    for (int other : a.solved_others) {
       auto& [solved, undone] = t.by_object[other];
       ++solved;
       undone += a.distances_after[other] >= threshold_ ? 1 : 0;
@@ -110,7 +104,6 @@ class EpisodeRecorder : public actor::EvalEpisodeObserver {
   std::ostream& attempts_;
   std::map<int, AttemptTally>& tally_;
   double threshold_;
-  const std::vector<int>& subgoal_entities_;
   int episode_;
 };
 
@@ -262,7 +255,7 @@ int Eval(const EvalArgs& args) {
       writer.emplace((fs::path(out_dir) / video_name).string(), args.render.width, args.render.height, video);
     }
     EpisodeRecorder recorder(renderer ? &*renderer : nullptr, writer ? &*writer : nullptr, attempts_csv, tally,
-                             eval_options.threshold, subgoal_entities, i);
+                             eval_options.threshold, i);
     const auto metrics =
         actor::RunEvaluationEpisode(environment, acting, subgoals, eval_options, seed, acting_high, &recorder);
     if (writer) writer->Close();
