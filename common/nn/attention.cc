@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 
 namespace srics::nn::attention {
 
@@ -63,17 +62,10 @@ void Forward(const Sample<T>& s, int64_t embed, int64_t heads, T* weights, T* ou
 
 template <typename T>
 void Backward(const Sample<T>& s, int64_t embed, int64_t heads, const T* weights, const T* grad_out, T* grad_query,
-              T* grad_keys, T* grad_values) {
+              T* grad_keys, T* grad_values, T* score_grads) {
   const int64_t dh = embed / heads;
   const T scale = T(1) / std::sqrt(static_cast<T>(dh));
-  constexpr int64_t kOnStack = 64;  // entities of a sample (rl::kMaxEntities) fit
-  T stack_scores[kOnStack];
-  std::unique_ptr<T[]> heap_scores;
-  T* gs = stack_scores;
-  if (s.entities > kOnStack) {
-    heap_scores.reset(new T[s.entities]);
-    gs = heap_scores.get();
-  }
+  T* gs = score_grads;
   for (int64_t h = 0; h < heads; ++h) {
     const T* w = weights + h * s.entities;
     const T* go = grad_out + h * dh;
@@ -100,8 +92,8 @@ void Backward(const Sample<T>& s, int64_t embed, int64_t heads, const T* weights
 template void Forward<float>(const Sample<float>&, int64_t, int64_t, float*, float*);
 template void Forward<double>(const Sample<double>&, int64_t, int64_t, double*, double*);
 template void Backward<float>(const Sample<float>&, int64_t, int64_t, const float*, const float*, float*, float*,
-                              float*);
+                              float*, float*);
 template void Backward<double>(const Sample<double>&, int64_t, int64_t, const double*, const double*, double*, double*,
-                               double*);
+                               double*, double*);
 
 }  // namespace srics::nn::attention

@@ -31,16 +31,17 @@ void Forward(const Sample<T>& s, int64_t embed, int64_t heads, T* weights, T* ou
 
 // The gradients of Forward's output `grad_out` (embed values) with respect to the query, the keys
 // and the values, added to grad_query (embed values), grad_keys and grad_values (rows as keys and
-// values, row_stride apart); any of them may be null (not needed). `weights` are Forward's.
+// values, row_stride apart); any of them may be null (not needed). `weights` are Forward's;
+// score_grads is the caller's scratch of `entities` values (overwritten).
 template <typename T>
 void Backward(const Sample<T>& s, int64_t embed, int64_t heads, const T* weights, const T* grad_out, T* grad_query,
-              T* grad_keys, T* grad_values);
+              T* grad_keys, T* grad_values, T* score_grads);
 
 extern template void Forward<float>(const Sample<float>&, int64_t, int64_t, float*, float*);
 extern template void Forward<double>(const Sample<double>&, int64_t, int64_t, double*, double*);
 extern template void Backward<float>(const Sample<float>&, int64_t, int64_t, const float*, const float*, float*, float*,
-                                     float*);
+                                     float*, float*);
 extern template void Backward<double>(const Sample<double>&, int64_t, int64_t, const double*, const double*, double*,
-                                      double*, double*);
+                                      double*, double*, double*);
 
 }  // namespace srics::nn::attention

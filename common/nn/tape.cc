@@ -655,10 +655,11 @@ void Tape<T>::BackwardAttention(Node& n) {
   T* gk = nk ? nodes_[n.b].grad.data() : nullptr;
   T* gv = nv ? nodes_[n.c].grad.data() : nullptr;
   // the mask is in the weights (0 for an absent entity)
+  std::vector<T> score_grads(static_cast<size_t>(ents));
   for (Index b = 0; b < batch; ++b)
     attention::Backward(SampleOf<T>(Q, K, V, nullptr, b, ents), embed, heads, n.aux.data() + b * n.aux.cols(),
                         g.data() + b * embed, gq ? gq + b * embed : nullptr, gk ? gk + b * ents * embed : nullptr,
-                        gv ? gv + b * ents * embed : nullptr);
+                        gv ? gv + b * ents * embed : nullptr, score_grads.data());
 }
 
 template <typename T>
