@@ -77,18 +77,20 @@ SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, u
                                                        nn::Adam<float>::Options{config.sac.alpha_lr});
   const nn::ParameterList<float> trained = Join({policy_.Parameters(), q1_.Parameters(), q2_.Parameters()});
   for (int k = 1; k < threads; ++k) {
-    shard_tapes_.push_back(std::make_unique<nn::Tape<float>>());
+    shard_tapes_.push_back(std::make_unique<ShardTapes>());
     shard_grads_.push_back(std::make_unique<nn::GradientBuffer<float>>(trained));
-    shard_tapes_.back()->set_gradient_buffer(shard_grads_.back().get());
+    ShardTapes& tapes = *shard_tapes_.back();
+    for (nn::Tape<float>* tape : {&tapes.targets, &tapes.critics, &tapes.policy})
+      tape->set_gradient_buffer(shard_grads_.back().get());
   }
 }
 
-void SacAgent::ForEachShard(int batch, const std::function<void(nn::Tape<float>&, int, int, int)>& part) {
+void SacAgent::ForEachShard(int batch, const std::function<void(ShardTapes&, int, int, int)>& part) {
   const int shards = std::min(pool_.size(), batch);
   pool_.Run([&](int k) {
     if (k >= shards) return;
     const auto [begin, end] = nn::PartRows(batch, shards, k);
-    part(k == 0 ? tape_ : *shard_tapes_[k - 1], k, begin, end);
+    part(k == 0 ? tapes_ : *shard_tapes_[k - 1], k, begin, end);
   });
   for (int k = 1; k < shards; ++k) shard_grads_[k - 1]->AddInto();
 }
@@ -152,9 +154,10 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
     const nn::Tensor noise = nn::RandomNormal<float>(size, shape_.action_dim, rng_);
     std::vector<char> targets_non_finite(static_cast<size_t>(shards), 0);
     q_optimizer_->ZeroGrad();
-    ForEachShard(size, [&](nn::Tape<float>& tape, int k, int begin, int end) {
+    ForEachShard(size, [&](ShardTapes& tapes, int k, int begin, int end) {
       nn::Tensor targets;
       {
+        nn::Tape<float>& tape = tapes.targets;
         tape.Reset();
         auto ent = tape.Constant(whole ? next_entities_ : rows(next_entities_, begin, end, ents));
         auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));
@@ -173,6 +176,7 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
         return;
       }
       if (bounded_targets_) targets = targets.cwiseMax(target_low_).cwiseMin(target_high_);
+      nn::Tape<float>& tape = tapes.critics;
       tape.Reset();
       auto ent = tape.Constant(whole ? entities_ : rows(entities_, begin, end, ents));
       auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));
@@ -208,7 +212,8 @@ UpdateStats SacAgent::Update(const TrainingBatch& batch) {
   {
     const nn::Tensor noise = nn::RandomNormal<float>(size, shape_.action_dim, rng_);
     policy_optimizer_->ZeroGrad();
-    ForEachShard(size, [&](nn::Tape<float>& tape, int k, int begin, int end) {
+    ForEachShard(size, [&](ShardTapes& tapes, int k, int begin, int end) {
+      nn::Tape<float>& tape = tapes.policy;
       tape.Reset();
       auto ent = tape.Constant(whole ? entities_ : rows(entities_, begin, end, ents));
       auto mask = tape.Constant(whole ? mask_ : rows(mask_, begin, end, 1));

@@ -95,7 +95,9 @@ class SacAgent {
   double alpha() const;
   // Logs the shape of every matrix product of the following updates (benchmarks; with
   // several threads only the calling thread's shard is logged).
-  void set_gemm_log(std::vector<nn::GemmShape>* log) { tape_.set_gemm_log(log); }
+  void set_gemm_log(std::vector<nn::GemmShape>* log) {
+    for (nn::Tape<float>* tape : {&tapes_.targets, &tapes_.critics, &tapes_.policy}) tape->set_gemm_log(log);
+  }
   rl::PolicyNetwork<float>& policy() { return policy_; }
   rl::QNetwork<float>& q1() { return q1_; }
   rl::QNetwork<float>& q2() { return q2_; }
@@ -103,11 +105,19 @@ class SacAgent {
   int threads() const { return pool_.size(); }
 
  private:
+  // One tape per pass of an update: a tape keeps its nodes' buffers from one pass to the next,
+  // which is free only when the pass records the same ops with the same shapes every time. One
+  // tape for all three passes reallocated most buffers twice per update; at batch 2048 those are
+  // over glibc's 1 MiB mmap threshold (process::ReturnBigBlocksToTheSystem), so every pass paid
+  // page faults and munmaps: ~30% of a batch-2048 run's CPU time (perf, 2026-12-06).
+  struct ShardTapes {
+    nn::Tape<float> targets, critics, policy;
+  };
   void LoadBatch(const TrainingBatch& batch);
-  // Runs part(tape, k, begin, end) for each shard k of the batch's samples [begin, end),
-  // shard 0 on the calling thread; tape k > 0 writes gradients into its own buffer, which
-  // is added into Parameter::grad (shard order) when all are done.
-  void ForEachShard(int batch, const std::function<void(nn::Tape<float>&, int, int, int)>& part);
+  // Runs part(tapes, k, begin, end) for each shard k of the batch's samples [begin, end),
+  // shard 0 on the calling thread; the tapes of shard k > 0 write gradients into its own
+  // buffer, which is added into Parameter::grad (shard order) when all are done.
+  void ForEachShard(int batch, const std::function<void(ShardTapes&, int, int, int)>& part);
 
   AgentShape shape_;
   config::AgentConfig config_;
@@ -117,10 +127,10 @@ class SacAgent {
   rl::QNetwork<float> q1_, q2_, q1_target_, q2_target_;
   nn::Parameter<float> log_alpha_;
   std::unique_ptr<nn::Adam<float>> policy_optimizer_, q_optimizer_, alpha_optimizer_;
-  nn::Tape<float> tape_;
+  ShardTapes tapes_;
   nn::WorkerPool pool_;
   // shards 1..threads-1: their tapes and gradient buffers (index k - 1)
-  std::vector<std::unique_ptr<nn::Tape<float>>> shard_tapes_;
+  std::vector<std::unique_ptr<ShardTapes>> shard_tapes_;
   std::vector<std::unique_ptr<nn::GradientBuffer<float>>> shard_grads_;
   // the current batch as matrices
   nn::Tensor entities_, next_entities_, mask_, goals_, actions_, rewards_;

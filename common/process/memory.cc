@@ -10,8 +10,11 @@ namespace srics::process {
 
 void ReturnBigBlocksToTheSystem() {
 #ifdef __GLIBC__
-  // a fixed M_MMAP_THRESHOLD also turns off the dynamic adjustment of the trim threshold
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  // a fixed M_MMAP_THRESHOLD also fixes the trim threshold (128 KiB by default): the heap's top
+  // would go back to the kernel after every update's temporaries are freed, and come back page
+  // fault by page fault in the next one
+  mallopt(M_TRIM_THRESHOLD, 16 << 20);
 #endif
 }
 

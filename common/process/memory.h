@@ -8,7 +8,9 @@ namespace srics::process {
 // freed so far (up to 32 MiB), after which big temporary buffers (a checkpoint's serialized
 // state: twice its file size) come from the heap, and freed heap blocks below live ones stay
 // resident: a learner's RSS stepped up by ~11 MiB for a whole checkpoint period in the soak.
-// The networks' hot paths reuse their buffers (nn::Tape), so they do not pay an mmap per use.
+// The networks' hot paths reuse their buffers (nn::Tape, one tape per pass of an update), so
+// they do not pay an mmap per use; the heap's top is kept up to 16 MiB, so an update's smaller
+// temporaries do not go back to the kernel and fault in again each time.
 // Called by every role process and the launcher at start; a no-op off glibc.
 void ReturnBigBlocksToTheSystem();
 

@@ -22,6 +22,7 @@
 #include "actor/explore_episode.h"
 #include "common/config/config.h"
 #include "common/nn/gemm.h"
+#include "common/process/memory.h"
 #include "learner/learner.h"
 #include "tests/bench/bench_util.h"
 
@@ -174,6 +175,9 @@ Rate SgemmGflops(nn::GemmBackend backend) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // the heap as the learner's processes set it up (before 2026-12-06 the bench left glibc's
+  // defaults and missed what big buffers cost there: page faults and munmaps at batch 2048)
+  srics::process::ReturnBigBlocksToTheSystem();
   std::string dump_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
