@@ -1,5 +1,6 @@
 #include "actor/eval_episode.h"
 
+#include <cmath>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -61,6 +62,7 @@ class EvalEpisode {
     int index = 0;
     rl::AttemptSchedule schedule(structure_, options_.order, options_.protocol, order_rng);
     std::vector<double> before_attempt;
+    AttemptTrace trace;
     auto solved = [&](int entity) {
       return entity < static_cast<int>(before_attempt.size()) && before_attempt[entity] < options_.threshold;
     };
@@ -75,11 +77,12 @@ class EvalEpisode {
       record.entity = entity;
       record.distance_before = before_attempt[entity];
       record.skipped = slot->skipped;
+      trace = AttemptTrace{};
       if (!record.skipped) {
         const env::Vec2& g = env_.goals()[entity];
         rl::WriteSubgoalToken(layout_.num_kinds, env_.layout().kinds[entity], static_cast<float>(g[0]),
                               static_cast<float>(g[1]), goal.data());
-        if (!Attempt(goal, entity, options_.attempt_steps)) return false;
+        if (!Attempt(goal, entity, options_.attempt_steps, &trace)) return false;
       }
       const std::vector<double> after_attempt = record.skipped ? before_attempt : env_.ComputeMetrics().distances;
       record.distance_after = after_attempt[entity];
@@ -93,6 +96,7 @@ class EvalEpisode {
         ++record.others_solved;
         record.others_undone += undone ? 1 : 0;
         record.solved_others.push_back(other);
+        if (undone && trace.LeftBeforeTheEntityMoved(other)) ++record.others_undone_before_moved;
         if ((structure_.ancestor_mask[entity] >> other) & 1u) continue;
         ++record.independent_solved;
         record.independent_undone += undone ? 1 : 0;
@@ -121,15 +125,34 @@ class EvalEpisode {
   }
 
  private:
+  // When, within one subgoal attempt, the attempted entity first stood kMovedM from where it
+  // began, and each entity first stood at or beyond the threshold from its goal (steps from 1;
+  // 0: not within the attempt).
+  struct AttemptTrace {
+    int entity_moved_at = 0;
+    std::vector<int> left_threshold_at;
+    bool LeftBeforeTheEntityMoved(int other) const {
+      const int left = other < static_cast<int>(left_threshold_at.size()) ? left_threshold_at[other] : 0;
+      return left > 0 && (entity_moved_at == 0 || left < entity_moved_at);
+    }
+  };
+
   // One attempt: `steps` steps towards `goal` (a token), measuring selectivity for `entity`
-  // (-1: the full goal, not measured). False when the physics became unstable.
-  bool Attempt(const nn::Tensor& goal, int entity, int steps) {
+  // (-1: the full goal, not measured) and, with `trace`, when what moved. False when the
+  // physics became unstable.
+  bool Attempt(const nn::Tensor& goal, int entity, int steps, AttemptTrace* trace = nullptr) {
+    std::vector<env::Vec2> start;
+    if (trace) {
+      start = env_.Positions();
+      trace->left_threshold_at.assign(start.size(), 0);
+    }
     for (int t = 0; t < steps; ++t) {
       observer_.Observe(env_);
       before_.assign(observer_.entities().data(), observer_.entities().data() + observer_.entities().size());
       const float* action = policy_ ? policy_->Act(observer_.entities(), goal, true, rng_).data() : zero_.data();
       if (!StepWith(env_, action, env_.action_dim(), nullptr)) return false;
       if (watcher_) watcher_->OnState(env_, entity);
+      if (trace) Trace(entity, start, t + 1, trace);
       if (entity >= 0) {
         const nn::Tensor& after = observer_.Observe(env_);
         const uint64_t ancestors = entity < structure_.num_entities() ? structure_.ancestor_mask[entity] : 0;
@@ -141,6 +164,17 @@ class EvalEpisode {
       }
     }
     return true;
+  }
+
+  void Trace(int entity, const std::vector<env::Vec2>& start, int step, AttemptTrace* trace) const {
+    if (trace->entity_moved_at == 0) {
+      const env::Vec2 now = env_.Positions()[entity];
+      if (std::hypot(now[0] - start[entity][0], now[1] - start[entity][1]) >= EvalEpisodeObserver::Attempt::kMovedM)
+        trace->entity_moved_at = step;
+    }
+    const std::vector<double> distances = env_.ComputeMetrics().distances;
+    for (size_t e = 0; e < distances.size() && e < trace->left_threshold_at.size(); ++e)
+      if (trace->left_threshold_at[e] == 0 && distances[e] >= options_.threshold) trace->left_threshold_at[e] = step;
   }
 
   env::Environment& env_;

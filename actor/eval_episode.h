@@ -49,6 +49,12 @@ class EvalEpisodeObserver {
     int others_solved = 0;
     int others_undone = 0;
     std::vector<int> solved_others;  // which entities others_solved counted, in index order
+    // of others_undone, those that left the threshold before the attempted entity had moved
+    // kMovedM from where it started: undone on the hand's way to it, while the selectivity
+    // term (a ratio of the attempted entity's motion, at its floor while that is still) could
+    // not tell knocking them from leaving them
+    int others_undone_before_moved = 0;
+    static constexpr double kMovedM = 0.01;
     // the same over the objects that are not the entity's ancestors in the structure the
     // episode uses (what selectivity asks to leave alone; every object without a graph)
     int independent_solved = 0;

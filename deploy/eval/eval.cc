@@ -45,6 +45,7 @@ struct AttemptTally {
   int reached = 0;             // ... and ended with their own subgoal within the threshold
   int others_solved = 0;       // objects solved when an attempt started
   int others_undone = 0;       // ... that the attempt left unsolved
+  int others_undone_before_moved = 0;  // ... before the attempted entity had moved (Attempt::kMovedM)
   int independent_solved = 0;  // the same over objects that are not the entity's ancestors
   int independent_undone = 0;
   // per other subgoal object: (times it was solved when an attempt started, times the attempt
@@ -81,13 +82,14 @@ class EpisodeRecorder : public actor::EvalEpisodeObserver {
               << "," << a.distance_after << "," << (reached ? 1 : 0) << "," << a.others_solved << "," << a.others_undone
               << "," << a.independent_solved << "," << a.independent_undone << ","
               << run_folder::JoinedValues(a.distances_before) << "," << run_folder::JoinedValues(a.distances_after)
-              << "\n";
+              << "," << a.others_undone_before_moved << "\n";
     if (a.skipped) return;
     AttemptTally& t = tally_[a.entity];
     ++t.attempts;
     t.reached += reached ? 1 : 0;
     t.others_solved += a.others_solved;
     t.others_undone += a.others_undone;
+    t.others_undone_before_moved += a.others_undone_before_moved;
     t.independent_solved += a.independent_solved;
     t.independent_undone += a.independent_undone;
     for (int other : a.solved_others) {
@@ -302,8 +304,10 @@ int Eval(const EvalArgs& args) {
     std::string line = "  solved objects undone by attempts on " + EntityName(entity) + ":";
     for (const auto& [other, counts] : t.by_object)
       line += " " + EntityName(other) + " " + ShareOf(counts.second, counts.first) + ",";
-    std::printf("%s beyond %.2f m %.2f\n", line.c_str(), 2 * eval_options.threshold,
-                t.others_solved ? static_cast<double>(t.pushed_far) / t.others_solved : 0.0);
+    std::printf("%s beyond %.2f m %.2f; undone before %s had moved %.0f cm: %s\n", line.c_str(),
+                2 * eval_options.threshold, t.others_solved ? static_cast<double>(t.pushed_far) / t.others_solved : 0.0,
+                EntityName(entity).c_str(), 100 * actor::EvalEpisodeObserver::Attempt::kMovedM,
+                ShareOf(t.others_undone_before_moved, t.others_undone).c_str());
   }
   std::printf("wrote %s/episodes.csv and attempts.csv\n", out_dir.c_str());
   return 0;

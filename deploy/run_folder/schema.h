@@ -70,6 +70,7 @@ inline const std::vector<std::string> kAttemptsColumns = {"episode",
                                                           "independent_solved",
                                                           "independent_undone",
                                                           "distances_before",
-                                                          "distances_after"};
+                                                          "distances_after",
+                                                          "others_undone_before_moved"};
 
 }  // namespace srics::run_folder

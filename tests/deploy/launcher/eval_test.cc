@@ -152,6 +152,8 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
   int full_length = 0, total_solved = 0;
   // (attempted entity, other object) -> (solved at the attempt's start, undone by it)
   std::map<std::pair<int, int>, std::pair<int, int>> by_pair;
+  // attempted entity -> (solved objects undone before it moved, undone)
+  std::map<int, std::pair<int, int>> undone_early;
   for (size_t episode = 0; episode < rows.size(); ++episode) {
     const auto& list = by_episode[episode];
     ASSERT_FALSE(list.empty()) << "episode " << episode;
@@ -184,6 +186,16 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
       EXPECT_LE(std::stoi(a.at("others_undone")), std::stoi(a.at("others_solved")));
       EXPECT_LE(std::stoi(a.at("independent_undone")), std::stoi(a.at("independent_solved")));
       EXPECT_LE(std::stoi(a.at("independent_solved")), std::stoi(a.at("others_solved")));
+      // of the undone ones, those knocked off before the attempted entity moved: a part, none
+      // when nothing was undone or the slot took no steps
+      const int before_moved = std::stoi(a.at("others_undone_before_moved"));
+      EXPECT_GE(before_moved, 0);
+      EXPECT_LE(before_moved, std::stoi(a.at("others_undone")));
+      if (a.at("skipped") == "1") EXPECT_EQ(before_moved, 0);
+      if (a.at("skipped") == "0") {
+        undone_early[entity].first += before_moved;
+        undone_early[entity].second += std::stoi(a.at("others_undone"));
+      }
       // the free puck 4 has only the arm as ancestor: every solved object is independent of it
       if (entity == 4) {
         EXPECT_EQ(a.at("independent_solved"), a.at("others_solved"));
@@ -243,6 +255,22 @@ TEST_F(CommittedPolicyTest, RelationalFourPolicyPlaysBetterThanPassive) {
         << "expected '" << share << "' in: " << output.substr(at, output.find('\n', at) - at);
   }
   EXPECT_GE(by_pair.size(), 6u) << "attempts met solved objects of several kinds";
+  // the summary's "undone before it had moved" shares are the column's sums; some undoing
+  // happens on the hand's way to a puck (measured: about half of it on this policy)
+  int early = 0;
+  for (const auto& [entity, counts] : undone_early) {
+    const std::string line = "solved objects undone by attempts on " +
+                             (entity == 0 ? std::string("arm") : "object " + std::to_string(entity)) + ":";
+    const size_t at = output.find(line);
+    if (counts.second == 0 || at == std::string::npos) continue;
+    char share[96];
+    std::snprintf(share, sizeof(share), "had moved 1 cm: %.2f of %d", static_cast<double>(counts.first) / counts.second,
+                  counts.second);
+    EXPECT_NE(output.substr(at, output.find('\n', at) - at).find(share), std::string::npos)
+        << "expected '" << share << "' in: " << output.substr(at, output.find('\n', at) - at);
+    early += counts.first;
+  }
+  EXPECT_GT(early, 0) << "no solved object was knocked off before the attempted one moved";
 }
 
 // actors.eval_schedule: independent_draws, the campaign's runs to 2026-12-04: 8 attempts on
