@@ -87,13 +87,6 @@ struct ServiceOptions {
 // its seed, shape, limits, status period and training episode length; state in `state_dir`.
 ServiceOptions ServiceOptionsFor(const config::Config& config, const std::string& state_dir);
 
-// The edge scores the threshold applies to: the read-out's (graph.readout: the mean weights,
-// with refinement the larger of random and training data; or the cut scores), every object ->
-// object pair made reciprocal (graph.reciprocal_object_edges; ReciprocalObjectScores) among the
-// entities that move, then the weak object pairs cut (graph.object_pair_share; CutWeakObjectPairs),
-// then, with graph.object_ties: one_way, the ties made one way by the mean weights (OneWayObjectTies).
-std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::GraphConfig& config, int action_entity);
-
 enum class StepResult {
   kWorked,  // took episodes, trained, or published
   kIdle,    // waits for episodes, or has published and only drains the source

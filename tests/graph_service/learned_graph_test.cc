@@ -1,4 +1,5 @@
 #include "graph_service/learned_graph.h"
+#include "graph_service/readout.h"
 #include "graph_service/service.h"
 #include "graph_service/trainer.h"
 
