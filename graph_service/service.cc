@@ -36,10 +36,10 @@ GraphService::GraphService(const config::GraphConfig& config, const ServiceOptio
     const DatasetShape& shape = *options_.shape;
     if (shape.layout.num_entities < 2)
       throw std::invalid_argument("GraphService: the environment needs at least 2 entities");
-    data_ = std::make_unique<GraphDataset>(GraphDataset::ForShape(shape, config_.episode_steps));
+    state_.data = std::make_unique<GraphDataset>(GraphDataset::ForShape(shape, config_.episode_steps));
     // the cut read-out swaps senders between episodes by position, which mixes identities
     // when episodes present different objects
-    if (data_->combinations() && config_.readout == config::GraphReadout::kCut)
+    if (state_.data->combinations() && config_.readout == config::GraphReadout::kCut)
       throw std::invalid_argument(
           "graph.readout: cut is not built for environments with object_sets (use mean_weight)");
   }
@@ -53,7 +53,13 @@ std::string GraphService::training_path() const {
   return options_.state_dir.empty() ? "" : options_.state_dir + "/graph_training.srics";
 }
 
+void GraphService::SyncProgress() {
+  progress_.dropped = state_.dropped;
+  progress_.refine_episodes = state_.refine_episodes;
+}
+
 void GraphService::Report() {
+  SyncProgress();
   progress_.elapsed_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   if (on_progress_) on_progress_(progress_);
 }
@@ -101,6 +107,7 @@ void GraphService::PublishStatus(bool force) {
   const auto now = std::chrono::steady_clock::now();
   if (!force && std::chrono::duration<double>(now - last_status_).count() < options_.status_period_s) return;
   last_status_ = now;
+  SyncProgress();
   const Progress& p = progress_;
   rl::NodeReport r;
   r.phase = NodePhaseOf(p.phase);
@@ -147,7 +154,7 @@ StepResult GraphService::Step(std::chrono::milliseconds wait) {
       if (config_.refine_after_publish) {
         // the refinement goes on from its training state, towards the next version
         next_version_ = published_->version + 1;
-        if (LoadTraining() && trainer_) {
+        if (LoadTraining() && state_.trainer) {
           progress_.phase = Progress::Phase::kPublished;
           StartRefinement();
         } else {
@@ -180,6 +187,7 @@ StepResult GraphService::Step(std::chrono::milliseconds wait) {
     }
     case Progress::Phase::kStopped: result = StepResult::kDone; break;
   }
+  SyncProgress();
   PublishStatus(false);
   return result;
 }
@@ -229,28 +237,11 @@ bool GraphService::LoadSaved() {
 
 void GraphService::SaveTraining() {
   const std::string path = training_path();
-  if (path.empty() || !data_) return;
-  nn::ByteWriter data, counters;
-  data_->Save(data);
-  counters.Put<int32_t>(progress_.dropped);
-  counters.Put<int32_t>(stable_);
-  // the refinement's (absent from states written before it existed)
-  counters.Put<int32_t>(refine_cursor_);
-  counters.Put<int32_t>(progress_.refine_episodes);
-  counters.Put<uint8_t>(refine_decided_ ? 1 : 0);
-  std::vector<nn::CheckpointSection> sections = {{"graph.data", "", {}, data.Take()},
-                                                 {"graph.service", "", {}, counters.Take()}};
-  if (refine_data_) {
-    nn::ByteWriter refine;
-    refine_data_->Save(refine);
-    sections.push_back({"graph.refine_data", "", {}, refine.Take()});
-  }
-  if (trainer_)
-    for (nn::CheckpointSection& section : trainer_->SaveState()) sections.push_back(std::move(section));
+  if (path.empty() || !state_.data) return;
   try {
     std::filesystem::create_directories(options_.state_dir);
-    nn::WriteCheckpoint(path, std::move(sections));
-    saved_episodes_ = data_->size();
+    nn::WriteCheckpoint(path, state_.Save());
+    saved_episodes_ = state_.data->size();
   } catch (const std::exception& e) {
     // the run goes on; a restart would only redo more work
     spdlog::warn("graph service: saving the training state failed: {}", e.what());
@@ -259,67 +250,28 @@ void GraphService::SaveTraining() {
 
 bool GraphService::LoadTraining() {
   const std::string path = training_path();
-  if (path.empty() || !data_ || !std::filesystem::exists(path)) return false;
+  if (path.empty() || !state_.data || !std::filesystem::exists(path)) return false;
   try {
-    const std::vector<nn::CheckpointSection> sections = nn::ReadCheckpoint(path);
-    auto data = std::make_unique<GraphDataset>(data_->EmptyCopy());
-    nn::ByteReader data_bytes(nn::FindSection(sections, "graph.data", path).bytes, path + ": graph.data");
-    data->Load(data_bytes);
-    if (data->size() > config_.episodes)
-      throw nn::CheckpointError(path + ": " + std::to_string(data->size()) + " episodes, the run's graph.episodes is " +
-                                std::to_string(config_.episodes));
-    nn::ByteReader counters(nn::FindSection(sections, "graph.service", path).bytes, path + ": graph.service");
-    const int dropped = counters.Get<int32_t>();
-    const int stable = counters.Get<int32_t>();
-    int refine_cursor = 0, refine_episodes = 0;
-    bool refine_decided = false;
-    if (!counters.done()) {
-      refine_cursor = counters.Get<int32_t>();
-      refine_episodes = counters.Get<int32_t>();
-      refine_decided = counters.Get<uint8_t>() != 0;
-    }
-    std::unique_ptr<GraphDataset> refine;
-    if (const auto section = std::find_if(sections.begin(), sections.end(),
-                                          [](const nn::CheckpointSection& s) { return s.name == "graph.refine_data"; });
-        section != sections.end() && config_.refine_after_publish) {
-      refine = std::make_unique<GraphDataset>(data->ForTrainingEpisodes(options_.refine_episode_steps));
-      nn::ByteReader refine_bytes(section->bytes, path + ": graph.refine_data");
-      refine->Load(refine_bytes);
-      if (refine_cursor < 0 || refine_cursor >= std::max(1, refine->size()) || refine_episodes < refine->size())
-        throw nn::CheckpointError(path + ": the refinement's counters do not fit its " +
-                                  std::to_string(refine->size()) + " episodes");
-    }
-    const bool has_trainer =
-        std::any_of(sections.begin(), sections.end(), [](const nn::CheckpointSection& s) { return s.name == "gnn"; });
-    std::unique_ptr<GnnTrainer> trainer;
-    if (data->size() >= config_.episodes) {
-      data->Split(config_.held_out_fraction, options_.seed);
-      trainer = std::make_unique<GnnTrainer>(config_, *data, options_.seed);
-      trainer->SetContactRadii(options_.contact_radius);
-      if (has_trainer) trainer->LoadState(sections, path);
-    }
+    TrainingState restored = TrainingState::Restore(
+        nn::ReadCheckpoint(path), path, *state_.data, config_,
+        {options_.seed, options_.refine_episode_steps, options_.contact_radius});
     // everything fits: take it over
-    data_ = std::move(data);
-    refine_data_ = std::move(refine);
-    refine_cursor_ = refine_cursor;
-    refine_decided_ = refine_decided;
-    progress_.refine_episodes = refine_episodes;
-    saved_episodes_ = data_->size();
-    progress_.episodes = data_->size();
-    progress_.dropped = dropped;
-    if (trainer) {
+    const int stable = restored.stable;
+    state_ = std::move(restored);
+    saved_episodes_ = state_.data->size();
+    progress_.episodes = state_.data->size();
+    if (state_.trainer) {
       progress_.phase = Progress::Phase::kTraining;
-      trainer_ = std::move(trainer);
-      action_entity_ = SelectActionEntity(*data_);
-      action_correlation_ = ActionCorrelations(*data_);
-      if (trainer_->updates() > 0) {
+      action_entity_ = SelectActionEntity(*state_.data);
+      action_correlation_ = ActionCorrelations(*state_.data);
+      if (state_.trainer->updates() > 0) {
         EvaluateGraph();  // the graph the saved state had, to compare the next one with
-        stable_ = stable;
-        progress_.stable_evaluations = stable_;
+        state_.stable = stable;
+        progress_.stable_evaluations = state_.stable;
       }
     }
-    spdlog::info("graph service: resumed from {}: {} of {} episodes, {} GNN updates", path, data_->size(),
-                 config_.episodes, trainer_ ? trainer_->updates() : 0);
+    spdlog::info("graph service: resumed from {}: {} of {} episodes, {} GNN updates", path, state_.data->size(),
+                 config_.episodes, state_.trainer ? state_.trainer->updates() : 0);
     Report();
     return true;
   } catch (const std::exception& e) {
@@ -339,23 +291,23 @@ StepResult GraphService::CollectStep(std::chrono::milliseconds wait) {
     if (problem.empty() && episode.num_steps != config_.episode_steps)
       problem = "episode has " + std::to_string(episode.num_steps) + " steps, expected " +
                 std::to_string(config_.episode_steps);
-    if (problem.empty() && !data_) {
+    if (problem.empty() && !state_.data) {
       // no shape given (toy worlds in tests): the first valid episode fixes it
       try {
-        data_ = std::make_unique<GraphDataset>(GraphDataset::ShapedLike(episode));
-        if (data_->num_entities() < 2) {
-          data_.reset();
+        state_.data = std::make_unique<GraphDataset>(GraphDataset::ShapedLike(episode));
+        if (state_.data->num_entities() < 2) {
+          state_.data.reset();
           problem = "fewer than 2 entities";
         }
       } catch (const std::exception& e) {
         problem = e.what();
       }
     }
-    if (problem.empty() && data_) problem = data_->Add(episode);
+    if (problem.empty() && state_.data) problem = state_.data->Add(episode);
     if (problem.empty()) {
       ++progress_.episodes;
     } else {
-      ++progress_.dropped;
+      ++state_.dropped;
       progress_.last_drop_reason = problem;
     }
   }
@@ -382,37 +334,37 @@ StepResult GraphService::CollectStep(std::chrono::milliseconds wait) {
 
 void GraphService::StartTraining() {
   progress_.phase = Progress::Phase::kTraining;
-  data_->Split(config_.held_out_fraction, options_.seed);
-  trainer_ = std::make_unique<GnnTrainer>(config_, *data_, options_.seed);
-  trainer_->SetContactRadii(options_.contact_radius);
-  action_entity_ = SelectActionEntity(*data_);
-  action_correlation_ = ActionCorrelations(*data_);
-  stable_ = 0;
+  state_.data->Split(config_.held_out_fraction, options_.seed);
+  state_.trainer = std::make_unique<GnnTrainer>(config_, *state_.data, options_.seed);
+  state_.trainer->SetContactRadii(options_.contact_radius);
+  action_entity_ = SelectActionEntity(*state_.data);
+  action_correlation_ = ActionCorrelations(*state_.data);
+  state_.stable = 0;
   Report();
 }
 
 void GraphService::UpdateModel() {
-  trainer_->Update();
-  if (trainer_->skipped_in_a_row() == 0) return;
-  progress_.skipped_updates = trainer_->skipped_updates();
-  if (trainer_->skipped_in_a_row() == 1)  // once per streak: GnnTrainingDivergedError ends a long one
+  state_.trainer->Update();
+  if (state_.trainer->skipped_in_a_row() == 0) return;
+  progress_.skipped_updates = state_.trainer->skipped_updates();
+  if (state_.trainer->skipped_in_a_row() == 1)  // once per streak: GnnTrainingDivergedError ends a long one
     spdlog::warn(
         "graph service: GNN update {} skipped: a non-finite loss or an unusable gradient "
         "({} so far; graph.max_skipped_updates_in_a_row: {})",
-        trainer_->updates(), trainer_->skipped_updates(), config_.max_skipped_updates_in_a_row);
+        state_.trainer->updates(), state_.trainer->skipped_updates(), config_.max_skipped_updates_in_a_row);
 }
 
 void GraphService::TrainStep() {
-  for (int i = 0; i < options_.updates_per_step && trainer_->updates() < config_.max_updates; ++i) {
+  for (int i = 0; i < options_.updates_per_step && state_.trainer->updates() < config_.max_updates; ++i) {
     UpdateModel();
-    if (trainer_->updates() % config_.eval_every_updates == 0) break;  // evaluate at the boundary
+    if (state_.trainer->updates() % config_.eval_every_updates == 0) break;  // evaluate at the boundary
   }
   const bool at_eval =
-      trainer_->updates() % config_.eval_every_updates == 0 || trainer_->updates() >= config_.max_updates;
+      state_.trainer->updates() % config_.eval_every_updates == 0 || state_.trainer->updates() >= config_.max_updates;
   if (!at_eval) return;
   EvaluateGraph();
-  const bool stable = stable_ >= config_.stable_evaluations && trainer_->updates() >= config_.min_updates;
-  if (stable || trainer_->updates() >= config_.max_updates)
+  const bool stable = state_.stable >= config_.stable_evaluations && state_.trainer->updates() >= config_.min_updates;
+  if (stable || state_.trainer->updates() >= config_.max_updates)
     Finish();
   else
     SaveTraining();
@@ -420,31 +372,31 @@ void GraphService::TrainStep() {
 
 void GraphService::EvaluateGraph() {
   // held-out loss and the thresholded graph of the read-out's edge scores
-  const EdgeStatistics stats = trainer_->Evaluate();
+  const EdgeStatistics stats = state_.trainer->Evaluate();
   const bool cut = config_.readout == config::GraphReadout::kCut;
   const std::vector<double> scores = ReadOutScores(stats, config_, action_entity_);
   LearnedGraph graph =
-      AggregateGraph(data_->graph_entities(), scores, cut ? config_.cut_threshold : config_.threshold, action_entity_);
-  graph.readout = cut ? "cut" : trainer_->ApartWeights() ? "mean_weight_apart" : "mean_weight";
+      AggregateGraph(state_.data->graph_entities(), scores, cut ? config_.cut_threshold : config_.threshold, action_entity_);
+  graph.readout = cut ? "cut" : state_.trainer->ApartWeights() ? "mean_weight_apart" : "mean_weight";
   graph.mean_weights = stats.mean_weight;
   graph.held_out_loss = stats.held_out_mse;
-  graph.updates = trainer_->updates();
-  graph.episodes = data_->size();
+  graph.updates = state_.trainer->updates();
+  graph.episodes = state_.data->size();
   graph.action_correlation = action_correlation_;
-  const std::vector<uint16_t> kinds = data_->graph_kinds();
+  const std::vector<uint16_t> kinds = state_.data->graph_kinds();
   graph.entity_kinds.assign(kinds.begin(), kinds.end());
   // graphs of the warm-up and the KL ramp (edges open or not yet pruned) never count as
   // stable: only evaluations after the full KL weight is reached are compared
-  const bool gated = trainer_->Settled();
-  stable_ = gated && current_ && SameStructure(current_->graph, graph.graph) ? stable_ + 1 : 0;
+  const bool gated = state_.trainer->Settled();
+  state_.stable = gated && current_ && SameStructure(current_->graph, graph.graph) ? state_.stable + 1 : 0;
   current_ = std::move(graph);
-  progress_.updates = trainer_->updates();
-  progress_.train_loss = trainer_->last_mse();
+  progress_.updates = state_.trainer->updates();
+  progress_.train_loss = state_.trainer->last_mse();
   progress_.held_out_loss = stats.held_out_mse;
   progress_.held_out_zero_loss = stats.held_out_zero_mse;
   progress_.entity_loss = stats.held_out_entity_mse;
   progress_.entity_zero_loss = stats.held_out_entity_zero_mse;
-  progress_.stable_evaluations = stable_;
+  progress_.stable_evaluations = state_.stable;
   progress_.graph = rl::DescribeGraph(current_->graph);
   progress_.edge_scores = current_->edge_scores;
   progress_.mean_weights = stats.mean_weight;
@@ -487,11 +439,11 @@ void GraphService::PublishCurrent() {
   PublishStatus(true);
 }
 
-int GraphService::RefineCapacity() const { return std::max<int>(1, static_cast<int>(data_->train_episodes().size())); }
+int GraphService::RefineCapacity() const { return std::max<int>(1, static_cast<int>(state_.data->train_episodes().size())); }
 
 double GraphService::RefineShare() const {
-  return refine_data_
-             ? config_.refine_share * std::min(1.0, static_cast<double>(refine_data_->size()) / RefineCapacity())
+  return state_.refine_data
+             ? config_.refine_share * std::min(1.0, static_cast<double>(state_.refine_data->size()) / RefineCapacity())
              : 0.0;
 }
 
@@ -501,13 +453,13 @@ void GraphService::StartRefinement() {
                  options_.refine_episode_steps, config_.window);
     return;
   }
-  if (!refine_data_)
-    refine_data_ = std::make_unique<GraphDataset>(data_->ForTrainingEpisodes(options_.refine_episode_steps));
-  trainer_->SetRefinementData(refine_data_.get(), RefineShare());
+  if (!state_.refine_data)
+    state_.refine_data = std::make_unique<GraphDataset>(state_.data->ForTrainingEpisodes(options_.refine_episode_steps));
+  state_.trainer->SetRefinementData(state_.refine_data.get(), RefineShare());
   refining_ = true;
   progress_.refining = true;
   spdlog::info("graph service: refining graph v{} from the run's training episodes ({} so far)", published_->version,
-               progress_.refine_episodes);
+               state_.refine_episodes);
 }
 
 StepResult GraphService::RefineStep(std::chrono::milliseconds wait) {
@@ -519,48 +471,48 @@ StepResult GraphService::RefineStep(std::chrono::milliseconds wait) {
     // training episodes only: late explore episodes are the first graph's kind of data
     if (episode.mode != rl::EpisodeMode::kTrain) continue;
     std::string problem = rl::ValidateEpisode(episode, options_.limits);
-    const bool full = refine_data_->size() >= capacity;
-    if (problem.empty()) problem = full ? refine_data_->Replace(refine_cursor_, episode) : refine_data_->Add(episode);
+    const bool full = state_.refine_data->size() >= capacity;
+    if (problem.empty()) problem = full ? state_.refine_data->Replace(state_.refine_cursor, episode) : state_.refine_data->Add(episode);
     if (!problem.empty()) {
-      ++progress_.dropped;
+      ++state_.dropped;
       progress_.last_drop_reason = problem;
       continue;
     }
-    if (full) refine_cursor_ = (refine_cursor_ + 1) % capacity;  // the oldest goes next
-    ++progress_.refine_episodes;
+    if (full) state_.refine_cursor = (state_.refine_cursor + 1) % capacity;  // the oldest goes next
+    ++state_.refine_episodes;
     ++taken;
     refine_budget_ += config_.refine_updates_per_episode;
-    if (progress_.refine_episodes % capacity == 0) {
+    if (state_.refine_episodes % capacity == 0) {
       // the ring holds a new set of training episodes: every gate is decided again on the
       // mixed data (a closed gate would hardly reopen), and only graphs after the new
       // warm-up and ramp count towards a publication
-      trainer_->RestartSchedule();
-      refine_decided_ = true;
-      stable_ = 0;
+      state_.trainer->RestartSchedule();
+      state_.refine_decided = true;
+      state_.stable = 0;
       spdlog::info("graph service: {} training episodes in: the edges are decided again (warm-up and KL ramp)",
-                   progress_.refine_episodes);
+                   state_.refine_episodes);
     }
   }
-  if (taken > 0) trainer_->SetRefinementData(refine_data_.get(), RefineShare());
+  if (taken > 0) state_.trainer->SetRefinementData(state_.refine_data.get(), RefineShare());
   int done = 0;
   while (done < options_.updates_per_step && refine_budget_ > 0) {
     UpdateModel();
     --refine_budget_;
     ++done;
-    if (trainer_->updates() % config_.eval_every_updates != 0) continue;
+    if (state_.trainer->updates() % config_.eval_every_updates != 0) continue;
     EvaluateGraph();
     // only graphs of a decision on training episodes, not the drift of the first graph's model
-    if (refine_decided_ && !SameStructure(current_->graph, published_->graph) &&
-        stable_ >= config_.stable_evaluations) {
+    if (state_.refine_decided && !SameStructure(current_->graph, published_->graph) &&
+        state_.stable >= config_.stable_evaluations) {
       spdlog::info("graph service: the refined graph ({}) differs from v{} ({}) for {} evaluations: publishing v{}",
                    rl::DescribeGraph(current_->graph), published_->version, rl::DescribeGraph(published_->graph),
-                   stable_, next_version_);
+                   state_.stable, next_version_);
       PublishCurrent();
     }
     SaveTraining();
     break;
   }
-  progress_.updates = trainer_->updates();
+  progress_.updates = state_.trainer->updates();
   if (taken > 0 || done > 0) Report();
   return taken > 0 || done > 0 ? StepResult::kWorked : StepResult::kIdle;
 }

@@ -27,6 +27,7 @@
 #include "graph_service/dataset.h"
 #include "graph_service/learned_graph.h"
 #include "graph_service/trainer.h"
+#include "graph_service/training_state.h"
 
 namespace srics::graph_service {
 
@@ -142,6 +143,7 @@ class GraphService {
   StepResult RefineStep(std::chrono::milliseconds wait);
   int RefineCapacity() const;  // the ring's size: the training split's
   double RefineShare() const;  // share of a batch's windows from training episodes now
+  void SyncProgress();  // the counters TrainingState keeps, into progress_
   void Report();
   void PublishStatus(bool force);
 
@@ -151,22 +153,17 @@ class GraphService {
   GraphSink* sink_;
   ProgressCallback on_progress_;
   Progress progress_;
-  std::unique_ptr<GraphDataset> data_;
-  std::unique_ptr<GnnTrainer> trainer_;
+  TrainingState state_;  // the unfinished training, saved and restored whole
   std::optional<LearnedGraph> current_;  // last evaluated graph
   std::optional<LearnedGraph> published_;
   uint64_t next_version_ = 1;
   bool started_ = false;
   bool source_closed_ = false;
-  int stable_ = 0;
   int saved_episodes_ = 0;  // data set size at the last SaveTraining
   int action_entity_ = 0;
-  // refinement: the run's training episodes (a ring as large as the training split)
-  std::unique_ptr<GraphDataset> refine_data_;
-  int refine_cursor_ = 0;      // the ring's next place once it is full
+  // refinement (its ring and counters are in state_)
   int64_t refine_budget_ = 0;  // updates owed to episodes taken in
   bool refining_ = false;
-  bool refine_decided_ = false;  // the edges were decided again on training episodes
   std::vector<double> action_correlation_;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_report_, last_status_;
