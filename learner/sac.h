@@ -107,9 +107,9 @@ class SacAgent {
  private:
   // One tape per pass of an update: a tape keeps its nodes' buffers from one pass to the next,
   // which is free only when the pass records the same ops with the same shapes every time. One
-  // tape for all three passes reallocated most buffers twice per update; at batch 2048 those are
-  // over glibc's 1 MiB mmap threshold (process::ReturnBigBlocksToTheSystem), so every pass paid
-  // page faults and munmaps: ~30% of a batch-2048 run's CPU time (perf, 2026-12-06).
+  // tape for all three passes reallocated most buffers twice per update; at batch 2048 those were
+  // over the roles' 1 MiB mmap threshold of the time, so every pass paid page faults and munmaps:
+  // ~30% of a batch-2048 run's CPU time (perf, 2026-12-06; process::SetUpHeap now).
   struct ShardTapes {
     nn::Tape<float> targets, critics, policy;
   };

@@ -157,7 +157,7 @@ std::string CheckpointBytes(const std::vector<CheckpointSection>& sections);
 // that the previous checkpoint is kept and the temporary file removed. Takes the sections (move
 // them in) and frees them once the file's bytes are built, so the process holds about one copy
 // of its state beside the state, not two, while the file is written
-// (process::ReturnBigBlocksToTheSystem says where that memory goes afterwards).
+// (process::SetUpHeap says where that memory goes afterwards).
 void WriteCheckpoint(const std::string& path, std::vector<CheckpointSection> sections, int keep = 1,
                      files::FileSystem& fs = files::FileSystem::Posix());
 

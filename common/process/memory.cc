@@ -1,6 +1,7 @@
 #include "common/process/memory.h"
 
 #include <cstdlib>  // defines __GLIBC__ on glibc
+#include <mutex>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -8,13 +9,15 @@
 
 namespace srics::process {
 
-void ReturnBigBlocksToTheSystem() {
+void SetUpHeap() {
 #ifdef __GLIBC__
-  mallopt(M_MMAP_THRESHOLD, 1 << 20);
-  // a fixed M_MMAP_THRESHOLD also fixes the trim threshold (128 KiB by default): the heap's top
-  // would go back to the kernel after every update's temporaries are freed, and come back page
-  // fault by page fault in the next one
-  mallopt(M_TRIM_THRESHOLD, 16 << 20);
+  static std::once_flag once;
+  std::call_once(once, [] {
+    // a fixed mmap threshold also fixes the trim threshold (no dynamic adjustment): set both
+    mallopt(M_MMAP_THRESHOLD, static_cast<int>(kHeapMmapThreshold));
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+    mallopt(M_TOP_PAD, 16 << 20);
+  });
 #endif
 }
 

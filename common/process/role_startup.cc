@@ -40,7 +40,7 @@ std::optional<int> ParseRoleCommandLine(int argc, char** argv, const RoleProgram
 }
 
 std::optional<int> StartRole(int argc, char** argv, const RoleProgram& program, Role* role) {
-  ReturnBigBlocksToTheSystem();
+  SetUpHeap();
   if (const auto code = ParseRoleCommandLine(argc, argv, program, &role->command_line)) return code;
   try {
     role->config = config::LoadConfig(role->command_line.config_path, role->command_line.overrides);

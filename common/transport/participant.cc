@@ -1,7 +1,5 @@
 #include "common/transport/participant.h"
 
-#include <malloc.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <map>
@@ -9,6 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "common/process/memory.h"
 #include "common/transport/dds_util.h"
 
 namespace srics::transport {
@@ -114,29 +113,13 @@ dds_qos_t* SecurityQos(const config::SecurityConfig& security) {
 
 }  // namespace
 
-namespace {
-
-// Cyclone's receive thread allocates each message's buffers and frees them once delivered.
-// glibc's defaults give a thread's arena back to the kernel whenever 128 KiB lie free at its
-// top, so every burst of episodes grew it again through page faults that zero fresh pages:
-// 8% of the receive thread at the episode rate (perf). Keeping up to 64 MiB, growing by 16 MiB
-// and serving blocks up to 32 MiB (5 MiB weights) from the heap: farm-bench, 8 pairs,
-// bench_transport's actor path 0.87 of the wall time. Process-wide, once: every DDS process
-// creates a participant.
-void KeepMallocArenas() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    mallopt(M_TRIM_THRESHOLD, 64 << 20);
-    mallopt(M_TOP_PAD, 16 << 20);
-    mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  });
-}
-
-}  // namespace
-
 Participant::Participant(const config::TransportConfig& config, Shutdown& shutdown)
     : config_(config), shutdown_(&shutdown), counters_(std::make_shared<CounterTable>()) {
-  KeepMallocArenas();
+  // Cyclone's receive thread allocates each message's buffers and frees them once delivered:
+  // with glibc's defaults every burst of episodes grew its arena again through page faults (8%
+  // of the receive thread; kept arenas: bench_transport's actor path 0.87 of the wall time,
+  // farm-bench, 8 pairs). The one heap policy of every process (process::SetUpHeap) keeps them.
+  process::SetUpHeap();
   const std::string xml = CycloneConfigFor(config);
   if (!xml.empty()) {
     std::lock_guard<std::mutex> lock(DomainMutex());

@@ -34,7 +34,7 @@ int RunCommand(const launcher::SricsCommand& command) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  srics::process::ReturnBigBlocksToTheSystem();  // the in-process runs hold a learner
+  srics::process::SetUpHeap();  // the in-process runs hold a learner
   srics::transport::Shutdown::InstallSignalHandlers();
   launcher::SricsCommand command;
   if (const auto code = launcher::ParseSricsCommandLine(argc, argv, &command)) return *code;

@@ -200,7 +200,7 @@ TEST(LearnerMemoryTest, FullReplayOf250kTransitionsAndPaperBatchStayUnder1GB) {
 // instead of staying resident until the next checkpoint (the soak saw a learner's RSS step up by
 // that much between checkpoints: +36 MB after four 15 MB checkpoints here without the setting).
 TEST(LearnerCoreTest, ACheckpointsBuffersDoNotStayResident) {
-  process::ReturnBigBlocksToTheSystem();
+  process::SetUpHeap();
   // on a thread of its own, as the learner loop
   std::thread([&] {
     const std::string path = ::testing::TempDir() + "/learner_core_resident.srics";

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <malloc.h>
 #include <sys/resource.h>
 #include <limits>
 #include <optional>
@@ -300,13 +301,14 @@ TEST(SacTest, ABatchSmallerThanTheThreadCountStillUpdates) {
 
 // An update records the same ops with the same shapes every time, so after the first one it
 // finds every buffer it needs on its tapes. With one tape for the three passes (targets,
-// critics, policy) most buffers changed shape from pass to pass and were reallocated; above
-// the role processes' 1 MiB mmap threshold each reallocation is an mmap, zeroed page by page on
-// first touch (page faults), then an munmap: ~30% of a batch-2048 run's CPU time. Here the
-// buffers are over 1 MiB (16,384 samples): 16,644 page faults per update before, 13,910 with
-// the trim threshold alone, ~450 with the tapes alone, none with both.
+// critics, policy) most buffers changed shape from pass to pass and were reallocated: ~30% of a
+// batch-2048 run's CPU time when those were mapped on their own (page faults, munmaps). Here
+// every block of 1 MiB or more is mapped on its own for the test's length, so that any
+// reallocation of the update's buffers (over 1 MiB at 16,384 samples) shows as page faults:
+// 16,644 per update with one tape, none with a tape per pass.
 TEST(SacTest, UpdatesAfterTheFirstReuseTheirBuffers) {
-  process::ReturnBigBlocksToTheSystem();  // the heap as every role process sets it up
+  process::SetUpHeap();
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   SacAgent agent(kShape, SmallConfig(), 21, 1);
   std::mt19937_64 rng(22);
   const TrainingBatch b = RandomBatch(rng, 16384, [](const float* a) { return double(a[0]); });
@@ -321,6 +323,7 @@ TEST(SacTest, UpdatesAfterTheFirstReuseTheirBuffers) {
   constexpr int kUpdates = 3;
   for (int i = 0; i < kUpdates; ++i) agent.Update(b);
   const long per_update = (minor_faults() - before) / kUpdates;
+  mallopt(M_MMAP_THRESHOLD, static_cast<int>(process::kHeapMmapThreshold));  // the policy again
   // one 16,384 x 16 float buffer alone is 256 pages
   EXPECT_LT(per_update, 64) << "page faults per update";
 }

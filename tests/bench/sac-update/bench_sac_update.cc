@@ -177,7 +177,7 @@ Rate SgemmGflops(nn::GemmBackend backend) {
 int main(int argc, char** argv) {
   // the heap as the learner's processes set it up (before 2026-12-06 the bench left glibc's
   // defaults and missed what big buffers cost there: page faults and munmaps at batch 2048)
-  srics::process::ReturnBigBlocksToTheSystem();
+  srics::process::SetUpHeap();
   std::string dump_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];

@@ -3,13 +3,17 @@
 // parallel never see each other.
 
 #include <gtest/gtest.h>
+#include <malloc.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <thread>
 
+#include "common/process/memory.h"
 #include "common/transport/endpoint.h"
 #include "common/transport/errors.h"
 #include "common/transport/validation.h"
@@ -431,6 +435,38 @@ TEST_F(TransportTest, DomainConfiguredTwiceDifferentlyIsRefused) {
   other.max_participants_per_host = 10;
   EXPECT_THROW(Participant b(other), std::invalid_argument);
   Participant same(config_);  // the same configuration shares the domain
+}
+
+// ------------------------------------------------------------- the heap
+
+// One heap policy for the process, whoever sets it up first (process::SetUpHeap): the role's
+// start does, then its participant. Before 2026-12-06 the participant set its own 32 MiB mmap
+// threshold over the role's 1 MiB, so a checkpoint's buffers stayed on the heap in every DDS
+// process.
+TEST_F(TransportTest, AParticipantKeepsTheProcesssHeapPolicy) {
+  process::SetUpHeap();
+  Participant participant(config_);
+  auto mapped_bytes = [] { return mallinfo2().hblkhd; };
+  // malloc and free as such (a new/delete pair the compiler can see through may be left out)
+  auto allocate = [](size_t bytes) {
+    char* block = static_cast<char*>(std::malloc(bytes));
+    asm volatile("" : : "r"(block) : "memory");
+    return block;
+  };
+  const size_t before = mapped_bytes();
+  // above the threshold and more than the heap has free at its top (a block that fits there
+  // is served from it): mapped on its own, given back when freed. Under the participant's old
+  // 32 MiB threshold this one came from the heap.
+  const size_t top_free = mallinfo2().keepcost;
+  char* big = allocate(std::max(process::kHeapMmapThreshold, top_free) + (size_t{4} << 20));
+  EXPECT_GE(mapped_bytes(), before + process::kHeapMmapThreshold) << "a big block came from the heap";
+  std::free(big);
+  EXPECT_LT(mapped_bytes(), before + process::kHeapMmapThreshold);
+  // 5 MiB (policy weights): from the heap, under the threshold
+  const size_t heap_before = mapped_bytes();
+  char* weights = allocate(size_t{5} << 20);
+  EXPECT_EQ(mapped_bytes(), heap_before) << "5 MiB were mapped on their own";
+  std::free(weights);
 }
 
 }  // namespace
