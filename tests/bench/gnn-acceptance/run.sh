@@ -4,9 +4,13 @@
 # seeds 1..3 each, with the default GraphConfig, one thread per run, and compares each graph
 # with the one the table implies by construction (exact match of every edge).
 #   ./tests/bench.sh gnn-acceptance [--jobs N] [--tables "a b ..."] [--seeds "1 2 3"] [--set K=V]...
-#                                   [--record DIR] [--runs "table:seed ..."]
+#                                   [--record DIR] [--runs "table:seed ..."] [--held-out] [--dry-run]
 #   tests/bench/gnn-acceptance/run.sh BUILD_DIR [same options]
 # --runs lists single runs instead of the tables x seeds grid (e.g. "table-4:3 rearrange-1:2").
+# --held-out: the held-out acceptance (issue 35): random tables 11-40, graph seeds 1-2, tables
+# no setting was ever chosen on; its own OUT (runs/gnn-acceptance-heldout) and record
+# (docs/results/gnn-acceptance-heldout) unless given. Run it once with the settings frozen and
+# report it as it came out. --dry-run prints the runs, OUT and the record folder, and stops.
 # Table names: a preset's file name without .yaml, or table-N for random table N.
 # Output in $OUT (default runs/gnn-acceptance, kept across calls): OUT/<table>-s<seed>/ holds
 # the run's log, graph.json and pictures and result.txt. Resumable: a run with a result.txt
@@ -22,8 +26,10 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/../../.." && pwd)"
 build="${1:-$root/build}"
 shift || true
-out="${OUT:-$root/runs/gnn-acceptance}"
+out="${OUT:-}"
 jobs=1
+held_out=0
+dry_run=0
 tables=""
 seeds="1 2 3"
 overrides=""  # --set K=V passed to every run (e.g. graph.onset_loss_weight=10); use another OUT
@@ -37,12 +43,36 @@ while [[ $# -gt 0 ]]; do
     --set) overrides+="--set $2 "; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
     --record) record="$2"; [[ $record == /* ]] || record="$root/$record"; shift 2 ;;
+    --held-out) held_out=1; shift ;;
+    --dry-run) dry_run=1; shift ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
+if [[ $held_out == 1 ]]; then
+  [[ -z "$tables" ]] || { echo "--held-out names its own tables (11-40): no --tables with it" >&2; exit 2; }
+  for n in $(seq 11 40); do tables+="table-$n "; done
+  seeds="1 2"
+  out="${out:-$root/runs/gnn-acceptance-heldout}"
+  record="${record:-$root/docs/results/gnn-acceptance-heldout}"
+fi
+out="${out:-$root/runs/gnn-acceptance}"
 if [[ -z "$tables" ]]; then
   for f in "$root"/deploy/configs/env/*.yaml; do tables+="$(basename "$f" .yaml) "; done
   for n in $(seq 1 10); do tables+="table-$n "; done
+fi
+pairs=""  # "table seed" lines, checked before anything runs
+if [[ -n $runs ]]; then
+  for r in $runs; do
+    [[ $r =~ ^[A-Za-z0-9_.-]+:[0-9]+$ ]] || { echo "--runs: '$r' is not table:seed" >&2; exit 2; }
+    pairs+="${r%%:*} ${r##*:}"$'\n'
+  done
+else
+  for t in $tables; do for s in $seeds; do pairs+="$t $s"$'\n'; done; done
+fi
+if [[ $dry_run == 1 ]]; then
+  printf '%s' "$pairs"
+  echo "$(printf '%s' "$pairs" | wc -l) runs; out $out; record ${record:-none}"
+  exit 0
 fi
 srics="$build/deploy/launcher/srics"
 cmake --build "$build" --target srics -j1 >/dev/null
@@ -104,15 +134,6 @@ PY
 }
 export -f run_one
 export out root srics overrides record commit cpu_model
-pairs=""  # "table seed" lines, checked before anything runs
-if [[ -n $runs ]]; then
-  for r in $runs; do
-    [[ $r =~ ^[A-Za-z0-9_.-]+:[0-9]+$ ]] || { echo "--runs: '$r' is not table:seed" >&2; exit 2; }
-    pairs+="${r%%:*} ${r##*:}"$'\n'
-  done
-else
-  for t in $tables; do for s in $seeds; do pairs+="$t $s"$'\n'; done; done
-fi
 printf '%s' "$pairs" |
   xargs -P "$jobs" -L 1 bash -c 'run_one "$0" "$1"'
 

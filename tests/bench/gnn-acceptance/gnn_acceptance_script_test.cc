@@ -1,0 +1,47 @@
+// tests/bench/gnn-acceptance/run.sh --dry-run: which runs an acceptance would make and where it
+// keeps them. The held-out set (issue 35) is random tables 11-40 with graph seeds 1-2, in folders
+// of its own, so it never mixes with the tables the settings were chosen on.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "tests/common/cli/shell_testing.h"
+
+namespace {
+
+std::pair<int, std::string> Plan(const std::string& arguments) {
+  return srics::cli::testing::Shell("'" + std::string(SRICS_SOURCE_DIR) + "/tests/bench/gnn-acceptance/run.sh' '" +
+                                    std::string(SRICS_SOURCE_DIR) + "/build' " + arguments + " --dry-run");
+}
+
+TEST(GnnAcceptanceScriptTest, HeldOutIsTablesElevenToFortyWithTwoSeedsInFoldersOfItsOwn) {
+  const auto [code, text] = Plan("--held-out");
+  ASSERT_EQ(code, 0) << text;
+  EXPECT_NE(text.find("table-11 1\ntable-11 2\ntable-12 1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("table-40 2\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("table-10 "), std::string::npos) << "a table the settings were chosen on: " << text;
+  EXPECT_EQ(text.find("table-41 "), std::string::npos) << text;
+  EXPECT_EQ(text.find(" 3\n"), std::string::npos) << "a third seed: " << text;
+  EXPECT_NE(text.find("60 runs; out " + std::string(SRICS_SOURCE_DIR) + "/runs/gnn-acceptance-heldout; record " +
+                      std::string(SRICS_SOURCE_DIR) + "/docs/results/gnn-acceptance-heldout"),
+            std::string::npos)
+      << text;
+}
+
+TEST(GnnAcceptanceScriptTest, TheDefaultSetIsThePresetsAndTablesOneToTen) {
+  const auto [code, text] = Plan("");
+  ASSERT_EQ(code, 0) << text;
+  EXPECT_NE(text.find("table-10 3\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("relational-4 1\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("table-11 "), std::string::npos) << text;
+  EXPECT_NE(text.find("record none"), std::string::npos) << text;
+}
+
+TEST(GnnAcceptanceScriptTest, HeldOutRefusesTablesOfItsOwn) {
+  const auto [code, text] = Plan("--held-out --tables table-3");
+  EXPECT_EQ(code, 2) << text;
+  EXPECT_NE(text.find("--held-out names its own tables"), std::string::npos) << text;
+}
+
+}  // namespace
