@@ -77,12 +77,12 @@ class EvalEpisode {
       record.entity = entity;
       record.distance_before = before_attempt[entity];
       record.skipped = slot->skipped;
-      trace = AttemptTrace{};
+      trace = AttemptTrace{};  // traced only for an observer (srics eval): a step's metrics cost
       if (!record.skipped) {
         const env::Vec2& g = env_.goals()[entity];
         rl::WriteSubgoalToken(layout_.num_kinds, env_.layout().kinds[entity], static_cast<float>(g[0]),
                               static_cast<float>(g[1]), goal.data());
-        if (!Attempt(goal, entity, options_.attempt_steps, &trace)) return false;
+        if (!Attempt(goal, entity, options_.attempt_steps, watcher_ ? &trace : nullptr)) return false;
       }
       const std::vector<double> after_attempt = record.skipped ? before_attempt : env_.ComputeMetrics().distances;
       record.distance_after = after_attempt[entity];
