@@ -208,8 +208,11 @@ TEST_F(TapeGradTest, GatherSumReluMatchesComposition) {
   EXPECT_THROW(t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 3, 2), std::invalid_argument);
 }
 
-TEST_F(TapeGradTest, AttentionMatchesCompositionAndDifferences) {
-  const int batch = 3, ents = 4, heads = 2, embed = 6, dh = embed / heads;
+// Head sizes 3 and 16 (the paper's: 80 = 5 x 16).
+class AttentionGradTest : public TapeGradTest, public ::testing::WithParamInterface<int> {};
+
+TEST_P(AttentionGradTest, AttentionMatchesCompositionAndDifferences) {
+  const int batch = 3, ents = 4, heads = 2, dh = GetParam(), embed = heads * dh;
   auto& q = NewVar(batch, embed);
   auto& k = NewVar(batch * ents, embed);
   auto& v = NewVar(batch * ents, embed);
@@ -262,6 +265,8 @@ TEST_F(TapeGradTest, AttentionMatchesCompositionAndDifferences) {
   EXPECT_LT((fused - ref).norm(), 1e-12);
   EXPECT_LT(GradCheck(All(), composed), kTol);
 }
+
+INSTANTIATE_TEST_SUITE_P(HeadSizes, AttentionGradTest, ::testing::Values(3, 16));
 
 TEST_F(TapeGradTest, WrongGradientIsDetected) {
   // sanity of the checker itself: a loss whose true gradient is twice what the tape sees
