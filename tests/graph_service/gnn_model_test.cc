@@ -85,45 +85,40 @@ double WindowLossGradientError(GnnModel<double>& model, const WindowBatch<double
 }
 
 // Gradients of the whole model (soft edge samples, KL included) against central differences.
+// A small model for the toy batch's entities, soft edges, the KL term on.
+GnnOptions SmallGradientOptions(const ToyBatch<double>& toy) {
+  GnnOptions o;
+  o.num_entities = 3;
+  o.input_dim = toy.data.input_dim();
+  o.hidden_dim = 3;
+  o.mlp_hidden = 4;
+  o.kl_weight = 0.1;
+  o.hard = false;
+  return o;
+}
+
 TEST(GnnModelTest, GradientsMatchFiniteDifferences) {
   ToyBatch<double> toy(4, 6, /*seed=*/3, 2, 3);
-  auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
-  auto& rng = toy.rng;
-  auto& batch = toy.batch;
-  GnnModel<double> model({.num_entities = 3,
-                          .input_dim = data.input_dim(),
-                          .hidden_dim = 3,
-                          .mlp_hidden = 4,
-                          .kl_weight = 0.1,
-                          .hard = false},
-                         rng);
+  GnnModel<double> model(SmallGradientOptions(toy), toy.rng);
   nn::ParameterList<double> params;
   model.Parameters(params);
   ASSERT_GT(params.size(), 10u);
-  EXPECT_LT(WindowLossGradientError(model, batch, rng), 1e-6);
+  EXPECT_LT(WindowLossGradientError(model, toy.batch, toy.rng), 1e-6);
 }
 
 // The same with the options of the default GraphConfig: node inputs and relative positions
 // on the edges, standardised inputs, per-entity loss weights and the gate-logit decay.
 TEST(GnnModelTest, GradientsMatchFiniteDifferencesWithEdgeInputs) {
   ToyBatch<double> toy(4, 6, /*seed=*/5, 2, 3);
-  auto& data = toy.data;  // not a structured binding: clang 14 cannot capture one
-  auto& rng = toy.rng;
-  auto& batch = toy.batch;
-  GnnModel<double> model({.num_entities = 3,
-                          .input_dim = data.input_dim(),
-                          .hidden_dim = 3,
-                          .mlp_hidden = 4,
-                          .edge_node_inputs = true,
-                          .edge_relative_scale = 0.2,
-                          .kl_weight = 0.1,
-                          .hard = false,
-                          .gate_logit_decay = 0.5},
-                         rng);
-  std::vector<double> mean(data.input_dim(), 0.1), inv_std(data.input_dim(), 2.0);
+  GnnOptions options = SmallGradientOptions(toy);
+  options.edge_node_inputs = true;
+  options.edge_relative_scale = 0.2;
+  options.gate_logit_decay = 0.5;
+  GnnModel<double> model(options, toy.rng);
+  std::vector<double> mean(toy.data.input_dim(), 0.1), inv_std(toy.data.input_dim(), 2.0);
   model.set_input_normalization(mean, inv_std);
   model.set_entity_loss_weights({1.0, 2.0, 0.5});
-  EXPECT_LT(WindowLossGradientError(model, batch, rng), 1e-6);
+  EXPECT_LT(WindowLossGradientError(model, toy.batch, toy.rng), 1e-6);
 }
 
 // Segment distances by hand: crossing paths 0; parallel ones their offset; an end point's

@@ -52,6 +52,11 @@ TEST(AggregateGraphTest, ActionEntityAndThresholdMatter) {
   EXPECT_EQ(g.structure.depth, (std::vector<int>{-1, -1, 1, -1, -1}));
 }
 
+// The graph the read-out's scores give at the config's threshold, on 5 entities, the arm 0.
+std::string ReadOutGraph(const EdgeStatistics& stats, const config::GraphConfig& config) {
+  return rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph);
+}
+
 // The mean weights relational-4 seed 1 gave on an AVX-512 EPYC (srics_no_selectivity campaign
 // run, 2026-12-02; rounded): the rope 3 -> 2 at 0.066 but 2 -> 3 at 0.057, under the paper's
 // threshold 0.06, so the graph had the rope one way only and puck 2 and 3 wrong ancestor sets.
@@ -72,7 +77,7 @@ TEST(ReadOutScoresTest, MeanWeightReadOutCompletesTheRopeBothWays) {
   config::GraphConfig config;  // defaults: mean_weight read-out, threshold 0.06, reciprocal pairs
   ASSERT_EQ(config.readout, config::GraphReadout::kMeanWeight);
   auto graph = [&](const config::GraphConfig& c) {
-    return rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, c, 0), c.threshold, 0).graph);
+    return ReadOutGraph(stats, c);
   };
   EXPECT_EQ(graph(config), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
   config.reciprocal_object_edges = false;  // the paper's read-out
@@ -108,17 +113,17 @@ TEST(ReadOutScoresTest, NothingEntersOrLeavesAnEntityThatDoesNotMove) {
   config::GraphConfig config;
   for (bool reciprocal : {true, false}) {
     config.reciprocal_object_edges = reciprocal;
-    EXPECT_EQ(rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph),
+    EXPECT_EQ(ReadOutGraph(stats, config),
               "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
   }
   // an entity that moves, however little, keeps its edges (the pair 1-4 both ways: reciprocal
   // from 1% of the largest variance on; the refinement test's toy puck moves below that)
   config.reciprocal_object_edges = true;
   stats.held_out_entity_zero_mse[1] = 1e-5;
-  EXPECT_EQ(rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph),
+  EXPECT_EQ(ReadOutGraph(stats, config),
             "action->0, 0->1, 0->2, 0->3, 0->4, 1->4, 2->3, 3->2");
   stats.held_out_entity_zero_mse[1] = 1e-4;
-  EXPECT_EQ(rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph),
+  EXPECT_EQ(ReadOutGraph(stats, config),
             "action->0, 0->1, 0->2, 0->3, 0->4, 1->4, 2->3, 3->2, 4->1");
 }
 
@@ -144,7 +149,7 @@ TEST(ReadOutScoresTest, ObjectPairsApartReplaceTheirEveryStepWeights) {
   stats.held_out_entity_zero_mse = {2.7e-3, 0, 2.8e-4, 2.3e-4, 1.8e-4};
   config::GraphConfig config;
   auto graph = [&] {
-    return rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph);
+    return ReadOutGraph(stats, config);
   };
   EXPECT_EQ(graph(), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");  // 3 -> 2 by reciprocity
   stats.apart_weight.clear();                                     // the paper's every-step weights: the contacts too
@@ -356,7 +361,7 @@ TEST(OneWayObjectTiesTest, OrdersTheTiedPucksOfTheLearnedRelationalGraphs) {
     stats.mean_weight = learned.mean_weights;
     config::GraphConfig config;
     config.object_ties = config::ObjectTies::kOneWay;
-    EXPECT_EQ(rl::DescribeGraph(AggregateGraph(5, ReadOutScores(stats, config, 0), config.threshold, 0).graph),
+    EXPECT_EQ(ReadOutGraph(stats, config),
               "action->0, 0->2, 0->3, 0->4, 2->3");
     // a one-way graph is a valid graph file
     EXPECT_TRUE(SameStructure(GraphFromJson(GraphToJson(one_way)).graph, one_way.graph));

@@ -33,6 +33,16 @@ class SerializeTest : public ::testing::Test {
       EXPECT_NE(std::string(e.what()).find(path_), std::string::npos) << e.what();
     }
   }
+  // Loads path_ into a fresh network of the same shape (other initial weights) and expects
+  // exactly params_' values.
+  void ExpectLoadsBackExactly() {
+    Rng other(10);
+    Mlp<float> copy("net", 3, {5}, 2, other);
+    ParameterList<float> cp;
+    copy.Parameters(cp);
+    LoadParameters(path_, cp);
+    for (size_t i = 0; i < params_.size(); ++i) EXPECT_EQ(params_[i]->value, cp[i]->value);
+  }
   Rng rng_{9};
   Mlp<float> mlp_;
   ParameterList<float> params_;
@@ -64,19 +74,14 @@ TEST_F(SerializeTest, SignatureNamesShapes) {
 
 TEST_F(SerializeTest, CheckpointRoundTripIsExact) {
   SaveParameters(path_, params_);
-  Rng other(10);
-  Mlp<float> copy("net", 3, {5}, 2, other);
-  ParameterList<float> cp;
-  copy.Parameters(cp);
-  LoadParameters(path_, cp);
-  for (size_t i = 0; i < params_.size(); ++i) EXPECT_EQ(params_[i]->value, cp[i]->value);
+  ExpectLoadsBackExactly();
   // several sections, e.g. weights and optimizer state
   WriteCheckpoint(
       path_, {{"policy", SignatureString(params_), Flatten(params_), {}}, {"policy.adam", "", {1.f, 2.f, 3.f}, {}}});
   const auto sections = ReadCheckpoint(path_);
   ASSERT_EQ(sections.size(), 2u);
   EXPECT_EQ(FindSection(sections, "policy.adam", path_).values, (std::vector<float>{1, 2, 3}));
-  LoadSection(FindSection(sections, "policy", path_), cp, path_);
+  LoadSection(FindSection(sections, "policy", path_), params_, path_);
   EXPECT_THROW(FindSection(sections, "q1", path_), CheckpointError);
 }
 
@@ -197,12 +202,7 @@ TEST_F(SerializeTest, Version1FilesAreStillRead) {
   buf.append(reinterpret_cast<const char*>(flat.data()), flat.size() * sizeof(float));
   put(Fnv1a(buf.data(), buf.size()));
   WriteAll(path_, buf);
-  Rng other(10);
-  Mlp<float> copy("net", 3, {5}, 2, other);
-  ParameterList<float> cp;
-  copy.Parameters(cp);
-  LoadParameters(path_, cp);
-  for (size_t i = 0; i < params_.size(); ++i) EXPECT_EQ(params_[i]->value, cp[i]->value);
+  ExpectLoadsBackExactly();
   EXPECT_TRUE(ReadCheckpoint(path_)[0].bytes.empty());
 }
 
