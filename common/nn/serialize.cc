@@ -227,6 +227,11 @@ void LoadSection(const CheckpointSection& section, const ParameterList<T>& param
                           "' (signature " + h(section.signature) + " vs " + h(sig) + "; " +
                           FirstDifference(section.signature, sig) + ")");
   }
+  // the signature names every shape, so a sound file holds exactly their values
+  if (section.values.size() != static_cast<size_t>(NumScalars(params)))
+    throw CheckpointError("checkpoint " + path + ": section '" + section.name + "' holds " +
+                          std::to_string(section.values.size()) + " values, its architecture has " +
+                          std::to_string(NumScalars(params)));
   LoadFlat(params, section.values);
 }
 

@@ -87,6 +87,18 @@ TEST_F(SerializeTest, CheckpointRoundTripIsExact) {
 
 TEST_F(SerializeTest, MissingFile) { ExpectFailure("cannot open", params_); }
 
+// A sound file (its checksum right) whose section carries the architecture's signature but not
+// its number of values is refused as a checkpoint error naming both counts (the fuzzer's find:
+// it was a std::invalid_argument from LoadFlat, which callers that catch CheckpointError did not).
+TEST_F(SerializeTest, ASectionWithTheRightSignatureAndTheWrongCountIsRefused) {
+  for (const std::vector<float>& values : {std::vector<float>{}, std::vector<float>(3, 0.5f)}) {
+    WriteCheckpoint(path_, {{"parameters", SignatureString(params_), values, {}}});
+    ExpectFailure("holds " + std::to_string(values.size()) + " values, its architecture has " +
+                      std::to_string(NumScalars(params_)),
+                  params_);
+  }
+}
+
 TEST_F(SerializeTest, TruncatedFile) {
   SaveParameters(path_, params_);
   const std::string data = ReadFile(path_);
