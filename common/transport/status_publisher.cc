@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+
 #include "common/transport/rl_convert.h"
 
 namespace srics::transport {
@@ -34,6 +36,15 @@ void StatusPublisher::Publish(const rl::NodeReport& report) {
   status_.uptime_ms = static_cast<uint64_t>(
       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start_).count());
   (void)writer_.TryWrite(status_);  // a status lost to back-pressure is replaced by the next
+}
+
+bool StatusPublisher::PublishBeforeLeaving(const rl::NodeReport& report, uint32_t readers,
+                                           std::chrono::milliseconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  const bool matched = writer_.WaitForReaders(readers, timeout);
+  Publish(report);
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+  return writer_.WaitForAcks(std::max(left, std::chrono::milliseconds(0))) && matched;
 }
 
 }  // namespace srics::transport

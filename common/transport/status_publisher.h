@@ -21,6 +21,10 @@ class StatusPublisher {
   StatusPublisher(const Participant& participant, std::string role, uint32_t node_id);
   // Publishes now (does not block on back-pressure for long: status is best kept fresh).
   void Publish(const rl::NodeReport& report);
+  // Before the process leaves: waits (within `timeout`) until `readers` readers matched, then
+  // publishes and waits for their acknowledgements. A status written before a peer matched
+  // this writer never reaches it (NodeStatus is volatile); false when the time ran out.
+  bool PublishBeforeLeaving(const rl::NodeReport& report, uint32_t readers, std::chrono::milliseconds timeout);
 
  private:
   const Participant* participant_;

@@ -207,8 +207,16 @@ std::string RunGuard::CheckAlone(std::chrono::milliseconds window) {
     if (taken == tr::TakeStatus::kShutdown) return "";
     if (taken != tr::TakeStatus::kSample) continue;
     const Judgement judgement = Judge(self_, status, /*roles_started=*/false);
-    if (judgement.verdict == Verdict::kWasFirst)
+    if (judgement.verdict == Verdict::kWasFirst) {
+      // so that the first launcher's log names this one: its reader may not have matched this
+      // writer when the statuses above went out (seen under load: the first never heard of it).
+      // Two readers: this launcher's own and the first's monitor.
+      rl::NodeReport leaving;
+      leaving.phase = rl::NodePhase::kStarting;
+      leaving.detail = IncarnationDetail(self_);
+      status_.PublishBeforeLeaving(leaving, 2, std::chrono::milliseconds(3000));
       return SecondRunMessage(participant_.run_id(), participant_.config().domain_id, judgement);
+    }
   }
   return "";
 }
