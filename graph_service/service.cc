@@ -252,9 +252,9 @@ bool GraphService::LoadTraining() {
   const std::string path = training_path();
   if (path.empty() || !state_.data || !std::filesystem::exists(path)) return false;
   try {
-    TrainingState restored = TrainingState::Restore(
-        nn::ReadCheckpoint(path), path, *state_.data, config_,
-        {options_.seed, options_.refine_episode_steps, options_.contact_radius});
+    TrainingState restored =
+        TrainingState::Restore(nn::ReadCheckpoint(path), path, *state_.data, config_,
+                               {options_.seed, options_.refine_episode_steps, options_.contact_radius});
     // everything fits: take it over
     const int stable = restored.stable;
     state_ = std::move(restored);
@@ -375,8 +375,8 @@ void GraphService::EvaluateGraph() {
   const EdgeStatistics stats = state_.trainer->Evaluate();
   const bool cut = config_.readout == config::GraphReadout::kCut;
   const std::vector<double> scores = ReadOutScores(stats, config_, action_entity_);
-  LearnedGraph graph =
-      AggregateGraph(state_.data->graph_entities(), scores, cut ? config_.cut_threshold : config_.threshold, action_entity_);
+  LearnedGraph graph = AggregateGraph(state_.data->graph_entities(), scores,
+                                      cut ? config_.cut_threshold : config_.threshold, action_entity_);
   graph.readout = cut ? "cut" : state_.trainer->ApartWeights() ? "mean_weight_apart" : "mean_weight";
   graph.mean_weights = stats.mean_weight;
   graph.held_out_loss = stats.held_out_mse;
@@ -439,7 +439,9 @@ void GraphService::PublishCurrent() {
   PublishStatus(true);
 }
 
-int GraphService::RefineCapacity() const { return std::max<int>(1, static_cast<int>(state_.data->train_episodes().size())); }
+int GraphService::RefineCapacity() const {
+  return std::max<int>(1, static_cast<int>(state_.data->train_episodes().size()));
+}
 
 double GraphService::RefineShare() const {
   return state_.refine_data
@@ -454,7 +456,8 @@ void GraphService::StartRefinement() {
     return;
   }
   if (!state_.refine_data)
-    state_.refine_data = std::make_unique<GraphDataset>(state_.data->ForTrainingEpisodes(options_.refine_episode_steps));
+    state_.refine_data =
+        std::make_unique<GraphDataset>(state_.data->ForTrainingEpisodes(options_.refine_episode_steps));
   state_.trainer->SetRefinementData(state_.refine_data.get(), RefineShare());
   refining_ = true;
   progress_.refining = true;
@@ -472,7 +475,8 @@ StepResult GraphService::RefineStep(std::chrono::milliseconds wait) {
     if (episode.mode != rl::EpisodeMode::kTrain) continue;
     std::string problem = rl::ValidateEpisode(episode, options_.limits);
     const bool full = state_.refine_data->size() >= capacity;
-    if (problem.empty()) problem = full ? state_.refine_data->Replace(state_.refine_cursor, episode) : state_.refine_data->Add(episode);
+    if (problem.empty())
+      problem = full ? state_.refine_data->Replace(state_.refine_cursor, episode) : state_.refine_data->Add(episode);
     if (!problem.empty()) {
       ++state_.dropped;
       progress_.last_drop_reason = problem;

@@ -143,7 +143,7 @@ class GraphService {
   StepResult RefineStep(std::chrono::milliseconds wait);
   int RefineCapacity() const;  // the ring's size: the training split's
   double RefineShare() const;  // share of a batch's windows from training episodes now
-  void SyncProgress();  // the counters TrainingState keeps, into progress_
+  void SyncProgress();         // the counters TrainingState keeps, into progress_
   void Report();
   void PublishStatus(bool force);
 
@@ -153,7 +153,7 @@ class GraphService {
   GraphSink* sink_;
   ProgressCallback on_progress_;
   Progress progress_;
-  TrainingState state_;  // the unfinished training, saved and restored whole
+  TrainingState state_;                  // the unfinished training, saved and restored whole
   std::optional<LearnedGraph> current_;  // last evaluated graph
   std::optional<LearnedGraph> published_;
   uint64_t next_version_ = 1;

@@ -47,8 +47,7 @@ TrainingState TrainingState::Restore(const std::vector<nn::CheckpointSection>& s
   if (const auto section = std::find_if(sections.begin(), sections.end(),
                                         [](const nn::CheckpointSection& s) { return s.name == "graph.refine_data"; });
       section != sections.end() && config.refine_after_publish) {
-    state.refine_data =
-        std::make_unique<GraphDataset>(state.data->ForTrainingEpisodes(options.refine_episode_steps));
+    state.refine_data = std::make_unique<GraphDataset>(state.data->ForTrainingEpisodes(options.refine_episode_steps));
     nn::ByteReader refine_bytes(section->bytes, path + ": graph.refine_data");
     state.refine_data->Load(refine_bytes);
     if (state.refine_cursor < 0 || state.refine_cursor >= std::max(1, state.refine_data->size()) ||

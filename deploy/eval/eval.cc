@@ -41,12 +41,12 @@ std::string ShareOf(int part, int whole) {
 
 // What each attempt did, summed over episodes (printed at the end).
 struct AttemptTally {
-  int attempts = 0;            // attempts that took steps
-  int reached = 0;             // ... and ended with their own subgoal within the threshold
-  int others_solved = 0;       // objects solved when an attempt started
-  int others_undone = 0;       // ... that the attempt left unsolved
+  int attempts = 0;                    // attempts that took steps
+  int reached = 0;                     // ... and ended with their own subgoal within the threshold
+  int others_solved = 0;               // objects solved when an attempt started
+  int others_undone = 0;               // ... that the attempt left unsolved
   int others_undone_before_moved = 0;  // ... before the attempted entity had moved (Attempt::kMovedM)
-  int independent_solved = 0;  // the same over objects that are not the entity's ancestors
+  int independent_solved = 0;          // the same over objects that are not the entity's ancestors
   int independent_undone = 0;
   // per other subgoal object: (times it was solved when an attempt started, times the attempt
   // left it unsolved), and of those solved, how many ended beyond twice the threshold (knocked

@@ -76,9 +76,7 @@ TEST(ReadOutScoresTest, MeanWeightReadOutCompletesTheRopeBothWays) {
   stats.held_out_entity_zero_mse = {1e-3, 1e-9, 2e-4, 2e-4, 1.5e-4};
   config::GraphConfig config;  // defaults: mean_weight read-out, threshold 0.06, reciprocal pairs
   ASSERT_EQ(config.readout, config::GraphReadout::kMeanWeight);
-  auto graph = [&](const config::GraphConfig& c) {
-    return ReadOutGraph(stats, c);
-  };
+  auto graph = [&](const config::GraphConfig& c) { return ReadOutGraph(stats, c); };
   EXPECT_EQ(graph(config), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
   config.reciprocal_object_edges = false;  // the paper's read-out
   EXPECT_EQ(graph(config), "action->0, 0->2, 0->3, 0->4, 3->2");
@@ -113,18 +111,15 @@ TEST(ReadOutScoresTest, NothingEntersOrLeavesAnEntityThatDoesNotMove) {
   config::GraphConfig config;
   for (bool reciprocal : {true, false}) {
     config.reciprocal_object_edges = reciprocal;
-    EXPECT_EQ(ReadOutGraph(stats, config),
-              "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
+    EXPECT_EQ(ReadOutGraph(stats, config), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
   }
   // an entity that moves, however little, keeps its edges (the pair 1-4 both ways: reciprocal
   // from 1% of the largest variance on; the refinement test's toy puck moves below that)
   config.reciprocal_object_edges = true;
   stats.held_out_entity_zero_mse[1] = 1e-5;
-  EXPECT_EQ(ReadOutGraph(stats, config),
-            "action->0, 0->1, 0->2, 0->3, 0->4, 1->4, 2->3, 3->2");
+  EXPECT_EQ(ReadOutGraph(stats, config), "action->0, 0->1, 0->2, 0->3, 0->4, 1->4, 2->3, 3->2");
   stats.held_out_entity_zero_mse[1] = 1e-4;
-  EXPECT_EQ(ReadOutGraph(stats, config),
-            "action->0, 0->1, 0->2, 0->3, 0->4, 1->4, 2->3, 3->2, 4->1");
+  EXPECT_EQ(ReadOutGraph(stats, config), "action->0, 0->1, 0->2, 0->3, 0->4, 1->4, 2->3, 3->2, 4->1");
 }
 
 TEST(ReadOutScoresTest, ObjectPairsApartReplaceTheirEveryStepWeights) {
@@ -148,9 +143,7 @@ TEST(ReadOutScoresTest, ObjectPairsApartReplaceTheirEveryStepWeights) {
   // clang-format on
   stats.held_out_entity_zero_mse = {2.7e-3, 0, 2.8e-4, 2.3e-4, 1.8e-4};
   config::GraphConfig config;
-  auto graph = [&] {
-    return ReadOutGraph(stats, config);
-  };
+  auto graph = [&] { return ReadOutGraph(stats, config); };
   EXPECT_EQ(graph(), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");  // 3 -> 2 by reciprocity
   stats.apart_weight.clear();                                     // the paper's every-step weights: the contacts too
   EXPECT_EQ(graph(), "action->0, 0->2, 0->3, 0->4, 2->3, 2->4, 3->2, 3->4, 4->2, 4->3");
@@ -361,8 +354,7 @@ TEST(OneWayObjectTiesTest, OrdersTheTiedPucksOfTheLearnedRelationalGraphs) {
     stats.mean_weight = learned.mean_weights;
     config::GraphConfig config;
     config.object_ties = config::ObjectTies::kOneWay;
-    EXPECT_EQ(ReadOutGraph(stats, config),
-              "action->0, 0->2, 0->3, 0->4, 2->3");
+    EXPECT_EQ(ReadOutGraph(stats, config), "action->0, 0->2, 0->3, 0->4, 2->3");
     // a one-way graph is a valid graph file
     EXPECT_TRUE(SameStructure(GraphFromJson(GraphToJson(one_way)).graph, one_way.graph));
   }

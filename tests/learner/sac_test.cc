@@ -2,12 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <malloc.h>
+#include <sys/resource.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <malloc.h>
-#include <sys/resource.h>
 #include <limits>
 #include <optional>
 #include <utility>

@@ -162,7 +162,7 @@ TEST(CampaignScriptTest, FinishedRunsGetTheirFinalEvaluationAndFinalEvalOnlyTrai
   Output out = RunQueue(queue, runs.string(), "--final-eval-only");
   EXPECT_EQ(out.exit_code, 0) << out.text;
   EXPECT_NE(out.text.find("would evaluate " + run.string() +
-                          "'s last checkpoint over 100 episodes -> "
+                          "'s last checkpoint over 300 episodes -> "
                           "docs/results/campaign/raw/relational-4-ablations/srics_no_selectivity-seed2/final-eval*"),
             std::string::npos)
       << out.text;

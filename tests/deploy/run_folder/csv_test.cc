@@ -106,7 +106,7 @@ TEST(SchemaTest, HeadersAreTheLinesTheFilesAlwaysHad) {
             "independent_undone");
   EXPECT_EQ(HeaderLine(kAttemptsColumns),
             "episode,attempt,entity,skipped,distance_before,distance_after,reached,others_solved,others_undone,"
-            "independent_solved,independent_undone,distances_before,distances_after");
+            "independent_solved,independent_undone,distances_before,distances_after,others_undone_before_moved");
   EXPECT_EQ(HeaderLine({"a", "b"}), "a,b");
   // the committed campaign's files read by name through these columns
   const auto eval =
