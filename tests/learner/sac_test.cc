@@ -14,6 +14,7 @@
 
 #include "common/nn/serialize.h"
 #include "common/process/memory.h"
+#include "tests/sanitizer.h"
 
 namespace srics::learner {
 namespace {
@@ -307,6 +308,9 @@ TEST(SacTest, ABatchSmallerThanTheThreadCountStillUpdates) {
 // reallocation of the update's buffers (over 1 MiB at 16,384 samples) shows as page faults:
 // 16,644 per update with one tape, none with a tape per pass.
 TEST(SacTest, UpdatesAfterTheFirstReuseTheirBuffers) {
+#ifdef SRICS_TESTING_ASAN
+  GTEST_SKIP() << "AddressSanitizer's allocator replaces glibc's heap and its settings";
+#endif
   process::SetUpHeap();
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
   SacAgent agent(kShape, SmallConfig(), 21, 1);

@@ -19,6 +19,7 @@
 #include "common/transport/validation.h"
 #include "tests/common/transport/peer_process.h"
 #include "tests/common/transport/test_samples.h"
+#include "tests/sanitizer.h"
 
 namespace srics::transport {
 namespace {
@@ -444,6 +445,9 @@ TEST_F(TransportTest, DomainConfiguredTwiceDifferentlyIsRefused) {
 // threshold over the role's 1 MiB, so a checkpoint's buffers stayed on the heap in every DDS
 // process.
 TEST_F(TransportTest, AParticipantKeepsTheProcesssHeapPolicy) {
+#ifdef SRICS_TESTING_ASAN
+  GTEST_SKIP() << "AddressSanitizer's allocator replaces glibc's heap and its settings";
+#endif
   process::SetUpHeap();
   Participant participant(config_);
   auto mapped_bytes = [] { return mallinfo2().hblkhd; };
