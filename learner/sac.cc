@@ -79,9 +79,7 @@ SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, u
   for (int k = 1; k < threads; ++k) {
     shard_tapes_.push_back(std::make_unique<ShardTapes>());
     shard_grads_.push_back(std::make_unique<nn::GradientBuffer<float>>(trained));
-    ShardTapes& tapes = *shard_tapes_.back();
-    for (nn::Tape<float>* tape : {&tapes.targets, &tapes.critics, &tapes.policy})
-      tape->set_gradient_buffer(shard_grads_.back().get());
+    for (nn::Tape<float>* tape : shard_tapes_.back()->All()) tape->set_gradient_buffer(shard_grads_.back().get());
   }
 }
 

@@ -11,6 +11,7 @@
 // float summation, and deterministic for a given thread count. The random noise is drawn for
 // the whole batch on the calling thread, as with one thread.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -96,7 +97,7 @@ class SacAgent {
   // Logs the shape of every matrix product of the following updates (benchmarks; with
   // several threads only the calling thread's shard is logged).
   void set_gemm_log(std::vector<nn::GemmShape>* log) {
-    for (nn::Tape<float>* tape : {&tapes_.targets, &tapes_.critics, &tapes_.policy}) tape->set_gemm_log(log);
+    for (nn::Tape<float>* tape : tapes_.All()) tape->set_gemm_log(log);
   }
   rl::PolicyNetwork<float>& policy() { return policy_; }
   rl::QNetwork<float>& q1() { return q1_; }
@@ -112,6 +113,7 @@ class SacAgent {
   // ~30% of a batch-2048 run's CPU time (perf, 2026-12-06; process::SetUpHeap now).
   struct ShardTapes {
     nn::Tape<float> targets, critics, policy;
+    std::array<nn::Tape<float>*, 3> All() { return {&targets, &critics, &policy}; }
   };
   void LoadBatch(const TrainingBatch& batch);
   // Runs part(tapes, k, begin, end) for each shard k of the batch's samples [begin, end),

@@ -180,12 +180,14 @@ RunGuard::RunGuard(const tr::Participant& participant, const RoleShare& share)
       self_(ThisIncarnation(share)),
       status_(participant, "launcher", static_cast<uint32_t>(self_.pid)) {}
 
-void RunGuard::Publish(rl::NodePhase phase) {
+rl::NodeReport RunGuard::Report(rl::NodePhase phase) const {
   rl::NodeReport report;
   report.phase = phase;
   report.detail = IncarnationDetail(self_);
-  status_.Publish(report);
+  return report;
 }
+
+void RunGuard::Publish(rl::NodePhase phase) { status_.Publish(Report(phase)); }
 
 std::string RunGuard::CheckAlone(std::chrono::milliseconds window) {
   // the reader first: this launcher's own status is heard (and is not in the way)
@@ -211,10 +213,7 @@ std::string RunGuard::CheckAlone(std::chrono::milliseconds window) {
       // so that the first launcher's log names this one: its reader may not have matched this
       // writer when the statuses above went out (seen under load: the first never heard of it).
       // Two readers: this launcher's own and the first's monitor.
-      rl::NodeReport leaving;
-      leaving.phase = rl::NodePhase::kStarting;
-      leaving.detail = IncarnationDetail(self_);
-      status_.PublishBeforeLeaving(leaving, 2, std::chrono::milliseconds(3000));
+      status_.PublishBeforeLeaving(Report(rl::NodePhase::kStarting), 2, std::chrono::milliseconds(3000));
       return SecondRunMessage(participant_.run_id(), participant_.config().domain_id, judgement);
     }
   }

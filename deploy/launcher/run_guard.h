@@ -89,6 +89,8 @@ class RunGuard {
   const Incarnation& self() const { return self_; }
 
  private:
+  rl::NodeReport Report(rl::NodePhase phase) const;  // this launcher's status: phase and incarnation
+
   const transport::Participant& participant_;
   Incarnation self_;
   transport::StatusPublisher status_;
