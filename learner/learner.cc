@@ -45,6 +45,11 @@ Learner::Learner(const LearnerOptions& options)
         options.hac, shape_, options.high_shape, options.agent, options.learner.replay_capacity, options.max_entities,
         rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent, 1), options.learner.threads);
   }
+  const nn::GemmPrecision wanted = options.learner.precision == config::ProductPrecision::kBf16
+                                       ? nn::GemmPrecision::kBf16
+                                       : nn::GemmPrecision::kFp32;
+  agent_.SetProductPrecision(wanted);
+  if (hac_) hac_->high().SetProductPrecision(wanted);
 }
 
 std::string Learner::Ingest(rl::Episode episode) {

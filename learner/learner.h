@@ -115,6 +115,10 @@ class Learner {
   HacLevels* hac() { return hac_.get(); }
   const HacLevels* hac() const { return hac_.get(); }
   const AgentShape& shape() const { return shape_; }
+  // What learner.precision asked for the update's products, and what runs (bf16 asked on a
+  // CPU without it runs fp32).
+  bool bf16_requested() const { return options_.learner.precision == config::ProductPrecision::kBf16; }
+  nn::GemmPrecision product_precision() const { return agent_.product_precision(); }
 
  private:
   LearnerOptions options_;

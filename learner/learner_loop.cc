@@ -7,6 +7,7 @@
 #include <fstream>
 #include <thread>
 
+#include "common/nn/gemm.h"
 #include "common/rl/ground_truth.h"
 
 namespace srics::learner {
@@ -151,6 +152,13 @@ void LearnerLoop::Report(bool force) {
 
 void LearnerLoop::Start() {
   started_ = true;
+  if (learner_.bf16_requested()) {
+    if (learner_.product_precision() == nn::GemmPrecision::kBf16)
+      spdlog::info("SAC update products in bf16 ({}), fp32 weights and sums", nn::GemmBackendDescription());
+    else
+      spdlog::warn(
+          "learner.precision bf16: this CPU (or oneDNN's DNNL_MAX_CPU_ISA) has no AVX-512 BF16: products in fp32");
+  }
   if (!options_.checkpoint_path.empty()) {
     LoadNewestCheckpoint();
     ContinueVersions();  // also without a checkpoint: a learner killed before its first one

@@ -83,10 +83,16 @@ SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, u
   }
 }
 
+nn::GemmPrecision SacAgent::SetProductPrecision(nn::GemmPrecision wanted) {
+  precision_ = wanted == nn::GemmPrecision::kBf16 && !nn::Bf16ProductsAvailable() ? nn::GemmPrecision::kFp32 : wanted;
+  return precision_;
+}
+
 void SacAgent::ForEachShard(int batch, const std::function<void(ShardTapes&, int, int, int)>& part) {
   const int shards = std::min(pool_.size(), batch);
   pool_.Run([&](int k) {
     if (k >= shards) return;
+    const nn::ScopedGemmPrecision precision(precision_);  // this shard's thread, for this pass
     const auto [begin, end] = nn::PartRows(batch, shards, k);
     part(k == 0 ? tapes_ : *shard_tapes_[k - 1], k, begin, end);
   });

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "common/config/agent_config.h"
+#include "common/nn/gemm.h"
 #include "common/nn/optim.h"
 #include "common/nn/parallel.h"
 #include "common/nn/serialize.h"
@@ -105,6 +106,11 @@ class SacAgent {
   const AgentShape& shape() const { return shape_; }
   int threads() const { return pool_.size(); }
 
+  // The precision of the update's products (nn::GemmPrecision); kBf16 where the CPU lacks it
+  // stays kFp32. Returns the one in effect.
+  nn::GemmPrecision SetProductPrecision(nn::GemmPrecision wanted);
+  nn::GemmPrecision product_precision() const { return precision_; }
+
  private:
   // One tape per pass of an update: a tape keeps its nodes' buffers from one pass to the next,
   // which is free only when the pass records the same ops with the same shapes every time. One
@@ -131,6 +137,7 @@ class SacAgent {
   std::unique_ptr<nn::Adam<float>> policy_optimizer_, q_optimizer_, alpha_optimizer_;
   ShardTapes tapes_;
   nn::WorkerPool pool_;
+  nn::GemmPrecision precision_ = nn::GemmPrecision::kFp32;
   // shards 1..threads-1: their tapes and gradient buffers (index k - 1)
   std::vector<std::unique_ptr<ShardTapes>> shard_tapes_;
   std::vector<std::unique_ptr<nn::GradientBuffer<float>>> shard_grads_;

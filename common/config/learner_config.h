@@ -11,6 +11,11 @@ struct RelabelConfig {
   double sampled = 0.5;   // a goal from the goal distribution
 };
 
+// Precision of the SAC update's matrix products (not a paper setting). bf16: operands rounded
+// to bfloat16, fp32 sums, on CPUs with AVX-512 BF16 or AMX (elsewhere fp32, with a warning);
+// weights, gradients and optimizer state stay fp32 either way.
+enum class ProductPrecision { kFp32, kBf16 };
+
 struct LearnerConfig {
   uint64_t replay_capacity = 250000;  // transitions; whole episodes leave oldest first
   uint64_t warmup_steps = 10000;      // random-action transitions before the first update
@@ -35,6 +40,7 @@ struct LearnerConfig {
   // when the learner shares its cores with actors, the graph service or parallel runs; 2 on a
   // 2-core machine when the learner has both cores (docs/results.md, throughput)
   int threads = 1;
+  ProductPrecision precision = ProductPrecision::kFp32;
   RelabelConfig relabel;
 };
 

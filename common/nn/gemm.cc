@@ -7,10 +7,17 @@
 #include <string>
 
 #ifdef SRICS_WITH_ONEDNN
+#include <immintrin.h>
 #include <omp.h>
 #include <oneapi/dnnl/dnnl.h>
 #include <pthread.h>
 #include <signal.h>
+
+#include <cstdint>
+#include <map>
+#include <oneapi/dnnl/dnnl.hpp>
+#include <tuple>
+#include <vector>
 #endif
 
 namespace srics::nn {
@@ -116,6 +123,114 @@ void OneDnnSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index 
   }
 }
 
+// ---- bfloat16 products (GemmPrecision::kBf16) ----
+
+bool CpuAllowsBf16() {
+  // oneDNN's ISA values are nested bit sets: a CPU (or cap) at AMX includes every bit of BF16
+  const unsigned isa = static_cast<unsigned>(dnnl_get_effective_cpu_isa());
+  const unsigned bf16 = static_cast<unsigned>(dnnl_cpu_isa_avx512_core_bf16);
+  return (isa & bf16) == bf16 && __builtin_cpu_supports("avx512bf16") && __builtin_cpu_supports("avx512bw") &&
+         __builtin_cpu_supports("avx512vl");
+}
+
+// Rounds `count` floats to bfloat16 (nearest even), 32 per instruction. Only called where
+// CpuAllowsBf16(); compiled for those instructions alone so the build stays portable.
+__attribute__((target("avx512f,avx512bw,avx512vl,avx512bf16"))) void RoundToBf16(const float* in, uint16_t* out,
+                                                                                 size_t count) {
+  size_t i = 0;
+  for (; i + 32 <= count; i += 32) {
+    const __m512bh packed = _mm512_cvtne2ps_pbh(_mm512_loadu_ps(in + i + 16), _mm512_loadu_ps(in + i));
+    _mm512_storeu_si512(out + i, reinterpret_cast<__m512i>(packed));
+  }
+  for (; i < count; i += 16) {
+    const size_t left = count - i < 16 ? count - i : 16;
+    const __mmask16 lanes = static_cast<__mmask16>((1u << left) - 1u);
+    const __m256bh half = _mm512_cvtneps_pbh(_mm512_maskz_loadu_ps(lanes, in + i));
+    _mm256_mask_storeu_epi16(out + i, lanes, reinterpret_cast<__m256i>(half));
+  }
+}
+
+// A stored row-major matrix (rows x cols, row stride ld) as contiguous bfloat16.
+void RoundMatrix(const float* x, Eigen::Index rows, Eigen::Index cols, Eigen::Index ld, std::vector<uint16_t>* out) {
+  const size_t size = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+  if (out->size() < size) out->resize(size);
+  if (ld == cols) {
+    RoundToBf16(x, out->data(), size);
+    return;
+  }
+  for (Eigen::Index r = 0; r < rows; ++r) RoundToBf16(x + r * ld, out->data() + r * cols, static_cast<size_t>(cols));
+}
+
+// One matmul primitive per product shape, built on first use by each thread (building one
+// costs far more than running it; an update uses a few dozen shapes over and over).
+struct Bf16ProductKey {
+  Eigen::Index m, n, k, ldc;
+  bool trans_a, trans_b;
+  float beta;
+  bool operator<(const Bf16ProductKey& o) const {
+    return std::tie(m, n, k, ldc, trans_a, trans_b, beta) <
+           std::tie(o.m, o.n, o.k, o.ldc, o.trans_a, o.trans_b, o.beta);
+  }
+};
+
+struct Bf16Product {
+  dnnl::matmul::primitive_desc description;
+  dnnl::matmul primitive;
+};
+
+struct Bf16Thread {
+  dnnl::engine engine{dnnl::engine::kind::cpu, 0};
+  dnnl::stream stream{engine};
+  std::map<Bf16ProductKey, Bf16Product> products;
+  std::vector<uint16_t> a, b;  // the rounded operands, grown as needed
+};
+
+Bf16Product MakeBf16Product(const dnnl::engine& engine, const Bf16ProductKey& key) {
+  using dt = dnnl::memory::data_type;
+  using dims = dnnl::memory::dims;
+  // the rounded operands keep their stored layout: op(A) is m x k, stored k x m when transposed
+  const dnnl::memory::desc a({key.m, key.k}, dt::bf16, key.trans_a ? dims{1, key.m} : dims{key.k, 1});
+  const dnnl::memory::desc b({key.k, key.n}, dt::bf16, key.trans_b ? dims{1, key.k} : dims{key.n, 1});
+  const dnnl::memory::desc c({key.m, key.n}, dt::f32, dims{key.ldc, 1});
+  dnnl::primitive_attr attr;
+  if (key.beta != 0.0f) {
+    dnnl::post_ops sum;
+    sum.append_sum(key.beta);
+    attr.set_post_ops(sum);
+  }
+  dnnl::matmul::primitive_desc description(dnnl::matmul::desc(a, b, c), attr, engine);
+  dnnl::matmul primitive(description);
+  return {std::move(description), std::move(primitive)};
+}
+
+void OneDnnBf16Gemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a, Eigen::Index lda,
+                    const float* b, Eigen::Index ldb, float beta, float* c, Eigen::Index ldc) {
+  thread_local Bf16Thread self;
+  thread_local const bool single_threaded = (omp_set_num_threads(1), true);  // as OneDnnSgemm
+  (void)single_threaded;
+  RoundMatrix(a, ta ? k : m, ta ? m : k, lda, &self.a);
+  RoundMatrix(b, tb ? n : k, tb ? k : n, ldb, &self.b);
+  const Bf16ProductKey key{m, n, k, ldc, ta, tb, beta};
+  auto it = self.products.find(key);
+  try {
+    if (it == self.products.end()) {
+      if (self.products.size() >= 512) self.products.clear();  // shapes of another network: start over
+      it = self.products.emplace(key, MakeBf16Product(self.engine, key)).first;
+    }
+    const dnnl::matmul::primitive_desc& pd = it->second.description;
+    dnnl::memory a_memory(pd.src_desc(), self.engine, self.a.data());
+    dnnl::memory b_memory(pd.weights_desc(), self.engine, self.b.data());
+    dnnl::memory c_memory(pd.dst_desc(), self.engine, c);
+    const AsynchronousSignalsBlocked blocked;
+    it->second.primitive.execute(self.stream,
+                                 {{DNNL_ARG_SRC, a_memory}, {DNNL_ARG_WEIGHTS, b_memory}, {DNNL_ARG_DST, c_memory}});
+    self.stream.wait();
+  } catch (const dnnl::error& e) {
+    throw std::runtime_error(std::string("oneDNN bf16 product failed (") + e.what() + ") on " + std::to_string(m) +
+                             "x" + std::to_string(k) + " * " + std::to_string(k) + "x" + std::to_string(n));
+  }
+}
+
 std::string IsaName(dnnl_cpu_isa_t isa) {
   switch (isa) {
     case dnnl_cpu_isa_sse41: return "sse41";
@@ -131,7 +246,30 @@ std::string IsaName(dnnl_cpu_isa_t isa) {
 }
 #endif
 
+thread_local GemmPrecision thread_precision = GemmPrecision::kFp32;
+
 }  // namespace
+
+bool Bf16ProductsAvailable() {
+#ifdef SRICS_WITH_ONEDNN
+  static const bool available = CpuAllowsBf16();
+  return available;
+#else
+  return false;
+#endif
+}
+
+const char* GemmPrecisionName(GemmPrecision precision) { return precision == GemmPrecision::kBf16 ? "bf16" : "fp32"; }
+
+GemmPrecision ThisThreadGemmPrecision() { return thread_precision; }
+
+ScopedGemmPrecision::ScopedGemmPrecision(GemmPrecision wanted)
+    : saved_(thread_precision),
+      effective_(wanted == GemmPrecision::kBf16 && !Bf16ProductsAvailable() ? GemmPrecision::kFp32 : wanted) {
+  thread_precision = effective_;
+}
+
+ScopedGemmPrecision::~ScopedGemmPrecision() { thread_precision = saved_; }
 
 bool GemmBackendAvailable(GemmBackend backend) { return backend == GemmBackend::kEigen || kHaveOneDnn; }
 
@@ -162,6 +300,10 @@ void Sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::In
   // as the actors' single-observation path, which must not allocate, stay on Eigen (which
   // blocks them on the stack); they are a negligible share of an update's time
   if (Active() == GemmBackend::kOneDnn && k > 0 && m * n * k >= kSmallestOneDnnProduct) {
+    if (thread_precision == GemmPrecision::kBf16) {
+      OneDnnBf16Gemm(trans_a, trans_b, m, n, k, a, lda, b, ldb, beta, c, ldc);
+      return;
+    }
     OneDnnSgemm(trans_a, trans_b, m, n, k, a, lda, b, ldb, beta, c, ldc);
     return;
   }

@@ -37,11 +37,44 @@ void SetGemmBackend(GemmBackend backend);
 // "onednn (avx2)".
 std::string GemmBackendDescription();
 
+// The precision of oneDNN's products on the calling thread. kBf16 rounds both operands to
+// bfloat16 (8 bits of mantissa, round to nearest even) and accumulates in fp32 into the fp32
+// result: about twice sgemm's rate on CPUs with AVX-512 BF16 or AMX. Callers keep their
+// weights, gradients and optimizer state in fp32 (only the products' inputs are rounded).
+// Products that run on Eigen (the small ones, or the Eigen backend) stay fp32.
+enum class GemmPrecision { kFp32, kBf16 };
+
+// Whether kBf16 runs here: oneDNN in the build, the CPU has AVX-512 BF16 (AMX CPUs have it
+// too), and oneDNN's instruction-set cap (DNNL_MAX_CPU_ISA) allows it.
+bool Bf16ProductsAvailable();
+
+// "fp32" or "bf16".
+const char* GemmPrecisionName(GemmPrecision precision);
+
+// The calling thread's precision (kFp32 unless a ScopedGemmPrecision says otherwise).
+GemmPrecision ThisThreadGemmPrecision();
+
+// Sets the calling thread's precision for the guard's lifetime, then restores the one before.
+// kBf16 where Bf16ProductsAvailable() is false gives kFp32: effective() says which.
+class ScopedGemmPrecision {
+ public:
+  explicit ScopedGemmPrecision(GemmPrecision wanted);
+  ~ScopedGemmPrecision();
+  ScopedGemmPrecision(const ScopedGemmPrecision&) = delete;
+  ScopedGemmPrecision& operator=(const ScopedGemmPrecision&) = delete;
+  GemmPrecision effective() const { return effective_; }
+
+ private:
+  GemmPrecision saved_;
+  GemmPrecision effective_;
+};
+
 // C = op(A) * op(B) + beta * C for row-major float matrices, op(X) = X^T when trans_x is set.
 // op(A) is m x k, op(B) is k x n, C is m x n; lda, ldb, ldc are the row strides as stored.
 // beta 0 overwrites C (whatever it held, NaN included). Runs on the calling thread only.
 // Products of fewer than 2^19 multiply-adds run on Eigen whatever the backend: oneDNN
-// allocates heap buffers on every call, and the actors' action path must not allocate.
+// allocates heap buffers on every call, and the actors' action path must not allocate. On
+// oneDNN, in the calling thread's precision (ThisThreadGemmPrecision).
 void Sgemm(bool trans_a, bool trans_b, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a, Eigen::Index lda,
            const float* b, Eigen::Index ldb, float beta, float* c, Eigen::Index ldc);
 

@@ -286,6 +286,52 @@ TEST(SacTest, UpdatesWithTwoThreadsAreDeterministic) {
   EXPECT_EQ(nn::Flatten(a.q2().Parameters()), nn::Flatten(b.q2().Parameters()));
 }
 
+// learner.precision bf16: the paper's network sizes (products large enough for oneDNN), the
+// same agent and batches in fp32 and bf16. bf16 rounds each product's operands to 8 bits of
+// mantissa: the update's statistics and gradients stay within a few per cent, and differ.
+config::AgentConfig PaperSizedConfig() {
+  config::AgentConfig c;  // embed 80 in 5 heads, policy [128, 128], Q [128, 128, 128]
+  c.sac.batch_size = 512;
+  return c;
+}
+
+TEST(SacTest, Bf16ProductsGiveTheFp32UpdateWithinBfloat16Rounding) {
+  SacAgent fp32(kShape, PaperSizedConfig(), 31, 1);
+  SacAgent bf16(kShape, PaperSizedConfig(), 31, 1);
+  const nn::GemmPrecision effective = bf16.SetProductPrecision(nn::GemmPrecision::kBf16);
+  EXPECT_EQ(effective, nn::Bf16ProductsAvailable() ? nn::GemmPrecision::kBf16 : nn::GemmPrecision::kFp32);
+  if (effective != nn::GemmPrecision::kBf16) GTEST_SKIP() << "no bf16 products on this CPU";
+  std::mt19937_64 rng(32);
+  for (int update = 0; update < 3; ++update) {
+    const TrainingBatch b = RandomBatch(rng, 512, [](const float* a) { return double(a[0] - a[1]); });
+    const UpdateStats s32 = fp32.Update(b);
+    const UpdateStats s16 = bf16.Update(b);
+    EXPECT_NEAR(s16.q_loss, s32.q_loss, 0.03 * std::abs(s32.q_loss)) << "update " << update;
+    EXPECT_NEAR(s16.policy_loss, s32.policy_loss, 0.03 * std::abs(s32.policy_loss) + 1e-3);
+    EXPECT_NEAR(s16.mean_q, s32.mean_q, 0.03 * std::abs(s32.mean_q) + 1e-3);
+    const double q_grads = RelativeDistance(Grads(bf16.q1().Parameters()), Grads(fp32.q1().Parameters()));
+    const double policy_grads = RelativeDistance(Grads(bf16.policy().Parameters()), Grads(fp32.policy().Parameters()));
+    EXPECT_LT(q_grads, 0.05) << "update " << update;
+    EXPECT_LT(policy_grads, 0.1) << "update " << update;
+    EXPECT_GT(q_grads, 1e-6) << "the bf16 agent computed in fp32";
+  }
+}
+
+TEST(SacTest, Bf16UpdatesWithTwoThreadsAreDeterministic) {
+  SacAgent a(kShape, PaperSizedConfig(), 41, 2);
+  SacAgent b(kShape, PaperSizedConfig(), 41, 2);
+  a.SetProductPrecision(nn::GemmPrecision::kBf16);
+  b.SetProductPrecision(nn::GemmPrecision::kBf16);
+  std::mt19937_64 rng_a(42), rng_b(42);
+  for (int i = 0; i < 3; ++i) {
+    const UpdateStats sa = a.Update(RandomBatch(rng_a, 512, [](const float* x) { return double(x[1]); }));
+    const UpdateStats sb = b.Update(RandomBatch(rng_b, 512, [](const float* x) { return double(x[1]); }));
+    EXPECT_EQ(sa.q_loss, sb.q_loss);
+    EXPECT_EQ(sa.policy_loss, sb.policy_loss);
+  }
+  EXPECT_EQ(a.PolicyWeights(), b.PolicyWeights());
+}
+
 TEST(SacTest, ABatchSmallerThanTheThreadCountStillUpdates) {
   // 3 threads, 2 samples: one shard per sample, the third thread idles
   SacAgent one(kShape, SmallConfig(), 14, 1);

@@ -64,6 +64,7 @@ struct Result {
   double agent_ms = 0;   // SacAgent::Update on a fixed batch
   Timing agent;          // the same with CPU time and cores obtained
   Timing agent_eigen;    // one thread only: the agent's update with Eigen's GEMM
+  Timing agent_bf16;     // one thread only, where the CPU has it: with learner.precision bf16
   double floor_ms = 0;   // one thread only: the GEMM floor
   double gflop = 0;      // GEMM work of one update (from the layer shapes, forward + backward)
   size_t gemms = 0;
@@ -136,6 +137,10 @@ Result Measure(int batch, int threads, const std::vector<rl::Episode>& episodes,
     nn::SetGemmBackend(nn::GemmBackend::kEigen);
     r.agent_eigen = Time(repeats, [&] { learner.agent().Update(fixed); });
     nn::SetGemmBackend(active);
+    if (learner.agent().SetProductPrecision(nn::GemmPrecision::kBf16) == nn::GemmPrecision::kBf16) {
+      r.agent_bf16 = Time(repeats, [&] { learner.agent().Update(fixed); });
+      learner.agent().SetProductPrecision(nn::GemmPrecision::kFp32);
+    }
     bench::GemmFloor floor(shapes);
     r.floor_ms = bench::MedianMs(repeats, [&] { floor.Run(); });
     r.gflop = floor.Flops() * 1e-9;
@@ -222,6 +227,15 @@ int main(int argc, char** argv) {
       "(this GEMM over Eigen's, by CPU time: %.2fx at 2048, %.2fx at 256)\n",
       nn::GemmBackendDescription().c_str(), big1.agent_eigen.cpu_ms, small1.agent_eigen.cpu_ms,
       big1.agent_eigen.cpu_ms / big1.agent.cpu_ms, small1.agent_eigen.cpu_ms / small1.agent.cpu_ms);
+  const bool bf16 = nn::Bf16ProductsAvailable();
+  if (bf16)
+    std::printf(
+        "bf16 products (learner.precision: bf16), the agent's update, CPU ms: %.2f at 2048 (%.2fx fp32's), %.2f at 256 "
+        "(%.2fx)\n",
+        big1.agent_bf16.cpu_ms, big1.agent_bf16.cpu_ms / big1.agent.cpu_ms, small1.agent_bf16.cpu_ms,
+        small1.agent_bf16.cpu_ms / small1.agent.cpu_ms);
+  else
+    std::printf("bf16 products: not on this CPU (no AVX-512 BF16 or AMX, or oneDNN's cap)\n");
   std::printf("\nupdates per second, 1 thread: %.1f at batch 2048, %.0f at 256; 2 threads: %.1f, %.0f\n",
               1000.0 / big1.update_ms, 1000.0 / small1.update_ms, 1000.0 / big2.update_ms, 1000.0 / small2.update_ms);
   std::printf("2 threads vs 1 (updates/s): %.2fx at batch 2048, %.2fx at 256 (agent alone: %.2fx, %.2fx)\n",
@@ -247,13 +261,15 @@ int main(int argc, char** argv) {
       "2f,\"eigen_sgemm_gflops_cpu\":%.2f,"
       "\"onednn_sgemm_gflops\":%.2f,\"onednn_sgemm_gflops_cpu\":%.2f,\"gemm_backend\":\"%s\","
       "\"agent_cpu_ms_batch2048_eigen\":%.3f,\"agent_cpu_ms_batch256_eigen\":%.3f,"
-      "\"speedup_vs_eigen_cpu_2048\":%.3f,\"speedup_vs_eigen_cpu_256\":%.3f,\"ratio\":%.3f}\n",
+      "\"speedup_vs_eigen_cpu_2048\":%.3f,\"speedup_vs_eigen_cpu_256\":%.3f,\"bf16\":%s,"
+      "\"agent_cpu_ms_batch2048_bf16\":%.3f,\"agent_cpu_ms_batch256_bf16\":%.3f,\"ratio\":%.3f}\n",
       big1.update_ms, small1.update_ms, big1.floor_ms, small1.floor_ms, big1.agent_ms, small1.agent_ms, big2.update_ms,
       small2.update_ms, big2.agent_ms, small2.agent_ms, big1.update_ms / big2.update_ms,
       small1.update_ms / small2.update_ms, big1.agent.cpu_ms, small1.agent.cpu_ms, big1.agent.cores, big2.agent.cores,
       small2.agent.cores, big2.agent.cpu_ms / big1.agent.cpu_ms, small2.agent.cpu_ms / small1.agent.cpu_ms, big1.gflop,
       small1.gflop, eigen_gflops, eigen.cpu, onednn.wall, onednn.cpu, nn::GemmBackendDescription().c_str(),
       big1.agent_eigen.cpu_ms, small1.agent_eigen.cpu_ms, big1.agent_eigen.cpu_ms / big1.agent.cpu_ms,
-      small1.agent_eigen.cpu_ms / small1.agent.cpu_ms, big1.update_ms / big1.floor_ms);
+      small1.agent_eigen.cpu_ms / small1.agent.cpu_ms, bf16 ? "true" : "false", big1.agent_bf16.cpu_ms,
+      small1.agent_bf16.cpu_ms, big1.update_ms / big1.floor_ms);
   return 0;
 }

@@ -315,6 +315,15 @@ TEST_F(ConfigFiles, LearnerThreadsDefaultToOneAndAreChecked) {
             std::string::npos);
 }
 
+TEST_F(ConfigFiles, LearnerPrecisionDefaultsToFp32AndNamesItsChoices) {
+  const std::string file = Write("precision.yaml", "");
+  EXPECT_EQ(LoadConfig(file).learner.precision, ProductPrecision::kFp32);
+  EXPECT_EQ(LoadConfig(file, {"learner.precision=bf16"}).learner.precision, ProductPrecision::kBf16);
+  const std::string error = ErrorOf([&] { LoadConfig(file, {"learner.precision=fp16"}); });
+  EXPECT_NE(error.find("learner.precision"), std::string::npos) << error;
+  EXPECT_NE(error.find("fp16"), std::string::npos) << error;
+}
+
 // ------------------------------------------------------------------------- ParseConfig
 
 TEST(ParseConfigTest, TextUsesTheGivenNameInErrors) {

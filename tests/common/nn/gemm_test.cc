@@ -224,5 +224,129 @@ TEST(GemmTest, DescribesTheBackendAndTheInstructionSetInUse) {
   }
 }
 
+// ---- bfloat16 products ----
+
+// Whether this process runs under one of the instruction-set caps CMake adds (AVX2, SSE41).
+bool UnderAnIsaCapBelowBf16() {
+  const char* cap = std::getenv("DNNL_MAX_CPU_ISA");
+  return cap && (std::string(cap) == "AVX2" || std::string(cap) == "SSE41");
+}
+
+TEST(GemmBf16Test, IsOfferedExactlyWhereTheCpuAndOneDnnsCapAllowIt) {
+  if (!GemmBackendAvailable(GemmBackend::kOneDnn)) {
+    EXPECT_FALSE(Bf16ProductsAvailable());
+    return;
+  }
+  if (UnderAnIsaCapBelowBf16()) {
+    EXPECT_FALSE(Bf16ProductsAvailable()) << "DNNL_MAX_CPU_ISA=" << std::getenv("DNNL_MAX_CPU_ISA");
+  } else {
+    EXPECT_EQ(Bf16ProductsAvailable(), __builtin_cpu_supports("avx512bf16") != 0);
+  }
+  const ScopedGemmPrecision scoped(GemmPrecision::kBf16);
+  EXPECT_EQ(scoped.effective(), Bf16ProductsAvailable() ? GemmPrecision::kBf16 : GemmPrecision::kFp32);
+  EXPECT_EQ(ThisThreadGemmPrecision(), scoped.effective());
+}
+
+// Where bf16 is not available the request falls back to fp32: the very same products.
+TEST(GemmBf16Test, WithoutTheInstructionsARequestGivesTheFp32ProductsBitForBit) {
+  if (Bf16ProductsAvailable()) GTEST_SKIP() << "this CPU multiplies in bf16 (the caps' runs check the fallback)";
+  BackendGuard guard;
+  std::mt19937 rng(13);
+  const Matrix<float> a = Random(256, 128, rng), b = Random(128, 128, rng);
+  for (GemmBackend backend : Backends()) {
+    SetGemmBackend(backend);
+    Matrix<float> fp32, requested;
+    Gemm<float>(false, false, a, b, 0.0f, fp32);
+    {
+      const ScopedGemmPrecision scoped(GemmPrecision::kBf16);
+      Gemm<float>(false, false, a, b, 0.0f, requested);
+    }
+    EXPECT_EQ(requested, fp32) << GemmBackendDescription();
+  }
+}
+
+// Every transposition, both betas, a row stride: within bfloat16's rounding of the operands
+// (each rounded to 8 bits of mantissa: a product term off by at most 2^-8 of |a||b|), and
+// really rounded (an fp32 product would be ~1000 times closer).
+TEST(GemmBf16Test, ProductsAreWithinBfloat16RoundingOfTheExactOnes) {
+  if (!Bf16ProductsAvailable()) GTEST_SKIP() << "no bf16 products on this CPU or under this cap";
+  BackendGuard guard;
+  SetGemmBackend(GemmBackend::kOneDnn);
+  const ScopedGemmPrecision scoped(GemmPrecision::kBf16);
+  std::mt19937 rng(17);
+  const std::vector<Shape> shapes = {{1280, 80, 80}, {256, 128, 128}, {80, 1280, 80}, {257, 129, 65}};
+  for (const Shape& s : shapes) {
+    for (int t = 0; t < 4; ++t) {
+      const bool ta = t & 1, tb = t & 2;
+      const Matrix<float> a = ta ? Random(s.k, s.m, rng) : Random(s.m, s.k, rng);
+      const Matrix<float> big_b = tb ? Random(s.n, s.k + 3, rng) : Random(s.k, s.n + 3, rng);
+      const auto b = tb ? big_b.block(0, 2, s.n, s.k) : big_b.block(0, 2, s.k, s.n);  // row stride + 3
+      const Matrix<float> c0 = Random(s.m, s.n, rng);
+      Matrix<float> c, acc = c0;
+      Gemm<float>(ta, tb, a, b, 0.0f, c);
+      Gemm<float>(ta, tb, a, b, 1.0f, acc);
+      double worst_share = 0, largest_error = 0;
+      for (Eigen::Index i = 0; i < s.m; ++i) {
+        for (Eigen::Index j = 0; j < s.n; ++j) {
+          double want = 0, magnitude = 0;
+          for (Eigen::Index p = 0; p < s.k; ++p) {
+            want += At(a, ta, i, p) * At(b, tb, p, j);
+            magnitude += std::abs(At(a, ta, i, p) * At(b, tb, p, j));
+          }
+          const double error = std::max(std::abs(c(i, j) - want), std::abs(acc(i, j) - (want + c0(i, j))));
+          largest_error = std::max(largest_error, error);
+          worst_share = std::max(worst_share, error / magnitude);
+        }
+      }
+      const std::string where = std::to_string(s.m) + "x" + std::to_string(s.k) + "x" + std::to_string(s.n) + " ta " +
+                                std::to_string(ta) + " tb " + std::to_string(tb);
+      EXPECT_LT(worst_share, std::ldexp(1.0, -7)) << where;
+      EXPECT_GT(largest_error, 1e-4) << where << ": no bf16 rounding visible";
+    }
+  }
+}
+
+// Values bfloat16 holds exactly multiply exactly; 1 + 2^-10 rounds to 1 (nearest even).
+TEST(GemmBf16Test, RoundsEachOperandToTheNearestBfloat16) {
+  if (!Bf16ProductsAvailable()) GTEST_SKIP() << "no bf16 products on this CPU or under this cap";
+  BackendGuard guard;
+  SetGemmBackend(GemmBackend::kOneDnn);
+  std::mt19937 rng(19);
+  std::uniform_int_distribution<int> small(-8, 8);
+  Matrix<float> a(128, 128), b(128, 128);
+  for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = std::ldexp(float(small(rng)), -3);
+  for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = float(small(rng));
+  Matrix<float> fp32, bf16;
+  Gemm<float>(false, false, a, b, 0.0f, fp32);
+  {
+    const ScopedGemmPrecision scoped(GemmPrecision::kBf16);
+    Gemm<float>(false, false, a, b, 0.0f, bf16);
+    EXPECT_EQ(bf16, fp32);  // exact operands, sums of integers / 8: exact in both
+    Matrix<float> ones = Matrix<float>::Constant(128, 128, 1.0f + std::ldexp(1.0f, -10)), unit, product;
+    unit.setIdentity(128, 128);
+    Gemm<float>(false, false, ones, unit, 0.0f, product);
+    EXPECT_EQ(product, Matrix<float>::Ones(128, 128));
+  }
+}
+
+// The precision is the calling thread's: another thread's products stay fp32.
+TEST(GemmBf16Test, APrecisionSetInOneThreadLeavesTheOthersAtFp32) {
+  BackendGuard guard;
+  std::mt19937 rng(23);
+  const Matrix<float> a = Random(256, 128, rng), b = Random(128, 128, rng);
+  Matrix<float> fp32;
+  Gemm<float>(false, false, a, b, 0.0f, fp32);
+  const ScopedGemmPrecision scoped(GemmPrecision::kBf16);
+  Matrix<float> other;
+  GemmPrecision seen = GemmPrecision::kBf16;
+  std::thread t([&] {
+    seen = ThisThreadGemmPrecision();
+    Gemm<float>(false, false, a, b, 0.0f, other);
+  });
+  t.join();
+  EXPECT_EQ(seen, GemmPrecision::kFp32);
+  EXPECT_EQ(other, fp32);
+}
+
 }  // namespace
 }  // namespace srics::nn
