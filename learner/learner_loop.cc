@@ -157,7 +157,9 @@ void LearnerLoop::Start() {
       spdlog::info("SAC update products in bf16 ({}), fp32 weights and sums", nn::GemmBackendDescription());
     else
       spdlog::warn(
-          "learner.precision bf16: this CPU (or oneDNN's DNNL_MAX_CPU_ISA) has no AVX-512 BF16: products in fp32");
+          "learner.precision bf16, but products run in fp32 here ({}): bf16 needs oneDNN and a CPU with AVX-512 BF16 "
+          "that DNNL_MAX_CPU_ISA allows",
+          nn::GemmBackendDescription());
   }
   if (!options_.checkpoint_path.empty()) {
     LoadNewestCheckpoint();

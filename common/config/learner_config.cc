@@ -17,7 +17,10 @@ void ParseLearner(YamlSection s, LearnerConfig* out) {
   s.ReadInt("max_skipped_updates_in_a_row", &out->max_skipped_updates_in_a_row, 0, 1 << 30);
   s.ReadBool("exploration_into_replay", &out->exploration_into_replay);
   s.ReadInt("threads", &out->threads, 1, 64);
-  s.ReadEnum("precision", &out->precision, {{"fp32", ProductPrecision::kFp32}, {"bf16", ProductPrecision::kBf16}});
+  // recorded in the resolved settings only when given: a run folder made before the key
+  // resolves to the same settings, so it resumes on this binary (run_folder_test)
+  if (s.Has("precision"))
+    s.ReadEnum("precision", &out->precision, {{"fp32", ProductPrecision::kFp32}, {"bf16", ProductPrecision::kBf16}});
   YamlSection relabel = s.Child("relabel");
   RelabelConfig& r = out->relabel;
   relabel.ReadDouble("original", &r.original, 0, 1);

@@ -133,7 +133,8 @@ bool CpuAllowsBf16() {
          __builtin_cpu_supports("avx512vl");
 }
 
-// Rounds `count` floats to bfloat16 (nearest even), 32 per instruction. Only called where
+// Rounds `count` floats to bfloat16 (nearest even; subnormals become zero, as the instruction
+// does whatever MXCSR says), 32 per instruction. Only called where
 // CpuAllowsBf16(); compiled for those instructions alone so the build stays portable.
 __attribute__((target("avx512f,avx512bw,avx512vl,avx512bf16"))) void RoundToBf16(const float* in, uint16_t* out,
                                                                                  size_t count) {
@@ -205,14 +206,14 @@ Bf16Product MakeBf16Product(const dnnl::engine& engine, const Bf16ProductKey& ke
 
 void OneDnnBf16Gemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a, Eigen::Index lda,
                     const float* b, Eigen::Index ldb, float beta, float* c, Eigen::Index ldc) {
-  thread_local Bf16Thread self;
   thread_local const bool single_threaded = (omp_set_num_threads(1), true);  // as OneDnnSgemm
   (void)single_threaded;
-  RoundMatrix(a, ta ? k : m, ta ? m : k, lda, &self.a);
-  RoundMatrix(b, tb ? n : k, tb ? k : n, ldb, &self.b);
-  const Bf16ProductKey key{m, n, k, ldc, ta, tb, beta};
-  auto it = self.products.find(key);
   try {
+    thread_local Bf16Thread self;
+    RoundMatrix(a, ta ? k : m, ta ? m : k, lda, &self.a);
+    RoundMatrix(b, tb ? n : k, tb ? k : n, ldb, &self.b);
+    const Bf16ProductKey key{m, n, k, ldc, ta, tb, beta};
+    auto it = self.products.find(key);
     if (it == self.products.end()) {
       if (self.products.size() >= 512) self.products.clear();  // shapes of another network: start over
       it = self.products.emplace(key, MakeBf16Product(self.engine, key)).first;
@@ -252,8 +253,8 @@ thread_local GemmPrecision thread_precision = GemmPrecision::kFp32;
 
 bool Bf16ProductsAvailable() {
 #ifdef SRICS_WITH_ONEDNN
-  static const bool available = CpuAllowsBf16();
-  return available;
+  static const bool cpu_allows = CpuAllowsBf16();
+  return cpu_allows && Active() == GemmBackend::kOneDnn;  // Eigen multiplies in fp32 only
 #else
   return false;
 #endif

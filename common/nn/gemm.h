@@ -38,14 +38,15 @@ void SetGemmBackend(GemmBackend backend);
 std::string GemmBackendDescription();
 
 // The precision of oneDNN's products on the calling thread. kBf16 rounds both operands to
-// bfloat16 (8 bits of mantissa, round to nearest even) and accumulates in fp32 into the fp32
-// result: about twice sgemm's rate on CPUs with AVX-512 BF16 or AMX. Callers keep their
-// weights, gradients and optimizer state in fp32 (only the products' inputs are rounded).
+// bfloat16 (8 bits of mantissa, round to nearest even, subnormals to zero) and accumulates in
+// fp32 into the fp32 result (0.77-0.80x of the SAC update's CPU time on the AVX-512 BF16 EPYC,
+// docs/benchmarks.md). Callers keep weights, gradients and optimizer state in fp32; the
+// gradients are computed from the rounded products.
 // Products that run on Eigen (the small ones, or the Eigen backend) stay fp32.
 enum class GemmPrecision { kFp32, kBf16 };
 
-// Whether kBf16 runs here: oneDNN in the build, the CPU has AVX-512 BF16 (AMX CPUs have it
-// too), and oneDNN's instruction-set cap (DNNL_MAX_CPU_ISA) allows it.
+// Whether kBf16 runs here: oneDNN in the build and the active backend, the CPU has AVX-512
+// BF16 (AMX CPUs have it too), and oneDNN's instruction-set cap (DNNL_MAX_CPU_ISA) allows it.
 bool Bf16ProductsAvailable();
 
 // "fp32" or "bf16".

@@ -126,7 +126,17 @@ std::string ConfigChangeSince(const std::string& dir, const std::string& effecti
                               const std::string& resolved_yaml) {
   if (dir.empty()) return "";
   const fs::path resolved = fs::path(dir) / "resolved-config.yaml";
-  if (fs::exists(resolved)) return FirstDifference(WithoutComments(resolved.string()), resolved_yaml + "\n");
+  if (fs::exists(resolved)) {
+    // the recorded settings as this binary resolves them: a setting added after the run
+    // started is absent there and takes its default, which is what the run had
+    std::string recorded;
+    try {
+      recorded = config::ParseConfig(WithoutComments(resolved.string()), resolved.string()).resolved_yaml;
+    } catch (const config::ConfigError& e) {
+      return std::string("its recorded settings no longer load: ") + e.what();
+    }
+    return FirstDifference(recorded + "\n", resolved_yaml + "\n");
+  }
   const fs::path merged = fs::path(dir) / "config.yaml";
   if (!fs::exists(merged)) return "";
   return FirstDifference(WithoutComments(merged.string()), effective_yaml + "\n");

@@ -318,6 +318,9 @@ TEST_F(ConfigFiles, LearnerThreadsDefaultToOneAndAreChecked) {
 TEST_F(ConfigFiles, LearnerPrecisionDefaultsToFp32AndNamesItsChoices) {
   const std::string file = Write("precision.yaml", "");
   EXPECT_EQ(LoadConfig(file).learner.precision, ProductPrecision::kFp32);
+  // not recorded unless given: older run folders resolve as they did and resume
+  EXPECT_EQ(LoadConfig(file).resolved_yaml.find("precision"), std::string::npos);
+  EXPECT_NE(LoadConfig(file, {"learner.precision=bf16"}).resolved_yaml.find("precision: bf16"), std::string::npos);
   EXPECT_EQ(LoadConfig(file, {"learner.precision=bf16"}).learner.precision, ProductPrecision::kBf16);
   const std::string error = ErrorOf([&] { LoadConfig(file, {"learner.precision=fp16"}); });
   EXPECT_NE(error.find("learner.precision"), std::string::npos) << error;

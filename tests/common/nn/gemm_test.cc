@@ -11,6 +11,7 @@
 #include <signal.h>
 #include <unistd.h>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -226,10 +227,16 @@ TEST(GemmTest, DescribesTheBackendAndTheInstructionSetInUse) {
 
 // ---- bfloat16 products ----
 
-// Whether this process runs under one of the instruction-set caps CMake adds (AVX2, SSE41).
-bool UnderAnIsaCapBelowBf16() {
-  const char* cap = std::getenv("DNNL_MAX_CPU_ISA");
-  return cap && (std::string(cap) == "AVX2" || std::string(cap) == "SSE41");
+// oneDNN's instruction-set cap, if any (it reads either variable, in any case): "" when none.
+std::string IsaCap() {
+  for (const char* name : {"ONEDNN_MAX_CPU_ISA", "DNNL_MAX_CPU_ISA"}) {
+    if (const char* cap = std::getenv(name)) {
+      std::string upper(cap);
+      for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      return upper;
+    }
+  }
+  return "";
 }
 
 TEST(GemmBf16Test, IsOfferedExactlyWhereTheCpuAndOneDnnsCapAllowIt) {
@@ -237,10 +244,19 @@ TEST(GemmBf16Test, IsOfferedExactlyWhereTheCpuAndOneDnnsCapAllowIt) {
     EXPECT_FALSE(Bf16ProductsAvailable());
     return;
   }
-  if (UnderAnIsaCapBelowBf16()) {
-    EXPECT_FALSE(Bf16ProductsAvailable()) << "DNNL_MAX_CPU_ISA=" << std::getenv("DNNL_MAX_CPU_ISA");
-  } else {
+  const std::string cap = IsaCap();
+  if (cap == "AVX2" || cap == "SSE41") {
+    EXPECT_FALSE(Bf16ProductsAvailable()) << "under the cap " << cap;
+  } else if (cap.empty()) {
     EXPECT_EQ(Bf16ProductsAvailable(), __builtin_cpu_supports("avx512bf16") != 0);
+  } else if (Bf16ProductsAvailable()) {
+    EXPECT_TRUE(__builtin_cpu_supports("avx512bf16"));  // another cap: never beyond the CPU
+  }
+  {
+    BackendGuard guard;
+    SetGemmBackend(GemmBackend::kEigen);  // Eigen multiplies in fp32 only
+    EXPECT_FALSE(Bf16ProductsAvailable());
+    EXPECT_EQ(ScopedGemmPrecision(GemmPrecision::kBf16).effective(), GemmPrecision::kFp32);
   }
   const ScopedGemmPrecision scoped(GemmPrecision::kBf16);
   EXPECT_EQ(scoped.effective(), Bf16ProductsAvailable() ? GemmPrecision::kBf16 : GemmPrecision::kFp32);
@@ -266,7 +282,7 @@ TEST(GemmBf16Test, WithoutTheInstructionsARequestGivesTheFp32ProductsBitForBit) 
 }
 
 // Every transposition, both betas, a row stride: within bfloat16's rounding of the operands
-// (each rounded to 8 bits of mantissa: a product term off by at most 2^-8 of |a||b|), and
+// (each off by at most 2^-8 of itself: a product term by about 2^-7 of |a||b|), and
 // really rounded (an fp32 product would be ~1000 times closer).
 TEST(GemmBf16Test, ProductsAreWithinBfloat16RoundingOfTheExactOnes) {
   if (!Bf16ProductsAvailable()) GTEST_SKIP() << "no bf16 products on this CPU or under this cap";
@@ -306,7 +322,9 @@ TEST(GemmBf16Test, ProductsAreWithinBfloat16RoundingOfTheExactOnes) {
   }
 }
 
-// Values bfloat16 holds exactly multiply exactly; 1 + 2^-10 rounds to 1 (nearest even).
+// Values bfloat16 holds exactly multiply exactly; others round to the nearest bfloat16 (7
+// mantissa bits: 1 + 3 * 2^-9 up to 1 + 2^-7, where truncation gives 1), a tie to the even one
+// (1 + 2^-7 + 2^-8 up to 1 + 2^-6, where truncation gives 1 + 2^-7).
 TEST(GemmBf16Test, RoundsEachOperandToTheNearestBfloat16) {
   if (!Bf16ProductsAvailable()) GTEST_SKIP() << "no bf16 products on this CPU or under this cap";
   BackendGuard guard;
@@ -322,10 +340,14 @@ TEST(GemmBf16Test, RoundsEachOperandToTheNearestBfloat16) {
     const ScopedGemmPrecision scoped(GemmPrecision::kBf16);
     Gemm<float>(false, false, a, b, 0.0f, bf16);
     EXPECT_EQ(bf16, fp32);  // exact operands, sums of integers / 8: exact in both
-    Matrix<float> ones = Matrix<float>::Constant(128, 128, 1.0f + std::ldexp(1.0f, -10)), unit, product;
+    Matrix<float> unit, product;
     unit.setIdentity(128, 128);
-    Gemm<float>(false, false, ones, unit, 0.0f, product);
-    EXPECT_EQ(product, Matrix<float>::Ones(128, 128));
+    const Matrix<float> above_half = Matrix<float>::Constant(128, 128, 1.0f + 3.0f * std::ldexp(1.0f, -9));
+    Gemm<float>(false, false, above_half, unit, 0.0f, product);
+    EXPECT_EQ(product, Matrix<float>::Constant(128, 128, 1.0f + std::ldexp(1.0f, -7)));
+    const Matrix<float> tie = Matrix<float>::Constant(128, 128, 1.0f + std::ldexp(1.0f, -7) + std::ldexp(1.0f, -8));
+    Gemm<float>(false, false, tie, unit, 0.0f, product);
+    EXPECT_EQ(product, Matrix<float>::Constant(128, 128, 1.0f + std::ldexp(1.0f, -6)));
   }
 }
 
