@@ -84,7 +84,7 @@ SacAgent::SacAgent(const AgentShape& shape, const config::AgentConfig& config, u
 }
 
 nn::GemmPrecision SacAgent::SetProductPrecision(nn::GemmPrecision wanted) {
-  precision_ = wanted == nn::GemmPrecision::kBf16 && !nn::Bf16ProductsAvailable() ? nn::GemmPrecision::kFp32 : wanted;
+  precision_ = nn::EffectiveGemmPrecision(wanted);
   return precision_;
 }
 

@@ -260,13 +260,14 @@ bool Bf16ProductsAvailable() {
 #endif
 }
 
-const char* GemmPrecisionName(GemmPrecision precision) { return precision == GemmPrecision::kBf16 ? "bf16" : "fp32"; }
+GemmPrecision EffectiveGemmPrecision(GemmPrecision wanted) {
+  return wanted == GemmPrecision::kBf16 && !Bf16ProductsAvailable() ? GemmPrecision::kFp32 : wanted;
+}
 
 GemmPrecision ThisThreadGemmPrecision() { return thread_precision; }
 
 ScopedGemmPrecision::ScopedGemmPrecision(GemmPrecision wanted)
-    : saved_(thread_precision),
-      effective_(wanted == GemmPrecision::kBf16 && !Bf16ProductsAvailable() ? GemmPrecision::kFp32 : wanted) {
+    : saved_(thread_precision), effective_(EffectiveGemmPrecision(wanted)) {
   thread_precision = effective_;
 }
 

@@ -49,8 +49,8 @@ enum class GemmPrecision { kFp32, kBf16 };
 // BF16 (AMX CPUs have it too), and oneDNN's instruction-set cap (DNNL_MAX_CPU_ISA) allows it.
 bool Bf16ProductsAvailable();
 
-// "fp32" or "bf16".
-const char* GemmPrecisionName(GemmPrecision precision);
+// The precision that runs when `wanted` is asked for: kBf16 only where Bf16ProductsAvailable().
+GemmPrecision EffectiveGemmPrecision(GemmPrecision wanted);
 
 // The calling thread's precision (kFp32 unless a ScopedGemmPrecision says otherwise).
 GemmPrecision ThisThreadGemmPrecision();

@@ -272,18 +272,24 @@ TEST(SacTest, SeveralThreadsGiveTheUpdateOfOneThreadUpToSummationOrder) {
   }
 }
 
-TEST(SacTest, UpdatesWithTwoThreadsAreDeterministic) {
-  SacAgent a(kShape, SmallConfig(), 12, 2);
-  SacAgent b(kShape, SmallConfig(), 12, 2);
-  std::mt19937_64 rng_a(13), rng_b(13);
-  for (int i = 0; i < 10; ++i) {
-    const UpdateStats sa = a.Update(RandomBatch(rng_a, 64, [](const float* x) { return double(x[1]); }));
-    const UpdateStats sb = b.Update(RandomBatch(rng_b, 64, [](const float* x) { return double(x[1]); }));
-    EXPECT_EQ(sa.q_loss, sb.q_loss);
-    EXPECT_EQ(sa.policy_loss, sb.policy_loss);
+// Two agents built alike, updated on the same `updates` batches of `size` (drawn from `seed`):
+// the same statistics at every update and the same weights after, bit for bit.
+void ExpectIdenticalUpdates(SacAgent& a, SacAgent& b, int size, uint64_t seed, int updates) {
+  std::mt19937_64 rng_a(seed), rng_b(seed);
+  for (int i = 0; i < updates; ++i) {
+    const UpdateStats sa = a.Update(RandomBatch(rng_a, size, [](const float* x) { return double(x[1]); }));
+    const UpdateStats sb = b.Update(RandomBatch(rng_b, size, [](const float* x) { return double(x[1]); }));
+    EXPECT_EQ(sa.q_loss, sb.q_loss) << "update " << i;
+    EXPECT_EQ(sa.policy_loss, sb.policy_loss) << "update " << i;
   }
   EXPECT_EQ(a.PolicyWeights(), b.PolicyWeights());
   EXPECT_EQ(nn::Flatten(a.q2().Parameters()), nn::Flatten(b.q2().Parameters()));
+}
+
+TEST(SacTest, UpdatesWithTwoThreadsAreDeterministic) {
+  SacAgent a(kShape, SmallConfig(), 12, 2);
+  SacAgent b(kShape, SmallConfig(), 12, 2);
+  ExpectIdenticalUpdates(a, b, 64, 13, 10);
 }
 
 // learner.precision bf16: the paper's network sizes (products large enough for oneDNN), the
@@ -323,14 +329,7 @@ TEST(SacTest, Bf16UpdatesWithTwoThreadsAreDeterministic) {
   if (a.SetProductPrecision(nn::GemmPrecision::kBf16) != nn::GemmPrecision::kBf16)
     GTEST_SKIP() << "no bf16 products on this CPU";
   b.SetProductPrecision(nn::GemmPrecision::kBf16);
-  std::mt19937_64 rng_a(42), rng_b(42);
-  for (int i = 0; i < 3; ++i) {
-    const UpdateStats sa = a.Update(RandomBatch(rng_a, 512, [](const float* x) { return double(x[1]); }));
-    const UpdateStats sb = b.Update(RandomBatch(rng_b, 512, [](const float* x) { return double(x[1]); }));
-    EXPECT_EQ(sa.q_loss, sb.q_loss);
-    EXPECT_EQ(sa.policy_loss, sb.policy_loss);
-  }
-  EXPECT_EQ(a.PolicyWeights(), b.PolicyWeights());
+  ExpectIdenticalUpdates(a, b, 512, 42, 3);
 }
 
 // The worker threads' shards run in bf16 too: two threads give the one-thread bf16 update up
