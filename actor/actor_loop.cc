@@ -24,7 +24,8 @@ ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, ui
   o.first_episode_id = first_episode_id;
   o.run_seed = config.run.seed;
   o.env = config.env;
-  o.policy = rl::MakeNetworkConfig(rl::AgentShapeFor(config.env, config.run.method), config.agent);
+  o.policy =
+      rl::MakeNetworkConfig(rl::AgentShapeFor(config.env, config.run.method, config.graph.object_ties), config.agent);
   if (config.run.method == config::Method::kHac)
     o.high_policy = rl::MakeNetworkConfig(rl::HighLevelShapeFor(config.env), config.agent);
   o.uses_graph = rl::UsesGraph(config.run.method);
@@ -92,6 +93,7 @@ ActorLoop::ActorLoop(ActorOptions options, links::ActorLink* link)
   if (!options_.uses_graph) {
     s.have_graph = true;  // no graph: every present entity is a subgoal
   }
+  s.subgoals.joint_ties = options_.policy.goal_tokens > 1;  // the networks take a pair's two tokens
   if (options_.evaluator && options_.eval_every_env_steps == 0)
     throw std::invalid_argument("actor " + std::to_string(options_.actor_id) +
                                 ": eval_every_env_steps must be positive (actors.eval_every_env_steps)");

@@ -1,5 +1,6 @@
 #include "actor/eval_episode.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -30,6 +31,7 @@ class EvalEpisode {
         layout_(observer_.layout()),
         // the held-out combination's own structure, from the catalogue graph
         structure_(subgoals.For(env.layout().kinds)),
+        episode_kinds_(env.layout().kinds.begin(), env.layout().kinds.end()),
         rng_(seed ^ 0x9e3779b97f4a7c15ull),
         zero_(env.action_dim(), 0.0f) {}
 
@@ -51,20 +53,30 @@ class EvalEpisode {
   }
 
   // SAC+HER and the passive policy's full goal: one attempt of the whole goal.
-  bool PlayFullGoal() { return Attempt(FullGoalToken(env_), -1, FullGoalSteps()); }
+  bool PlayFullGoal() { return Attempt(FullGoalToken(env_), rl::SubgoalUnit(), 0, FullGoalSteps()); }
 
   // The subgoal methods: the schedule of options.protocol and options.order (rl::AttemptSchedule),
   // each attempt recorded with the solved objects it began with and undid.
   bool PlaySubgoals() {
     std::mt19937_64 order_rng(seed_);
-    nn::Tensor goal(1, rl::SubgoalTokenSize(layout_.num_kinds));
-    const std::vector<int> subgoal_entities = structure_.SubgoalEntities();
+    // networks with two goal tokens attempt a tied pair as one (graph.object_ties: joint)
+    const int tokens = policy_ ? policy_->config().goal_tokens : 1;
+    nn::Tensor goal(1, tokens * rl::SubgoalTokenSize(layout_.num_kinds));
+    // every entity with a subgoal, a pair's both objects too (SubgoalEntities lists a pair once)
+    std::vector<int> subgoal_entities;
+    for (int e = 0; e < structure_.num_entities(); ++e)
+      if (structure_.has_subgoal(e)) subgoal_entities.push_back(e);
     int index = 0;
     rl::AttemptSchedule schedule(structure_, options_.order, options_.protocol, order_rng);
     std::vector<double> before_attempt;
     AttemptTrace trace;
     auto solved = [&](int entity) {
-      return entity < static_cast<int>(before_attempt.size()) && before_attempt[entity] < options_.threshold;
+      const rl::SubgoalUnit unit = structure_.UnitOf(entity);
+      for (int m = 0; m < unit.size(); ++m) {
+        const int e = unit.member(m);
+        if (e >= static_cast<int>(before_attempt.size()) || before_attempt[e] >= options_.threshold) return false;
+      }
+      return true;
     };
     while (true) {
       before_attempt = env_.ComputeMetrics().distances;
@@ -72,24 +84,38 @@ class EvalEpisode {
       if (!slot) break;
       const int entity = slot->entity;
       if (entity >= layout_.num_entities) continue;
+      const rl::SubgoalUnit subgoal = structure_.UnitOf(entity);
+      const uint64_t ancestors = structure_.AncestorsOf(subgoal);
       EvalEpisodeObserver::Attempt record;
       record.index = index++;
       record.entity = entity;
-      record.distance_before = before_attempt[entity];
+      // a pair's row: the farther of its two objects (both within the threshold: reached)
+      auto farthest = [&](const std::vector<double>& distances) {
+        double d = 0;
+        for (int m = 0; m < subgoal.size(); ++m) d = std::max(d, distances[subgoal.member(m)]);
+        return d;
+      };
+      record.distance_before = farthest(before_attempt);
       record.skipped = slot->skipped;
       trace = AttemptTrace{};  // traced only for an observer (srics eval): a step's metrics cost
       if (!record.skipped) {
-        const env::Vec2& g = env_.goals()[entity];
-        rl::WriteSubgoalToken(layout_.num_kinds, env_.layout().kinds[entity], static_cast<float>(g[0]),
-                              static_cast<float>(g[1]), goal.data());
-        if (!Attempt(goal, entity, options_.attempt_steps, watcher_ ? &trace : nullptr)) return false;
+        if (policy_) {  // (the passive policy reads no goal)
+          float xy[4];
+          for (int m = 0; m < subgoal.size(); ++m) {
+            const env::Vec2& g = env_.goals()[subgoal.member(m)];
+            xy[2 * m] = static_cast<float>(g[0]);
+            xy[2 * m + 1] = static_cast<float>(g[1]);
+          }
+          rl::WriteSubgoalTokens(layout_.num_kinds, tokens, subgoal, episode_kinds_, xy, goal.data());
+        }
+        if (!Attempt(goal, subgoal, ancestors, options_.attempt_steps, watcher_ ? &trace : nullptr)) return false;
       }
       const std::vector<double> after_attempt = record.skipped ? before_attempt : env_.ComputeMetrics().distances;
-      record.distance_after = after_attempt[entity];
+      record.distance_after = farthest(after_attempt);
       record.distances_before = before_attempt;
       record.distances_after = after_attempt;
       for (int other : subgoal_entities) {
-        if (other == entity || other == 0 || other >= layout_.num_entities ||
+        if (subgoal.contains(other) || other == 0 || other >= layout_.num_entities ||
             before_attempt[other] >= options_.threshold)
           continue;
         const bool undone = after_attempt[other] >= options_.threshold;
@@ -97,7 +123,7 @@ class EvalEpisode {
         record.others_undone += undone ? 1 : 0;
         record.solved_others.push_back(other);
         if (undone && trace.LeftBeforeTheEntityMoved(other)) ++record.others_undone_before_moved;
-        if ((structure_.ancestor_mask[entity] >> other) & 1u) continue;
+        if ((ancestors >> other) & 1u) continue;
         ++record.independent_solved;
         record.independent_undone += undone ? 1 : 0;
       }
@@ -137,10 +163,12 @@ class EvalEpisode {
     }
   };
 
-  // One attempt: `steps` steps towards `goal` (a token), measuring selectivity for `entity`
-  // (-1: the full goal, not measured) and, with `trace`, when what moved. False when the
-  // physics became unstable.
-  bool Attempt(const nn::Tensor& goal, int entity, int steps, AttemptTrace* trace = nullptr) {
+  // One attempt: `steps` steps towards `goal` (a token), measuring selectivity for `subgoal`
+  // (entity -1: the full goal, not measured) against the motion outside it and `ancestors`,
+  // and, with `trace`, when what moved. False when the physics became unstable.
+  bool Attempt(const nn::Tensor& goal, const rl::SubgoalUnit& subgoal, uint64_t ancestors, int steps,
+               AttemptTrace* trace = nullptr) {
+    const int entity = subgoal.entity;
     std::vector<env::Vec2> start;
     if (trace) {
       start = env_.Positions();
@@ -155,9 +183,8 @@ class EvalEpisode {
       if (trace) Trace(entity, start, t + 1, trace);
       if (entity >= 0) {
         const nn::Tensor& after = observer_.Observe(env_);
-        const uint64_t ancestors = entity < structure_.num_entities() ? structure_.ancestor_mask[entity] : 0;
         if (auto m =
-                rl::SelectivityMeasure(layout_, before_.data(), after.data(), entity, ancestors, options_.epsilon)) {
+                rl::SelectivityMeasure(layout_, before_.data(), after.data(), subgoal, ancestors, options_.epsilon)) {
           selectivity_sum_ += *m;
           ++selectivity_steps_;
         }
@@ -185,6 +212,7 @@ class EvalEpisode {
   Observer observer_;
   rl::EntityLayout layout_;
   rl::SubgoalStructure structure_;
+  std::vector<uint16_t> episode_kinds_;  // catalogue kind of each entity
   nn::Rng rng_;
   std::vector<float> zero_;
   std::vector<float> before_;

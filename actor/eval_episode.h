@@ -43,7 +43,8 @@ class EvalEpisodeObserver {
     int entity = 0;
     bool skipped = false;        // already solved when its turn came (no steps taken)
     double distance_before = 0;  // the entity's distance to its goal when the attempt started
-    double distance_after = 0;   // ... and when it ended
+    double distance_after = 0;   // ... and when it ended (a tied pair attempted as one, by its
+                                 // first entity: the farther of its two objects)
     // other subgoal objects (the arm, entity 0, left out: every push moves it) within the
     // threshold at the start, and how many of those ended the attempt outside it
     int others_solved = 0;

@@ -30,13 +30,19 @@ std::optional<rl::Episode> RunTrainEpisode(env::Environment& env, rl::PolicyNetw
       if (i < layout.num_entities) candidates.push_back(i);
     if (candidates.empty()) candidates.push_back(0);
     const int entity = candidates[env::UniformIndex(rng, candidates.size())];
-    const env::Vec2 g = env::SampleSubgoal(options.sampling, rng);
+    // a tied pair attempted as one (graph.object_ties: joint): a goal for each of its objects
+    const rl::SubgoalUnit subgoal = structure.UnitOf(entity);
     episode.subgoal_entity = entity;
-    episode.goal = {static_cast<float>(g[0]), static_cast<float>(g[1])};
+    episode.goal.clear();
+    for (int m = 0; m < subgoal.size(); ++m) {
+      const env::Vec2 g = env::SampleSubgoal(options.sampling, rng);
+      episode.goal.push_back(static_cast<float>(g[0]));
+      episode.goal.push_back(static_cast<float>(g[1]));
+    }
     episode.ancestor_mask = entity < structure.num_entities() ? structure.ancestor_mask[entity] : 0;
-    goal.resize(1, rl::SubgoalTokenSize(layout.num_kinds));
-    rl::WriteSubgoalToken(layout.num_kinds, episode.entity_kinds[entity], episode.goal[0], episode.goal[1],
-                          goal.data());
+    const int tokens = policy.config().goal_tokens;
+    goal.resize(1, tokens * rl::SubgoalTokenSize(layout.num_kinds));
+    rl::WriteSubgoalTokens(layout.num_kinds, tokens, subgoal, episode.entity_kinds, episode.goal.data(), goal.data());
   }
   observer.Observe(env);
   observer.Append(&episode.states);

@@ -14,7 +14,7 @@ LearnerOptions LearnerOptionsFor(const config::Config& config) {
   o.method = config.run.method;
   o.agent = config.agent;
   o.learner = config.learner;
-  o.shape = rl::AgentShapeFor(config.env, config.run.method);
+  o.shape = rl::AgentShapeFor(config.env, config.run.method, config.graph.object_ties);
   o.limits = rl::EpisodeLimitsFor(config.env);
   const auto& sampling = config.env.sampling;
   o.goal_region = {sampling.subgoal_low[0], sampling.subgoal_high[0], sampling.subgoal_low[1],
@@ -35,7 +35,7 @@ Learner::Learner(const LearnerOptions& options)
       shape_(options.shape),
       replay_(options.learner.replay_capacity),
       relabeler_(options.method, options.agent.reward, options.learner.relabel, options.goal_region,
-                 rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerReplay)),
+                 rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerReplay), options.shape.goal_tokens),
       agent_(shape_, options.agent, rl::DeriveSeed(options.run_seed, rl::SeedPurpose::kLearnerAgent),
              options.learner.threads),
       limiter_(options.learner.updates_per_step, options.learner.warmup_steps, options.learner.rate_error_buffer) {

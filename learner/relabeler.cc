@@ -9,8 +9,10 @@
 namespace srics::learner {
 
 Relabeler::Relabeler(config::Method method, const config::RewardConfig& reward, const config::RelabelConfig& relabel,
-                     GoalRegion region, uint64_t seed)
-    : method_(method), reward_(reward), relabel_(relabel), region_(region), rng_(seed) {}
+                     GoalRegion region, uint64_t seed, int goal_tokens)
+    : method_(method), reward_(reward), relabel_(relabel), region_(region), rng_(seed), goal_tokens_(goal_tokens) {
+  catalogue_.joint_ties = goal_tokens > 1;
+}
 
 void Relabeler::SetSubgoalStructure(const rl::SubgoalStructure& structure) {
   structure_ = structure;
@@ -48,23 +50,29 @@ int Relabeler::PickSubgoalEntity(const rl::Episode& episode) {
   // explore episodes carry no subgoal: pick one the current graph allows
   const rl::SubgoalStructure* structure = StructureOf(episode);
   std::vector<int> candidates;
-  for (int i = 0; i < episode.layout.num_entities; ++i)
-    if (!structure || i >= structure->num_entities() || structure->has_subgoal(i)) candidates.push_back(i);
+  // (a pair once, by its first entity)
+  for (int i = 0; i < episode.layout.num_entities; ++i) {
+    if (structure && i < structure->num_entities()) {
+      const int partner = structure->partner_of(i);
+      if (!structure->has_subgoal(i) || (partner >= 0 && partner < i)) continue;
+    }
+    candidates.push_back(i);
+  }
   if (candidates.empty()) candidates.push_back(0);
   return candidates[std::uniform_int_distribution<size_t>(0, candidates.size() - 1)(rng_)];
 }
 
-double Relabeler::Reward(const rl::Episode& e, const rl::SubgoalStructure* structure, int t, int entity,
-                         const float* goal) const {
+double Relabeler::Reward(const rl::Episode& e, const rl::SubgoalStructure* structure, int t,
+                         const rl::SubgoalUnit& subgoal, const float* goal) const {
   const float* before = e.state(t);
   const float* after = e.state(t + 1);
   switch (method_) {
     case config::Method::kSacHer: return rl::FullGoalReward(e.layout, after, goal);
     case config::Method::kSrics: {
-      const uint64_t ancestors = structure && entity < structure->num_entities() ? structure->ancestor_mask[entity] : 0;
-      return rl::SelectivityReward(e.layout, before, after, entity, goal, ancestors, reward_);
+      const uint64_t ancestors = structure ? structure->AncestorsOf(subgoal) : 0;
+      return rl::SelectivityReward(e.layout, before, after, subgoal, goal, ancestors, reward_);
     }
-    default: return rl::DistanceReward(e.layout, after, entity, goal);
+    default: return rl::DistanceReward(e.layout, after, subgoal, goal);
   }
 }
 
@@ -78,7 +86,7 @@ void Relabeler::Sample(const ReplayBuffer& replay, int size, TrainingBatch* batc
   batch->size = size;
   batch->max_entities = n_max;
   batch->entity_dim = d;
-  batch->goal_dim = full_goal() ? 2 * n_max : rl::SubgoalTokenSize(k);
+  batch->goal_dim = full_goal() ? 2 * n_max : goal_tokens_ * rl::SubgoalTokenSize(k);
   batch->action_dim = a_dim;
   batch->entities.assign(static_cast<size_t>(size) * n_max * d, 0.0f);
   batch->next_entities.assign(batch->entities.size(), 0.0f);
@@ -104,7 +112,9 @@ void Relabeler::Sample(const ReplayBuffer& replay, int size, TrainingBatch* batc
     std::copy_n(e.action(t), a_dim, batch->action.begin() + static_cast<size_t>(b) * a_dim);
 
     const int entity = full_goal() ? -1 : PickSubgoalEntity(e);
-    const size_t goal_size = full_goal() ? 2 * n : 2;
+    const rl::SubgoalStructure* structure = full_goal() ? nullptr : StructureOf(e);
+    const rl::SubgoalUnit subgoal = structure ? structure->UnitOf(entity) : rl::SubgoalUnit(entity);
+    const size_t goal_size = full_goal() ? 2 * n : 2 * subgoal.size();
     goal.resize(goal_size);
     // the original goal only exists when the episode was collected for this kind of goal
     const bool has_original = e.goal.size() == goal_size && e.subgoal_entity == entity;
@@ -124,8 +134,10 @@ void Relabeler::Sample(const ReplayBuffer& replay, int size, TrainingBatch* batc
           goal[2 * j + 1] = e.layout.y(s, j);
         }
       } else {
-        goal[0] = e.layout.x(s, entity);
-        goal[1] = e.layout.y(s, entity);
+        for (int m = 0; m < subgoal.size(); ++m) {
+          goal[2 * m] = e.layout.x(s, subgoal.member(m));
+          goal[2 * m + 1] = e.layout.y(s, subgoal.member(m));
+        }
       }
     } else {
       source = GoalSource::kSampled;
@@ -135,13 +147,13 @@ void Relabeler::Sample(const ReplayBuffer& replay, int size, TrainingBatch* batc
       }
     }
     if (sources) (*sources)[b] = source;
-    batch->reward[b] = static_cast<float>(Reward(e, StructureOf(e), t, entity, goal.data()));
+    batch->reward[b] = static_cast<float>(Reward(e, full_goal() ? nullptr : structure, t, subgoal, goal.data()));
     batch->subgoal_entity[b] = entity;
     float* g = batch->goal.data() + static_cast<size_t>(b) * batch->goal_dim;
     if (full_goal()) {
       std::copy(goal.begin(), goal.end(), g);
     } else {
-      rl::WriteSubgoalToken(k, e.entity_kinds[entity], goal[0], goal[1], g);
+      rl::WriteSubgoalTokens(k, goal_tokens_, subgoal, e.entity_kinds, goal.data(), g);
     }
   }
 }

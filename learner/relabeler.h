@@ -27,7 +27,7 @@ struct TrainingBatch {
   int size = 0;                      // B
   int max_entities = 0;              // N
   int entity_dim = 0;                // D
-  int goal_dim = 0;                  // G: [kind one-hot (K), goal xy, 1] for subgoals; 2N for full goals
+  int goal_dim = 0;                  // G: [kind one-hot (K), goal xy, 1] per goal token for subgoals; 2N for full goals
   int action_dim = 0;                // A
   std::vector<float> entities;       // (B*N) x D, state t
   std::vector<float> next_entities;  // (B*N) x D, state t + 1
@@ -35,7 +35,7 @@ struct TrainingBatch {
   std::vector<float> goal;           // B x G
   std::vector<float> action;         // B x A
   std::vector<float> reward;         // B
-  std::vector<int> subgoal_entity;   // B (-1 for full goals)
+  std::vector<int> subgoal_entity;   // B (-1 for full goals; a pair's first entity)
   // B: 1 where the transition ends its level's episode (HAC: goal reached, missed test
   // subgoal), so its target does not bootstrap; empty: every transition bootstraps
   std::vector<float> terminal;
@@ -46,8 +46,10 @@ enum class GoalSource { kOriginal, kFuture, kSampled };
 
 class Relabeler {
  public:
+  // goal_tokens: the networks' goal tokens per sample; 2 (graph.object_ties: joint) pairs the
+  // graph's mutual ancestors into one subgoal (rl::PairMutualAncestors).
   Relabeler(config::Method method, const config::RewardConfig& reward, const config::RelabelConfig& relabel,
-            GoalRegion region, uint64_t seed);
+            GoalRegion region, uint64_t seed, int goal_tokens = 1);
 
   // The ancestor sets used for rewards and for picking subgoals of episodes that have none
   // (explore episodes). Until called, every entity is a subgoal with no ancestors.
@@ -70,14 +72,15 @@ class Relabeler {
   // the structure of this episode's entities (the fixed one, or the graph's mapped; cached)
   const rl::SubgoalStructure* StructureOf(const rl::Episode& episode);
   int PickSubgoalEntity(const rl::Episode& episode);
-  double Reward(const rl::Episode& episode, const rl::SubgoalStructure* structure, int t, int entity,
-                const float* goal) const;
+  double Reward(const rl::Episode& episode, const rl::SubgoalStructure* structure, int t,
+                const rl::SubgoalUnit& subgoal, const float* goal) const;
 
   config::Method method_;
   config::RewardConfig reward_;
   config::RelabelConfig relabel_;
   GoalRegion region_;
   std::mt19937_64 rng_;
+  int goal_tokens_;
   rl::SubgoalStructure structure_;
   bool have_structure_ = false;
   rl::CatalogueSubgoals catalogue_;

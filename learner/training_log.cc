@@ -93,6 +93,8 @@ void TrainingLog::ResumeAt(uint64_t env_steps) {
 
 std::optional<TrainingLog::Figures> TrainingLog::Measure(const rl::Episode& e) const {
   const int k = e.subgoal_entity;
+  // (a tied pair's episode, graph.object_ties: joint, has a goal of 4 floats and a partner only
+  // the graph names: not counted here)
   if (e.mode != rl::EpisodeMode::kTrain || k < 0 || k >= e.layout.num_entities || e.goal.size() != 2)
     return std::nullopt;
   Figures figures{EpisodeSelectivity(e, options_.epsilon),

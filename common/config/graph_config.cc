@@ -37,7 +37,8 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   // recorded in the resolved settings only when given: every config written before the key
   // resolves to the same settings as before, so a run continued with this binary is no change
   if (s.Has("object_ties"))
-    s.ReadEnum("object_ties", &out->object_ties, {{"two_way", ObjectTies::kTwoWay}, {"one_way", ObjectTies::kOneWay}});
+    s.ReadEnum("object_ties", &out->object_ties,
+               {{"two_way", ObjectTies::kTwoWay}, {"one_way", ObjectTies::kOneWay}, {"joint", ObjectTies::kJoint}});
   s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
   s.ReadDouble("onset_loss_weight", &out->onset_loss_weight, 0, 1e3);
   s.ReadDouble("onset_motion_m", &out->onset_motion_m, 0, 1);

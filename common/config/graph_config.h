@@ -41,6 +41,11 @@ enum class ObjectTies {
   // stays; the objects' edges form a DAG and depth orders the pair (the reference code's
   // relational graph is one-way, 2 -> 3; the paper's depth order assumes a DAG)
   kOneWay,
+  // both ways, as kTwoWay, and SRICS attempts the pair as one subgoal: two objects that are
+  // each other's ancestors get one goal of both (two goal tokens for the networks, both within
+  // the threshold to be solved, one slot of the evaluation schedule; rl::SubgoalStructure's
+  // partner). Any graph, learned or given.
+  kJoint,
 };
 
 struct GraphConfig {
@@ -132,9 +137,10 @@ struct GraphConfig {
   // 0.061, spring 0.164). Two ties that share an object and differ by more than 1 / share
   // would lose the weaker (no preset or generated table 1-10 has such a chain).
   double object_pair_share = 0.5;
-  // both read-outs, applied last: two_way (today's, the default) or one_way (see ObjectTies;
-  // graph_service/README.md, "Ties one way"). A learned graph only: graph.file and
-  // graph.ground_truth publish their graph as it is.
+  // both read-outs, applied last: two_way (today's, the default), one_way (see ObjectTies;
+  // graph_service/README.md, "Ties one way"; a learned graph only: graph.file and
+  // graph.ground_truth publish their graph as it is) or joint (published as two_way; the
+  // agent pairs the tie).
   ObjectTies object_ties = ObjectTies::kTwoWay;
   // loss += gate_logit_decay * sum over edges of max(0, logit_0 - logit_1)^2 / (N * B) (not
   // in the reference). With Adam (scale free) the margins of useful edges otherwise grow

@@ -169,6 +169,10 @@ GoalAttention<T>::GoalAttention(std::string name, const AttentionConfig& c, Rng&
     throw std::invalid_argument("nn::GoalAttention " + name + ": embed_dim " + std::to_string(c.embed_dim) +
                                 " not divisible by " + std::to_string(c.num_heads) + " heads");
   }
+  if (c.goal_tokens < 1) {
+    throw std::invalid_argument("nn::GoalAttention " + name + ": goal_tokens " + std::to_string(c.goal_tokens) +
+                                " must be at least 1");
+  }
 }
 
 template <typename T>
@@ -188,27 +192,57 @@ typename GoalAttention<T>::Output GoalAttention<T>::Forward(Tape<T>& tape, Var<T
     k = key_.Forward(tape, tok, trainable);
     v = value_.Forward(tape, tok, trainable);
   }
+  // several goal tokens: one row each (row-major, so a reshape keeps them in order)
+  const int G = config_.goal_tokens;
+  const Eigen::Index batch = goals.value().rows();
+  Var<T> tokens = G == 1 ? goals : tape.Reshape(goals, batch * G, config_.goal_dim);
   Var<T> ge, q;
-  if (ComposingPays(goals.value().rows(), goal_.in(), E, E, 1, true)) {
+  if (ComposingPays(tokens.value().rows(), goal_.in(), E, E, 1, true)) {
     Var<T> wg = goal_.WeightOn(tape, trainable), bg = goal_.BiasOn(tape, trainable);
-    ge = tape.Linear(goals, wg, bg);
-    q = query_.ForwardComposed(tape, goals, wg, bg, trainable);
+    ge = tape.Linear(tokens, wg, bg);
+    q = query_.ForwardComposed(tape, tokens, wg, bg, trainable);
   } else {
-    ge = goal_.Forward(tape, goals, trainable);
+    ge = goal_.Forward(tape, tokens, trainable);
     q = query_.Forward(tape, ge, trainable);
   }
-  Var<T> heads = tape.Attention(q, k, v, mask, config_.num_heads);
-  return {out_.Forward(tape, heads, trainable), ge};
+  Var<T> heads = tape.Attention(q, k, v, mask, config_.num_heads, G);
+  Var<T> attention = out_.Forward(tape, heads, trainable);
+  if (G == 1) return {attention, ge};
+  // sum over each sample's real tokens: the token's last feature is 1 for a real one, 0 for padding
+  // (local: the learner's shard threads run Forward on one network at once)
+  std::vector<int> sample_of_token(static_cast<size_t>(batch * G));
+  for (size_t r = 0; r < sample_of_token.size(); ++r) sample_of_token[r] = static_cast<int>(r / G);
+  Var<T> real = tape.Constant(tokens.value().rightCols(1));
+  return {tape.ScatterAdd(attention, sample_of_token, batch, real), tape.ScatterAdd(ge, sample_of_token, batch, real)};
 }
 
 template <typename T>
 void GoalAttention<T>::Apply(const Eigen::Ref<const Matrix<T>>& entities, const Eigen::Ref<const Matrix<T>>& goal,
                              Matrix<T>& attention, Matrix<T>& goal_embedding) {
-  const Eigen::Index ents = entities.rows(), E = config_.embed_dim;
   entity_.Apply(entities, tok_);
   key_.Apply(tok_, k_);
   value_.Apply(tok_, v_);
-  goal_.Apply(goal, goal_embedding);
+  const int G = config_.goal_tokens, D = config_.goal_dim;
+  if (G == 1) {
+    goal_.Apply(goal, goal_embedding);
+    ApplyQuery(goal_embedding, attention);
+    return;
+  }
+  attention.setZero(1, config_.embed_dim);
+  goal_embedding.setZero(1, config_.embed_dim);
+  for (int j = 0; j < G; ++j) {
+    const auto token = goal.middleCols(static_cast<Eigen::Index>(j) * D, D);
+    if (token(0, D - 1) == T(0)) continue;  // padding
+    goal_.Apply(token, token_embedding_);
+    ApplyQuery(token_embedding_, token_attention_);
+    goal_embedding += token_embedding_;
+    attention += token_attention_;
+  }
+}
+
+template <typename T>
+void GoalAttention<T>::ApplyQuery(const Eigen::Ref<const Matrix<T>>& goal_embedding, Matrix<T>& attention) {
+  const Eigen::Index ents = k_.rows(), E = config_.embed_dim;
   query_.Apply(goal_embedding, q_);
   heads_.resize(1, E);
   w_.resize(1, config_.num_heads * ents);

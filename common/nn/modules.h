@@ -104,12 +104,17 @@ struct AttentionConfig {
   int goal_dim;    // features of the goal token
   int embed_dim;   // token embedding size (paper: 80)
   int num_heads;   // heads (paper: 5, of 16 each); must divide embed_dim
+  // goal tokens per sample: a goal of several entities (a tied pair attempted as one) is one
+  // token each, side by side; a token whose last feature (the constant 1) is 0 is padding
+  int goal_tokens = 1;
 };
 
 // The goal-conditioned multi-head attention block: entity tokens -> Linear(embed) -> keys and
 // values; goal token -> Linear(embed, no bias) = goal embedding -> query; multi-head
 // attention over the valid entities of each sample, then an output projection. Permutation
-// invariant in the entities, and padded entities (mask 0) have no influence.
+// invariant in the entities, and padded entities (mask 0) have no influence. With several goal
+// tokens each runs its own query, and the attention outputs and goal embeddings of the real
+// tokens are summed (one token: the same parameters and the same values as one query).
 template <typename T>
 class GoalAttention {
  public:
@@ -120,10 +125,11 @@ class GoalAttention {
     Var<T> goal_embedding;  // B x embed
   };
   // entities: (B*N) x entity_dim, row b*N + n; mask: B x N (1 = real entity) or id < 0;
-  // goals: B x goal_dim.
+  // goals: B x (goal_tokens * goal_dim).
   Output Forward(Tape<T>& tape, Var<T> entities, Var<T> mask, Var<T> goals, bool trainable = true);
 
-  // Single-sample inference: entities N x entity_dim (all valid), goal 1 x goal_dim; writes
+  // Single-sample inference: entities N x entity_dim (all valid), goal 1 x (goal_tokens *
+  // goal_dim); writes
   // the attention output and goal embedding (1 x embed each) without a tape or allocation
   // once N has been seen.
   void Apply(const Eigen::Ref<const Matrix<T>>& entities, const Eigen::Ref<const Matrix<T>>& goal, Matrix<T>& attention,
@@ -133,9 +139,12 @@ class GoalAttention {
   void Parameters(ParameterList<T>& list);
 
  private:
+  // one query's attention output (1 x embed) from the keys and values in k_, v_
+  void ApplyQuery(const Eigen::Ref<const Matrix<T>>& goal_embedding, Matrix<T>& attention);
+
   AttentionConfig config_;
   Linear<T> entity_, goal_, query_, key_, value_, out_;
-  Matrix<T> tok_, k_, v_, q_, heads_, w_;
+  Matrix<T> tok_, k_, v_, q_, heads_, w_, token_embedding_, token_attention_;
 };
 
 // The tanh-squashed diagonal Gaussian of SAC. The network outputs [mean | raw log std]

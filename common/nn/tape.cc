@@ -14,13 +14,13 @@ namespace {
 
 using Eigen::Index;
 
-// Sample b of an Attention node's operands (row-major: Q's row b, rows b * ents .. of K and V,
-// the mask's row b when there is one).
+// Query row r of an Attention node's operands with its sample b = r / per_sample (row-major: Q's
+// row r, rows b * ents .. of K and V, the mask's row b when there is one).
 template <typename T>
-attention::Sample<T> SampleOf(const Matrix<T>& Q, const Matrix<T>& K, const Matrix<T>& V, const Matrix<T>* M, Index b,
-                              Index ents) {
-  const Index embed = Q.cols();
-  return {Q.data() + b * embed,
+attention::Sample<T> SampleOf(const Matrix<T>& Q, const Matrix<T>& K, const Matrix<T>& V, const Matrix<T>* M, Index r,
+                              Index per_sample, Index ents) {
+  const Index embed = Q.cols(), b = r / per_sample;
+  return {Q.data() + r * embed,
           K.data() + b * ents * embed,
           V.data() + b * ents * embed,
           embed,
@@ -521,31 +521,35 @@ Var<T> Tape<T>::GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> 
 }
 
 template <typename T>
-Var<T> Tape<T>::Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_heads) {
+Var<T> Tape<T>::Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_heads, int queries_per_sample) {
   Node& n = NewNode(Op::kAttention, q.id, k.id);
   n.c = v.id;
   n.d = mask.id;
   n.i0 = num_heads;
+  n.i1 = queries_per_sample;
   n.needs_grad = n.needs_grad || Needs(v.id);
   const Mat& Q = Val(q.id);
   const Mat& K = Val(k.id);
   const Mat& V = Val(v.id);
-  const Index batch = Q.rows(), embed = Q.cols();
+  const Index queries = Q.rows(), embed = Q.cols(), per_sample = queries_per_sample;
   SRICS_NN_CHECK(num_heads > 0 && embed % num_heads == 0, "Attention",
                  std::to_string(embed) + " not divisible into " + std::to_string(num_heads) + " heads");
-  SRICS_NN_CHECK(batch > 0 && K.rows() % batch == 0 && K.cols() == embed && V.rows() == K.rows() && V.cols() == embed,
-                 "Attention", "q " + Shape(Q) + " k " + Shape(K) + " v " + Shape(V));
+  SRICS_NN_CHECK(per_sample > 0 && queries > 0 && queries % per_sample == 0, "Attention",
+                 "q " + Shape(Q) + " with " + std::to_string(per_sample) + " queries per sample");
+  const Index batch = queries / per_sample;
+  SRICS_NN_CHECK(K.rows() % batch == 0 && K.cols() == embed && V.rows() == K.rows() && V.cols() == embed, "Attention",
+                 "q " + Shape(Q) + " k " + Shape(K) + " v " + Shape(V));
   const Index ents = K.rows() / batch;
   const Mat* M = nullptr;
   if (mask.id >= 0) {
     M = &Val(mask.id);
     SRICS_NN_CHECK(M->rows() == batch && M->cols() == ents, "Attention", "mask " + Shape(*M));
   }
-  n.aux.resize(batch, num_heads * ents);
-  n.value.resize(batch, embed);
-  for (Index b = 0; b < batch; ++b)
-    attention::Forward(SampleOf(Q, K, V, M, b, ents), embed, num_heads, n.aux.data() + b * n.aux.cols(),
-                       n.value.data() + b * embed);
+  n.aux.resize(queries, num_heads * ents);
+  n.value.resize(queries, embed);
+  for (Index r = 0; r < queries; ++r)
+    attention::Forward(SampleOf(Q, K, V, M, r, per_sample, ents), embed, num_heads, n.aux.data() + r * n.aux.cols(),
+                       n.value.data() + r * embed);
   return Out(n);
 }
 
@@ -645,21 +649,24 @@ void Tape<T>::BackwardAttention(Node& n) {
   const Mat& Q = Val(n.a);
   const Mat& K = Val(n.b);
   const Mat& V = Val(n.c);
-  const Index batch = Q.rows(), embed = Q.cols(), heads = n.i0;
-  const Index ents = K.rows() / batch;
+  const Index queries = Q.rows(), embed = Q.cols(), heads = n.i0, per_sample = n.i1;
+  const Index ents = K.rows() / (queries / per_sample);
   const bool nq = Needs(n.a), nk = Needs(n.b), nv = Needs(n.c);
-  if (nq) EnsureGrad(nodes_[n.a], batch, embed);
+  if (nq) EnsureGrad(nodes_[n.a], queries, embed);
   if (nk) EnsureGrad(nodes_[n.b], K.rows(), embed);
   if (nv) EnsureGrad(nodes_[n.c], V.rows(), embed);
   T* gq = nq ? nodes_[n.a].grad.data() : nullptr;
   T* gk = nk ? nodes_[n.b].grad.data() : nullptr;
   T* gv = nv ? nodes_[n.c].grad.data() : nullptr;
-  // the mask is in the weights (0 for an absent entity)
+  // the mask is in the weights (0 for an absent entity); the queries of one sample add into
+  // its keys' and values' gradients
   std::vector<T> score_grads(static_cast<size_t>(ents));
-  for (Index b = 0; b < batch; ++b)
-    attention::Backward(SampleOf<T>(Q, K, V, nullptr, b, ents), embed, heads, n.aux.data() + b * n.aux.cols(),
-                        g.data() + b * embed, gq ? gq + b * embed : nullptr, gk ? gk + b * ents * embed : nullptr,
-                        gv ? gv + b * ents * embed : nullptr, score_grads.data());
+  for (Index r = 0; r < queries; ++r) {
+    const Index b = r / per_sample;
+    attention::Backward(SampleOf<T>(Q, K, V, nullptr, r, per_sample, ents), embed, heads,
+                        n.aux.data() + r * n.aux.cols(), g.data() + r * embed, gq ? gq + r * embed : nullptr,
+                        gk ? gk + b * ents * embed : nullptr, gv ? gv + b * ents * embed : nullptr, score_grads.data());
+  }
 }
 
 template <typename T>

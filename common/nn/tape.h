@@ -158,13 +158,14 @@ class Tape {
   Var<T> GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b, const std::vector<int>& b_index,
                        Eigen::Index col = 0, Eigen::Index width = -1);
 
-  // Multi-head attention of one query per sample over that sample's entities.
-  // q: B x E; k, v: (B*N) x E with row b*N + n holding entity n of sample b; mask: B x N
-  // (non-zero = real entity, a Constant) or mask.id < 0 for none. E splits into num_heads heads
-  // of E / num_heads; scores are scaled by 1/sqrt(head size). Returns B x E: per head the
-  // softmax-weighted sum of the values. The weights are kept (AttentionWeights).
-  Var<T> Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_heads);
-  // The B x (num_heads*N) attention weights of an Attention node (row b, column h*N + n).
+  // Multi-head attention of Q queries per sample over that sample's entities.
+  // q: (B*Q) x E, row b*Q + j holding query j of sample b; k, v: (B*N) x E with row b*N + n
+  // holding entity n of sample b; mask: B x N (non-zero = real entity, a Constant) or
+  // mask.id < 0 for none. E splits into num_heads heads of E / num_heads; scores are scaled by
+  // 1/sqrt(head size). Returns (B*Q) x E: per query and head the softmax-weighted sum of its
+  // sample's values. The weights are kept (AttentionWeights).
+  Var<T> Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_heads, int queries_per_sample = 1);
+  // The (B*Q) x (num_heads*N) attention weights of an Attention node (row b*Q + j, column h*N + n).
   const Mat& AttentionWeights(Var<T> attention) const;
 
   // Backpropagates from a 1 x 1 node with seed 1.

@@ -6,7 +6,7 @@
 
 namespace srics::rl {
 
-AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method) {
+AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method, config::ObjectTies ties) {
   const int objects = static_cast<int>(config::EffectiveObjects(env).size());
   const int kinds = 1 + objects;
   AgentShape shape;
@@ -14,6 +14,7 @@ AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method) {
   const bool full_goal = method == config::Method::kSacHer || method == config::Method::kHac;
   shape.goal_dim = full_goal ? 2 * (1 + objects) : kinds + 3;
   shape.action_dim = 2;
+  shape.goal_tokens = ties == config::ObjectTies::kJoint && UsesGraph(method) ? 2 : 1;
   return shape;
 }
 
@@ -68,6 +69,7 @@ AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::
   AttentionNetworkConfig c;
   c.entity_dim = shape.entity_dim;
   c.goal_dim = shape.goal_dim;
+  c.goal_tokens = shape.goal_tokens;
   c.action_dim = shape.action_dim;
   c.embed_dim = agent.network.embed_dim;
   c.num_heads = agent.network.heads;
@@ -82,7 +84,10 @@ AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::
 }
 
 std::string PolicySignature(PolicyNetwork<float>& policy) {
-  return "attention-policy/" + std::to_string(nn::SignatureHash(policy.Parameters()));
+  // goal tokens change no parameter's shape, yet what the weights mean
+  const int tokens = policy.config().goal_tokens;
+  return "attention-policy/" + std::to_string(nn::SignatureHash(policy.Parameters())) +
+         (tokens > 1 ? "/goal-tokens-" + std::to_string(tokens) : "");
 }
 
 std::string HacPolicySignature(PolicyNetwork<float>& high, PolicyNetwork<float>& low) {

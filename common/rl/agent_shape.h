@@ -7,6 +7,7 @@
 
 #include "common/config/agent_config.h"
 #include "common/config/env_config.h"
+#include "common/config/graph_config.h"
 #include "common/config/run_config.h"
 #include "common/rl/episode.h"
 #include "common/rl/networks.h"
@@ -16,14 +17,17 @@ namespace srics::rl {
 // Sizes the networks need from the environment and method.
 struct AgentShape {
   int entity_dim = 0;
-  int goal_dim = 0;
+  int goal_dim = 0;  // one goal token's floats
   int action_dim = 2;
+  int goal_tokens = 1;  // 2: a tied pair is attempted as one subgoal (graph.object_ties: joint)
 };
 
 // Entity tokens of K + 2 (+ 2 with velocities) floats for K = 1 + catalogue objects, goal
 // tokens of K + 3 (subgoals) or 2N (SAC+HER's full goal, HAC's subgoal of every entity),
-// actions of 2. For HAC this is the low level; N = 1 + catalogue objects.
-AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method);
+// actions of 2. For HAC this is the low level; N = 1 + catalogue objects. Two goal tokens for
+// the methods that use a graph when `ties` is joint, one otherwise.
+AgentShape AgentShapeFor(const config::EnvConfig& env, config::Method method,
+                         config::ObjectTies ties = config::ObjectTies::kTwoWay);
 
 // HAC's high level: the full goal (2N) as goal token, a subgoal (2N) as action.
 AgentShape HighLevelShapeFor(const config::EnvConfig& env);

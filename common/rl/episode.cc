@@ -150,8 +150,9 @@ std::string CheckSizes(const Episode& e) {
   if (e.actions.size() != actions) return SizeMismatch("actions", e.actions.size(), actions, "T x A");
   if (e.subgoal_entity < -1 || e.subgoal_entity >= l.num_entities)
     return "subgoal_entity " + std::to_string(e.subgoal_entity) + " outside [-1, N)";
-  if (e.subgoal_entity >= 0 && e.goal.size() != 2)
-    return SizeMismatch("goal", e.goal.size(), 2, "xy of the subgoal entity");
+  // a tied pair attempted as one (graph.object_ties: joint): its second object's xy after the first's
+  if (e.subgoal_entity >= 0 && e.goal.size() != 2 && e.goal.size() != 4)
+    return SizeMismatch("goal", e.goal.size(), 2, "xy of the subgoal entity (4: and of its tied partner)");
   if (e.subgoal_entity < 0 && !e.goal.empty() && e.goal.size() != 2 * n)
     return SizeMismatch("goal", e.goal.size(), 2 * n, "2N for a full goal, or none");
   if (e.mode != EpisodeMode::kExplore && e.goal.empty()) return "goal missing from a train or eval episode";

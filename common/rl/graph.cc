@@ -48,9 +48,38 @@ InteractionGraph InteractionGraph::Star(int num_entities) {
 
 std::vector<int> SubgoalStructure::SubgoalEntities() const {
   std::vector<int> entities;
-  for (int i = 0; i < num_entities(); ++i)
-    if (has_subgoal(i)) entities.push_back(i);
+  for (int i = 0; i < num_entities(); ++i) {
+    const int p = partner_of(i);
+    if (has_subgoal(i) && (p < 0 || p > i)) entities.push_back(i);
+  }
   return entities;
+}
+
+uint64_t SubgoalStructure::AncestorsOf(const SubgoalUnit& unit) const {
+  uint64_t mask = 0;
+  for (int k = 0; k < unit.size(); ++k) {
+    const int e = unit.member(k);
+    if (e < num_entities()) mask |= ancestor_mask[e];
+  }
+  for (int k = 0; k < unit.size(); ++k) mask &= ~(uint64_t{1} << unit.member(k));
+  return mask;
+}
+
+void PairMutualAncestors(SubgoalStructure* s, int driven) {
+  const int n = s->num_entities();
+  std::vector<int> mutual(n, -1), count(n, 0);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if (i == j || i == driven || j == driven || !s->has_subgoal(i) || !s->has_subgoal(j)) continue;
+      if (s->is_ancestor(i, j) && s->is_ancestor(j, i)) {
+        mutual[i] = j;
+        ++count[i];
+      }
+    }
+  }
+  s->partner.assign(n, -1);
+  for (int i = 0; i < n; ++i)
+    if (count[i] == 1 && count[mutual[i]] == 1) s->partner[i] = mutual[i];
 }
 
 std::string ValidateGraph(const InteractionGraph& graph) {
@@ -105,7 +134,16 @@ SubgoalStructure EpisodeSubgoalStructure(const InteractionGraph& catalogue, std:
 }
 
 SubgoalStructure CatalogueSubgoals::For(std::span<const uint16_t> kinds) const {
-  if (graph) return EpisodeSubgoalStructure(*graph, kinds);
+  if (graph) {
+    SubgoalStructure structure = EpisodeSubgoalStructure(*graph, kinds);
+    if (joint_ties) {
+      int driven = -1;
+      for (size_t e = 0; e < kinds.size(); ++e)
+        if (kinds[e] == graph->action_entity) driven = static_cast<int>(e);
+      PairMutualAncestors(&structure, driven);
+    }
+    return structure;
+  }
   SubgoalStructure all;
   all.ancestor_mask.assign(kinds.size(), 0);
   all.depth.assign(kinds.size(), 1);

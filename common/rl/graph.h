@@ -25,6 +25,19 @@ struct InteractionGraph {
   static InteractionGraph Star(int num_entities);
 };
 
+// One subgoal: an entity, or (graph.object_ties: joint) a tied pair attempted as one, both
+// objects' goals at once, solved when both are. An entity converts to the unit of itself alone.
+struct SubgoalUnit {
+  int entity = -1;
+  int partner = -1;  // the pair's other object; -1: the entity alone
+
+  SubgoalUnit() = default;
+  SubgoalUnit(int entity, int partner = -1) : entity(entity), partner(partner) {}  // NOLINT(runtime/explicit)
+  int size() const { return partner >= 0 ? 2 : 1; }
+  int member(int k) const { return k == 0 ? entity : partner; }  // k < size()
+  bool contains(int j) const { return j == entity || (partner >= 0 && j == partner); }
+};
+
 // Ancestor sets and depths derived from a graph.
 struct SubgoalStructure {
   // bit j of ancestor_mask[i]: entity j lies on some simple path from the action node to i
@@ -34,12 +47,26 @@ struct SubgoalStructure {
   // has depth 1; -1 when no path exists (no subgoal for that entity).
   std::vector<int> depth;
 
+  // graph.object_ties: joint: partner[i] is the object attempted together with i (the two are
+  // each other's ancestors), -1 for none; empty: every subgoal is one entity
+  std::vector<int> partner;
+
   int num_entities() const { return static_cast<int>(depth.size()); }
   bool has_subgoal(int entity) const { return depth[entity] >= 1; }
   bool is_ancestor(int ancestor, int of) const { return (ancestor_mask[of] >> ancestor) & 1u; }
-  // entities that have a subgoal, in index order
+  int partner_of(int entity) const { return entity < static_cast<int>(partner.size()) ? partner[entity] : -1; }
+  // the subgoal `entity` belongs to (alone, or with its partner)
+  SubgoalUnit UnitOf(int entity) const { return {entity, partner_of(entity)}; }
+  // the ancestors of the unit's entities outside the unit: what its selectivity leaves alone
+  uint64_t AncestorsOf(const SubgoalUnit& unit) const;
+  // the entities that have a subgoal, in index order; a pair appears once, by its lower entity
   std::vector<int> SubgoalEntities() const;
 };
+
+// Pairs the objects that are each other's ancestors (a tie read both ways) into one subgoal
+// each: sets structure->partner. `driven` (the arm) is never paired, and an object with more
+// than one such partner (a cycle of three or more) stays a subgoal of its own.
+void PairMutualAncestors(SubgoalStructure* structure, int driven);
 
 // Largest graph the exact simple-path search accepts: it walks the sets of nodes a simple path
 // can visit (2^N sets), so the work is bounded by the entity count, never by the edges.
@@ -65,6 +92,7 @@ SubgoalStructure EpisodeSubgoalStructure(const InteractionGraph& catalogue, std:
 // ancestors: SMORL, SAC+HER, HAC).
 struct CatalogueSubgoals {
   std::optional<InteractionGraph> graph;
+  bool joint_ties = false;  // graph.object_ties: joint: pairs from PairMutualAncestors
   SubgoalStructure For(std::span<const uint16_t> kinds) const;
   SubgoalStructure For(std::span<const int> kinds) const;
 };

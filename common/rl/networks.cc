@@ -8,7 +8,7 @@ namespace {
 
 nn::AttentionConfig AttentionOf(const AttentionNetworkConfig& c) {
   c.Validate();
-  return {c.entity_dim, c.goal_dim, c.embed_dim, c.num_heads};
+  return {c.entity_dim, c.goal_dim, c.embed_dim, c.num_heads, c.goal_tokens};
 }
 
 }  // namespace
@@ -22,6 +22,7 @@ void AttentionNetworkConfig::Validate() const {
   };
   positive(entity_dim, "entity_dim");
   positive(goal_dim, "goal_dim");
+  positive(goal_tokens, "goal_tokens");
   positive(action_dim, "action_dim");
   positive(embed_dim, "embed_dim");
   positive(num_heads, "num_heads");

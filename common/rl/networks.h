@@ -5,6 +5,7 @@
 //   entity tokens (B*N x entity_dim) -> Linear(embed) -> keys, values
 //   goal token [one-hot subgoal entity, goal xy, 1] -> Linear(embed, no bias) -> query
 //   multi-head attention (num_heads of embed/num_heads) over valid entities -> B x embed
+//   (a goal of several tokens: one query each, outputs and goal embeddings summed)
 //   policy: [attention | goal embedding] -> MLP policy_hidden -> tanh-Gaussian over actions
 //   Q:      [attention | goal embedding | action] -> MLP q_hidden -> 1
 // Sizes come from a plain config struct (filled from YAML by the caller).
@@ -21,7 +22,8 @@ namespace srics::rl {
 // Sizes of the policy and Q networks. No defaults: values come from the config file.
 struct AttentionNetworkConfig {
   int entity_dim = 0;              // features per entity token
-  int goal_dim = 0;                // features of the goal token
+  int goal_dim = 0;                // features of one goal token
+  int goal_tokens = 1;             // goal tokens per sample (2: a tied pair as one subgoal)
   int action_dim = 0;              // action size (2 for the rearrange tasks)
   int embed_dim = 0;               // token embedding (paper: 80)
   int num_heads = 0;               // heads (paper: 5 of 16)
@@ -37,7 +39,7 @@ struct AttentionNetworkConfig {
 };
 
 // A padded batch of entity sets: entities (B*N) x entity_dim (row b*N + n), mask B x N
-// (1 = real entity), goals B x goal_dim.
+// (1 = real entity), goals B x (goal_tokens * goal_dim).
 template <typename T>
 struct EntityBatch {
   nn::Matrix<T> entities;

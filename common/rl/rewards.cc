@@ -1,26 +1,49 @@
 #include "common/rl/rewards.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace srics::rl {
 namespace {
 
-// Sum and count of ||Δs_j|| over entities that are neither `entity` nor its ancestors.
+// Sum and count of ||Δs_j|| over entities that are neither in the subgoal nor its ancestors.
 struct IndependentMotion {
   double sum = 0;
   int count = 0;
   double mean() const { return count ? sum / count : 0.0; }
 };
 
-IndependentMotion MotionOfOthers(const EntityLayout& layout, const float* before, const float* after, int entity,
-                                 uint64_t ancestors) {
+IndependentMotion MotionOfOthers(const EntityLayout& layout, const float* before, const float* after,
+                                 const SubgoalUnit& subgoal, uint64_t ancestors) {
   IndependentMotion motion;
   for (int j = 0; j < layout.num_entities; ++j) {
-    if (j == entity || ((ancestors >> j) & 1u)) continue;
+    if (subgoal.contains(j) || ((ancestors >> j) & 1u)) continue;
     motion.sum += Displacement(layout, before, after, j);
     ++motion.count;
   }
   return motion;
+}
+
+// Summed over the subgoal's members.
+double OwnMotion(const EntityLayout& layout, const float* before, const float* after, const SubgoalUnit& subgoal) {
+  double motion = 0;
+  for (int k = 0; k < subgoal.size(); ++k) motion += Displacement(layout, before, after, subgoal.member(k));
+  return motion;
+}
+
+struct GoalDistance {
+  double sum = 0;  // over the members
+  double max = 0;  // the farthest member's: solved when below the threshold
+};
+
+GoalDistance DistanceOf(const EntityLayout& layout, const float* after, const SubgoalUnit& subgoal, const float* goal) {
+  GoalDistance d;
+  for (int k = 0; k < subgoal.size(); ++k) {
+    const double member = DistanceToGoal(layout, after, subgoal.member(k), goal + 2 * k);
+    d.sum += member;
+    d.max = std::max(d.max, member);
+  }
+  return d;
 }
 
 }  // namespace
@@ -28,9 +51,10 @@ IndependentMotion MotionOfOthers(const EntityLayout& layout, const float* before
 namespace {
 
 // The selectivity reward of the configured form, without the disturbance term.
-double FormReward(double distance, double own_motion, const IndependentMotion& others,
+double FormReward(const GoalDistance& goal, double own_motion, const IndependentMotion& others,
                   const config::RewardConfig& config) {
-  const bool solved = distance < config.solved_threshold;
+  const double distance = goal.sum;
+  const bool solved = goal.max < config.solved_threshold;
   if (config.selectivity_form == config::SelectivityForm::kReference) {
     // reference code: mean motion of the independent entities; sel in [-1, 0]
     if (solved) return -distance - others.mean();
@@ -51,18 +75,18 @@ double FormReward(double distance, double own_motion, const IndependentMotion& o
 
 }  // namespace
 
-double SelectivityReward(const EntityLayout& layout, const float* before, const float* after, int entity,
-                         const float* goal, uint64_t ancestors, const config::RewardConfig& config) {
-  const double distance = DistanceToGoal(layout, after, entity, goal);
-  const double own_motion = Displacement(layout, before, after, entity);
-  const IndependentMotion others = MotionOfOthers(layout, before, after, entity, ancestors);
-  const double reward = FormReward(distance, own_motion, others, config);
+double SelectivityReward(const EntityLayout& layout, const float* before, const float* after,
+                         const SubgoalUnit& subgoal, const float* goal, uint64_t ancestors,
+                         const config::RewardConfig& config) {
+  const double own_motion = OwnMotion(layout, before, after, subgoal);
+  const IndependentMotion others = MotionOfOthers(layout, before, after, subgoal, ancestors);
+  const double reward = FormReward(DistanceOf(layout, after, subgoal, goal), own_motion, others, config);
   // skipped at 0 so that runs without the term keep their rewards bit for bit
   return config.disturbance_weight > 0 ? reward - config.disturbance_weight * others.sum : reward;
 }
 
-double DistanceReward(const EntityLayout& layout, const float* after, int entity, const float* goal) {
-  return -DistanceToGoal(layout, after, entity, goal);
+double DistanceReward(const EntityLayout& layout, const float* after, const SubgoalUnit& subgoal, const float* goal) {
+  return -DistanceOf(layout, after, subgoal, goal).sum;
 }
 
 double FullGoalReward(const EntityLayout& layout, const float* after, const float* goal) {
@@ -76,9 +100,9 @@ double FullGoalReward(const EntityLayout& layout, const float* after, const floa
 }
 
 std::optional<double> SelectivityMeasure(const EntityLayout& layout, const float* before, const float* after,
-                                         int entity, uint64_t ancestors, double epsilon) {
-  const double own_motion = Displacement(layout, before, after, entity);
-  const double total = own_motion + MotionOfOthers(layout, before, after, entity, ancestors).mean();
+                                         const SubgoalUnit& subgoal, uint64_t ancestors, double epsilon) {
+  const double own_motion = OwnMotion(layout, before, after, subgoal);
+  const double total = own_motion + MotionOfOthers(layout, before, after, subgoal, ancestors).mean();
   if (total <= epsilon) return std::nullopt;
   return own_motion / total;
 }

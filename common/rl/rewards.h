@@ -7,26 +7,33 @@
 
 #include "common/config/agent_config.h"
 #include "common/rl/entity_layout.h"
+#include "common/rl/graph.h"
 
 namespace srics::rl {
 
-// SRICS: distance of the subgoal entity plus the selectivity term, minus disturbance_weight
-// times the summed motion of the entities outside {entity} and its ancestors. `ancestors` is
-// the ancestor mask of `entity` (bit j set: j in P^entity). The form (paper / reference code)
-// and the constants come from `config`.
-double SelectivityReward(const EntityLayout& layout, const float* before, const float* after, int entity,
-                         const float* goal, uint64_t ancestors, const config::RewardConfig& config);
+// The subgoal is a unit (common/rl/graph.h): one entity, or a tied pair attempted as one, whose
+// goal holds 2 floats per member (entity, then partner). For a pair, its distance is the sum of
+// the members', it is solved when each member is within the threshold, its own motion is the
+// sum of the members', and the others are the entities outside the pair and its ancestors.
 
-// SMORL and the no-selectivity ablation: r = -||s_k - g_k||.
-double DistanceReward(const EntityLayout& layout, const float* after, int entity, const float* goal);
+// SRICS: distance of the subgoal plus the selectivity term, minus disturbance_weight times the
+// summed motion of the entities outside the subgoal and its ancestors. `ancestors` is the
+// subgoal's ancestor mask (bit j set: j in P^i; SubgoalStructure::AncestorsOf for a pair). The
+// form (paper / reference code) and the constants come from `config`.
+double SelectivityReward(const EntityLayout& layout, const float* before, const float* after,
+                         const SubgoalUnit& subgoal, const float* goal, uint64_t ancestors,
+                         const config::RewardConfig& config);
+
+// SMORL and the no-selectivity ablation: r = -||s_k - g_k|| (a pair: the sum of both).
+double DistanceReward(const EntityLayout& layout, const float* after, const SubgoalUnit& subgoal, const float* goal);
 
 // SAC+HER: r = -||s - g|| over the xy of every entity (goal holds 2N floats).
 double FullGoalReward(const EntityLayout& layout, const float* after, const float* goal);
 
 // The selectivity measure as a metric, in [0, 1]: the share of the motion of everything that
-// is neither the subgoal entity nor one of its ancestors which belongs to the subgoal entity,
-// ||Δs_k|| / (||Δs_k|| + mean_j ||Δs_j||). Empty when nothing moved (sum below epsilon).
+// is neither the subgoal (its entity or pair) nor one of its ancestors which belongs to the
+// subgoal, ||Δs_k|| / (||Δs_k|| + mean_j ||Δs_j||). Empty when nothing moved (sum below epsilon).
 std::optional<double> SelectivityMeasure(const EntityLayout& layout, const float* before, const float* after,
-                                         int entity, uint64_t ancestors, double epsilon);
+                                         const SubgoalUnit& subgoal, uint64_t ancestors, double epsilon);
 
 }  // namespace srics::rl

@@ -195,6 +195,8 @@ int Eval(const EvalArgs& args) {
     subgoals.graph = graph.graph;
     graph_text = rl::DescribeGraph(graph.graph) + " (" + files.graph + ")";
   }
+  // the run's networks take a tied pair's two goal tokens (graph.object_ties: joint)
+  subgoals.joint_ties = policy.config().goal_tokens > 1;
 
   // the renderer and the video format
   std::optional<env::GlContext> gl;
@@ -234,7 +236,10 @@ int Eval(const EvalArgs& args) {
   environment.Reset(rl::EvalEpisodeSeed(goal_seed, 0), env::Split::kEval);
   // the evaluation's objects (env.eval_object_sets), which may be fewer than the training's
   const int num_entities = environment.layout().num_entities;
-  const std::vector<int> subgoal_entities = subgoals.For(environment.layout().kinds).SubgoalEntities();
+  // (a column per entity: a tied pair attempted as one has two)
+  rl::CatalogueSubgoals per_entity = subgoals;
+  per_entity.joint_ties = false;
+  const std::vector<int> subgoal_entities = per_entity.For(environment.layout().kinds).SubgoalEntities();
   std::ofstream csv(fs::path(out_dir) / "episodes.csv");
   csv << run_folder::HeaderLine(run_folder::kEpisodesLeadingColumns);
   for (int e = 0; e < num_entities; ++e) csv << ",distance_" << e;

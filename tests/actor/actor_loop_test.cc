@@ -326,6 +326,54 @@ TEST(ActorLoopTest, NonFiniteActionsDropTheEpisodeInsteadOfThrowing) {
   EXPECT_TRUE(explore.has_value());
 }
 
+// graph.object_ties: joint on Relational Rearrange 4 (the tied pucks 2 <-> 3 in the campaign's
+// two-way graph): the policy takes two goal tokens, a training episode of the pair carries
+// both pucks' goals (4 floats, a valid episode), none is of puck 3 alone, and an evaluation
+// attempts the pair as one subgoal, never puck 3 by itself.
+class AttemptLog : public EvalEpisodeObserver {
+ public:
+  void OnState(const env::Environment&, int) override {}
+  void OnAttempt(const Attempt& attempt) override { attempts.push_back(attempt); }
+  std::vector<Attempt> attempts;
+};
+
+TEST(ActorLoopTest, JointTiesTrainAndEvaluateTheTiedPairAsOneSubgoal) {
+  const std::string configs = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/";
+  const config::Config config = config::LoadConfig(
+      configs + "relational-4.yaml",
+      {"graph.object_ties=joint", "graph.file=" + configs + "campaign/graphs/relational-4-two-way.json"});
+  const ActorOptions options = ActorOptionsFor(config, 0);
+  ASSERT_EQ(options.policy.goal_tokens, 2);
+  auto env = env::MakeRearrangeEnv(config.env);
+  nn::Rng rng(3);
+  rl::PolicyNetwork<float> policy("policy", options.policy, rng);
+  rl::InteractionGraph graph;
+  graph.num_entities = 5;
+  graph.adjacency.assign(25, 0);
+  for (auto [a, b] : std::vector<std::pair<int, int>>{{0, 2}, {0, 3}, {0, 4}, {2, 3}, {3, 2}})
+    graph.adjacency[a * 5 + b] = 1;
+  const rl::CatalogueSubgoals subgoals{graph, true};
+  std::set<int> entities;
+  for (uint64_t seed = 1; seed <= 24; ++seed) {
+    const std::optional<rl::Episode> e = RunTrainEpisode(*env, policy, subgoals, options.train, seed, rng);
+    ASSERT_TRUE(e.has_value());
+    EXPECT_EQ(rl::ValidateEpisode(*e, rl::EpisodeLimitsFor(config.env)), "");
+    entities.insert(e->subgoal_entity);
+    EXPECT_EQ(e->goal.size(), e->subgoal_entity == 2 ? 4u : 2u) << "subgoal " << e->subgoal_entity;
+  }
+  EXPECT_EQ(entities, (std::set<int>{0, 2, 4}));
+  AttemptLog log;
+  const std::optional<rl::EpisodeMetrics> metrics =
+      RunEvaluationEpisode(*env, &policy, subgoals, options.eval, 7, nullptr, &log);
+  ASSERT_TRUE(metrics.has_value());
+  ASSERT_FALSE(log.attempts.empty());
+  for (const auto& attempt : log.attempts) {
+    EXPECT_NE(attempt.entity, 3);
+    // the pair's partner is never among the "others" its own attempt disturbs
+    if (attempt.entity == 2) EXPECT_EQ(std::count(attempt.solved_others.begin(), attempt.solved_others.end(), 3), 0);
+  }
+}
+
 TEST(ActorLoopTest, SameSeedSameEpisodes) {
   const config::Config config = SmallConfig();
   std::vector<std::vector<float>> runs[2];

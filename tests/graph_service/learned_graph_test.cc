@@ -320,7 +320,8 @@ TEST(OneWayObjectTiesTest, ObjectEdgesBecomeADagStrongestFirst) {
 // policy, seeds 2 and 3 in the raw folders). Each published the rope both ways; one_way orders
 // the tied pucks 2 and 3 (entities 2 and 3; 1 is the static puck): one is the other's ancestor,
 // not both, and their depths differ. On all three the mean weights pick 2 -> 3 (0.100 / 0.087,
-// 0.087 / 0.078, 0.083 / 0.070), the reference code's graph 0->2, 0->3, 0->4, 2->3.
+// 0.087 / 0.078, 0.083 / 0.070), the reference code's graph 0->2, 0->3, 0->4, 2->3. joint pairs
+// the two pucks into one subgoal.
 TEST(OneWayObjectTiesTest, OrdersTheTiedPucksOfTheLearnedRelationalGraphs) {
   const std::string root = SRICS_SOURCE_DIR;
   // the reference code's graph in our numbering, as the campaign's tie experiment gave it
@@ -335,6 +336,14 @@ TEST(OneWayObjectTiesTest, OrdersTheTiedPucksOfTheLearnedRelationalGraphs) {
     ASSERT_EQ(rl::DescribeGraph(learned.graph), "action->0, 0->2, 0->3, 0->4, 2->3, 3->2");
     EXPECT_TRUE(learned.structure.is_ancestor(2, 3) && learned.structure.is_ancestor(3, 2));
     EXPECT_EQ(learned.structure.depth[2], learned.structure.depth[3]);
+
+    // joint (option c): the graph as published, the tied pucks one subgoal of both, attempted
+    // once at their depth, the arm its ancestor outside the pair; puck 4 and the arm alone
+    rl::SubgoalStructure joint = rl::CatalogueSubgoals{learned.graph, true}.For(std::vector<int>{0, 1, 2, 3, 4});
+    EXPECT_EQ(joint.partner, (std::vector<int>{-1, -1, 3, 2, -1}));
+    EXPECT_EQ(joint.SubgoalEntities(), (std::vector<int>{0, 2, 4}));
+    EXPECT_EQ(joint.AncestorsOf(joint.UnitOf(2)), 0b1u);
+    EXPECT_EQ(joint.depth[2], 3);
 
     const LearnedGraph one_way = WithOneWayObjectTies(learned);
     const rl::SubgoalStructure& st = one_way.structure;

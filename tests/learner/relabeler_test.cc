@@ -74,6 +74,67 @@ TEST_F(RelabelerTest, RewardsAreRecomputedForTheRelabeledGoal) {
   EXPECT_EQ(checked, 512);
 }
 
+// graph.object_ties: joint (two goal tokens): episodes of the tied pair 2 <-> 3 are relabeled
+// as the pair (both tokens real, both goals from one future step or both sampled, the pair's
+// reward); a single subgoal's second token is padding; explore episodes draw the pair by its
+// first entity only.
+TEST_F(RelabelerTest, AJointPairIsRelabeledAsOneSubgoalOfTwoTokens) {
+  rl::Episode pair_episode = MakeEpisode(4, 20, 1, 2);
+  pair_episode.goal = {0.05f, 0.6f, -0.1f, 0.55f};  // puck 2's goal, then its partner 3's
+  replay_.Insert(pair_episode);
+  replay_.Insert(MakeEpisode(4, 20, 2, 1));   // the single subgoal 1
+  replay_.Insert(MakeEpisode(4, 20, 3, -1));  // explore
+  const rl::InteractionGraph graph = [] {
+    rl::InteractionGraph g = rl::InteractionGraph::Star(4);
+    g.adjacency[2 * 4 + 3] = g.adjacency[3 * 4 + 2] = 1;
+    return g;
+  }();
+  Relabeler relabeler(config::Method::kSrics, reward_, relabel_, {}, 4, /*goal_tokens=*/2);
+  relabeler.SetGraph(graph);
+  TrainingBatch batch;
+  std::vector<GoalSource> sources;
+  relabeler.Sample(replay_, 3000, &batch, &sources);
+  const int token = 4 + 3;
+  ASSERT_EQ(batch.goal_dim, 2 * token);
+  const rl::EntityLayout layout{4, 4, false};
+  int pairs = 0, singles = 0;
+  for (int b = 0; b < batch.size; ++b) {
+    const float* g = &batch.goal[b * batch.goal_dim];
+    const float* second = g + token;
+    const float* before = &batch.entities[b * 4 * batch.entity_dim];
+    const float* after = &batch.next_entities[b * 4 * batch.entity_dim];
+    const int entity = batch.subgoal_entity[b];
+    ASSERT_NE(entity, 3) << "the pair is drawn by its first entity";
+    if (entity == 2) {
+      ++pairs;
+      EXPECT_EQ(g[2], 1.0f);
+      EXPECT_EQ(second[3], 1.0f);  // the partner's kind
+      EXPECT_EQ(second[6], 1.0f);  // a real token
+      const float goal[4] = {g[4], g[5], second[4], second[5]};
+      if (sources[b] == GoalSource::kOriginal) EXPECT_EQ(std::vector<float>(goal, goal + 4), pair_episode.goal);
+      const double expected = rl::SelectivityReward(layout, before, after, rl::SubgoalUnit(2, 3), goal, 0b1, reward_);
+      EXPECT_NEAR(batch.reward[b], expected, 1e-6);
+      // a future goal: both objects' positions at one later step of the episode
+      if (sources[b] == GoalSource::kFuture) {
+        bool found = false;
+        for (const rl::Episode& e : replay_.contents())
+          for (int f = 1; f <= e.num_steps; ++f)
+            found |= e.layout.x(e.state(f), 2) == goal[0] && e.layout.y(e.state(f), 2) == goal[1] &&
+                     e.layout.x(e.state(f), 3) == goal[2] && e.layout.y(e.state(f), 3) == goal[3];
+        EXPECT_TRUE(found) << "sample " << b;
+      }
+    } else {
+      ++singles;
+      for (int i = 0; i < token; ++i) EXPECT_EQ(second[i], 0.0f) << "padding, sample " << b;
+      const float goal[2] = {g[4], g[5]};
+      EXPECT_NEAR(batch.reward[b],
+                  rl::SelectivityReward(layout, before, after, entity, goal, 0b1 & ~(1u << entity), reward_), 1e-6);
+    }
+  }
+  EXPECT_GT(pairs, 1000);
+  EXPECT_GT(singles, 1000);
+}
+
 TEST_F(RelabelerTest, FutureGoalsComeFromTheSameEntityLaterInTheEpisode) {
   Fill(1, 1);
   config::RelabelConfig all_future{0.0, 1.0, 0.0};

@@ -1,6 +1,7 @@
 // graph.object_ties (issue 35, ties as SRICS can use them): two_way, the default, leaves every
 // existing config's resolved settings as they were (the key is recorded only when given);
-// one_way is recorded, and refused beside a graph that is not learned.
+// one_way is recorded, and refused beside a graph that is not learned; joint (the pair as one
+// subgoal) is recorded and takes any graph.
 
 #include <gtest/gtest.h>
 
@@ -22,9 +23,16 @@ TEST(GraphTiesConfigTest, TwoWayByDefaultAndNotRecordedUnlessGiven) {
             ObjectTies::kTwoWay);
 }
 
+TEST(GraphTiesConfigTest, JointIsRecordedAndTakesAGivenGraph) {
+  const Config joint =
+      LoadConfig(Configs() + "relational-4.yaml", {"graph.object_ties=joint", "graph.file=graph.json"});
+  EXPECT_EQ(joint.graph.object_ties, ObjectTies::kJoint);
+  EXPECT_NE(joint.resolved_yaml.find("object_ties: joint"), std::string::npos) << joint.resolved_yaml;
+}
+
 TEST(GraphTiesConfigTest, UnknownFormsAndGivenGraphsAreRefused) {
   try {
-    LoadConfig(Configs() + "relational-4.yaml", {"graph.object_ties=joint"});
+    LoadConfig(Configs() + "relational-4.yaml", {"graph.object_ties=both"});
     FAIL() << "accepted";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("graph.object_ties"), std::string::npos) << e.what();

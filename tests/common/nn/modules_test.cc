@@ -153,6 +153,61 @@ TEST_F(AttentionTest, PermutationInvariantAndPaddingIgnored) {
   EXPECT_LT((a - base).norm(), 1e-12);
 }
 
+// Two goal tokens per sample: the attention output and the goal embedding are the sums of what
+// each real token gives alone (same parameters), a padding token adds nothing, and the
+// parameters' gradients match differences.
+TEST(GoalTokensTest, TwoTokensAreTheSumOfEachAloneAndPaddingAddsNothing) {
+  Rng rng_one(4), rng_two(4), rng(5);
+  GoalAttention<D> one("a", {5, 6, 8, 2}, rng_one);
+  GoalAttention<D> two("a", {5, 6, 8, 2, 2}, rng_two);
+  ParameterList<D> p_one, p_two;
+  one.Parameters(p_one);
+  two.Parameters(p_two);
+  for (size_t i = 0; i < p_one.size(); ++i) {
+    if (p_one[i]->value.rows() == 1) p_one[i]->value = RandomNormal<D>(1, p_one[i]->value.cols(), rng) * 0.3;
+    p_two[i]->value = p_one[i]->value;
+  }
+  const int batch = 3, ents = 4;
+  const MatD entities = RandomNormal<D>(batch * ents, 5, rng);
+  MatD mask = MatD::Ones(batch, ents);
+  mask(1, 2) = 0;
+  MatD first = RandomNormal<D>(batch, 6, rng), second = RandomNormal<D>(batch, 6, rng);
+  first.col(5).setOnes();
+  second.col(5).setOnes();
+  second.row(2).setZero();  // sample 2: one real token and a padding one
+  MatD goals(batch, 12);
+  goals << first, second;
+  auto run = [&](GoalAttention<D>& att, const MatD& g) {
+    Tape<D> t;
+    auto out = att.Forward(t, t.Constant(entities), t.Constant(mask), t.Constant(g));
+    return std::make_pair(MatD(out.attention.value()), MatD(out.goal_embedding.value()));
+  };
+  const auto [pair_att, pair_ge] = run(two, goals);
+  const auto [first_att, first_ge] = run(one, first);
+  const auto [second_att, second_ge] = run(one, second);
+  for (int b = 0; b < batch; ++b) {
+    const double second_share = b == 2 ? 0.0 : 1.0;
+    EXPECT_LT((pair_att.row(b) - first_att.row(b) - second_share * second_att.row(b)).norm(), 1e-12) << b;
+    EXPECT_LT((pair_ge.row(b) - first_ge.row(b) - second_share * second_ge.row(b)).norm(), 1e-12) << b;
+    // the actors' path: the same sums for one sample
+    MatD a, ge;
+    two.Apply(entities.middleRows(b * ents, ents), goals.row(b), a, ge);
+    if (b != 1) {  // sample 1 has a masked entity, which Apply (all present) does not
+      EXPECT_LT((a - pair_att.row(b)).norm(), 1e-12) << b;
+      EXPECT_LT((ge - pair_ge.row(b)).norm(), 1e-12) << b;
+    }
+  }
+  // (the parameters' gradients: a token's constant-1 feature is its mask, so the goals are
+  // constants, as every caller passes them)
+  EXPECT_LT(GradCheck(p_two,
+                      [&](Tape<D>& t) {
+                        auto out = two.Forward(t, t.Constant(entities), t.Constant(mask), t.Constant(goals));
+                        return t.Concat({out.attention, out.goal_embedding}, 1);
+                      }),
+            10 * kTol);
+  EXPECT_THROW(GoalAttention<D>("a", {5, 6, 8, 2, 0}, rng), std::invalid_argument);
+}
+
 TEST(ComposingTest, PaysOnTrainingBatchesNotOnOneSample) {
   // Rearrange's entity tokens (6 features -> 80 -> key and value) over batch 2048 x 4:
   // layered 8192 * 480 + 2 * 8192 * 6400 = 108.8M multiply-adds, composed

@@ -268,6 +268,34 @@ TEST_P(AttentionGradTest, AttentionMatchesCompositionAndDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(HeadSizes, AttentionGradTest, ::testing::Values(3, 16));
 
+TEST_F(TapeGradTest, SeveralQueriesPerSampleAttendToTheirOwnSamplesEntities) {
+  // 2 queries per sample (a tied pair's two goal tokens): query row b*2 + j sees sample b's
+  // entities and mask only, as a one-query attention of that sample would
+  const int batch = 3, ents = 4, heads = 2, dh = 3, embed = heads * dh, per_sample = 2;
+  auto& q = NewVar(batch * per_sample, embed);
+  auto& k = NewVar(batch * ents, embed);
+  auto& v = NewVar(batch * ents, embed);
+  MatD mask = MatD::Ones(batch, ents);
+  mask(0, 3) = mask(1, 0) = mask(2, 1) = 0;
+  Tape<D> t;
+  const MatD both = t.Attention(t.Param(q), t.Param(k), t.Param(v), t.Constant(mask), heads, per_sample).value();
+  ASSERT_EQ(both.rows(), batch * per_sample);
+  for (int j = 0; j < per_sample; ++j) {
+    MatD qj(batch, embed);
+    for (int b = 0; b < batch; ++b) qj.row(b) = q.value.row(b * per_sample + j);
+    Tape<D> one;
+    const MatD single = one.Attention(one.Constant(qj), one.Param(k), one.Param(v), one.Constant(mask), heads).value();
+    for (int b = 0; b < batch; ++b) EXPECT_EQ(both.row(b * per_sample + j), single.row(b)) << "sample " << b;
+  }
+  // the keys' and values' gradients gather both queries' shares
+  EXPECT_LT(GradCheck(All(),
+                      [&](Tape<D>& t) {
+                        return t.Attention(t.Param(q), t.Param(k), t.Param(v), t.Constant(mask), heads, per_sample);
+                      }),
+            kTol);
+  EXPECT_THROW(t.Attention(t.Param(q), t.Param(k), t.Param(v), t.Constant(mask), heads, 4), std::invalid_argument);
+}
+
 TEST_F(TapeGradTest, WrongGradientIsDetected) {
   // sanity of the checker itself: a loss whose true gradient is twice what the tape sees
   auto& a = NewVar(3, 3);

@@ -149,6 +149,22 @@ TEST(EvaluationTest, ReferenceOrderedPhaseEndsWhenItsWalkReachesTheLastCyclingAt
   FAIL() << "no seed ended the cycling phase on L[2]";
 }
 
+// graph.object_ties: joint: the tied pucks 2 and 3 are one subgoal (listed by 2), so the order
+// has 3 subgoals, the pair deepest first; the slots stay the paper's 9.
+TEST(EvaluationTest, AJointPairIsOneSubgoalOfTheOrderAndTheSlotsStayNine) {
+  SubgoalStructure s = Relational();
+  PairMutualAncestors(&s, 0);
+  std::mt19937_64 rng(5);
+  for (int trial = 0; trial < 50; ++trial) {
+    AttemptSchedule schedule(s, SubgoalOrder::kDepth, EvaluationProtocol::kReference, rng);
+    EXPECT_EQ(schedule.slots(), 9);
+    EXPECT_EQ(schedule.order(), (std::vector<int>{2, 4, 0}));
+    const auto slots = Play(schedule);
+    ASSERT_EQ(slots.size(), 9u);
+    for (const auto& slot : slots) EXPECT_NE(slot.entity, 3) << "the pair is attempted by its first entity";
+  }
+}
+
 TEST(EvaluationTest, ThreePucksGiveSevenAttemptsUnderBothProtocols) {
   for (EvaluationProtocol protocol : {EvaluationProtocol::kReference, EvaluationProtocol::kIndependentDraws}) {
     std::mt19937_64 rng(1);

@@ -46,6 +46,49 @@ TEST(GraphTest, RelationalGraphWithCycleAndStaticPuck) {
   EXPECT_EQ(s.SubgoalEntities(), (std::vector<int>{0, 2, 3, 4}));
 }
 
+// graph.object_ties: joint: the tied pucks 2 <-> 3 (each the other's ancestor) become one
+// subgoal, listed once by puck 2; their ancestors outside the pair are the arm's.
+TEST(JointTiesTest, MutualAncestorsArePairedAndListedOnce) {
+  SubgoalStructure s = ComputeSubgoalStructure(FromEdges(5, {{0, 2}, {0, 3}, {0, 4}, {2, 3}, {3, 2}}));
+  EXPECT_EQ(s.UnitOf(2).size(), 1) << "no pairs before PairMutualAncestors";
+  PairMutualAncestors(&s, 0);
+  EXPECT_EQ(s.partner, (std::vector<int>{-1, -1, 3, 2, -1}));
+  EXPECT_EQ(s.SubgoalEntities(), (std::vector<int>{0, 2, 4}));
+  const SubgoalUnit pair = s.UnitOf(2);
+  EXPECT_EQ(pair.size(), 2);
+  EXPECT_EQ(pair.member(1), 3);
+  EXPECT_TRUE(pair.contains(3) && pair.contains(2) && !pair.contains(0));
+  EXPECT_EQ(s.UnitOf(3).member(1), 2);
+  EXPECT_EQ(s.AncestorsOf(pair), Mask({0}));
+  EXPECT_EQ(s.AncestorsOf(SubgoalUnit(2)), Mask({0, 3})) << "alone, its partner is an ancestor";
+  EXPECT_EQ(s.AncestorsOf(SubgoalUnit(4)), Mask({0}));
+}
+
+TEST(JointTiesTest, AChainOfTiesAndTheArmAreNeverPaired) {
+  // 2 <-> 3 <-> 4: puck 3 has two mutual partners, so none of the three is paired
+  SubgoalStructure chain = ComputeSubgoalStructure(FromEdges(5, {{0, 2}, {2, 3}, {3, 2}, {3, 4}, {4, 3}}));
+  PairMutualAncestors(&chain, 0);
+  EXPECT_EQ(chain.partner, (std::vector<int>(5, -1)));
+  EXPECT_EQ(chain.SubgoalEntities(), (std::vector<int>{0, 2, 3, 4}));
+  // an object that acts back on the arm is still not its ancestor (every path starts at the
+  // arm): the arm is never paired
+  SubgoalStructure back = ComputeSubgoalStructure(FromEdges(3, {{0, 1}, {1, 0}, {0, 2}}));
+  PairMutualAncestors(&back, 0);
+  EXPECT_EQ(back.partner, (std::vector<int>(3, -1)));
+}
+
+TEST(JointTiesTest, TheCataloguePairsInEachEpisodesIndices) {
+  CatalogueSubgoals subgoals{FromEdges(5, {{0, 2}, {0, 3}, {0, 4}, {2, 3}, {3, 2}}), true};
+  // every object present: catalogue indices
+  EXPECT_EQ(subgoals.For(std::vector<int>{0, 1, 2, 3, 4}).partner, (std::vector<int>{-1, -1, 3, 2, -1}));
+  // objects 1 and 4 absent: the pucks 2, 3 are the episode's entities 1, 2
+  EXPECT_EQ(subgoals.For(std::vector<int>{0, 2, 3}).partner, (std::vector<int>{-1, 2, 1}));
+  // one of the pair absent: no pair
+  EXPECT_EQ(subgoals.For(std::vector<int>{0, 2, 4}).partner, (std::vector<int>{-1, -1, -1}));
+  subgoals.joint_ties = false;
+  EXPECT_TRUE(subgoals.For(std::vector<int>{0, 1, 2, 3, 4}).partner.empty());
+}
+
 TEST(GraphTest, ChainAndDiamondTakeLongestPathAndEveryPathNode) {
   // 0 -> 1 -> 2 -> 3 and a shortcut 0 -> 3; plus 1 -> 4, 0 -> 4
   auto graph = FromEdges(5, {{0, 1}, {1, 2}, {2, 3}, {0, 3}, {1, 4}, {0, 4}});

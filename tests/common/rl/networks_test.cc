@@ -125,6 +125,62 @@ TEST_F(NetworksTest, ActMatchesTapeForwardDeterministicAndSampled) {
   EXPECT_GT((act2 - act).norm(), 1e-6);
 }
 
+// A goal of two tokens (a tied pair attempted as one): a padded second token (its constant 1
+// feature 0) gives exactly the one-token network with the same parameters; two real tokens sum
+// their attention outputs and goal embeddings; gradients against differences; Act as Forward.
+TEST(NetworksGoalTokensTest, TwoTokensSumTheirQueriesAndAPaddedTokenChangesNothing) {
+  AttentionNetworkConfig one_config = SmallNetworkConfig();
+  AttentionNetworkConfig two_config = one_config;
+  two_config.goal_tokens = 2;
+  Rng rng_one(8), rng_two(8), rng(9);
+  PolicyNetwork<double> one("policy", one_config, rng_one);
+  PolicyNetwork<double> two("policy", two_config, rng_two);
+  QNetwork<double> q_one("q1", one_config, rng_one), q_two("q1", two_config, rng_two);
+  RandomizeBiases(one.Parameters(), rng);
+  RandomizeBiases(q_one.Parameters(), rng);
+  auto copy = [](const ParameterList<double>& from, const ParameterList<double>& to) {
+    ASSERT_EQ(from.size(), to.size());
+    for (size_t i = 0; i < from.size(); ++i) to[i]->value = from[i]->value;
+  };
+  copy(one.Parameters(), two.Parameters());
+  copy(q_one.Parameters(), q_two.Parameters());
+  const int D = one_config.goal_dim;
+  std::vector<MatD> sets;
+  for (int n : {3, 5}) sets.push_back(nn::RandomNormal<double>(n, 5, rng));
+  MatD first = nn::RandomNormal<double>(2, D, rng), second = nn::RandomNormal<double>(2, D, rng);
+  first.col(D - 1).setOnes();
+  second.col(D - 1).setOnes();
+  MatD padded = MatD::Zero(2, 2 * D), pair(2, 2 * D);
+  padded.leftCols(D) = first;
+  pair << first, second;
+  const MatD actions = nn::RandomNormal<double>(2, 2, rng), eps = MatD::Zero(2, 2);
+  auto q_of = [&](QNetwork<double>& q, const MatD& goals) {
+    Tape<double> t;
+    return MatD(q.Forward(t, PackEntities(sets, goals), t.Constant(actions)).value());
+  };
+  auto action_of = [&](PolicyNetwork<double>& p, const MatD& goals) {
+    Tape<double> t;
+    return MatD(p.Forward(t, PackEntities(sets, goals), eps).action.value());
+  };
+  EXPECT_LT((q_of(q_two, padded) - q_of(q_one, first)).norm(), 1e-12);
+  EXPECT_LT((action_of(two, padded) - action_of(one, first)).norm(), 1e-12);
+  // the pair: differs from either token alone
+  EXPECT_GT((q_of(q_two, pair) - q_of(q_one, first)).norm(), 1e-6);
+  EXPECT_GT((q_of(q_two, pair) - q_of(q_one, second)).norm(), 1e-6);
+  EXPECT_LT(nn::testing::GradCheck(
+                q_two.Parameters(),
+                [&](Tape<double>& t) { return q_two.Forward(t, PackEntities(sets, pair), t.Constant(actions)); }),
+            kTol);
+  // the actors' fast path agrees with the tape, for a pair and for a padded pair
+  for (const MatD& goals : {pair, padded}) {
+    Tape<double> t;
+    auto mode = two.Forward(t, PackEntities<double>({sets[1]}, goals.row(1)), MatD::Zero(1, 2));
+    Rng act_rng(5);
+    EXPECT_LT((two.Act(sets[1], goals.row(1), true, act_rng) - mode.action.value()).norm(), 1e-12);
+    EXPECT_NEAR(two.last_log_prob(), mode.log_prob.value()(0, 0), 1e-9);
+  }
+}
+
 TEST(NetworksConfigTest, PaperSizesAndSignature) {
   Rng rng(1);
   PolicyNetwork<float> policy("policy", PaperNetworkConfig(4), rng);

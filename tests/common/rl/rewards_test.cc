@@ -117,6 +117,32 @@ TEST_F(RewardsTest, DistanceAndFullGoalRewards) {
               -std::sqrt(0.03 * 0.03 + 0.04 * 0.04 + 0.12 * 0.12 + 0.04 * 0.04), kTol);
 }
 
+// A tied pair attempted as one (pucks 1 and 3, goal 2 floats each): distance and own motion
+// summed over both, solved only when both are within the threshold, the partner's motion
+// never independent.
+TEST_F(RewardsTest, APairSumsItsDistancesAndMotionsAndIsSolvedWhenBothAre) {
+  config::RewardConfig c;
+  c.selectivity_form = kPaper;
+  const SubgoalUnit pair(1, 3);
+  // after: puck 1 at (0.1, 0.54), puck 3 at (0.2, 0.49); distances 0.16 and 0.01
+  const std::vector<float> goal = {0.1f, 0.7f, 0.2f, 0.5f};
+  // own 0.04 + 0.04; independent: puck 2 only (the arm an ancestor): 0.12
+  // paper: sel = 0.08 / 0.20 = 0.4; r = -0.17 + 0.25 * (0.4 - 1)
+  EXPECT_NEAR(SelectivityReward(layout_, before_.data(), after_.data(), pair, goal.data(), 0b1, c),
+              -0.17 + 0.25 * (0.4 - 1.0), kTol);
+  // both within 0.05 (0.01 each): solved, sel = 1 - 0.12
+  const std::vector<float> near = {0.1f, 0.55f, 0.2f, 0.5f};
+  EXPECT_NEAR(SelectivityReward(layout_, before_.data(), after_.data(), pair, near.data(), 0b1, c),
+              -0.02 + 0.25 * (0.88 - 1.0), kTol);
+  // one member outside the threshold (puck 1 at 0.06, puck 3 at 0.01): unsolved
+  const std::vector<float> one_far = {0.1f, 0.60f, 0.2f, 0.5f};
+  EXPECT_NEAR(SelectivityReward(layout_, before_.data(), after_.data(), pair, one_far.data(), 0b1, c),
+              -0.07 + 0.25 * (0.4 - 1.0), kTol);
+  EXPECT_NEAR(DistanceReward(layout_, after_.data(), pair, goal.data()), -0.17, kTol);
+  // measure: 0.08 / (0.08 + 0.12)
+  EXPECT_NEAR(*SelectivityMeasure(layout_, before_.data(), after_.data(), pair, 0b1, 1e-9), 0.4, kTol);
+}
+
 TEST_F(RewardsTest, SelectivityMeasure) {
   auto m = SelectivityMeasure(layout_, before_.data(), after_.data(), 1, 0b1, 1e-5);
   ASSERT_TRUE(m.has_value());

@@ -36,10 +36,11 @@ std::string EvalRows(const std::string& dir) {
   return out.str();
 }
 
-int RunOnce(const std::string& dir, const std::vector<std::string>& more = {}) {
+int RunOnce(const std::string& dir, const std::vector<std::string>& more = {},
+            const std::string& config = "rearrange-1-cpu.yaml") {
   fs::remove_all(dir);
   LaunchOptions options;
-  options.config_file = Config("rearrange-1-cpu.yaml");
+  options.config_file = Config(config);
   options.overrides = kSmallRun;
   options.overrides.insert(options.overrides.end(), more.begin(), more.end());
   options.run_dir = dir;
@@ -59,6 +60,29 @@ TEST(InProcessRunTest, SameConfigSameEvalCsvAndAWholeRunFolder) {
   for (const char* file : {"config.yaml", "resolved-config.yaml", "eval.csv", "learner.csv", "nodes.csv", "graph.json",
                            "checkpoint.srics", "summary.txt", "logs/launcher.log"})
     EXPECT_TRUE(fs::exists(fs::path(a) / file)) << file;
+}
+
+// graph.object_ties: joint on Relational Rearrange 4 with the campaign's two-way graph: a whole
+// run trains and evaluates the tied pucks as one subgoal of two goal tokens; the learner takes
+// every training episode (the pair's 4-float goals too), and the run's evaluations are there.
+TEST(InProcessRunTest, JointTiesRunEndToEnd) {
+  const std::string dir = ::testing::TempDir() + "/in_process_joint";
+  ASSERT_EQ(
+      RunOnce(dir, {"graph.object_ties=joint", "graph.file=" + Config("campaign/graphs/relational-4-two-way.json")},
+              "relational-4.yaml"),
+      kExitDone);
+  std::ifstream learner(dir + "/learner.csv");
+  std::string header, line, last;
+  std::getline(learner, header);
+  while (std::getline(learner, line)) last = line;
+  std::stringstream h(header), r(last);
+  std::map<std::string, std::string> row;
+  for (std::string key, value; std::getline(h, key, ',') && std::getline(r, value, ',');) row[key] = value;
+  ASSERT_TRUE(row.count("episodes_rejected")) << header;
+  EXPECT_EQ(row["episodes_rejected"], "0");
+  EXPECT_NE(row["episodes_accepted"], "0");
+  const std::string rows = EvalRows(dir);
+  EXPECT_GE(std::count(rows.begin(), rows.end(), '\n'), 3) << rows;
 }
 
 // Every actor gets its share of the env steps the learner allows. Actors used to count the rate
