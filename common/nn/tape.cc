@@ -146,10 +146,11 @@ void Tape<T>::Reset() {
 }
 
 template <typename T>
-typename Tape<T>::Node& Tape<T>::NewNode(Op op, int a, int b) {
+typename Tape<T>::Node& Tape<T>::NewNode(Op op, BackwardFn backward, int a, int b) {
   if (count_ == static_cast<int>(nodes_.size())) nodes_.emplace_back();
   Node& n = nodes_[count_++];
   n.op = op;
+  n.backward = backward;
   n.a = a;
   n.b = b;
   n.c = n.d = -1;
@@ -176,7 +177,7 @@ const Matrix<T>& Tape<T>::Grad(Var<T> v) {
 
 template <typename T>
 Var<T> Tape<T>::Constant(const Mat& value, bool requires_grad) {
-  Node& n = NewNode(Op::kConstant);
+  Node& n = NewNode(Op::kConstant, nullptr);
   n.value = value;
   n.needs_grad = requires_grad;
   return Out(n);
@@ -184,7 +185,7 @@ Var<T> Tape<T>::Constant(const Mat& value, bool requires_grad) {
 
 template <typename T>
 Var<T> Tape<T>::Param(Parameter<T>& p, bool trainable) {
-  Node& n = NewNode(Op::kParam);
+  Node& n = NewNode(Op::kParam, &Tape::BackwardParam);
   n.param = &p;
   n.flag = trainable;
   n.needs_grad = trainable;
@@ -192,8 +193,17 @@ Var<T> Tape<T>::Param(Parameter<T>& p, bool trainable) {
 }
 
 template <typename T>
+void Tape<T>::BackwardParam(Node& n) {
+  if (!n.flag) return;  // a frozen parameter: its gradient only passes through
+  if (gradient_buffer_)
+    gradient_buffer_->Add(n.param, n.grad);
+  else
+    n.param->grad += n.grad;
+}
+
+template <typename T>
 typename Tape<T>::Node& Tape<T>::Product(Op op, Var<T> a, Var<T> b, const char* what) {
-  Node& n = NewNode(op, a.id, b.id);
+  Node& n = NewNode(op, &Tape::BackwardProduct, a.id, b.id);
   const Mat& A = Val(a.id);
   const Mat& B = Val(b.id);
   SRICS_NN_CHECK(A.cols() == B.rows(), what, Shape(A) + " * " + Shape(B));
@@ -220,9 +230,27 @@ Var<T> Tape<T>::Linear(Var<T> x, Var<T> w, Var<T> b) {
   return Out(n);
 }
 
+// MatMul and Linear: a (m x k) * b (k x n) [+ bias c]
+template <typename T>
+void Tape<T>::BackwardProduct(Node& n) {
+  const Mat& g = n.grad;
+  const Mat& A = Val(n.a);
+  const Mat& B = Val(n.b);
+  if (Needs(n.b)) {
+    AccProduct(nodes_[n.b], A, true, g, false);
+    LogGemm(A.cols(), A.rows(), g.cols(), true, false);
+  }
+  if (Needs(n.a)) {
+    AccProduct(nodes_[n.a], g, false, B, true);
+    LogGemm(g.rows(), g.cols(), B.rows(), false, true);
+  }
+  const int bias = n.c;
+  if (Needs(bias)) Acc(nodes_[bias], g.colwise().sum());
+}
+
 template <typename T>
 Var<T> Tape<T>::AddBias(Var<T> x, Var<T> b) {
-  Node& n = NewNode(Op::kAddBias, x.id, b.id);
+  Node& n = NewNode(Op::kAddBias, &Tape::BackwardAddBias, x.id, b.id);
   const Mat& X = Val(x.id);
   const Mat& B = Val(b.id);
   SRICS_NN_CHECK(B.rows() == 1 && B.cols() == X.cols(), "AddBias", Shape(X) + " + " + Shape(B));
@@ -232,8 +260,14 @@ Var<T> Tape<T>::AddBias(Var<T> x, Var<T> b) {
 }
 
 template <typename T>
+void Tape<T>::BackwardAddBias(Node& n) {
+  if (Needs(n.a)) Acc(nodes_[n.a], n.grad);
+  if (Needs(n.b)) Acc(nodes_[n.b], n.grad.colwise().sum());
+}
+
+template <typename T>
 Var<T> Tape<T>::Binary(Op op, Var<T> a, Var<T> b) {
-  Node& n = NewNode(op, a.id, b.id);
+  Node& n = NewNode(op, &Tape::BackwardBinary, a.id, b.id);
   const Mat& A = Val(a.id);
   const Mat& B = Val(b.id);
   const Index rows = std::max(A.rows(), B.rows());
@@ -261,325 +295,7 @@ Var<T> Tape<T>::Binary(Op op, Var<T> a, Var<T> b) {
   return Out(n);
 }
 
-template <typename T>
-Var<T> Tape<T>::AddScalar(Var<T> a, T s) {
-  Node& n = NewNode(Op::kAddScalar, a.id);
-  n.value = Val(a.id).array() + s;
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::MulScalar(Var<T> a, T s) {
-  Node& n = NewNode(Op::kMulScalar, a.id);
-  n.f0 = s;
-  n.value = Val(a.id) * s;
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::Clamp(Var<T> a, T lo, T hi) {
-  Node& n = NewNode(Op::kClamp, a.id);
-  n.f0 = lo;
-  n.f1 = hi;
-  n.value = Val(a.id).cwiseMax(lo).cwiseMin(hi);
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::Unary(Op op, Var<T> a) {
-  Node& n = NewNode(op, a.id);
-  const auto x = Val(a.id).array();
-  n.value.resize(x.rows(), x.cols());
-  auto y = n.value.array();
-  switch (op) {
-    case Op::kRelu: y = x.max(T(0)); break;
-    case Op::kTanh: y = x.tanh(); break;
-    case Op::kSigmoid: y = T(1) / (T(1) + (-x).exp()); break;
-    case Op::kExp: y = x.exp(); break;
-    case Op::kLog: y = x.log(); break;
-    case Op::kSoftplus: y = x.max(T(0)) + (-x.abs()).exp().log1p(); break;
-    case Op::kSquare: y = x.square(); break;
-    default: break;
-  }
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::Sum(Var<T> a, int axis) {
-  SRICS_NN_CHECK(axis >= -1 && axis <= 1, "Sum", "axis " + std::to_string(axis));
-  Node& n = NewNode(Op::kSum, a.id);
-  n.i0 = axis;
-  n.f0 = T(1);
-  const Mat& A = Val(a.id);
-  if (axis == -1) {
-    n.value.resize(1, 1);
-    n.value(0, 0) = A.sum();
-  } else if (axis == 0) {
-    n.value = A.colwise().sum();
-  } else {
-    n.value = A.rowwise().sum();
-  }
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::Mean(Var<T> a, int axis) {
-  const Mat& A = Val(a.id);
-  const Index count = axis == -1 ? A.size() : axis == 0 ? A.rows() : A.cols();
-  Var<T> s = Sum(a, axis);
-  Node& n = N(s);
-  n.op = Op::kMean;
-  n.f0 = T(1) / static_cast<T>(count);
-  n.value *= n.f0;
-  return s;
-}
-
-template <typename T>
-Var<T> Tape<T>::Concat(const std::vector<Var<T>>& parts, int axis) {
-  SRICS_NN_CHECK(!parts.empty(), "Concat", "no parts");
-  SRICS_NN_CHECK(axis == 0 || axis == 1, "Concat", "axis " + std::to_string(axis));
-  Node& n = NewNode(Op::kConcat);
-  n.i0 = axis;
-  n.inputs.clear();
-  Index rows = 0, cols = 0;
-  for (const Var<T>& p : parts) {
-    n.inputs.push_back(p.id);
-    n.needs_grad = n.needs_grad || Needs(p.id);
-    const Mat& P = Val(p.id);
-    if (axis == 1) {
-      SRICS_NN_CHECK(cols == 0 || P.rows() == rows, "Concat", "row count " + Shape(P));
-      rows = P.rows();
-      cols += P.cols();
-    } else {
-      SRICS_NN_CHECK(rows == 0 || P.cols() == cols, "Concat", "column count " + Shape(P));
-      cols = P.cols();
-      rows += P.rows();
-    }
-  }
-  n.value.resize(rows, cols);
-  Index off = 0;
-  for (int id : n.inputs) {
-    const Mat& P = Val(id);
-    if (axis == 1) {
-      n.value.middleCols(off, P.cols()) = P;
-      off += P.cols();
-    } else {
-      n.value.middleRows(off, P.rows()) = P;
-      off += P.rows();
-    }
-  }
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::Slice(Var<T> a, int axis, Index start, Index length) {
-  Node& n = NewNode(Op::kSlice, a.id);
-  const Mat& A = Val(a.id);
-  const Index extent = axis == 0 ? A.rows() : A.cols();
-  SRICS_NN_CHECK((axis == 0 || axis == 1) && start >= 0 && length >= 0 && start + length <= extent, "Slice",
-                 "axis " + std::to_string(axis) + " [" + std::to_string(start) + ", +" + std::to_string(length) +
-                     ") of " + Shape(A));
-  n.i0 = axis;
-  n.i1 = start;
-  if (axis == 1) {
-    n.value = A.middleCols(start, length);
-  } else {
-    n.value = A.middleRows(start, length);
-  }
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::Reshape(Var<T> a, Index rows, Index cols) {
-  Node& n = NewNode(Op::kReshape, a.id);
-  const Mat& A = Val(a.id);
-  SRICS_NN_CHECK(rows * cols == A.size(), "Reshape",
-                 Shape(A) + " to " + std::to_string(rows) + "x" + std::to_string(cols));
-  n.value = Eigen::Map<const Mat>(A.data(), rows, cols);
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::Transpose(Var<T> a) {
-  Node& n = NewNode(Op::kTranspose, a.id);
-  n.value = Val(a.id).transpose();
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::MaskedSoftmax(Var<T> a, Var<T> mask) {
-  Node& n = NewNode(Op::kMaskedSoftmax, a.id);
-  n.c = mask.id;
-  const Mat& A = Val(a.id);
-  const Mat* M = nullptr;
-  if (mask.id >= 0) {
-    M = &Val(mask.id);
-    SRICS_NN_CHECK(M->rows() == A.rows() && M->cols() == A.cols(), "MaskedSoftmax",
-                   "mask " + Shape(*M) + " for " + Shape(A));
-  }
-  RowSoftmax(A, M, n.value);
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::LogSoftmax(Var<T> a) {
-  Node& n = NewNode(Op::kLogSoftmax, a.id);
-  const Mat& A = Val(a.id);
-  RowSoftmax<T>(A, nullptr, n.aux);
-  n.value.resize(A.rows(), A.cols());
-  for (Index i = 0; i < A.rows(); ++i) {
-    const T mx = A.row(i).maxCoeff();
-    const T lse = mx + std::log((A.row(i).array() - mx).exp().sum());
-    n.value.row(i) = A.row(i).array() - lse;
-  }
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::GumbelSoftmax(Var<T> logits, const Mat& gumbel_noise, T temperature, bool hard) {
-  Node& n = NewNode(Op::kGumbelSoftmax, logits.id);
-  const Mat& L = Val(logits.id);
-  SRICS_NN_CHECK(gumbel_noise.rows() == L.rows() && gumbel_noise.cols() == L.cols(), "GumbelSoftmax",
-                 "noise " + Shape(gumbel_noise) + " for " + Shape(L));
-  SRICS_NN_CHECK(temperature > T(0), "GumbelSoftmax", "temperature must be positive");
-  n.f0 = temperature;
-  n.flag = hard;
-  Mat z = (L + gumbel_noise) / temperature;
-  RowSoftmax<T>(z, nullptr, n.aux);
-  if (hard) {
-    n.value.setZero(L.rows(), L.cols());
-    for (Index i = 0; i < L.rows(); ++i) {
-      Index j;
-      n.aux.row(i).maxCoeff(&j);
-      n.value(i, j) = T(1);
-    }
-  } else {
-    n.value = n.aux;
-  }
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::Gather(Var<T> a, const std::vector<int>& index) {
-  Node& n = NewNode(Op::kGather, a.id);
-  const Mat& A = Val(a.id);
-  n.index = index;
-  n.value.resize(static_cast<Index>(index.size()), A.cols());
-  for (size_t i = 0; i < index.size(); ++i) {
-    SRICS_NN_CHECK(index[i] >= 0 && index[i] < A.rows(), "Gather",
-                   "index " + std::to_string(index[i]) + " of " + Shape(A));
-    n.value.row(i) = A.row(index[i]);
-  }
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_rows, Var<T> weight) {
-  Node& n = NewNode(Op::kScatterAdd, a.id, weight.id);
-  const Mat& A = Val(a.id);
-  SRICS_NN_CHECK(static_cast<Index>(index.size()) == A.rows(), "ScatterAdd",
-                 std::to_string(index.size()) + " indices for " + Shape(A));
-  const Mat* W = weight.id >= 0 ? &Val(weight.id) : nullptr;
-  SRICS_NN_CHECK(!W || (W->rows() == A.rows() && W->cols() == 1), "ScatterAdd",
-                 "weight " + Shape(*W) + " for " + Shape(A));
-  n.index = index;
-  n.value.setZero(num_rows, A.cols());
-  for (size_t i = 0; i < index.size(); ++i) {
-    SRICS_NN_CHECK(index[i] >= 0 && index[i] < num_rows, "ScatterAdd",
-                   "index " + std::to_string(index[i]) + " of " + std::to_string(num_rows));
-    if (W)
-      n.value.row(index[i]) += (*W)(i, 0) * A.row(i);
-    else
-      n.value.row(index[i]) += A.row(i);
-  }
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b, const std::vector<int>& b_index,
-                              Index col, Index width) {
-  Node& n = NewNode(Op::kGatherSumRelu, a.id, b.id);
-  const Mat& A = Val(a.id);
-  const Mat& B = Val(b.id);
-  if (width < 0) width = A.cols() - col;
-  SRICS_NN_CHECK(
-      A.cols() == B.cols() && a_index.size() == b_index.size() && col >= 0 && col + width <= A.cols(), "GatherSumRelu",
-      "columns " + std::to_string(col) + " +" + std::to_string(width) + " of " + Shape(A) + " and " + Shape(B) +
-          " with " + std::to_string(a_index.size()) + " and " + std::to_string(b_index.size()) + " indices");
-  n.index = a_index;
-  n.index_b = b_index;
-  n.i0 = col;
-  n.value.resize(static_cast<Index>(a_index.size()), width);
-  for (size_t i = 0; i < a_index.size(); ++i) {
-    SRICS_NN_CHECK(a_index[i] >= 0 && a_index[i] < A.rows() && b_index[i] >= 0 && b_index[i] < B.rows(),
-                   "GatherSumRelu",
-                   "indices " + std::to_string(a_index[i]) + ", " + std::to_string(b_index[i]) + " of " + Shape(A) +
-                       ", " + Shape(B));
-    n.value.row(i) = (A.row(a_index[i]).segment(col, width) + B.row(b_index[i]).segment(col, width)).cwiseMax(T(0));
-  }
-  return Out(n);
-}
-
-template <typename T>
-Var<T> Tape<T>::Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_heads, int queries_per_sample) {
-  Node& n = NewNode(Op::kAttention, q.id, k.id);
-  n.c = v.id;
-  n.d = mask.id;
-  n.i0 = num_heads;
-  n.i1 = queries_per_sample;
-  n.needs_grad = n.needs_grad || Needs(v.id);
-  const Mat& Q = Val(q.id);
-  const Mat& K = Val(k.id);
-  const Mat& V = Val(v.id);
-  const Index queries = Q.rows(), embed = Q.cols(), per_sample = queries_per_sample;
-  SRICS_NN_CHECK(num_heads > 0 && embed % num_heads == 0, "Attention",
-                 std::to_string(embed) + " not divisible into " + std::to_string(num_heads) + " heads");
-  SRICS_NN_CHECK(per_sample > 0 && queries > 0 && queries % per_sample == 0, "Attention",
-                 "q " + Shape(Q) + " with " + std::to_string(per_sample) + " queries per sample");
-  const Index batch = queries / per_sample;
-  SRICS_NN_CHECK(K.rows() % batch == 0 && K.cols() == embed && V.rows() == K.rows() && V.cols() == embed, "Attention",
-                 "q " + Shape(Q) + " k " + Shape(K) + " v " + Shape(V));
-  const Index ents = K.rows() / batch;
-  const Mat* M = nullptr;
-  if (mask.id >= 0) {
-    M = &Val(mask.id);
-    SRICS_NN_CHECK(M->rows() == batch && M->cols() == ents, "Attention", "mask " + Shape(*M));
-  }
-  n.aux.resize(queries, num_heads * ents);
-  n.value.resize(queries, embed);
-  for (Index r = 0; r < queries; ++r)
-    attention::Forward(SampleOf(Q, K, V, M, r, per_sample, ents), embed, num_heads, n.aux.data() + r * n.aux.cols(),
-                       n.value.data() + r * embed);
-  return Out(n);
-}
-
-template <typename T>
-const Matrix<T>& Tape<T>::AttentionWeights(Var<T> attention) const {
-  const Node& n = N(attention);
-  SRICS_NN_CHECK(n.op == Op::kAttention, "AttentionWeights", "not an Attention node");
-  return n.aux;
-}
-
-template <typename T>
-void Tape<T>::Backward(Var<T> loss) {
-  SRICS_NN_CHECK(Val(loss.id).size() == 1, "Backward", "loss must be 1x1, is " + Shape(Val(loss.id)));
-  Backward(loss, Mat::Ones(1, 1));
-}
-
-template <typename T>
-void Tape<T>::Backward(Var<T> out, const Mat& seed) {
-  SRICS_NN_CHECK(out.tape == this && out.id >= 0 && out.id < count_, "Backward", "foreign variable");
-  SRICS_NN_CHECK(seed.rows() == Val(out.id).rows() && seed.cols() == Val(out.id).cols(), "Backward",
-                 "seed " + Shape(seed) + " for " + Shape(Val(out.id)));
-  for (int i = 0; i < count_; ++i) nodes_[i].has_grad = false;
-  Node& o = nodes_[out.id];
-  o.grad = seed;
-  o.has_grad = true;
-  for (int id = out.id; id >= 0; --id) {
-    if (nodes_[id].has_grad && nodes_[id].needs_grad) BackwardNode(id);
-  }
-}
-
+// Add, Sub, Mul, Div, Min: broadcast operands get their gradient summed down to their shape
 template <typename T>
 void Tape<T>::BackwardBinary(Node& n) {
   const Mat& g = n.grad;
@@ -644,6 +360,471 @@ void Tape<T>::BackwardBinary(Node& n) {
 }
 
 template <typename T>
+Var<T> Tape<T>::AddScalar(Var<T> a, T s) {
+  Node& n = NewNode(Op::kAddScalar, &Tape::BackwardAddScalar, a.id);
+  n.value = Val(a.id).array() + s;
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardAddScalar(Node& n) {
+  Acc(nodes_[n.a], n.grad);
+}
+
+template <typename T>
+Var<T> Tape<T>::MulScalar(Var<T> a, T s) {
+  Node& n = NewNode(Op::kMulScalar, &Tape::BackwardMulScalar, a.id);
+  n.f0 = s;
+  n.value = Val(a.id) * s;
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardMulScalar(Node& n) {
+  const T factor = n.f0;
+  Acc(nodes_[n.a], n.grad * factor);
+}
+
+template <typename T>
+Var<T> Tape<T>::Clamp(Var<T> a, T lo, T hi) {
+  Node& n = NewNode(Op::kClamp, &Tape::BackwardClamp, a.id);
+  n.f0 = lo;
+  n.f1 = hi;
+  n.value = Val(a.id).cwiseMax(lo).cwiseMin(hi);
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardClamp(Node& n) {
+  const T lo = n.f0, hi = n.f1;
+  const auto x = Val(n.a).array();
+  Acc(nodes_[n.a], (n.grad.array() * ((x >= lo) && (x <= hi)).template cast<T>()).matrix());
+}
+
+template <typename T>
+Var<T> Tape<T>::Unary(Op op, Var<T> a) {
+  Node& n = NewNode(op, &Tape::BackwardUnary, a.id);
+  const auto x = Val(a.id).array();
+  n.value.resize(x.rows(), x.cols());
+  auto y = n.value.array();
+  switch (op) {
+    case Op::kRelu: y = x.max(T(0)); break;
+    case Op::kTanh: y = x.tanh(); break;
+    case Op::kSigmoid: y = T(1) / (T(1) + (-x).exp()); break;
+    case Op::kExp: y = x.exp(); break;
+    case Op::kLog: y = x.log(); break;
+    case Op::kSoftplus: y = x.max(T(0)) + (-x.abs()).exp().log1p(); break;
+    case Op::kSquare: y = x.square(); break;
+    default: break;
+  }
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardUnary(Node& n) {
+  const Mat& g = n.grad;
+  switch (n.op) {
+    case Op::kRelu: {
+      Node& in = nodes_[n.a];
+      if (!in.has_grad) in.grad.resize(g.rows(), g.cols());
+      ReluGradient(n.value.data(), g.data(), g.size(), in.has_grad, in.grad.data());
+      in.has_grad = true;
+      break;
+    }
+    case Op::kTanh: Acc(nodes_[n.a], (g.array() * (T(1) - n.value.array().square())).matrix()); break;
+    case Op::kSigmoid: Acc(nodes_[n.a], (g.array() * n.value.array() * (T(1) - n.value.array())).matrix()); break;
+    case Op::kExp: Acc(nodes_[n.a], g.cwiseProduct(n.value)); break;
+    case Op::kLog: Acc(nodes_[n.a], g.cwiseQuotient(Val(n.a))); break;
+    case Op::kSoftplus: Acc(nodes_[n.a], (g.array() / (T(1) + (-Val(n.a).array()).exp())).matrix()); break;
+    case Op::kSquare: Acc(nodes_[n.a], (T(2) * g.array() * Val(n.a).array()).matrix()); break;
+    default: break;
+  }
+}
+
+template <typename T>
+Var<T> Tape<T>::Sum(Var<T> a, int axis) {
+  SRICS_NN_CHECK(axis >= -1 && axis <= 1, "Sum", "axis " + std::to_string(axis));
+  Node& n = NewNode(Op::kSum, &Tape::BackwardSum, a.id);
+  n.i0 = axis;
+  n.f0 = T(1);
+  const Mat& A = Val(a.id);
+  if (axis == -1) {
+    n.value.resize(1, 1);
+    n.value(0, 0) = A.sum();
+  } else if (axis == 0) {
+    n.value = A.colwise().sum();
+  } else {
+    n.value = A.rowwise().sum();
+  }
+  return Out(n);
+}
+
+template <typename T>
+Var<T> Tape<T>::Mean(Var<T> a, int axis) {
+  const Mat& A = Val(a.id);
+  const Index count = axis == -1 ? A.size() : axis == 0 ? A.rows() : A.cols();
+  Var<T> s = Sum(a, axis);
+  Node& n = N(s);
+  n.op = Op::kMean;
+  n.f0 = T(1) / static_cast<T>(count);
+  n.value *= n.f0;
+  return s;
+}
+
+// Sum and Mean (a Sum node scaled by 1 / count)
+template <typename T>
+void Tape<T>::BackwardSum(Node& n) {
+  const Mat& g = n.grad;
+  const Mat& A = Val(n.a);
+  const int axis = static_cast<int>(n.i0);
+  const T scale = n.f0;
+  if (axis == -1) {
+    Acc(nodes_[n.a], Mat::Constant(A.rows(), A.cols(), g(0, 0) * scale));
+  } else if (axis == 0) {
+    Acc(nodes_[n.a], (g * scale).replicate(A.rows(), 1));
+  } else {
+    Acc(nodes_[n.a], (g * scale).replicate(1, A.cols()));
+  }
+}
+
+template <typename T>
+Var<T> Tape<T>::Concat(const std::vector<Var<T>>& parts, int axis) {
+  SRICS_NN_CHECK(!parts.empty(), "Concat", "no parts");
+  SRICS_NN_CHECK(axis == 0 || axis == 1, "Concat", "axis " + std::to_string(axis));
+  Node& n = NewNode(Op::kConcat, &Tape::BackwardConcat);
+  n.i0 = axis;
+  n.inputs.clear();
+  Index rows = 0, cols = 0;
+  for (const Var<T>& p : parts) {
+    n.inputs.push_back(p.id);
+    n.needs_grad = n.needs_grad || Needs(p.id);
+    const Mat& P = Val(p.id);
+    if (axis == 1) {
+      SRICS_NN_CHECK(cols == 0 || P.rows() == rows, "Concat", "row count " + Shape(P));
+      rows = P.rows();
+      cols += P.cols();
+    } else {
+      SRICS_NN_CHECK(rows == 0 || P.cols() == cols, "Concat", "column count " + Shape(P));
+      cols = P.cols();
+      rows += P.rows();
+    }
+  }
+  n.value.resize(rows, cols);
+  Index off = 0;
+  for (int id : n.inputs) {
+    const Mat& P = Val(id);
+    if (axis == 1) {
+      n.value.middleCols(off, P.cols()) = P;
+      off += P.cols();
+    } else {
+      n.value.middleRows(off, P.rows()) = P;
+      off += P.rows();
+    }
+  }
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardConcat(Node& n) {
+  const Mat& g = n.grad;
+  const bool side_by_side = n.i0 == 1;
+  Index off = 0;
+  for (int in : n.inputs) {
+    const Mat& P = Val(in);
+    if (side_by_side) {
+      if (Needs(in)) Acc(nodes_[in], g.middleCols(off, P.cols()));
+      off += P.cols();
+    } else {
+      if (Needs(in)) Acc(nodes_[in], g.middleRows(off, P.rows()));
+      off += P.rows();
+    }
+  }
+}
+
+template <typename T>
+Var<T> Tape<T>::Slice(Var<T> a, int axis, Index start, Index length) {
+  Node& n = NewNode(Op::kSlice, &Tape::BackwardSlice, a.id);
+  const Mat& A = Val(a.id);
+  const Index extent = axis == 0 ? A.rows() : A.cols();
+  SRICS_NN_CHECK((axis == 0 || axis == 1) && start >= 0 && length >= 0 && start + length <= extent, "Slice",
+                 "axis " + std::to_string(axis) + " [" + std::to_string(start) + ", +" + std::to_string(length) +
+                     ") of " + Shape(A));
+  n.i0 = axis;
+  n.i1 = start;
+  if (axis == 1) {
+    n.value = A.middleCols(start, length);
+  } else {
+    n.value = A.middleRows(start, length);
+  }
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardSlice(Node& n) {
+  const Mat& g = n.grad;
+  const Mat& A = Val(n.a);
+  const int axis = static_cast<int>(n.i0);
+  const Index start = n.i1;
+  Node& in = nodes_[n.a];
+  EnsureGrad(in, A.rows(), A.cols());
+  if (axis == 1) {
+    in.grad.middleCols(start, g.cols()) += g;
+  } else {
+    in.grad.middleRows(start, g.rows()) += g;
+  }
+}
+
+template <typename T>
+Var<T> Tape<T>::Reshape(Var<T> a, Index rows, Index cols) {
+  Node& n = NewNode(Op::kReshape, &Tape::BackwardReshape, a.id);
+  const Mat& A = Val(a.id);
+  SRICS_NN_CHECK(rows * cols == A.size(), "Reshape",
+                 Shape(A) + " to " + std::to_string(rows) + "x" + std::to_string(cols));
+  n.value = Eigen::Map<const Mat>(A.data(), rows, cols);
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardReshape(Node& n) {
+  const Mat& A = Val(n.a);
+  Acc(nodes_[n.a], Eigen::Map<const Mat>(n.grad.data(), A.rows(), A.cols()));
+}
+
+template <typename T>
+Var<T> Tape<T>::Transpose(Var<T> a) {
+  Node& n = NewNode(Op::kTranspose, &Tape::BackwardTranspose, a.id);
+  n.value = Val(a.id).transpose();
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardTranspose(Node& n) {
+  Acc(nodes_[n.a], n.grad.transpose());
+}
+
+template <typename T>
+Var<T> Tape<T>::MaskedSoftmax(Var<T> a, Var<T> mask) {
+  Node& n = NewNode(Op::kMaskedSoftmax, &Tape::BackwardMaskedSoftmax, a.id);
+  n.c = mask.id;
+  const Mat& A = Val(a.id);
+  const Mat* M = nullptr;
+  if (mask.id >= 0) {
+    M = &Val(mask.id);
+    SRICS_NN_CHECK(M->rows() == A.rows() && M->cols() == A.cols(), "MaskedSoftmax",
+                   "mask " + Shape(*M) + " for " + Shape(A));
+  }
+  RowSoftmax(A, M, n.value);
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardMaskedSoftmax(Node& n) {
+  const Mat& g = n.grad;
+  const Mat& Y = n.value;
+  const auto dot = (g.cwiseProduct(Y)).rowwise().sum();
+  Acc(nodes_[n.a], (Y.array() * (g.colwise() - dot).array()).matrix());
+}
+
+template <typename T>
+Var<T> Tape<T>::LogSoftmax(Var<T> a) {
+  Node& n = NewNode(Op::kLogSoftmax, &Tape::BackwardLogSoftmax, a.id);
+  const Mat& A = Val(a.id);
+  RowSoftmax<T>(A, nullptr, n.aux);
+  n.value.resize(A.rows(), A.cols());
+  for (Index i = 0; i < A.rows(); ++i) {
+    const T mx = A.row(i).maxCoeff();
+    const T lse = mx + std::log((A.row(i).array() - mx).exp().sum());
+    n.value.row(i) = A.row(i).array() - lse;
+  }
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardLogSoftmax(Node& n) {
+  const Mat& g = n.grad;
+  const Mat& softmax = n.aux;
+  const auto total = g.rowwise().sum();
+  Acc(nodes_[n.a], (g.array() - softmax.array().colwise() * total.array()).matrix());
+}
+
+template <typename T>
+Var<T> Tape<T>::GumbelSoftmax(Var<T> logits, const Mat& gumbel_noise, T temperature, bool hard) {
+  Node& n = NewNode(Op::kGumbelSoftmax, &Tape::BackwardGumbelSoftmax, logits.id);
+  const Mat& L = Val(logits.id);
+  SRICS_NN_CHECK(gumbel_noise.rows() == L.rows() && gumbel_noise.cols() == L.cols(), "GumbelSoftmax",
+                 "noise " + Shape(gumbel_noise) + " for " + Shape(L));
+  SRICS_NN_CHECK(temperature > T(0), "GumbelSoftmax", "temperature must be positive");
+  n.f0 = temperature;
+  n.flag = hard;
+  Mat z = (L + gumbel_noise) / temperature;
+  RowSoftmax<T>(z, nullptr, n.aux);
+  if (hard) {
+    n.value.setZero(L.rows(), L.cols());
+    for (Index i = 0; i < L.rows(); ++i) {
+      Index j;
+      n.aux.row(i).maxCoeff(&j);
+      n.value(i, j) = T(1);
+    }
+  } else {
+    n.value = n.aux;
+  }
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardGumbelSoftmax(Node& n) {
+  // straight-through: the gradient of the soft sample, whatever the forward returned
+  const Mat& g = n.grad;
+  const Mat& soft = n.aux;
+  const T temperature = n.f0;
+  const auto dot = (g.cwiseProduct(soft)).rowwise().sum();
+  Acc(nodes_[n.a], (soft.array() * (g.colwise() - dot).array() / temperature).matrix());
+}
+
+template <typename T>
+Var<T> Tape<T>::Gather(Var<T> a, const std::vector<int>& index) {
+  Node& n = NewNode(Op::kGather, &Tape::BackwardGather, a.id);
+  const Mat& A = Val(a.id);
+  n.index = index;
+  n.value.resize(static_cast<Index>(index.size()), A.cols());
+  for (size_t i = 0; i < index.size(); ++i) {
+    SRICS_NN_CHECK(index[i] >= 0 && index[i] < A.rows(), "Gather",
+                   "index " + std::to_string(index[i]) + " of " + Shape(A));
+    n.value.row(i) = A.row(index[i]);
+  }
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardGather(Node& n) {
+  const Mat& A = Val(n.a);
+  Node& in = nodes_[n.a];
+  EnsureGrad(in, A.rows(), A.cols());
+  for (size_t i = 0; i < n.index.size(); ++i) in.grad.row(n.index[i]) += n.grad.row(i);
+}
+
+template <typename T>
+Var<T> Tape<T>::ScatterAdd(Var<T> a, const std::vector<int>& index, Index num_rows, Var<T> weight) {
+  Node& n = NewNode(Op::kScatterAdd, &Tape::BackwardScatterAdd, a.id, weight.id);
+  const Mat& A = Val(a.id);
+  SRICS_NN_CHECK(static_cast<Index>(index.size()) == A.rows(), "ScatterAdd",
+                 std::to_string(index.size()) + " indices for " + Shape(A));
+  const Mat* W = weight.id >= 0 ? &Val(weight.id) : nullptr;
+  SRICS_NN_CHECK(!W || (W->rows() == A.rows() && W->cols() == 1), "ScatterAdd",
+                 "weight " + Shape(*W) + " for " + Shape(A));
+  n.index = index;
+  n.value.setZero(num_rows, A.cols());
+  for (size_t i = 0; i < index.size(); ++i) {
+    SRICS_NN_CHECK(index[i] >= 0 && index[i] < num_rows, "ScatterAdd",
+                   "index " + std::to_string(index[i]) + " of " + std::to_string(num_rows));
+    if (W)
+      n.value.row(index[i]) += (*W)(i, 0) * A.row(i);
+    else
+      n.value.row(index[i]) += A.row(i);
+  }
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardScatterAdd(Node& n) {
+  const Mat& g = n.grad;
+  const Mat& A = Val(n.a);
+  const int weight = n.b;
+  const Mat* W = weight >= 0 ? &Val(weight) : nullptr;
+  if (Needs(n.a)) {
+    Node& in = nodes_[n.a];
+    EnsureGrad(in, A.rows(), A.cols());
+    for (size_t i = 0; i < n.index.size(); ++i) {
+      if (W)
+        in.grad.row(i) += (*W)(i, 0) * g.row(n.index[i]);
+      else
+        in.grad.row(i) += g.row(n.index[i]);
+    }
+  }
+  if (Needs(weight)) {
+    Node& w = nodes_[weight];
+    EnsureGrad(w, A.rows(), 1);
+    for (size_t i = 0; i < n.index.size(); ++i) w.grad(i, 0) += g.row(n.index[i]).dot(A.row(i));
+  }
+}
+
+template <typename T>
+Var<T> Tape<T>::GatherSumRelu(Var<T> a, const std::vector<int>& a_index, Var<T> b, const std::vector<int>& b_index,
+                              Index col, Index width) {
+  Node& n = NewNode(Op::kGatherSumRelu, &Tape::BackwardGatherSumRelu, a.id, b.id);
+  const Mat& A = Val(a.id);
+  const Mat& B = Val(b.id);
+  if (width < 0) width = A.cols() - col;
+  SRICS_NN_CHECK(
+      A.cols() == B.cols() && a_index.size() == b_index.size() && col >= 0 && col + width <= A.cols(), "GatherSumRelu",
+      "columns " + std::to_string(col) + " +" + std::to_string(width) + " of " + Shape(A) + " and " + Shape(B) +
+          " with " + std::to_string(a_index.size()) + " and " + std::to_string(b_index.size()) + " indices");
+  n.index = a_index;
+  n.index_b = b_index;
+  n.i0 = col;
+  n.value.resize(static_cast<Index>(a_index.size()), width);
+  for (size_t i = 0; i < a_index.size(); ++i) {
+    SRICS_NN_CHECK(a_index[i] >= 0 && a_index[i] < A.rows() && b_index[i] >= 0 && b_index[i] < B.rows(),
+                   "GatherSumRelu",
+                   "indices " + std::to_string(a_index[i]) + ", " + std::to_string(b_index[i]) + " of " + Shape(A) +
+                       ", " + Shape(B));
+    n.value.row(i) = (A.row(a_index[i]).segment(col, width) + B.row(b_index[i]).segment(col, width)).cwiseMax(T(0));
+  }
+  return Out(n);
+}
+
+template <typename T>
+void Tape<T>::BackwardGatherSumRelu(Node& n) {
+  const Mat& g = n.grad;
+  const Mat& A = Val(n.a);
+  const Mat& B = Val(n.b);
+  const Index col = n.i0;
+  const bool na = Needs(n.a), nb = Needs(n.b);
+  if (na) EnsureGrad(nodes_[n.a], A.rows(), A.cols());
+  if (nb) EnsureGrad(nodes_[n.b], B.rows(), B.cols());
+  for (size_t i = 0; i < n.index.size(); ++i) {
+    // the relu's gradient of this pair, added to both of its rows
+    const T* v = n.value.row(i).data();
+    const T* gi = g.row(i).data();
+    if (na) ReluGradient(v, gi, g.cols(), true, &nodes_[n.a].grad(n.index[i], col));
+    if (nb) ReluGradient(v, gi, g.cols(), true, &nodes_[n.b].grad(n.index_b[i], col));
+  }
+}
+
+template <typename T>
+Var<T> Tape<T>::Attention(Var<T> q, Var<T> k, Var<T> v, Var<T> mask, int num_heads, int queries_per_sample) {
+  Node& n = NewNode(Op::kAttention, &Tape::BackwardAttention, q.id, k.id);
+  n.c = v.id;
+  n.d = mask.id;
+  n.i0 = num_heads;
+  n.i1 = queries_per_sample;
+  n.needs_grad = n.needs_grad || Needs(v.id);
+  const Mat& Q = Val(q.id);
+  const Mat& K = Val(k.id);
+  const Mat& V = Val(v.id);
+  const Index queries = Q.rows(), embed = Q.cols(), per_sample = queries_per_sample;
+  SRICS_NN_CHECK(num_heads > 0 && embed % num_heads == 0, "Attention",
+                 std::to_string(embed) + " not divisible into " + std::to_string(num_heads) + " heads");
+  SRICS_NN_CHECK(per_sample > 0 && queries > 0 && queries % per_sample == 0, "Attention",
+                 "q " + Shape(Q) + " with " + std::to_string(per_sample) + " queries per sample");
+  const Index batch = queries / per_sample;
+  SRICS_NN_CHECK(K.rows() % batch == 0 && K.cols() == embed && V.rows() == K.rows() && V.cols() == embed, "Attention",
+                 "q " + Shape(Q) + " k " + Shape(K) + " v " + Shape(V));
+  const Index ents = K.rows() / batch;
+  const Mat* M = nullptr;
+  if (mask.id >= 0) {
+    M = &Val(mask.id);
+    SRICS_NN_CHECK(M->rows() == batch && M->cols() == ents, "Attention", "mask " + Shape(*M));
+  }
+  n.aux.resize(queries, num_heads * ents);
+  n.value.resize(queries, embed);
+  for (Index r = 0; r < queries; ++r)
+    attention::Forward(SampleOf(Q, K, V, M, r, per_sample, ents), embed, num_heads, n.aux.data() + r * n.aux.cols(),
+                       n.value.data() + r * embed);
+  return Out(n);
+}
+
+template <typename T>
 void Tape<T>::BackwardAttention(Node& n) {
   const Mat& g = n.grad;
   const Mat& Q = Val(n.a);
@@ -670,167 +851,30 @@ void Tape<T>::BackwardAttention(Node& n) {
 }
 
 template <typename T>
-void Tape<T>::BackwardNode(int id) {
-  Node& n = nodes_[id];
-  const Mat& g = n.grad;
-  switch (n.op) {
-    case Op::kConstant: break;
-    case Op::kParam:
-      if (n.flag) {
-        if (gradient_buffer_)
-          gradient_buffer_->Add(n.param, g);
-        else
-          n.param->grad += g;
-      }
-      break;
-    case Op::kMatMul:
-    case Op::kLinear: {
-      const Mat& A = Val(n.a);
-      const Mat& B = Val(n.b);
-      if (Needs(n.b)) {
-        AccProduct(nodes_[n.b], A, true, g, false);
-        LogGemm(A.cols(), A.rows(), g.cols(), true, false);
-      }
-      if (Needs(n.a)) {
-        AccProduct(nodes_[n.a], g, false, B, true);
-        LogGemm(g.rows(), g.cols(), B.rows(), false, true);
-      }
-      if (n.op == Op::kLinear && Needs(n.c)) Acc(nodes_[n.c], g.colwise().sum());
-      break;
-    }
-    case Op::kAddBias:
-      if (Needs(n.a)) Acc(nodes_[n.a], g);
-      if (Needs(n.b)) Acc(nodes_[n.b], g.colwise().sum());
-      break;
-    case Op::kAdd:
-    case Op::kSub:
-    case Op::kMul:
-    case Op::kDiv:
-    case Op::kMin: BackwardBinary(n); break;
-    case Op::kAddScalar: Acc(nodes_[n.a], g); break;
-    case Op::kMulScalar: Acc(nodes_[n.a], g * n.f0); break;
-    case Op::kClamp: {
-      const auto x = Val(n.a).array();
-      Acc(nodes_[n.a], (g.array() * ((x >= n.f0) && (x <= n.f1)).template cast<T>()).matrix());
-      break;
-    }
-    case Op::kRelu: {
-      Node& in = nodes_[n.a];
-      if (!in.has_grad) in.grad.resize(g.rows(), g.cols());
-      ReluGradient(n.value.data(), g.data(), g.size(), in.has_grad, in.grad.data());
-      in.has_grad = true;
-      break;
-    }
-    case Op::kTanh: Acc(nodes_[n.a], (g.array() * (T(1) - n.value.array().square())).matrix()); break;
-    case Op::kSigmoid: Acc(nodes_[n.a], (g.array() * n.value.array() * (T(1) - n.value.array())).matrix()); break;
-    case Op::kExp: Acc(nodes_[n.a], g.cwiseProduct(n.value)); break;
-    case Op::kLog: Acc(nodes_[n.a], g.cwiseQuotient(Val(n.a))); break;
-    case Op::kSoftplus: Acc(nodes_[n.a], (g.array() / (T(1) + (-Val(n.a).array()).exp())).matrix()); break;
-    case Op::kSquare: Acc(nodes_[n.a], (T(2) * g.array() * Val(n.a).array()).matrix()); break;
-    case Op::kSum:
-    case Op::kMean: {
-      const Mat& A = Val(n.a);
-      if (n.i0 == -1) {
-        Acc(nodes_[n.a], Mat::Constant(A.rows(), A.cols(), g(0, 0) * n.f0));
-      } else if (n.i0 == 0) {
-        Acc(nodes_[n.a], (g * n.f0).replicate(A.rows(), 1));
-      } else {
-        Acc(nodes_[n.a], (g * n.f0).replicate(1, A.cols()));
-      }
-      break;
-    }
-    case Op::kConcat: {
-      Index off = 0;
-      for (int in : n.inputs) {
-        const Mat& P = Val(in);
-        if (n.i0 == 1) {
-          if (Needs(in)) Acc(nodes_[in], g.middleCols(off, P.cols()));
-          off += P.cols();
-        } else {
-          if (Needs(in)) Acc(nodes_[in], g.middleRows(off, P.rows()));
-          off += P.rows();
-        }
-      }
-      break;
-    }
-    case Op::kSlice: {
-      const Mat& A = Val(n.a);
-      Node& in = nodes_[n.a];
-      EnsureGrad(in, A.rows(), A.cols());
-      if (n.i0 == 1) {
-        in.grad.middleCols(n.i1, g.cols()) += g;
-      } else {
-        in.grad.middleRows(n.i1, g.rows()) += g;
-      }
-      break;
-    }
-    case Op::kReshape: {
-      const Mat& A = Val(n.a);
-      Acc(nodes_[n.a], Eigen::Map<const Mat>(g.data(), A.rows(), A.cols()));
-      break;
-    }
-    case Op::kTranspose: Acc(nodes_[n.a], g.transpose()); break;
-    case Op::kMaskedSoftmax: {
-      const Mat& Y = n.value;
-      const auto dot = (g.cwiseProduct(Y)).rowwise().sum();
-      Acc(nodes_[n.a], (Y.array() * (g.colwise() - dot).array()).matrix());
-      break;
-    }
-    case Op::kLogSoftmax: {
-      const auto total = g.rowwise().sum();
-      Acc(nodes_[n.a], (g.array() - n.aux.array().colwise() * total.array()).matrix());
-      break;
-    }
-    case Op::kGumbelSoftmax: {
-      // straight-through: the gradient of the soft sample, whatever the forward returned
-      const Mat& Y = n.aux;
-      const auto dot = (g.cwiseProduct(Y)).rowwise().sum();
-      Acc(nodes_[n.a], (Y.array() * (g.colwise() - dot).array() / n.f0).matrix());
-      break;
-    }
-    case Op::kGather: {
-      const Mat& A = Val(n.a);
-      Node& in = nodes_[n.a];
-      EnsureGrad(in, A.rows(), A.cols());
-      for (size_t i = 0; i < n.index.size(); ++i) in.grad.row(n.index[i]) += g.row(i);
-      break;
-    }
-    case Op::kScatterAdd: {
-      const Mat& A = Val(n.a);
-      const Mat* W = n.b >= 0 ? &Val(n.b) : nullptr;
-      if (Needs(n.a)) {
-        Node& in = nodes_[n.a];
-        EnsureGrad(in, A.rows(), A.cols());
-        for (size_t i = 0; i < n.index.size(); ++i) {
-          if (W)
-            in.grad.row(i) += (*W)(i, 0) * g.row(n.index[i]);
-          else
-            in.grad.row(i) += g.row(n.index[i]);
-        }
-      }
-      if (Needs(n.b)) {
-        Node& w = nodes_[n.b];
-        EnsureGrad(w, A.rows(), 1);
-        for (size_t i = 0; i < n.index.size(); ++i) w.grad(i, 0) += g.row(n.index[i]).dot(A.row(i));
-      }
-      break;
-    }
-    case Op::kGatherSumRelu: {
-      const Mat& A = Val(n.a);
-      const Mat& B = Val(n.b);
-      const bool na = Needs(n.a), nb = Needs(n.b);
-      if (na) EnsureGrad(nodes_[n.a], A.rows(), A.cols());
-      if (nb) EnsureGrad(nodes_[n.b], B.rows(), B.cols());
-      for (size_t i = 0; i < n.index.size(); ++i) {
-        // the relu's gradient of this pair, added to both of its rows
-        const T* v = n.value.row(i).data();
-        const T* gi = g.row(i).data();
-        if (na) ReluGradient(v, gi, g.cols(), true, &nodes_[n.a].grad(n.index[i], n.i0));
-        if (nb) ReluGradient(v, gi, g.cols(), true, &nodes_[n.b].grad(n.index_b[i], n.i0));
-      }
-      break;
-    }
-    case Op::kAttention: BackwardAttention(n); break;
+const Matrix<T>& Tape<T>::AttentionWeights(Var<T> attention) const {
+  const Node& n = N(attention);
+  SRICS_NN_CHECK(n.op == Op::kAttention, "AttentionWeights", "not an Attention node");
+  return n.aux;
+}
+
+template <typename T>
+void Tape<T>::Backward(Var<T> loss) {
+  SRICS_NN_CHECK(Val(loss.id).size() == 1, "Backward", "loss must be 1x1, is " + Shape(Val(loss.id)));
+  Backward(loss, Mat::Ones(1, 1));
+}
+
+template <typename T>
+void Tape<T>::Backward(Var<T> out, const Mat& seed) {
+  SRICS_NN_CHECK(out.tape == this && out.id >= 0 && out.id < count_, "Backward", "foreign variable");
+  SRICS_NN_CHECK(seed.rows() == Val(out.id).rows() && seed.cols() == Val(out.id).cols(), "Backward",
+                 "seed " + Shape(seed) + " for " + Shape(Val(out.id)));
+  for (int i = 0; i < count_; ++i) nodes_[i].has_grad = false;
+  Node& o = nodes_[out.id];
+  o.grad = seed;
+  o.has_grad = true;
+  for (int id = out.id; id >= 0; --id) {
+    Node& n = nodes_[id];
+    if (n.has_grad && n.needs_grad && n.backward) (this->*n.backward)(n);
   }
 }
 

@@ -184,8 +184,16 @@ class Tape {
   void set_gradient_buffer(GradientBuffer<T>* buffer) { gradient_buffer_ = buffer; }
 
  private:
+  struct Node;
+  // An op's backward: adds the gradient of its output (n.grad) into its inputs' gradients. Each
+  // op names its own when it records the node; tape.cc defines it right after the op's forward.
+  using BackwardFn = void (Tape::*)(Node& n);
+
+  // One recorded op. The inputs and settings sit in generic slots; each op's forward and
+  // backward name what it keeps where (e.g. Slice: i0 the axis, i1 the start).
   struct Node {
     Op op = Op::kConstant;
+    BackwardFn backward = nullptr;  // null: a constant, nothing to pass on
     bool needs_grad = false;
     bool has_grad = false;
     bool flag = false;  // op-specific: trainable, hard
@@ -199,7 +207,7 @@ class Tape {
     Mat value, grad, aux;
   };
 
-  Node& NewNode(Op op, int a = -1, int b = -1);
+  Node& NewNode(Op op, BackwardFn backward, int a = -1, int b = -1);
   Var<T> Out(const Node& n) { return Var<T>{this, static_cast<int>(&n - nodes_.data())}; }
   Node& N(Var<T> v) { return nodes_[v.id]; }
   const Node& N(Var<T> v) const { return nodes_[v.id]; }
@@ -212,8 +220,26 @@ class Tape {
   // a new node holding a * b (checked shapes; `what` names the op in errors)
   Node& Product(Op op, Var<T> a, Var<T> b, const char* what);
   Var<T> Unary(Op op, Var<T> a);
-  void BackwardNode(int id);
-  void BackwardBinary(Node& n);  // Add, Sub, Mul, Div, Min (broadcast operands summed down)
+  // the ops' backwards, in the order of their forwards
+  void BackwardParam(Node& n);
+  void BackwardProduct(Node& n);  // MatMul, Linear
+  void BackwardAddBias(Node& n);
+  void BackwardBinary(Node& n);  // Add, Sub, Mul, Div, Min
+  void BackwardAddScalar(Node& n);
+  void BackwardMulScalar(Node& n);
+  void BackwardClamp(Node& n);
+  void BackwardUnary(Node& n);  // Relu, Tanh, Sigmoid, Exp, Log, Softplus, Square
+  void BackwardSum(Node& n);    // Sum, Mean
+  void BackwardConcat(Node& n);
+  void BackwardSlice(Node& n);
+  void BackwardReshape(Node& n);
+  void BackwardTranspose(Node& n);
+  void BackwardMaskedSoftmax(Node& n);
+  void BackwardLogSoftmax(Node& n);
+  void BackwardGumbelSoftmax(Node& n);
+  void BackwardGather(Node& n);
+  void BackwardScatterAdd(Node& n);
+  void BackwardGatherSumRelu(Node& n);
   void BackwardAttention(Node& n);
   void LogGemm(Eigen::Index m, Eigen::Index k, Eigen::Index n, bool ta, bool tb) {
     if (gemm_log_) gemm_log_->push_back({m, k, n, ta, tb});
