@@ -369,8 +369,13 @@ TEST(ActorLoopTest, JointTiesTrainAndEvaluateTheTiedPairAsOneSubgoal) {
   ASSERT_FALSE(log.attempts.empty());
   for (const auto& attempt : log.attempts) {
     EXPECT_NE(attempt.entity, 3);
-    // the pair's partner is never among the "others" its own attempt disturbs
-    if (attempt.entity == 2) EXPECT_EQ(std::count(attempt.solved_others.begin(), attempt.solved_others.end(), 3), 0);
+    // the pair's partner is never among the "others" its own attempt disturbs, and the pair's
+    // row holds the farther of its two pucks' distances
+    if (attempt.entity == 2) {
+      EXPECT_EQ(std::count(attempt.solved_others.begin(), attempt.solved_others.end(), 3), 0);
+      EXPECT_EQ(attempt.distance_after, std::max(attempt.distances_after[2], attempt.distances_after[3]));
+      EXPECT_EQ(attempt.distance_before, std::max(attempt.distances_before[2], attempt.distances_before[3]));
+    }
   }
 }
 
