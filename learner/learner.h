@@ -56,6 +56,9 @@ class Learner {
   // The run's catalogue graph; each episode's ancestor sets are derived from its entity kinds.
   void SetGraph(const rl::InteractionGraph& catalogue);
   bool has_graph() const { return has_graph_; }
+  // The object attempted together with the episode's subgoal entity (a tied pair,
+  // graph.object_ties: joint), -1 for none.
+  int SubgoalPartnerOf(const rl::Episode& episode) { return relabeler_.PartnerOf(episode); }
 
   // True when the rate limiter allows one more update now.
   bool CanUpdate() const;

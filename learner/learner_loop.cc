@@ -257,7 +257,7 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
   link_->TakeEpisodes(&episodes_, 64, work ? std::chrono::milliseconds(0) : wait);
   for (auto& e : episodes_) {
     // measured before Ingest takes the episode, counted only when it was stored
-    const auto figures = training_log_.Measure(e);
+    const auto figures = training_log_.Measure(e, learner_.SubgoalPartnerOf(e));
     const uint64_t stored_before = learner_.counters().episodes_accepted;
     const uint32_t actor_id = e.actor_id;
     const uint64_t episode_id = e.episode_id;

@@ -45,6 +45,12 @@ const rl::SubgoalStructure* Relabeler::StructureOf(const rl::Episode& episode) {
   return &it->second;
 }
 
+int Relabeler::PartnerOf(const rl::Episode& episode) {
+  if (episode.subgoal_entity < 0) return -1;
+  const rl::SubgoalStructure* structure = StructureOf(episode);
+  return structure ? structure->partner_of(episode.subgoal_entity) : -1;
+}
+
 int Relabeler::PickSubgoalEntity(const rl::Episode& episode) {
   if (episode.subgoal_entity >= 0) return episode.subgoal_entity;
   // explore episodes carry no subgoal: pick one the current graph allows

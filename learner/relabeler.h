@@ -64,6 +64,10 @@ class Relabeler {
 
   bool full_goal() const { return method_ == config::Method::kSacHer; }
 
+  // The object attempted together with the episode's subgoal entity (a tied pair, goal_tokens
+  // 2), as this episode's structure pairs them; -1 for none.
+  int PartnerOf(const rl::Episode& episode);
+
   // The random stream of sampling and relabeling, for checkpoints (a resumed learner draws
   // the batches the uninterrupted one would have).
   std::mt19937_64& rng() { return rng_; }

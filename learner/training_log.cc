@@ -2,6 +2,7 @@
 
 #include "common/files/durable_file.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -27,16 +28,17 @@ double WallTime() { return std::chrono::duration<double>(std::chrono::system_clo
 }  // namespace
 
 double EpisodeSelectivity(const rl::Episode& e, double epsilon) {
-  return EpisodeSelectivity(e, epsilon, e.ancestor_mask);
+  return EpisodeSelectivity(e, epsilon, e.ancestor_mask, e.subgoal_entity);
 }
 
-double EpisodeSelectivity(const rl::Episode& e, double epsilon, uint64_t ancestor_mask) {
-  const int k = e.subgoal_entity;
+double EpisodeSelectivity(const rl::Episode& e, double epsilon, uint64_t ancestor_mask,
+                          const rl::SubgoalUnit& subgoal) {
+  const int k = subgoal.entity;
   if (k < 0 || k >= e.layout.num_entities) return -1;
   double sum = 0;
   int steps = 0;
   for (int t = 0; t < e.num_steps; ++t) {
-    if (auto m = rl::SelectivityMeasure(e.layout, e.state(t), e.state(t + 1), k, ancestor_mask, epsilon)) {
+    if (auto m = rl::SelectivityMeasure(e.layout, e.state(t), e.state(t + 1), subgoal, ancestor_mask, epsilon)) {
       sum += *m;
       ++steps;
     }
@@ -91,21 +93,26 @@ void TrainingLog::ResumeAt(uint64_t env_steps) {
   Open();
 }
 
-std::optional<TrainingLog::Figures> TrainingLog::Measure(const rl::Episode& e) const {
+std::optional<TrainingLog::Figures> TrainingLog::Measure(const rl::Episode& e, int partner) const {
   const int k = e.subgoal_entity;
-  // (a tied pair's episode, graph.object_ties: joint, has a goal of 4 floats and a partner only
-  // the graph names: not counted here)
-  if (e.mode != rl::EpisodeMode::kTrain || k < 0 || k >= e.layout.num_entities || e.goal.size() != 2)
-    return std::nullopt;
-  Figures figures{EpisodeSelectivity(e, options_.epsilon),
-                  rl::DistanceToGoal(e.layout, e.state(e.num_steps), k, e.goal.data())};
+  if (e.mode != rl::EpisodeMode::kTrain || k < 0 || k >= e.layout.num_entities) return std::nullopt;
+  const rl::SubgoalUnit subgoal(k, partner >= 0 && partner < e.layout.num_entities ? partner : -1);
+  if (e.goal.size() != 2 * static_cast<size_t>(subgoal.size())) return std::nullopt;
+  // the pair's members are its own motion, not its ancestors'
+  uint64_t members = 0;
+  for (int m = 0; m < subgoal.size(); ++m) members |= uint64_t{1} << subgoal.member(m);
+  double distance = 0;
+  for (int m = 0; m < subgoal.size(); ++m)
+    distance =
+        std::max(distance, rl::DistanceToGoal(e.layout, e.state(e.num_steps), subgoal.member(m), &e.goal[2 * m]));
+  Figures figures{EpisodeSelectivity(e, options_.epsilon, e.ancestor_mask & ~members, subgoal), distance};
   if (options_.table_graph && e.entity_kinds.size() == static_cast<size_t>(e.layout.num_entities)) {
     // the table's ancestor sets for the objects this episode presents; kinds the catalogue does
     // not have leave it undefined (the learner refuses such an episode and never counts it)
     try {
       const rl::SubgoalStructure table = rl::CatalogueSubgoals{options_.table_graph}.For(e.entity_kinds);
       if (k < table.num_entities())
-        figures.table_graph_selectivity = EpisodeSelectivity(e, options_.epsilon, table.ancestor_mask[k]);
+        figures.table_graph_selectivity = EpisodeSelectivity(e, options_.epsilon, table.AncestorsOf(subgoal), subgoal);
     } catch (const std::invalid_argument&) {
     }
   }

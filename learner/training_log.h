@@ -13,7 +13,8 @@
 // is defined (selectivity_episodes); subgoal_distance and subgoal_success: the subgoal
 // entity's final distance to its goal and the share of episodes ending within the success
 // threshold. Episodes without a subgoal entity (exploration, full-goal methods) are not
-// counted; a window without any writes no row. table_graph_selectivity: the same measure with
+// counted; a window without any writes no row. A tied pair attempted as one counts as one episode:
+// its farther object's distance, the pair's selectivity. table_graph_selectivity: the same measure with
 // the ancestor sets of the table's graph by construction (options.table_graph), the same for
 // every method, so that methods compare (SMORL's own ancestor sets are empty: its selectivity
 // counts the arm that pushes as an independent mover); empty without a table graph. Rows of
@@ -54,7 +55,10 @@ class TrainingLog {
     double subgoal_distance = 0;
     double table_graph_selectivity = -1;  // negative: undefined or no table graph
   };
-  std::optional<Figures> Measure(const rl::Episode& episode) const;
+  // partner: the object attempted together with the subgoal entity (a tied pair, graph.
+  // object_ties: joint; the run's graph names it), -1 for none. A pair's episode carries both
+  // goals; its distance is the farther object's, its selectivity the pair's.
+  std::optional<Figures> Measure(const rl::Episode& episode, int partner = -1) const;
   // Folds in the figures of one episode the learner stored.
   void Add(const Figures& figures);
   // Writes the window's row once `env_steps` has reached its end (force: now, if it holds
@@ -80,6 +84,8 @@ class TrainingLog {
 // `ancestor_mask` (the episode's own by default); negative when the episode has no subgoal
 // entity or nothing moved in any step.
 double EpisodeSelectivity(const rl::Episode& episode, double epsilon);
-double EpisodeSelectivity(const rl::Episode& episode, double epsilon, uint64_t ancestor_mask);
+// (subgoal: the episode's subgoal entity, with its tied partner when attempted as one)
+double EpisodeSelectivity(const rl::Episode& episode, double epsilon, uint64_t ancestor_mask,
+                          const rl::SubgoalUnit& subgoal);
 
 }  // namespace srics::learner

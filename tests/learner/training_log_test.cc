@@ -82,6 +82,24 @@ TEST(TrainingLogTest, SelectivityWithTheEpisodesOwnAncestorsAndWithTheTableGraph
   EXPECT_LT(odd->table_graph_selectivity, 0);
 }
 
+// A tied pair attempted as one (graph.object_ties: joint): pucks 1 and 2 with a goal each; the
+// episode's distance is the farther puck's, its own motion both pucks' (puck 1's 0.1), the arm
+// its ancestor. Measured as a single subgoal, the 4-float goal is not counted.
+TEST(TrainingLogTest, APairIsMeasuredAsOneSubgoalOfBothObjects) {
+  TrainingLogOptions options;
+  options.table_graph = rl::InteractionGraph::Star(3);
+  TrainingLog log(options);
+  rl::Episode pair = PushEpisode(0b101);  // puck 1's ancestors: the arm and its partner 2
+  pair.goal = {0.25f, 0.5f, 0.4f, 0.7f};  // puck 1 ends 0.05 m from its goal, puck 2 0.2 m
+  const auto figures = log.Measure(pair, 2);
+  ASSERT_TRUE(figures);
+  EXPECT_NEAR(figures->subgoal_distance, 0.2, 1e-6);
+  // own 0.1 (puck 1) + 0 (puck 2); the arm an ancestor: nothing independent moved
+  EXPECT_NEAR(figures->selectivity, 1.0, 1e-6);
+  EXPECT_NEAR(figures->table_graph_selectivity, 1.0, 1e-6);
+  EXPECT_FALSE(log.Measure(pair));  // no partner: the goal's size does not fit
+}
+
 TEST(TrainingLogTest, RowsCarryBothMeasuresAndAnOldFileKeepsItsRowsOnResume) {
   const fs::path dir = fs::temp_directory_path() / ("srics_training_log_" + std::to_string(getpid()));
   fs::remove_all(dir);
