@@ -70,14 +70,16 @@ class EvalEpisode {
     rl::AttemptSchedule schedule(structure_, options_.order, options_.protocol, order_rng);
     std::vector<double> before_attempt;
     AttemptTrace trace;
-    auto solved = [&](int entity) {
-      const rl::SubgoalUnit unit = structure_.UnitOf(entity);
+    // a pair's distance: the farther of its two objects (both within the threshold: solved)
+    auto farthest = [](const rl::SubgoalUnit& unit, const std::vector<double>& distances) {
+      double d = 0;
       for (int m = 0; m < unit.size(); ++m) {
         const int e = unit.member(m);
-        if (e >= static_cast<int>(before_attempt.size()) || before_attempt[e] >= options_.threshold) return false;
+        d = std::max(d, e < static_cast<int>(distances.size()) ? distances[e] : HUGE_VAL);
       }
-      return true;
+      return d;
     };
+    auto solved = [&](int entity) { return farthest(structure_.UnitOf(entity), before_attempt) < options_.threshold; };
     while (true) {
       before_attempt = env_.ComputeMetrics().distances;
       const std::optional<rl::AttemptSchedule::Slot> slot = schedule.Next(solved);
@@ -89,13 +91,7 @@ class EvalEpisode {
       EvalEpisodeObserver::Attempt record;
       record.index = index++;
       record.entity = entity;
-      // a pair's row: the farther of its two objects (both within the threshold: reached)
-      auto farthest = [&](const std::vector<double>& distances) {
-        double d = 0;
-        for (int m = 0; m < subgoal.size(); ++m) d = std::max(d, distances[subgoal.member(m)]);
-        return d;
-      };
-      record.distance_before = farthest(before_attempt);
+      record.distance_before = farthest(subgoal, before_attempt);
       record.skipped = slot->skipped;
       trace = AttemptTrace{};  // traced only for an observer (srics eval): a step's metrics cost
       if (!record.skipped) {
@@ -111,7 +107,7 @@ class EvalEpisode {
         if (!Attempt(goal, subgoal, ancestors, options_.attempt_steps, watcher_ ? &trace : nullptr)) return false;
       }
       const std::vector<double> after_attempt = record.skipped ? before_attempt : env_.ComputeMetrics().distances;
-      record.distance_after = farthest(after_attempt);
+      record.distance_after = farthest(subgoal, after_attempt);
       record.distances_before = before_attempt;
       record.distances_after = after_attempt;
       for (int other : subgoal_entities) {

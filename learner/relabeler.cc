@@ -55,14 +55,14 @@ int Relabeler::PickSubgoalEntity(const rl::Episode& episode) {
   if (episode.subgoal_entity >= 0) return episode.subgoal_entity;
   // explore episodes carry no subgoal: pick one the current graph allows
   const rl::SubgoalStructure* structure = StructureOf(episode);
+  const int n = episode.layout.num_entities;
   std::vector<int> candidates;
-  // (a pair once, by its first entity)
-  for (int i = 0; i < episode.layout.num_entities; ++i) {
-    if (structure && i < structure->num_entities()) {
-      const int partner = structure->partner_of(i);
-      if (!structure->has_subgoal(i) || (partner >= 0 && partner < i)) continue;
-    }
-    candidates.push_back(i);
+  if (structure) {  // (a pair once, by its first entity); entities beyond a fixed structure count too
+    for (int i : structure->SubgoalEntities())
+      if (i < n) candidates.push_back(i);
+    for (int i = structure->num_entities(); i < n; ++i) candidates.push_back(i);
+  } else {
+    for (int i = 0; i < n; ++i) candidates.push_back(i);
   }
   if (candidates.empty()) candidates.push_back(0);
   return candidates[std::uniform_int_distribution<size_t>(0, candidates.size() - 1)(rng_)];

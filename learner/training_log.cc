@@ -2,7 +2,6 @@
 
 #include "common/files/durable_file.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -99,13 +98,8 @@ std::optional<TrainingLog::Figures> TrainingLog::Measure(const rl::Episode& e, i
   const rl::SubgoalUnit subgoal(k, partner >= 0 && partner < e.layout.num_entities ? partner : -1);
   if (e.goal.size() != 2 * static_cast<size_t>(subgoal.size())) return std::nullopt;
   // the pair's members are its own motion, not its ancestors'
-  uint64_t members = 0;
-  for (int m = 0; m < subgoal.size(); ++m) members |= uint64_t{1} << subgoal.member(m);
-  double distance = 0;
-  for (int m = 0; m < subgoal.size(); ++m)
-    distance =
-        std::max(distance, rl::DistanceToGoal(e.layout, e.state(e.num_steps), subgoal.member(m), &e.goal[2 * m]));
-  Figures figures{EpisodeSelectivity(e, options_.epsilon, e.ancestor_mask & ~members, subgoal), distance};
+  Figures figures{EpisodeSelectivity(e, options_.epsilon, e.ancestor_mask & ~subgoal.bits(), subgoal),
+                  rl::DistanceToSubgoal(e.layout, e.state(e.num_steps), subgoal, e.goal.data()).max};
   if (options_.table_graph && e.entity_kinds.size() == static_cast<size_t>(e.layout.num_entities)) {
     // the table's ancestor sets for the objects this episode presents; kinds the catalogue does
     // not have leave it undefined (the learner refuses such an episode and never counts it)

@@ -61,8 +61,7 @@ uint64_t SubgoalStructure::AncestorsOf(const SubgoalUnit& unit) const {
     const int e = unit.member(k);
     if (e < num_entities()) mask |= ancestor_mask[e];
   }
-  for (int k = 0; k < unit.size(); ++k) mask &= ~(uint64_t{1} << unit.member(k));
-  return mask;
+  return mask & ~unit.bits();
 }
 
 void PairMutualAncestors(SubgoalStructure* s, int driven) {

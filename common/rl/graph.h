@@ -36,6 +36,8 @@ struct SubgoalUnit {
   int size() const { return partner >= 0 ? 2 : 1; }
   int member(int k) const { return k == 0 ? entity : partner; }  // k < size()
   bool contains(int j) const { return j == entity || (partner >= 0 && j == partner); }
+  // bit e set for each member e
+  uint64_t bits() const { return (uint64_t{1} << entity) | (partner >= 0 ? uint64_t{1} << partner : 0); }
 };
 
 // Ancestor sets and depths derived from a graph.

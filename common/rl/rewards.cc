@@ -31,27 +31,12 @@ double OwnMotion(const EntityLayout& layout, const float* before, const float* a
   return motion;
 }
 
-struct GoalDistance {
-  double sum = 0;  // over the members
-  double max = 0;  // the farthest member's: solved when below the threshold
-};
-
-GoalDistance DistanceOf(const EntityLayout& layout, const float* after, const SubgoalUnit& subgoal, const float* goal) {
-  GoalDistance d;
-  for (int k = 0; k < subgoal.size(); ++k) {
-    const double member = DistanceToGoal(layout, after, subgoal.member(k), goal + 2 * k);
-    d.sum += member;
-    d.max = std::max(d.max, member);
-  }
-  return d;
-}
-
 }  // namespace
 
 namespace {
 
 // The selectivity reward of the configured form, without the disturbance term.
-double FormReward(const GoalDistance& goal, double own_motion, const IndependentMotion& others,
+double FormReward(const SubgoalDistance& goal, double own_motion, const IndependentMotion& others,
                   const config::RewardConfig& config) {
   const double distance = goal.sum;
   const bool solved = goal.max < config.solved_threshold;
@@ -80,13 +65,24 @@ double SelectivityReward(const EntityLayout& layout, const float* before, const 
                          const config::RewardConfig& config) {
   const double own_motion = OwnMotion(layout, before, after, subgoal);
   const IndependentMotion others = MotionOfOthers(layout, before, after, subgoal, ancestors);
-  const double reward = FormReward(DistanceOf(layout, after, subgoal, goal), own_motion, others, config);
+  const double reward = FormReward(DistanceToSubgoal(layout, after, subgoal, goal), own_motion, others, config);
   // skipped at 0 so that runs without the term keep their rewards bit for bit
   return config.disturbance_weight > 0 ? reward - config.disturbance_weight * others.sum : reward;
 }
 
 double DistanceReward(const EntityLayout& layout, const float* after, const SubgoalUnit& subgoal, const float* goal) {
-  return -DistanceOf(layout, after, subgoal, goal).sum;
+  return -DistanceToSubgoal(layout, after, subgoal, goal).sum;
+}
+
+SubgoalDistance DistanceToSubgoal(const EntityLayout& layout, const float* state, const SubgoalUnit& subgoal,
+                                  const float* goal) {
+  SubgoalDistance d;
+  for (int k = 0; k < subgoal.size(); ++k) {
+    const double member = DistanceToGoal(layout, state, subgoal.member(k), goal + 2 * k);
+    d.sum += member;
+    d.max = std::max(d.max, member);
+  }
+  return d;
 }
 
 double FullGoalReward(const EntityLayout& layout, const float* after, const float* goal) {

@@ -16,6 +16,15 @@ namespace srics::rl {
 // the members', it is solved when each member is within the threshold, its own motion is the
 // sum of the members', and the others are the entities outside the pair and its ancestors.
 
+// The subgoal's distance to its goal in `state`: summed over its members (the reward's) and the
+// farthest member's (solved when below the threshold).
+struct SubgoalDistance {
+  double sum = 0;
+  double max = 0;
+};
+SubgoalDistance DistanceToSubgoal(const EntityLayout& layout, const float* state, const SubgoalUnit& subgoal,
+                                  const float* goal);
+
 // SRICS: distance of the subgoal plus the selectivity term, minus disturbance_weight times the
 // summed motion of the entities outside the subgoal and its ancestors. `ancestors` is the
 // subgoal's ancestor mask (bit j set: j in P^i; SubgoalStructure::AncestorsOf for a pair). The
