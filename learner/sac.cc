@@ -93,6 +93,7 @@ void SacAgent::ForEachShard(int batch, const std::function<void(ShardTapes&, int
   pool_.Run([&](int k) {
     if (k >= shards) return;
     const nn::ScopedGemmPrecision precision(precision_);  // this shard's thread, for this pass
+    const nn::ScopedSignalsHeld held;                     // once for the pass's products
     const auto [begin, end] = nn::PartRows(batch, shards, k);
     part(k == 0 ? tapes_ : *shard_tapes_[k - 1], k, begin, end);
   });

@@ -82,29 +82,21 @@ void EigenSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k
 // oneDNN's AVX-512 f32 GEMM kernels (2.6.3, Debian 12's) point the stack pointer into a heap
 // buffer while they run (oneDNN issue 4845, fixed in 3.11.2): a signal handled in this thread
 // meanwhile pushes its frame onto the heap, which malloc finds corrupted later ("corrupted size
-// vs. prev_size": learners stopped by SIGINT mid-update). The asynchronous signals wait until
-// the product is done; one sent to the process goes to another thread. Two syscalls per
-// product, each of at least 2^19 multiply-adds (kSmallestOneDnnProduct): under 1% of it.
-class AsynchronousSignalsBlocked {
- public:
-  AsynchronousSignalsBlocked() { pthread_sigmask(SIG_BLOCK, &Set(), &saved_); }
-  ~AsynchronousSignalsBlocked() { pthread_sigmask(SIG_SETMASK, &saved_, nullptr); }
-  AsynchronousSignalsBlocked(const AsynchronousSignalsBlocked&) = delete;
-  AsynchronousSignalsBlocked& operator=(const AsynchronousSignalsBlocked&) = delete;
-
- private:
-  static const sigset_t& Set() {
-    static const sigset_t set = [] {
-      sigset_t s;
-      sigfillset(&s);
-      // faults raised by the product itself cannot wait
-      for (int fault : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGABRT, SIGSYS}) sigdelset(&s, fault);
-      return s;
-    }();
-    return set;
-  }
-  sigset_t saved_;
-};
+// vs. prev_size": learners stopped by SIGINT mid-update). Every product therefore runs under a
+// ScopedSignalsHeld (gemm.h): the asynchronous signals wait until it is done.
+const sigset_t& AsynchronousSignals() {
+  static const sigset_t set = [] {
+    sigset_t s;
+    sigfillset(&s);
+    // faults raised by the product itself cannot wait
+    for (int fault : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGABRT, SIGSYS}) sigdelset(&s, fault);
+    return s;
+  }();
+  return set;
+}
+// Only the outermost guard of a thread changes its mask (two syscalls).
+thread_local int signals_held_depth = 0;
+thread_local sigset_t signals_saved;
 
 void OneDnnSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index k, const float* a, Eigen::Index lda,
                  const float* b, Eigen::Index ldb, float beta, float* c, Eigen::Index ldc) {
@@ -114,7 +106,7 @@ void OneDnnSgemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Index 
   (void)single_threaded;
   dnnl_status_t status;
   {
-    const AsynchronousSignalsBlocked blocked;
+    const ScopedSignalsHeld held;
     status = dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', m, n, k, 1.0f, a, lda, b, ldb, beta, c, ldc);
   }
   if (status != dnnl_success) {
@@ -222,7 +214,7 @@ void OneDnnBf16Gemm(bool ta, bool tb, Eigen::Index m, Eigen::Index n, Eigen::Ind
     dnnl::memory a_memory(pd.src_desc(), self.engine, self.a.data());
     dnnl::memory b_memory(pd.weights_desc(), self.engine, self.b.data());
     dnnl::memory c_memory(pd.dst_desc(), self.engine, c);
-    const AsynchronousSignalsBlocked blocked;
+    const ScopedSignalsHeld held;
     it->second.primitive.execute(self.stream,
                                  {{DNNL_ARG_SRC, a_memory}, {DNNL_ARG_WEIGHTS, b_memory}, {DNNL_ARG_DST, c_memory}});
     self.stream.wait();
@@ -272,6 +264,28 @@ ScopedGemmPrecision::ScopedGemmPrecision(GemmPrecision wanted)
 }
 
 ScopedGemmPrecision::~ScopedGemmPrecision() { thread_precision = saved_; }
+
+ScopedSignalsHeld::ScopedSignalsHeld() {
+#ifdef SRICS_WITH_ONEDNN
+  if (signals_held_depth++ == 0) pthread_sigmask(SIG_BLOCK, &AsynchronousSignals(), &signals_saved);
+#endif
+}
+
+ScopedSignalsHeld::~ScopedSignalsHeld() {
+#ifdef SRICS_WITH_ONEDNN
+  if (--signals_held_depth == 0) pthread_sigmask(SIG_SETMASK, &signals_saved, nullptr);
+#endif
+}
+
+bool ThisThreadHoldsSignals() {
+#ifdef SRICS_WITH_ONEDNN
+  sigset_t now;
+  pthread_sigmask(SIG_BLOCK, nullptr, &now);
+  return sigismember(&now, SIGINT) == 1 && sigismember(&now, SIGTERM) == 1;
+#else
+  return false;
+#endif
+}
 
 bool GemmBackendAvailable(GemmBackend backend) { return backend == GemmBackend::kEigen || kHaveOneDnn; }
 

@@ -101,9 +101,16 @@ double ClipGradNorm(const ParameterList<T>& params, double max_norm) {
 template <typename T>
 bool GradientsUsable(const ParameterList<T>& params) {
   const T most = static_cast<T>(kMaxUsableGradient);
-  for (const Parameter<T>* p : params)
-    if (!(p->grad.array().abs() <= most).all()) return false;  // NaN fails too
-  return true;
+  // one vector pass over each gradient, no early exit (Eigen's all() of a comparison tested
+  // one value at a time: 2-3% of a batch-256 run's CPU time, twice per update)
+  int unusable = 0;
+  for (const Parameter<T>* p : params) {
+    const T* g = p->grad.data();
+    const Eigen::Index n = p->grad.size();
+#pragma omp simd reduction(| : unusable)
+    for (Eigen::Index i = 0; i < n; ++i) unusable |= !(std::abs(g[i]) <= most);  // NaN fails too
+  }
+  return unusable == 0;
 }
 
 template <typename T>

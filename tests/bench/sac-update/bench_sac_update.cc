@@ -8,10 +8,14 @@
 //
 // bench_sac_update [--dump DIR]: DIR receives what the PyTorch peer needs to run the same
 // update: spec.json (sizes and SAC settings from the config) and batch<B>.bin (the batch).
+// bench_sac_update --only BATCH: the agent's update on a fixed batch of BATCH, one thread, fp32
+// and (where the CPU has it) bf16, as one JSON line: short enough to pair two builds in turn
+// (farm-bench) when a change to the update is timed against its parent.
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <memory>
@@ -115,8 +119,9 @@ void DumpSpec(const std::string& path, const config::Config& c, const learner::L
   if (!f) throw std::runtime_error("cannot write " + path);
 }
 
+// agent_only: the agent's update alone, fp32 and bf16 (no Learner::Update, Eigen or floor)
 Result Measure(int batch, int threads, const std::vector<rl::Episode>& episodes, int repeats,
-               const std::string& dump_dir) {
+               const std::string& dump_dir, bool agent_only = false) {
   const config::Config c = LoadFor(batch, threads);
   learner::Learner learner(learner::LearnerOptionsFor(c));
   learner.SetGraph(rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(4)));
@@ -128,20 +133,23 @@ Result Measure(int batch, int threads, const std::vector<rl::Episode>& episodes,
   if (threads == 1) learner.agent().set_gemm_log(&shapes);
   learner.Update();
   learner.agent().set_gemm_log(nullptr);
-  r.update_ms = bench::MedianMs(repeats, [&] { learner.Update(); });
+  if (!agent_only) r.update_ms = bench::MedianMs(repeats, [&] { learner.Update(); });
   const learner::TrainingBatch fixed = learner.last_batch();
   r.agent = Time(repeats, [&] { learner.agent().Update(fixed); });
   r.agent_ms = r.agent.ms;
   if (threads == 1) {
     const nn::GemmBackend active = nn::ActiveGemmBackend();
-    nn::SetGemmBackend(nn::GemmBackend::kEigen);
-    r.agent_eigen = Time(repeats, [&] { learner.agent().Update(fixed); });
-    nn::SetGemmBackend(active);
+    if (!agent_only) {
+      nn::SetGemmBackend(nn::GemmBackend::kEigen);
+      r.agent_eigen = Time(repeats, [&] { learner.agent().Update(fixed); });
+      nn::SetGemmBackend(active);
+    }
     if (learner.agent().SetProductPrecision(nn::GemmPrecision::kBf16) == nn::GemmPrecision::kBf16) {
       learner.agent().Update(fixed);  // builds the bf16 products' primitives, outside the timing
       r.agent_bf16 = Time(repeats, [&] { learner.agent().Update(fixed); });
       learner.agent().SetProductPrecision(nn::GemmPrecision::kFp32);
     }
+    if (agent_only) return r;
     bench::GemmFloor floor(shapes);
     r.floor_ms = bench::MedianMs(repeats, [&] { floor.Run(); });
     r.gflop = floor.Flops() * 1e-9;
@@ -185,12 +193,15 @@ int main(int argc, char** argv) {
   // defaults and missed what big buffers cost there: page faults and munmaps at batch 2048)
   srics::process::SetUpHeap();
   std::string dump_dir;
+  int only_batch = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--dump" && i + 1 < argc) {
       dump_dir = argv[++i];
+    } else if (arg == "--only" && i + 1 < argc && std::atoi(argv[i + 1]) > 0) {
+      only_batch = std::atoi(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: %s [--dump DIR]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--dump DIR | --only BATCH]\n", argv[0]);
       return 2;
     }
   }
@@ -201,6 +212,14 @@ int main(int argc, char** argv) {
   for (int i = 0; i < 200; ++i)
     if (auto e = actor::RunExploreEpisode(*env, 50, 1000 + i, rng)) episodes.push_back(std::move(*e));
 
+  if (only_batch > 0) {
+    const Result r = Measure(only_batch, 1, episodes, only_batch >= 1024 ? 11 : 41, "", /*agent_only=*/true);
+    std::printf(
+        "{\"bench\":\"sac-update --only\",\"batch\":%d,\"agent_ms\":%.3f,\"agent_cpu_ms\":%.3f,"
+        "\"agent_cpu_ms_bf16\":%.3f}\n",
+        r.batch, r.agent_ms, r.agent.cpu_ms, r.agent_bf16.cpu_ms);
+    return 0;
+  }
   std::printf(
       "SAC update, paper networks (attention 80 = 5 x 16, policy [128,128], Q [128,128,128]),\n"
       "Rearrange 3 (4 entities), median of repeats. update = Learner::Update (sampling, relabeling,\n"

@@ -206,6 +206,39 @@ TEST(GemmDeathTest, SignalsDuringProductsLeaveTheHeapIntact) {
   EXPECT_EXIT(MultiplyUnderSignals(), ::testing::ExitedWithCode(0), "");
 }
 
+// A pass of many products (the SAC update's) holds the signals once: nested guards change the
+// thread's mask only at the outermost, which restores the mask as it found it (a signal the
+// caller had blocked stays blocked); the products inside take no guard of their own.
+TEST(GemmTest, NestedSignalGuardsHoldUntilTheOutermostEndsAndRestoreTheMask) {
+  if (!GemmBackendAvailable(GemmBackend::kOneDnn)) GTEST_SKIP() << "no oneDNN in this build";
+  BackendGuard guard;
+  SetGemmBackend(GemmBackend::kOneDnn);
+  std::mt19937 rng(5);
+  const Matrix<float> a = Random(256, 128, rng), b = Random(128, 256, rng);
+  EXPECT_FALSE(ThisThreadHoldsSignals());
+  {
+    const ScopedSignalsHeld outer;
+    EXPECT_TRUE(ThisThreadHoldsSignals());
+    {
+      const ScopedSignalsHeld inner;
+      Matrix<float> c;
+      Gemm<float>(false, false, a, b, 0.0f, c);  // takes and releases its own guard inside
+      EXPECT_TRUE(ThisThreadHoldsSignals());
+    }
+    EXPECT_TRUE(ThisThreadHoldsSignals());  // the inner guard left the outer one's mask
+  }
+  EXPECT_FALSE(ThisThreadHoldsSignals());
+  sigset_t usr1, before, after;
+  sigemptyset(&usr1);
+  sigaddset(&usr1, SIGUSR1);
+  pthread_sigmask(SIG_BLOCK, &usr1, &before);
+  { const ScopedSignalsHeld held; }
+  pthread_sigmask(SIG_BLOCK, nullptr, &after);
+  EXPECT_EQ(sigismember(&after, SIGUSR1), 1);  // the caller's own block survives
+  EXPECT_EQ(sigismember(&after, SIGINT), 0);
+  pthread_sigmask(SIG_SETMASK, &before, nullptr);
+}
+
 TEST(GemmTest, DescribesTheBackendAndTheInstructionSetInUse) {
   BackendGuard guard;
   SetGemmBackend(GemmBackend::kEigen);

@@ -99,6 +99,18 @@ TEST(GradientsUsableTest, FiniteGradientsUpToTheBoundOnly) {
   EXPECT_FALSE(GradientsUsable<float>({&b}));
   EXPECT_TRUE(GradientsUsable<float>({&a}));
   EXPECT_TRUE(GradientsUsable<float>({}));
+  // one bad value anywhere in a gradient of many (the vector loop's body and its remainder)
+  Parameter<float> big("big", 37, 29);
+  big.grad.setConstant(0.5f);
+  EXPECT_TRUE(GradientsUsable<float>({&big}));
+  for (Eigen::Index at : {Eigen::Index(0), Eigen::Index(500), big.grad.size() - 1}) {
+    for (float bad : {std::numeric_limits<float>::quiet_NaN(), -std::numeric_limits<float>::infinity(), 3e18f}) {
+      big.grad(at / 29, at % 29) = bad;
+      EXPECT_FALSE(GradientsUsable<float>({&a, &big})) << "at " << at << ": " << bad;
+      big.grad(at / 29, at % 29) = 0.5f;
+    }
+  }
+  EXPECT_TRUE(GradientsUsable<float>({&a, &big}));
 }
 
 TEST(SoftUpdateTest, PolyakAverage) {

@@ -208,7 +208,7 @@ TEST_F(TapeGradTest, GatherSumReluMatchesComposition) {
   EXPECT_THROW(t.GatherSumRelu(t.Param(a), a_idx, t.Param(b), b_idx, 3, 2), std::invalid_argument);
 }
 
-// Head sizes 3 and 16 (the paper's: 80 = 5 x 16).
+// Head sizes 3 (read at run time), 8, 16 (the paper's: 80 = 5 x 16) and 32 (compiled in).
 class AttentionGradTest : public TapeGradTest, public ::testing::WithParamInterface<int> {};
 
 TEST_P(AttentionGradTest, AttentionMatchesCompositionAndDifferences) {
@@ -266,7 +266,39 @@ TEST_P(AttentionGradTest, AttentionMatchesCompositionAndDifferences) {
   EXPECT_LT(GradCheck(All(), composed), kTol);
 }
 
-INSTANTIATE_TEST_SUITE_P(HeadSizes, AttentionGradTest, ::testing::Values(3, 16));
+INSTANTIATE_TEST_SUITE_P(HeadSizes, AttentionGradTest, ::testing::Values(3, 8, 16, 32));
+
+// The float kernels (16-value heads have their own vector dot product, common/nn/attention.cc)
+// against the double ones on the same numbers: values, and the gradients of q, k and v, within
+// float rounding; per head size compiled in and one read at run time.
+TEST(AttentionFloatTest, FloatKernelsMatchTheDoubleOnesForEveryHeadSize) {
+  for (int dh : {5, 8, 16, 32}) {
+    SCOPED_TRACE("head size " + std::to_string(dh));
+    const int batch = 7, ents = 6, heads = 5, embed = heads * dh;
+    Rng rng(dh);
+    const MatD q = RandomNormal<D>(batch, embed, rng), k = RandomNormal<D>(batch * ents, embed, rng),
+               v = RandomNormal<D>(batch * ents, embed, rng), seed = RandomNormal<D>(batch, embed, rng);
+    MatD mask = MatD::Ones(batch, ents);
+    mask(0, 5) = mask(3, 0) = mask(3, 2) = 0;
+    Tape<D> td;
+    Var<D> qd = td.Constant(q, true), kd = td.Constant(k, true), vd = td.Constant(v, true);
+    Var<D> outd = td.Attention(qd, kd, vd, td.Constant(mask), heads);
+    td.Backward(outd, seed);
+    Tape<float> tf;
+    Var<float> qf = tf.Constant(q.cast<float>(), true), kf = tf.Constant(k.cast<float>(), true),
+               vf = tf.Constant(v.cast<float>(), true);
+    Var<float> outf = tf.Attention(qf, kf, vf, tf.Constant(mask.cast<float>()), heads);
+    tf.Backward(outf, seed.cast<float>());
+    auto near = [](const MatD& exact, const Tensor& got) {
+      return (exact - got.cast<D>()).cwiseAbs().maxCoeff() / (1.0 + exact.cwiseAbs().maxCoeff());
+    };
+    EXPECT_LT(near(outd.value(), outf.value()), 1e-5);
+    EXPECT_LT(near(qd.grad(), qf.grad()), 1e-5);
+    EXPECT_LT(near(kd.grad(), kf.grad()), 1e-5);
+    EXPECT_LT(near(vd.grad(), vf.grad()), 1e-5);
+    EXPECT_EQ(outf.value().row(3).norm() > 0, true);
+  }
+}
 
 TEST_F(TapeGradTest, SeveralQueriesPerSampleAttendToTheirOwnSamplesEntities) {
   // 2 queries per sample (a tied pair's two goal tokens): query row b*2 + j sees sample b's
