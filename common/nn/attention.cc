@@ -86,6 +86,20 @@ void ForwardHeads(const Sample<T>& s, int64_t embed, int64_t heads, T* weights, 
     if (sum <= T(0)) continue;
     const T inverse = T(1) / sum;
     T* o = out + h * dh;
+#ifdef __AVX512F__
+    if constexpr (kHead == 16 && std::is_same_v<T, float>) {
+      // the head's output summed in a register: through memory, each entity's add waited for
+      // the previous one's store
+      __m512 sum16 = _mm512_setzero_ps();
+      for (int64_t e = 0; e < s.entities; ++e) {
+        w[e] *= inverse;
+        if (w[e] != T(0))
+          sum16 = _mm512_fmadd_ps(_mm512_set1_ps(w[e]), _mm512_loadu_ps(s.values + e * s.row_stride + h * dh), sum16);
+      }
+      _mm512_storeu_ps(o, sum16);
+      continue;
+    }
+#endif
     for (int64_t e = 0; e < s.entities; ++e) {
       w[e] *= inverse;
       if (w[e] != T(0)) Axpy<kHead>(w[e], s.values + e * s.row_stride + h * dh, o, dh);
