@@ -28,6 +28,14 @@ attention::Sample<T> SampleOf(const Matrix<T>& Q, const Matrix<T>& K, const Matr
           ents};
 }
 
+// The gradient that reaches a row softmax's input z * scale from g, the gradient of its output
+// y: scale * y * (g - <g, y>) per row (MaskedSoftmax, GumbelSoftmax).
+template <typename T>
+Matrix<T> SoftmaxInputGradient(const Matrix<T>& y, const Matrix<T>& g, T scale) {
+  const Matrix<T> dot = g.cwiseProduct(y).rowwise().sum();
+  return (scale * y.array() * (g.colwise() - dot.col(0)).array()).matrix();
+}
+
 // first contribution assigns (no zero fill), later ones add
 template <typename NodeT, typename Expr>
 void Acc(NodeT& n, const Expr& e) {
@@ -619,10 +627,7 @@ Var<T> Tape<T>::MaskedSoftmax(Var<T> a, Var<T> mask) {
 
 template <typename T>
 void Tape<T>::BackwardMaskedSoftmax(Node& n) {
-  const Mat& g = n.grad;
-  const Mat& Y = n.value;
-  const auto dot = (g.cwiseProduct(Y)).rowwise().sum();
-  Acc(nodes_[n.a], (Y.array() * (g.colwise() - dot).array()).matrix());
+  Acc(nodes_[n.a], SoftmaxInputGradient(n.value, n.grad, T(1)));
 }
 
 template <typename T>
@@ -673,12 +678,9 @@ Var<T> Tape<T>::GumbelSoftmax(Var<T> logits, const Mat& gumbel_noise, T temperat
 
 template <typename T>
 void Tape<T>::BackwardGumbelSoftmax(Node& n) {
-  // straight-through: the gradient of the soft sample, whatever the forward returned
-  const Mat& g = n.grad;
-  const Mat& soft = n.aux;
-  const T temperature = n.f0;
-  const auto dot = (g.cwiseProduct(soft)).rowwise().sum();
-  Acc(nodes_[n.a], (soft.array() * (g.colwise() - dot).array() / temperature).matrix());
+  // straight-through: the gradient of the soft sample (n.aux), whatever the forward returned;
+  // its input was the logits over the temperature
+  Acc(nodes_[n.a], SoftmaxInputGradient(n.aux, n.grad, T(1) / n.f0));
 }
 
 template <typename T>
