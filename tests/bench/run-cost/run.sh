@@ -9,6 +9,7 @@
 # warm-up + 11,000). A config that learns its graph adds its graph phase once (measured in the
 # first run; 0 with a given graph). Prints a table and, last, one JSON object with
 # cpu_min_750k_batch256, cpu_min_750k_batch2048 and share_<phase> for each phase (batch 256).
+# SRICS_RUN_COST_SET="key=value ..." adds those settings to both runs (e.g. learner.precision=bf16).
 set -euo pipefail
 build=$1; shift
 root=$(cd "$(dirname "$0")/../../.." && pwd)
@@ -20,6 +21,7 @@ extra=()
 if [[ -z ${1:-} ]]; then
   extra=(--set run.method=srics --set graph.file="$root/deploy/configs/campaign/graphs/relational-4-one-way.json")
 fi
+for kv in ${SRICS_RUN_COST_SET:-}; do extra+=(--set "$kv"); done
 srics=$build/deploy/launcher/srics
 budget=750000  # the paper's budget, which the projection is for
 run() {  # NAME STEPS [--set ...]
