@@ -10,14 +10,27 @@ if [ $# -lt 1 ]; then
 fi
 name=$1; shift
 target="bench_${name//-/_}"
+# SRICS_BENCH_PLAN=1: print what would be built and run, and stop (tests)
+plan() {
+  if [ -n "${SRICS_BENCH_PLAN:-}" ]; then
+    echo "build: $1"
+    shift
+    echo "run: $*"
+    exit 0
+  fi
+}
 if [ -x "$root/tests/bench/$name/run.sh" ]; then
-  # a script with its own executable builds just that; the others need the programs
-  if [ -f "$root/tests/bench/$name/CMakeLists.txt" ]; then
+  # a script with a target of its own (bench_NAME in its CMakeLists.txt) builds just that;
+  # the others need the programs (gnn-acceptance's CMakeLists.txt holds only its script's test)
+  if grep -qE "add_(executable|custom_target)\\(${target}[ )]" "$root/tests/bench/$name/CMakeLists.txt" 2>/dev/null; then
+    plan "$target" "$root/tests/bench/$name/run.sh" "$build" "$@"
     "$root/tests/build.sh" --target "$target" >&2
   else
+    plan everything "$root/tests/bench/$name/run.sh" "$build" "$@"
     "$root/tests/build.sh" >&2
   fi
   exec "$root/tests/bench/$name/run.sh" "$build" "$@"
 fi
+plan "$target" "$build/tests/bench/$name/$target" "$@"
 "$root/tests/build.sh" --target "$target" >&2
 exec "$build/tests/bench/$name/$target" "$@"
