@@ -13,10 +13,6 @@ namespace srics::nn::attention {
 
 namespace {
 
-// The inner loops run over one head's values. kN > 0 is that length known when compiling (the
-// common head sizes, see Forward): the loop then becomes a few whole vector instructions inlined
-// into the caller, where a length known only at run time cost a call, a vector loop and its
-// remainder per entity and head (about a fifth of a batch-256 run's CPU time on 16-value heads).
 // A 16-float dot product with a reduction gcc does not write for `omp simd` (it spills the
 // vector and adds its lanes one by one): the paper's head size on the vector units this build
 // targets (-march, cmake/SricsOptions.cmake).
@@ -37,6 +33,10 @@ inline float Dot16(const float* a, const float* b) {
 }
 #endif
 
+// The inner loops run over one head's values. kN > 0 is that length known when compiling (the
+// common head sizes, see Forward): the loop then becomes a few whole vector instructions inlined
+// into the caller, where a length known only at run time cost a call, a vector loop and its
+// remainder per entity and head (about a fifth of a batch-256 run's CPU time on 16-value heads).
 template <int kN, typename T>
 [[gnu::always_inline]] inline T Dot(const T* a, const T* b, int64_t n) {
 #ifdef SRICS_ATTENTION_DOT16
@@ -86,20 +86,6 @@ void ForwardHeads(const Sample<T>& s, int64_t embed, int64_t heads, T* weights, 
     if (sum <= T(0)) continue;
     const T inverse = T(1) / sum;
     T* o = out + h * dh;
-#ifdef __AVX512F__
-    if constexpr (kHead == 16 && std::is_same_v<T, float>) {
-      // the head's output summed in a register: through memory, each entity's add waited for
-      // the previous one's store
-      __m512 sum16 = _mm512_setzero_ps();
-      for (int64_t e = 0; e < s.entities; ++e) {
-        w[e] *= inverse;
-        if (w[e] != T(0))
-          sum16 = _mm512_fmadd_ps(_mm512_set1_ps(w[e]), _mm512_loadu_ps(s.values + e * s.row_stride + h * dh), sum16);
-      }
-      _mm512_storeu_ps(o, sum16);
-      continue;
-    }
-#endif
     for (int64_t e = 0; e < s.entities; ++e) {
       w[e] *= inverse;
       if (w[e] != T(0)) Axpy<kHead>(w[e], s.values + e * s.row_stride + h * dh, o, dh);
