@@ -23,6 +23,8 @@ void ParseRun(YamlSection s, RunConfig* out) {
                                                               {"error", "error"},
                                                               {"off", "off"}});
   s.ReadBool("log_to_file", &out->log_to_file);
+  // recorded in the resolved settings only when given: runs made before the key resume unchanged
+  if (s.Has("in_process_threads")) s.ReadInt("in_process_threads", &out->in_process_threads, 1, 2);
   s.Finish();
 }
 

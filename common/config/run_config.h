@@ -27,6 +27,10 @@ struct RunConfig {
   std::string output_dir = "runs";    // run folders are created below this
   std::string log_level = "info";     // trace, debug, info, warn, error
   bool log_to_file = true;            // also write <run folder>/logs/<role>.log
+  // `srics run --in-process`: 1 steps every loop on one thread; 2 steps the learner on a second
+  // thread beside the actors, each round's publications delivered at its end (a fixed schedule,
+  // as deterministic as 1 but not the same trajectory). Recorded only when given.
+  int in_process_threads = 1;
 };
 
 }  // namespace srics::config

@@ -19,7 +19,7 @@ std::optional<T> Unseen(const std::optional<T>& latest, uint64_t* seen_version) 
 
 class InMemoryBus::Actor : public ActorLink {
  public:
-  Actor(InMemoryBus* bus, uint32_t id) : bus_(bus), id_(id) {}
+  Actor(InMemoryBus* bus, uint32_t id) : bus_(bus), id_(id), outbox_(bus->OutboxFor(1 + uint64_t{id})) {}
 
   // each publication once (as a DDS take), and only above the caller's version
   std::optional<rl::WeightsUpdate> PollWeights(uint64_t newer_than) override {
@@ -31,28 +31,35 @@ class InMemoryBus::Actor : public ActorLink {
   // No waiting: in one thread nothing can arrive while we wait.
   std::optional<rl::LearnerProgress> PollLearner(std::chrono::milliseconds) override { return bus_->progress_; }
   bool PublishEpisode(const rl::Episode& episode) override {
-    ++bus_->episodes_published_;
-    if (GraphServiceWants(episode.mode, bus_->graph_takes_training_) && bus_->graph_source_attached_)
-      bus_->graph_queue_.push_back(episode);
-    bus_->learner_queue_.push_back(episode);
+    bus_->Deliver(outbox_, [bus = bus_, episode]() mutable {  // one copy, as before the outboxes
+      ++bus->episodes_published_;
+      if (GraphServiceWants(episode.mode, bus->graph_takes_training_) && bus->graph_source_attached_)
+        bus->graph_queue_.push_back(episode);
+      bus->learner_queue_.push_back(std::move(episode));
+    });
     return true;
   }
   void PublishEval(const rl::EvalReport& report) override {
-    if (bus_->observer_) bus_->observer_->OnEval(report);
+    bus_->Deliver(outbox_, [bus = bus_, report] {
+      if (bus->observer_) bus->observer_->OnEval(report);
+    });
   }
   void PublishStatus(const rl::NodeReport& report) override {
-    if (bus_->observer_) bus_->observer_->OnStatus("actor", id_, report);
+    bus_->Deliver(outbox_, [bus = bus_, id = id_, report] {
+      if (bus->observer_) bus->observer_->OnStatus("actor", id, report);
+    });
   }
 
  private:
   InMemoryBus* bus_;
   uint32_t id_;
+  Outbox* outbox_;
   uint64_t weights_seen_ = 0, graph_seen_ = 0;
 };
 
 class InMemoryBus::Learner : public LearnerLink {
  public:
-  explicit Learner(InMemoryBus* bus) : bus_(bus) {}
+  explicit Learner(InMemoryBus* bus) : bus_(bus), outbox_(bus->OutboxFor(kLearnerOrder)) {}
 
   size_t TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds) override {
     size_t taken = 0;
@@ -64,19 +71,29 @@ class InMemoryBus::Learner : public LearnerLink {
   }
   std::optional<rl::GraphUpdate> PollGraph() override { return Unseen(bus_->graph_, &graph_seen_); }
   void PublishWeights(rl::WeightsUpdate weights) override {
-    bus_->weights_ = std::move(weights);
-    if (bus_->observer_) bus_->observer_->OnWeights(*bus_->weights_);
+    // held, the weights wait in a shared slot (a std::function must be copyable): no copy of
+    // the parameters either way
+    auto slot = std::make_shared<rl::WeightsUpdate>(std::move(weights));
+    bus_->Deliver(outbox_, [bus = bus_, slot] {
+      bus->weights_ = std::move(*slot);
+      if (bus->observer_) bus->observer_->OnWeights(*bus->weights_);
+    });
   }
   void PublishStats(const rl::LearnerReport& report) override {
-    bus_->progress_ = report.progress();
-    if (bus_->observer_) bus_->observer_->OnLearnerStats(report);
+    bus_->Deliver(outbox_, [bus = bus_, report] {
+      bus->progress_ = report.progress();
+      if (bus->observer_) bus->observer_->OnLearnerStats(report);
+    });
   }
   void PublishStatus(const rl::NodeReport& report) override {
-    if (bus_->observer_) bus_->observer_->OnStatus("learner", 0, report);
+    bus_->Deliver(outbox_, [bus = bus_, report] {
+      if (bus->observer_) bus->observer_->OnStatus("learner", 0, report);
+    });
   }
 
  private:
   InMemoryBus* bus_;
+  Outbox* outbox_;
   uint64_t graph_seen_ = 0;
 };
 
@@ -95,14 +112,22 @@ class InMemoryBus::Source : public EpisodeSource {
 
 class InMemoryBus::Sink : public GraphSink {
  public:
-  explicit Sink(InMemoryBus* bus) : bus_(bus) {}
-  void Publish(const rl::GraphUpdate& graph) override { bus_->PublishGraph(graph); }
+  explicit Sink(InMemoryBus* bus) : bus_(bus), outbox_(bus->OutboxFor(kGraphOrder)) {}
+  void Publish(const rl::GraphUpdate& graph) override {
+    // the version rule is checked at once, so the service sees its own error
+    if (bus_->graph_ && graph.version <= bus_->graph_->version)
+      throw std::invalid_argument("InMemoryBus: graph versions must increase");
+    bus_->Deliver(outbox_, [bus = bus_, graph] { bus->PublishGraph(graph); });
+  }
   void PublishStatus(const rl::NodeReport& report) override {
-    if (bus_->observer_) bus_->observer_->OnStatus("graph", 0, report);
+    bus_->Deliver(outbox_, [bus = bus_, report] {
+      if (bus->observer_) bus->observer_->OnStatus("graph", 0, report);
+    });
   }
 
  private:
   InMemoryBus* bus_;
+  Outbox* outbox_;
 };
 
 std::unique_ptr<ActorLink> InMemoryBus::ActorEnd(uint32_t actor_id) { return std::make_unique<Actor>(this, actor_id); }
@@ -117,6 +142,23 @@ std::unique_ptr<EpisodeSource> InMemoryBus::GraphSourceEnd(bool training_episode
 }
 
 std::unique_ptr<GraphSink> InMemoryBus::GraphSinkEnd() { return std::make_unique<Sink>(this); }
+
+void InMemoryBus::Deliver(Outbox* outbox, std::function<void()> publication) {
+  if (held_)
+    outbox->push_back(std::move(publication));
+  else
+    publication();
+}
+
+void InMemoryBus::Hold() { held_ = true; }
+
+void InMemoryBus::Release() {
+  held_ = false;
+  for (auto& [order, outbox] : outboxes_) {
+    for (auto& publication : outbox) publication();
+    outbox.clear();
+  }
+}
 
 void InMemoryBus::PublishGraph(const rl::GraphUpdate& graph) {
   if (graph_ && graph.version <= graph_->version)

@@ -11,11 +11,16 @@
 //   auto actor_link = bus.ActorEnd(0);
 //   ActorLoop actor(options, actor_link.get());
 //
-// Threading: single-threaded. Every end and the bus must be used from one thread, and the
-// bus must outlive its ends.
+// Threading: each end is used from one thread, and the bus must outlive its ends. Ends may be
+// stepped on different threads only between Hold() and Release() (both called from the thread
+// that owns the bus, while no end is in use): in between, every publication waits in its end's
+// outbox, so the state the ends read does not change; Release() delivers the outboxes in a fixed
+// order (graph service, actors by id, learner), so two threads give the same run every time.
 
 #include <cstdint>
 #include <deque>
+#include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -53,6 +58,11 @@ class InMemoryBus {
   // Injects a graph as the graph service would publish it (a run with a given graph).
   void PublishGraph(const rl::GraphUpdate& graph);
 
+  // Publications wait in their ends' outboxes from Hold() to Release(), which delivers them.
+  void Hold();
+  void Release();
+  bool held() const { return held_; }
+
   // Counters for tests and summaries.
   uint64_t episodes_published() const { return episodes_published_; }
   uint64_t episodes_pending_learner() const { return learner_queue_.size(); }
@@ -63,7 +73,16 @@ class InMemoryBus {
   class Source;
   class Sink;
 
+  // A publication: applied now, or queued in its end's outbox while the bus is held.
+  using Outbox = std::vector<std::function<void()>>;
+  void Deliver(Outbox* outbox, std::function<void()> publication);
+  // Delivery order of the outboxes: the graph service's (0), actor k's (1 + k), the learner's.
+  static constexpr uint64_t kGraphOrder = 0, kLearnerOrder = UINT64_MAX;
+  Outbox* OutboxFor(uint64_t order) { return &outboxes_[order]; }
+
   BusObserver* observer_;
+  bool held_ = false;
+  std::map<uint64_t, Outbox> outboxes_;  // nodes stay put: each end keeps a pointer to its own
   std::deque<rl::Episode> learner_queue_;
   std::deque<rl::Episode> graph_queue_;
   bool graph_source_attached_ = false;

@@ -92,9 +92,9 @@ void AddRunOptions(CLI::App& app, LaunchOptions* o, RunText* text) {
                  "<prefix>/share/srics-dds/configs/default.yaml)")
       ->required()
       ->transform(cli::InstalledConfig());
-  app.add_flag(
-      "--in-process", o->in_process,
-      "the same loops in one process and one thread, wired in memory (no DDS): deterministic, the same run folder");
+  app.add_flag("--in-process", o->in_process,
+               "the same loops in one process, wired in memory (no DDS): deterministic, the same run folder; one "
+               "thread, or the learner on a second (run.in_process_threads: 2)");
   app.add_option("--actors", o->actors, "actor processes (default: actors.count of the config)")
       ->check(cli::Integer(1))
       ->default_str("");

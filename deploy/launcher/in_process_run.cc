@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -13,9 +14,12 @@
 #include <spdlog/spdlog.h>
 
 #include <iostream>
+#include <limits>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <thread>
 
 #include "actor/actor_loop.h"
 #include "actor/env/random_table.h"
@@ -129,6 +133,76 @@ struct InProcessRun::Loops {
   explicit Loops(links::BusObserver* observer) : bus(observer) {}
 };
 
+// The second thread of run.in_process_threads: 2. Runs one learner step each time it is asked
+// (Start), the owner waiting for it (Wait) before the bus delivers the round's publications.
+class InProcessRun::LearnerThread {
+ public:
+  explicit LearnerThread(std::function<learner::StepResult()> step)
+      : step_(std::move(step)), thread_([this] { Loop(); }) {}
+  ~LearnerThread() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      quit_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  LearnerThread(const LearnerThread&) = delete;
+  LearnerThread& operator=(const LearnerThread&) = delete;
+
+  void Start() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      stepping_ = true;
+    }
+    cv_.notify_all();
+  }
+  // The step's result; rethrows what it threw.
+  learner::StepResult Wait() {
+    std::unique_lock<std::mutex> lock(mu_);
+    cv_.wait(lock, [this] { return !stepping_; });
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+    return result_;
+  }
+  // This thread's phase totals as of its last step (read after Wait).
+  profile::Totals phases() const {
+    std::lock_guard<std::mutex> lock(mu_);
+    return phases_;
+  }
+
+ private:
+  void Loop() {
+    std::unique_lock<std::mutex> lock(mu_);
+    while (true) {
+      cv_.wait(lock, [this] { return stepping_ || quit_; });
+      if (quit_) return;
+      lock.unlock();
+      learner::StepResult result = learner::StepResult::kIdle;
+      std::exception_ptr error;
+      try {
+        profile::PhaseScope phase(profile::Phase::kLearner);
+        result = step_();
+      } catch (...) {
+        error = std::current_exception();
+      }
+      const profile::Totals phases = profile::Snapshot();
+      lock.lock();
+      result_ = result, error_ = error, phases_ = phases;
+      stepping_ = false;
+      cv_.notify_all();
+    }
+  }
+
+  std::function<learner::StepResult()> step_;
+  mutable std::mutex mu_;
+  std::condition_variable cv_;
+  bool stepping_ = false, quit_ = false;
+  learner::StepResult result_ = learner::StepResult::kIdle;
+  std::exception_ptr error_;
+  profile::Totals phases_{};
+  std::thread thread_;  // last: started once the members it uses exist
+};
+
 InProcessRun::InProcessRun(const config::Config& config, const std::string& dir, links::BusObserver* observer,
                            InProcessOptions options)
     : loops_(std::make_unique<Loops>(observer)), options_(std::move(options)) {
@@ -145,6 +219,10 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
       learner::LearnerLoopOptionsFor(config, dir.empty() ? "" : dir + "/checkpoint.srics");
   learner_options.report_period_s = 0;  // actors see exact progress: the run is deterministic
   learner_options.final_weights_grace = std::chrono::milliseconds(0);
+  const bool two_threads = config.run.in_process_threads == 2 && !options_.graph_only;
+  // with its own thread the learner does every update the data allows in each round, beside the
+  // actors' episodes (a few per round would leave it idle most of the round)
+  if (two_threads) learner_options.max_updates_per_step = std::numeric_limits<int>::max();
   l.learner_link = l.bus.LearnerEnd();
   if (!options_.graph_only) l.learner = std::make_unique<learner::LearnerLoop>(learner_options, l.learner_link.get());
   l.learner_done = options_.graph_only;
@@ -160,9 +238,32 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
       l.actors.back()->set_eval_recorder(actor::RecorderFor(config, l.actors.back()->environment(), k, dir));
     l.actor_done.push_back(false);
   }
+  if (two_threads) learner_thread_ = std::make_unique<LearnerThread>([&l] { return l.learner->Step(); });
 }
 
 InProcessRun::~InProcessRun() = default;
+
+profile::Totals InProcessRun::PhaseTotals() const {
+  profile::Totals totals = profile::Snapshot();
+  if (learner_thread_) {
+    const profile::Totals learner = learner_thread_->phases();
+    for (size_t p = 0; p < totals.size(); ++p) totals[p] += learner[p];
+  }
+  return totals;
+}
+
+bool InProcessRun::StepActors() {
+  Loops& l = *loops_;
+  bool worked = false;
+  for (size_t k = 0; k < l.actors.size(); ++k) {
+    if (l.actor_done[k]) continue;
+    profile::PhaseScope phase(profile::Phase::kActing);
+    const actor::StepResult r = l.actors[k]->Step();
+    worked |= r == actor::StepResult::kWorked;
+    l.actor_done[k] = r == actor::StepResult::kDone;
+  }
+  return worked;
+}
 
 const graph_service::GraphService* InProcessRun::graph_service() const { return loops_->graph.get(); }
 
@@ -177,18 +278,36 @@ bool InProcessRun::Round() {
     if (l.graph->progress().phase == graph_service::Progress::Phase::kStopped)
       throw std::runtime_error("the graph service stopped without a graph");
   }
-  for (size_t k = 0; k < l.actors.size(); ++k) {
-    if (l.actor_done[k]) continue;
-    profile::PhaseScope phase(profile::Phase::kActing);
-    const actor::StepResult r = l.actors[k]->Step();
-    worked |= r == actor::StepResult::kWorked;
-    l.actor_done[k] = r == actor::StepResult::kDone;
-  }
-  if (!l.learner_done) {
-    profile::PhaseScope phase(profile::Phase::kLearner);
-    const learner::StepResult r = l.learner->Step();
+  if (learner_thread_ && !l.learner_done) {
+    // the learner steps on its thread while the actors step here, neither seeing what the other
+    // publishes in this round: the bus delivers it once both are done, in a fixed order
+    l.bus.Hold();
+    learner_thread_->Start();
+    std::exception_ptr actors_error, learner_error;
+    try {
+      worked |= StepActors();
+    } catch (...) {
+      actors_error = std::current_exception();
+    }
+    learner::StepResult r = learner::StepResult::kIdle;
+    try {
+      r = learner_thread_->Wait();  // the learner is idle again before anything unwinds
+    } catch (...) {
+      learner_error = std::current_exception();
+    }
+    l.bus.Release();
+    if (actors_error) std::rethrow_exception(actors_error);
+    if (learner_error) std::rethrow_exception(learner_error);
     worked |= r == learner::StepResult::kWorked;
     l.learner_done = r == learner::StepResult::kDone;
+  } else {
+    worked |= StepActors();
+    if (!l.learner_done) {
+      profile::PhaseScope phase(profile::Phase::kLearner);
+      const learner::StepResult r = l.learner->Step();
+      worked |= r == learner::StepResult::kWorked;
+      l.learner_done = r == learner::StepResult::kDone;
+    }
   }
   bool actors_done = true;
   for (bool done : l.actor_done) actors_done &= done;
@@ -218,11 +337,11 @@ class PhaseLog {
     profile::Enable();
     return std::unique_ptr<PhaseLog>(new PhaseLog(path));
   }
-  void Sample(uint64_t env_steps) {
+  void Sample(uint64_t env_steps, const profile::Totals& totals) {
     if (env_steps < next_) return;
     next_ = env_steps + 1000;
     out_ << env_steps << ',' << profile::ProcessCpuSeconds();
-    for (double seconds : profile::Snapshot()) out_ << ',' << seconds;
+    for (double seconds : totals) out_ << ',' << seconds;
     out_ << '\n' << std::flush;
   }
 
@@ -263,7 +382,7 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
       }
       session.Show(observer.state(), rows("running"), 0);
       if (phases)
-        for (const auto& [id, view] : observer.state().runs) phases->Sample(mon::EnvSteps(view));
+        for (const auto& [id, view] : observer.state().runs) phases->Sample(mon::EnvSteps(view), run.PhaseTotals());
     }
     if (exit_code != kExitDone || reason != "the budget is done") run.Stop();
   } catch (const std::exception& e) {

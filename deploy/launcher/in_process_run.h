@@ -1,9 +1,11 @@
 #pragma once
 // `srics run CONFIG --in-process`: the distributed run's own loops (GraphService, LearnerLoop,
-// ActorLoop x actors.count) in one process and one thread, wired by the in-memory bus instead
-// of DDS, stepped in a fixed order. Same run folder, display, CSV files and plots as the
-// distributed run. Deterministic: the same config gives the same eval.csv, bit for bit, apart
-// from the wall-clock column (unless run.max_wall_minutes cuts it short).
+// ActorLoop x actors.count) in one process, wired by the in-memory bus instead of DDS, stepped
+// in a fixed order: on one thread, or (run.in_process_threads: 2) the learner on a second
+// thread beside the actors, the bus holding each round's publications until both are done.
+// Same run folder, display, CSV files and plots as the distributed run. Deterministic: the
+// same config gives the same eval.csv, bit for bit, apart from the wall-clock column (unless
+// run.max_wall_minutes cuts it short).
 
 #include <cstdint>
 #include <functional>
@@ -13,6 +15,7 @@
 
 #include "common/config/config.h"
 #include "common/links/in_memory_bus.h"
+#include "common/profile/phase_clock.h"
 #include "deploy/launcher/launcher.h"
 #include "graph_service/service.h"
 
@@ -35,21 +38,28 @@ class InProcessRun {
                InProcessOptions options = {});
   ~InProcessRun();
 
-  // One round: the graph service, every actor, then the learner each take one step. Returns
-  // false once the learner has finished the budget and every actor has ended. Throws
-  // std::runtime_error when no loop could make progress for many rounds (a stall).
+  // One round: the graph service, every actor, then the learner each take one step (with two
+  // threads the actors and the learner at once, each seeing what the others published up to
+  // the round before). Returns false once the learner has finished the budget and every actor
+  // has ended. Throws std::runtime_error when no loop could make progress for many rounds (a
+  // stall), and what a loop threw.
   bool Round();
   // Stops early (Ctrl-C, wall-clock limit): the learner publishes and checkpoints its final
   // state.
   void Stop();
 
   uint64_t rounds() const { return rounds_; }
+  // CPU seconds per phase of both threads (profile::Enable()d; tests/bench.sh run-cost).
+  profile::Totals PhaseTotals() const;
   // The graph service's state (null when the method uses no graph).
   const graph_service::GraphService* graph_service() const;
 
  private:
   struct Loops;
+  class LearnerThread;
+  bool StepActors();
   std::unique_ptr<Loops> loops_;
+  std::unique_ptr<LearnerThread> learner_thread_;  // run.in_process_threads: 2
   InProcessOptions options_;
   uint64_t rounds_ = 0;
   uint64_t idle_rounds_ = 0;

@@ -327,6 +327,20 @@ TEST_F(ConfigFiles, LearnerPrecisionDefaultsToFp32AndNamesItsChoices) {
   EXPECT_NE(error.find("fp16"), std::string::npos) << error;
 }
 
+TEST_F(ConfigFiles, InProcessThreadsDefaultsToOneAndIsRecordedOnlyWhenGiven) {
+  const std::string file = Write("in_process_threads.yaml", "");
+  EXPECT_EQ(LoadConfig(file).run.in_process_threads, 1);
+  // not recorded unless given: older run folders resolve as they did and resume
+  EXPECT_EQ(LoadConfig(file).resolved_yaml.find("in_process_threads"), std::string::npos);
+  const Config two = LoadConfig(file, {"run.in_process_threads=2"});
+  EXPECT_EQ(two.run.in_process_threads, 2);
+  EXPECT_NE(two.resolved_yaml.find("in_process_threads: 2"), std::string::npos) << two.resolved_yaml;
+  EXPECT_NE(ErrorOf([&] {
+              LoadConfig(file, {"run.in_process_threads=3"});
+            }).find("run.in_process_threads: expected an integer in [1, 2], got '3'"),
+            std::string::npos);
+}
+
 // ------------------------------------------------------------------------- ParseConfig
 
 TEST(ParseConfigTest, TextUsesTheGivenNameInErrors) {

@@ -62,6 +62,23 @@ TEST(InProcessRunTest, SameConfigSameEvalCsvAndAWholeRunFolder) {
     EXPECT_TRUE(fs::exists(fs::path(a) / file)) << file;
 }
 
+// run.in_process_threads: 2, the learner on its own thread: as deterministic as one thread (the
+// bus holds each round's publications and delivers them in a fixed order), a whole run folder,
+// and a run of its own (the learner sees each round's episodes a round later).
+TEST(InProcessRunTest, TwoThreadsSameEvalCsvEveryTime) {
+  const std::string a = ::testing::TempDir() + "/in_process_2t_a", b = ::testing::TempDir() + "/in_process_2t_b";
+  ASSERT_EQ(RunOnce(a, {"run.in_process_threads=2"}), kExitDone);
+  ASSERT_EQ(RunOnce(b, {"run.in_process_threads=2"}), kExitDone);
+  const std::string rows = EvalRows(a);
+  EXPECT_GE(std::count(rows.begin(), rows.end(), '\n'), 4) << rows;
+  EXPECT_EQ(rows, EvalRows(b));
+  for (const char* file : {"eval.csv", "learner.csv", "nodes.csv", "checkpoint.srics", "summary.txt"})
+    EXPECT_TRUE(fs::exists(fs::path(a) / file)) << file;
+  const std::string one = ::testing::TempDir() + "/in_process_1t";
+  ASSERT_EQ(RunOnce(one), kExitDone);
+  EXPECT_NE(rows, EvalRows(one));
+}
+
 // graph.object_ties: joint on Relational Rearrange 4 with the campaign's two-way graph: a whole
 // run trains and evaluates the tied pucks as one subgoal of two goal tokens; the learner takes
 // every training episode (the pair's 4-float goals too), and the run's evaluations are there.
@@ -109,10 +126,12 @@ TEST(InProcessRunTest, ActorsShareTheEnvSteps) {
 }
 
 // The final evaluation is of the learner's final weights (their version is in eval.csv's
-// last row and in the learner's last stats).
-TEST(InProcessRunTest, TheLastEvaluationUsesTheFinalWeights) {
-  const std::string dir = ::testing::TempDir() + "/in_process_final";
-  ASSERT_EQ(RunOnce(dir), kExitDone);
+// last row and in the learner's last stats), with one thread and with two.
+class FinalWeightsTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(FinalWeightsTest, TheLastEvaluationUsesTheFinalWeights) {
+  const std::string dir = ::testing::TempDir() + "/in_process_final_" + std::to_string(GetParam());
+  ASSERT_EQ(RunOnce(dir, {"run.in_process_threads=" + std::to_string(GetParam())}), kExitDone);
   auto last_row = [](const std::string& path) {
     std::ifstream in(path);
     std::string header, line, last;
@@ -132,6 +151,11 @@ TEST(InProcessRunTest, TheLastEvaluationUsesTheFinalWeights) {
   EXPECT_EQ(column(eval, "policy_version"), column(stats, "policy_version"));
   EXPECT_EQ(column(eval, "env_steps"), "1200");
 }
+
+INSTANTIATE_TEST_SUITE_P(InProcessRunTest, FinalWeightsTest, ::testing::Values(1, 2),
+                         [](const ::testing::TestParamInfo<int>& info) {
+                           return std::to_string(info.param) + "_threads";
+                         });
 
 // actors.record_eval_episodes: every evaluation of a trained policy leaves its first episode
 // drawn in eval/ (GIF or PNG frames), listed in eval/recorded.csv with the metrics the
