@@ -1,5 +1,6 @@
 #include "deploy/launcher/run_session.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cinttypes>
@@ -37,6 +38,18 @@ std::string WallLimitReason(const config::Config& config, double elapsed_s) {
 }
 
 namespace {
+
+// This process's CPU time and that of the children it has waited for (the role processes, once
+// stopped), so outcome.yaml says what the launch cost in either kind of run.
+double LaunchCpuSeconds() {
+  double seconds = 0;
+  for (int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
+    rusage usage{};
+    if (getrusage(who, &usage) != 0) return -1;
+    seconds += usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+  }
+  return seconds;
+}
 
 std::unique_ptr<dashboard::Dashboard> ServeDashboard(const LaunchOptions& options) {
   if (options.http_port < 0) return nullptr;
@@ -160,7 +173,7 @@ int RunSession::Finish(const mon::MonitorState& state, std::vector<mon::ProcessR
     run_folder::WriteRunOutcome(dir_, {exit_code == kExitDone          ? "finished"
                                        : exit_code == kExitInterrupted ? "interrupted"
                                                                        : "failed",
-                                       exit_code, reason});
+                                       exit_code, reason, LaunchCpuSeconds()});
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
   }

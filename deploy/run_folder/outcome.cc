@@ -1,5 +1,6 @@
 #include "deploy/run_folder/outcome.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -46,6 +47,7 @@ void WriteRunOutcome(const std::string& dir, const RunOutcome& outcome) {
   out << "# how this run ended (srics run): finished, interrupted or failed\n"
       << "state: " << outcome.state << "\nexit_code: " << outcome.exit_code
       << "\nreason: " << QuotedString(outcome.reason) << "\n";
+  if (outcome.cpu_seconds >= 0) out << "cpu_seconds: " << std::llround(outcome.cpu_seconds) << "\n";
   files::WriteFileDurably((fs::path(dir) / "outcome.yaml").string(), out.str());
 }
 
@@ -62,6 +64,8 @@ std::optional<RunOutcome> ReadRunOutcome(const std::string& dir) {
       outcome.exit_code = std::atoi(line.c_str() + 11);
     else if (line.rfind("reason: ", 0) == 0)
       outcome.reason = UnquotedString(line.substr(8));
+    else if (line.rfind("cpu_seconds: ", 0) == 0)
+      outcome.cpu_seconds = std::atof(line.c_str() + 13);
   }
   if (!have_state) return std::nullopt;
   return outcome;

@@ -13,6 +13,9 @@ struct RunOutcome {
   std::string state;
   int exit_code = 0;
   std::string reason;
+  // CPU seconds of this launch: srics run and every process it started (a resumed run's
+  // earlier launches not included); negative: not known (a folder written before it was kept)
+  double cpu_seconds = -1;
 };
 void WriteRunOutcome(const std::string& dir, const RunOutcome& outcome);
 // Empty when there is no readable outcome.yaml.

@@ -5,6 +5,7 @@
 #include "deploy/launcher/in_process_run.h"
 
 #include "common/config/config.h"
+#include "deploy/run_folder/outcome.h"
 #include "graph_service/service.h"
 #include "tests/deploy/tiny_run.h"
 
@@ -60,6 +61,12 @@ TEST(InProcessRunTest, SameConfigSameEvalCsvAndAWholeRunFolder) {
   for (const char* file : {"config.yaml", "resolved-config.yaml", "eval.csv", "learner.csv", "nodes.csv", "graph.json",
                            "checkpoint.srics", "summary.txt", "logs/launcher.log"})
     EXPECT_TRUE(fs::exists(fs::path(a) / file)) << file;
+  // what the launch cost: a whole small run takes a second of CPU or more, less than the test's
+  const auto outcome = run_folder::ReadRunOutcome(a);
+  ASSERT_TRUE(outcome.has_value());
+  EXPECT_EQ(outcome->state, "finished");
+  EXPECT_GT(outcome->cpu_seconds, 1.0);
+  EXPECT_LT(outcome->cpu_seconds, 120.0);
 }
 
 // run.in_process_threads: 2, the learner on its own thread: as deterministic as one thread (the

@@ -159,6 +159,9 @@ TEST_F(SweepTest, RunFinishedOnlyWhenTheOutcomeSaysSo) {
   run_folder::WriteRunOutcome(dir, {"finished", 0, "the \"budget\" is done"});
   EXPECT_TRUE(run_folder::RunFinished(dir));
   EXPECT_EQ(run_folder::ReadRunOutcome(dir)->reason, "the \"budget\" is done");
+  EXPECT_LT(run_folder::ReadRunOutcome(dir)->cpu_seconds, 0);  // not given: not written, not known
+  run_folder::WriteRunOutcome(dir, {"finished", 0, "done", 4321.4});
+  EXPECT_EQ(run_folder::ReadRunOutcome(dir)->cpu_seconds, 4321);
   run_folder::RemoveRunOutcome(dir);
   EXPECT_FALSE(run_folder::RunFinished(dir));
 }
