@@ -278,7 +278,11 @@ StepResult LearnerLoop::Step(std::chrono::milliseconds wait) {
   }
   FollowGraph();
   int updates = 0;
-  for (; updates < options_.max_updates_per_step && learner_.CanUpdate(); ++updates) {
+  auto may_update = [&] {
+    return learner_.CanUpdate() &&
+           (!options_.updates_on_ratio_only || learner_.BudgetReached() || learner_.UpdateBacklog() >= 1.0);
+  };
+  for (; updates < options_.max_updates_per_step && may_update(); ++updates) {
     const UpdateStats stats = learner_.Update();
     if (!stats.non_finite) {
       last_update_ = stats;

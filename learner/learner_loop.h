@@ -36,6 +36,9 @@ struct LearnerLoopOptions {
   std::string checkpoint_path;
   files::FileSystem* file_system = &files::FileSystem::Posix();  // tests inject failures here
   int max_updates_per_step = 8;  // updates between two looks at the link (responsiveness)
+  // only the updates the data already pays for (learner.updates_per_step), none ahead into the
+  // rate limiter's error buffer until the budget is in (the two-thread in-process run)
+  bool updates_on_ratio_only = false;
   // stats and status this often; 0: after every step (the in-process run, so that actors see
   // exact progress and the run is deterministic)
   double report_period_s = 1;

@@ -1,6 +1,7 @@
 #include "common/links/in_memory_bus.h"
 
 #include <algorithm>
+#include <exception>
 #include <stdexcept>
 
 namespace srics::links {
@@ -114,7 +115,8 @@ class InMemoryBus::Sink : public GraphSink {
  public:
   explicit Sink(InMemoryBus* bus) : bus_(bus), outbox_(bus->OutboxFor(kGraphOrder)) {}
   void Publish(const rl::GraphUpdate& graph) override {
-    // the version rule is checked at once, so the service sees its own error
+    // the version rule is checked at once, so the service sees its own error (the graph service
+    // steps while the bus is not held: InProcessRun)
     if (bus_->graph_ && graph.version <= bus_->graph_->version)
       throw std::invalid_argument("InMemoryBus: graph versions must increase");
     bus_->Deliver(outbox_, [bus = bus_, graph] { bus->PublishGraph(graph); });
@@ -154,10 +156,21 @@ void InMemoryBus::Hold() { held_ = true; }
 
 void InMemoryBus::Release() {
   held_ = false;
+  // every outbox is emptied and every publication tried, even after one threw (a monitor's CSV
+  // on a full disk): none is delivered twice or lost silently; the first error is rethrown
+  std::exception_ptr first_error;
   for (auto& [order, outbox] : outboxes_) {
-    for (auto& publication : outbox) publication();
-    outbox.clear();
+    Outbox due;
+    due.swap(outbox);
+    for (auto& publication : due) {
+      try {
+        publication();
+      } catch (...) {
+        if (!first_error) first_error = std::current_exception();
+      }
+    }
   }
+  if (first_error) std::rethrow_exception(first_error);
 }
 
 void InMemoryBus::PublishGraph(const rl::GraphUpdate& graph) {

@@ -58,7 +58,8 @@ class InMemoryBus {
   // Injects a graph as the graph service would publish it (a run with a given graph).
   void PublishGraph(const rl::GraphUpdate& graph);
 
-  // Publications wait in their ends' outboxes from Hold() to Release(), which delivers them.
+  // Publications wait in their ends' outboxes from Hold() to Release(), which delivers them
+  // (every one, then rethrows the first error a delivery threw).
   void Hold();
   void Release();
   bool held() const { return held_; }

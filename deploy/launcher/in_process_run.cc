@@ -220,9 +220,14 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
   learner_options.report_period_s = 0;  // actors see exact progress: the run is deterministic
   learner_options.final_weights_grace = std::chrono::milliseconds(0);
   const bool two_threads = config.run.in_process_threads == 2 && !options_.graph_only;
-  // with its own thread the learner does every update the data allows in each round, beside the
-  // actors' episodes (a few per round would leave it idle most of the round)
-  if (two_threads) learner_options.max_updates_per_step = std::numeric_limits<int>::max();
+  // with its own thread the learner does, in each round, every update the data of the round
+  // before pays for, beside the actors' episodes (a few per round would leave it idle most of the
+  // round), but does not run ahead of the ratio into the rate limiter's error buffer until the
+  // budget is in: one round stays short, and the actors are never held back
+  if (two_threads) {
+    learner_options.max_updates_per_step = std::numeric_limits<int>::max();
+    learner_options.updates_on_ratio_only = true;
+  }
   l.learner_link = l.bus.LearnerEnd();
   if (!options_.graph_only) l.learner = std::make_unique<learner::LearnerLoop>(learner_options, l.learner_link.get());
   l.learner_done = options_.graph_only;
@@ -295,9 +300,14 @@ bool InProcessRun::Round() {
     } catch (...) {
       learner_error = std::current_exception();
     }
-    l.bus.Release();
-    if (actors_error) std::rethrow_exception(actors_error);
-    if (learner_error) std::rethrow_exception(learner_error);
+    std::exception_ptr delivery_error;
+    try {
+      l.bus.Release();
+    } catch (...) {
+      delivery_error = std::current_exception();
+    }
+    for (const std::exception_ptr& error : {actors_error, learner_error, delivery_error})  // the first cause
+      if (error) std::rethrow_exception(error);
     worked |= r == learner::StepResult::kWorked;
     l.learner_done = r == learner::StepResult::kDone;
   } else {

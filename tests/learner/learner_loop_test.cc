@@ -117,6 +117,36 @@ TEST(LearnerLoopTest, KeepsTheRatioCountsRejectsAndEndsWithTheBudget) {
   EXPECT_TRUE(actor->PollLearner(std::chrono::milliseconds(0))->budget_done());
 }
 
+// updates_on_ratio_only (the two-thread in-process run): after each episode the learner has done
+// exactly the updates the data pays for, none of the error buffer's, in one step however many
+// they are; once the budget is in it works off the buffer as before and ends with the same count.
+TEST(LearnerLoopTest, OnRatioOnlyKeepsTheRatioExactlyAndEndsAsBefore) {
+  StatsObserver observer;
+  links::InMemoryBus bus(&observer);
+  auto link = bus.LearnerEnd();
+  auto actor = bus.ActorEnd(0);
+  LearnerLoopOptions options = SmallOptions();
+  options.updates_on_ratio_only = true;
+  options.max_updates_per_step = std::numeric_limits<int>::max();
+  LearnerLoop loop(options, link.get());
+  loop.Step();
+  bus.PublishGraph(Star(3, 1));
+  loop.Step();
+  for (int i = 0; i < 10; ++i) {
+    ASSERT_TRUE(actor->PublishEpisode(testing::MakeEpisode(3, 20, 100 + i)));
+    loop.Step();  // one step does all of them
+    const auto& c = loop.learner().counters();
+    const double target = c.transitions_inserted < 100 ? 0.0 : 0.5 * (c.transitions_inserted - 100.0);
+    EXPECT_EQ(static_cast<double>(c.updates), target) << "after episode " << i;
+    EXPECT_LT(observer.last.update_backlog, 1.0) << "the actors are never held back";
+  }
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(actor->PublishEpisode(testing::MakeEpisode(3, 20, 200 + i)));
+  StepResult last = StepResult::kWorked;
+  for (int k = 0; k < 1000 && last != StepResult::kDone; ++k) last = loop.Step();
+  EXPECT_EQ(last, StepResult::kDone);
+  EXPECT_EQ(loop.learner().counters().updates, 154u);  // as without: 0.5 * 300 + 4
+}
+
 // No episode is ingested twice: one delivered again (a replay by a foreign participant, a
 // retransmission) is refused and counted under episode.duplicate; a refused malformed copy
 // does not burn the id of the good episode that follows.

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <tuple>
@@ -118,6 +119,41 @@ TEST(InMemoryBusTest, HeldPublicationsWaitAndArriveInTheFixedOrder) {
   bus.Hold();
   bus.Release();
   EXPECT_EQ(bus.episodes_published(), 3u);
+}
+
+// A delivery that throws (a monitor's CSV on a full disk) does not stop the others: every
+// outbox is emptied, every publication tried once, and the first error rethrown.
+TEST(InMemoryBusTest, ReleaseTriesEveryPublicationAndRethrowsTheFirstError) {
+  class Failing : public Recorder {
+   public:
+    void OnEval(const rl::EvalReport& r) override {
+      Recorder::OnEval(r);
+      throw std::runtime_error("disk full " + std::to_string(r.actor_id));
+    }
+  } observer;
+  InMemoryBus bus(&observer);
+  auto actor0 = bus.ActorEnd(0);
+  auto actor1 = bus.ActorEnd(1);
+  auto learner = bus.LearnerEnd();
+  bus.Hold();
+  rl::EvalReport eval;
+  eval.actor_id = 1;
+  actor1->PublishEval(eval);
+  eval.actor_id = 0;
+  actor0->PublishEval(eval);
+  learner->PublishWeights(Weights(4));
+  try {
+    bus.Release();
+    ADD_FAILURE() << "Release swallowed the error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "disk full 0");  // actor 0's outbox first
+  }
+  EXPECT_EQ(observer.seen, (std::vector<std::string>{"eval:0", "eval:1", "weights:4"}));
+  ASSERT_TRUE(actor0->PollWeights(0).has_value());
+  observer.seen.clear();
+  bus.Hold();
+  bus.Release();  // nothing again
+  EXPECT_TRUE(observer.seen.empty());
 }
 
 // The two-thread schedule's use: the learner's end on one thread, the actors' on another, both
