@@ -67,14 +67,19 @@ ArmReach ArmSubgoalSuccess(const config::Config& config, rl::PolicyNetwork<float
 // reaches arm subgoals in most episodes; the passive policy hardly. (This deterministic run
 // measured 0.88 at 4000 steps, 0.76 at 5000, 0.68 at 7000 on the AMD machine, while the run's
 // own evaluation had the puck's subgoal improving: the bar is "clearly learned", not a peak.)
-TEST(InProcessRunTest, SricsLearnsToReachArmSubgoals) {
-  const std::string dir = ::testing::TempDir() + "/in_process_learning";
+// With one thread and with two (run.in_process_threads: the learner beside the actors, a run of
+// its own).
+class InProcessLearningTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(InProcessLearningTest, SricsLearnsToReachArmSubgoals) {
+  const std::string dir = ::testing::TempDir() + "/in_process_learning_" + std::to_string(GetParam());
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const config::Config config = config::LoadConfig(
-      Config("rearrange-1-cpu.yaml"),
-      {"graph.ground_truth=true", "run.total_env_steps=5000", "learner.warmup_steps=1000", "agent.sac.batch_size=128",
-       "actors.count=1", "actors.eval_every_env_steps=100000", "actors.eval_episodes=5"});
+  const config::Config config =
+      config::LoadConfig(Config("rearrange-1-cpu.yaml"),
+                         {"graph.ground_truth=true", "run.total_env_steps=5000", "learner.warmup_steps=1000",
+                          "agent.sac.batch_size=128", "actors.count=1", "actors.eval_every_env_steps=100000",
+                          "actors.eval_episodes=5", "run.in_process_threads=" + std::to_string(GetParam())});
   // the in-process run is deterministic: a step budget, not a time limit, so a loaded machine
   // takes longer but learns the same (a 150 s limit failed with 3690 steps under load 6)
   InProcessRun run(config, dir, nullptr);
@@ -96,6 +101,11 @@ TEST(InProcessRunTest, SricsLearnsToReachArmSubgoals) {
   EXPECT_LT(trained.mean_distance, 0.5 * passive.mean_distance);
   EXPECT_LE(passive.success, 0.2);
 }
+
+INSTANTIATE_TEST_SUITE_P(InProcessRunTest, InProcessLearningTest, ::testing::Values(1, 2),
+                         [](const ::testing::TestParamInfo<int>& info) {
+                           return std::to_string(info.param) + "_threads";
+                         });
 
 }  // namespace
 }  // namespace srics::launcher
