@@ -441,7 +441,9 @@ void PlotCurves(std::ostream& script, const std::string& png, const std::string&
                 const std::string& ylabel, const std::vector<std::string>& methods,
                 const std::map<std::string, Group>& groups, const std::map<std::string, double>& passive,
                 CompareOptions::Band band, HasData has_data = HasEvaluations) {
-  script << "set output '" << GnuplotQuote(png) << "'\n"
+  // file names relative to the script's folder (RunGnuplot runs there)
+  const std::string png_name = fs::path(png).filename().string(), dat_name = fs::path(dat).filename().string();
+  script << "set output '" << GnuplotQuote(png_name) << "'\n"
          << "set title '" << GnuplotQuote(title) << "' noenhanced\n"
          << "set xlabel 'environment steps'\nset ylabel '" << GnuplotQuote(ylabel) << "' noenhanced\n"
          << "set format x '%.0s%c'\n"
@@ -450,7 +452,7 @@ void PlotCurves(std::ostream& script, const std::string& png, const std::string&
          << "plot ";
   for (size_t i = 0; i < methods.size(); ++i) {
     const char* color = kColors[i % (sizeof kColors / sizeof *kColors)];
-    script << (i ? ", " : "") << "'" << GnuplotQuote(dat) << "' index " << i << " using " << BandColumns(band)
+    script << (i ? ", " : "") << "'" << GnuplotQuote(dat_name) << "' index " << i << " using " << BandColumns(band)
            << " with filledcurves lc rgb '" << color << "' notitle, '' index " << i
            << " using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '" << color << "' title '"
            << GnuplotQuote(LegendTitle(methods[i], groups.at(methods[i]), has_data)) << "'";
@@ -708,7 +710,7 @@ int Compare(const CompareOptions& options) {
         bars << '\n';
       }
       script
-          << "set output '" << GnuplotQuote(base + "-subgoal_success.png") << "'\n"
+          << "set output '" << GnuplotQuote(fs::path(base).filename().string() + "-subgoal_success.png") << "'\n"
           << "set title '" << GnuplotQuote(figure) << ": success per subgoal at the final evaluation (mean, "
           << (std_bars ? "bars ±1 sd" : "bars min-max") << " over seeds)' noenhanced\n"
           << "set xlabel ''\nset ylabel 'success rate'\nset yrange [0:1.05]\nset grid ytics\n"
@@ -719,8 +721,8 @@ int Compare(const CompareOptions& options) {
       size_t k = 0;
       for (const auto& [method, group] : methods) {
         const size_t column = 2 + 3 * k;
-        script << (k ? ", " : "") << "'" << GnuplotQuote(base + "-subgoal_success.dat") << "' using " << column << ":"
-               << column + 1 << ":" << column + 2 << (k ? "" : ":xtic(1)") << " lc rgb '"
+        script << (k ? ", " : "") << "'" << GnuplotQuote(fs::path(base).filename().string() + "-subgoal_success.dat")
+               << "' using " << column << ":" << column + 1 << ":" << column + 2 << (k ? "" : ":xtic(1)") << " lc rgb '"
                << kColors[k % (sizeof kColors / sizeof *kColors)] << "' title '"
                << GnuplotQuote(LegendTitle(method, group)) << "'";
         ++k;

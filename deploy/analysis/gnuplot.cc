@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <vector>
@@ -68,13 +69,13 @@ void WriteGnuplotScript(const std::string& path, const std::string& dir, const s
                         const EvalCurve& curve) {
   std::ofstream script(path);
   script << "set terminal pngcairo size 900,540 font 'sans,10'\n"
-         << "set output '" << GnuplotQuote(dir) << "/curve.png'\n"
+         << "set output 'curve.png'\n"
          << "set title '" << GnuplotQuote(title) << "' noenhanced\n"
          << "set xlabel 'environment steps'\nset ylabel 'final distance to goal (m)'\n"
          << "set key outside right top\nset grid\nset yrange [0:*]\n";
-  std::string plot = "plot '" + GnuplotQuote(dir) +
-                     "/curve.dat' using 1:3 with linespoints lw 2 title 'avg object distance', "
-                     "'' using 1:2 with linespoints lw 2 title 'avg distance (arm incl.)'";
+  std::string plot =
+      "plot 'curve.dat' using 1:3 with linespoints lw 2 title 'avg object distance', "
+      "'' using 1:2 with linespoints lw 2 title 'avg distance (arm incl.)'";
   if (curve.have_passive) {
     char buffer[256];
     std::snprintf(buffer, sizeof buffer,
@@ -85,12 +86,12 @@ void WriteGnuplotScript(const std::string& path, const std::string& dir, const s
   }
   script << plot << "\n";
   if (curve.entities > 0) {
-    script << "set output '" << GnuplotQuote(dir) << "/subgoal_success.png'\n"
+    script << "set output 'subgoal_success.png'\n"
            << "set title 'per-subgoal success: " << GnuplotQuote(title) << "' noenhanced\n"
            << "set ylabel 'success rate'\nset yrange [0:1.05]\nplot ";
     for (size_t i = 0; i < curve.entities; ++i)
-      script << (i ? ", " : "") << "'" << GnuplotQuote(dir) << "/curve.dat' using 1:" << 4 + i
-             << " with linespoints lw 2 title 'entity " << i << "'";
+      script << (i ? ", " : "") << "'curve.dat' using 1:" << 4 + i << " with linespoints lw 2 title 'entity " << i
+             << "'";
     script << "\n";
   }
 }
@@ -98,7 +99,12 @@ void WriteGnuplotScript(const std::string& path, const std::string& dir, const s
 }  // namespace
 
 bool RunGnuplot(const std::string& script_path, std::string* error) {
-  const std::string command = "gnuplot " + files::ShellQuote(script_path) + " 2>&1";
+  // in the script's folder: scripts name their files relative to it, so a folder of them (a
+  // committed `srics compare` output) regenerates byte for byte wherever it is checked out
+  const std::filesystem::path script(script_path);
+  const std::string folder = script.has_parent_path() ? script.parent_path().string() : ".";
+  const std::string command =
+      "cd " + files::ShellQuote(folder) + " && gnuplot " + files::ShellQuote(script.filename().string()) + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) {
     *error = "cannot run gnuplot";

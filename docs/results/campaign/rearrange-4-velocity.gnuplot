@@ -1,5 +1,5 @@
 set terminal pngcairo size 1000,650 font 'sans,11'
-set output '/work/main/docs/results/campaign/rearrange-4-velocity-distance.png'
+set output 'rearrange-4-velocity-distance.png'
 set title 'rearrange-4-velocity: average distance of all entities, arm included (mean, band ±1 sd over seeds)' noenhanced
 set xlabel 'environment steps'
 set ylabel 'final distance to goal (m)' noenhanced
@@ -9,8 +9,8 @@ set bmargin 5
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/rearrange-4-velocity-distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'srics (1 seed)', 0.14349 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
-set output '/work/main/docs/results/campaign/rearrange-4-velocity-object_distance.png'
+plot 'rearrange-4-velocity-distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'srics (1 seed)', 0.14349 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+set output 'rearrange-4-velocity-object_distance.png'
 set title 'rearrange-4-velocity: average object distance (mean, band ±1 sd over seeds)' noenhanced
 set xlabel 'environment steps'
 set ylabel 'final distance to goal (m)' noenhanced
@@ -20,8 +20,8 @@ set bmargin 5
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/rearrange-4-velocity-object_distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'srics (1 seed)', 0.179362 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
-set output '/work/main/docs/results/campaign/rearrange-4-velocity-selectivity.png'
+plot 'rearrange-4-velocity-object_distance.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'srics (1 seed)', 0.179362 with lines dt 2 lw 2 lc rgb 'gray' title 'passive policy'
+set output 'rearrange-4-velocity-selectivity.png'
 set title 'rearrange-4-velocity: selectivity of training episodes, the table''s ancestor sets (mean, band ±1 sd over seeds)' noenhanced
 set xlabel 'environment steps'
 set ylabel 'selectivity' noenhanced
@@ -31,8 +31,8 @@ set bmargin 5
 set grid
 set yrange [0:*]
 set style fill transparent solid 0.2 noborder
-plot '/work/main/docs/results/campaign/rearrange-4-velocity-selectivity.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'srics (1 seed)'
-set output '/work/main/docs/results/campaign/rearrange-4-velocity-subgoal_success.png'
+plot 'rearrange-4-velocity-selectivity.dat' index 0 using 1:($2-$6):($2+$6) with filledcurves lc rgb '#1f77b4' notitle, '' index 0 using 1:2 with linespoints lw 2 pt 7 ps 0.6 lc rgb '#1f77b4' title 'srics (1 seed)'
+set output 'rearrange-4-velocity-subgoal_success.png'
 set title 'rearrange-4-velocity: success per subgoal at the final evaluation (mean, bars ±1 sd over seeds)' noenhanced
 set xlabel ''
 set ylabel 'success rate'
@@ -45,4 +45,4 @@ set style data histograms
 set style histogram errorbars gap 2 lw 1
 set style fill solid 0.8 border -1
 set bars 2
-plot '/work/main/docs/results/campaign/rearrange-4-velocity-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'srics (1 seed)'
+plot 'rearrange-4-velocity-subgoal_success.dat' using 2:3:4:xtic(1) lc rgb '#1f77b4' title 'srics (1 seed)'
