@@ -117,8 +117,7 @@ class InMemoryBus::Sink : public GraphSink {
   void Publish(const rl::GraphUpdate& graph) override {
     // the version rule is checked at once, so the service sees its own error (the graph service
     // steps while the bus is not held: InProcessRun)
-    if (bus_->graph_ && graph.version <= bus_->graph_->version)
-      throw std::invalid_argument("InMemoryBus: graph versions must increase");
+    bus_->CheckGraphVersion(graph);
     bus_->Deliver(outbox_, [bus = bus_, graph] { bus->PublishGraph(graph); });
   }
   void PublishStatus(const rl::NodeReport& report) override {
@@ -173,9 +172,13 @@ void InMemoryBus::Release() {
   if (first_error) std::rethrow_exception(first_error);
 }
 
-void InMemoryBus::PublishGraph(const rl::GraphUpdate& graph) {
+void InMemoryBus::CheckGraphVersion(const rl::GraphUpdate& graph) const {
   if (graph_ && graph.version <= graph_->version)
     throw std::invalid_argument("InMemoryBus: graph versions must increase");
+}
+
+void InMemoryBus::PublishGraph(const rl::GraphUpdate& graph) {
+  CheckGraphVersion(graph);
   graph_ = graph;
   if (observer_) observer_->OnGraph(graph);
 }

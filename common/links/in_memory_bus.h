@@ -74,6 +74,8 @@ class InMemoryBus {
   class Source;
   class Sink;
 
+  // Throws std::invalid_argument unless `graph` is newer than the bus's graph.
+  void CheckGraphVersion(const rl::GraphUpdate& graph) const;
   // A publication: applied now, or queued in its end's outbox while the bus is held.
   using Outbox = std::vector<std::function<void()>>;
   void Deliver(Outbox* outbox, std::function<void()> publication);

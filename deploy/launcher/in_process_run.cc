@@ -283,24 +283,23 @@ bool InProcessRun::Round() {
     if (l.graph->progress().phase == graph_service::Progress::Phase::kStopped)
       throw std::runtime_error("the graph service stopped without a graph");
   }
+  std::optional<learner::StepResult> learner_step;
   if (learner_thread_ && !l.learner_done) {
     // the learner steps on its thread while the actors step here, neither seeing what the other
     // publishes in this round: the bus delivers it once both are done, in a fixed order
     l.bus.Hold();
     learner_thread_->Start();
-    std::exception_ptr actors_error, learner_error;
+    std::exception_ptr actors_error, learner_error, delivery_error;
     try {
       worked |= StepActors();
     } catch (...) {
       actors_error = std::current_exception();
     }
-    learner::StepResult r = learner::StepResult::kIdle;
     try {
-      r = learner_thread_->Wait();  // the learner is idle again before anything unwinds
+      learner_step = learner_thread_->Wait();  // the learner is idle again before anything unwinds
     } catch (...) {
       learner_error = std::current_exception();
     }
-    std::exception_ptr delivery_error;
     try {
       l.bus.Release();
     } catch (...) {
@@ -308,16 +307,16 @@ bool InProcessRun::Round() {
     }
     for (const std::exception_ptr& error : {actors_error, learner_error, delivery_error})  // the first cause
       if (error) std::rethrow_exception(error);
-    worked |= r == learner::StepResult::kWorked;
-    l.learner_done = r == learner::StepResult::kDone;
   } else {
     worked |= StepActors();
     if (!l.learner_done) {
       profile::PhaseScope phase(profile::Phase::kLearner);
-      const learner::StepResult r = l.learner->Step();
-      worked |= r == learner::StepResult::kWorked;
-      l.learner_done = r == learner::StepResult::kDone;
+      learner_step = l.learner->Step();
     }
+  }
+  if (learner_step) {
+    worked |= *learner_step == learner::StepResult::kWorked;
+    l.learner_done = *learner_step == learner::StepResult::kDone;
   }
   bool actors_done = true;
   for (bool done : l.actor_done) actors_done &= done;
@@ -347,11 +346,11 @@ class PhaseLog {
     profile::Enable();
     return std::unique_ptr<PhaseLog>(new PhaseLog(path));
   }
-  void Sample(uint64_t env_steps, const profile::Totals& totals) {
+  void Sample(uint64_t env_steps, const InProcessRun& run) {
     if (env_steps < next_) return;
     next_ = env_steps + 1000;
     out_ << env_steps << ',' << profile::ProcessCpuSeconds();
-    for (double seconds : totals) out_ << ',' << seconds;
+    for (double seconds : run.PhaseTotals()) out_ << ',' << seconds;
     out_ << '\n' << std::flush;
   }
 
@@ -392,7 +391,7 @@ int RunInProcess(const LaunchOptions& options, const config::Config& config) {
       }
       session.Show(observer.state(), rows("running"), 0);
       if (phases)
-        for (const auto& [id, view] : observer.state().runs) phases->Sample(mon::EnvSteps(view), run.PhaseTotals());
+        for (const auto& [id, view] : observer.state().runs) phases->Sample(mon::EnvSteps(view), run);
     }
     if (exit_code != kExitDone || reason != "the budget is done") run.Stop();
   } catch (const std::exception& e) {
