@@ -60,7 +60,8 @@ struct LearnerProgress {
 // Security's access control can say who wrote it: common/transport/README.md).
 std::string ImplausibleProgress(const LearnerProgress& progress, uint64_t budget_env_steps);
 
-// The learner's statistics, as published (LearnerStats) and as actors read them.
+// The learner's statistics (topic LearnerStats), as published and as actors and monitors read
+// them.
 struct LearnerReport {
   uint64_t updates = 0;
   uint64_t transitions_inserted = 0;
@@ -82,6 +83,7 @@ struct LearnerReport {
     return {updates,          transitions_inserted, policy_version, training_env_steps,
             budget_env_steps, replay_size,          update_backlog};
   }
+  bool operator==(const LearnerReport&) const = default;
 };
 
 // One evaluation, as published.

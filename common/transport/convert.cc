@@ -8,10 +8,11 @@
 #include "common/transport/errors.h"
 #include "common/transport/field_list.h"
 
-namespace srics::transport::internal {
+namespace srics::transport {
+namespace internal {
 
 static_assert(srics_WIRE_CONTRACT_VERSION == kContractVersion,
-              "kContractVersion (messages.h) must equal WIRE_CONTRACT_VERSION (idl/srics.idl)");
+              "kContractVersion (wire.h) must equal WIRE_CONTRACT_VERSION (idl/srics.idl)");
 static_assert(srics_EPISODE_EXPLORE == static_cast<int>(rl::EpisodeMode::kExplore) &&
               srics_EPISODE_TRAIN == static_cast<int>(rl::EpisodeMode::kTrain) &&
               srics_EPISODE_EVAL == static_cast<int>(rl::EpisodeMode::kEval));
@@ -75,6 +76,14 @@ struct FromCOp {
   }
 };
 
+// The envelope's fields are named alike in every C type.
+template <typename C>
+void StampEnvelope(const Envelope& envelope, C* out) {
+  const ToCOp op;
+  op(envelope.contract_version, out->contract_version, "contract_version");
+  op(envelope.run_id, out->run_id, "run_id");
+}
+
 // Each type's fields, used in both directions: op(message field, C field, name). M and C carry
 // the constness of the direction (const M for ToC, const C for FromC).
 template <typename C, typename Wanted>
@@ -108,9 +117,9 @@ void Fields(const Op& op, M& m, C& c) {
 
 template <typename Op, typename M, Is<srics_LearnerStats> C>
 void Fields(const Op& op, M& m, C& c) {
-  SRICS_FIELDS(op, m, c, contract_version, run_id, updates, transitions_inserted, training_env_steps, budget_env_steps,
-               replay_size, update_backlog, episodes_accepted, episodes_rejected, policy_version, q_loss, policy_loss,
-               alpha, entropy, updates_per_second, inserts_per_second, mean_reward);
+  SRICS_FIELDS(op, m, c, updates, transitions_inserted, training_env_steps, budget_env_steps, replay_size,
+               update_backlog, episodes_accepted, episodes_rejected, policy_version, q_loss, policy_loss, alpha,
+               entropy, updates_per_second, inserts_per_second, mean_reward);
 }
 
 template <typename Op, typename M, Is<srics_NodeStatus> C>
@@ -145,8 +154,7 @@ void ToC(const rl::Episode& in, const Envelope& envelope, srics_Episode* out) {
   std::memset(out, 0, sizeof(*out));
   const ToCOp op;
   Fields(op, in, *out);
-  op(envelope.contract_version, out->contract_version, "contract_version");
-  op(envelope.run_id, out->run_id, "run_id");
+  StampEnvelope(envelope, out);
   op(in.layout.entity_dim(), out->entity_dim, "entity_dim");
 }
 
@@ -157,6 +165,24 @@ void FromC(const srics_Episode& in, bool velocities, rl::Episode* out) {
   out->layout.velocities = velocities;
 }
 
-std::string RunIdOf(const srics_Episode& in) { return std::string(in.run_id, strnlen(in.run_id, sizeof in.run_id)); }
+#define SRICS_DOMAIN_CONVERSIONS(T)                                      \
+  void ToC(const T& in, const Envelope& envelope, CType<T>::type* out) { \
+    std::memset(out, 0, sizeof(*out));                                   \
+    Fields(ToCOp{}, in, *out);                                           \
+    StampEnvelope(envelope, out);                                        \
+  }                                                                      \
+  void FromC(const CType<T>::type& in, T* out) { Fields(FromCOp{}, *out, in); }
+SRICS_FOR_EACH_DOMAIN(SRICS_DOMAIN_CONVERSIONS)
+#undef SRICS_DOMAIN_CONVERSIONS
 
-}  // namespace srics::transport::internal
+}  // namespace internal
+
+rl::LearnerReport AsReceived(const rl::LearnerReport& value) {
+  srics_LearnerStats sample;
+  internal::ToC(value, {}, &sample);
+  rl::LearnerReport received;
+  internal::FromC(sample, &received);
+  return received;
+}
+
+}  // namespace srics::transport

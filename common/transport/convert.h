@@ -1,16 +1,18 @@
 #pragma once
-// Internal: conversion between the plain structs of messages.h (and rl::Episode) and the C
-// types idlc generated from idl/srics.idl.
+// Internal: conversion between the domain types of common/rl (and, until they go, the plain
+// structs of messages.h) and the C types idlc generated from idl/srics.idl: once each way.
 
+#include <cstring>
 #include <string>
 
 #include "common/rl/episode.h"
 #include "common/transport/messages.h"
+#include "common/transport/wire.h"
 #include "srics.h"
 
 namespace srics::transport::internal {
 
-// The generated C type and type descriptor of each message struct.
+// The generated C type and type descriptor of each type written on a topic.
 template <typename T>
 struct CType;
 template <>
@@ -34,7 +36,7 @@ struct CType<EvalResult> {
   static const dds_topic_descriptor_t* Descriptor() { return &srics_EvalResult_desc; }
 };
 template <>
-struct CType<LearnerStats> {
+struct CType<rl::LearnerReport> {
   using type = srics_LearnerStats;
   static const dds_topic_descriptor_t* Descriptor() { return &srics_LearnerStats_desc; }
 };
@@ -44,14 +46,10 @@ struct CType<NodeStatus> {
   static const dds_topic_descriptor_t* Descriptor() { return &srics_NodeStatus_desc; }
 };
 
-// X(T) for each message struct of messages.h (rl::Episode apart).
-#define SRICS_FOR_EACH_MESSAGE(X) X(PolicyWeights) X(InteractionGraph) X(EvalResult) X(LearnerStats) X(NodeStatus)
-
-// What an episode sample carries besides the rl::Episode: the writer supplies it.
-struct Envelope {
-  uint32_t contract_version = kContractVersion;
-  std::string run_id;
-};
+// X(T) for each message struct of messages.h.
+#define SRICS_FOR_EACH_MESSAGE(X) X(PolicyWeights) X(InteractionGraph) X(EvalResult) X(NodeStatus)
+// X(T) for each domain type converted with an Envelope (rl::Episode apart: it needs limits).
+#define SRICS_FOR_EACH_DOMAIN(X) X(rl::LearnerReport)
 
 // ToC fills *out with pointers into `in` (no copy of sequences): `in` must outlive the use of
 // *out, and *out must never be freed with the generated _free functions. Throws
@@ -67,7 +65,20 @@ void FromC(const typename CType<T>::type& in, T* out);
 // judges the result (a num_kinds below 1, a mode out of range).
 void ToC(const rl::Episode& in, const Envelope& envelope, srics_Episode* out);
 void FromC(const srics_Episode& in, bool velocities, rl::Episode* out);
-// The run id of a received episode, read without copying the rest.
-std::string RunIdOf(const srics_Episode& in);
+
+// The other domain types: the envelope is the writer's, the rest the value's (floats rounded to
+// the wire's). FromC takes any sample: Validate(value, envelope) judges the result.
+void ToC(const rl::LearnerReport& in, const Envelope& envelope, srics_LearnerStats* out);
+void FromC(const srics_LearnerStats& in, rl::LearnerReport* out);
+
+// The run id and the envelope of a received sample, read without copying the rest.
+template <typename C>
+std::string RunIdOf(const C& in) {
+  return std::string(in.run_id, strnlen(in.run_id, sizeof in.run_id));
+}
+template <typename C>
+Envelope EnvelopeOf(const C& in) {
+  return {in.contract_version, RunIdOf(in)};
+}
 
 }  // namespace srics::transport::internal

@@ -62,10 +62,10 @@ std::optional<rl::WeightsUpdate> DdsActorLink::PollWeights(uint64_t newer_than) 
 std::optional<rl::GraphUpdate> DdsActorLink::PollGraph() { return graphs_.PollNewest(); }
 
 std::optional<rl::LearnerProgress> DdsActorLink::PollLearner(std::chrono::milliseconds wait) {
-  LearnerStats message;
-  for (auto timeout = wait; stats_.Take(&message, timeout) == TakeStatus::kSample;
+  rl::LearnerReport report;
+  for (auto timeout = wait; stats_.Take(&report, timeout) == TakeStatus::kSample;
        timeout = std::chrono::milliseconds(0)) {
-    const rl::LearnerProgress progress = FromMessage(message).progress();
+    const rl::LearnerProgress progress = report.progress();
     if (const std::string problem = rl::ImplausibleProgress(progress, budget_env_steps_); !problem.empty()) {
       ++stats_refused_;
       participant_.CountRejection("stats.implausible");
@@ -129,9 +129,9 @@ void DdsLearnerLink::PublishWeights(rl::WeightsUpdate weights) {
 }
 
 void DdsLearnerLink::PublishStats(const rl::LearnerReport& report) {
-  LearnerStats m = ToMessage(report);
-  m.episodes_rejected += rejected();
-  (void)stats_.TryWrite(m);  // stats lost to back-pressure are replaced by the next
+  rl::LearnerReport r = report;
+  r.episodes_rejected += rejected();
+  (void)stats_.TryWrite(r);  // stats lost to back-pressure are replaced by the next
 }
 
 void DdsLearnerLink::PublishStatus(const rl::NodeReport& report) {

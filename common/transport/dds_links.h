@@ -65,7 +65,7 @@ class DdsActorLink final : public links::ActorLink {
   uint64_t budget_env_steps_;
   Reader<PolicyWeights> weights_;
   GraphFeed graphs_;
-  Reader<LearnerStats> stats_;
+  Reader<rl::LearnerReport> stats_;
   Writer<rl::Episode> episodes_;
   Writer<EvalResult> evals_;
   StatusPublisher status_;
@@ -97,7 +97,7 @@ class DdsLearnerLink final : public links::LearnerLink {
   Reader<rl::Episode> episodes_;
   GraphFeed graphs_;
   Writer<PolicyWeights> weights_;
-  Writer<LearnerStats> stats_;
+  Writer<rl::LearnerReport> stats_;
   StatusPublisher status_;
   std::string run_id_;
 };

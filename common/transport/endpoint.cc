@@ -23,6 +23,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using internal::Check;
 
+// Types converted straight to and from the wire with an envelope (rl::Episode among them).
+template <typename T>
+concept Enveloped = requires(const T& value, const Envelope& envelope, typename internal::CType<T>::type* c) {
+  internal::ToC(value, envelope, c);
+};
+
 // Deletes a QoS object at scope exit.
 struct QosHolder {
   dds_qos_t* qos;
@@ -201,6 +207,11 @@ struct Writer<T>::Impl {
         if (auto problem = rl::ValidateEpisode(msg, rl::LimitsOfLayout(msg.layout, msg.action_dim)); !problem.empty())
           throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + problem);
       return msg;
+    } else if constexpr (Enveloped<T>) {
+      if (options.validate)
+        if (auto v = Validate(msg, envelope, ""); v.verdict == Verdict::kMalformed)
+          throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + v.reason);
+      return msg;
     } else {
       return PrepareMessage(msg);
     }
@@ -235,7 +246,7 @@ struct Writer<T>::Impl {
   // One dds_write; kBackPressure when it timed out.
   WriteResult Send(const T& msg) {
     typename internal::CType<T>::type sample;
-    if constexpr (std::is_same_v<T, rl::Episode>) {
+    if constexpr (Enveloped<T>) {
       internal::ToC(msg, envelope, &sample);
     } else {
       internal::ToC(msg, &sample);
@@ -258,7 +269,7 @@ struct Writer<T>::Impl {
   int32_t writer = 0;
   T scratch;
   uint32_t checksum = 0;  // PolicyWeights with stamp: of the prepared sample
-  internal::Envelope envelope{options.episode_contract_version, run_id};
+  Envelope envelope{options.contract_version, run_id};
   // the batch_delay flusher (batching writers with a delay only)
   std::mutex flush_mutex;
   std::condition_variable flush_wake;
@@ -377,7 +388,7 @@ struct Reader<T>::Impl {
   // into this reader's own C samples (`taken`), whose sequence buffers it grows and then
   // reuses: no allocation per sample and sequence, as loaned samples would cost. Buffers are
   // kept only for accepted samples (sizes within the contract's limits).
-  size_t TakeNow(std::vector<T>* out, size_t max) {
+  size_t TakeNow(std::vector<T>* out, size_t max, std::string* last_run_id = nullptr) {
     size_t appended = 0;
     while (appended < max) {
       void* samples[kBatch];
@@ -394,6 +405,7 @@ struct Reader<T>::Impl {
         if (verdict.ok() && bind_senders) verdict = CheckSender(out->back(), infos[i].publication_handle);
         if (Accept(verdict)) {
           ++appended;
+          if (last_run_id) *last_run_id = internal::RunIdOf(taken[i]);
         } else {
           out->pop_back();
           // a refused sample leaves nothing behind, not even the buffers it made DDS grow
@@ -415,6 +427,9 @@ struct Reader<T>::Impl {
       if (auto problem = rl::ValidateEpisode(*out, options.episode_limits); !problem.empty())
         return {Verdict::kMalformed, std::move(problem), "episode.limits"};
       return {};
+    } else if constexpr (Enveloped<T>) {
+      internal::FromC(sample, out);
+      return Validate(*out, internal::EnvelopeOf(sample), run_id);
     } else {
       internal::FromC(sample, out);
       return Validate(*out, run_id);
@@ -531,13 +546,13 @@ template <typename T>
 Reader<T>& Reader<T>::operator=(Reader&& other) noexcept = default;
 
 template <typename T>
-TakeStatus Reader<T>::Take(T* out, std::chrono::milliseconds timeout) {
+TakeStatus Reader<T>::Take(T* out, std::chrono::milliseconds timeout, std::string* run_id) {
   const auto deadline = Clock::now() + timeout;
   auto& batch = impl_->batch;
   do {
     if (impl_->shutdown->requested()) return TakeStatus::kShutdown;
     batch.clear();
-    if (impl_->TakeNow(&batch, 1) == 1) {
+    if (impl_->TakeNow(&batch, 1, run_id) == 1) {
       *out = std::move(batch.front());
       return TakeStatus::kSample;
     }
@@ -582,6 +597,7 @@ SampleCounters Reader<T>::counters() const {
   template class Writer<T>;  \
   template class Reader<T>;
 SRICS_INSTANTIATE(rl::Episode)
+SRICS_FOR_EACH_DOMAIN(SRICS_INSTANTIATE)
 SRICS_FOR_EACH_MESSAGE(SRICS_INSTANTIATE)
 #undef SRICS_INSTANTIATE
 

@@ -1,6 +1,7 @@
 #pragma once
-// Typed topics, writers and readers for the five message structs of messages.h and for
-// rl::Episode (the episode topic has no struct of its own). Each owns its DDS entities
+// Typed topics, writers and readers of the domain types (rl::Episode, rl::LearnerReport) and,
+// until they go, of the message structs of messages.h. A domain type carries no envelope: a
+// writer stamps its participant's (wire.h), a reader checks it and can tell the run id. Each owns its DDS entities
 // (deleted in the destructor) and is move-only. QoS comes from the table in topics.h. The
 // participant must outlive its endpoints.
 //
@@ -23,13 +24,14 @@
 #include <vector>
 
 #include "common/rl/episode.h"
+#include "common/rl/updates.h"
 #include "common/transport/messages.h"
 #include "common/transport/participant.h"
 #include "common/transport/topics.h"
 
 namespace srics::transport {
 
-// The topic of each message struct.
+// The topic of each type written.
 template <typename T>
 struct TopicOf;
 template <>
@@ -49,7 +51,7 @@ struct TopicOf<EvalResult> {
   static constexpr TopicId kId = TopicId::kEvalResult;
 };
 template <>
-struct TopicOf<LearnerStats> {
+struct TopicOf<rl::LearnerReport> {
   static constexpr TopicId kId = TopicId::kLearnerStats;
 };
 template <>
@@ -82,9 +84,9 @@ struct WriterOptions {
   // With batch: the longest a written sample waits before it is sent (a thread of the writer
   // flushes it); 0: it waits for Flush(), a full datagram or the destruction.
   std::chrono::milliseconds batch_delay{0};
-  // rl::Episode carries no envelope: an episode writer stamps this contract version and the
+  // Domain types carry no envelope: their writer stamps this contract version and the
   // participant's run id. Tests set another version to check that readers refuse it.
-  uint32_t episode_contract_version = kContractVersion;
+  uint32_t contract_version = kContractVersion;
 };
 
 struct ReaderOptions {
@@ -168,7 +170,8 @@ class Reader {
 
   // Waits up to `timeout` for a valid sample of this run. Malformed samples are dropped,
   // counted and logged at a limited rate; other runs' samples are dropped and counted.
-  TakeStatus Take(T* out, std::chrono::milliseconds timeout);
+  // `run_id`, when given, receives the sample's run id (for readers of all runs).
+  TakeStatus Take(T* out, std::chrono::milliseconds timeout, std::string* run_id = nullptr);
   // Waits up to `timeout` for the first valid sample, then appends every valid sample already
   // available, up to `max` in all. Returns how many were appended (0: timeout or shutdown).
   size_t TakeMany(std::vector<T>* out, size_t max, std::chrono::milliseconds timeout);

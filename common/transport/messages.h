@@ -8,18 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "common/transport/wire.h"
+
 namespace srics::transport {
-
-// Must equal srics::WIRE_CONTRACT_VERSION in idl/srics.idl (checked by a static_assert in the
-// transport library). Readers reject samples carrying any other value.
-inline constexpr uint32_t kContractVersion = 4;
-
-// Bounds of the IDL's bounded strings (characters, without the terminating NUL).
-inline constexpr size_t kRunIdMaxLength = 64;
-inline constexpr size_t kArchitectureMaxLength = 256;
-inline constexpr size_t kRoleMaxLength = 32;
-inline constexpr size_t kHostMaxLength = 128;
-inline constexpr size_t kDetailMaxLength = 256;
 
 // The enum carries the raw wire value, so a received out-of-range value stays representable
 // and validation (not a cast) rejects it. (Episodes have no struct here: the wire type converts
@@ -88,30 +79,6 @@ struct EvalResult {
   uint32_t independent_undone = 0;  // of those, undone by the attempt (<= independent_solved)
 
   bool operator==(const EvalResult&) const = default;
-};
-
-// Learner progress (topic "srics/learner_stats"), one instance per run.
-struct LearnerStats {
-  uint32_t contract_version = kContractVersion;
-  std::string run_id;
-  uint64_t updates = 0;
-  uint64_t transitions_inserted = 0;
-  uint64_t training_env_steps = 0;  // env steps counted against the run's budget
-  uint64_t budget_env_steps = 0;    // the budget; training_env_steps >= it: the run is done
-  uint64_t replay_size = 0;
-  double update_backlog = 0;  // updates the learner's rate limit owes the data it counts
-  uint64_t episodes_accepted = 0;
-  uint64_t episodes_rejected = 0;
-  uint64_t policy_version = 0;
-  float q_loss = 0;
-  float policy_loss = 0;
-  float alpha = 0;
-  float entropy = 0;
-  float updates_per_second = 0;
-  float inserts_per_second = 0;
-  float mean_reward = 0;
-
-  bool operator==(const LearnerStats&) const = default;
 };
 
 // Health of one process (topic "srics/node_status"), keyed by run, role and id.

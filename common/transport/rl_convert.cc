@@ -51,13 +51,6 @@ void EvalFields(const Op& op, M& m, R& r) {
 }
 
 template <typename Op, typename M, typename R>
-void LearnerFields(const Op& op, M& m, R& r) {
-  SRICS_FIELDS(op, m, r, updates, transitions_inserted, training_env_steps, budget_env_steps, replay_size,
-               update_backlog, episodes_accepted, episodes_rejected, policy_version, q_loss, policy_loss, alpha,
-               entropy, updates_per_second, inserts_per_second, mean_reward);
-}
-
-template <typename Op, typename M, typename R>
 void NodeFields(const Op& op, M& m, R& r) {
   SRICS_FIELDS(op, m, r, policy_version, graph_version);
   op(m.env_steps, r.steps, "steps");
@@ -120,18 +113,6 @@ rl::EvalReport FromMessage(const EvalResult& m) {
   EvalFields(FromMessageOp{}, m, r);
   r.summary.selectivity = m.selectivity;
   r.summary.selectivity_episodes = r.summary.episodes;
-  return r;
-}
-
-LearnerStats ToMessage(const rl::LearnerReport& r) {
-  LearnerStats m;
-  LearnerFields(ToMessageOp{}, m, r);
-  return m;
-}
-
-rl::LearnerReport FromMessage(const LearnerStats& m) {
-  rl::LearnerReport r;
-  LearnerFields(FromMessageOp{}, m, r);
   return r;
 }
 

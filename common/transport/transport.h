@@ -1,6 +1,6 @@
 #pragma once
 // Everything a process needs from the transport, without any DDS header:
-// Participant, Writer<T>, Reader<T>, Shutdown, the message structs and their validation.
+// Participant, Writer<T>, Reader<T>, Shutdown, the envelope and the validation of samples.
 
 #include "common/transport/endpoint.h"
 #include "common/transport/errors.h"
@@ -9,3 +9,4 @@
 #include "common/transport/shutdown.h"
 #include "common/transport/topics.h"
 #include "common/transport/validation.h"
+#include "common/transport/wire.h"

@@ -154,11 +154,11 @@ Validation Validate(const EvalResult& msg, std::string_view run_id) {
   return CheckRun(msg.run_id, run_id);
 }
 
-Validation Validate(const LearnerStats& msg, std::string_view run_id) {
+Validation Validate(const rl::LearnerReport&, const Envelope& envelope, std::string_view run_id) {
   // the float fields are reports for people: NaN or Inf (a diverged learner) is shown as is;
   // actors check the counters against their run (rl::ImplausibleProgress) before using them
-  if (auto v = CheckCommon("stats", msg.contract_version, msg.run_id); !v.ok()) return v;
-  return CheckRun(msg.run_id, run_id);
+  if (auto v = CheckCommon("stats", envelope.contract_version, envelope.run_id); !v.ok()) return v;
+  return CheckRun(envelope.run_id, run_id);
 }
 
 Validation Validate(const NodeStatus& msg, std::string_view run_id) {

@@ -1,7 +1,8 @@
 #pragma once
-// Checks of received samples, pure functions on the plain structs (no DDS): a sample from the
-// network is untrusted until Validate() accepted it. Readers run these on every sample, count
-// what they drop and log it at a limited rate; writers run them before sending.
+// Checks of received samples, pure functions on the domain value and its envelope (no DDS): a
+// sample from the network is untrusted until Validate() accepted it. Readers run these on every
+// sample right after its one conversion, count what they drop and log it at a limited rate;
+// writers run them before sending.
 
 #include <cstdint>
 #include <string>
@@ -11,6 +12,7 @@
 #include "common/rl/episode.h"
 #include "common/rl/updates.h"
 #include "common/transport/messages.h"
+#include "common/transport/wire.h"
 
 namespace srics::transport {
 
@@ -47,7 +49,7 @@ Validation ValidateEnvelope(uint32_t contract_version, const std::string& msg_ru
 Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool verify_checksum = true);
 Validation Validate(const InteractionGraph& msg, std::string_view run_id);
 Validation Validate(const EvalResult& msg, std::string_view run_id);
-Validation Validate(const LearnerStats& msg, std::string_view run_id);
+Validation Validate(const rl::LearnerReport& stats, const Envelope& envelope, std::string_view run_id);
 Validation Validate(const NodeStatus& msg, std::string_view run_id);
 
 // CRC-32 (IEEE 802.3, as zlib's crc32) of the parameters' bytes in memory order (IEEE-754

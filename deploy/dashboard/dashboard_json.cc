@@ -44,7 +44,7 @@ void Learner(JsonWriter* json, const mon::RunView& run, mon::Clock::time_point n
     json->Null();
     return;
   }
-  const tr::LearnerStats& s = *run.learner;
+  const rl::LearnerReport& s = *run.learner;
   json->BeginObject();
   json->Key("updates").Unsigned(s.updates);
   json->Key("transitions_inserted").Unsigned(s.transitions_inserted);

@@ -36,9 +36,13 @@ struct NodeRow {
   tr::NodeStatus status;
   std::string event;  // "lost" / "exited" rows: the monitor saw the node go (no new status)
 };
+struct LearnerRow {
+  std::string run_id;
+  rl::LearnerReport stats;  // floats as the CSV holds them (the wire's precision)
+};
 struct Timed {
   double wall = 0;
-  std::variant<tr::EvalResult, tr::LearnerStats, NodeRow> sample;
+  std::variant<tr::EvalResult, LearnerRow, NodeRow> sample;
 };
 
 }  // namespace
@@ -113,8 +117,9 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
   run_folder::ForEachRow(
       dir / "learner.csv",
       [&](const run_folder::CsvRow& r) {
-        tr::LearnerStats s;
-        s.run_id = r.TextOrThrow("run_id");
+        LearnerRow row;
+        row.run_id = r.TextOrThrow("run_id");
+        rl::LearnerReport& s = row.stats;
         s.updates = r.Unsigned("updates");
         s.transitions_inserted = r.Unsigned("transitions_inserted");
         s.replay_size = r.Unsigned("replay_size");
@@ -129,7 +134,7 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
         s.inserts_per_second = r.Float("inserts_per_second");
         s.mean_reward = r.Float("mean_reward");
         s.budget_env_steps = budget;
-        rows.push_back({r.Double("wall_time"), std::move(s)});
+        rows.push_back({r.Double("wall_time"), std::move(row)});
       },
       &skipped);
   run_folder::ForEachRow(
@@ -170,9 +175,9 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
     const mon::Clock::time_point at = steady(row.wall);
     if (auto* e = std::get_if<tr::EvalResult>(&row.sample)) {
       mon::Apply(&state, *e, at);
-    } else if (auto* s = std::get_if<tr::LearnerStats>(&row.sample)) {
-      s->training_env_steps = learner_env_steps[s->run_id];
-      mon::Apply(&state, *s, at);
+    } else if (auto* s = std::get_if<LearnerRow>(&row.sample)) {
+      s->stats.training_env_steps = learner_env_steps[s->run_id];
+      mon::Apply(&state, s->run_id, s->stats, at);
     } else if (auto* n = std::get_if<NodeRow>(&row.sample)) {
       if (n->event.empty()) {
         if (n->status.role == "learner") learner_env_steps[n->status.run_id] = n->status.env_steps;

@@ -30,6 +30,7 @@
 #include "common/rl/seeds.h"
 #include "common/transport/rl_convert.h"
 #include "common/transport/shutdown.h"
+#include "common/transport/wire.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/launcher/run_session.h"
 #include "deploy/monitor/csv_sink.h"
@@ -64,14 +65,13 @@ class MonitorObserver : public links::BusObserver {
     if (session_) session_->OnEval(m.policy_version, m.env_steps, m.avg_distance);
   }
   void OnLearnerStats(const rl::LearnerReport& report) override {
-    tr::LearnerStats m = tr::ToMessage(report);
-    m.run_id = run_id_;
-    mon::Apply(&state_, m, mon::Clock::now());
+    const rl::LearnerReport received = tr::AsReceived(report);
+    mon::Apply(&state_, run_id_, received, mon::Clock::now());
     // the learner reports after every step in process: one CSV row a second, as over DDS
     const auto now = mon::Clock::now();
     if (csv_ &&
         (now - last_stats_row_ >= std::chrono::seconds(1) || report.training_env_steps >= report.budget_env_steps)) {
-      csv_->Append(m, mon::WallTimeNow());
+      csv_->Append(run_id_, received, mon::WallTimeNow());
       last_stats_row_ = now;
     }
   }

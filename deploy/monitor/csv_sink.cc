@@ -57,8 +57,8 @@ void CsvSink::Append(const transport::EvalResult& r, double wall_time) {
         << std::flush;
 }
 
-void CsvSink::Append(const transport::LearnerStats& s, double wall_time) {
-  learner_ << Time(wall_time) << ',' << CsvField(s.run_id) << ',' << s.updates << ',' << s.transitions_inserted << ','
+void CsvSink::Append(const std::string& run_id, const rl::LearnerReport& s, double wall_time) {
+  learner_ << Time(wall_time) << ',' << CsvField(run_id) << ',' << s.updates << ',' << s.transitions_inserted << ','
            << s.replay_size << ',' << s.episodes_accepted << ',' << s.episodes_rejected << ',' << s.policy_version
            << ',' << s.q_loss << ',' << s.policy_loss << ',' << s.alpha << ',' << s.entropy << ','
            << s.updates_per_second << ',' << s.inserts_per_second << ',' << s.mean_reward << '\n'

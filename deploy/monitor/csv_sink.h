@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "common/rl/updates.h"
 #include "common/transport/messages.h"
 
 namespace srics::monitor {
@@ -19,7 +20,7 @@ class CsvSink {
   explicit CsvSink(const std::string& dir);
 
   void Append(const transport::EvalResult& result, double wall_time);
-  void Append(const transport::LearnerStats& stats, double wall_time);
+  void Append(const std::string& run_id, const rl::LearnerReport& stats, double wall_time);
   // `state_override` replaces the state column when not empty ("lost", "exited").
   void Append(const transport::NodeStatus& status, double wall_time, const std::string& state_override = "");
 

@@ -75,7 +75,7 @@ void RenderLearner(const RunView& run, Clock::time_point now, std::string* out) 
   if (!run.learner) {
     *out += "learner   no stats yet\n";
   } else {
-    const transport::LearnerStats& s = *run.learner;
+    const rl::LearnerReport& s = *run.learner;
     *out += Format(
         "learner   updates %s (%.1f/s)  inserts %.1f/s  replay %s  episodes %s ok / %s bad  "
         "policy v%" PRIu64 "  (%s ago)\n",

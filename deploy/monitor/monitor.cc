@@ -10,7 +10,7 @@ namespace tr = srics::transport;
 
 struct Monitor::Readers {
   tr::Reader<tr::NodeStatus> nodes;
-  tr::Reader<tr::LearnerStats> learner;
+  tr::Reader<rl::LearnerReport> learner;
   tr::Reader<tr::EvalResult> evals;
   tr::Reader<tr::InteractionGraph> graph;
   std::optional<tr::Reader<tr::PolicyWeights>> weights;
@@ -56,18 +56,19 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
     if (csv_ && options_.csv_node_statuses) csv_->Append(status, wall);
     ++taken;
   }
-  tr::LearnerStats stats;
-  for (size_t i = 0; i < kMaxPerTopic && readers_->learner.Take(&stats, kNoWait) == tr::TakeStatus::kSample; ++i) {
+  rl::LearnerReport stats;
+  std::string run_id;
+  for (size_t i = 0; i < kMaxPerTopic && readers_->learner.Take(&stats, kNoWait, &run_id) == tr::TakeStatus::kSample;
+       ++i) {
     if (options_.budget_env_steps) {
-      const std::string problem =
-          rl::ImplausibleProgress(tr::FromMessage(stats).progress(), *options_.budget_env_steps);
+      const std::string problem = rl::ImplausibleProgress(stats.progress(), *options_.budget_env_steps);
       if (!problem.empty()) {
         Refuse("stats.implausible", "learner stats refused: " + problem);
         continue;
       }
     }
-    Apply(&state_, stats, Clock::now());
-    if (csv_) csv_->Append(stats, wall);
+    Apply(&state_, run_id, stats, Clock::now());
+    if (csv_) csv_->Append(run_id, stats, wall);
     ++taken;
   }
   tr::EvalResult result;

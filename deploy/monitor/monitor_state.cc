@@ -105,10 +105,9 @@ uint64_t TrainingSteps(const Stats& stats) {
 
 }  // namespace
 
-void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::time_point now) {
-  RunView& run = RunOf(state, PrintableText(stats.run_id), now);
+void Apply(MonitorState* state, const std::string& run_id, const rl::LearnerReport& stats, Clock::time_point now) {
+  RunView& run = RunOf(state, PrintableText(run_id), now);
   run.learner = stats;
-  run.learner->run_id = PrintableText(stats.run_id);
   run.learner_received = now;
   const uint64_t steps = TrainingSteps(stats);
   if (!run.step_history.empty() && steps < run.step_history.back().second) {
@@ -117,13 +116,13 @@ void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::tim
   }
   Add(&run.learner_history, {.updates = stats.updates,
                              .env_steps = steps,
-                             .q_loss = stats.q_loss,
-                             .policy_loss = stats.policy_loss,
-                             .alpha = stats.alpha,
-                             .entropy = stats.entropy,
-                             .mean_reward = stats.mean_reward,
-                             .updates_per_second = stats.updates_per_second,
-                             .inserts_per_second = stats.inserts_per_second});
+                             .q_loss = static_cast<float>(stats.q_loss),
+                             .policy_loss = static_cast<float>(stats.policy_loss),
+                             .alpha = static_cast<float>(stats.alpha),
+                             .entropy = static_cast<float>(stats.entropy),
+                             .mean_reward = static_cast<float>(stats.mean_reward),
+                             .updates_per_second = static_cast<float>(stats.updates_per_second),
+                             .inserts_per_second = static_cast<float>(stats.inserts_per_second)});
   run.step_history.emplace_back(now, steps);
   while (run.step_history.size() > 2 && now - run.step_history.front().first > kRateWindow)
     run.step_history.pop_front();

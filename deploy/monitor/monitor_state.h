@@ -20,6 +20,7 @@
 
 #include "common/config/transport_config.h"
 #include "common/rl/evaluation.h"
+#include "common/rl/updates.h"
 #include "common/transport/messages.h"
 
 namespace srics::monitor {
@@ -82,7 +83,7 @@ void Add(LearnerHistory* history, const LearnerPoint& point);
 
 // Everything about one run id.
 struct RunView {
-  std::optional<transport::LearnerStats> learner;
+  std::optional<rl::LearnerReport> learner;
   Clock::time_point learner_received;
   std::optional<transport::EvalResult> passive;  // the first EvalResult with policy_version 0
   // policy-version-0 results refused as not this run's passive baseline (PassiveMismatch;
@@ -136,9 +137,10 @@ std::string PrintableText(std::string_view text);
 RunView& RunOf(MonitorState* state, const std::string& printable_run_id, Clock::time_point now);
 
 // Folding samples into the state. `now` is the arrival time. Every string of a sample (run
-// id, role, host, detail, architecture) is kept as PrintableText.
+// id, role, host, detail, architecture) is kept as PrintableText; `run_id` is the sample's
+// (its envelope's).
 void Apply(MonitorState* state, const transport::NodeStatus& status, Clock::time_point now);
-void Apply(MonitorState* state, const transport::LearnerStats& stats, Clock::time_point now);
+void Apply(MonitorState* state, const std::string& run_id, const rl::LearnerReport& stats, Clock::time_point now);
 void Apply(MonitorState* state, const transport::EvalResult& result, Clock::time_point now);
 void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock::time_point now);
 // Keeps the version and size only.

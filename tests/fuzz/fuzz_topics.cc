@@ -150,13 +150,17 @@ void Visit(V& v, srics_NodeStatus& c) {
 enum Topic : uint8_t { kEpisode, kWeights, kGraph, kEval, kStats, kStatus, kTopics };
 constexpr char kRunId[] = "fuzz-run";
 
-// What a reader of T runs (endpoint.cc: FromC, then Validate against the run id).
+// What a reader of T runs (endpoint.cc: FromC, then Validate with the envelope against the
+// run id).
 template <typename T>
 bool Receive(WireReader& in, bool of_run, T* out) {
   typename internal::CType<T>::type sample{};
   Visit(in, sample);
   internal::FromC(sample, out);
-  return Validate(*out, of_run ? kRunId : "").ok();
+  if constexpr (requires { Validate(*out, internal::EnvelopeOf(sample), ""); })
+    return Validate(*out, internal::EnvelopeOf(sample), of_run ? kRunId : "").ok();
+  else
+    return Validate(*out, of_run ? kRunId : "").ok();
 }
 
 void Run(const uint8_t* data, size_t size) {
@@ -198,8 +202,8 @@ void Run(const uint8_t* data, size_t size) {
       return;
     }
     case kStats: {
-      LearnerStats m;
-      if (Receive(in, of_run, &m)) rl::ImplausibleProgress(FromMessage(m).progress(), 1000000);
+      rl::LearnerReport r;
+      if (Receive(in, of_run, &r)) rl::ImplausibleProgress(r.progress(), 1000000);
       return;
     }
     case kStatus: {
@@ -229,6 +233,15 @@ void SeedMessage(const std::string& dir, const std::string& name, Topic topic, T
   Seed(dir, name, topic, 0x10, sample);
 }
 
+template <typename T>
+void SeedValue(const std::string& dir, const std::string& name, Topic topic, const T& value) {
+  const Envelope envelope{kContractVersion, kRunId};
+  typename internal::CType<T>::type sample;
+  internal::ToC(value, envelope, &sample);
+  if (auto v = Validate(value, envelope, kRunId); !v.ok()) throw std::logic_error("seed " + name + ": " + v.reason);
+  Seed(dir, name, topic, 0x10, sample);
+}
+
 void WriteSeeds(const std::string& dir) {
   {
     rl::Episode e;
@@ -249,7 +262,7 @@ void WriteSeeds(const std::string& dir) {
     if (auto problem = rl::ValidateEpisode(e, rl::EpisodeLimits{}); !problem.empty())
       throw std::logic_error("seed episode: " + problem);
     srics_Episode sample;
-    internal::ToC(e, internal::Envelope{kContractVersion, kRunId}, &sample);
+    internal::ToC(e, Envelope{kContractVersion, kRunId}, &sample);
     Seed(dir, "episode", kEpisode, 0x10, sample);
   }
   {
@@ -281,13 +294,13 @@ void WriteSeeds(const std::string& dir) {
     SeedMessage(dir, "eval", kEval, m);
   }
   {
-    LearnerStats m;
-    m.updates = 10;
-    m.transitions_inserted = 100;
-    m.training_env_steps = 100;
-    m.budget_env_steps = 1000000;
-    m.replay_size = 100;
-    SeedMessage(dir, "stats", kStats, m);
+    rl::LearnerReport r;
+    r.updates = 10;
+    r.transitions_inserted = 100;
+    r.training_env_steps = 100;
+    r.budget_env_steps = 1000000;
+    r.replay_size = 100;
+    SeedValue(dir, "stats", kStats, r);
   }
   {
     NodeStatus m;

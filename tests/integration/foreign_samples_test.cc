@@ -275,7 +275,7 @@ TEST_F(ForeignSamplesTest, ForeignLearnerStatsDoNotEndTheActor) {
   actor::ActorOptions options = actor::ActorOptionsFor(config_, 1);
   options.explore_while_waiting_s = 0;
   actor::ActorLoop actor(options, &link);
-  Writer<transport::LearnerStats> raw(foreign, Raw()), other(other_run, Raw());
+  Writer<rl::LearnerReport> raw(foreign, Raw()), other(other_run, Raw());
   ASSERT_TRUE(raw.WaitForReaders(1, 10s));
   ASSERT_TRUE(other.WaitForReaders(1, 10s));
   const uint64_t budget = config_.run.total_env_steps;
@@ -293,22 +293,22 @@ TEST_F(ForeignSamplesTest, ForeignLearnerStatsDoNotEndTheActor) {
     });
   };
   // of another run: ignored (counted apart)
-  ASSERT_EQ(other.Write(transport::ToMessage(done)), WriteResult::kSent);
+  ASSERT_EQ(other.Write(done), WriteResult::kSent);
   ASSERT_TRUE(step_until([&] { return actor_side.counters(transport::TopicId::kLearnerStats).other_run == 1; }));
   // another budget
   rl::LearnerReport wrong_budget = done;
   wrong_budget.budget_env_steps = wrong_budget.training_env_steps = wrong_budget.transitions_inserted = 100;
-  ASSERT_EQ(raw.Write(transport::ToMessage(wrong_budget)), WriteResult::kSent);
+  ASSERT_EQ(raw.Write(wrong_budget), WriteResult::kSent);
   ASSERT_TRUE(step_until([&] { return Rejections(actor_side, "stats.implausible") == 1; }));
   // the run's budget "done" with fewer transitions than training steps, then a huge step count
   // (it used to make an evaluating actor loop for as long as the count is large)
   rl::LearnerReport inconsistent = done;
   inconsistent.transitions_inserted = 10;
-  ASSERT_EQ(raw.Write(transport::ToMessage(inconsistent)), WriteResult::kSent);
+  ASSERT_EQ(raw.Write(inconsistent), WriteResult::kSent);
   ASSERT_TRUE(step_until([&] { return Rejections(actor_side, "stats.implausible") == 2; }));
   rl::LearnerReport beyond = done;
   beyond.training_env_steps = beyond.transitions_inserted = uint64_t{1} << 62;
-  ASSERT_EQ(raw.Write(transport::ToMessage(beyond)), WriteResult::kSent);
+  ASSERT_EQ(raw.Write(beyond), WriteResult::kSent);
   ASSERT_TRUE(step_until([&] { return Rejections(actor_side, "stats.implausible") == 3; }));
 
   // the run's learner says the budget is done: the actor ends
@@ -442,11 +442,11 @@ TEST_F(ForeignSamplesTest, LaunchersMonitorRefusesStatsAndGraphsThatCannotBeTheR
     monitor::Monitor monitor(monitor_side, options);
     transport::DdsLearnerLink learner(learner_side, limits_);
     transport::DdsGraphSink sink(graph_side);
-    Writer<transport::LearnerStats> raw_stats(foreign, Raw());
+    Writer<rl::LearnerReport> raw_stats(foreign, Raw());
     Writer<transport::InteractionGraph> raw_graph(foreign, Raw());
     ASSERT_TRUE(raw_stats.WaitForReaders(1, 10s));
     ASSERT_TRUE(raw_graph.WaitForReaders(1, 10s));
-    transport::LearnerStats beyond = transport::testing::MakeLearnerStats(config_.transport.run_id, 1);
+    rl::LearnerReport beyond = transport::testing::MakeLearnerStats(1);
     beyond.transitions_inserted = beyond.training_env_steps = uint64_t{1} << 62;
     beyond.budget_env_steps = budget;
     ASSERT_EQ(raw_stats.Write(beyond), WriteResult::kSent);

@@ -52,7 +52,7 @@ class System {
     participant_ = std::make_unique<tr::Participant>(config_.transport, shutdown_);
     weights_ = std::make_unique<tr::Reader<tr::PolicyWeights>>(*participant_);
     graphs_ = std::make_unique<tr::Reader<tr::InteractionGraph>>(*participant_);
-    stats_ = std::make_unique<tr::Reader<tr::LearnerStats>>(*participant_);
+    stats_ = std::make_unique<tr::Reader<rl::LearnerReport>>(*participant_);
     evals_ = std::make_unique<tr::Reader<tr::EvalResult>>(*participant_);
     status_ = std::make_unique<tr::Reader<tr::NodeStatus>>(*participant_);
   }
@@ -113,7 +113,7 @@ class System {
       graph = g;
       ++graphs_received;
     }
-    tr::LearnerStats s;
+    rl::LearnerReport s;
     while (stats_->Take(&s, 0ms) == tr::TakeStatus::kSample) stats = s;
     tr::EvalResult e;
     while (evals_->Take(&e, 0ms) == tr::TakeStatus::kSample) evals.push_back(e);
@@ -165,7 +165,7 @@ class System {
   uint64_t latest_weights = 0;
   std::optional<tr::InteractionGraph> graph;
   int graphs_received = 0;
-  std::optional<tr::LearnerStats> stats;
+  std::optional<rl::LearnerReport> stats;
   std::vector<tr::EvalResult> evals;
   std::map<std::string, tr::NodeStatus> nodes;
 
@@ -178,7 +178,7 @@ class System {
   std::unique_ptr<tr::Participant> participant_;
   std::unique_ptr<tr::Reader<tr::PolicyWeights>> weights_;
   std::unique_ptr<tr::Reader<tr::InteractionGraph>> graphs_;
-  std::unique_ptr<tr::Reader<tr::LearnerStats>> stats_;
+  std::unique_ptr<tr::Reader<rl::LearnerReport>> stats_;
   std::unique_ptr<tr::Reader<tr::EvalResult>> evals_;
   std::unique_ptr<tr::Reader<tr::NodeStatus>> status_;
   std::map<std::string, launcher::ChildProcess> children_;

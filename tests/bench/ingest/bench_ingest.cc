@@ -80,7 +80,7 @@ double LearnerIngest(int writers, uint64_t per_writer, int domain) {
   config::Config config = BenchConfig(domain, run_id);
   tr::Shutdown shutdown;
   tr::Participant participant(config.transport, shutdown);
-  tr::Reader<tr::LearnerStats> stats(participant);
+  tr::Reader<srics::rl::LearnerReport> stats(participant);
   auto learner = launcher::ChildProcess::Spawn(
       {std::string(SRICS_BINARY_DIR) + "/learner/srics-learner", kConfig, "--set",
        "transport.domain_id=" + std::to_string(domain), "--set", "transport.run_id=" + run_id, "--set",
@@ -88,7 +88,7 @@ double LearnerIngest(int writers, uint64_t per_writer, int domain) {
        "run.log_level=warn", "--set", "run.total_env_steps=1000000000"});
   auto children = StartWriters(writers, domain, run_id, per_writer);
   const uint64_t total = writers * per_writer * 20;
-  tr::LearnerStats s;
+  srics::rl::LearnerReport s;
   uint64_t first_inserted = 0;
   Clock::time_point first, last;
   const auto deadline = Clock::now() + 120s;

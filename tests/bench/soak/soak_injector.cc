@@ -133,7 +133,7 @@ class Injector {
 
     // learner stats of a stranger
     if (auto s = Newest(stats_in_, milliseconds(200))) latest_stats_ = *s;
-    LearnerStats s = latest_stats_.value_or(testing::MakeLearnerStats(config_.transport.run_id, n));
+    rl::LearnerReport s = latest_stats_.value_or(testing::MakeLearnerStats(n));
     const uint64_t budget = s.budget_env_steps;
     s.budget_env_steps = s.training_env_steps = s.transitions_inserted = std::max<uint64_t>(budget / 2, 1);
     send_alone(stats_, s);  // done, another budget
@@ -181,14 +181,14 @@ class Injector {
   Writer<rl::Episode> episodes_;
   Writer<PolicyWeights> weights_;
   Writer<InteractionGraph> graphs_;
-  Writer<LearnerStats> stats_;
+  Writer<rl::LearnerReport> stats_;
   Writer<EvalResult> evals_;
   Writer<NodeStatus> status_;
   Reader<PolicyWeights> weights_in_;
-  Reader<LearnerStats> stats_in_;
+  Reader<rl::LearnerReport> stats_in_;
   rl::Episode template_episode_;
   std::optional<PolicyWeights> latest_weights_;
-  std::optional<LearnerStats> latest_stats_;
+  std::optional<rl::LearnerReport> latest_stats_;
   bool had_template_ = false;
 };
 

@@ -171,9 +171,8 @@ EvalResult MakeEvalResult(const std::string& run_id, uint64_t seed) {
   return r;
 }
 
-LearnerStats MakeLearnerStats(const std::string& run_id, uint64_t seed) {
-  LearnerStats s;
-  s.run_id = run_id;
+rl::LearnerReport MakeLearnerStats(uint64_t seed) {
+  rl::LearnerReport s;
   s.updates = 1000 + seed;
   s.transitions_inserted = 20000 + seed;
   s.training_env_steps = 15000 + seed;

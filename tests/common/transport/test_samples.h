@@ -31,11 +31,12 @@ rl::EpisodeLimits SampleEpisodeLimits();
 // What a reader of such episodes is given.
 ReaderOptions SampleEpisodeReader(const std::string& topic_name = "");
 
-// A valid sample of run `run_id`; `seed` varies every field (ids, sizes and values).
+// A valid sample of run `run_id` (domain types: a writer stamps its participant's); `seed`
+// varies every field (ids, sizes and values).
 PolicyWeights MakePolicyWeights(const std::string& run_id, uint64_t seed, size_t count = 1000);
 InteractionGraph MakeInteractionGraph(const std::string& run_id, uint64_t seed);
 EvalResult MakeEvalResult(const std::string& run_id, uint64_t seed);
-LearnerStats MakeLearnerStats(const std::string& run_id, uint64_t seed);
+rl::LearnerReport MakeLearnerStats(uint64_t seed);  // floats exact on the wire
 NodeStatus MakeNodeStatus(const std::string& run_id, uint64_t seed);
 
 // A well-formed graph of `entities` with every edge set, its true ancestor sets and depths

@@ -68,7 +68,7 @@ int WithSample(const std::string& run, const std::string& topic, uint64_t seed, 
   if (topic == "policy_weights") return act(MakePolicyWeights(run, seed));
   if (topic == "interaction_graph") return act(MakeInteractionGraph(run, seed));
   if (topic == "eval_result") return act(MakeEvalResult(run, seed));
-  if (topic == "learner_stats") return act(MakeLearnerStats(run, seed));
+  if (topic == "learner_stats") return act(MakeLearnerStats(seed));
   if (topic == "node_status") return act(MakeNodeStatus(run, seed));
   return 2;
 }
@@ -130,12 +130,12 @@ int Malformed(const Participant& p) {
   WriterOptions options;
   options.validate = false;
   Writer<Episode> raw(p, options);
-  options.episode_contract_version = kContractVersion - 1;
+  options.contract_version = kContractVersion - 1;
   Writer<Episode> old_contract(p, options);
   srics::config::TransportConfig other_config = p.config();
   other_config.run_id = p.run_id() + "-other";
   Participant other(other_config);
-  options.episode_contract_version = kContractVersion;
+  options.contract_version = kContractVersion;
   Writer<Episode> other_run(other, options);
   for (Writer<Episode>* w : {&raw, &old_contract, &other_run})
     if (!w->WaitForReaders(1, kMatchTimeout)) return 4;

@@ -54,8 +54,10 @@ void ExpectFromPeer(const config::TransportConfig& config, const std::string& to
   Reader<T> reader(participant, testing::SampleEpisodeReader());
   PeerProcess peer(SRICS_TRANSPORT_PEER, args);
   T got;
-  ASSERT_EQ(reader.Take(&got, 20s), TakeStatus::kSample) << topic;
+  std::string run_id;
+  ASSERT_EQ(reader.Take(&got, 20s, &run_id), TakeStatus::kSample) << topic;
   EXPECT_TRUE(got == expected) << topic << " changed on the way";
+  EXPECT_EQ(run_id, config.run_id) << topic;
   EXPECT_EQ(peer.Wait(20s), 0) << topic;
 }
 
@@ -81,8 +83,7 @@ TEST_F(TransportTest, EveryTypeRoundTripsBetweenProcesses) {
   ExpectFromPeer(config_, "interaction_graph", testing::MakeInteractionGraph(run, 5),
                  PeerArgs("write", {"interaction_graph", "5"}));
   ExpectFromPeer(config_, "eval_result", testing::MakeEvalResult(run, 6), PeerArgs("write", {"eval_result", "6"}));
-  ExpectFromPeer(config_, "learner_stats", testing::MakeLearnerStats(run, 7),
-                 PeerArgs("write", {"learner_stats", "7"}));
+  ExpectFromPeer(config_, "learner_stats", testing::MakeLearnerStats(7), PeerArgs("write", {"learner_stats", "7"}));
   ExpectFromPeer(config_, "node_status", testing::MakeNodeStatus(run, 8), PeerArgs("write", {"node_status", "8"}));
 }
 
@@ -92,7 +93,7 @@ TEST_F(TransportTest, EveryTypeRoundTripsToAnotherProcess) {
   ExpectPeerReceives(config_, testing::MakePolicyWeights(run, 14), PeerArgs("read", {"policy_weights", "14"}));
   ExpectPeerReceives(config_, testing::MakeInteractionGraph(run, 15), PeerArgs("read", {"interaction_graph", "15"}));
   ExpectPeerReceives(config_, testing::MakeEvalResult(run, 16), PeerArgs("read", {"eval_result", "16"}));
-  ExpectPeerReceives(config_, testing::MakeLearnerStats(run, 17), PeerArgs("read", {"learner_stats", "17"}));
+  ExpectPeerReceives(config_, testing::MakeLearnerStats(17), PeerArgs("read", {"learner_stats", "17"}));
   ExpectPeerReceives(config_, testing::MakeNodeStatus(run, 18), PeerArgs("read", {"node_status", "18"}));
 }
 
@@ -399,16 +400,17 @@ TEST_F(TransportTest, SamplesOfOtherRunsAreIgnored) {
   config::TransportConfig other_config = config_;
   other_config.run_id = config_.run_id + "-b";
   Participant theirs(other_config);
-  Reader<LearnerStats> reader(mine);
+  Reader<rl::LearnerReport> reader(mine);
   ReaderOptions all_runs;
   all_runs.all_runs = true;
-  Reader<LearnerStats> monitor(mine, all_runs);
-  Writer<LearnerStats> writer(theirs);
+  Reader<rl::LearnerReport> monitor(mine, all_runs);
+  Writer<rl::LearnerReport> writer(theirs);
   ASSERT_TRUE(writer.WaitForReaders(2, 10s));
-  ASSERT_EQ(writer.Write(testing::MakeLearnerStats(other_config.run_id, 1)), WriteResult::kSent);
-  LearnerStats got;
-  ASSERT_EQ(monitor.Take(&got, 10s), TakeStatus::kSample);
-  EXPECT_EQ(got.run_id, other_config.run_id);
+  ASSERT_EQ(writer.Write(testing::MakeLearnerStats(1)), WriteResult::kSent);
+  rl::LearnerReport got;
+  std::string run_id;
+  ASSERT_EQ(monitor.Take(&got, 10s, &run_id), TakeStatus::kSample);
+  EXPECT_EQ(run_id, other_config.run_id);
   EXPECT_EQ(reader.Take(&got, 300ms), TakeStatus::kTimeout);
   EXPECT_EQ(reader.counters().other_run, 1u);
   EXPECT_EQ(reader.counters().rejected, 0u);

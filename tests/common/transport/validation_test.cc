@@ -27,7 +27,7 @@ TEST(ValidationTest, GoodSamplesOfEveryTypeAreAccepted) {
   EXPECT_TRUE(Validate(testing::MakePolicyWeights(run, 1), run).ok());
   EXPECT_TRUE(Validate(testing::MakeInteractionGraph(run, 1), run).ok());
   EXPECT_TRUE(Validate(testing::MakeEvalResult(run, 1), run).ok());
-  EXPECT_TRUE(Validate(testing::MakeLearnerStats(run, 1), run).ok());
+  EXPECT_TRUE(Validate(testing::MakeLearnerStats(1), {.run_id = run}, run).ok());
   EXPECT_TRUE(Validate(testing::MakeNodeStatus(run, 1), run).ok());
   // an empty expected run id accepts every run (monitors)
   EXPECT_TRUE(Validate(testing::MakeEvalResult("other", 1), "").ok());
@@ -70,9 +70,9 @@ TEST(ValidationTest, EveryFloatMustBeFinite) {
   ExpectMalformed(Validate(r, "r"), "entity_distance[2]");
 
   // learner stats are reports: a diverged loss is shown, not dropped
-  LearnerStats s = testing::MakeLearnerStats("r", 1);
+  rl::LearnerReport s = testing::MakeLearnerStats(1);
   s.q_loss = kNaN;
-  EXPECT_TRUE(Validate(s, "r").ok());
+  EXPECT_TRUE(Validate(s, {.run_id = "r"}, "r").ok());
 }
 
 TEST(ValidationTest, ContractVersionAndRunIdAreChecked) {

@@ -85,13 +85,12 @@ TEST(DashboardJsonTest, RunsNodesGraphAndLearnerFromTheMonitorState) {
   mon::Apply(&state, Eval(5, 1000, 0.2f), now);
   mon::Apply(&state, Eval(9, 2000, 0.125f), now);
   mon::Apply(&state, Graph(), now);
-  transport::LearnerStats stats;
-  stats.run_id = "r1";
+  rl::LearnerReport stats;
   stats.updates = 300;
   stats.q_loss = 0.5f;
   stats.budget_env_steps = 4000;
   mon::testing::SetTrainingSteps(&stats, 2100);
-  mon::Apply(&state, stats, now);
+  mon::Apply(&state, "r1", stats, now);
   mon::Apply(&state, mon::testing::Node("learner", 0, NodeState::kTraining), now);
   mon::Apply(&state, mon::testing::Node("actor", 1, NodeState::kStopping), now - std::chrono::seconds(60));
   mon::Apply(&state, mon::testing::Node("actor", 2, NodeState::kTraining), now - std::chrono::seconds(60));
@@ -190,14 +189,13 @@ class RunFolderTest : public ::testing::Test {
       transport::NodeStatus learner = mon::testing::Node("learner", 0, NodeState::kTraining, "folder-run");
       learner.env_steps = 50 * static_cast<uint64_t>(k);
       sink.Append(learner, t0 + k);
-      transport::LearnerStats s;
-      s.run_id = "folder-run";
+      rl::LearnerReport s;
       s.updates = 10 * static_cast<uint64_t>(k);
       s.transitions_inserted = 2000 + 50 * static_cast<uint64_t>(k);
       s.q_loss = 1.0f / static_cast<float>(k + 1);
       s.policy_loss = -0.5f;
       s.updates_per_second = 10;
-      sink.Append(s, t0 + k + 0.5);
+      sink.Append("folder-run", s, t0 + k + 0.5);
     }
     sink.Append(mon::testing::Node("actor", 0, NodeState::kTraining, "folder-run"), t0 + 45);
     sink.Append(mon::testing::Node("actor", 1, NodeState::kStopping, "folder-run"), t0 + 50);

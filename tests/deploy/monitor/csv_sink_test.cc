@@ -41,12 +41,11 @@ TEST_F(CsvSinkTest, WritesHeadersAndRows) {
   eval_result.independent_solved = 7;  // the compatibility counts end the row
   eval_result.independent_undone = 2;
   sink.Append(eval_result, 1700000000.5);
-  transport::LearnerStats stats;
-  stats.run_id = "r1";
+  rl::LearnerReport stats;
   stats.updates = 99;
   stats.transitions_inserted = 1000;
   stats.q_loss = 0.5f;
-  sink.Append(stats, 1700000001.0);
+  sink.Append("r1", stats, 1700000001.0);
   sink.Append(Node("actor", 3, NodeState::kTraining), 1700000002.0);
 
   const auto eval = Lines(dir_ + "/sub/eval.csv");

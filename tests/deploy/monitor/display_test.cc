@@ -36,8 +36,7 @@ class DisplayTest : public ::testing::Test {
  protected:
   DisplayTest() {
     state_.lost_after = milliseconds(3000);
-    transport::LearnerStats stats;
-    stats.run_id = "r1";
+    rl::LearnerReport stats;
     stats.updates = 123456;
     testing::SetTrainingSteps(&stats, 50000);
     stats.replay_size = 48000;
@@ -47,7 +46,7 @@ class DisplayTest : public ::testing::Test {
     stats.q_loss = 0.25f;
     stats.alpha = 0.05f;
     stats.updates_per_second = 80.5f;
-    Apply(&state_, stats, t0_);
+    Apply(&state_, "r1", stats, t0_);
     Apply(&state_, Graph(), t0_);
     Apply(&state_, Eval(0, 0, 0.20f), t0_);
     Apply(&state_, Eval(30, 40000, 0.15f), t0_);
@@ -196,14 +195,14 @@ TEST_F(DisplayTest, RateAndEtaFromTheLastMinuteOfLearnerStats) {
   EXPECT_THAT(LineWith(Render(state_, now_, options), "run r1"), Not(HasSubstr("ETA")));  // one sample: no rate
   // samples at 0, 10, 100 and 120 s: each time the oldest ones beyond the 60 s window go (two
   // are always kept), so the rate is 7,000 / 90 s, then 6,000 / 20 s = 300/s
-  transport::LearnerStats stats = *state_.runs["r1"].learner;
+  rl::LearnerReport stats = *state_.runs["r1"].learner;
   testing::SetTrainingSteps(&stats, 53000);
-  Apply(&state_, stats, t0_ + std::chrono::seconds(10));
+  Apply(&state_, "r1", stats, t0_ + std::chrono::seconds(10));
   testing::SetTrainingSteps(&stats, 60000);
-  Apply(&state_, stats, t0_ + std::chrono::seconds(100));
+  Apply(&state_, "r1", stats, t0_ + std::chrono::seconds(100));
   EXPECT_NEAR(*EnvStepRate(state_.runs["r1"]), 7000.0 / 90.0, 1e-9);
   testing::SetTrainingSteps(&stats, 66000);
-  Apply(&state_, stats, t0_ + std::chrono::seconds(120));
+  Apply(&state_, "r1", stats, t0_ + std::chrono::seconds(120));
   ASSERT_EQ(state_.runs["r1"].step_history.size(), 2u);  // the window keeps 100 s and 120 s
   EXPECT_NEAR(*EnvStepRate(state_.runs["r1"]), 300.0, 1e-9);
   const std::string line = LineWith(Render(state_, now_, options), "run r1");
@@ -211,7 +210,7 @@ TEST_F(DisplayTest, RateAndEtaFromTheLastMinuteOfLearnerStats) {
   EXPECT_THAT(RenderOneLine(state_, now_, "r1", 100000), HasSubstr("300 steps/s  ETA 00:01:53"));
   // a learner that starts again from zero: the rate starts again too
   testing::SetTrainingSteps(&stats, 100);
-  Apply(&state_, stats, t0_ + std::chrono::seconds(130));
+  Apply(&state_, "r1", stats, t0_ + std::chrono::seconds(130));
   EXPECT_FALSE(EnvStepRate(state_.runs["r1"]));
 }
 

@@ -41,7 +41,7 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   EXPECT_EQ(monitor.state().lost_after, milliseconds(900));
 
   std::optional<tr::Writer<tr::NodeStatus>> status_writer(std::in_place, system);
-  tr::Writer<tr::LearnerStats> stats_writer(system);
+  tr::Writer<rl::LearnerReport> stats_writer(system);
   tr::Writer<tr::EvalResult> eval_writer(system);
   tr::Writer<tr::InteractionGraph> graph_writer(system);
   tr::Writer<tr::PolicyWeights> weights_writer(system);
@@ -52,7 +52,7 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   status.role = "actor";
   status.node_id = 3;
   status.state = tr::NodeState::kTraining;
-  tr::LearnerStats stats = tr::testing::MakeLearnerStats(transport.run_id, 2);
+  rl::LearnerReport stats = tr::testing::MakeLearnerStats(2);
   stats.updates = 777;
   tr::EvalResult eval = tr::testing::MakeEvalResult(transport.run_id, 3);
   eval.policy_version = 9;

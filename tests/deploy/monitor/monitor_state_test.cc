@@ -184,10 +184,9 @@ TEST(MonitorStateTest, EvaluationHistoryIsBounded) {
 TEST(MonitorStateTest, EnvStepsIsTheLargerOfLearnerAndEvaluation) {
   MonitorState state;
   EXPECT_EQ(EnvSteps(RunView{}), 0u);
-  transport::LearnerStats stats;
-  stats.run_id = "r1";
+  rl::LearnerReport stats;
   SetTrainingSteps(&stats, 7000);
-  Apply(&state, stats, {});
+  Apply(&state, "r1", stats, {});
   EXPECT_EQ(EnvSteps(state.runs.at("r1")), 7000u);
   Apply(&state, Eval(3, 5000, 0.1f), {});
   EXPECT_EQ(EnvSteps(state.runs.at("r1")), 7000u);
@@ -197,13 +196,12 @@ TEST(MonitorStateTest, EnvStepsIsTheLargerOfLearnerAndEvaluation) {
 
 TEST(MonitorStateTest, LearnerHistoryKeepsEveryStatsAndStartsOverWithAFreshLearner) {
   MonitorState state;
-  transport::LearnerStats stats;
-  stats.run_id = "r1";
+  rl::LearnerReport stats;
   for (uint64_t k = 1; k <= 5; ++k) {
     stats.updates = 100 * k;
     stats.q_loss = static_cast<float>(k);
     SetTrainingSteps(&stats, 1000 * k);
-    Apply(&state, stats, {});
+    Apply(&state, "r1", stats, {});
   }
   const LearnerHistory& history = state.runs.at("r1").learner_history;
   ASSERT_EQ(history.points.size(), 5u);
@@ -213,7 +211,7 @@ TEST(MonitorStateTest, LearnerHistoryKeepsEveryStatsAndStartsOverWithAFreshLearn
   // a learner that started afresh (its count went back): the history starts over
   stats.updates = 10;
   SetTrainingSteps(&stats, 50);
-  Apply(&state, stats, {});
+  Apply(&state, "r1", stats, {});
   ASSERT_EQ(state.runs.at("r1").learner_history.points.size(), 1u);
   EXPECT_EQ(state.runs.at("r1").learner_history.points[0].updates, 10u);
 }

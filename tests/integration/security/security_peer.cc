@@ -166,7 +166,7 @@ int Run(int argc, char** argv) {
   if (mode == "write-weights" && argc == 7)
     return PublishAndServe(participant, MakePolicyWeights(config.run_id, std::strtoull(argv[6], nullptr, 10)));
   if (mode == "write-stats" && argc == 7)
-    return PublishAndServe(participant, MakeLearnerStats(config.run_id, std::strtoull(argv[6], nullptr, 10)));
+    return PublishAndServe(participant, MakeLearnerStats(std::strtoull(argv[6], nullptr, 10)));
   return 2;
 }
 

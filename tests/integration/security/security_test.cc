@@ -240,7 +240,7 @@ TEST_F(SecurityTest, ParticipantWithoutCredentialsSeesNothingAndCannotInject) {
 TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
   Participant actor(Secured("actor-0"));
   Reader<PolicyWeights> weights(actor);
-  Reader<LearnerStats> stats(actor);
+  Reader<srics::rl::LearnerReport> stats(actor);
   for (const auto& [identity, mode] : std::vector<std::pair<std::string, std::string>>{{"monitor", "write-weights"},
                                                                                        {"monitor", "write-stats"},
                                                                                        {"actor-1", "write-weights"},
@@ -251,7 +251,7 @@ TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
     EXPECT_EQ(peer->Wait(30s), 7);
   }
   PolicyWeights got;
-  LearnerStats got_stats;
+  srics::rl::LearnerReport got_stats;
   EXPECT_EQ(weights.Take(&got, 2s), TakeStatus::kTimeout);
   EXPECT_EQ(stats.Take(&got_stats, 100ms), TakeStatus::kTimeout);
   EXPECT_EQ(actor.counters(TopicId::kPolicyWeights).accepted + actor.counters(TopicId::kPolicyWeights).rejected, 0u);
