@@ -111,6 +111,7 @@ struct EvaluationSummary {
 
   // Folds one episode in; `threshold` decides per-entity success.
   void Add(const EpisodeMetrics& metrics, double threshold);
+  bool operator==(const EvaluationSummary&) const = default;
 };
 
 }  // namespace srics::rl

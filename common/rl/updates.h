@@ -86,13 +86,15 @@ struct LearnerReport {
   bool operator==(const LearnerReport&) const = default;
 };
 
-// One evaluation, as published.
+// One evaluation (topic EvalResult), as published and as monitors read it. The wire has no
+// count of episodes with a defined selectivity: received, every episode counts.
 struct EvalReport {
   uint32_t actor_id = 0;
   uint64_t policy_version = 0;  // 0 = the passive policy (the baseline)
   uint64_t graph_version = 0;
   uint64_t env_steps = 0;  // system env steps when it ran
   EvaluationSummary summary;
+  bool operator==(const EvalReport&) const = default;
 };
 
 // A process's health for NodeStatus.

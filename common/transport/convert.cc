@@ -27,9 +27,16 @@ namespace {
 template <typename T>
 using Mutable = std::remove_const_t<T>;
 
-// Message -> C: strings copied into their bounded arrays, sequences borrowed (DDS only reads
-// them while writing), scalars cast.
+// A domain vector of V goes on the wire as it is when Element has its size and kind.
+template <typename V, typename Element>
+constexpr bool kSameLayout =
+    sizeof(V) == sizeof(Element) && std::is_floating_point_v<V> == std::is_floating_point_v<Element>;
+
+// Value -> C: strings copied into their bounded arrays, sequences borrowed (DDS only reads
+// them while writing) or, of another element type, converted into `buffers`; scalars cast.
 struct ToCOp {
+  SequenceBuffers* buffers = nullptr;
+
   template <size_t N>
   void operator()(const std::string& in, char (&out)[N], const char* field) const {
     if (in.size() >= N)
@@ -42,8 +49,13 @@ struct ToCOp {
   requires requires(Seq s) { s._buffer; }
   void operator()(const std::vector<V>& in, Seq& out, const char*) const {
     using Element = std::remove_pointer_t<decltype(out._buffer)>;
-    static_assert(sizeof(Element) == sizeof(V));
-    out._buffer = reinterpret_cast<Element*>(const_cast<V*>(in.data()));
+    if constexpr (kSameLayout<V, Element>) {
+      out._buffer = reinterpret_cast<Element*>(const_cast<V*>(in.data()));
+    } else {
+      Element* converted = buffers->Hold<Element>(in.size());
+      for (size_t i = 0; i < in.size(); ++i) converted[i] = static_cast<Element>(in[i]);
+      out._buffer = converted;
+    }
     out._length = out._maximum = static_cast<uint32_t>(in.size());
     out._release = false;
   }
@@ -62,13 +74,17 @@ struct FromCOp {
   template <typename V, typename Seq>
   requires requires(Seq s) { s._buffer; }
   void operator()(std::vector<V>& out, const Seq& in, const char*) const {
-    static_assert(sizeof(*in._buffer) == sizeof(V));
+    using Element = std::remove_const_t<std::remove_pointer_t<decltype(in._buffer)>>;
     if (in._length == 0 || in._buffer == nullptr) {
       out.clear();
       return;
     }
-    const auto* first = reinterpret_cast<const V*>(in._buffer);
-    out.assign(first, first + in._length);
+    if constexpr (kSameLayout<V, Element>) {
+      const auto* first = reinterpret_cast<const V*>(in._buffer);
+      out.assign(first, first + in._length);
+    } else {
+      out.assign(in._buffer, in._buffer + in._length);  // converted element by element
+    }
   }
   template <typename A, typename B>
   void operator()(A& out, const B& in, const char*) const {
@@ -108,11 +124,12 @@ void Fields(const Op& op, M& m, C& c) {
                threshold, ancestor_masks, depths, held_out_loss, training_updates, episodes_used);
 }
 
+// selectivity apart: the wire has no count of the episodes that defined it
 template <typename Op, typename M, Is<srics_EvalResult> C>
 void Fields(const Op& op, M& m, C& c) {
-  SRICS_FIELDS(op, m, c, contract_version, run_id, actor_id, policy_version, graph_version, env_steps, episodes,
-               avg_distance, avg_object_distance, success_rate, entity_distance, subgoal_success, selectivity,
-               independent_solved, independent_undone);
+  SRICS_FIELDS(op, m, c, actor_id, policy_version, graph_version, env_steps);
+  SRICS_FIELDS(op, m.summary, c, episodes, avg_distance, avg_object_distance, success_rate, entity_distance,
+               subgoal_success, independent_solved, independent_undone);
 }
 
 template <typename Op, typename M, Is<srics_LearnerStats> C>
@@ -165,24 +182,53 @@ void FromC(const srics_Episode& in, bool velocities, rl::Episode* out) {
   out->layout.velocities = velocities;
 }
 
-#define SRICS_DOMAIN_CONVERSIONS(T)                                      \
-  void ToC(const T& in, const Envelope& envelope, CType<T>::type* out) { \
-    std::memset(out, 0, sizeof(*out));                                   \
-    Fields(ToCOp{}, in, *out);                                           \
-    StampEnvelope(envelope, out);                                        \
-  }                                                                      \
-  void FromC(const CType<T>::type& in, T* out) { Fields(FromCOp{}, *out, in); }
-SRICS_FOR_EACH_DOMAIN(SRICS_DOMAIN_CONVERSIONS)
-#undef SRICS_DOMAIN_CONVERSIONS
+namespace {
+
+// The fields every domain type shares with its C type, and the envelope.
+template <typename T>
+void ToCWithEnvelope(const T& in, const Envelope& envelope, typename CType<T>::type* out, SequenceBuffers* buffers) {
+  std::memset(out, 0, sizeof(*out));
+  buffers->clear();
+  Fields(ToCOp{buffers}, in, *out);
+  StampEnvelope(envelope, out);
+}
+
+}  // namespace
+
+void ToC(const rl::LearnerReport& in, const Envelope& envelope, srics_LearnerStats* out, SequenceBuffers* buffers) {
+  ToCWithEnvelope(in, envelope, out, buffers);
+}
+
+void FromC(const srics_LearnerStats& in, rl::LearnerReport* out) { Fields(FromCOp{}, *out, in); }
+
+void ToC(const rl::EvalReport& in, const Envelope& envelope, srics_EvalResult* out, SequenceBuffers* buffers) {
+  ToCWithEnvelope(in, envelope, out, buffers);
+  out->selectivity = static_cast<float>(in.summary.selectivity_episodes ? in.summary.selectivity : 0.0);
+}
+
+void FromC(const srics_EvalResult& in, rl::EvalReport* out) {
+  Fields(FromCOp{}, *out, in);
+  out->summary.selectivity = in.selectivity;
+  out->summary.selectivity_episodes = out->summary.episodes;
+}
 
 }  // namespace internal
 
-rl::LearnerReport AsReceived(const rl::LearnerReport& value) {
-  srics_LearnerStats sample;
-  internal::ToC(value, {}, &sample);
-  rl::LearnerReport received;
+namespace {
+
+template <typename T>
+T RoundTrip(const T& value) {
+  typename internal::CType<T>::type sample;
+  internal::SequenceBuffers buffers;
+  internal::ToC(value, {}, &sample, &buffers);
+  T received;
   internal::FromC(sample, &received);
   return received;
 }
+
+}  // namespace
+
+rl::LearnerReport AsReceived(const rl::LearnerReport& value) { return RoundTrip(value); }
+rl::EvalReport AsReceived(const rl::EvalReport& value) { return RoundTrip(value); }
 
 }  // namespace srics::transport

@@ -4,6 +4,8 @@
 
 #include <cstring>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include "common/rl/episode.h"
 #include "common/transport/messages.h"
@@ -31,7 +33,7 @@ struct CType<InteractionGraph> {
   static const dds_topic_descriptor_t* Descriptor() { return &srics_InteractionGraph_desc; }
 };
 template <>
-struct CType<EvalResult> {
+struct CType<rl::EvalReport> {
   using type = srics_EvalResult;
   static const dds_topic_descriptor_t* Descriptor() { return &srics_EvalResult_desc; }
 };
@@ -47,9 +49,31 @@ struct CType<NodeStatus> {
 };
 
 // X(T) for each message struct of messages.h.
-#define SRICS_FOR_EACH_MESSAGE(X) X(PolicyWeights) X(InteractionGraph) X(EvalResult) X(NodeStatus)
+#define SRICS_FOR_EACH_MESSAGE(X) X(PolicyWeights) X(InteractionGraph) X(NodeStatus)
 // X(T) for each domain type converted with an Envelope (rl::Episode apart: it needs limits).
-#define SRICS_FOR_EACH_DOMAIN(X) X(rl::LearnerReport)
+#define SRICS_FOR_EACH_DOMAIN(X) X(rl::LearnerReport) X(rl::EvalReport)
+
+// Where ToC puts the sequences whose domain element type is not the wire's (doubles sent as
+// floats): the C sample points into it, so it must outlive the use of the sample.
+class SequenceBuffers {
+ public:
+  template <typename E>
+  E* Hold(size_t n) {
+    if constexpr (std::is_same_v<E, float>)
+      return floats_.emplace_back(n).data();
+    else
+      return shorts_.emplace_back(n).data();  // int16_t, the only other one
+  }
+  void clear() {
+    floats_.clear();
+    shorts_.clear();
+  }
+
+ private:
+  // one vector per sequence: a vector moved by the outer one keeps its buffer
+  std::vector<std::vector<float>> floats_;
+  std::vector<std::vector<int16_t>> shorts_;
+};
 
 // ToC fills *out with pointers into `in` (no copy of sequences): `in` must outlive the use of
 // *out, and *out must never be freed with the generated _free functions. Throws
@@ -68,8 +92,11 @@ void FromC(const srics_Episode& in, bool velocities, rl::Episode* out);
 
 // The other domain types: the envelope is the writer's, the rest the value's (floats rounded to
 // the wire's). FromC takes any sample: Validate(value, envelope) judges the result.
-void ToC(const rl::LearnerReport& in, const Envelope& envelope, srics_LearnerStats* out);
+void ToC(const rl::LearnerReport& in, const Envelope& envelope, srics_LearnerStats* out, SequenceBuffers* buffers);
 void FromC(const srics_LearnerStats& in, rl::LearnerReport* out);
+// selectivity goes out as 0 when no episode defined it, and comes in counted over every episode.
+void ToC(const rl::EvalReport& in, const Envelope& envelope, srics_EvalResult* out, SequenceBuffers* buffers);
+void FromC(const srics_EvalResult& in, rl::EvalReport* out);
 
 // The run id and the envelope of a received sample, read without copying the rest.
 template <typename C>

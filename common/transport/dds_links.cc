@@ -93,7 +93,7 @@ bool DdsActorLink::PublishEpisode(const rl::Episode& episode) {
 }
 
 void DdsActorLink::PublishEval(const rl::EvalReport& report) {
-  if (evals_.Write(ToMessage(report)) != WriteResult::kSent) spdlog::warn("evaluation not sent: shutting down");
+  if (evals_.Write(report) != WriteResult::kSent) spdlog::warn("evaluation not sent: shutting down");
 }
 
 void DdsActorLink::PublishStatus(const rl::NodeReport& report) {

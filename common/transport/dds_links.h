@@ -67,7 +67,7 @@ class DdsActorLink final : public links::ActorLink {
   GraphFeed graphs_;
   Reader<rl::LearnerReport> stats_;
   Writer<rl::Episode> episodes_;
-  Writer<EvalResult> evals_;
+  Writer<rl::EvalReport> evals_;
   StatusPublisher status_;
   logging::RateLimiter limiter_, stats_limiter_;
   uint64_t episodes_refused_ = 0;

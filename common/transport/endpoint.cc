@@ -25,8 +25,10 @@ using internal::Check;
 
 // Types converted straight to and from the wire with an envelope (rl::Episode among them).
 template <typename T>
-concept Enveloped = requires(const T& value, const Envelope& envelope, typename internal::CType<T>::type* c) {
-  internal::ToC(value, envelope, c);
+concept Enveloped = std::is_same_v<T, rl::Episode> ||
+    requires(const T& value, const Envelope& envelope, typename internal::CType<T>::type* c,
+             internal::SequenceBuffers* b) {
+  internal::ToC(value, envelope, c, b);
 };
 
 // Deletes a QoS object at scope exit.
@@ -73,7 +75,7 @@ Status StatusOf(dds_return_t (*get)(dds_entity_t, Status*), dds_entity_t entity,
 
 // The sender a sample names (topics with TopicSpec::names_sender; the others never ask).
 std::string ClaimedSender(const rl::Episode& episode) { return SenderIdentity("actor", episode.actor_id); }
-std::string ClaimedSender(const EvalResult& result) { return SenderIdentity("actor", result.actor_id); }
+std::string ClaimedSender(const rl::EvalReport& report) { return SenderIdentity("actor", report.actor_id); }
 std::string ClaimedSender(const NodeStatus& status) { return SenderIdentity(status.role, status.node_id); }
 template <typename M>
 std::string ClaimedSender(const M&) {
@@ -246,8 +248,10 @@ struct Writer<T>::Impl {
   // One dds_write; kBackPressure when it timed out.
   WriteResult Send(const T& msg) {
     typename internal::CType<T>::type sample;
-    if constexpr (Enveloped<T>) {
+    if constexpr (std::is_same_v<T, rl::Episode>) {
       internal::ToC(msg, envelope, &sample);
+    } else if constexpr (Enveloped<T>) {
+      internal::ToC(msg, envelope, &sample, &buffers);
     } else {
       internal::ToC(msg, &sample);
       if constexpr (std::is_same_v<T, PolicyWeights>)
@@ -270,6 +274,7 @@ struct Writer<T>::Impl {
   T scratch;
   uint32_t checksum = 0;  // PolicyWeights with stamp: of the prepared sample
   Envelope envelope{options.contract_version, run_id};
+  internal::SequenceBuffers buffers;  // what Send converts (doubles sent as floats)
   // the batch_delay flusher (batching writers with a delay only)
   std::mutex flush_mutex;
   std::condition_variable flush_wake;

@@ -1,5 +1,6 @@
 #pragma once
-// Typed topics, writers and readers of the domain types (rl::Episode, rl::LearnerReport) and,
+// Typed topics, writers and readers of the domain types (rl::Episode, rl::LearnerReport,
+// rl::EvalReport) and,
 // until they go, of the message structs of messages.h. A domain type carries no envelope: a
 // writer stamps its participant's (wire.h), a reader checks it and can tell the run id. Each owns its DDS entities
 // (deleted in the destructor) and is move-only. QoS comes from the table in topics.h. The
@@ -47,7 +48,7 @@ struct TopicOf<InteractionGraph> {
   static constexpr TopicId kId = TopicId::kInteractionGraph;
 };
 template <>
-struct TopicOf<EvalResult> {
+struct TopicOf<rl::EvalReport> {
   static constexpr TopicId kId = TopicId::kEvalResult;
 };
 template <>

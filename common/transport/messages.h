@@ -60,27 +60,6 @@ struct InteractionGraph {
   bool operator==(const InteractionGraph&) const = default;
 };
 
-// One evaluation (topic "srics/eval_result"): means over its episodes.
-struct EvalResult {
-  uint32_t contract_version = kContractVersion;
-  std::string run_id;
-  uint32_t actor_id = 0;
-  uint64_t policy_version = 0;
-  uint64_t graph_version = 0;
-  uint64_t env_steps = 0;  // training env steps of the whole system when run
-  uint32_t episodes = 0;
-  float avg_distance = 0;         // arm and objects
-  float avg_object_distance = 0;  // objects only
-  float success_rate = 0;
-  std::vector<float> entity_distance;  // N
-  std::vector<float> subgoal_success;  // N, fractions in [0, 1]
-  float selectivity = 0;
-  uint32_t independent_solved = 0;  // solved non-ancestor objects an attempt began with
-  uint32_t independent_undone = 0;  // of those, undone by the attempt (<= independent_solved)
-
-  bool operator==(const EvalResult&) const = default;
-};
-
 // Health of one process (topic "srics/node_status"), keyed by run, role and id.
 struct NodeStatus {
   uint32_t contract_version = kContractVersion;

@@ -44,13 +44,6 @@ void GraphFields(const Op& op, M& m, R& g) {
 }
 
 template <typename Op, typename M, typename R>
-void EvalFields(const Op& op, M& m, R& r) {
-  SRICS_FIELDS(op, m, r, actor_id, policy_version, graph_version, env_steps);
-  SRICS_FIELDS(op, m, r.summary, episodes, avg_distance, avg_object_distance, success_rate, entity_distance,
-               subgoal_success, independent_solved, independent_undone);
-}
-
-template <typename Op, typename M, typename R>
 void NodeFields(const Op& op, M& m, R& r) {
   SRICS_FIELDS(op, m, r, policy_version, graph_version);
   op(m.env_steps, r.steps, "steps");
@@ -99,21 +92,6 @@ rl::GraphUpdate FromMessage(const InteractionGraph& m) {
   if (!std::equal(m.depths.begin(), m.depths.end(), g.structure.depth.begin(), g.structure.depth.end()))
     throw std::invalid_argument("interaction graph: depths disagree with the adjacency");
   return g;
-}
-
-EvalResult ToMessage(const rl::EvalReport& r) {
-  EvalResult m;
-  EvalFields(ToMessageOp{}, m, r);
-  m.selectivity = static_cast<float>(r.summary.selectivity_episodes ? r.summary.selectivity : 0.0);
-  return m;
-}
-
-rl::EvalReport FromMessage(const EvalResult& m) {
-  rl::EvalReport r;
-  EvalFields(FromMessageOp{}, m, r);
-  r.summary.selectivity = m.selectivity;
-  r.summary.selectivity_episodes = r.summary.episodes;
-  return r;
 }
 
 NodeStatus ToMessage(const rl::NodeReport& r, const std::string& role, uint32_t node_id) {

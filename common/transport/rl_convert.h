@@ -24,10 +24,6 @@ InteractionGraph ToMessage(const rl::GraphUpdate& graph);
 // different algorithm or a corrupted sample).
 rl::GraphUpdate FromMessage(const InteractionGraph& message);
 
-EvalResult ToMessage(const rl::EvalReport& report);
-// The wire has no count of episodes with a defined selectivity: every episode is taken.
-rl::EvalReport FromMessage(const EvalResult& message);
-
 // host, pid and uptime are the publishing process's (StatusPublisher fills them); the detail
 // is cut to the IDL's bound.
 NodeStatus ToMessage(const rl::NodeReport& report, const std::string& role, uint32_t node_id);

@@ -13,7 +13,8 @@ Validation Malformed(std::string counter, std::string reason) {
 }
 
 // Index of the first non-finite value, or -1.
-int64_t FirstNonFinite(const std::vector<float>& values) {
+template <typename V>
+int64_t FirstNonFinite(const std::vector<V>& values) {
   for (size_t i = 0; i < values.size(); ++i)
     if (!std::isfinite(values[i])) return static_cast<int64_t>(i);
   return -1;
@@ -42,7 +43,8 @@ std::string SizeMismatch(const char* field, size_t got, uint64_t expected, const
 }
 
 // Reason for the first non-finite value of `field`, or "".
-std::string NonFinite(const char* field, const std::vector<float>& values) {
+template <typename V>
+std::string NonFinite(const char* field, const std::vector<V>& values) {
   const int64_t i = FirstNonFinite(values);
   if (i < 0) return "";
   return std::string(field) + "[" + std::to_string(i) + "] is not finite (" + std::to_string(values[i]) + ")";
@@ -127,15 +129,16 @@ Validation Validate(const InteractionGraph& msg, std::string_view run_id) {
   return CheckRun(msg.run_id, run_id);
 }
 
-Validation Validate(const EvalResult& msg, std::string_view run_id) {
-  if (auto v = CheckCommon("eval", msg.contract_version, msg.run_id); !v.ok()) return v;
+Validation Validate(const rl::EvalReport& report, const Envelope& envelope, std::string_view run_id) {
+  if (auto v = CheckCommon("eval", envelope.contract_version, envelope.run_id); !v.ok()) return v;
+  const rl::EvaluationSummary& msg = report.summary;
   const size_t n = msg.entity_distance.size();
   if (n < 1 || n > kMaxEntities)
     return Malformed("eval.size", "entity_distance has " + std::to_string(n) + " values, expected 1 to 64 (N)");
   if (msg.subgoal_success.size() != n)
     return Malformed("eval.size",
                      SizeMismatch("subgoal_success", msg.subgoal_success.size(), n, "N, as entity_distance"));
-  for (float v : {msg.avg_distance, msg.avg_object_distance, msg.success_rate, msg.selectivity})
+  for (double v : {msg.avg_distance, msg.avg_object_distance, msg.success_rate, msg.selectivity})
     if (!std::isfinite(v))
       return Malformed("eval.nonfinite", "a mean (distance, success rate or selectivity) is not finite");
   if (auto r = NonFinite("entity_distance", msg.entity_distance); !r.empty()) return Malformed("eval.nonfinite", r);
@@ -151,7 +154,7 @@ Validation Validate(const EvalResult& msg, std::string_view run_id) {
   for (size_t i = 0; i < n; ++i)
     if (msg.entity_distance[i] < 0)
       return Malformed("eval.range", "entity_distance[" + std::to_string(i) + "] is negative");
-  return CheckRun(msg.run_id, run_id);
+  return CheckRun(envelope.run_id, run_id);
 }
 
 Validation Validate(const rl::LearnerReport&, const Envelope& envelope, std::string_view run_id) {

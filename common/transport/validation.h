@@ -48,7 +48,7 @@ Validation ValidateEnvelope(uint32_t contract_version, const std::string& msg_ru
 // `verify_checksum` false skips the CRC (for a writer that has just computed it).
 Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool verify_checksum = true);
 Validation Validate(const InteractionGraph& msg, std::string_view run_id);
-Validation Validate(const EvalResult& msg, std::string_view run_id);
+Validation Validate(const rl::EvalReport& report, const Envelope& envelope, std::string_view run_id);
 Validation Validate(const rl::LearnerReport& stats, const Envelope& envelope, std::string_view run_id);
 Validation Validate(const NodeStatus& msg, std::string_view run_id);
 

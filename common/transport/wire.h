@@ -34,5 +34,6 @@ struct Envelope {
 // The value a reader of the topic receives for `value`: floats at the wire's precision. The
 // in-process run feeds its monitor these, so its files and display equal a DDS monitor's.
 rl::LearnerReport AsReceived(const rl::LearnerReport& value);
+rl::EvalReport AsReceived(const rl::EvalReport& value);
 
 }  // namespace srics::transport

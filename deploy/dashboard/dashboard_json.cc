@@ -15,27 +15,29 @@ namespace tr = srics::transport;
 
 double Seconds(mon::Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-void Floats(JsonWriter* json, const std::vector<float>& values) {
+template <typename V>
+void Floats(JsonWriter* json, const std::vector<V>& values) {
   json->BeginArray();
-  for (float v : values) json->Number(v);
+  for (V v : values) json->Number(v);
   json->EndArray();
 }
 
-void Eval(JsonWriter* json, const tr::EvalResult& e) {
+void Eval(JsonWriter* json, const rl::EvalReport& e) {
+  const rl::EvaluationSummary& s = e.summary;
   json->BeginObject();
   json->Key("actor_id").Unsigned(e.actor_id);
   json->Key("policy_version").Unsigned(e.policy_version);
   json->Key("graph_version").Unsigned(e.graph_version);
   json->Key("env_steps").Unsigned(e.env_steps);
-  json->Key("episodes").Unsigned(e.episodes);
-  json->Key("avg_distance").Number(e.avg_distance);
-  json->Key("avg_object_distance").Number(e.avg_object_distance);
-  json->Key("success_rate").Number(e.success_rate);
-  json->Key("selectivity").Number(e.selectivity);
+  json->Key("episodes").Unsigned(static_cast<uint32_t>(s.episodes));  // as the wire counts them
+  json->Key("avg_distance").Number(s.avg_distance);
+  json->Key("avg_object_distance").Number(s.avg_object_distance);
+  json->Key("success_rate").Number(s.success_rate);
+  json->Key("selectivity").Number(s.selectivity);
   json->Key("entity_distance");
-  Floats(json, e.entity_distance);
+  Floats(json, s.entity_distance);
   json->Key("subgoal_success");
-  Floats(json, e.subgoal_success);
+  Floats(json, s.subgoal_success);
   json->EndObject();
 }
 
@@ -154,10 +156,10 @@ void Run(JsonWriter* json, const std::string& id, const mon::RunView& run, mon::
   json->Key("passive");
   run.passive ? Eval(json, *run.passive) : (void)json->Null();
   json->Key("latest_eval");
-  const tr::EvalResult* latest = mon::LatestEval(run);
+  const rl::EvalReport* latest = mon::LatestEval(run);
   latest ? Eval(json, *latest) : (void)json->Null();
   json->Key("evals").BeginArray();
-  for (const tr::EvalResult& e : run.evals) Eval(json, e);
+  for (const rl::EvalReport& e : run.evals) Eval(json, e);
   json->EndArray();
   json->Key("graph");
   Graph(json, run, now);

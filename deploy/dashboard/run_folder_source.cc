@@ -36,13 +36,17 @@ struct NodeRow {
   tr::NodeStatus status;
   std::string event;  // "lost" / "exited" rows: the monitor saw the node go (no new status)
 };
+struct EvalRow {
+  std::string run_id;
+  rl::EvalReport report;  // floats as the CSV holds them (the wire's precision)
+};
 struct LearnerRow {
   std::string run_id;
   rl::LearnerReport stats;  // floats as the CSV holds them (the wire's precision)
 };
 struct Timed {
   double wall = 0;
-  std::variant<tr::EvalResult, LearnerRow, NodeRow> sample;
+  std::variant<EvalRow, LearnerRow, NodeRow> sample;
 };
 
 }  // namespace
@@ -98,20 +102,25 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
   run_folder::ForEachRow(
       dir / "eval.csv",
       [&](const run_folder::CsvRow& r) {
-        tr::EvalResult e;
-        e.run_id = r.TextOrThrow("run_id");
+        EvalRow row;
+        row.run_id = r.TextOrThrow("run_id");
+        rl::EvalReport& e = row.report;
         e.actor_id = static_cast<uint32_t>(r.Unsigned("actor_id"));
         e.policy_version = r.Unsigned("policy_version");
         e.graph_version = r.Unsigned("graph_version");
         e.env_steps = r.Unsigned("env_steps");
-        e.episodes = static_cast<uint32_t>(r.Unsigned("episodes"));
-        e.avg_distance = r.Float("avg_distance");
-        e.avg_object_distance = r.Float("avg_object_distance");
-        e.success_rate = r.Float("success_rate");
-        e.selectivity = r.Float("selectivity");
-        e.entity_distance = r.Floats("entity_distance");
-        e.subgoal_success = r.Floats("subgoal_success");
-        rows.push_back({r.Double("wall_time"), std::move(e)});
+        rl::EvaluationSummary& s = e.summary;
+        s.episodes = static_cast<int>(static_cast<uint32_t>(r.Unsigned("episodes")));
+        s.avg_distance = r.Float("avg_distance");
+        s.avg_object_distance = r.Float("avg_object_distance");
+        s.success_rate = r.Float("success_rate");
+        s.selectivity = r.Float("selectivity");
+        s.selectivity_episodes = s.episodes;  // as received
+        const std::vector<float> entity_distance = r.Floats("entity_distance");
+        const std::vector<float> subgoal_success = r.Floats("subgoal_success");
+        s.entity_distance.assign(entity_distance.begin(), entity_distance.end());
+        s.subgoal_success.assign(subgoal_success.begin(), subgoal_success.end());
+        rows.push_back({r.Double("wall_time"), std::move(row)});
       },
       &skipped);
   run_folder::ForEachRow(
@@ -173,8 +182,8 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
   std::map<std::string, uint64_t> learner_env_steps;  // run id -> the learner's latest count
   for (Timed& row : rows) {
     const mon::Clock::time_point at = steady(row.wall);
-    if (auto* e = std::get_if<tr::EvalResult>(&row.sample)) {
-      mon::Apply(&state, *e, at);
+    if (auto* e = std::get_if<EvalRow>(&row.sample)) {
+      mon::Apply(&state, e->run_id, e->report, at);
     } else if (auto* s = std::get_if<LearnerRow>(&row.sample)) {
       s->stats.training_env_steps = learner_env_steps[s->run_id];
       mon::Apply(&state, s->run_id, s->stats, at);

@@ -58,11 +58,10 @@ class MonitorObserver : public links::BusObserver {
     if (gethostname(name, sizeof name - 1) == 0) host_ = name;
   }
   void OnEval(const rl::EvalReport& report) override {
-    tr::EvalResult m = tr::ToMessage(report);
-    m.run_id = run_id_;
-    mon::Apply(&state_, m, mon::Clock::now());
-    if (csv_) csv_->Append(m, mon::WallTimeNow());
-    if (session_) session_->OnEval(m.policy_version, m.env_steps, m.avg_distance);
+    const rl::EvalReport received = tr::AsReceived(report);
+    mon::Apply(&state_, run_id_, received, mon::Clock::now());
+    if (csv_) csv_->Append(run_id_, received, mon::WallTimeNow());
+    if (session_) session_->OnEval(received.policy_version, received.env_steps, received.summary.avg_distance);
   }
   void OnLearnerStats(const rl::LearnerReport& report) override {
     const rl::LearnerReport received = tr::AsReceived(report);

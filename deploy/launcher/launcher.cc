@@ -196,8 +196,8 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config, tr:
       return std::nullopt;
     }
   };
-  monitor_options.on_eval = [&](const tr::EvalResult& e) {
-    session.OnEval(e.policy_version, e.env_steps, e.avg_distance);
+  monitor_options.on_eval = [&](const rl::EvalReport& e) {
+    session.OnEval(e.policy_version, e.env_steps, e.summary.avg_distance);
   };
   monitor_options.on_weights = [&](const tr::PolicyWeights& w) {
     session.OnWeights(w.version, w.update_count, w.architecture, w.parameters);

@@ -48,10 +48,12 @@ CsvSink::CsvSink(const std::string& dir) : dir_(dir) {
   Open(dir + "/nodes.csv", run_folder::HeaderLine(run_folder::kNodesColumns), &nodes_);
 }
 
-void CsvSink::Append(const transport::EvalResult& r, double wall_time) {
-  eval_ << Time(wall_time) << ',' << CsvField(r.run_id) << ',' << r.actor_id << ',' << r.policy_version << ','
-        << r.graph_version << ',' << r.env_steps << ',' << r.episodes << ',' << r.avg_distance << ','
-        << r.avg_object_distance << ',' << r.success_rate << ',' << r.selectivity << ','
+void CsvSink::Append(const std::string& run_id, const rl::EvalReport& e, double wall_time) {
+  const rl::EvaluationSummary& r = e.summary;
+  // episodes as the wire counts them (unsigned)
+  eval_ << Time(wall_time) << ',' << CsvField(run_id) << ',' << e.actor_id << ',' << e.policy_version << ','
+        << e.graph_version << ',' << e.env_steps << ',' << static_cast<uint32_t>(r.episodes) << ',' << r.avg_distance
+        << ',' << r.avg_object_distance << ',' << r.success_rate << ',' << r.selectivity << ','
         << run_folder::JoinedValues(r.entity_distance) << ',' << run_folder::JoinedValues(r.subgoal_success) << ','
         << r.independent_solved << ',' << r.independent_undone << '\n'
         << std::flush;

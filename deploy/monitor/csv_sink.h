@@ -19,7 +19,7 @@ class CsvSink {
   // Creates `dir` if needed and opens the three files. Throws std::runtime_error naming the file.
   explicit CsvSink(const std::string& dir);
 
-  void Append(const transport::EvalResult& result, double wall_time);
+  void Append(const std::string& run_id, const rl::EvalReport& result, double wall_time);
   void Append(const std::string& run_id, const rl::LearnerReport& stats, double wall_time);
   // `state_override` replaces the state column when not empty ("lost", "exited").
   void Append(const transport::NodeStatus& status, double wall_time, const std::string& state_override = "");

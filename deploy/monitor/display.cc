@@ -62,7 +62,7 @@ std::string Relative(double value, double baseline) {
 }
 
 // "e0 1.00  e1 0.80" for a per-entity vector
-std::string PerEntity(const std::vector<float>& values, const char* format) {
+std::string PerEntity(const std::vector<double>& values, const char* format) {
   std::string out;
   for (size_t i = 0; i < values.size(); ++i) {
     if (i) out += "  ";
@@ -134,26 +134,27 @@ void RenderGraph(const RunView& run, const std::string& service_detail, Clock::t
 }
 
 void RenderEval(const RunView& run, size_t history_rows, std::string* out) {
-  const transport::EvalResult* latest = LatestEval(run);
+  const rl::EvalReport* latest = LatestEval(run);
   if (!latest) {
     *out += "eval      no evaluation of a trained policy yet";
   } else {
-    const transport::EvalResult& e = *latest;
+    const rl::EvalReport& e = *latest;
+    const rl::EvaluationSummary& s = e.summary;
     *out += Format("eval      policy v%" PRIu64
                    " at %s env steps (actor %u, %u episodes): object distance "
                    "%.4f  distance %.4f  success %.2f  selectivity %.3g\n",
-                   e.policy_version, Thousands(e.env_steps).c_str(), e.actor_id, e.episodes, e.avg_object_distance,
-                   e.avg_distance, e.success_rate, e.selectivity);
-    *out += "          subgoal success: " + PerEntity(e.subgoal_success, "%.2f") + "\n";
-    *out += "          entity distance: " + PerEntity(e.entity_distance, "%.3f") + "\n";
+                   e.policy_version, Thousands(e.env_steps).c_str(), e.actor_id, static_cast<uint32_t>(s.episodes),
+                   s.avg_object_distance, s.avg_distance, s.success_rate, s.selectivity);
+    *out += "          subgoal success: " + PerEntity(s.subgoal_success, "%.2f") + "\n";
+    *out += "          entity distance: " + PerEntity(s.entity_distance, "%.3f") + "\n";
   }
   if (run.passive) {
-    const transport::EvalResult& p = *run.passive;
+    const rl::EvaluationSummary& p = run.passive->summary;
     std::string line = Format("%spassive   object distance %.4f  distance %.4f  success %.2f", latest ? "" : "\n",
                               p.avg_object_distance, p.avg_distance, p.success_rate);
     if (latest)
-      line += "   -> trained: object distance " + Relative(latest->avg_object_distance, p.avg_object_distance) +
-              ", distance " + Relative(latest->avg_distance, p.avg_distance);
+      line += "   -> trained: object distance " + Relative(latest->summary.avg_object_distance, p.avg_object_distance) +
+              ", distance " + Relative(latest->summary.avg_distance, p.avg_distance);
     if (run.passive_refused) line += Format("   (%" PRIu64 " not this run's refused)", run.passive_refused);
     *out += line + "\n";
   } else {
@@ -165,9 +166,9 @@ void RenderEval(const RunView& run, size_t history_rows, std::string* out) {
     *out += "history   env steps    policy  obj.dist  distance  success\n";
     const size_t first = run.evals.size() > history_rows ? run.evals.size() - history_rows : 0;
     for (size_t i = first; i < run.evals.size(); ++i) {
-      const transport::EvalResult& e = run.evals[i];
+      const rl::EvalReport& e = run.evals[i];
       *out += Format("          %11s  v%-5" PRIu64 " %8.4f  %8.4f  %7.2f\n", Thousands(e.env_steps).c_str(),
-                     e.policy_version, e.avg_object_distance, e.avg_distance, e.success_rate);
+                     e.policy_version, e.summary.avg_object_distance, e.summary.avg_distance, e.summary.success_rate);
     }
   }
 }
@@ -282,9 +283,9 @@ std::string RenderOneLine(const MonitorState& state, Clock::time_point now, cons
   if (total_env_steps) out += "/" + Thousands(total_env_steps);
   out += RateAndEta(run, EnvSteps(run), total_env_steps, " steps/s");
   out += "  updates " + Thousands(run.learner ? run.learner->updates : 0);
-  if (const transport::EvalResult* e = LatestEval(run)) {
-    out += Format("  eval v%" PRIu64 " obj.dist %.4f", e->policy_version, e->avg_object_distance);
-    if (run.passive) out += " (passive " + Format("%.4f", run.passive->avg_object_distance) + ")";
+  if (const rl::EvalReport* e = LatestEval(run)) {
+    out += Format("  eval v%" PRIu64 " obj.dist %.4f", e->policy_version, e->summary.avg_object_distance);
+    if (run.passive) out += " (passive " + Format("%.4f", run.passive->summary.avg_object_distance) + ")";
   } else {
     out += "  eval -";
   }

@@ -11,7 +11,7 @@ namespace tr = srics::transport;
 struct Monitor::Readers {
   tr::Reader<tr::NodeStatus> nodes;
   tr::Reader<rl::LearnerReport> learner;
-  tr::Reader<tr::EvalResult> evals;
+  tr::Reader<rl::EvalReport> evals;
   tr::Reader<tr::InteractionGraph> graph;
   std::optional<tr::Reader<tr::PolicyWeights>> weights;
 
@@ -71,8 +71,9 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
     if (csv_) csv_->Append(run_id, stats, wall);
     ++taken;
   }
-  tr::EvalResult result;
-  for (size_t i = 0; i < kMaxPerTopic && readers_->evals.Take(&result, kNoWait) == tr::TakeStatus::kSample; ++i) {
+  rl::EvalReport result;
+  for (size_t i = 0; i < kMaxPerTopic && readers_->evals.Take(&result, kNoWait, &run_id) == tr::TakeStatus::kSample;
+       ++i) {
     if (result.policy_version == 0 && options_.passive_baseline) {
       if (!passive_played_) {
         passive_played_ = true;
@@ -80,15 +81,15 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
       }
       if (passive_baseline_) {
         if (const std::string problem = PassiveMismatch(result, *passive_baseline_); !problem.empty()) {
-          ++RunOf(&state_, PrintableText(result.run_id), Clock::now()).passive_refused;
+          ++RunOf(&state_, PrintableText(run_id), Clock::now()).passive_refused;
           Refuse("eval.passive", "passive evaluation (policy v0) from actor " + std::to_string(result.actor_id) +
                                      " refused, not this run's: " + problem);
           continue;
         }
       }
     }
-    Apply(&state_, result, Clock::now());
-    if (csv_) csv_->Append(result, wall);
+    Apply(&state_, run_id, result, Clock::now());
+    if (csv_) csv_->Append(run_id, result, wall);
     if (options_.on_eval) options_.on_eval(result);
     ++taken;
   }

@@ -49,7 +49,7 @@ struct MonitorOptions {
   std::function<bool(const transport::NodeStatus&)> accept_node;
   // Called with every evaluation and every weights sample taken (may be empty): for what a
   // program keeps besides the state (the launcher: the best evaluation's weights).
-  std::function<void(const transport::EvalResult&)> on_eval;
+  std::function<void(const rl::EvalReport&)> on_eval;
   std::function<void(const transport::PolicyWeights&)> on_weights;
 };
 

@@ -149,10 +149,8 @@ std::optional<double> EnvStepRate(const RunView& run) {
   return static_cast<double>(s1 - s0) / seconds;
 }
 
-void Apply(MonitorState* state, const transport::EvalResult& received, Clock::time_point now) {
-  transport::EvalResult result = received;
-  result.run_id = PrintableText(received.run_id);
-  RunView& run = RunOf(state, result.run_id, now);
+void Apply(MonitorState* state, const std::string& run_id, const rl::EvalReport& result, Clock::time_point now) {
+  RunView& run = RunOf(state, PrintableText(run_id), now);
   if (result.policy_version == 0) {
     // the passive policy is evaluated once per evaluating actor; the first one is the baseline
     if (!run.passive) run.passive = result;
@@ -182,9 +180,11 @@ void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::
   run.weights = std::move(info);
 }
 
-std::string PassiveMismatch(const transport::EvalResult& result, const rl::EvaluationSummary& expected) {
-  if (result.episodes != static_cast<uint32_t>(expected.episodes))
-    return std::to_string(result.episodes) + " episodes, the run's passive evaluation has " +
+std::string PassiveMismatch(const rl::EvalReport& report, const rl::EvaluationSummary& expected) {
+  const rl::EvaluationSummary& result = report.summary;
+  // episodes as the wire counts them (unsigned)
+  if (static_cast<uint32_t>(result.episodes) != static_cast<uint32_t>(expected.episodes))
+    return std::to_string(static_cast<uint32_t>(result.episodes)) + " episodes, the run's passive evaluation has " +
            std::to_string(expected.episodes);
   auto differs = [](double got, double want) {
     return !std::isfinite(got) || std::fabs(got - want) > kPassiveTolerance * std::max(1.0, std::fabs(want));
@@ -257,7 +257,7 @@ uint64_t EnvSteps(const RunView& run) {
   return steps;
 }
 
-const transport::EvalResult* LatestEval(const RunView& run) { return run.evals.empty() ? nullptr : &run.evals.back(); }
+const rl::EvalReport* LatestEval(const RunView& run) { return run.evals.empty() ? nullptr : &run.evals.back(); }
 
 size_t EdgeCount(const transport::InteractionGraph& graph) {
   const size_t n = graph.num_entities;

@@ -85,11 +85,11 @@ void Add(LearnerHistory* history, const LearnerPoint& point);
 struct RunView {
   std::optional<rl::LearnerReport> learner;
   Clock::time_point learner_received;
-  std::optional<transport::EvalResult> passive;  // the first EvalResult with policy_version 0
+  std::optional<rl::EvalReport> passive;  // the first EvalResult with policy_version 0
   // policy-version-0 results refused as not this run's passive baseline (PassiveMismatch;
   // counted by Monitor, which knows the baseline), shown beside the passive line
   uint64_t passive_refused = 0;
-  std::vector<transport::EvalResult> evals;  // policy_version > 0, oldest first (bounded)
+  std::vector<rl::EvalReport> evals;  // policy_version > 0, oldest first (bounded)
   std::optional<transport::InteractionGraph> graph;
   Clock::time_point graph_received;
   std::optional<WeightsInfo> weights;
@@ -141,7 +141,7 @@ RunView& RunOf(MonitorState* state, const std::string& printable_run_id, Clock::
 // (its envelope's).
 void Apply(MonitorState* state, const transport::NodeStatus& status, Clock::time_point now);
 void Apply(MonitorState* state, const std::string& run_id, const rl::LearnerReport& stats, Clock::time_point now);
-void Apply(MonitorState* state, const transport::EvalResult& result, Clock::time_point now);
+void Apply(MonitorState* state, const std::string& run_id, const rl::EvalReport& result, Clock::time_point now);
 void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock::time_point now);
 // Keeps the version and size only.
 void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::time_point now);
@@ -157,7 +157,7 @@ inline constexpr double kPassiveTolerance = 1e-4;
 // than kPassiveTolerance (relative, at least 1e-4 m) from the expected one, or not finite.
 // Empty when it agrees. Selectivity, subgoal success and graph version are not compared (they
 // depend on the subgoals the actor used, not on the passive policy).
-std::string PassiveMismatch(const transport::EvalResult& result, const rl::EvaluationSummary& expected);
+std::string PassiveMismatch(const rl::EvalReport& result, const rl::EvaluationSummary& expected);
 
 // kAlive within lost_after of its last status; then kExited if that status said "stopping",
 // kQuiet if liveliness is known and at least as many status writers are alive as there are
@@ -181,7 +181,7 @@ uint64_t BudgetEnvSteps(const RunView& run);
 std::optional<double> EnvStepRate(const RunView& run);
 
 // The newest evaluation of a trained policy, or null.
-const transport::EvalResult* LatestEval(const RunView& run);
+const rl::EvalReport* LatestEval(const RunView& run);
 
 // Edges of a graph (adjacency entries that are 1, the diagonal excluded).
 size_t EdgeCount(const transport::InteractionGraph& graph);

@@ -197,8 +197,8 @@ void Run(const uint8_t* data, size_t size) {
       return;
     }
     case kEval: {
-      EvalResult m;
-      if (Receive(in, of_run, &m)) FromMessage(m);
+      rl::EvalReport r;
+      Receive(in, of_run, &r);
       return;
     }
     case kStats: {
@@ -237,7 +237,8 @@ template <typename T>
 void SeedValue(const std::string& dir, const std::string& name, Topic topic, const T& value) {
   const Envelope envelope{kContractVersion, kRunId};
   typename internal::CType<T>::type sample;
-  internal::ToC(value, envelope, &sample);
+  internal::SequenceBuffers buffers;
+  internal::ToC(value, envelope, &sample, &buffers);
   if (auto v = Validate(value, envelope, kRunId); !v.ok()) throw std::logic_error("seed " + name + ": " + v.reason);
   Seed(dir, name, topic, 0x10, sample);
 }
@@ -285,13 +286,13 @@ void WriteSeeds(const std::string& dir) {
     SeedMessage(dir, "graph", kGraph, ToMessage(g));
   }
   {
-    EvalResult m;
-    m.episodes = 4;
-    m.avg_distance = 0.15f;
-    m.success_rate = 0.5f;
-    m.entity_distance = {0.1f, 0.2f};
-    m.subgoal_success = {1.0f, 0.5f};
-    SeedMessage(dir, "eval", kEval, m);
+    rl::EvalReport r;
+    r.summary.episodes = 4;
+    r.summary.avg_distance = 0.15f;
+    r.summary.success_rate = 0.5f;
+    r.summary.entity_distance = {0.1f, 0.2f};
+    r.summary.subgoal_success = {1.0f, 0.5f};
+    SeedValue(dir, "eval", kEval, r);
   }
   {
     rl::LearnerReport r;

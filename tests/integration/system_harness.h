@@ -53,7 +53,7 @@ class System {
     weights_ = std::make_unique<tr::Reader<tr::PolicyWeights>>(*participant_);
     graphs_ = std::make_unique<tr::Reader<tr::InteractionGraph>>(*participant_);
     stats_ = std::make_unique<tr::Reader<rl::LearnerReport>>(*participant_);
-    evals_ = std::make_unique<tr::Reader<tr::EvalResult>>(*participant_);
+    evals_ = std::make_unique<tr::Reader<rl::EvalReport>>(*participant_);
     status_ = std::make_unique<tr::Reader<tr::NodeStatus>>(*participant_);
   }
   // Stops every role still running (SIGINT, then SIGKILL after 3 s). A role that dies by a
@@ -115,7 +115,7 @@ class System {
     }
     rl::LearnerReport s;
     while (stats_->Take(&s, 0ms) == tr::TakeStatus::kSample) stats = s;
-    tr::EvalResult e;
+    rl::EvalReport e;
     while (evals_->Take(&e, 0ms) == tr::TakeStatus::kSample) evals.push_back(e);
     tr::NodeStatus n;
     while (status_->Take(&n, 0ms) == tr::TakeStatus::kSample) nodes[n.role + "-" + std::to_string(n.node_id)] = n;
@@ -166,7 +166,7 @@ class System {
   std::optional<tr::InteractionGraph> graph;
   int graphs_received = 0;
   std::optional<rl::LearnerReport> stats;
-  std::vector<tr::EvalResult> evals;
+  std::vector<rl::EvalReport> evals;
   std::map<std::string, tr::NodeStatus> nodes;
 
  private:
@@ -179,7 +179,7 @@ class System {
   std::unique_ptr<tr::Reader<tr::PolicyWeights>> weights_;
   std::unique_ptr<tr::Reader<tr::InteractionGraph>> graphs_;
   std::unique_ptr<tr::Reader<rl::LearnerReport>> stats_;
-  std::unique_ptr<tr::Reader<tr::EvalResult>> evals_;
+  std::unique_ptr<tr::Reader<rl::EvalReport>> evals_;
   std::unique_ptr<tr::Reader<tr::NodeStatus>> status_;
   std::map<std::string, launcher::ChildProcess> children_;
 };

@@ -45,7 +45,7 @@ TEST(SystemTest, GraphServiceLearnerAndTwoActorsLearnAndFinish) {
   ASSERT_GE(system.evals.size(), 2u);
   EXPECT_EQ(system.evals.front().policy_version, 0u);
   EXPECT_GT(system.evals.back().policy_version, 0u);
-  EXPECT_EQ(system.evals.back().entity_distance.size(), 3u);
+  EXPECT_EQ(system.evals.back().summary.entity_distance.size(), 3u);
   EXPECT_TRUE(std::filesystem::exists(system.run_dir() + "/checkpoint.srics"));
 }
 

@@ -69,7 +69,7 @@ TEST(UnseenCombinationTest, LearnedCatalogueGraphIsAcceptedAndEvaluationRunsOnTh
   // evaluations (passive, then the policy) ran on the held-out combination: pucks 2, 3, 4
   ASSERT_GE(system.evals.size(), 2u);
   EXPECT_GT(system.evals.back().policy_version, 0u);
-  EXPECT_EQ(system.evals.back().entity_distance.size(), 4u);
+  EXPECT_EQ(system.evals.back().summary.entity_distance.size(), 4u);
   const std::string actor0 = Text(system.run_dir() + "/actor-0.out");
   EXPECT_NE(actor0.find("on catalogue entities [0, 2, 3, 4]"), std::string::npos) << actor0.substr(0, 3000);
   EXPECT_EQ(actor0.find("on catalogue entities [0, 1,"), std::string::npos);

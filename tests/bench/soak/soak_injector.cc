@@ -144,12 +144,12 @@ class Injector {
     send_alone(stats_, s);  // beyond any budget
 
     // evaluations that cannot be
-    EvalResult r = testing::MakeEvalResult(config_.transport.run_id, n);
-    r.avg_distance = r.avg_object_distance = kNaN;
+    rl::EvalReport r = testing::MakeEvalResult(n);
+    r.summary.avg_distance = r.summary.avg_object_distance = kNaN;
     send(evals_, r);
-    r = testing::MakeEvalResult(config_.transport.run_id, n);
+    r = testing::MakeEvalResult(n);
     r.policy_version = huge;
-    r.avg_object_distance = -1.0f;
+    r.summary.avg_object_distance = -1.0f;
     send(evals_, r);
 
     // a status that would drive a terminal
@@ -182,7 +182,7 @@ class Injector {
   Writer<PolicyWeights> weights_;
   Writer<InteractionGraph> graphs_;
   Writer<rl::LearnerReport> stats_;
-  Writer<EvalResult> evals_;
+  Writer<rl::EvalReport> evals_;
   Writer<NodeStatus> status_;
   Reader<PolicyWeights> weights_in_;
   Reader<rl::LearnerReport> stats_in_;

@@ -150,13 +150,13 @@ InteractionGraph MakeInteractionGraph(const std::string& run_id, uint64_t seed) 
   return g;
 }
 
-EvalResult MakeEvalResult(const std::string& run_id, uint64_t seed) {
-  EvalResult r;
-  r.run_id = run_id;
-  r.actor_id = 2;
-  r.policy_version = 40 + seed;
-  r.graph_version = 2;
-  r.env_steps = 123456789ull + seed;
+rl::EvalReport MakeEvalResult(uint64_t seed) {
+  rl::EvalReport e;
+  e.actor_id = 2;
+  e.policy_version = 40 + seed;
+  e.graph_version = 2;
+  e.env_steps = 123456789ull + seed;
+  rl::EvaluationSummary& r = e.summary;
   r.episodes = 50;
   r.avg_distance = 0.125f;
   r.avg_object_distance = 0.0625f;
@@ -166,9 +166,10 @@ EvalResult MakeEvalResult(const std::string& run_id, uint64_t seed) {
     r.subgoal_success.push_back((Value(seed, i + 10) + 1) / 2);
   }
   r.selectivity = 0.5f;
+  r.selectivity_episodes = r.episodes;                     // as received: every episode counts
   r.independent_solved = 5 + static_cast<uint32_t>(seed);  // non-zero: the transport tests see them cross
   r.independent_undone = 2;
-  return r;
+  return e;
 }
 
 rl::LearnerReport MakeLearnerStats(uint64_t seed) {

@@ -35,7 +35,7 @@ ReaderOptions SampleEpisodeReader(const std::string& topic_name = "");
 // varies every field (ids, sizes and values).
 PolicyWeights MakePolicyWeights(const std::string& run_id, uint64_t seed, size_t count = 1000);
 InteractionGraph MakeInteractionGraph(const std::string& run_id, uint64_t seed);
-EvalResult MakeEvalResult(const std::string& run_id, uint64_t seed);
+rl::EvalReport MakeEvalResult(uint64_t seed);       // floats exact on the wire
 rl::LearnerReport MakeLearnerStats(uint64_t seed);  // floats exact on the wire
 NodeStatus MakeNodeStatus(const std::string& run_id, uint64_t seed);
 

@@ -67,7 +67,7 @@ int WithSample(const std::string& run, const std::string& topic, uint64_t seed, 
   if (topic == "episode") return act(MakeEpisode(seed));
   if (topic == "policy_weights") return act(MakePolicyWeights(run, seed));
   if (topic == "interaction_graph") return act(MakeInteractionGraph(run, seed));
-  if (topic == "eval_result") return act(MakeEvalResult(run, seed));
+  if (topic == "eval_result") return act(MakeEvalResult(seed));
   if (topic == "learner_stats") return act(MakeLearnerStats(seed));
   if (topic == "node_status") return act(MakeNodeStatus(run, seed));
   return 2;

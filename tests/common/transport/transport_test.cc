@@ -82,7 +82,7 @@ TEST_F(TransportTest, EveryTypeRoundTripsBetweenProcesses) {
                  PeerArgs("write", {"policy_weights", "4"}));
   ExpectFromPeer(config_, "interaction_graph", testing::MakeInteractionGraph(run, 5),
                  PeerArgs("write", {"interaction_graph", "5"}));
-  ExpectFromPeer(config_, "eval_result", testing::MakeEvalResult(run, 6), PeerArgs("write", {"eval_result", "6"}));
+  ExpectFromPeer(config_, "eval_result", testing::MakeEvalResult(6), PeerArgs("write", {"eval_result", "6"}));
   ExpectFromPeer(config_, "learner_stats", testing::MakeLearnerStats(7), PeerArgs("write", {"learner_stats", "7"}));
   ExpectFromPeer(config_, "node_status", testing::MakeNodeStatus(run, 8), PeerArgs("write", {"node_status", "8"}));
 }
@@ -92,7 +92,7 @@ TEST_F(TransportTest, EveryTypeRoundTripsToAnotherProcess) {
   ExpectPeerReceives(config_, testing::MakeEpisode(13), PeerArgs("read", {"episode", "13"}));
   ExpectPeerReceives(config_, testing::MakePolicyWeights(run, 14), PeerArgs("read", {"policy_weights", "14"}));
   ExpectPeerReceives(config_, testing::MakeInteractionGraph(run, 15), PeerArgs("read", {"interaction_graph", "15"}));
-  ExpectPeerReceives(config_, testing::MakeEvalResult(run, 16), PeerArgs("read", {"eval_result", "16"}));
+  ExpectPeerReceives(config_, testing::MakeEvalResult(16), PeerArgs("read", {"eval_result", "16"}));
   ExpectPeerReceives(config_, testing::MakeLearnerStats(17), PeerArgs("read", {"learner_stats", "17"}));
   ExpectPeerReceives(config_, testing::MakeNodeStatus(run, 18), PeerArgs("read", {"node_status", "18"}));
 }
@@ -358,9 +358,9 @@ TEST_F(TransportTest, ShutdownRequestWakesBlockedTakeAndWriteAtOnce) {
 
 TEST_F(TransportTest, TakeTimesOutWithoutData) {
   Participant participant(config_);
-  Reader<EvalResult> reader(participant);
+  Reader<rl::EvalReport> reader(participant);
   const auto start = std::chrono::steady_clock::now();
-  EvalResult unused;
+  rl::EvalReport unused;
   EXPECT_EQ(reader.Take(&unused, 150ms), TakeStatus::kTimeout);
   const auto elapsed = std::chrono::steady_clock::now() - start;
   EXPECT_GE(elapsed, 140ms);

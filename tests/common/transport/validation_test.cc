@@ -26,15 +26,15 @@ TEST(ValidationTest, GoodSamplesOfEveryTypeAreAccepted) {
   const std::string run = "r1";
   EXPECT_TRUE(Validate(testing::MakePolicyWeights(run, 1), run).ok());
   EXPECT_TRUE(Validate(testing::MakeInteractionGraph(run, 1), run).ok());
-  EXPECT_TRUE(Validate(testing::MakeEvalResult(run, 1), run).ok());
+  EXPECT_TRUE(Validate(testing::MakeEvalResult(1), {.run_id = run}, run).ok());
   EXPECT_TRUE(Validate(testing::MakeLearnerStats(1), {.run_id = run}, run).ok());
   EXPECT_TRUE(Validate(testing::MakeNodeStatus(run, 1), run).ok());
   // an empty expected run id accepts every run (monitors)
-  EXPECT_TRUE(Validate(testing::MakeEvalResult("other", 1), "").ok());
+  EXPECT_TRUE(Validate(testing::MakeEvalResult(1), {.run_id = "other"}, "").ok());
 }
 
 TEST(ValidationTest, OtherRunIsNotMalformed) {
-  const Validation v = Validate(testing::MakeEvalResult("run-b", 1), "run-a");
+  const Validation v = Validate(testing::MakeEvalResult(1), {.run_id = "run-b"}, "run-a");
   EXPECT_EQ(v.verdict, Verdict::kOtherRun);
   EXPECT_EQ(Validate(testing::MakeNodeStatus("run-b", 1), "run-a").verdict, Verdict::kOtherRun);
 }
@@ -65,9 +65,9 @@ TEST(ValidationTest, EveryFloatMustBeFinite) {
   g.threshold = kInf;
   ExpectMalformed(Validate(g, "r"), "threshold");
 
-  EvalResult r = testing::MakeEvalResult("r", 1);
-  r.entity_distance[2] = kNaN;
-  ExpectMalformed(Validate(r, "r"), "entity_distance[2]");
+  rl::EvalReport r = testing::MakeEvalResult(1);
+  r.summary.entity_distance[2] = kNaN;
+  ExpectMalformed(Validate(r, {.run_id = "r"}, "r"), "entity_distance[2]");
 
   // learner stats are reports: a diverged loss is shown, not dropped
   rl::LearnerReport s = testing::MakeLearnerStats(1);
@@ -76,11 +76,9 @@ TEST(ValidationTest, EveryFloatMustBeFinite) {
 }
 
 TEST(ValidationTest, ContractVersionAndRunIdAreChecked) {
-  EvalResult e = testing::MakeEvalResult("r", 1);
-  e.contract_version = kContractVersion + 1;
-  ExpectMalformed(Validate(e, "r"), "contract_version");
-  e = testing::MakeEvalResult("", 1);
-  ExpectMalformed(Validate(e, ""), "run_id");
+  const rl::EvalReport e = testing::MakeEvalResult(1);
+  ExpectMalformed(Validate(e, {kContractVersion + 1, "r"}, "r"), "contract_version");
+  ExpectMalformed(Validate(e, {.run_id = ""}, ""), "run_id");
   NodeStatus n = testing::MakeNodeStatus("r", 1);
   n.contract_version = 0;
   ExpectMalformed(Validate(n, "r"), "contract_version");
@@ -134,19 +132,20 @@ TEST(ValidationTest, GraphStructureIsChecked) {
 }
 
 TEST(ValidationTest, EvalAndStatusRanges) {
-  EvalResult r = testing::MakeEvalResult("r", 1);
-  r.subgoal_success.pop_back();
-  ExpectMalformed(Validate(r, "r"), "subgoal_success");
-  r = testing::MakeEvalResult("r", 1);
-  r.success_rate = 1.5f;
-  ExpectMalformed(Validate(r, "r"), "success_rate");
+  const Envelope of_r{.run_id = "r"};
+  rl::EvalReport r = testing::MakeEvalResult(1);
+  r.summary.subgoal_success.pop_back();
+  ExpectMalformed(Validate(r, of_r, "r"), "subgoal_success");
+  r = testing::MakeEvalResult(1);
+  r.summary.success_rate = 1.5f;
+  ExpectMalformed(Validate(r, of_r, "r"), "success_rate");
   // an attempt cannot undo more solved objects than it began with
-  r = testing::MakeEvalResult("r", 1);
-  r.independent_solved = 3;
-  r.independent_undone = 3;
-  EXPECT_TRUE(Validate(r, "r").ok());
-  r.independent_undone = 4;
-  ExpectMalformed(Validate(r, "r"), "independent_undone (4) exceeds independent_solved (3)");
+  r = testing::MakeEvalResult(1);
+  r.summary.independent_solved = 3;
+  r.summary.independent_undone = 3;
+  EXPECT_TRUE(Validate(r, of_r, "r").ok());
+  r.summary.independent_undone = 4;
+  ExpectMalformed(Validate(r, of_r, "r"), "independent_undone (4) exceeds independent_solved (3)");
   NodeStatus n = testing::MakeNodeStatus("r", 1);
   n.state = static_cast<NodeState>(9);
   ExpectMalformed(Validate(n, "r"), "state");
@@ -173,9 +172,9 @@ TEST(ValidationTest, EveryRejectionNamesItsCounter) {
   g = testing::MakeInteractionGraph("r", 1);
   g.adjacency[2] = 7;
   EXPECT_EQ(Validate(g, "r").counter, "graph.range");
-  EvalResult e = testing::MakeEvalResult("r", 1);
-  e.avg_distance = kInf;
-  EXPECT_EQ(Validate(e, "r").counter, "eval.nonfinite");
+  rl::EvalReport e = testing::MakeEvalResult(1);
+  e.summary.avg_distance = kInf;
+  EXPECT_EQ(Validate(e, {.run_id = "r"}, "r").counter, "eval.nonfinite");
   NodeStatus n = testing::MakeNodeStatus("r", 1);
   n.host = std::string(200, 'h');
   EXPECT_EQ(Validate(n, "r").counter, "status.size");
@@ -198,12 +197,12 @@ TEST(ValidationTest, WeightsBeyondTheParameterBoundAreRefused) {
 }
 
 TEST(ValidationTest, EvaluationDistancesAreNotNegative) {
-  EvalResult e = testing::MakeEvalResult("r", 1);
-  e.entity_distance[1] = -0.5f;
-  ExpectMalformed(Validate(e, "r"), "entity_distance[1]");
-  e = testing::MakeEvalResult("r", 1);
-  e.avg_object_distance = -1;
-  EXPECT_EQ(Validate(e, "r").counter, "eval.range");
+  rl::EvalReport e = testing::MakeEvalResult(1);
+  e.summary.entity_distance[1] = -0.5f;
+  ExpectMalformed(Validate(e, {.run_id = "r"}, "r"), "entity_distance[1]");
+  e = testing::MakeEvalResult(1);
+  e.summary.avg_object_distance = -1;
+  EXPECT_EQ(Validate(e, {.run_id = "r"}, "r").counter, "eval.range");
 }
 
 TEST(RejectionCountersTest, CountedPerReasonSummedAndSummarized) {

@@ -81,9 +81,9 @@ TEST(DashboardJsonTest, RunsNodesGraphAndLearnerFromTheMonitorState) {
   const auto now = mon::Clock::now();
   mon::MonitorState state;
   state.lost_after = std::chrono::seconds(5);
-  mon::Apply(&state, Eval(0, 0, 0.25f), now);  // the passive policy
-  mon::Apply(&state, Eval(5, 1000, 0.2f), now);
-  mon::Apply(&state, Eval(9, 2000, 0.125f), now);
+  mon::Apply(&state, "r1", Eval(0, 0, 0.25f), now);  // the passive policy
+  mon::Apply(&state, "r1", Eval(5, 1000, 0.2f), now);
+  mon::Apply(&state, "r1", Eval(9, 2000, 0.125f), now);
   mon::Apply(&state, Graph(), now);
   rl::LearnerReport stats;
   stats.updates = 300;
@@ -176,15 +176,15 @@ class RunFolderTest : public ::testing::Test {
     const double t0 = mon::WallTimeNow() - 60.5 - last_age_s;
     mon::CsvSink sink(dir_.string());
     auto eval = [](uint64_t version, uint64_t steps, float object, float subgoal) {
-      transport::EvalResult e = Eval(version, steps, object, "folder-run");
-      e.entity_distance = {0.01f, object};
-      e.subgoal_success = {1.0f, subgoal};
+      rl::EvalReport e = Eval(version, steps, object);
+      e.summary.entity_distance = {0.01f, object};
+      e.summary.subgoal_success = {1.0f, subgoal};
       return e;
     };
-    sink.Append(eval(0, 0, 0.25f, 0.05f), t0);
-    sink.Append(eval(11, 1000, 0.2f, 0.3f), t0 + 20);
-    sink.Append(eval(23, 2000, 0.15f, 0.55f), t0 + 40);
-    sink.Append(eval(31, 3000, 0.1f, 0.7f), t0 + 60);
+    sink.Append("folder-run", eval(0, 0, 0.25f, 0.05f), t0);
+    sink.Append("folder-run", eval(11, 1000, 0.2f, 0.3f), t0 + 20);
+    sink.Append("folder-run", eval(23, 2000, 0.15f, 0.55f), t0 + 40);
+    sink.Append("folder-run", eval(31, 3000, 0.1f, 0.7f), t0 + 60);
     for (int k = 0; k <= 60; ++k) {
       transport::NodeStatus learner = mon::testing::Node("learner", 0, NodeState::kTraining, "folder-run");
       learner.env_steps = 50 * static_cast<uint64_t>(k);
@@ -295,7 +295,7 @@ TEST_F(RunFolderTest, RefreshSeesNewRowsAndIgnoresAHalfWrittenLine) {
   EXPECT_FALSE(folder.Refresh(mon::Clock::now()));  // nothing changed
   {
     mon::CsvSink sink(dir_.string());
-    sink.Append(Eval(40, 4000, 0.05f, "folder-run"), mon::WallTimeNow());
+    sink.Append("folder-run", Eval(40, 4000, 0.05f), mon::WallTimeNow());
   }
   std::ofstream(dir_ / "eval.csv", std::ios::app) << "1.5,folder-run,0,41,1,45";  // no newline yet
   ASSERT_TRUE(folder.Refresh(mon::Clock::now()));

@@ -393,7 +393,7 @@ TEST_F(LauncherTest, AStrangersPassiveEvaluationIsRefusedAndTheRunsActorSetsTheB
   // the stranger: a participant of its own on the run's domain, with the run's id
   const config::Config config = config::LoadConfig(config_file, sets);
   transport::Participant stranger(config.transport);
-  transport::Writer<transport::EvalResult> forger(stranger);
+  transport::Writer<rl::EvalReport> forger(stranger);
   ChildProcess launcher = ChildProcess::Spawn(
       argv,
       {.output_file = (root_ / "launcher.out").string(), .own_process_group = true, .parent_death_signal = SIGKILL});
@@ -401,13 +401,13 @@ TEST_F(LauncherTest, AStrangersPassiveEvaluationIsRefusedAndTheRunsActorSetsTheB
   // long before the actor's passive evaluation (after the graph and the first weights)
   ASSERT_TRUE(forger.WaitForReaders(1, std::chrono::seconds(30 * testing::kSanitizerSlowdown)))
       << ReadFile(root_ / "launcher.out");
-  transport::EvalResult forged;
+  rl::EvalReport forged;
   forged.actor_id = 0;
   forged.policy_version = 0;
-  forged.episodes = 2;  // actors.eval_episodes of the run
-  forged.entity_distance = {0.0f, 0.0f};
-  forged.subgoal_success = {1.0f, 1.0f};
-  forged.success_rate = 1.0f;
+  forged.summary.episodes = 2;  // actors.eval_episodes of the run
+  forged.summary.entity_distance = {0.0f, 0.0f};
+  forged.summary.subgoal_success = {1.0f, 1.0f};
+  forged.summary.success_rate = 1.0f;
   ASSERT_EQ(forger.Write(forged), transport::WriteResult::kSent);
 
   const auto exit = launcher.WaitFor(milliseconds(240000 * testing::kSanitizerSlowdown));

@@ -37,10 +37,10 @@ class CsvSinkTest : public ::testing::Test {
 
 TEST_F(CsvSinkTest, WritesHeadersAndRows) {
   CsvSink sink(dir_ + "/sub");  // created
-  transport::EvalResult eval_result = Eval(42, 50000, 0.125f);
-  eval_result.independent_solved = 7;  // the compatibility counts end the row
-  eval_result.independent_undone = 2;
-  sink.Append(eval_result, 1700000000.5);
+  rl::EvalReport eval_result = Eval(42, 50000, 0.125f);
+  eval_result.summary.independent_solved = 7;  // the compatibility counts end the row
+  eval_result.summary.independent_undone = 2;
+  sink.Append("r1", eval_result, 1700000000.5);
   rl::LearnerReport stats;
   stats.updates = 99;
   stats.transitions_inserted = 1000;
@@ -66,11 +66,11 @@ TEST_F(CsvSinkTest, WritesHeadersAndRows) {
 TEST_F(CsvSinkTest, ReopeningAppendsWithoutASecondHeader) {
   {
     CsvSink sink(dir_);
-    sink.Append(Eval(1, 10, 0.3f), 1.0);
+    sink.Append("r1", Eval(1, 10, 0.3f), 1.0);
   }
   {
     CsvSink sink(dir_);
-    sink.Append(Eval(2, 20, 0.2f), 2.0);
+    sink.Append("r1", Eval(2, 20, 0.2f), 2.0);
   }
   const auto eval = Lines(dir_ + "/eval.csv");
   ASSERT_EQ(eval.size(), 3u);

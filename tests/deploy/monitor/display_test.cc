@@ -48,9 +48,9 @@ class DisplayTest : public ::testing::Test {
     stats.updates_per_second = 80.5f;
     Apply(&state_, "r1", stats, t0_);
     Apply(&state_, Graph(), t0_);
-    Apply(&state_, Eval(0, 0, 0.20f), t0_);
-    Apply(&state_, Eval(30, 40000, 0.15f), t0_);
-    Apply(&state_, Eval(42, 50000, 0.10f), t0_);
+    Apply(&state_, "r1", Eval(0, 0, 0.20f), t0_);
+    Apply(&state_, "r1", Eval(30, 40000, 0.15f), t0_);
+    Apply(&state_, "r1", Eval(42, 50000, 0.10f), t0_);
     Apply(&state_, Node("graph", 0, NodeState::kTraining), t0_ + milliseconds(4500));
     Apply(&state_, Node("learner", 0, NodeState::kTraining), t0_ + milliseconds(4000));
     Apply(&state_, Node("actor", 0, NodeState::kTraining), t0_ + milliseconds(4000));
@@ -135,7 +135,7 @@ TEST_F(DisplayTest, NodeHealthPerRow) {
 
 TEST_F(DisplayTest, RunFilterHidesOtherRuns) {
   Apply(&state_, Node("actor", 9, NodeState::kTraining, "other-run"), now_);
-  Apply(&state_, Eval(1, 10, 0.3f, "other-run"), now_);
+  Apply(&state_, "other-run", Eval(1, 10, 0.3f), now_);
   RenderOptions only_r1;
   only_r1.run_id = "r1";
   const std::string filtered = Render(state_, now_, only_r1);

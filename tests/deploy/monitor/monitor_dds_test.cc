@@ -42,7 +42,7 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
 
   std::optional<tr::Writer<tr::NodeStatus>> status_writer(std::in_place, system);
   tr::Writer<rl::LearnerReport> stats_writer(system);
-  tr::Writer<tr::EvalResult> eval_writer(system);
+  tr::Writer<rl::EvalReport> eval_writer(system);
   tr::Writer<tr::InteractionGraph> graph_writer(system);
   tr::Writer<tr::PolicyWeights> weights_writer(system);
   ASSERT_TRUE(stats_writer.WaitForReaders(1, milliseconds(5000)));
@@ -54,7 +54,7 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   status.state = tr::NodeState::kTraining;
   rl::LearnerReport stats = tr::testing::MakeLearnerStats(2);
   stats.updates = 777;
-  tr::EvalResult eval = tr::testing::MakeEvalResult(transport.run_id, 3);
+  rl::EvalReport eval = tr::testing::MakeEvalResult(3);
   eval.policy_version = 9;
   tr::InteractionGraph graph = tr::testing::MakeInteractionGraph(transport.run_id, 4);
   tr::PolicyWeights weights = tr::testing::MakePolicyWeights(transport.run_id, 5, 1000);

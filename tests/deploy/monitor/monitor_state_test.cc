@@ -122,13 +122,13 @@ TEST_F(NodeHealthTest, NewlyGoneReportsEachTransitionOnceAndForgetsNodesThatCame
 
 TEST(MonitorStateTest, PassiveBaselineIsTheFirstVersionZeroEvaluation) {
   MonitorState state;
-  Apply(&state, Eval(0, 0, 0.20f), {});
-  Apply(&state, Eval(0, 0, 0.30f), {});  // another evaluator's passive run: not the baseline
-  Apply(&state, Eval(5, 5000, 0.15f), {});
-  Apply(&state, Eval(9, 10000, 0.10f), {});
+  Apply(&state, "r1", Eval(0, 0, 0.20f), {});
+  Apply(&state, "r1", Eval(0, 0, 0.30f), {});  // another evaluator's passive run: not the baseline
+  Apply(&state, "r1", Eval(5, 5000, 0.15f), {});
+  Apply(&state, "r1", Eval(9, 10000, 0.10f), {});
   const RunView& run = state.runs.at("r1");
   ASSERT_TRUE(run.passive.has_value());
-  EXPECT_FLOAT_EQ(run.passive->avg_object_distance, 0.20f);
+  EXPECT_FLOAT_EQ(run.passive->summary.avg_object_distance, 0.20f);
   ASSERT_EQ(run.evals.size(), 2u);
   EXPECT_EQ(LatestEval(run)->policy_version, 9u);
   EXPECT_EQ(EnvSteps(run), 10000u);
@@ -144,37 +144,37 @@ TEST(MonitorStateTest, PassiveMismatchRefusesWhatIsNotTheRunsPassiveEvaluation) 
   played.avg_object_distance = 0.1301;
   played.success_rate = 0.5;
   played.entity_distance = {0.01, 0.1, 0.2};
-  const transport::EvalResult actor = Eval(0, 0, 0.1301f);
+  const rl::EvalReport actor = Eval(0, 0, 0.1301f);
   EXPECT_EQ(PassiveMismatch(actor, played), "") << "float rounding of the wire's fields";
-  transport::EvalResult other_subgoals = actor;  // what depends on the actor's graph is not compared
-  other_subgoals.selectivity = 0.1f;
-  other_subgoals.subgoal_success = {0, 0, 0};
+  rl::EvalReport other_subgoals = actor;  // what depends on the actor's graph is not compared
+  other_subgoals.summary.selectivity = 0.1f;
+  other_subgoals.summary.subgoal_success = {0, 0, 0};
   other_subgoals.graph_version = 7;
   EXPECT_EQ(PassiveMismatch(other_subgoals, played), "");
 
   EXPECT_EQ(PassiveMismatch(Eval(0, 0, 0.0f), played),
             "avg object distance 0.0000, the run's passive evaluation gives 0.1301");
-  transport::EvalResult forged = actor;
-  forged.episodes = 3;
+  rl::EvalReport forged = actor;
+  forged.summary.episodes = 3;
   EXPECT_EQ(PassiveMismatch(forged, played), "3 episodes, the run's passive evaluation has 20");
   forged = actor;
-  forged.avg_distance = std::nanf("");
+  forged.summary.avg_distance = std::nanf("");
   EXPECT_EQ(PassiveMismatch(forged, played), "avg distance nan, the run's passive evaluation gives 0.1401");
   forged = actor;
-  forged.success_rate = 1;
+  forged.summary.success_rate = 1;
   EXPECT_NE(PassiveMismatch(forged, played), "");
   forged = actor;
-  forged.entity_distance = {0.01f, 0.1f};
+  forged.summary.entity_distance = {0.01f, 0.1f};
   EXPECT_EQ(PassiveMismatch(forged, played), "2 entity distances, the run has 3");
   forged = actor;
-  forged.entity_distance[2] = 0.2005f;  // 5e-4 m off: beyond the tolerance
+  forged.summary.entity_distance[2] = 0.2005f;  // 5e-4 m off: beyond the tolerance
   EXPECT_EQ(PassiveMismatch(forged, played), "entity 2 distance 0.2005, the run's passive evaluation gives 0.2000");
 }
 
 TEST(MonitorStateTest, EvaluationHistoryIsBounded) {
   MonitorState state;
   state.max_evals_kept = 3;
-  for (uint64_t v = 1; v <= 10; ++v) Apply(&state, Eval(v, v * 100, 0.1f), {});
+  for (uint64_t v = 1; v <= 10; ++v) Apply(&state, "r1", Eval(v, v * 100, 0.1f), {});
   const RunView& run = state.runs.at("r1");
   ASSERT_EQ(run.evals.size(), 3u);
   EXPECT_EQ(run.evals.front().policy_version, 8u);
@@ -188,9 +188,9 @@ TEST(MonitorStateTest, EnvStepsIsTheLargerOfLearnerAndEvaluation) {
   SetTrainingSteps(&stats, 7000);
   Apply(&state, "r1", stats, {});
   EXPECT_EQ(EnvSteps(state.runs.at("r1")), 7000u);
-  Apply(&state, Eval(3, 5000, 0.1f), {});
+  Apply(&state, "r1", Eval(3, 5000, 0.1f), {});
   EXPECT_EQ(EnvSteps(state.runs.at("r1")), 7000u);
-  Apply(&state, Eval(4, 9000, 0.1f), {});
+  Apply(&state, "r1", Eval(4, 9000, 0.1f), {});
   EXPECT_EQ(EnvSteps(state.runs.at("r1")), 9000u);
 }
 
@@ -252,13 +252,12 @@ TEST(MonitorBoundsTest, AFloodOfInventedIdsKeepsTheTablesAtTheirLimitsAndTheReal
   for (int k = 0; k < 3; ++k)
     for (const char* role : {"learner", "graph"})
       Apply(&state, testing::Node(role, 0, NodeState::kTraining), t0 + std::chrono::seconds(k));
-  transport::EvalResult own = testing::Eval(0, 0, 0.2f);
-  Apply(&state, own, t0);
+  rl::EvalReport own = testing::Eval(0, 0, 0.2f);
+  Apply(&state, "r1", own, t0);
   for (uint32_t i = 0; i < 100000; ++i) {
     Apply(&state, testing::Node("actor", 1000 + i, NodeState::kTraining), t0 + std::chrono::seconds(10));
-    transport::EvalResult foreign = testing::Eval(3, 1000, 0.1f);
-    foreign.run_id = "flood-" + std::to_string(i);
-    Apply(&state, foreign, t0 + std::chrono::seconds(10));
+    rl::EvalReport foreign = testing::Eval(3, 1000, 0.1f);
+    Apply(&state, "flood-" + std::to_string(i), foreign, t0 + std::chrono::seconds(10));
   }
   EXPECT_EQ(state.nodes.size(), 64u);
   EXPECT_EQ(state.evicted_nodes, 100000u + 2u - 64u);

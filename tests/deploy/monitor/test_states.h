@@ -21,21 +21,22 @@ inline transport::NodeStatus Node(const std::string& role, uint32_t id, transpor
   return s;
 }
 
-inline transport::EvalResult Eval(uint64_t policy_version, uint64_t env_steps, float object_distance,
-                                  const std::string& run_id = "r1") {
-  transport::EvalResult e;
-  e.run_id = run_id;
+// An evaluation as received (floats at the wire's precision).
+inline rl::EvalReport Eval(uint64_t policy_version, uint64_t env_steps, float object_distance) {
+  rl::EvalReport e;
   e.actor_id = 0;
   e.policy_version = policy_version;
   e.graph_version = 1;
   e.env_steps = env_steps;
-  e.episodes = 20;
-  e.avg_distance = object_distance + 0.01f;
-  e.avg_object_distance = object_distance;
-  e.success_rate = 0.5f;
-  e.entity_distance = {0.01f, 0.1f, 0.2f};
-  e.subgoal_success = {1.0f, 0.8f, 0.25f};
-  e.selectivity = 0.75f;
+  rl::EvaluationSummary& s = e.summary;
+  s.episodes = 20;
+  s.avg_distance = object_distance + 0.01f;
+  s.avg_object_distance = object_distance;
+  s.success_rate = 0.5f;
+  s.entity_distance = {0.01f, 0.1f, 0.2f};
+  s.subgoal_success = {1.0f, 0.8f, 0.25f};
+  s.selectivity = 0.75f;
+  s.selectivity_episodes = s.episodes;
   return e;
 }
 

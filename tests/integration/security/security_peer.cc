@@ -83,7 +83,7 @@ std::optional<uint32_t> ActorIdOf(const std::string& identity) {
 // Episodes, an evaluation and a status that all say they come from actor `actor_id`.
 int WriteAs(const Participant& participant, uint32_t actor_id, int count, seconds wait) {
   Writer<srics::rl::Episode> episodes(participant);
-  Writer<EvalResult> evals(participant);
+  Writer<srics::rl::EvalReport> evals(participant);
   Writer<NodeStatus> statuses(participant);
   Say(episodes.WaitForReaders(1, wait) && evals.WaitForReaders(1, wait) && statuses.WaitForReaders(1, wait)
           ? "matched"
@@ -94,7 +94,7 @@ int WriteAs(const Participant& participant, uint32_t actor_id, int count, second
     episode.actor_id = actor_id;
     if (episodes.TryWrite(episode) == WriteResult::kSent) ++sent;
   }
-  EvalResult eval = MakeEvalResult(participant.run_id(), 3);
+  srics::rl::EvalReport eval = MakeEvalResult(3);
   eval.actor_id = actor_id;
   NodeStatus status = MakeNodeStatus(participant.run_id(), 4);
   status.role = "actor";

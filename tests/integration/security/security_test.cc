@@ -348,7 +348,7 @@ TEST_F(SecurityTest, LoopbackCaptureHoldsNoPlaintextWeightsOrEpisodes) {
 TEST_F(SecurityTest, AnActorIdentityCannotSpeakForAnotherActor) {
   Participant learner(Secured("learner"));
   Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
-  Reader<EvalResult> evals(learner);
+  Reader<rl::EvalReport> evals(learner);
   Reader<NodeStatus> statuses(learner);
 
   auto forger = Peer("actor-1", {"actor-as", "0", "5", "60"});
@@ -356,7 +356,7 @@ TEST_F(SecurityTest, AnActorIdentityCannotSpeakForAnotherActor) {
   EXPECT_TRUE(SaysLine(*forger, "wrote 5"));
   EXPECT_EQ(forger->Wait(30s), 0);
   EXPECT_EQ(TakeEpisodes(episodes, 1, 3s), 0u);
-  EvalResult eval;
+  rl::EvalReport eval;
   EXPECT_EQ(evals.Take(&eval, 1s), TakeStatus::kTimeout);
   NodeStatus status;
   EXPECT_EQ(statuses.Take(&status, 1s), TakeStatus::kTimeout);
