@@ -23,6 +23,7 @@ struct InteractionGraph {
   // The graph in which the action drives the arm and the arm acts on every other entity
   // (what the graph service finds on plain Rearrange); handy for tests and ground truth.
   static InteractionGraph Star(int num_entities);
+  bool operator==(const InteractionGraph&) const = default;
 };
 
 // One subgoal: an entity, or (graph.object_ties: joint) a tied pair attempted as one, both
@@ -63,6 +64,7 @@ struct SubgoalStructure {
   uint64_t AncestorsOf(const SubgoalUnit& unit) const;
   // the entities that have a subgoal, in index order; a pair appears once, by its lower entity
   std::vector<int> SubgoalEntities() const;
+  bool operator==(const SubgoalStructure&) const = default;
 };
 
 // Pairs the objects that are each other's ancestors (a tie read both ways) into one subgoal

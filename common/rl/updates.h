@@ -20,14 +20,17 @@ inline constexpr float kMaxAbsParameter = 1000.0f;
 // Empty when every parameter is finite and within +-kMaxAbsParameter, else the first offender.
 std::string ParameterProblem(const std::vector<float>& parameters);
 
+// Policy parameters (topic PolicyWeights), as the learner publishes them and readers take them.
 struct WeightsUpdate {
   uint64_t version = 0;
   uint64_t update_count = 0;
   std::string architecture;
   std::vector<float> parameters;
+  bool operator==(const WeightsUpdate&) const = default;
 };
 
-// A published interaction graph: what the graph service sends and every process receives.
+// A published interaction graph (topic InteractionGraph): what the graph service sends and
+// every process receives.
 struct GraphUpdate {
   uint64_t version = 0;
   InteractionGraph graph;
@@ -37,6 +40,7 @@ struct GraphUpdate {
   double held_out_loss = 0;
   uint64_t training_updates = 0;
   uint32_t episodes_used = 0;
+  bool operator==(const GraphUpdate&) const = default;
 };
 
 // The learner's progress as actors see it (rate limiting, evaluation schedule, run end).

@@ -115,13 +115,15 @@ void Fields(const Op& op, M& m, C& c) {
 
 template <typename Op, typename M, Is<srics_PolicyWeights> C>
 void Fields(const Op& op, M& m, C& c) {
-  SRICS_FIELDS(op, m, c, contract_version, run_id, version, update_count, architecture, checksum, parameters);
+  SRICS_FIELDS(op, m, c, version, update_count, architecture, parameters);
 }
 
 template <typename Op, typename M, Is<srics_InteractionGraph> C>
 void Fields(const Op& op, M& m, C& c) {
-  SRICS_FIELDS(op, m, c, contract_version, run_id, version, num_entities, mean_weights, adjacency, action_entity,
-               threshold, ancestor_masks, depths, held_out_loss, training_updates, episodes_used);
+  SRICS_FIELDS(op, m, c, version, mean_weights, threshold, held_out_loss, training_updates, episodes_used);
+  SRICS_FIELDS(op, m.graph, c, num_entities, adjacency, action_entity);
+  op(m.structure.ancestor_mask, c.ancestor_masks, "ancestor_masks");
+  op(m.structure.depth, c.depths, "depths");
 }
 
 // selectivity apart: the wire has no count of the episodes that defined it
@@ -206,6 +208,21 @@ void ToC(const rl::EvalReport& in, const Envelope& envelope, srics_EvalResult* o
   out->selectivity = static_cast<float>(in.summary.selectivity_episodes ? in.summary.selectivity : 0.0);
 }
 
+void ToC(const rl::WeightsUpdate& in, const Envelope& envelope, srics_PolicyWeights* out, SequenceBuffers* buffers) {
+  ToCWithEnvelope(in, envelope, out, buffers);
+}
+
+void FromC(const srics_PolicyWeights& in, rl::WeightsUpdate* out) { Fields(FromCOp{}, *out, in); }
+
+void ToC(const rl::GraphUpdate& in, const Envelope& envelope, srics_InteractionGraph* out, SequenceBuffers* buffers) {
+  ToCWithEnvelope(in, envelope, out, buffers);
+}
+
+void FromC(const srics_InteractionGraph& in, rl::GraphUpdate* out) {
+  Fields(FromCOp{}, *out, in);
+  out->structure.partner.clear();  // not on the wire
+}
+
 void FromC(const srics_EvalResult& in, rl::EvalReport* out) {
   Fields(FromCOp{}, *out, in);
   out->summary.selectivity = in.selectivity;
@@ -230,5 +247,6 @@ T RoundTrip(const T& value) {
 
 rl::LearnerReport AsReceived(const rl::LearnerReport& value) { return RoundTrip(value); }
 rl::EvalReport AsReceived(const rl::EvalReport& value) { return RoundTrip(value); }
+rl::GraphUpdate AsReceived(const rl::GraphUpdate& value) { return RoundTrip(value); }
 
 }  // namespace srics::transport

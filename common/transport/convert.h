@@ -23,12 +23,12 @@ struct CType<rl::Episode> {
   static const dds_topic_descriptor_t* Descriptor() { return &srics_Episode_desc; }
 };
 template <>
-struct CType<PolicyWeights> {
+struct CType<rl::WeightsUpdate> {
   using type = srics_PolicyWeights;
   static const dds_topic_descriptor_t* Descriptor() { return &srics_PolicyWeights_desc; }
 };
 template <>
-struct CType<InteractionGraph> {
+struct CType<rl::GraphUpdate> {
   using type = srics_InteractionGraph;
   static const dds_topic_descriptor_t* Descriptor() { return &srics_InteractionGraph_desc; }
 };
@@ -49,9 +49,9 @@ struct CType<NodeStatus> {
 };
 
 // X(T) for each message struct of messages.h.
-#define SRICS_FOR_EACH_MESSAGE(X) X(PolicyWeights) X(InteractionGraph) X(NodeStatus)
+#define SRICS_FOR_EACH_MESSAGE(X) X(NodeStatus)
 // X(T) for each domain type converted with an Envelope (rl::Episode apart: it needs limits).
-#define SRICS_FOR_EACH_DOMAIN(X) X(rl::LearnerReport) X(rl::EvalReport)
+#define SRICS_FOR_EACH_DOMAIN(X) X(rl::LearnerReport) X(rl::EvalReport) X(rl::WeightsUpdate) X(rl::GraphUpdate)
 
 // Where ToC puts the sequences whose domain element type is not the wire's (doubles sent as
 // floats): the C sample points into it, so it must outlive the use of the sample.
@@ -97,6 +97,14 @@ void FromC(const srics_LearnerStats& in, rl::LearnerReport* out);
 // selectivity goes out as 0 when no episode defined it, and comes in counted over every episode.
 void ToC(const rl::EvalReport& in, const Envelope& envelope, srics_EvalResult* out, SequenceBuffers* buffers);
 void FromC(const srics_EvalResult& in, rl::EvalReport* out);
+// The parameters are borrowed, not copied; the checksum is left 0 (the writer stamps it) and
+// not read (the reader checks it: Validate).
+void ToC(const rl::WeightsUpdate& in, const Envelope& envelope, srics_PolicyWeights* out, SequenceBuffers* buffers);
+void FromC(const srics_PolicyWeights& in, rl::WeightsUpdate* out);
+// The structure goes out as its ancestor masks and depths and comes in as the sample has them
+// (no partners), not yet checked against the adjacency (GraphFeed does: AdoptComputedStructure).
+void ToC(const rl::GraphUpdate& in, const Envelope& envelope, srics_InteractionGraph* out, SequenceBuffers* buffers);
+void FromC(const srics_InteractionGraph& in, rl::GraphUpdate* out);
 
 // The run id and the envelope of a received sample, read without copying the rest.
 template <typename C>

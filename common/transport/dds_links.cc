@@ -50,11 +50,11 @@ DdsActorLink::DdsActorLink(const Participant& participant, uint32_t actor_id, co
 
 std::optional<rl::WeightsUpdate> DdsActorLink::PollWeights(uint64_t newer_than) {
   // no version is kept here: the actor keeps the version of the weights it accepted
-  PolicyWeights message;
+  rl::WeightsUpdate received;
   std::optional<rl::WeightsUpdate> newest;
-  while (weights_.Take(&message, std::chrono::milliseconds(0)) == TakeStatus::kSample) {
-    if (message.version <= newer_than || (newest && message.version <= newest->version)) continue;
-    newest = FromMessage(std::move(message));
+  while (weights_.Take(&received, std::chrono::milliseconds(0)) == TakeStatus::kSample) {
+    if (received.version <= newer_than || (newest && received.version <= newest->version)) continue;
+    newest = std::move(received);  // megabytes: moved, not copied
   }
   return newest;
 }
@@ -111,8 +111,7 @@ DdsLearnerLink::DdsLearnerLink(const Participant& participant, const rl::Episode
       graphs_(participant, limits.num_kinds),
       weights_(participant),
       stats_(participant),
-      status_(participant, "learner", 0),
-      run_id_(participant.run_id()) {}
+      status_(participant, "learner", 0) {}
 
 size_t DdsLearnerLink::TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds wait) {
   return episodes_.TakeMany(out, max, wait);
@@ -121,11 +120,8 @@ size_t DdsLearnerLink::TakeEpisodes(std::vector<rl::Episode>* out, size_t max, s
 std::optional<rl::GraphUpdate> DdsLearnerLink::PollGraph() { return graphs_.PollNewest(); }
 
 void DdsLearnerLink::PublishWeights(rl::WeightsUpdate weights) {
-  const uint64_t version = weights.version;
-  PolicyWeights m = ToMessage(std::move(weights));
-  m.run_id = run_id_;  // stamped here, so the writer has nothing to copy the message for
-  if (weights_.Write(m) != WriteResult::kSent && weights_.TryWrite(m) != WriteResult::kSent)
-    spdlog::info("weights v{} not sent: shutting down", version);
+  if (weights_.Write(weights) != WriteResult::kSent && weights_.TryWrite(weights) != WriteResult::kSent)
+    spdlog::info("weights v{} not sent: shutting down", weights.version);
 }
 
 void DdsLearnerLink::PublishStats(const rl::LearnerReport& report) {
@@ -186,7 +182,7 @@ void DdsEpisodeSource::TakeLoop() {
 DdsGraphSink::DdsGraphSink(const Participant& participant) : writer_(participant), status_(participant, "graph", 0) {}
 
 void DdsGraphSink::Publish(const rl::GraphUpdate& graph) {
-  if (writer_.Write(ToMessage(graph)) != WriteResult::kSent) throw std::runtime_error("shutting down");
+  if (writer_.Write(graph) != WriteResult::kSent) throw std::runtime_error("shutting down");
   spdlog::info("published graph v{}: {}", graph.version, rl::DescribeGraph(graph.graph));
 }
 

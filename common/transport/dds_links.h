@@ -63,7 +63,7 @@ class DdsActorLink final : public links::ActorLink {
   const Participant& participant_;
   rl::EpisodeLimits limits_;
   uint64_t budget_env_steps_;
-  Reader<PolicyWeights> weights_;
+  Reader<rl::WeightsUpdate> weights_;
   GraphFeed graphs_;
   Reader<rl::LearnerReport> stats_;
   Writer<rl::Episode> episodes_;
@@ -83,8 +83,8 @@ class DdsLearnerLink final : public links::LearnerLink {
   size_t TakeEpisodes(std::vector<rl::Episode>* out, size_t max, std::chrono::milliseconds wait) override;
   std::optional<rl::GraphUpdate> PollGraph() override;
   // Retries back-pressure; on the way out (shutdown) one plain attempt still goes out. The
-  // parameters are moved into the message, which is stamped here (run id, contract version)
-  // and checksummed by the writer on the C sample: no copy of the megabytes on the way.
+  // writer stamps run id and contract version and the checksum on the C sample, which borrows
+  // the parameters: no copy of the megabytes on the way.
   void PublishWeights(rl::WeightsUpdate weights) override;
   // episodes_rejected also counts the episodes this link refused.
   void PublishStats(const rl::LearnerReport& report) override;
@@ -96,10 +96,9 @@ class DdsLearnerLink final : public links::LearnerLink {
  private:
   Reader<rl::Episode> episodes_;
   GraphFeed graphs_;
-  Writer<PolicyWeights> weights_;
+  Writer<rl::WeightsUpdate> weights_;
   Writer<rl::LearnerReport> stats_;
   StatusPublisher status_;
-  std::string run_id_;
 };
 
 // The graph service's explore episodes. A thread keeps taking samples all the time, also
@@ -146,7 +145,7 @@ class DdsGraphSink final : public links::GraphSink {
   void PublishStatus(const rl::NodeReport& report) override;
 
  private:
-  Writer<InteractionGraph> writer_;
+  Writer<rl::GraphUpdate> writer_;
   StatusPublisher status_;
 };
 

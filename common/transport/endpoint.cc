@@ -209,6 +209,14 @@ struct Writer<T>::Impl {
         if (auto problem = rl::ValidateEpisode(msg, rl::LimitsOfLayout(msg.layout, msg.action_dim)); !problem.empty())
           throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + problem);
       return msg;
+    } else if constexpr (std::is_same_v<T, rl::WeightsUpdate>) {
+      // the checksum goes onto the C sample (Send): the megabytes are summed, never copied
+      checksum = options.stamp ? ParameterChecksum(msg.parameters) : 0;
+      if (options.validate)  // a checksum stamped just now is not summed again
+        if (auto v = Validate(msg, envelope, options.stamp ? std::nullopt : std::optional(checksum), "");
+            v.verdict == Verdict::kMalformed)
+          throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + v.reason);
+      return msg;
     } else if constexpr (Enveloped<T>) {
       if (options.validate)
         if (auto v = Validate(msg, envelope, ""); v.verdict == Verdict::kMalformed)
@@ -224,8 +232,6 @@ struct Writer<T>::Impl {
   const M& PrepareMessage(const M& msg) {
     const M* result = &msg;
     if (options.stamp) {
-      // the weights' checksum goes onto the C sample (Send): megabytes are never copied for it
-      if constexpr (std::is_same_v<M, PolicyWeights>) checksum = ParameterChecksum(msg.parameters);
       if (msg.contract_version != kContractVersion || msg.run_id != run_id) {
         scratch = msg;
         scratch.contract_version = kContractVersion;
@@ -233,15 +239,9 @@ struct Writer<T>::Impl {
         result = &scratch;
       }
     }
-    if (options.validate) {
-      Validation v;
-      if constexpr (std::is_same_v<M, PolicyWeights>)
-        v = Validate(*result, "", /*verify_checksum=*/!options.stamp);  // stamped just now
-      else
-        v = Validate(*result, "");
-      if (v.verdict == Verdict::kMalformed)
+    if (options.validate)
+      if (auto v = Validate(*result, ""); v.verdict == Verdict::kMalformed)
         throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + v.reason);
-    }
     return *result;
   }
 
@@ -252,10 +252,9 @@ struct Writer<T>::Impl {
       internal::ToC(msg, envelope, &sample);
     } else if constexpr (Enveloped<T>) {
       internal::ToC(msg, envelope, &sample, &buffers);
+      if constexpr (std::is_same_v<T, rl::WeightsUpdate>) sample.checksum = checksum;
     } else {
       internal::ToC(msg, &sample);
-      if constexpr (std::is_same_v<T, PolicyWeights>)
-        if (options.stamp) sample.checksum = checksum;
     }
     const dds_return_t ret = dds_write(writer, &sample);
     if (ret == DDS_RETCODE_TIMEOUT) return WriteResult::kBackPressure;
@@ -272,7 +271,7 @@ struct Writer<T>::Impl {
   std::string run_id;
   int32_t writer = 0;
   T scratch;
-  uint32_t checksum = 0;  // PolicyWeights with stamp: of the prepared sample
+  uint32_t checksum = 0;  // rl::WeightsUpdate: of the prepared sample (0 without stamp)
   Envelope envelope{options.contract_version, run_id};
   internal::SequenceBuffers buffers;  // what Send converts (doubles sent as floats)
   // the batch_delay flusher (batching writers with a delay only)
@@ -432,6 +431,9 @@ struct Reader<T>::Impl {
       if (auto problem = rl::ValidateEpisode(*out, options.episode_limits); !problem.empty())
         return {Verdict::kMalformed, std::move(problem), "episode.limits"};
       return {};
+    } else if constexpr (std::is_same_v<T, rl::WeightsUpdate>) {
+      internal::FromC(sample, out);
+      return Validate(*out, internal::EnvelopeOf(sample), sample.checksum, run_id);
     } else if constexpr (Enveloped<T>) {
       internal::FromC(sample, out);
       return Validate(*out, internal::EnvelopeOf(sample), run_id);

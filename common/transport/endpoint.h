@@ -1,6 +1,6 @@
 #pragma once
 // Typed topics, writers and readers of the domain types (rl::Episode, rl::LearnerReport,
-// rl::EvalReport) and,
+// rl::EvalReport, rl::WeightsUpdate, rl::GraphUpdate) and,
 // until they go, of the message structs of messages.h. A domain type carries no envelope: a
 // writer stamps its participant's (wire.h), a reader checks it and can tell the run id. Each owns its DDS entities
 // (deleted in the destructor) and is move-only. QoS comes from the table in topics.h. The
@@ -40,11 +40,11 @@ struct TopicOf<rl::Episode> {
   static constexpr TopicId kId = TopicId::kEpisode;
 };
 template <>
-struct TopicOf<PolicyWeights> {
+struct TopicOf<rl::WeightsUpdate> {
   static constexpr TopicId kId = TopicId::kPolicyWeights;
 };
 template <>
-struct TopicOf<InteractionGraph> {
+struct TopicOf<rl::GraphUpdate> {
   static constexpr TopicId kId = TopicId::kInteractionGraph;
 };
 template <>
@@ -74,7 +74,7 @@ enum class TakeStatus {
 
 struct WriterOptions {
   std::string topic_name;  // empty: the table's name (tests isolate themselves with others)
-  bool stamp = true;       // set contract_version, run_id (and the PolicyWeights checksum)
+  bool stamp = true;       // set contract_version, run_id (and the PolicyWeights checksum, else 0)
   bool validate = true;    // throw InvalidMessage for what a reader would reject
   // Packs consecutive samples into shared datagrams (Cyclone write batching): a written
   // sample waits in this process until Flush(), a full datagram (64 KB on the loopback

@@ -16,6 +16,11 @@
 
 namespace srics::transport {
 
+// Replaces the structure `update` came with (its ancestor masks and depths) by the one computed
+// from its adjacency. Returns why not, leaving `update` as it was, when the adjacency is not a
+// graph or the two disagree (a peer with a different algorithm or a corrupted sample).
+std::string AdoptComputedStructure(rl::GraphUpdate* update);
+
 class GraphFeed {
  public:
   // `num_entities`: the run's entity count (the arm and every object); 0 accepts any count the
@@ -30,11 +35,11 @@ class GraphFeed {
   uint64_t rejected() const { return rejected_; }
 
  private:
-  void Refuse(const char* counter, const InteractionGraph& message, const std::string& why);
+  void Refuse(const char* counter, uint64_t version, const std::string& why);
 
   const Participant& participant_;
   int num_entities_;
-  Reader<InteractionGraph> reader_;
+  Reader<rl::GraphUpdate> reader_;
   logging::RateLimiter limiter_;
   uint64_t version_ = 0;
   uint64_t rejected_ = 0;

@@ -28,38 +28,6 @@ enum class NodeState : int32_t {
 // Lowercase names ("starting", "training", ...) for logs; "invalid" for out-of-range values.
 const char* NodeStateName(NodeState state);
 
-// Latest policy parameters (topic "srics/policy_weights"), one instance per run.
-struct PolicyWeights {
-  uint32_t contract_version = kContractVersion;
-  std::string run_id;
-  uint64_t version = 0;       // 1, 2, ... per publication, across restarts
-  uint64_t update_count = 0;  // SAC updates done when these weights were taken
-  std::string architecture;   // signature that must match the actor's network
-  uint32_t checksum = 0;      // CRC-32 of the parameter bytes (see ParameterChecksum)
-  std::vector<float> parameters;
-
-  bool operator==(const PolicyWeights&) const = default;
-};
-
-// The learned interaction graph (topic "srics/interaction_graph"), one instance per run.
-struct InteractionGraph {
-  uint32_t contract_version = kContractVersion;
-  std::string run_id;
-  uint64_t version = 0;             // 1, 2, ... each time the thresholded graph changes
-  uint16_t num_entities = 0;        // N
-  std::vector<float> mean_weights;  // N x N, [i][j] = mean weight of edge i -> j
-  std::vector<uint8_t> adjacency;   // N x N, 1 where mean weight > threshold
-  int16_t action_entity = 0;        // entity the action node drives (the arm)
-  float threshold = 0;
-  std::vector<uint64_t> ancestor_masks;  // N: bit j = j on a path action -> i
-  std::vector<int16_t> depths;           // N: longest simple path from the action node, -1 = none
-  float held_out_loss = 0;
-  uint64_t training_updates = 0;
-  uint32_t episodes_used = 0;
-
-  bool operator==(const InteractionGraph&) const = default;
-};
-
 // Health of one process (topic "srics/node_status"), keyed by run, role and id.
 struct NodeStatus {
   uint32_t contract_version = kContractVersion;

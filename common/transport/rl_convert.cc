@@ -30,19 +30,6 @@ struct FromMessageOp {
   }
 };
 
-// The parameters are converted apart (moved where they can be).
-template <typename Op, typename M, typename R>
-void WeightsFields(const Op& op, M& m, R& w) {
-  SRICS_FIELDS(op, m, w, version, update_count, architecture);
-}
-
-// The structure is converted apart (recomputed from the adjacency on the way in).
-template <typename Op, typename M, typename R>
-void GraphFields(const Op& op, M& m, R& g) {
-  SRICS_FIELDS(op, m, g, version, mean_weights, threshold, held_out_loss, training_updates, episodes_used);
-  SRICS_FIELDS(op, m, g.graph, num_entities, adjacency, action_entity);
-}
-
 template <typename Op, typename M, typename R>
 void NodeFields(const Op& op, M& m, R& r) {
   SRICS_FIELDS(op, m, r, policy_version, graph_version);
@@ -51,48 +38,6 @@ void NodeFields(const Op& op, M& m, R& r) {
 }
 
 }  // namespace
-
-PolicyWeights ToMessage(const rl::WeightsUpdate& w) {
-  PolicyWeights m;
-  WeightsFields(ToMessageOp{}, m, w);
-  m.parameters = w.parameters;
-  return m;
-}
-
-PolicyWeights ToMessage(rl::WeightsUpdate&& w) {
-  PolicyWeights m;
-  WeightsFields(ToMessageOp{}, m, w);
-  m.parameters = std::move(w.parameters);  // megabytes: moved, not copied
-  return m;
-}
-
-rl::WeightsUpdate FromMessage(PolicyWeights m) {
-  rl::WeightsUpdate w;
-  WeightsFields(FromMessageOp{}, m, w);
-  w.parameters = std::move(m.parameters);  // megabytes: moved, not copied
-  return w;
-}
-
-InteractionGraph ToMessage(const rl::GraphUpdate& g) {
-  InteractionGraph m;
-  GraphFields(ToMessageOp{}, m, g);
-  m.ancestor_masks = g.structure.ancestor_mask;
-  m.depths.assign(g.structure.depth.begin(), g.structure.depth.end());
-  return m;
-}
-
-rl::GraphUpdate FromMessage(const InteractionGraph& m) {
-  rl::GraphUpdate g;
-  GraphFields(FromMessageOp{}, m, g);
-  const std::string problem = rl::ValidateGraph(g.graph);
-  if (!problem.empty()) throw std::invalid_argument("interaction graph: " + problem);
-  g.structure = rl::ComputeSubgoalStructure(g.graph);
-  if (m.ancestor_masks != g.structure.ancestor_mask)
-    throw std::invalid_argument("interaction graph: ancestor sets disagree with the adjacency");
-  if (!std::equal(m.depths.begin(), m.depths.end(), g.structure.depth.begin(), g.structure.depth.end()))
-    throw std::invalid_argument("interaction graph: depths disagree with the adjacency");
-  return g;
-}
 
 NodeStatus ToMessage(const rl::NodeReport& r, const std::string& role, uint32_t node_id) {
   NodeStatus m;

@@ -12,18 +12,6 @@
 
 namespace srics::transport {
 
-// contract_version and run_id are left for the writer to stamp.
-PolicyWeights ToMessage(const rl::WeightsUpdate& weights);
-PolicyWeights ToMessage(rl::WeightsUpdate&& weights);  // moves the parameters
-rl::WeightsUpdate FromMessage(PolicyWeights message);  // pass an rvalue to move the parameters
-
-// graph.structure is written as the ancestor masks and depths of the message.
-InteractionGraph ToMessage(const rl::GraphUpdate& graph);
-// Rebuilds the graph and recomputes ancestor sets and depths; throws std::invalid_argument
-// when the message's own ancestor masks or depths disagree with its adjacency (a peer with a
-// different algorithm or a corrupted sample).
-rl::GraphUpdate FromMessage(const InteractionGraph& message);
-
 // host, pid and uptime are the publishing process's (StatusPublisher fills them); the detail
 // is cut to the IDL's bound.
 NodeStatus ToMessage(const rl::NodeReport& report, const std::string& role, uint32_t node_id);

@@ -73,8 +73,9 @@ Validation ValidateEnvelope(uint32_t contract_version, const std::string& msg_ru
   return CheckRun(msg_run_id, run_id);
 }
 
-Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool verify_checksum) {
-  if (auto v = CheckCommon("weights", msg.contract_version, msg.run_id); !v.ok()) return v;
+Validation Validate(const rl::WeightsUpdate& msg, const Envelope& envelope, std::optional<uint32_t> checksum,
+                    std::string_view run_id) {
+  if (auto v = CheckCommon("weights", envelope.contract_version, envelope.run_id); !v.ok()) return v;
   if (msg.version < 1) return Malformed("weights.version", "version 0 (published weights start at 1)");
   if (msg.architecture.empty() || msg.architecture.size() > kArchitectureMaxLength)
     return Malformed("weights.architecture", "architecture empty or longer than 256 characters");
@@ -91,42 +92,46 @@ Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool veri
                                                   "] = " + std::to_string(msg.parameters[i]) + " outside +-" +
                                                   std::to_string(rl::kMaxAbsParameter));
   }
-  if (const uint32_t crc = verify_checksum ? ParameterChecksum(msg.parameters) : msg.checksum; crc != msg.checksum)
-    return Malformed("weights.checksum", "checksum " + std::to_string(msg.checksum) +
-                                             " does not match the parameters (" + std::to_string(crc) + ")");
-  return CheckRun(msg.run_id, run_id);
+  if (checksum)
+    if (const uint32_t crc = ParameterChecksum(msg.parameters); crc != *checksum)
+      return Malformed("weights.checksum", "checksum " + std::to_string(*checksum) +
+                                               " does not match the parameters (" + std::to_string(crc) + ")");
+  return CheckRun(envelope.run_id, run_id);
 }
 
-Validation Validate(const InteractionGraph& msg, std::string_view run_id) {
-  if (auto v = CheckCommon("graph", msg.contract_version, msg.run_id); !v.ok()) return v;
-  const uint32_t n = msg.num_entities;
-  if (msg.version < 1) return Malformed("graph.version", "version 0 (published graphs start at 1)");
+Validation Validate(const rl::GraphUpdate& update, const Envelope& envelope, std::string_view run_id) {
+  if (auto v = CheckCommon("graph", envelope.contract_version, envelope.run_id); !v.ok()) return v;
+  const rl::InteractionGraph& msg = update.graph;
+  const std::vector<uint64_t>& ancestor_masks = update.structure.ancestor_mask;  // as received
+  const std::vector<int>& depths = update.structure.depth;
+  const uint32_t n = static_cast<uint32_t>(msg.num_entities);
+  if (update.version < 1) return Malformed("graph.version", "version 0 (published graphs start at 1)");
   if (n < 1 || n > kMaxEntities)
     return Malformed("graph.size", "num_entities " + std::to_string(n) + " not in [1, 64]");
-  if (msg.mean_weights.size() != n * n)
-    return Malformed("graph.size", SizeMismatch("mean_weights", msg.mean_weights.size(), n * n, "N x N"));
+  if (update.mean_weights.size() != n * n)
+    return Malformed("graph.size", SizeMismatch("mean_weights", update.mean_weights.size(), n * n, "N x N"));
   if (msg.adjacency.size() != n * n)
     return Malformed("graph.size", SizeMismatch("adjacency", msg.adjacency.size(), n * n, "N x N"));
-  if (msg.ancestor_masks.size() != n)
-    return Malformed("graph.size", SizeMismatch("ancestor_masks", msg.ancestor_masks.size(), n, "N"));
-  if (msg.depths.size() != n) return Malformed("graph.size", SizeMismatch("depths", msg.depths.size(), n, "N"));
+  if (ancestor_masks.size() != n)
+    return Malformed("graph.size", SizeMismatch("ancestor_masks", ancestor_masks.size(), n, "N"));
+  if (depths.size() != n) return Malformed("graph.size", SizeMismatch("depths", depths.size(), n, "N"));
   if (msg.action_entity < 0 || msg.action_entity >= static_cast<int32_t>(n))
     return Malformed("graph.range", "action_entity " + std::to_string(msg.action_entity) + " not in [0, N)");
   for (size_t i = 0; i < msg.adjacency.size(); ++i)
     if (msg.adjacency[i] > 1)
       return Malformed("graph.range", "adjacency[" + std::to_string(i) + "] is neither 0 nor 1");
   for (uint32_t i = 0; i < n; ++i) {
-    if (!MaskInside(msg.ancestor_masks[i], n))
+    if (!MaskInside(ancestor_masks[i], n))
       return Malformed("graph.range", "ancestor_masks[" + std::to_string(i) + "] has bits at or above N");
     // a longest simple path from the action node has at most N edges
-    if (msg.depths[i] < -1 || msg.depths[i] > static_cast<int32_t>(n))
+    if (depths[i] < -1 || depths[i] > static_cast<int32_t>(n))
       return Malformed("graph.range",
-                       "depths[" + std::to_string(i) + "] = " + std::to_string(msg.depths[i]) + " not in [-1, N]");
+                       "depths[" + std::to_string(i) + "] = " + std::to_string(depths[i]) + " not in [-1, N]");
   }
-  if (auto r = NonFinite("mean_weights", msg.mean_weights); !r.empty()) return Malformed("graph.nonfinite", r);
-  if (!std::isfinite(msg.threshold)) return Malformed("graph.nonfinite", "threshold is not finite");
-  if (!std::isfinite(msg.held_out_loss)) return Malformed("graph.nonfinite", "held_out_loss is not finite");
-  return CheckRun(msg.run_id, run_id);
+  if (auto r = NonFinite("mean_weights", update.mean_weights); !r.empty()) return Malformed("graph.nonfinite", r);
+  if (!std::isfinite(update.threshold)) return Malformed("graph.nonfinite", "threshold is not finite");
+  if (!std::isfinite(update.held_out_loss)) return Malformed("graph.nonfinite", "held_out_loss is not finite");
+  return CheckRun(envelope.run_id, run_id);
 }
 
 Validation Validate(const rl::EvalReport& report, const Envelope& envelope, std::string_view run_id) {

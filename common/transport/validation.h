@@ -5,6 +5,7 @@
 // writers run them before sending.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,9 +46,11 @@ Validation ValidateEnvelope(uint32_t contract_version, const std::string& msg_ru
 // range; every float finite; indices and masks inside [0, N); policy parameters within
 // +-rl::kMaxAbsParameter; distances of evaluations non-negative. Episodes: rl::ValidateEpisode.
 // The counter of a malformed verdict is "<topic>.<check>" (README: the table of checks).
-// `verify_checksum` false skips the CRC (for a writer that has just computed it).
-Validation Validate(const PolicyWeights& msg, std::string_view run_id, bool verify_checksum = true);
-Validation Validate(const InteractionGraph& msg, std::string_view run_id);
+// `checksum`: the sample's, checked against the parameters (ParameterChecksum); none skips the
+// CRC (for a writer that has just computed it).
+Validation Validate(const rl::WeightsUpdate& weights, const Envelope& envelope, std::optional<uint32_t> checksum,
+                    std::string_view run_id);
+Validation Validate(const rl::GraphUpdate& update, const Envelope& envelope, std::string_view run_id);
 Validation Validate(const rl::EvalReport& report, const Envelope& envelope, std::string_view run_id);
 Validation Validate(const rl::LearnerReport& stats, const Envelope& envelope, std::string_view run_id);
 Validation Validate(const NodeStatus& msg, std::string_view run_id);

@@ -35,5 +35,6 @@ struct Envelope {
 // in-process run feeds its monitor these, so its files and display equal a DDS monitor's.
 rl::LearnerReport AsReceived(const rl::LearnerReport& value);
 rl::EvalReport AsReceived(const rl::EvalReport& value);
+rl::GraphUpdate AsReceived(const rl::GraphUpdate& value);  // structure: masks and depths only
 
 }  // namespace srics::transport

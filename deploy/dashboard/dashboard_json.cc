@@ -94,8 +94,8 @@ void Graph(JsonWriter* json, const mon::RunView& run, mon::Clock::time_point now
     json->Null();
     return;
   }
-  const tr::InteractionGraph& g = *run.graph;
-  const size_t n = g.num_entities;
+  const rl::GraphUpdate& g = *run.graph;
+  const size_t n = static_cast<size_t>(g.graph.num_entities);
   auto at = [n](const auto& matrix, size_t i, size_t j) -> double {
     const size_t k = i * n + j;
     return k < matrix.size() ? static_cast<double>(matrix[k]) : 0.0;
@@ -103,7 +103,7 @@ void Graph(JsonWriter* json, const mon::RunView& run, mon::Clock::time_point now
   json->BeginObject();
   json->Key("version").Unsigned(g.version);
   json->Key("num_entities").Unsigned(n);
-  json->Key("action_entity").Integer(g.action_entity);
+  json->Key("action_entity").Integer(g.graph.action_entity);
   json->Key("threshold").Number(g.threshold);
   json->Key("held_out_loss").Number(g.held_out_loss);
   json->Key("training_updates").Unsigned(g.training_updates);
@@ -119,13 +119,13 @@ void Graph(JsonWriter* json, const mon::RunView& run, mon::Clock::time_point now
   json->Key("edges").BeginArray();
   for (size_t i = 0; i < n; ++i)
     for (size_t j = 0; j < n; ++j) {
-      if (i == j || at(g.adjacency, i, j) == 0) continue;
+      if (i == j || at(g.graph.adjacency, i, j) == 0) continue;
       json->BeginObject().Key("from").Unsigned(i).Key("to").Unsigned(j);
       json->Key("weight").Number(at(g.mean_weights, i, j)).EndObject();
     }
   json->EndArray();
   json->Key("depths").BeginArray();
-  for (int16_t d : g.depths) json->Integer(d);
+  for (int d : g.structure.depth) json->Integer(d);
   json->EndArray();
   json->Key("age_s").Number(Seconds(now - run.graph_received));
   json->EndObject();

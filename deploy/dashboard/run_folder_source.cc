@@ -13,6 +13,7 @@
 #include "common/files/small_file.h"
 #include "common/graph_file/graph_file.h"
 #include "common/transport/rl_convert.h"
+#include "common/transport/wire.h"
 #include "deploy/monitor/csv_sink.h"
 #include "deploy/run_folder/csv.h"
 
@@ -204,17 +205,16 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
   // the graph the graph service saved (or the one the run was given)
   if (fs::exists(dir / "graph.json", error)) {
     try {
-      tr::InteractionGraph graph =
-          tr::ToMessage(graph_file::ToGraphUpdate(graph_file::LoadGraph((dir / "graph.json").string())));
+      const rl::GraphUpdate graph =
+          tr::AsReceived(graph_file::ToGraphUpdate(graph_file::LoadGraph((dir / "graph.json").string())));
       // the run it belongs to: the folder's (the one with the most rows), else none
       std::string run_id = state.runs.empty() ? std::string() : state.runs.begin()->first;
       for (const auto& [id, run] : state.runs)
         if (run.evals.size() > state.runs[run_id].evals.size()) run_id = id;
-      graph.run_id = run_id;
       const fs::file_time_type time = fs::last_write_time(dir / "graph.json", error);
       const double wall =
           std::chrono::duration<double>(std::chrono::file_clock::to_sys(time).time_since_epoch()).count();
-      mon::Apply(&state, graph, steady(wall));
+      mon::Apply(&state, run_id, graph, steady(wall));
     } catch (const std::exception&) {
       ++skipped;  // a graph that does not load is not shown
     }

@@ -75,18 +75,10 @@ class MonitorObserver : public links::BusObserver {
     }
   }
   void OnGraph(const rl::GraphUpdate& graph) override {
-    tr::InteractionGraph m = tr::ToMessage(graph);
-    m.run_id = run_id_;
-    mon::Apply(&state_, m, mon::Clock::now());
+    mon::Apply(&state_, run_id_, tr::AsReceived(graph), mon::Clock::now());
   }
   void OnWeights(const rl::WeightsUpdate& weights) override {
-    tr::PolicyWeights m;
-    m.run_id = run_id_;
-    m.version = weights.version;
-    m.update_count = weights.update_count;
-    m.architecture = weights.architecture;
-    m.parameters = weights.parameters;  // the monitor keeps only their number
-    mon::Apply(&state_, m, mon::Clock::now());
+    mon::Apply(&state_, run_id_, weights, mon::Clock::now());  // keeps only the parameters' number
     if (session_) session_->OnWeights(weights.version, weights.update_count, weights.architecture, weights.parameters);
   }
   void OnStatus(const std::string& role, uint32_t id, const rl::NodeReport& report) override {

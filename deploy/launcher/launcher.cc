@@ -199,7 +199,7 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config, tr:
   monitor_options.on_eval = [&](const rl::EvalReport& e) {
     session.OnEval(e.policy_version, e.env_steps, e.summary.avg_distance);
   };
-  monitor_options.on_weights = [&](const tr::PolicyWeights& w) {
+  monitor_options.on_weights = [&](const rl::WeightsUpdate& w) {
     session.OnWeights(w.version, w.update_count, w.architecture, w.parameters);
   };
   // a later launcher of this run id is refused (it leaves); one that came first (heard only

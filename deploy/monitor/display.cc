@@ -109,13 +109,13 @@ void RenderGraph(const RunView& run, const std::string& service_detail, Clock::t
                                    : "graph     none yet; the graph service: " + service_detail + "\n";
     return;
   }
-  const transport::InteractionGraph& g = *run.graph;
-  const size_t n = g.num_entities;
+  const rl::GraphUpdate& g = *run.graph;
+  const size_t n = static_cast<size_t>(g.graph.num_entities);
   std::string edges;
   for (size_t i = 0; i < n; ++i)
     for (size_t j = 0; j < n; ++j) {
       const size_t k = i * n + j;
-      if (i == j || k >= g.adjacency.size() || !g.adjacency[k]) continue;
+      if (i == j || k >= g.graph.adjacency.size() || !g.graph.adjacency[k]) continue;
       if (!edges.empty()) edges += ", ";
       edges += Format("%zu->%zu", i, j);
       if (k < g.mean_weights.size()) edges += Format(" %.2f", g.mean_weights[k]);
@@ -123,12 +123,13 @@ void RenderGraph(const RunView& run, const std::string& service_detail, Clock::t
   *out += Format("graph     v%" PRIu64
                  ": %zu entities, %zu edges (%s), action -> e%d, threshold %.2f, "
                  "held-out loss %.4g, %u episodes  (%s ago)\n",
-                 g.version, n, EdgeCount(g), edges.empty() ? "none" : edges.c_str(), g.action_entity, g.threshold,
+                 g.version, n, EdgeCount(g), edges.empty() ? "none" : edges.c_str(), g.graph.action_entity, g.threshold,
                  g.held_out_loss, g.episodes_used, Seconds(now - run.graph_received).c_str());
   std::string depths;
-  for (size_t i = 0; i < g.depths.size(); ++i) {
+  const std::vector<int>& depth = g.structure.depth;
+  for (size_t i = 0; i < depth.size(); ++i) {
     if (i) depths += "  ";
-    depths += "e" + std::to_string(i) + " " + (g.depths[i] < 0 ? std::string("-") : std::to_string(g.depths[i]));
+    depths += "e" + std::to_string(i) + " " + (depth[i] < 0 ? std::string("-") : std::to_string(depth[i]));
   }
   *out += "          depth: " + (depths.empty() ? std::string("-") : depths) + "   (- = not controllable)\n";
 }

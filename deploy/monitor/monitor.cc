@@ -12,8 +12,8 @@ struct Monitor::Readers {
   tr::Reader<tr::NodeStatus> nodes;
   tr::Reader<rl::LearnerReport> learner;
   tr::Reader<rl::EvalReport> evals;
-  tr::Reader<tr::InteractionGraph> graph;
-  std::optional<tr::Reader<tr::PolicyWeights>> weights;
+  tr::Reader<rl::GraphUpdate> graph;
+  std::optional<tr::Reader<rl::WeightsUpdate>> weights;
 
   Readers(const tr::Participant& participant, const tr::ReaderOptions& options, bool with_weights)
       : nodes(participant, options),
@@ -93,21 +93,23 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
     if (options_.on_eval) options_.on_eval(result);
     ++taken;
   }
-  tr::InteractionGraph graph;
-  for (size_t i = 0; i < kMaxPerTopic && readers_->graph.Take(&graph, kNoWait) == tr::TakeStatus::kSample; ++i) {
-    if (options_.num_entities > 0 && graph.num_entities != options_.num_entities) {
+  rl::GraphUpdate graph;
+  for (size_t i = 0; i < kMaxPerTopic && readers_->graph.Take(&graph, kNoWait, &run_id) == tr::TakeStatus::kSample;
+       ++i) {
+    if (options_.num_entities > 0 && graph.graph.num_entities != options_.num_entities) {
       Refuse("graph.entities", "graph v" + std::to_string(graph.version) +
-                                   " refused: " + std::to_string(graph.num_entities) + " entities, this run has " +
-                                   std::to_string(options_.num_entities));
+                                   " refused: " + std::to_string(graph.graph.num_entities) +
+                                   " entities, this run has " + std::to_string(options_.num_entities));
       continue;
     }
-    Apply(&state_, graph, Clock::now());
+    Apply(&state_, run_id, graph, Clock::now());
     ++taken;
   }
   if (readers_->weights) {
-    tr::PolicyWeights weights;
-    for (size_t i = 0; i < kMaxPerTopic && readers_->weights->Take(&weights, kNoWait) == tr::TakeStatus::kSample; ++i) {
-      Apply(&state_, weights, Clock::now());
+    rl::WeightsUpdate weights;
+    for (size_t i = 0;
+         i < kMaxPerTopic && readers_->weights->Take(&weights, kNoWait, &run_id) == tr::TakeStatus::kSample; ++i) {
+      Apply(&state_, run_id, weights, Clock::now());
       if (options_.on_weights) options_.on_weights(weights);
       ++taken;
     }

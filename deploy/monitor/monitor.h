@@ -50,7 +50,7 @@ struct MonitorOptions {
   // Called with every evaluation and every weights sample taken (may be empty): for what a
   // program keeps besides the state (the launcher: the best evaluation's weights).
   std::function<void(const rl::EvalReport&)> on_eval;
-  std::function<void(const transport::PolicyWeights&)> on_weights;
+  std::function<void(const rl::WeightsUpdate&)> on_weights;
 };
 
 class Monitor {

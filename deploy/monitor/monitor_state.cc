@@ -162,15 +162,14 @@ void Apply(MonitorState* state, const std::string& run_id, const rl::EvalReport&
                     run.evals.begin() + static_cast<ptrdiff_t>(run.evals.size() - state->max_evals_kept));
 }
 
-void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock::time_point now) {
-  RunView& run = RunOf(state, PrintableText(graph.run_id), now);
+void Apply(MonitorState* state, const std::string& run_id, const rl::GraphUpdate& graph, Clock::time_point now) {
+  RunView& run = RunOf(state, PrintableText(run_id), now);
   run.graph = graph;
-  run.graph->run_id = PrintableText(graph.run_id);
   run.graph_received = now;
 }
 
-void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::time_point now) {
-  RunView& run = RunOf(state, PrintableText(weights.run_id), now);
+void Apply(MonitorState* state, const std::string& run_id, const rl::WeightsUpdate& weights, Clock::time_point now) {
+  RunView& run = RunOf(state, PrintableText(run_id), now);
   WeightsInfo info;
   info.version = weights.version;
   info.update_count = weights.update_count;
@@ -259,8 +258,9 @@ uint64_t EnvSteps(const RunView& run) {
 
 const rl::EvalReport* LatestEval(const RunView& run) { return run.evals.empty() ? nullptr : &run.evals.back(); }
 
-size_t EdgeCount(const transport::InteractionGraph& graph) {
-  const size_t n = graph.num_entities;
+size_t EdgeCount(const rl::GraphUpdate& update) {
+  const rl::InteractionGraph& graph = update.graph;
+  const size_t n = static_cast<size_t>(graph.num_entities);
   size_t edges = 0;
   for (size_t i = 0; i < n; ++i)
     for (size_t j = 0; j < n; ++j)

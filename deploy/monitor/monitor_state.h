@@ -89,8 +89,8 @@ struct RunView {
   // policy-version-0 results refused as not this run's passive baseline (PassiveMismatch;
   // counted by Monitor, which knows the baseline), shown beside the passive line
   uint64_t passive_refused = 0;
-  std::vector<rl::EvalReport> evals;  // policy_version > 0, oldest first (bounded)
-  std::optional<transport::InteractionGraph> graph;
+  std::vector<rl::EvalReport> evals;     // policy_version > 0, oldest first (bounded)
+  std::optional<rl::GraphUpdate> graph;  // its structure as received (masks and depths)
   Clock::time_point graph_received;
   std::optional<WeightsInfo> weights;
   // (arrival, training env steps) of recent LearnerStats, for the rate and the ETA: the last
@@ -142,9 +142,9 @@ RunView& RunOf(MonitorState* state, const std::string& printable_run_id, Clock::
 void Apply(MonitorState* state, const transport::NodeStatus& status, Clock::time_point now);
 void Apply(MonitorState* state, const std::string& run_id, const rl::LearnerReport& stats, Clock::time_point now);
 void Apply(MonitorState* state, const std::string& run_id, const rl::EvalReport& result, Clock::time_point now);
-void Apply(MonitorState* state, const transport::InteractionGraph& graph, Clock::time_point now);
+void Apply(MonitorState* state, const std::string& run_id, const rl::GraphUpdate& graph, Clock::time_point now);
 // Keeps the version and size only.
-void Apply(MonitorState* state, const transport::PolicyWeights& weights, Clock::time_point now);
+void Apply(MonitorState* state, const std::string& run_id, const rl::WeightsUpdate& weights, Clock::time_point now);
 
 // How far a received passive evaluation may lie from the baseline a recorder played itself
 // (actor::PlayPassiveBaseline): float rounding of the wire's fields (1e-7 relative) with a wide
@@ -184,6 +184,6 @@ std::optional<double> EnvStepRate(const RunView& run);
 const rl::EvalReport* LatestEval(const RunView& run);
 
 // Edges of a graph (adjacency entries that are 1, the diagonal excluded).
-size_t EdgeCount(const transport::InteractionGraph& graph);
+size_t EdgeCount(const rl::GraphUpdate& graph);
 
 }  // namespace srics::monitor

@@ -14,6 +14,7 @@
 #include "common/rl/graph.h"
 #include "common/rl/updates.h"
 #include "common/transport/convert.h"
+#include "common/transport/graph_feed.h"
 #include "common/transport/rl_convert.h"
 #include "common/transport/validation.h"
 #include "tests/fuzz/fuzz_input.h"
@@ -157,7 +158,9 @@ bool Receive(WireReader& in, bool of_run, T* out) {
   typename internal::CType<T>::type sample{};
   Visit(in, sample);
   internal::FromC(sample, out);
-  if constexpr (requires { Validate(*out, internal::EnvelopeOf(sample), ""); })
+  if constexpr (std::is_same_v<T, rl::WeightsUpdate>)
+    return Validate(*out, internal::EnvelopeOf(sample), sample.checksum, of_run ? kRunId : "").ok();
+  else if constexpr (requires { Validate(*out, internal::EnvelopeOf(sample), ""); })
     return Validate(*out, internal::EnvelopeOf(sample), of_run ? kRunId : "").ok();
   else
     return Validate(*out, of_run ? kRunId : "").ok();
@@ -182,18 +185,15 @@ void Run(const uint8_t* data, size_t size) {
       return;
     }
     case kWeights: {
-      PolicyWeights m;
-      if (Receive(in, of_run, &m)) FromMessage(std::move(m));
+      rl::WeightsUpdate w;
+      Receive(in, of_run, &w);
       return;
     }
     case kGraph: {
-      InteractionGraph m;
-      if (!Receive(in, of_run, &m)) return;
-      if (m.num_entities > rl::kMaxGraphEntities) return;  // graph_feed.cc refuses it before computing
-      try {
-        FromMessage(m);
-      } catch (const std::invalid_argument&) {  // graph.structure: refused by the feed
-      }
+      rl::GraphUpdate g;
+      if (!Receive(in, of_run, &g)) return;
+      if (g.graph.num_entities > rl::kMaxGraphEntities) return;  // graph_feed.cc refuses it before computing
+      AdoptComputedStructure(&g);                                // a reason: graph.structure, refused by the feed
       return;
     }
     case kEval: {
@@ -239,7 +239,14 @@ void SeedValue(const std::string& dir, const std::string& name, Topic topic, con
   typename internal::CType<T>::type sample;
   internal::SequenceBuffers buffers;
   internal::ToC(value, envelope, &sample, &buffers);
-  if (auto v = Validate(value, envelope, kRunId); !v.ok()) throw std::logic_error("seed " + name + ": " + v.reason);
+  Validation v;
+  if constexpr (std::is_same_v<T, rl::WeightsUpdate>) {
+    sample.checksum = ParameterChecksum(value.parameters);
+    v = Validate(value, envelope, sample.checksum, kRunId);
+  } else {
+    v = Validate(value, envelope, kRunId);
+  }
+  if (!v.ok()) throw std::logic_error("seed " + name + ": " + v.reason);
   Seed(dir, name, topic, 0x10, sample);
 }
 
@@ -271,9 +278,7 @@ void WriteSeeds(const std::string& dir) {
     w.version = 3;
     w.architecture = "mlp(4,8,2)";
     w.parameters = {0.5f, -0.25f, 1.0f, 0.0f, 3.0f};
-    PolicyWeights m = ToMessage(w);
-    m.checksum = ParameterChecksum(m.parameters);
-    SeedMessage(dir, "weights", kWeights, m);
+    SeedValue(dir, "weights", kWeights, w);
   }
   {
     rl::GraphUpdate g;
@@ -283,7 +288,7 @@ void WriteSeeds(const std::string& dir) {
     g.mean_weights.assign(9, 0.0);
     for (int j = 1; j < 3; ++j) g.mean_weights[j] = 0.5;
     g.threshold = 0.06;
-    SeedMessage(dir, "graph", kGraph, ToMessage(g));
+    SeedValue(dir, "graph", kGraph, g);
   }
   {
     rl::EvalReport r;

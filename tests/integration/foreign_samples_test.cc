@@ -134,7 +134,7 @@ TEST_F(ForeignSamplesTest, CompleteGraphOf16EntitiesIsRefusedAtOnceAndTheRunsGra
   transport::DdsActorLink actor(actor_side, 1, limits_, config_.run.total_env_steps, 0ms);
   transport::GraphFeed any(any_side, 0);
   transport::Reader<transport::NodeStatus> statuses(monitor_side);
-  Writer<transport::InteractionGraph> raw(foreign, Raw());
+  Writer<rl::GraphUpdate> raw(foreign, Raw());
   ASSERT_TRUE(raw.WaitForReaders(3, 10s));
   ASSERT_EQ(raw.Write(transport::testing::MakeCompleteGraph(16, uint64_t{1} << 62)), WriteResult::kSent);
 
@@ -195,28 +195,28 @@ TEST_F(ForeignSamplesTest, RefusedWeightsWithAHugeVersionDoNotFreezeTheActor) {
   actor::ActorOptions options = actor::ActorOptionsFor(config_, 1);
   options.explore_while_waiting_s = 0;
   actor::ActorLoop actor(options, &link);
-  Writer<transport::PolicyWeights> raw(foreign, Raw());
+  Writer<rl::WeightsUpdate> raw(foreign, Raw());
   ASSERT_TRUE(raw.WaitForReaders(1, 10s));
   auto refused = [&](const char* counter) {
     const auto& r = actor.counters().rejections;
     return (r.count(counter) ? r.at(counter) : 0) + Rejections(actor_side, counter);
   };
 
-  transport::PolicyWeights other = transport::ToMessage(WeightsFor(options, uint64_t{1} << 62, 5));
+  rl::WeightsUpdate other = WeightsFor(options, uint64_t{1} << 62, 5);
   other.architecture = "attention-policy/another-network";
   ASSERT_EQ(raw.Write(other), WriteResult::kSent);
   ASSERT_TRUE(Eventually([&] {
     actor.Step();
     return refused("weights.architecture") == 1;
   }));
-  transport::PolicyWeights shorter = transport::ToMessage(WeightsFor(options, uint64_t{1} << 61, 5));
+  rl::WeightsUpdate shorter = WeightsFor(options, uint64_t{1} << 61, 5);
   shorter.parameters.pop_back();
   ASSERT_EQ(raw.Write(shorter), WriteResult::kSent);
   ASSERT_TRUE(Eventually([&] {
     actor.Step();
     return refused("weights.size") == 1;
   }));
-  transport::PolicyWeights huge = transport::ToMessage(WeightsFor(options, uint64_t{1} << 60, 5));
+  rl::WeightsUpdate huge = WeightsFor(options, uint64_t{1} << 60, 5);
   huge.parameters[3] = 1e30f;  // finite: passed the old checks
   ASSERT_EQ(raw.Write(huge), WriteResult::kSent);
   ASSERT_TRUE(Eventually([&] {
@@ -398,10 +398,10 @@ TEST_F(ForeignSamplesTest, ALateJoinerGetsTheRunsGraphAndWeightsBesideAStrangers
   sink.Publish(GroundTruth(config_, 1));
   learner.PublishWeights(WeightsFor(options, 1, 11));
   std::this_thread::sleep_for(200ms);
-  Writer<transport::InteractionGraph> raw_graph(foreign, Raw());
-  Writer<transport::PolicyWeights> raw_weights(foreign, Raw());
+  Writer<rl::GraphUpdate> raw_graph(foreign, Raw());
+  Writer<rl::WeightsUpdate> raw_weights(foreign, Raw());
   ASSERT_EQ(raw_graph.Write(transport::testing::MakeCompleteGraph(16, uint64_t{1} << 62)), WriteResult::kSent);
-  transport::PolicyWeights huge = transport::ToMessage(WeightsFor(options, uint64_t{1} << 62, 5));
+  rl::WeightsUpdate huge = WeightsFor(options, uint64_t{1} << 62, 5);
   huge.parameters[3] = 1e30f;
   ASSERT_EQ(raw_weights.Write(huge), WriteResult::kSent);
   std::this_thread::sleep_for(200ms);
@@ -443,7 +443,7 @@ TEST_F(ForeignSamplesTest, LaunchersMonitorRefusesStatsAndGraphsThatCannotBeTheR
     transport::DdsLearnerLink learner(learner_side, limits_);
     transport::DdsGraphSink sink(graph_side);
     Writer<rl::LearnerReport> raw_stats(foreign, Raw());
-    Writer<transport::InteractionGraph> raw_graph(foreign, Raw());
+    Writer<rl::GraphUpdate> raw_graph(foreign, Raw());
     ASSERT_TRUE(raw_stats.WaitForReaders(1, 10s));
     ASSERT_TRUE(raw_graph.WaitForReaders(1, 10s));
     rl::LearnerReport beyond = transport::testing::MakeLearnerStats(1);

@@ -50,8 +50,8 @@ class System {
     overrides_.push_back("transport.run_id=" + run_id_);
     config_ = config::LoadConfig(config_path_, overrides_);
     participant_ = std::make_unique<tr::Participant>(config_.transport, shutdown_);
-    weights_ = std::make_unique<tr::Reader<tr::PolicyWeights>>(*participant_);
-    graphs_ = std::make_unique<tr::Reader<tr::InteractionGraph>>(*participant_);
+    weights_ = std::make_unique<tr::Reader<rl::WeightsUpdate>>(*participant_);
+    graphs_ = std::make_unique<tr::Reader<rl::GraphUpdate>>(*participant_);
     stats_ = std::make_unique<tr::Reader<rl::LearnerReport>>(*participant_);
     evals_ = std::make_unique<tr::Reader<rl::EvalReport>>(*participant_);
     status_ = std::make_unique<tr::Reader<tr::NodeStatus>>(*participant_);
@@ -103,12 +103,12 @@ class System {
 
   // Reads every topic's news into the latest_* fields; call often.
   void Poll() {
-    tr::PolicyWeights w;
+    rl::WeightsUpdate w;
     while (weights_->Take(&w, 0ms) == tr::TakeStatus::kSample) {
       weight_versions.push_back(w.version);
       latest_weights = w.version;
     }
-    tr::InteractionGraph g;
+    rl::GraphUpdate g;
     while (graphs_->Take(&g, 0ms) == tr::TakeStatus::kSample) {
       graph = g;
       ++graphs_received;
@@ -163,7 +163,7 @@ class System {
   // what the system published, as seen by this monitor
   std::vector<uint64_t> weight_versions;
   uint64_t latest_weights = 0;
-  std::optional<tr::InteractionGraph> graph;
+  std::optional<rl::GraphUpdate> graph;
   int graphs_received = 0;
   std::optional<rl::LearnerReport> stats;
   std::vector<rl::EvalReport> evals;
@@ -176,8 +176,8 @@ class System {
   config::Config config_;
   tr::Shutdown shutdown_;
   std::unique_ptr<tr::Participant> participant_;
-  std::unique_ptr<tr::Reader<tr::PolicyWeights>> weights_;
-  std::unique_ptr<tr::Reader<tr::InteractionGraph>> graphs_;
+  std::unique_ptr<tr::Reader<rl::WeightsUpdate>> weights_;
+  std::unique_ptr<tr::Reader<rl::GraphUpdate>> graphs_;
   std::unique_ptr<tr::Reader<rl::LearnerReport>> stats_;
   std::unique_ptr<tr::Reader<rl::EvalReport>> evals_;
   std::unique_ptr<tr::Reader<tr::NodeStatus>> status_;

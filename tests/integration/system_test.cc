@@ -109,7 +109,7 @@ TEST(SystemTest, RestartedGraphServiceRepublishesTheSavedGraphWithoutRetraining)
   System system("graph-restart", {"run.total_env_steps=1000000"});
   system.StartAll(1);
   ASSERT_TRUE(system.WaitUntil([&] { return system.graph.has_value(); }, 120s)) << system.Output("graph");
-  const tr::InteractionGraph first = *system.graph;
+  const rl::GraphUpdate first = *system.graph;
   system.child("graph").Signal(SIGTERM);
   ASSERT_TRUE(system.child("graph").WaitFor(5s).has_value());
   const int received = system.graphs_received;
@@ -119,7 +119,7 @@ TEST(SystemTest, RestartedGraphServiceRepublishesTheSavedGraphWithoutRetraining)
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - restarted).count();
   EXPECT_LT(seconds, 5.0) << "re-publishing took " << seconds << " s: was it retrained?";
   EXPECT_EQ(system.graph->version, first.version);
-  EXPECT_EQ(system.graph->adjacency, first.adjacency);
+  EXPECT_EQ(system.graph->graph.adjacency, first.graph.adjacency);
   EXPECT_EQ(system.graph->mean_weights, first.mean_weights);
   EXPECT_EQ(system.graph->training_updates, first.training_updates);
 }

@@ -48,9 +48,9 @@ TEST(UnseenCombinationTest, LearnedCatalogueGraphIsAcceptedAndEvaluationRunsOnTh
   // the graph service learns from the three training combinations (4 entities per episode)
   // and publishes a graph over the catalogue: the arm and all 4 pucks
   ASSERT_TRUE(system.WaitUntil([&] { return system.graph.has_value(); }, 300s)) << system.Output("graph");
-  EXPECT_EQ(system.graph->num_entities, 5);
-  EXPECT_EQ(system.graph->depths.size(), 5u);
-  EXPECT_EQ(system.graph->action_entity, 0);
+  EXPECT_EQ(system.graph->graph.num_entities, 5);
+  EXPECT_EQ(system.graph->structure.depth.size(), 5u);
+  EXPECT_EQ(system.graph->graph.action_entity, 0);
   EXPECT_EQ(system.graph->episodes_used, 60u);
   // the run ends by itself
   ASSERT_NO_FATAL_FAILURE(system.ExpectRolesFinish({"learner", "actor-0", "actor-1"}, 400s));

@@ -110,9 +110,9 @@ class Injector {
 
     // weights at a huge version
     if (auto w = Newest(weights_in_, milliseconds(500))) latest_weights_ = *w;
-    PolicyWeights base = latest_weights_.value_or(testing::MakePolicyWeights(config_.transport.run_id, n));
+    rl::WeightsUpdate base = latest_weights_.value_or(testing::MakePolicyWeights(n));
     base.version = huge;
-    PolicyWeights w = base;
+    rl::WeightsUpdate w = base;
     w.parameters.pop_back();
     send_alone(weights_, w);
     w = base;
@@ -127,7 +127,7 @@ class Injector {
 
     // graphs: too many entities (every edge set), a sample of another shape
     send_alone(graphs_, testing::MakeCompleteGraph(16, huge));
-    InteractionGraph g = testing::MakeInteractionGraph(config_.transport.run_id, n);
+    rl::GraphUpdate g = testing::MakeInteractionGraph(n);
     g.version = huge;
     send_alone(graphs_, g);
 
@@ -179,15 +179,15 @@ class Injector {
   config::Config config_;
   Participant participant_;
   Writer<rl::Episode> episodes_;
-  Writer<PolicyWeights> weights_;
-  Writer<InteractionGraph> graphs_;
+  Writer<rl::WeightsUpdate> weights_;
+  Writer<rl::GraphUpdate> graphs_;
   Writer<rl::LearnerReport> stats_;
   Writer<rl::EvalReport> evals_;
   Writer<NodeStatus> status_;
-  Reader<PolicyWeights> weights_in_;
+  Reader<rl::WeightsUpdate> weights_in_;
   Reader<rl::LearnerReport> stats_in_;
   rl::Episode template_episode_;
-  std::optional<PolicyWeights> latest_weights_;
+  std::optional<rl::WeightsUpdate> latest_weights_;
   std::optional<rl::LearnerReport> latest_stats_;
   bool had_template_ = false;
 };

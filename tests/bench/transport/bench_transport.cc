@@ -93,10 +93,8 @@ int RunReader(const Participant& participant, uint64_t count, size_t bytes_per_s
     received += n;
     last = Clock::now();
     // weights are keep-last 1 (latest wins): stop at the last version, count what arrived
-    if constexpr (std::is_same_v<T, PolicyWeights>) {
-      done = batch.back().version == count;
-      // what DdsActorLink::PollWeights hands the actor: the parameters moved out, not copied
-      for (auto& m : batch) (void)FromMessage(std::move(m));
+    if constexpr (std::is_same_v<T, rl::WeightsUpdate>) {
+      done = batch.back().version == count;  // taken as DdsActorLink::PollWeights hands it on
     } else {
       done = received >= count;
     }
@@ -124,7 +122,7 @@ int ReaderMain(const std::string& kind, uint64_t count, int domain, const std::s
   Participant participant(config);
   if (kind == "episode")
     return RunReader<srics::rl::Episode>(participant, count, EpisodeBytes(testing::MakeEpisode(0)));
-  return RunReader<PolicyWeights>(participant, count, kWeightBytes);
+  return RunReader<rl::WeightsUpdate>(participant, count, kWeightBytes);
 }
 
 // ------------------------------------------------------------------- the writer process
@@ -164,15 +162,13 @@ std::optional<Figure> RunOnce(const std::string& kind, T sample, uint64_t count,
   if (!writer.WaitForReaders(1, seconds(20))) return fail("the reader did not match in 20 s");
   const auto start = Clock::now();
   for (uint64_t i = 0; i < count; ++i) {
-    if constexpr (std::is_same_v<T, PolicyWeights>) {
+    if constexpr (std::is_same_v<T, rl::WeightsUpdate>) {
       // DdsLearnerLink::PublishWeights: the learner's fresh copy of its parameters (as
-      // Learner::TakePolicyWeights makes) moved into the message, the run id stamped there,
-      // the checksum by the writer
-      rl::WeightsUpdate update = FromMessage(PolicyWeights(sample));
+      // Learner::TakePolicyWeights makes) written as it is, envelope and checksum stamped by
+      // the writer on the C sample
+      rl::WeightsUpdate update = sample;
       update.version = i + 1;
-      PolicyWeights message = ToMessage(std::move(update));
-      message.run_id = participant.run_id();
-      if (writer.Write(message) != WriteResult::kSent) return fail("a write was not sent");
+      if (writer.Write(update) != WriteResult::kSent) return fail("a write was not sent");
     } else {
       if (writer.Write(sample) != WriteResult::kSent) return fail("a write was not sent");
     }
@@ -285,8 +281,7 @@ int main(int argc, char** argv) {
     e.actor_id = 0;
     return e;
   }();
-  const PolicyWeights weights =
-      testing::MakePolicyWeights("bench-" + std::to_string(getpid()), 1, kWeightBytes / sizeof(float));
+  const rl::WeightsUpdate weights = testing::MakePolicyWeights(1, kWeightBytes / sizeof(float));
   // the actor path (row 0) is what actors use; ddsperf batches its writes too
   constexpr int kRows = 3;
   const int batch_ms = srics::config::TransportConfig{}.episode_batch_ms;

@@ -109,9 +109,8 @@ ReaderOptions SampleEpisodeReader(const std::string& topic_name) {
   return options;
 }
 
-PolicyWeights MakePolicyWeights(const std::string& run_id, uint64_t seed, size_t count) {
-  PolicyWeights w;
-  w.run_id = run_id;
+rl::WeightsUpdate MakePolicyWeights(uint64_t seed, size_t count) {
+  rl::WeightsUpdate w;
   w.version = seed + 1;
   w.update_count = 500 * (seed + 1);
   w.architecture = "attention-sac/v1 entities=5 dim=6 hidden=256x3 seed=" + std::to_string(seed);
@@ -124,25 +123,23 @@ PolicyWeights MakePolicyWeights(const std::string& run_id, uint64_t seed, size_t
     w.parameters[2] = rl::kMaxAbsParameter;  // the largest magnitudes the contract allows
     w.parameters[3] = -rl::kMaxAbsParameter;
   }
-  w.checksum = ParameterChecksum(w.parameters);
   return w;
 }
 
-InteractionGraph MakeInteractionGraph(const std::string& run_id, uint64_t seed) {
-  InteractionGraph g;
-  const uint16_t n = 5;
-  g.run_id = run_id;
+rl::GraphUpdate MakeInteractionGraph(uint64_t seed) {
+  rl::GraphUpdate g;
+  const int n = 5;
   g.version = seed + 1;
-  g.num_entities = n;
+  g.graph.num_entities = n;
   g.threshold = 0.25f;
   for (int i = 0; i < n * n; ++i) {
     g.mean_weights.push_back(std::fabs(Value(seed, i)));
-    g.adjacency.push_back(g.mean_weights.back() > g.threshold ? 1 : 0);
+    g.graph.adjacency.push_back(g.mean_weights.back() > g.threshold ? 1 : 0);
   }
-  g.action_entity = 0;
+  g.graph.action_entity = 0;
   for (int i = 0; i < n; ++i) {
-    g.ancestor_masks.push_back((1ull << i) - 1);
-    g.depths.push_back(static_cast<int16_t>(i == n - 1 ? -1 : i));
+    g.structure.ancestor_mask.push_back((1ull << i) - 1);
+    g.structure.depth.push_back(i == n - 1 ? -1 : i);
   }
   g.held_out_loss = 0.0123f + static_cast<float>(seed);
   g.training_updates = 20000 + seed;
@@ -209,7 +206,7 @@ NodeStatus MakeNodeStatus(const std::string& run_id, uint64_t seed) {
   return s;
 }
 
-InteractionGraph MakeCompleteGraph(int entities, uint64_t version) {
+rl::GraphUpdate MakeCompleteGraph(int entities, uint64_t version) {
   rl::GraphUpdate g;
   g.version = version;
   g.graph.num_entities = entities;
@@ -217,7 +214,7 @@ InteractionGraph MakeCompleteGraph(int entities, uint64_t version) {
   g.structure = rl::ComputeSubgoalStructure(g.graph);
   g.mean_weights.assign(static_cast<size_t>(entities) * entities, 0.9);
   g.threshold = 0.5;
-  return ToMessage(g);
+  return g;
 }
 
 }  // namespace srics::transport::testing

@@ -33,15 +33,14 @@ ReaderOptions SampleEpisodeReader(const std::string& topic_name = "");
 
 // A valid sample of run `run_id` (domain types: a writer stamps its participant's); `seed`
 // varies every field (ids, sizes and values).
-PolicyWeights MakePolicyWeights(const std::string& run_id, uint64_t seed, size_t count = 1000);
-InteractionGraph MakeInteractionGraph(const std::string& run_id, uint64_t seed);
-rl::EvalReport MakeEvalResult(uint64_t seed);       // floats exact on the wire
-rl::LearnerReport MakeLearnerStats(uint64_t seed);  // floats exact on the wire
+rl::WeightsUpdate MakePolicyWeights(uint64_t seed, size_t count = 1000);
+rl::GraphUpdate MakeInteractionGraph(uint64_t seed);  // its structure not the adjacency's
+rl::EvalReport MakeEvalResult(uint64_t seed);         // floats exact on the wire
+rl::LearnerReport MakeLearnerStats(uint64_t seed);    // floats exact on the wire
 NodeStatus MakeNodeStatus(const std::string& run_id, uint64_t seed);
 
 // A well-formed graph of `entities` with every edge set, its true ancestor sets and depths
 // (16 entities hung the learner and the actors before the entity count was checked first).
-// Run id left empty: a writer stamps its participant's.
-InteractionGraph MakeCompleteGraph(int entities, uint64_t version);
+rl::GraphUpdate MakeCompleteGraph(int entities, uint64_t version);
 
 }  // namespace srics::transport::testing

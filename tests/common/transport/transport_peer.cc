@@ -65,8 +65,8 @@ int ReadOne(const Participant& participant, const T& expected) {
 template <typename Act>
 int WithSample(const std::string& run, const std::string& topic, uint64_t seed, Act act) {
   if (topic == "episode") return act(MakeEpisode(seed));
-  if (topic == "policy_weights") return act(MakePolicyWeights(run, seed));
-  if (topic == "interaction_graph") return act(MakeInteractionGraph(run, seed));
+  if (topic == "policy_weights") return act(MakePolicyWeights(seed));
+  if (topic == "interaction_graph") return act(MakeInteractionGraph(seed));
   if (topic == "eval_result") return act(MakeEvalResult(seed));
   if (topic == "learner_stats") return act(MakeLearnerStats(seed));
   if (topic == "node_status") return act(MakeNodeStatus(run, seed));
@@ -99,11 +99,11 @@ int CountEpisodes(const Participant& participant, uint64_t count) {
 }
 
 int Latest(const Participant& p) {
-  Writer<InteractionGraph> graphs(p);
-  Writer<PolicyWeights> weights(p);
+  Writer<srics::rl::GraphUpdate> graphs(p);
+  Writer<srics::rl::WeightsUpdate> weights(p);
   for (uint64_t seed : {0, 1}) {
-    if (graphs.Write(MakeInteractionGraph(p.run_id(), seed)) != WriteResult::kSent) return 5;
-    if (weights.Write(MakePolicyWeights(p.run_id(), seed)) != WriteResult::kSent) return 5;
+    if (graphs.Write(MakeInteractionGraph(seed)) != WriteResult::kSent) return 5;
+    if (weights.Write(MakePolicyWeights(seed)) != WriteResult::kSent) return 5;
   }
   Say("published");
   return BlockUntilShutdown(p, seconds(60));
@@ -179,8 +179,7 @@ int main(int argc, char** argv) {
                         [&](const auto& sample) { return ReadOne(participant, sample); });
     if (mode == "latest") return Latest(participant);
     if (mode == "count" && argc == 5) return CountEpisodes(participant, std::stoull(argv[4]));
-    if (mode == "big" && argc == 5)
-      return WriteOne(participant, MakePolicyWeights(config.run_id, 5, std::stoull(argv[4])));
+    if (mode == "big" && argc == 5) return WriteOne(participant, MakePolicyWeights(5, std::stoull(argv[4])));
     if (mode == "episodes" && argc == 6) return Episodes(participant, std::stoull(argv[4]));
     if (mode == "malformed") return Malformed(participant);
     if (mode == "block") return BlockUntilShutdown(participant, seconds(60));

@@ -78,9 +78,8 @@ void ExpectPeerReceives(const config::TransportConfig& config, const T& msg, con
 TEST_F(TransportTest, EveryTypeRoundTripsBetweenProcesses) {
   const std::string& run = config_.run_id;
   ExpectFromPeer(config_, "episode", testing::MakeEpisode(3), PeerArgs("write", {"episode", "3"}));
-  ExpectFromPeer(config_, "policy_weights", testing::MakePolicyWeights(run, 4),
-                 PeerArgs("write", {"policy_weights", "4"}));
-  ExpectFromPeer(config_, "interaction_graph", testing::MakeInteractionGraph(run, 5),
+  ExpectFromPeer(config_, "policy_weights", testing::MakePolicyWeights(4), PeerArgs("write", {"policy_weights", "4"}));
+  ExpectFromPeer(config_, "interaction_graph", testing::MakeInteractionGraph(5),
                  PeerArgs("write", {"interaction_graph", "5"}));
   ExpectFromPeer(config_, "eval_result", testing::MakeEvalResult(6), PeerArgs("write", {"eval_result", "6"}));
   ExpectFromPeer(config_, "learner_stats", testing::MakeLearnerStats(7), PeerArgs("write", {"learner_stats", "7"}));
@@ -90,8 +89,8 @@ TEST_F(TransportTest, EveryTypeRoundTripsBetweenProcesses) {
 TEST_F(TransportTest, EveryTypeRoundTripsToAnotherProcess) {
   const std::string& run = config_.run_id;
   ExpectPeerReceives(config_, testing::MakeEpisode(13), PeerArgs("read", {"episode", "13"}));
-  ExpectPeerReceives(config_, testing::MakePolicyWeights(run, 14), PeerArgs("read", {"policy_weights", "14"}));
-  ExpectPeerReceives(config_, testing::MakeInteractionGraph(run, 15), PeerArgs("read", {"interaction_graph", "15"}));
+  ExpectPeerReceives(config_, testing::MakePolicyWeights(14), PeerArgs("read", {"policy_weights", "14"}));
+  ExpectPeerReceives(config_, testing::MakeInteractionGraph(15), PeerArgs("read", {"interaction_graph", "15"}));
   ExpectPeerReceives(config_, testing::MakeEvalResult(16), PeerArgs("read", {"eval_result", "16"}));
   ExpectPeerReceives(config_, testing::MakeLearnerStats(17), PeerArgs("read", {"learner_stats", "17"}));
   ExpectPeerReceives(config_, testing::MakeNodeStatus(run, 18), PeerArgs("read", {"node_status", "18"}));
@@ -136,14 +135,14 @@ TEST_F(TransportTest, LateReaderGetsLatestGraphAndWeights) {
   ASSERT_EQ(peer.ReadLine(20s), "published");
   // created after the peer published versions 1 and 2
   Participant participant(config_);
-  Reader<InteractionGraph> graphs(participant);
-  Reader<PolicyWeights> weights(participant);
-  InteractionGraph graph;
-  PolicyWeights weight;
+  Reader<rl::GraphUpdate> graphs(participant);
+  Reader<rl::WeightsUpdate> weights(participant);
+  rl::GraphUpdate graph;
+  rl::WeightsUpdate weight;
   ASSERT_EQ(graphs.Take(&graph, 20s), TakeStatus::kSample);
   ASSERT_EQ(weights.Take(&weight, 20s), TakeStatus::kSample);
-  EXPECT_TRUE(graph == testing::MakeInteractionGraph(config_.run_id, 1));
-  EXPECT_TRUE(weight == testing::MakePolicyWeights(config_.run_id, 1));
+  EXPECT_TRUE(graph == testing::MakeInteractionGraph(1));
+  EXPECT_TRUE(weight == testing::MakePolicyWeights(1));
   EXPECT_EQ(graph.version, 2u);
   EXPECT_EQ(weight.version, 2u);
   // keep-last 1: version 1 is not delivered after version 2
@@ -158,14 +157,14 @@ TEST_F(TransportTest, LateReaderGetsLatestGraphAndWeights) {
 TEST_F(TransportTest, FiveMegabyteWeightsArriveBitIdentical) {
   constexpr size_t kCount = 5 * 1024 * 1024 / sizeof(float);
   Participant participant(config_);
-  Reader<PolicyWeights> reader(participant);
+  Reader<rl::WeightsUpdate> reader(participant);
   PeerProcess peer(SRICS_TRANSPORT_PEER, PeerArgs("big", {std::to_string(kCount)}));
-  PolicyWeights got;
+  rl::WeightsUpdate got;
   ASSERT_EQ(reader.Take(&got, 30s), TakeStatus::kSample);
-  const PolicyWeights want = testing::MakePolicyWeights(config_.run_id, 5, kCount);
+  const rl::WeightsUpdate want = testing::MakePolicyWeights(5, kCount);
   ASSERT_EQ(got.parameters.size(), kCount);
   EXPECT_EQ(std::memcmp(got.parameters.data(), want.parameters.data(), kCount * sizeof(float)), 0);
-  EXPECT_EQ(got.checksum, want.checksum);
+  EXPECT_EQ(reader.counters().rejected, 0u);     // the checksum, verified by the reader, matched
   EXPECT_TRUE(std::signbit(got.parameters[0]));  // -0.0 kept its sign
   EXPECT_EQ(peer.Wait(30s), 0);
 }
@@ -221,22 +220,19 @@ TEST_F(TransportTest, ReusedReaderSamplesCarryNothingOver) {
   ASSERT_EQ(got.size(), sent.size());
   for (size_t i = 0; i < sent.size(); ++i) EXPECT_TRUE(got[i] == sent[sent.size() - 1 - i]) << i;
 
-  // weights: the writer stamps the checksum on the C sample (the message keeps its 0) and
-  // the reader, which verifies it, gets every size exactly
-  Reader<PolicyWeights> weights_reader(participant);
-  Writer<PolicyWeights> weights_writer(participant);
+  // weights: the writer stamps the checksum on the C sample and the reader, which verifies
+  // it, gets every size exactly
+  Reader<rl::WeightsUpdate> weights_reader(participant);
+  Writer<rl::WeightsUpdate> weights_writer(participant);
   uint64_t version = 0;
   for (size_t count : {1000, 10, 3000}) {
-    PolicyWeights w = testing::MakePolicyWeights(config_.run_id, count, count);
+    rl::WeightsUpdate w = testing::MakePolicyWeights(count, count);
     w.version = ++version;
-    w.checksum = 0;
     ASSERT_EQ(weights_writer.Write(w), WriteResult::kSent);
-    EXPECT_EQ(w.checksum, 0u);
-    PolicyWeights received;
+    rl::WeightsUpdate received;
     ASSERT_EQ(weights_reader.Take(&received, 10s), TakeStatus::kSample);
     EXPECT_EQ(received.version, version);
     EXPECT_EQ(received.parameters, w.parameters);
-    EXPECT_EQ(received.checksum, ParameterChecksum(w.parameters));
   }
   EXPECT_EQ(weights_reader.counters().rejected, 0u);
   EXPECT_EQ(reader.counters().rejected, 0u);

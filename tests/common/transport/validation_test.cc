@@ -24,8 +24,9 @@ void ExpectMalformed(const Validation& v, const std::string& word) {
 
 TEST(ValidationTest, GoodSamplesOfEveryTypeAreAccepted) {
   const std::string run = "r1";
-  EXPECT_TRUE(Validate(testing::MakePolicyWeights(run, 1), run).ok());
-  EXPECT_TRUE(Validate(testing::MakeInteractionGraph(run, 1), run).ok());
+  const rl::WeightsUpdate w = testing::MakePolicyWeights(1);
+  EXPECT_TRUE(Validate(w, {.run_id = run}, ParameterChecksum(w.parameters), run).ok());
+  EXPECT_TRUE(Validate(testing::MakeInteractionGraph(1), {.run_id = run}, run).ok());
   EXPECT_TRUE(Validate(testing::MakeEvalResult(1), {.run_id = run}, run).ok());
   EXPECT_TRUE(Validate(testing::MakeLearnerStats(1), {.run_id = run}, run).ok());
   EXPECT_TRUE(Validate(testing::MakeNodeStatus(run, 1), run).ok());
@@ -53,17 +54,16 @@ TEST(ValidationTest, EnvelopeOfEverySample) {
 }
 
 TEST(ValidationTest, EveryFloatMustBeFinite) {
-  PolicyWeights w = testing::MakePolicyWeights("r", 1);
+  rl::WeightsUpdate w = testing::MakePolicyWeights(1);
   w.parameters[10] = kNaN;
-  w.checksum = ParameterChecksum(w.parameters);
-  ExpectMalformed(Validate(w, "r"), "parameters[10]");
+  ExpectMalformed(Validate(w, {.run_id = "r"}, ParameterChecksum(w.parameters), "r"), "parameters[10]");
 
-  InteractionGraph g = testing::MakeInteractionGraph("r", 1);
+  rl::GraphUpdate g = testing::MakeInteractionGraph(1);
   g.mean_weights[3] = kNaN;
-  ExpectMalformed(Validate(g, "r"), "mean_weights[3]");
-  g = testing::MakeInteractionGraph("r", 1);
+  ExpectMalformed(Validate(g, {.run_id = "r"}, "r"), "mean_weights[3]");
+  g = testing::MakeInteractionGraph(1);
   g.threshold = kInf;
-  ExpectMalformed(Validate(g, "r"), "threshold");
+  ExpectMalformed(Validate(g, {.run_id = "r"}, "r"), "threshold");
 
   rl::EvalReport r = testing::MakeEvalResult(1);
   r.summary.entity_distance[2] = kNaN;
@@ -85,16 +85,17 @@ TEST(ValidationTest, ContractVersionAndRunIdAreChecked) {
 }
 
 TEST(ValidationTest, WeightsChecksumAndVersion) {
-  PolicyWeights w = testing::MakePolicyWeights("r", 1);
+  const Envelope of_r{.run_id = "r"};
+  rl::WeightsUpdate w = testing::MakePolicyWeights(1);
+  const uint32_t sum = ParameterChecksum(w.parameters);
   w.parameters[5] += 1;
-  ExpectMalformed(Validate(w, "r"), "checksum");
-  w = testing::MakePolicyWeights("r", 1);
+  ExpectMalformed(Validate(w, of_r, sum, "r"), "checksum");
+  w = testing::MakePolicyWeights(1);
   w.version = 0;
-  ExpectMalformed(Validate(w, "r"), "version");
-  w = testing::MakePolicyWeights("r", 1);
+  ExpectMalformed(Validate(w, of_r, sum, "r"), "version");
+  w = testing::MakePolicyWeights(1);
   w.parameters.clear();
-  w.checksum = ParameterChecksum(w.parameters);
-  ExpectMalformed(Validate(w, "r"), "parameters");
+  ExpectMalformed(Validate(w, of_r, ParameterChecksum(w.parameters), "r"), "parameters");
 }
 
 TEST(ValidationTest, ChecksumIsZlibCrc32OfTheBytes) {
@@ -110,25 +111,26 @@ TEST(ValidationTest, ChecksumIsZlibCrc32OfTheBytes) {
 }
 
 TEST(ValidationTest, GraphStructureIsChecked) {
-  const InteractionGraph good = testing::MakeInteractionGraph("r", 1);
-  InteractionGraph g = good;
-  g.adjacency.pop_back();
-  ExpectMalformed(Validate(g, "r"), "adjacency");
+  const Envelope of_r{.run_id = "r"};
+  const rl::GraphUpdate good = testing::MakeInteractionGraph(1);
+  rl::GraphUpdate g = good;
+  g.graph.adjacency.pop_back();
+  ExpectMalformed(Validate(g, of_r, "r"), "adjacency");
   g = good;
-  g.adjacency[0] = 2;
-  ExpectMalformed(Validate(g, "r"), "adjacency[0]");
+  g.graph.adjacency[0] = 2;
+  ExpectMalformed(Validate(g, of_r, "r"), "adjacency[0]");
   g = good;
-  g.depths[1] = 6;  // N = 5: a simple path has at most 5 edges
-  ExpectMalformed(Validate(g, "r"), "depths[1]");
+  g.structure.depth[1] = 6;  // N = 5: a simple path has at most 5 edges
+  ExpectMalformed(Validate(g, of_r, "r"), "depths[1]");
   g = good;
-  g.depths[1] = 5;
-  EXPECT_TRUE(Validate(g, "r").ok()) << "depth N is a valid longest path";
+  g.structure.depth[1] = 5;
+  EXPECT_TRUE(Validate(g, of_r, "r").ok()) << "depth N is a valid longest path";
   g = good;
-  g.ancestor_masks[4] = 1ull << 6;
-  ExpectMalformed(Validate(g, "r"), "ancestor_masks[4]");
+  g.structure.ancestor_mask[4] = 1ull << 6;
+  ExpectMalformed(Validate(g, of_r, "r"), "ancestor_masks[4]");
   g = good;
-  g.action_entity = -1;
-  ExpectMalformed(Validate(g, "r"), "action_entity");
+  g.graph.action_entity = -1;
+  ExpectMalformed(Validate(g, of_r, "r"), "action_entity");
 }
 
 TEST(ValidationTest, EvalAndStatusRanges) {
@@ -156,22 +158,20 @@ TEST(ValidationTest, EvalAndStatusRanges) {
 
 // Issue 15: each rejection names the counter it counts in ("<topic>.<check>").
 TEST(ValidationTest, EveryRejectionNamesItsCounter) {
-  PolicyWeights w = testing::MakePolicyWeights("r", 1);
-  w.contract_version = 0;
-  EXPECT_EQ(Validate(w, "r").counter, "weights.envelope");
-  w = testing::MakePolicyWeights("r", 1);
+  rl::WeightsUpdate w = testing::MakePolicyWeights(1);
+  const uint32_t sum = ParameterChecksum(w.parameters);
+  EXPECT_EQ(Validate(w, {0, "r"}, sum, "r").counter, "weights.envelope");
   w.parameters[5] += 1;
-  EXPECT_EQ(Validate(w, "r").counter, "weights.checksum");
-  w = testing::MakePolicyWeights("r", 1);
+  EXPECT_EQ(Validate(w, {.run_id = "r"}, sum, "r").counter, "weights.checksum");
+  w = testing::MakePolicyWeights(1);
   w.parameters[7] = kNaN;
-  w.checksum = ParameterChecksum(w.parameters);
-  EXPECT_EQ(Validate(w, "r").counter, "weights.nonfinite");
-  InteractionGraph g = testing::MakeInteractionGraph("r", 1);
-  g.depths.pop_back();
-  EXPECT_EQ(Validate(g, "r").counter, "graph.size");
-  g = testing::MakeInteractionGraph("r", 1);
-  g.adjacency[2] = 7;
-  EXPECT_EQ(Validate(g, "r").counter, "graph.range");
+  EXPECT_EQ(Validate(w, {.run_id = "r"}, ParameterChecksum(w.parameters), "r").counter, "weights.nonfinite");
+  rl::GraphUpdate g = testing::MakeInteractionGraph(1);
+  g.structure.depth.pop_back();
+  EXPECT_EQ(Validate(g, {.run_id = "r"}, "r").counter, "graph.size");
+  g = testing::MakeInteractionGraph(1);
+  g.graph.adjacency[2] = 7;
+  EXPECT_EQ(Validate(g, {.run_id = "r"}, "r").counter, "graph.range");
   rl::EvalReport e = testing::MakeEvalResult(1);
   e.summary.avg_distance = kInf;
   EXPECT_EQ(Validate(e, {.run_id = "r"}, "r").counter, "eval.nonfinite");
@@ -184,16 +184,15 @@ TEST(ValidationTest, EveryRejectionNamesItsCounter) {
 
 // Finite but huge parameters overflowed the actors' policies into NaN actions: refused.
 TEST(ValidationTest, WeightsBeyondTheParameterBoundAreRefused) {
-  PolicyWeights w = testing::MakePolicyWeights("r", 1);
-  EXPECT_TRUE(Validate(w, "r").ok()) << "+-kMaxAbsParameter itself is allowed";
+  const Envelope of_r{.run_id = "r"};
+  rl::WeightsUpdate w = testing::MakePolicyWeights(1);
+  EXPECT_TRUE(Validate(w, of_r, ParameterChecksum(w.parameters), "r").ok()) << "+-kMaxAbsParameter itself is allowed";
   w.parameters[9] = 1e30f;
-  w.checksum = ParameterChecksum(w.parameters);
-  const Validation v = Validate(w, "r");
+  const Validation v = Validate(w, of_r, ParameterChecksum(w.parameters), "r");
   ExpectMalformed(v, "parameters[9]");
   EXPECT_EQ(v.counter, "weights.magnitude");
   w.parameters[9] = -std::nextafter(rl::kMaxAbsParameter, 2 * rl::kMaxAbsParameter);
-  w.checksum = ParameterChecksum(w.parameters);
-  EXPECT_EQ(Validate(w, "r").counter, "weights.magnitude");
+  EXPECT_EQ(Validate(w, of_r, ParameterChecksum(w.parameters), "r").counter, "weights.magnitude");
 }
 
 TEST(ValidationTest, EvaluationDistancesAreNotNegative) {

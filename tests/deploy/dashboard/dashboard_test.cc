@@ -84,7 +84,7 @@ TEST(DashboardJsonTest, RunsNodesGraphAndLearnerFromTheMonitorState) {
   mon::Apply(&state, "r1", Eval(0, 0, 0.25f), now);  // the passive policy
   mon::Apply(&state, "r1", Eval(5, 1000, 0.2f), now);
   mon::Apply(&state, "r1", Eval(9, 2000, 0.125f), now);
-  mon::Apply(&state, Graph(), now);
+  mon::Apply(&state, "r1", Graph(), now);
   rl::LearnerReport stats;
   stats.updates = 300;
   stats.q_loss = 0.5f;

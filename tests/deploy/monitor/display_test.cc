@@ -47,7 +47,7 @@ class DisplayTest : public ::testing::Test {
     stats.alpha = 0.05f;
     stats.updates_per_second = 80.5f;
     Apply(&state_, "r1", stats, t0_);
-    Apply(&state_, Graph(), t0_);
+    Apply(&state_, "r1", Graph(), t0_);
     Apply(&state_, "r1", Eval(0, 0, 0.20f), t0_);
     Apply(&state_, "r1", Eval(30, 40000, 0.15f), t0_);
     Apply(&state_, "r1", Eval(42, 50000, 0.10f), t0_);

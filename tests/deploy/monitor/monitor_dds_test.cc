@@ -43,8 +43,8 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   std::optional<tr::Writer<tr::NodeStatus>> status_writer(std::in_place, system);
   tr::Writer<rl::LearnerReport> stats_writer(system);
   tr::Writer<rl::EvalReport> eval_writer(system);
-  tr::Writer<tr::InteractionGraph> graph_writer(system);
-  tr::Writer<tr::PolicyWeights> weights_writer(system);
+  tr::Writer<rl::GraphUpdate> graph_writer(system);
+  tr::Writer<rl::WeightsUpdate> weights_writer(system);
   ASSERT_TRUE(stats_writer.WaitForReaders(1, milliseconds(5000)));
   ASSERT_TRUE(eval_writer.WaitForReaders(1, milliseconds(5000)));
 
@@ -56,8 +56,8 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   stats.updates = 777;
   rl::EvalReport eval = tr::testing::MakeEvalResult(3);
   eval.policy_version = 9;
-  tr::InteractionGraph graph = tr::testing::MakeInteractionGraph(transport.run_id, 4);
-  tr::PolicyWeights weights = tr::testing::MakePolicyWeights(transport.run_id, 5, 1000);
+  rl::GraphUpdate graph = tr::testing::MakeInteractionGraph(4);
+  rl::WeightsUpdate weights = tr::testing::MakePolicyWeights(5, 1000);
   ASSERT_EQ(status_writer->Write(status), tr::WriteResult::kSent);
   ASSERT_EQ(stats_writer.Write(stats), tr::WriteResult::kSent);
   ASSERT_EQ(eval_writer.Write(eval), tr::WriteResult::kSent);

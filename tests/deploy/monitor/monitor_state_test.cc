@@ -218,13 +218,12 @@ TEST(MonitorStateTest, LearnerHistoryKeepsEveryStatsAndStartsOverWithAFreshLearn
 
 TEST(MonitorStateTest, WeightsKeepVersionAndSizeOnly) {
   MonitorState state;
-  transport::PolicyWeights weights;
-  weights.run_id = "r1";
+  rl::WeightsUpdate weights;
   weights.version = 12;
   weights.update_count = 600;
   weights.architecture = "sac-attention";
   weights.parameters.assign(1000, 0.5f);
-  Apply(&state, weights, {});
+  Apply(&state, "r1", weights, {});
   const WeightsInfo& info = *state.runs.at("r1").weights;
   EXPECT_EQ(info.version, 12u);
   EXPECT_EQ(info.update_count, 600u);
@@ -234,8 +233,8 @@ TEST(MonitorStateTest, WeightsKeepVersionAndSizeOnly) {
 
 TEST(MonitorStateTest, EdgeCountIgnoresTheDiagonalAndShortAdjacency) {
   EXPECT_EQ(EdgeCount(Graph()), 2u);
-  transport::InteractionGraph truncated = Graph();
-  truncated.adjacency.resize(2);  // malformed: must not read past the end
+  rl::GraphUpdate truncated = Graph();
+  truncated.graph.adjacency.resize(2);  // malformed: must not read past the end
   EXPECT_EQ(EdgeCount(truncated), 1u);
 }
 

@@ -40,18 +40,18 @@ inline rl::EvalReport Eval(uint64_t policy_version, uint64_t env_steps, float ob
   return e;
 }
 
-inline transport::InteractionGraph Graph(const std::string& run_id = "r1") {
-  transport::InteractionGraph g;
-  g.run_id = run_id;
+// A graph as received (floats at the wire's precision, the structure as sent).
+inline rl::GraphUpdate Graph() {
+  rl::GraphUpdate g;
   g.version = 3;
-  g.num_entities = 3;
+  g.graph.num_entities = 3;
   // 0 -> 1, 1 -> 2 (and a self weight that must not count as an edge)
   g.mean_weights = {0.9f, 0.93f, 0.1f, 0.0f, 0.8f, 0.71f, 0.0f, 0.05f, 0.6f};
-  g.adjacency = {1, 1, 0, 0, 1, 1, 0, 0, 1};
-  g.action_entity = 0;
+  g.graph.adjacency = {1, 1, 0, 0, 1, 1, 0, 0, 1};
+  g.graph.action_entity = 0;
   g.threshold = 0.5f;
-  g.ancestor_masks = {1, 3, 7};
-  g.depths = {0, 1, -1};
+  g.structure.ancestor_mask = {1, 3, 7};
+  g.structure.depth = {0, 1, -1};
   g.held_out_loss = 0.0123f;
   g.episodes_used = 400;
   return g;

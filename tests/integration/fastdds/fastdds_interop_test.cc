@@ -148,7 +148,7 @@ TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsA
   }
   ASSERT_TRUE(quiet) << "the learner kept publishing weights without actors" << system.Output("learner");
   const uint64_t weights_before = system.latest_weights;
-  const tr::InteractionGraph graph_before = *system.graph;
+  const rl::GraphUpdate graph_before = *system.graph;
 
   const std::string output = system.run_dir() + "/probe.out";
   launcher::SpawnOptions options;
@@ -182,7 +182,7 @@ TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsA
   const auto& graph = topics["interaction_graph"];
   EXPECT_GE(Number(graph, "historical"), 1u) << ReadFile(output);
   EXPECT_EQ(Number(graph, "version"), graph_before.version);
-  EXPECT_EQ(Number(graph, "num_entities"), graph_before.num_entities);
+  EXPECT_EQ(Number(graph, "num_entities"), graph_before.graph.num_entities);
   const auto& nodes = topics["node_status"];
   EXPECT_GE(Number(nodes, "historical"), 2u) << "graph-0 and learner-0\n" << ReadFile(output);
   EXPECT_TRUE(ListHas(nodes, "nodes", "graph-0")) << Value(nodes, "nodes");
@@ -190,9 +190,9 @@ TEST(FastDdsInteropTest, FastDdsSubscriberFromTheIdlReadsEveryTopicOfALiveRunAsA
 
   // Live topics, consistent with what the project's own reader saw.
   const auto& episodes = topics["episode"];
-  EXPECT_EQ(Number(episodes, "num_entities"), graph_before.num_entities);
+  EXPECT_EQ(Number(episodes, "num_entities"), graph_before.graph.num_entities);
   EXPECT_TRUE(ListHas(episodes, "modes", "train")) << Value(episodes, "modes");
-  EXPECT_EQ(Number(topics["eval_result"], "entities"), graph_before.num_entities);
+  EXPECT_EQ(Number(topics["eval_result"], "entities"), graph_before.graph.num_entities);
   EXPECT_GE(Number(topics["eval_result"], "max_policy_version"), weights_before);
   EXPECT_GE(Number(topics["learner_stats"], "policy_version"), weights_before);
 }

@@ -45,9 +45,9 @@ void Say(const std::string& line) { std::cout << line << std::endl; }
 
 // Reads the latest weights for up to `wait`.
 void ReadWeights(const Participant& participant, seconds wait) {
-  Reader<PolicyWeights> reader(participant);
+  Reader<srics::rl::WeightsUpdate> reader(participant);
   Say("ready");
-  PolicyWeights weights;
+  srics::rl::WeightsUpdate weights;
   if (reader.Take(&weights, wait) == TakeStatus::kSample)
     Say("weights " + std::to_string(weights.version));
   else
@@ -164,7 +164,7 @@ int Run(int argc, char** argv) {
     return 0;
   }
   if (mode == "write-weights" && argc == 7)
-    return PublishAndServe(participant, MakePolicyWeights(config.run_id, std::strtoull(argv[6], nullptr, 10)));
+    return PublishAndServe(participant, MakePolicyWeights(std::strtoull(argv[6], nullptr, 10)));
   if (mode == "write-stats" && argc == 7)
     return PublishAndServe(participant, MakeLearnerStats(std::strtoull(argv[6], nullptr, 10)));
   return 2;

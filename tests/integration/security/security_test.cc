@@ -185,9 +185,9 @@ std::string BytesOf(const std::vector<float>& values, size_t from, size_t count)
 // reach the learner; the read-only monitor identity reads the weights as well.
 TEST_F(SecurityTest, SecuredProcessesExchangeWeightsAndEpisodes) {
   Participant learner(Secured("learner"));
-  Writer<PolicyWeights> weights(learner);
+  Writer<rl::WeightsUpdate> weights(learner);
   Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
-  const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), 5);
+  const rl::WeightsUpdate published = testing::MakePolicyWeights(5);
   ASSERT_EQ(weights.Write(published), WriteResult::kSent);
   const std::string got_weights = "weights " + std::to_string(published.version);
 
@@ -210,9 +210,9 @@ TEST_F(SecurityTest, SecuredProcessesExchangeWeightsAndEpisodes) {
 // shows the learner was listening all along.
 TEST_F(SecurityTest, ParticipantWithoutCredentialsSeesNothingAndCannotInject) {
   Participant learner(Secured("learner"));
-  Writer<PolicyWeights> weights(learner);
+  Writer<rl::WeightsUpdate> weights(learner);
   Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
-  const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), 8);
+  const rl::WeightsUpdate published = testing::MakePolicyWeights(8);
   ASSERT_EQ(weights.Write(published), WriteResult::kSent);
 
   auto stranger = Peer("", {"actor", "20", "8"});
@@ -239,7 +239,7 @@ TEST_F(SecurityTest, ParticipantWithoutCredentialsSeesNothingAndCannotInject) {
 // an actor's readers; the learner identity's weights do.
 TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
   Participant actor(Secured("actor-0"));
-  Reader<PolicyWeights> weights(actor);
+  Reader<srics::rl::WeightsUpdate> weights(actor);
   Reader<srics::rl::LearnerReport> stats(actor);
   for (const auto& [identity, mode] : std::vector<std::pair<std::string, std::string>>{{"monitor", "write-weights"},
                                                                                        {"monitor", "write-stats"},
@@ -250,7 +250,7 @@ TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
     EXPECT_TRUE(SaysLine(*peer, "refused"));
     EXPECT_EQ(peer->Wait(30s), 7);
   }
-  PolicyWeights got;
+  srics::rl::WeightsUpdate got;
   srics::rl::LearnerReport got_stats;
   EXPECT_EQ(weights.Take(&got, 2s), TakeStatus::kTimeout);
   EXPECT_EQ(stats.Take(&got_stats, 100ms), TakeStatus::kTimeout);
@@ -259,7 +259,7 @@ TEST_F(SecurityTest, MonitorAndActorIdentitiesCannotPublishWeightsOrStats) {
   auto learner = Peer("learner", {"write-weights", "9"});
   EXPECT_TRUE(SaysLine(*learner, "published"));
   ASSERT_EQ(weights.Take(&got, 60s), TakeStatus::kSample);
-  EXPECT_EQ(got.version, testing::MakePolicyWeights(actor.run_id(), 9).version);
+  EXPECT_EQ(got.version, testing::MakePolicyWeights(9).version);
 }
 
 // A monitor process whose own enforcement is bypassed (here: a governance without write access
@@ -284,12 +284,12 @@ TEST_F(SecurityTest, MonitorBypassingItsOwnChecksDeliversNothing) {
       0);
 
   Participant actor(Secured("actor-0"));
-  Reader<PolicyWeights> weights(actor);
+  Reader<srics::rl::WeightsUpdate> weights(actor);
   const config::TransportConfig c = Secured("monitor");
   PeerProcess monitor(SRICS_SECURITY_PEER,
                       {std::to_string(c.domain_id), c.run_id, lenient, "monitor", "write-weights", "12"});
   EXPECT_TRUE(SaysLine(monitor, "published"));  // its own check let it through
-  PolicyWeights got;
+  srics::rl::WeightsUpdate got;
   EXPECT_EQ(weights.Take(&got, 5s), TakeStatus::kTimeout);
   EXPECT_EQ(actor.counters(TopicId::kPolicyWeights).accepted + actor.counters(TopicId::kPolicyWeights).rejected, 0u);
   fs::remove_all(lenient);
@@ -303,7 +303,7 @@ TEST_F(SecurityTest, LoopbackCaptureHoldsNoPlaintextWeightsOrEpisodes) {
   // numbers no other test sends (their seeds come from this process's id)
   const uint64_t weights_seed = 7'000'000'000ull + static_cast<uint64_t>(getpid());
   const uint64_t episode_seed = 5'000'000'000ull + 100ull * static_cast<uint64_t>(getpid());
-  const std::string weights_bytes = BytesOf(testing::MakePolicyWeights("", weights_seed).parameters, 100, 16);
+  const std::string weights_bytes = BytesOf(testing::MakePolicyWeights(weights_seed).parameters, 100, 16);
   std::vector<std::string> episode_bytes;
   for (uint64_t i = 0; i < 20; ++i)
     episode_bytes.push_back(BytesOf(testing::MakeEpisode(episode_seed + i).actions, 0, 16));
@@ -315,9 +315,9 @@ TEST_F(SecurityTest, LoopbackCaptureHoldsNoPlaintextWeightsOrEpisodes) {
     if (!secured) c.security = {};
     {
       Participant learner(c);
-      Writer<PolicyWeights> weights(learner);
+      Writer<rl::WeightsUpdate> weights(learner);
       Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
-      const PolicyWeights published = testing::MakePolicyWeights(learner.run_id(), weights_seed);
+      const rl::WeightsUpdate published = testing::MakePolicyWeights(weights_seed);
       ASSERT_EQ(weights.Write(published), WriteResult::kSent);
       auto actor = Peer(secured ? "actor-0" : "", {"actor", "20", "60", std::to_string(episode_seed)});
       EXPECT_TRUE(SaysLine(*actor, "weights " + std::to_string(published.version)));
