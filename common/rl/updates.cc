@@ -18,6 +18,19 @@ std::string ParameterProblem(const std::vector<float>& parameters) {
   return "";
 }
 
+const char* NodePhaseName(NodePhase phase) {
+  switch (phase) {
+    case NodePhase::kStarting: return "starting";
+    case NodePhase::kWaiting: return "waiting";
+    case NodePhase::kExploring: return "exploring";
+    case NodePhase::kTraining: return "training";
+    case NodePhase::kEvaluating: return "evaluating";
+    case NodePhase::kStopping: return "stopping";
+    case NodePhase::kFailed: return "failed";
+  }
+  return "invalid";
+}
+
 std::string ImplausibleProgress(const LearnerProgress& p, uint64_t budget_env_steps) {
   if (p.budget_env_steps != budget_env_steps)
     return "budget of " + std::to_string(p.budget_env_steps) + " env steps, this run's is " +

@@ -101,8 +101,23 @@ struct EvalReport {
   bool operator==(const EvalReport&) const = default;
 };
 
-// A process's health for NodeStatus.
-enum class NodePhase { kStarting, kWaiting, kExploring, kTraining, kEvaluating, kStopping, kFailed };
+// A process's phase (NodeStatus.state). The values are the wire's (idl/srics.idl NodeState,
+// tied by a static_assert in the transport library): a received value out of range stays
+// representable, and validation (not a cast) refuses it.
+enum class NodePhase : int32_t {
+  kStarting = 0,
+  kWaiting = 1,
+  kExploring = 2,
+  kTraining = 3,
+  kEvaluating = 4,
+  kStopping = 5,
+  kFailed = 6,
+};
+
+// Lowercase names ("starting", "training", ...) for logs and files; "invalid" out of range.
+const char* NodePhaseName(NodePhase phase);
+
+// A process's health, as its loop reports it.
 
 struct NodeReport {
   NodePhase phase = NodePhase::kStarting;
@@ -114,6 +129,20 @@ struct NodeReport {
   // what the node's own checks rejected, per counter ("weights.architecture": 2); the
   // transport adds its own and shows them in NodeStatus.detail
   std::map<std::string, uint64_t> rejections;
+  bool operator==(const NodeReport&) const = default;
+};
+
+// A process's health as published (topic NodeStatus): who and where it is, and its report.
+// The rejections are not on the wire (the publisher folds them into the detail): received,
+// report.rejections is empty.
+struct NodeStatus {
+  std::string role;  // actor, learner, graph, monitor, launcher
+  uint32_t node_id = 0;
+  std::string host;
+  int32_t pid = 0;
+  uint64_t uptime_ms = 0;
+  NodeReport report;
+  bool operator==(const NodeStatus&) const = default;
 };
 
 }  // namespace srics::rl

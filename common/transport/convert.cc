@@ -16,8 +16,13 @@ static_assert(srics_WIRE_CONTRACT_VERSION == kContractVersion,
 static_assert(srics_EPISODE_EXPLORE == static_cast<int>(rl::EpisodeMode::kExplore) &&
               srics_EPISODE_TRAIN == static_cast<int>(rl::EpisodeMode::kTrain) &&
               srics_EPISODE_EVAL == static_cast<int>(rl::EpisodeMode::kEval));
-static_assert(srics_NODE_STARTING == static_cast<int>(NodeState::kStarting) &&
-              srics_NODE_FAILED == static_cast<int>(NodeState::kFailed));
+static_assert(srics_NODE_STARTING == static_cast<int>(rl::NodePhase::kStarting) &&
+              srics_NODE_WAITING == static_cast<int>(rl::NodePhase::kWaiting) &&
+              srics_NODE_EXPLORING == static_cast<int>(rl::NodePhase::kExploring) &&
+              srics_NODE_TRAINING == static_cast<int>(rl::NodePhase::kTraining) &&
+              srics_NODE_EVALUATING == static_cast<int>(rl::NodePhase::kEvaluating) &&
+              srics_NODE_STOPPING == static_cast<int>(rl::NodePhase::kStopping) &&
+              srics_NODE_FAILED == static_cast<int>(rl::NodePhase::kFailed));
 // the IDL's counts are unsigned short and its ancestor masks 64-bit
 static_assert(rl::kMaxEpisodeSteps <= std::numeric_limits<uint16_t>::max() && rl::kMaxEntities <= 64 &&
               rl::kMaxActionDim <= std::numeric_limits<uint16_t>::max());
@@ -65,7 +70,7 @@ struct ToCOp {
   }
 };
 
-// C -> message: everything copied once, strings never read past their array.
+// C -> value: everything copied once, strings never read past their array.
 struct FromCOp {
   template <size_t N>
   void operator()(std::string& out, const char (&in)[N], const char*) const {
@@ -143,31 +148,17 @@ void Fields(const Op& op, M& m, C& c) {
 
 template <typename Op, typename M, Is<srics_NodeStatus> C>
 void Fields(const Op& op, M& m, C& c) {
-  SRICS_FIELDS(op, m, c, contract_version, run_id, role, node_id, host, pid, state, policy_version, graph_version,
-               env_steps, dropped_samples, uptime_ms, detail);
+  SRICS_FIELDS(op, m, c, role, node_id, host, pid, uptime_ms);
+  SRICS_FIELDS(op, m.report, c, policy_version, graph_version, detail);
+  op(m.report.phase, c.state, "state");
+  op(m.report.steps, c.env_steps, "env_steps");
+  op(m.report.dropped, c.dropped_samples, "dropped_samples");
 }
 
 // The part of entity_dim after the identifier one-hot: x, y (, vx, vy).
 int PerEntityExtra(bool velocities) { return velocities ? 4 : 2; }
 
 }  // namespace
-
-template <typename T>
-void ToC(const T& in, typename CType<T>::type* out) {
-  std::memset(out, 0, sizeof(*out));
-  Fields(ToCOp{}, in, *out);
-}
-
-template <typename T>
-void FromC(const typename CType<T>::type& in, T* out) {
-  Fields(FromCOp{}, *out, in);
-}
-
-#define SRICS_INSTANTIATE(T)                                       \
-  template void ToC<T>(const T& in, typename CType<T>::type* out); \
-  template void FromC<T>(const typename CType<T>::type& in, T* out);
-SRICS_FOR_EACH_MESSAGE(SRICS_INSTANTIATE)
-#undef SRICS_INSTANTIATE
 
 void ToC(const rl::Episode& in, const Envelope& envelope, srics_Episode* out) {
   std::memset(out, 0, sizeof(*out));
@@ -216,6 +207,15 @@ void FromC(const srics_PolicyWeights& in, rl::WeightsUpdate* out) { Fields(FromC
 
 void ToC(const rl::GraphUpdate& in, const Envelope& envelope, srics_InteractionGraph* out, SequenceBuffers* buffers) {
   ToCWithEnvelope(in, envelope, out, buffers);
+}
+
+void ToC(const rl::NodeStatus& in, const Envelope& envelope, srics_NodeStatus* out, SequenceBuffers* buffers) {
+  ToCWithEnvelope(in, envelope, out, buffers);
+}
+
+void FromC(const srics_NodeStatus& in, rl::NodeStatus* out) {
+  Fields(FromCOp{}, *out, in);
+  out->report.rejections.clear();  // not on the wire
 }
 
 void FromC(const srics_InteractionGraph& in, rl::GraphUpdate* out) {

@@ -1,6 +1,6 @@
 #pragma once
-// Internal: conversion between the domain types of common/rl (and, until they go, the plain
-// structs of messages.h) and the C types idlc generated from idl/srics.idl: once each way.
+// Internal: conversion between the domain type of each topic (common/rl) and the C type idlc
+// generated from idl/srics.idl, once each way.
 
 #include <cstring>
 #include <string>
@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "common/rl/episode.h"
-#include "common/transport/messages.h"
 #include "common/transport/wire.h"
 #include "srics.h"
 
@@ -43,15 +42,14 @@ struct CType<rl::LearnerReport> {
   static const dds_topic_descriptor_t* Descriptor() { return &srics_LearnerStats_desc; }
 };
 template <>
-struct CType<NodeStatus> {
+struct CType<rl::NodeStatus> {
   using type = srics_NodeStatus;
   static const dds_topic_descriptor_t* Descriptor() { return &srics_NodeStatus_desc; }
 };
 
-// X(T) for each message struct of messages.h.
-#define SRICS_FOR_EACH_MESSAGE(X) X(NodeStatus)
 // X(T) for each domain type converted with an Envelope (rl::Episode apart: it needs limits).
-#define SRICS_FOR_EACH_DOMAIN(X) X(rl::LearnerReport) X(rl::EvalReport) X(rl::WeightsUpdate) X(rl::GraphUpdate)
+#define SRICS_FOR_EACH_DOMAIN(X) \
+  X(rl::LearnerReport) X(rl::EvalReport) X(rl::WeightsUpdate) X(rl::GraphUpdate) X(rl::NodeStatus)
 
 // Where ToC puts the sequences whose domain element type is not the wire's (doubles sent as
 // floats): the C sample points into it, so it must outlive the use of the sample.
@@ -75,14 +73,10 @@ class SequenceBuffers {
   std::vector<std::vector<int16_t>> shorts_;
 };
 
-// ToC fills *out with pointers into `in` (no copy of sequences): `in` must outlive the use of
-// *out, and *out must never be freed with the generated _free functions. Throws
-// InvalidMessage for a string longer than its IDL bound.
-// FromC copies everything once (a loaned sample goes back to DDS right after).
-template <typename T>
-void ToC(const T& in, typename CType<T>::type* out);
-template <typename T>
-void FromC(const typename CType<T>::type& in, T* out);
+// ToC fills *out with pointers into `in` (and `buffers`) where it can (no copy of sequences):
+// they must outlive the use of *out, and *out must never be freed with the generated _free
+// functions. Throws InvalidMessage for a string longer than its IDL bound. FromC copies
+// everything once (a loaned sample goes back to DDS right after).
 
 // The wire cannot say whether states carry velocities: `velocities` decides how entity_dim
 // splits into identifier one-hot and xy(vxy). FromC takes any sample: rl::ValidateEpisode
@@ -105,6 +99,9 @@ void FromC(const srics_PolicyWeights& in, rl::WeightsUpdate* out);
 // (no partners), not yet checked against the adjacency (GraphFeed does: AdoptComputedStructure).
 void ToC(const rl::GraphUpdate& in, const Envelope& envelope, srics_InteractionGraph* out, SequenceBuffers* buffers);
 void FromC(const srics_InteractionGraph& in, rl::GraphUpdate* out);
+// Strings beyond their IDL bound throw (StatusPublisher cuts the detail to it first).
+void ToC(const rl::NodeStatus& in, const Envelope& envelope, srics_NodeStatus* out, SequenceBuffers* buffers);
+void FromC(const srics_NodeStatus& in, rl::NodeStatus* out);
 
 // The run id and the envelope of a received sample, read without copying the rest.
 template <typename C>

@@ -4,8 +4,6 @@
 
 #include <stdexcept>
 
-#include "common/transport/rl_convert.h"
-
 namespace srics::transport {
 namespace {
 

@@ -21,7 +21,6 @@
 #include "common/rl/episode.h"
 #include "common/transport/endpoint.h"
 #include "common/transport/graph_feed.h"
-#include "common/transport/messages.h"
 #include "common/transport/participant.h"
 #include "common/transport/status_publisher.h"
 

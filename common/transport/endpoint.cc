@@ -23,14 +23,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using internal::Check;
 
-// Types converted straight to and from the wire with an envelope (rl::Episode among them).
-template <typename T>
-concept Enveloped = std::is_same_v<T, rl::Episode> ||
-    requires(const T& value, const Envelope& envelope, typename internal::CType<T>::type* c,
-             internal::SequenceBuffers* b) {
-  internal::ToC(value, envelope, c, b);
-};
-
 // Deletes a QoS object at scope exit.
 struct QosHolder {
   dds_qos_t* qos;
@@ -76,7 +68,7 @@ Status StatusOf(dds_return_t (*get)(dds_entity_t, Status*), dds_entity_t entity,
 // The sender a sample names (topics with TopicSpec::names_sender; the others never ask).
 std::string ClaimedSender(const rl::Episode& episode) { return SenderIdentity("actor", episode.actor_id); }
 std::string ClaimedSender(const rl::EvalReport& report) { return SenderIdentity("actor", report.actor_id); }
-std::string ClaimedSender(const NodeStatus& status) { return SenderIdentity(status.role, status.node_id); }
+std::string ClaimedSender(const rl::NodeStatus& status) { return SenderIdentity(status.role, status.node_id); }
 template <typename M>
 std::string ClaimedSender(const M&) {
   return {};
@@ -201,7 +193,7 @@ struct Writer<T>::Impl {
     held_since.reset();
   }
 
-  // Stamps and validates as configured; returns what to send (msg itself or scratch).
+  // Stamps (the weights' checksum) and validates as configured; returns what to send.
   const T& Prepare(const T& msg) {
     if constexpr (std::is_same_v<T, rl::Episode>) {
       // the envelope is stamped on the C sample (Send); the episode is checked on its own terms
@@ -217,32 +209,12 @@ struct Writer<T>::Impl {
             v.verdict == Verdict::kMalformed)
           throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + v.reason);
       return msg;
-    } else if constexpr (Enveloped<T>) {
+    } else {
       if (options.validate)
         if (auto v = Validate(msg, envelope, ""); v.verdict == Verdict::kMalformed)
           throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + v.reason);
       return msg;
-    } else {
-      return PrepareMessage(msg);
     }
-  }
-
-  // a member template: an explicit instantiation for rl::Episode must not compile it
-  template <typename M>
-  const M& PrepareMessage(const M& msg) {
-    const M* result = &msg;
-    if (options.stamp) {
-      if (msg.contract_version != kContractVersion || msg.run_id != run_id) {
-        scratch = msg;
-        scratch.contract_version = kContractVersion;
-        scratch.run_id = run_id;
-        result = &scratch;
-      }
-    }
-    if (options.validate)
-      if (auto v = Validate(*result, ""); v.verdict == Verdict::kMalformed)
-        throw InvalidMessage("not sending a malformed " + topic.name() + " sample: " + v.reason);
-    return *result;
   }
 
   // One dds_write; kBackPressure when it timed out.
@@ -250,11 +222,9 @@ struct Writer<T>::Impl {
     typename internal::CType<T>::type sample;
     if constexpr (std::is_same_v<T, rl::Episode>) {
       internal::ToC(msg, envelope, &sample);
-    } else if constexpr (Enveloped<T>) {
+    } else {
       internal::ToC(msg, envelope, &sample, &buffers);
       if constexpr (std::is_same_v<T, rl::WeightsUpdate>) sample.checksum = checksum;
-    } else {
-      internal::ToC(msg, &sample);
     }
     const dds_return_t ret = dds_write(writer, &sample);
     if (ret == DDS_RETCODE_TIMEOUT) return WriteResult::kBackPressure;
@@ -270,7 +240,6 @@ struct Writer<T>::Impl {
   Shutdown* shutdown;
   std::string run_id;
   int32_t writer = 0;
-  T scratch;
   uint32_t checksum = 0;  // rl::WeightsUpdate: of the prepared sample (0 without stamp)
   Envelope envelope{options.contract_version, run_id};
   internal::SequenceBuffers buffers;  // what Send converts (doubles sent as floats)
@@ -434,12 +403,9 @@ struct Reader<T>::Impl {
     } else if constexpr (std::is_same_v<T, rl::WeightsUpdate>) {
       internal::FromC(sample, out);
       return Validate(*out, internal::EnvelopeOf(sample), sample.checksum, run_id);
-    } else if constexpr (Enveloped<T>) {
-      internal::FromC(sample, out);
-      return Validate(*out, internal::EnvelopeOf(sample), run_id);
     } else {
       internal::FromC(sample, out);
-      return Validate(*out, run_id);
+      return Validate(*out, internal::EnvelopeOf(sample), run_id);
     }
   }
 
@@ -605,7 +571,6 @@ SampleCounters Reader<T>::counters() const {
   template class Reader<T>;
 SRICS_INSTANTIATE(rl::Episode)
 SRICS_FOR_EACH_DOMAIN(SRICS_INSTANTIATE)
-SRICS_FOR_EACH_MESSAGE(SRICS_INSTANTIATE)
 #undef SRICS_INSTANTIATE
 
 }  // namespace srics::transport

@@ -1,10 +1,10 @@
 #pragma once
-// Typed topics, writers and readers of the domain types (rl::Episode, rl::LearnerReport,
-// rl::EvalReport, rl::WeightsUpdate, rl::GraphUpdate) and,
-// until they go, of the message structs of messages.h. A domain type carries no envelope: a
-// writer stamps its participant's (wire.h), a reader checks it and can tell the run id. Each owns its DDS entities
-// (deleted in the destructor) and is move-only. QoS comes from the table in topics.h. The
-// participant must outlive its endpoints.
+// Typed topics, writers and readers of the domain type of each topic (rl::Episode,
+// rl::WeightsUpdate, rl::GraphUpdate, rl::EvalReport, rl::LearnerReport, rl::NodeStatus): each
+// goes to and from its generated C type once (convert.h). A domain type carries no envelope: a
+// writer stamps its participant's (wire.h), a reader checks it and can tell the run id. Each
+// owns its DDS entities (deleted in the destructor) and is move-only. QoS comes from the table
+// in topics.h. The participant must outlive its endpoints.
 //
 //   Writer<rl::Episode> writer(participant);
 //   if (writer.Write(episode) == WriteResult::kShutdown) return;   // retried back-pressure
@@ -26,9 +26,9 @@
 
 #include "common/rl/episode.h"
 #include "common/rl/updates.h"
-#include "common/transport/messages.h"
 #include "common/transport/participant.h"
 #include "common/transport/topics.h"
+#include "common/transport/wire.h"
 
 namespace srics::transport {
 
@@ -56,7 +56,7 @@ struct TopicOf<rl::LearnerReport> {
   static constexpr TopicId kId = TopicId::kLearnerStats;
 };
 template <>
-struct TopicOf<NodeStatus> {
+struct TopicOf<rl::NodeStatus> {
   static constexpr TopicId kId = TopicId::kNodeStatus;
 };
 
@@ -74,7 +74,7 @@ enum class TakeStatus {
 
 struct WriterOptions {
   std::string topic_name;  // empty: the table's name (tests isolate themselves with others)
-  bool stamp = true;       // set contract_version, run_id (and the PolicyWeights checksum, else 0)
+  bool stamp = true;       // rl::WeightsUpdate: set the checksum (false sends 0, for tests of readers)
   bool validate = true;    // throw InvalidMessage for what a reader would reject
   // Packs consecutive samples into shared datagrams (Cyclone write batching): a written
   // sample waits in this process until Flush(), a full datagram (64 KB on the loopback

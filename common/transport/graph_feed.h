@@ -11,7 +11,6 @@
 #include "common/logging/logging.h"
 #include "common/rl/updates.h"
 #include "common/transport/endpoint.h"
-#include "common/transport/messages.h"
 #include "common/transport/participant.h"
 
 namespace srics::transport {

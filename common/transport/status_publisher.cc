@@ -4,8 +4,6 @@
 
 #include <algorithm>
 
-#include "common/transport/rl_convert.h"
-
 namespace srics::transport {
 
 StatusPublisher::StatusPublisher(const Participant& participant, std::string role, uint32_t node_id)
@@ -19,20 +17,18 @@ StatusPublisher::StatusPublisher(const Participant& participant, std::string rol
 }
 
 void StatusPublisher::Publish(const rl::NodeReport& report) {
-  NodeStatus fresh = ToMessage(report, status_.role, status_.node_id);
-  fresh.host = std::move(status_.host);
-  fresh.pid = status_.pid;
-  status_ = std::move(fresh);
-  status_.dropped_samples += participant_->total_rejected();
+  status_.report = report;
+  status_.report.rejections.clear();  // not on the wire: summed into the detail below
+  status_.report.dropped += participant_->total_rejected();
   // what was rejected, per counter: the node's own checks and the transport's
   auto rejections = participant_->rejections();
   for (const auto& [counter, count] : report.rejections) rejections[counter] += count;
+  std::string& detail = status_.report.detail;
   if (const std::string summary = RejectionSummary(rejections); !summary.empty()) {
     const std::string tail = "rejected: " + summary;
-    std::string& detail = status_.detail;
     detail = detail.empty() ? tail : detail + " | " + tail;
-    if (detail.size() > kDetailMaxLength) detail.resize(kDetailMaxLength);
   }
+  if (detail.size() > kDetailMaxLength) detail.resize(kDetailMaxLength);  // the IDL's bound
   status_.uptime_ms = static_cast<uint64_t>(
       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start_).count());
   (void)writer_.TryWrite(status_);  // a status lost to back-pressure is replaced by the next

@@ -11,7 +11,6 @@
 
 #include "common/rl/updates.h"
 #include "common/transport/endpoint.h"
-#include "common/transport/messages.h"
 #include "common/transport/participant.h"
 
 namespace srics::transport {
@@ -28,8 +27,8 @@ class StatusPublisher {
 
  private:
   const Participant* participant_;
-  Writer<NodeStatus> writer_;
-  NodeStatus status_;
+  Writer<rl::NodeStatus> writer_;
+  rl::NodeStatus status_;
   std::chrono::steady_clock::time_point start_;
 };
 

@@ -4,7 +4,6 @@
 
 #include "common/transport/endpoint.h"
 #include "common/transport/errors.h"
-#include "common/transport/messages.h"
 #include "common/transport/participant.h"
 #include "common/transport/shutdown.h"
 #include "common/transport/topics.h"

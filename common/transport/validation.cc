@@ -55,19 +55,6 @@ bool MaskInside(uint64_t mask, uint32_t n) { return n >= 64 || (mask >> n) == 0;
 
 }  // namespace
 
-const char* NodeStateName(NodeState state) {
-  switch (state) {
-    case NodeState::kStarting: return "starting";
-    case NodeState::kWaiting: return "waiting";
-    case NodeState::kExploring: return "exploring";
-    case NodeState::kTraining: return "training";
-    case NodeState::kEvaluating: return "evaluating";
-    case NodeState::kStopping: return "stopping";
-    case NodeState::kFailed: return "failed";
-  }
-  return "invalid";
-}
-
 Validation ValidateEnvelope(uint32_t contract_version, const std::string& msg_run_id, std::string_view run_id) {
   if (auto v = CheckCommon("episode", contract_version, msg_run_id); !v.ok()) return v;
   return CheckRun(msg_run_id, run_id);
@@ -169,17 +156,17 @@ Validation Validate(const rl::LearnerReport&, const Envelope& envelope, std::str
   return CheckRun(envelope.run_id, run_id);
 }
 
-Validation Validate(const NodeStatus& msg, std::string_view run_id) {
+Validation Validate(const rl::NodeStatus& msg, const Envelope& envelope, std::string_view run_id) {
   // strings are shown to people: monitors strip control characters (monitor/display.h)
-  if (auto v = CheckCommon("status", msg.contract_version, msg.run_id); !v.ok()) return v;
+  if (auto v = CheckCommon("status", envelope.contract_version, envelope.run_id); !v.ok()) return v;
   if (msg.role.empty() || msg.role.size() > kRoleMaxLength)
     return Malformed("status.size", "role empty or longer than 32");
   if (msg.host.size() > kHostMaxLength) return Malformed("status.size", "host longer than 128 characters");
-  if (msg.detail.size() > kDetailMaxLength) return Malformed("status.size", "detail longer than 256 characters");
-  if (static_cast<int32_t>(msg.state) < 0 || static_cast<int32_t>(msg.state) > 6)
-    return Malformed("status.range",
-                     "state " + std::to_string(static_cast<int32_t>(msg.state)) + " is not a NodeState");
-  return CheckRun(msg.run_id, run_id);
+  if (msg.report.detail.size() > kDetailMaxLength) return Malformed("status.size", "detail longer than 256 characters");
+  const int32_t state = static_cast<int32_t>(msg.report.phase);
+  if (state < 0 || state > 6)
+    return Malformed("status.range", "state " + std::to_string(state) + " is not a NodeState");
+  return CheckRun(envelope.run_id, run_id);
 }
 
 uint32_t ParameterChecksum(const std::vector<float>& parameters) {

@@ -12,7 +12,6 @@
 
 #include "common/rl/episode.h"
 #include "common/rl/updates.h"
-#include "common/transport/messages.h"
 #include "common/transport/wire.h"
 
 namespace srics::transport {
@@ -53,7 +52,7 @@ Validation Validate(const rl::WeightsUpdate& weights, const Envelope& envelope, 
 Validation Validate(const rl::GraphUpdate& update, const Envelope& envelope, std::string_view run_id);
 Validation Validate(const rl::EvalReport& report, const Envelope& envelope, std::string_view run_id);
 Validation Validate(const rl::LearnerReport& stats, const Envelope& envelope, std::string_view run_id);
-Validation Validate(const NodeStatus& msg, std::string_view run_id);
+Validation Validate(const rl::NodeStatus& status, const Envelope& envelope, std::string_view run_id);
 
 // CRC-32 (IEEE 802.3, as zlib's crc32) of the parameters' bytes in memory order (IEEE-754
 // little-endian floats on every supported host): the PolicyWeights checksum.

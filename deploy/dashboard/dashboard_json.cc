@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "common/transport/messages.h"
+#include "common/transport/wire.h"
 #include "deploy/dashboard/json_writer.h"
 #include "deploy/monitor/csv_sink.h"
 
@@ -185,22 +185,23 @@ void Nodes(JsonWriter* json, const mon::MonitorState& state, mon::Clock::time_po
     if (!mon::Shown(key.run_id, options)) continue;
     const mon::NodeHealth health = mon::HealthOf(state, node, now);
     ++counts[static_cast<int>(health)];
-    const tr::NodeStatus& s = node.status;
+    const rl::NodeStatus& s = node.status;
+    const rl::NodeReport& r = s.report;
     json->BeginObject();
     json->Key("run_id").String(key.run_id);
     json->Key("role").String(key.role);
     json->Key("id").Unsigned(key.node_id);
     json->Key("host").String(s.host);
     json->Key("pid").Integer(s.pid);
-    json->Key("state").String(tr::NodeStateName(s.state));
+    json->Key("state").String(rl::NodePhaseName(r.phase));
     json->Key("health").String(mon::NodeHealthName(health));
-    json->Key("policy_version").Unsigned(s.policy_version);
-    json->Key("graph_version").Unsigned(s.graph_version);
-    json->Key("env_steps").Unsigned(s.env_steps);
-    json->Key("dropped_samples").Unsigned(s.dropped_samples);
+    json->Key("policy_version").Unsigned(r.policy_version);
+    json->Key("graph_version").Unsigned(r.graph_version);
+    json->Key("env_steps").Unsigned(r.steps);
+    json->Key("dropped_samples").Unsigned(r.dropped);
     json->Key("uptime_s").Number(static_cast<double>(s.uptime_ms) / 1000.0);
     json->Key("last_seen_s").Number(Seconds(now - node.last_seen));
-    json->Key("detail").String(s.detail);
+    json->Key("detail").String(r.detail);
     json->EndObject();
   }
   json->EndArray();

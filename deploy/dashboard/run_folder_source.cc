@@ -12,7 +12,6 @@
 #include "common/config/config.h"
 #include "common/files/small_file.h"
 #include "common/graph_file/graph_file.h"
-#include "common/transport/rl_convert.h"
 #include "common/transport/wire.h"
 #include "deploy/monitor/csv_sink.h"
 #include "deploy/run_folder/csv.h"
@@ -26,15 +25,16 @@ namespace tr = srics::transport;
 
 constexpr const char* kFiles[] = {"eval.csv", "learner.csv", "nodes.csv", "config.yaml", "graph.json", "outcome.yaml"};
 
-std::optional<tr::NodeState> ParseNodeState(const std::string& name) {
-  for (int s = 0; s <= static_cast<int>(tr::NodeState::kFailed); ++s)
-    if (name == tr::NodeStateName(static_cast<tr::NodeState>(s))) return static_cast<tr::NodeState>(s);
+std::optional<rl::NodePhase> ParseNodePhase(const std::string& name) {
+  for (int s = 0; s <= static_cast<int>(rl::NodePhase::kFailed); ++s)
+    if (name == rl::NodePhaseName(static_cast<rl::NodePhase>(s))) return static_cast<rl::NodePhase>(s);
   return std::nullopt;
 }
 
 // A row of any of the three files, for applying them in wall-time order.
 struct NodeRow {
-  tr::NodeStatus status;
+  std::string run_id;
+  rl::NodeStatus status;
   std::string event;  // "lost" / "exited" rows: the monitor saw the node go (no new status)
 };
 struct EvalRow {
@@ -151,7 +151,7 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
       dir / "nodes.csv",
       [&](const run_folder::CsvRow& r) {
         NodeRow n;
-        n.status.run_id = r.TextOrThrow("run_id");
+        n.run_id = r.TextOrThrow("run_id");
         n.status.role = r.TextOrThrow("role");
         n.status.node_id = static_cast<uint32_t>(r.Unsigned("node_id"));
         n.status.host = r.TextOrThrow("host");
@@ -160,16 +160,16 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
         if (state_name == "lost" || state_name == "exited") {
           n.event = state_name;
         } else {
-          const std::optional<tr::NodeState> parsed = ParseNodeState(state_name);
+          const std::optional<rl::NodePhase> parsed = ParseNodePhase(state_name);
           if (!parsed) throw std::invalid_argument("state: unknown");
-          n.status.state = *parsed;
+          n.status.report.phase = *parsed;
         }
-        n.status.policy_version = r.Unsigned("policy_version");
-        n.status.graph_version = r.Unsigned("graph_version");
-        n.status.env_steps = r.Unsigned("env_steps");
-        n.status.dropped_samples = r.Unsigned("dropped_samples");
+        n.status.report.policy_version = r.Unsigned("policy_version");
+        n.status.report.graph_version = r.Unsigned("graph_version");
+        n.status.report.steps = r.Unsigned("env_steps");
+        n.status.report.dropped = r.Unsigned("dropped_samples");
         n.status.uptime_ms = r.Unsigned("uptime_ms");
-        n.status.detail = r.TextOrThrow("detail");
+        n.status.report.detail = r.TextOrThrow("detail");
         rows.push_back({r.Double("wall_time"), std::move(n)});
       },
       &skipped);
@@ -190,15 +190,15 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
       mon::Apply(&state, s->run_id, s->stats, at);
     } else if (auto* n = std::get_if<NodeRow>(&row.sample)) {
       if (n->event.empty()) {
-        if (n->status.role == "learner") learner_env_steps[n->status.run_id] = n->status.env_steps;
-        mon::Apply(&state, n->status, at);
+        if (n->status.role == "learner") learner_env_steps[n->run_id] = n->status.report.steps;
+        mon::Apply(&state, n->run_id, n->status, at);
         continue;
       }
       // the monitor saw the node go: its last status stands (and with it the health the display
       // computes: LOST after a quiet without goodbye); "exited" means it said goodbye
-      auto it = state.nodes.find(
-          {mon::PrintableText(n->status.run_id), mon::PrintableText(n->status.role), n->status.node_id});
-      if (it != state.nodes.end() && n->event == "exited") it->second.status.state = tr::NodeState::kStopping;
+      auto it =
+          state.nodes.find({mon::PrintableText(n->run_id), mon::PrintableText(n->status.role), n->status.node_id});
+      if (it != state.nodes.end() && n->event == "exited") it->second.status.report.phase = rl::NodePhase::kStopping;
     }
   }
 

@@ -28,7 +28,6 @@
 #include "common/rl/agent_shape.h"
 #include "common/rl/ground_truth.h"
 #include "common/rl/seeds.h"
-#include "common/transport/rl_convert.h"
 #include "common/transport/shutdown.h"
 #include "common/transport/wire.h"
 #include "deploy/launcher/run_folder.h"
@@ -82,15 +81,20 @@ class MonitorObserver : public links::BusObserver {
     if (session_) session_->OnWeights(weights.version, weights.update_count, weights.architecture, weights.parameters);
   }
   void OnStatus(const std::string& role, uint32_t id, const rl::NodeReport& report) override {
-    tr::NodeStatus m = tr::ToMessage(report, role, id);
-    m.run_id = run_id_;
-    m.pid = static_cast<int32_t>(getpid());
+    // as the topic carries it: no rejections, the detail within the IDL's bound
+    rl::NodeStatus m;
+    m.role = role;
+    m.node_id = id;
     m.host = host_;
+    m.pid = static_cast<int32_t>(getpid());
     m.uptime_ms = static_cast<uint64_t>(
         std::chrono::duration_cast<std::chrono::milliseconds>(mon::Clock::now() - start_).count());
-    mon::Apply(&state_, m, mon::Clock::now());
+    m.report = report;
+    m.report.rejections.clear();
+    if (m.report.detail.size() > tr::kDetailMaxLength) m.report.detail.resize(tr::kDetailMaxLength);
+    mon::Apply(&state_, run_id_, m, mon::Clock::now());
     if (csv_ && mon::Clock::now() - last_status_row_[role + std::to_string(id)] >= std::chrono::seconds(1)) {
-      csv_->Append(m, mon::WallTimeNow());
+      csv_->Append(run_id_, m, mon::WallTimeNow());
       last_status_row_[role + std::to_string(id)] = mon::Clock::now();
     }
   }

@@ -206,7 +206,7 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config, tr:
   // now: a network that joined late) ends this run
   std::set<std::string> refused_launchers;
   std::optional<Judgement> came_first;
-  monitor_options.accept_node = [&](const tr::NodeStatus& status) {
+  monitor_options.accept_node = [&](const rl::NodeStatus& status) {
     const Judgement judgement = Judge(guard.self(), status, /*roles_started=*/true);
     if (judgement.verdict == Verdict::kNotInTheWay) return true;
     if (judgement.verdict == Verdict::kWasFirst) {

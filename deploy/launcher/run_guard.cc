@@ -55,7 +55,7 @@ std::optional<std::vector<int>> ParseRanges(const std::string& text) {
 }
 
 // "launcher on host h1, pid 4242", "actor 3 on host h1, pid 4242"
-std::string Who(const tr::NodeStatus& status) {
+std::string Who(const rl::NodeStatus& status) {
   std::string who = status.role;
   if (status.role == "actor") who += " " + std::to_string(status.node_id);
   return who + " on host " + status.host + ", pid " + std::to_string(status.pid);
@@ -86,8 +86,8 @@ std::string IncarnationDetail(const Incarnation& incarnation) {
   return text;
 }
 
-std::optional<Incarnation> IncarnationOf(const tr::NodeStatus& status) {
-  const std::string& detail = status.detail;
+std::optional<Incarnation> IncarnationOf(const rl::NodeStatus& status) {
+  const std::string& detail = status.report.detail;
   if (detail.rfind(kPrefix, 0) != 0) return std::nullopt;
   std::stringstream in(detail.substr(std::string(kPrefix).size()));
   Incarnation incarnation{.host = status.host, .pid = status.pid};
@@ -134,7 +134,7 @@ bool SharesOverlap(const RoleShare& a, const RoleShare& b) {
   return false;
 }
 
-Judgement Judge(const Incarnation& self, const tr::NodeStatus& status, bool roles_started) {
+Judgement Judge(const Incarnation& self, const rl::NodeStatus& status, bool roles_started) {
   const bool own_process = status.host == self.host && status.pid == self.pid;
   if (status.role == "launcher") {
     if (own_process) return {};
@@ -191,13 +191,13 @@ void RunGuard::Publish(rl::NodePhase phase) { status_.Publish(Report(phase)); }
 
 std::string RunGuard::CheckAlone(std::chrono::milliseconds window) {
   // the reader first: this launcher's own status is heard (and is not in the way)
-  tr::Reader<tr::NodeStatus> statuses(participant_);
+  tr::Reader<rl::NodeStatus> statuses(participant_);
   Publish(rl::NodePhase::kStarting);
   using Clock = std::chrono::steady_clock;
   const auto period = std::chrono::milliseconds(static_cast<int64_t>(participant_.config().status_period_s * 1000));
   const auto end = Clock::now() + window;
   auto next_status = Clock::now() + period;
-  tr::NodeStatus status;
+  rl::NodeStatus status;
   for (auto now = Clock::now(); now < end; now = Clock::now()) {
     if (now >= next_status) {
       Publish(rl::NodePhase::kStarting);

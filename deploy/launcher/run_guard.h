@@ -26,9 +26,9 @@
 
 #include "common/config/transport_config.h"
 #include "common/rl/updates.h"
-#include "common/transport/messages.h"
 #include "common/transport/participant.h"
 #include "common/transport/status_publisher.h"
+#include "common/transport/wire.h"
 #include "deploy/launcher/launcher.h"
 
 namespace srics::launcher {
@@ -48,7 +48,7 @@ Incarnation ThisIncarnation(const RoleShare& share);
 std::string IncarnationDetail(const Incarnation& incarnation);
 // A launcher's incarnation from its status (host and pid from the status' fields); nothing when
 // the detail does not say it (then it is taken as the whole run, started at the epoch).
-std::optional<Incarnation> IncarnationOf(const transport::NodeStatus& status);
+std::optional<Incarnation> IncarnationOf(const rl::NodeStatus& status);
 
 // Whether two launchers run a role in common (the graph service, the learner or an actor id;
 // actor id -1, "actors:*" read back, is any actor).
@@ -65,7 +65,7 @@ struct Judgement {
 };
 // What `status` (of this launcher's run) means for `self`. Before its roles started, any live
 // learner, graph service or actor of its share was there first; after, they are its own.
-Judgement Judge(const Incarnation& self, const transport::NodeStatus& status, bool roles_started);
+Judgement Judge(const Incarnation& self, const rl::NodeStatus& status, bool roles_started);
 
 // The user's message when `other` was there first: the run id, the other process (host, pid)
 // and how to pick another run id.

@@ -67,12 +67,14 @@ void CsvSink::Append(const std::string& run_id, const rl::LearnerReport& s, doub
            << std::flush;
 }
 
-void CsvSink::Append(const transport::NodeStatus& s, double wall_time, const std::string& state_override) {
-  nodes_ << Time(wall_time) << ',' << CsvField(s.run_id) << ',' << CsvField(s.role) << ',' << s.node_id << ','
+void CsvSink::Append(const std::string& run_id, const rl::NodeStatus& s, double wall_time,
+                     const std::string& state_override) {
+  const rl::NodeReport& r = s.report;
+  nodes_ << Time(wall_time) << ',' << CsvField(run_id) << ',' << CsvField(s.role) << ',' << s.node_id << ','
          << CsvField(s.host) << ',' << s.pid << ','
-         << (state_override.empty() ? transport::NodeStateName(s.state) : state_override) << ',' << s.policy_version
-         << ',' << s.graph_version << ',' << s.env_steps << ',' << s.dropped_samples << ',' << s.uptime_ms << ','
-         << CsvField(s.detail) << '\n'
+         << (state_override.empty() ? rl::NodePhaseName(r.phase) : state_override) << ',' << r.policy_version << ','
+         << r.graph_version << ',' << r.steps << ',' << r.dropped << ',' << s.uptime_ms << ',' << CsvField(r.detail)
+         << '\n'
          << std::flush;
 }
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "common/rl/updates.h"
-#include "common/transport/messages.h"
+#include "common/transport/wire.h"
 
 namespace srics::monitor {
 
@@ -22,7 +22,8 @@ class CsvSink {
   void Append(const std::string& run_id, const rl::EvalReport& result, double wall_time);
   void Append(const std::string& run_id, const rl::LearnerReport& stats, double wall_time);
   // `state_override` replaces the state column when not empty ("lost", "exited").
-  void Append(const transport::NodeStatus& status, double wall_time, const std::string& state_override = "");
+  void Append(const std::string& run_id, const rl::NodeStatus& status, double wall_time,
+              const std::string& state_override = "");
 
   const std::string& dir() const { return dir_; }
 

@@ -100,7 +100,7 @@ std::string GraphServiceDetail(const MonitorState& state, const std::string& run
   const NodeEntry* newest = nullptr;
   for (const auto& [key, node] : state.nodes)
     if (key.run_id == run_id && key.role == "graph" && (!newest || node.last_seen > newest->last_seen)) newest = &node;
-  return newest ? newest->status.detail : std::string();
+  return newest ? newest->status.report.detail : std::string();
 }
 
 void RenderGraph(const RunView& run, const std::string& service_detail, Clock::time_point now, std::string* out) {
@@ -186,13 +186,14 @@ void RenderNodes(const MonitorState& state, Clock::time_point now, const RenderO
      : health == NodeHealth::kQuiet ? quiet
      : health == NodeHealth::kLost  ? lost
                                     : exited)++;
-    const transport::NodeStatus& s = node.status;
+    const rl::NodeStatus& s = node.status;
+    const rl::NodeReport& r = s.report;
     std::string row = show_run ? Format("  %-12.12s", key.run_id.c_str()) : std::string("  ");
     row += Format("%-8.8s %3u %-14.14s %7d %-10.10s %-6s %6" PRIu64 " %5" PRIu64 " %11s %7" PRIu64 " %9s %6s  %s\n",
-                  s.role.c_str(), s.node_id, s.host.c_str(), s.pid, transport::NodeStateName(s.state),
-                  NodeHealthName(health), s.policy_version, s.graph_version, Thousands(s.env_steps).c_str(),
-                  s.dropped_samples, HoursMinutesSeconds(static_cast<double>(s.uptime_ms) / 1000.0).c_str(),
-                  Seconds(now - node.last_seen).c_str(), s.detail.c_str());
+                  s.role.c_str(), s.node_id, s.host.c_str(), s.pid, rl::NodePhaseName(r.phase), NodeHealthName(health),
+                  r.policy_version, r.graph_version, Thousands(r.steps).c_str(), r.dropped,
+                  HoursMinutesSeconds(static_cast<double>(s.uptime_ms) / 1000.0).c_str(),
+                  Seconds(now - node.last_seen).c_str(), r.detail.c_str());
     rows += row;
   }
   *out += Format("nodes     %zu alive, %zu lost, %zu exited", alive, lost, exited);

@@ -2,14 +2,14 @@
 
 #include <spdlog/spdlog.h>
 
-#include "common/transport/rl_convert.h"
+#include "common/transport/wire.h"
 
 namespace srics::monitor {
 
 namespace tr = srics::transport;
 
 struct Monitor::Readers {
-  tr::Reader<tr::NodeStatus> nodes;
+  tr::Reader<rl::NodeStatus> nodes;
   tr::Reader<rl::LearnerReport> learner;
   tr::Reader<rl::EvalReport> evals;
   tr::Reader<rl::GraphUpdate> graph;
@@ -44,20 +44,20 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
   size_t taken = 0;
   const double wall = WallTimeNow();
 
-  tr::NodeStatus status;
+  rl::NodeStatus status;
+  std::string run_id;
   std::chrono::milliseconds wait = timeout;
-  for (size_t i = 0; i < kMaxPerTopic && readers_->nodes.Take(&status, wait) == tr::TakeStatus::kSample; ++i) {
+  for (size_t i = 0; i < kMaxPerTopic && readers_->nodes.Take(&status, wait, &run_id) == tr::TakeStatus::kSample; ++i) {
     wait = kNoWait;
     if (options_.accept_node && !options_.accept_node(status)) {
       participant_.CountRejection("status.foreign");
       continue;
     }
-    Apply(&state_, status, Clock::now());
-    if (csv_ && options_.csv_node_statuses) csv_->Append(status, wall);
+    Apply(&state_, run_id, status, Clock::now());
+    if (csv_ && options_.csv_node_statuses) csv_->Append(run_id, status, wall);
     ++taken;
   }
   rl::LearnerReport stats;
-  std::string run_id;
   for (size_t i = 0; i < kMaxPerTopic && readers_->learner.Take(&stats, kNoWait, &run_id) == tr::TakeStatus::kSample;
        ++i) {
     if (options_.budget_env_steps) {
@@ -133,7 +133,7 @@ size_t Monitor::Poll(std::chrono::milliseconds timeout) {
     else
       spdlog::info("{}", line);
     node_events_.push_back(std::move(line));
-    if (csv_) csv_->Append(node.status, wall, health == NodeHealth::kLost ? "lost" : "exited");
+    if (csv_) csv_->Append(key.run_id, node.status, wall, health == NodeHealth::kLost ? "lost" : "exited");
   }
   return taken;
 }

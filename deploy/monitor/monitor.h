@@ -46,7 +46,7 @@ struct MonitorOptions {
   std::function<std::optional<rl::EvaluationSummary>()> passive_baseline;
   // Set: a NodeStatus it returns false for is refused ("status.foreign"): neither in the state,
   // the display nor nodes.csv (the launcher: a second launcher of its run id, which leaves).
-  std::function<bool(const transport::NodeStatus&)> accept_node;
+  std::function<bool(const rl::NodeStatus&)> accept_node;
   // Called with every evaluation and every weights sample taken (may be empty): for what a
   // program keeps besides the state (the launcher: the best evaluation's weights).
   std::function<void(const rl::EvalReport&)> on_eval;

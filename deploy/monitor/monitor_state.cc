@@ -68,10 +68,10 @@ RunView& RunOf(MonitorState* state, const std::string& printable_run_id, Clock::
   return it->second;
 }
 
-void Apply(MonitorState* state, const transport::NodeStatus& received, Clock::time_point now) {
-  transport::NodeStatus status = received;
-  for (std::string* text : {&status.run_id, &status.role, &status.host, &status.detail}) *text = PrintableText(*text);
-  NodeKey key{status.run_id, status.role, status.node_id};
+void Apply(MonitorState* state, const std::string& run_id, const rl::NodeStatus& received, Clock::time_point now) {
+  rl::NodeStatus status = received;
+  for (std::string* text : {&status.role, &status.host, &status.report.detail}) *text = PrintableText(*text);
+  NodeKey key{PrintableText(run_id), status.role, status.node_id};
   const auto emplaced = state->nodes.try_emplace(std::move(key));
   const auto it = emplaced.first;
   const bool inserted = emplaced.second;
@@ -93,8 +93,8 @@ void Apply(MonitorState* state, const transport::NodeStatus& received, Clock::ti
 
 namespace {
 
-// Contract fields added in a later version of messages.h are read when they exist, so this
-// library builds against either.
+// Contract fields added in a later version of the learner stats are read when they exist, so
+// this library builds against either.
 template <typename Stats>
 uint64_t TrainingSteps(const Stats& stats) {
   if constexpr (requires { stats.training_env_steps; })
@@ -211,10 +211,10 @@ std::string PassiveMismatch(const rl::EvalReport& report, const rl::EvaluationSu
 
 NodeHealth HealthOf(const MonitorState& state, const NodeEntry& node, Clock::time_point now) {
   if (now - node.last_seen <= state.lost_after) return NodeHealth::kAlive;
-  if (node.status.state == transport::NodeState::kStopping) return NodeHealth::kExited;
+  if (node.status.report.phase == rl::NodePhase::kStopping) return NodeHealth::kExited;
   if (state.liveliness_known) {
     size_t expected = 0;  // nodes whose writer should still be there
-    for (const auto& [key, other] : state.nodes) expected += other.status.state != transport::NodeState::kStopping;
+    for (const auto& [key, other] : state.nodes) expected += other.status.report.phase != rl::NodePhase::kStopping;
     if (state.status_writers_alive >= expected) return NodeHealth::kQuiet;
   }
   return NodeHealth::kLost;

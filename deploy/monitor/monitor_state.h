@@ -21,7 +21,7 @@
 #include "common/config/transport_config.h"
 #include "common/rl/evaluation.h"
 #include "common/rl/updates.h"
-#include "common/transport/messages.h"
+#include "common/transport/wire.h"
 
 namespace srics::monitor {
 
@@ -46,7 +46,7 @@ enum class NodeHealth {
 const char* NodeHealthName(NodeHealth health);
 
 struct NodeEntry {
-  transport::NodeStatus status;  // the latest one
+  rl::NodeStatus status;  // the latest one
   Clock::time_point first_seen;
   Clock::time_point last_seen;
   uint64_t statuses = 0;  // samples received
@@ -139,7 +139,7 @@ RunView& RunOf(MonitorState* state, const std::string& printable_run_id, Clock::
 // Folding samples into the state. `now` is the arrival time. Every string of a sample (run
 // id, role, host, detail, architecture) is kept as PrintableText; `run_id` is the sample's
 // (its envelope's).
-void Apply(MonitorState* state, const transport::NodeStatus& status, Clock::time_point now);
+void Apply(MonitorState* state, const std::string& run_id, const rl::NodeStatus& status, Clock::time_point now);
 void Apply(MonitorState* state, const std::string& run_id, const rl::LearnerReport& stats, Clock::time_point now);
 void Apply(MonitorState* state, const std::string& run_id, const rl::EvalReport& result, Clock::time_point now);
 void Apply(MonitorState* state, const std::string& run_id, const rl::GraphUpdate& graph, Clock::time_point now);

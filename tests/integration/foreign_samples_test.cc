@@ -26,8 +26,8 @@
 #include "common/rl/ground_truth.h"
 #include "common/transport/dds_links.h"
 #include "common/transport/graph_feed.h"
-#include "common/transport/rl_convert.h"
 #include "common/transport/transport.h"
+#include "common/transport/wire.h"
 #include "deploy/monitor/display.h"
 #include "deploy/monitor/monitor.h"
 #include "graph_service/service.h"
@@ -133,7 +133,7 @@ TEST_F(ForeignSamplesTest, CompleteGraphOf16EntitiesIsRefusedAtOnceAndTheRunsGra
   transport::DdsLearnerLink learner(learner_side, limits_);
   transport::DdsActorLink actor(actor_side, 1, limits_, config_.run.total_env_steps, 0ms);
   transport::GraphFeed any(any_side, 0);
-  transport::Reader<transport::NodeStatus> statuses(monitor_side);
+  transport::Reader<rl::NodeStatus> statuses(monitor_side);
   Writer<rl::GraphUpdate> raw(foreign, Raw());
   ASSERT_TRUE(raw.WaitForReaders(3, 10s));
   ASSERT_EQ(raw.Write(transport::testing::MakeCompleteGraph(16, uint64_t{1} << 62)), WriteResult::kSent);
@@ -175,10 +175,10 @@ TEST_F(ForeignSamplesTest, CompleteGraphOf16EntitiesIsRefusedAtOnceAndTheRunsGra
   rl::NodeReport report;
   report.detail = "exploring";
   actor.PublishStatus(report);
-  transport::NodeStatus status;
+  rl::NodeStatus status;
   ASSERT_EQ(statuses.Take(&status, 10s), transport::TakeStatus::kSample);
-  EXPECT_EQ(status.detail, "exploring | rejected: graph.entities=1");
-  EXPECT_EQ(status.dropped_samples, 1u);
+  EXPECT_EQ(status.report.detail, "exploring | rejected: graph.entities=1");
+  EXPECT_EQ(status.report.dropped, 1u);
 }
 
 // A refused PolicyWeights sample advanced the actor's version: one with a huge version froze
@@ -489,25 +489,25 @@ TEST_F(ForeignSamplesTest, LaunchersMonitorRefusesStatsAndGraphsThatCannotBeTheR
 TEST_F(ForeignSamplesTest, MonitorShowsForeignStringsWithoutControlCharacters) {
   Participant foreign(config_.transport), monitor_side(config_.transport);
   monitor::Monitor monitor(monitor_side, {.weights = false});
-  Writer<transport::NodeStatus> raw(foreign, Raw());
+  Writer<rl::NodeStatus> raw(foreign, Raw());
   ASSERT_TRUE(raw.WaitForReaders(1, 10s));
-  transport::NodeStatus status;
+  rl::NodeStatus status;
   status.role = "actor\x1b[31m";
   status.node_id = 3;
   status.host = "lab\r\nhost";
-  status.detail =
+  status.report.detail =
       "\x1b]0;owned\x07\x1b[2J\xc2\x9b"
       "2J done";
-  status.state = transport::NodeState::kTraining;
+  status.report.phase = rl::NodePhase::kTraining;
   ASSERT_EQ(raw.Write(status), WriteResult::kSent);
   ASSERT_TRUE(Eventually([&] {
     monitor.Poll(50ms);
     return !monitor.state().nodes.empty();
   }));
-  const transport::NodeStatus& shown = monitor.state().nodes.begin()->second.status;
+  const rl::NodeStatus& shown = monitor.state().nodes.begin()->second.status;
   EXPECT_EQ(shown.role, "actor?[31m");
   EXPECT_EQ(shown.host, "lab??host");
-  EXPECT_EQ(shown.detail, "?]0;owned??[2J??2J done");
+  EXPECT_EQ(shown.report.detail, "?]0;owned??[2J??2J done");
   const std::string screen = monitor::Render(monitor.state(), Clock::now(), {});
   for (char c : screen)
     EXPECT_TRUE(c == '\n' || (c >= 0x20 && c <= 0x7e)) << "byte " << static_cast<int>(static_cast<unsigned char>(c));

@@ -54,7 +54,7 @@ class System {
     graphs_ = std::make_unique<tr::Reader<rl::GraphUpdate>>(*participant_);
     stats_ = std::make_unique<tr::Reader<rl::LearnerReport>>(*participant_);
     evals_ = std::make_unique<tr::Reader<rl::EvalReport>>(*participant_);
-    status_ = std::make_unique<tr::Reader<tr::NodeStatus>>(*participant_);
+    status_ = std::make_unique<tr::Reader<rl::NodeStatus>>(*participant_);
   }
   // Stops every role still running (SIGINT, then SIGKILL after 3 s). A role that dies by a
   // signal of its own on the way (a crash while stopping: SIGABRT from malloc, SIGSEGV) fails
@@ -117,7 +117,7 @@ class System {
     while (stats_->Take(&s, 0ms) == tr::TakeStatus::kSample) stats = s;
     rl::EvalReport e;
     while (evals_->Take(&e, 0ms) == tr::TakeStatus::kSample) evals.push_back(e);
-    tr::NodeStatus n;
+    rl::NodeStatus n;
     while (status_->Take(&n, 0ms) == tr::TakeStatus::kSample) nodes[n.role + "-" + std::to_string(n.node_id)] = n;
   }
   // Polls until `done` holds or `timeout` passes; returns whether it held.
@@ -167,7 +167,7 @@ class System {
   int graphs_received = 0;
   std::optional<rl::LearnerReport> stats;
   std::vector<rl::EvalReport> evals;
-  std::map<std::string, tr::NodeStatus> nodes;
+  std::map<std::string, rl::NodeStatus> nodes;
 
  private:
   std::string run_id_, run_dir_, config_path_;
@@ -180,7 +180,7 @@ class System {
   std::unique_ptr<tr::Reader<rl::GraphUpdate>> graphs_;
   std::unique_ptr<tr::Reader<rl::LearnerReport>> stats_;
   std::unique_ptr<tr::Reader<rl::EvalReport>> evals_;
-  std::unique_ptr<tr::Reader<tr::NodeStatus>> status_;
+  std::unique_ptr<tr::Reader<rl::NodeStatus>> status_;
   std::map<std::string, launcher::ChildProcess> children_;
 };
 

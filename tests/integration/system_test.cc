@@ -70,15 +70,15 @@ TEST(SystemTest, KilledActorLeavesNoPartialEpisodeAndResumesWithLatestWeightsAnd
       [&] {
         auto it = system.nodes.find("actor-1");
         return it != system.nodes.end() && it->second.pid == system.child("actor-1").pid() &&
-               it->second.graph_version == graph_version && it->second.policy_version > 0 &&
-               it->second.policy_version + 3 >= system.latest_weights;
+               it->second.report.graph_version == graph_version && it->second.report.policy_version > 0 &&
+               it->second.report.policy_version + 3 >= system.latest_weights;
       },
       10s))
       << system.Output("actor-1");
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - restarted).count();
   EXPECT_LT(seconds, 2.5) << "restarted actor took " << seconds << " s to get the weights and graph";
   EXPECT_EQ(system.stats->episodes_rejected, 0u) << "a partial episode reached the learner";
-  EXPECT_EQ(system.nodes["learner-0"].dropped_samples, 0u);
+  EXPECT_EQ(system.nodes["learner-0"].report.dropped, 0u);
 }
 
 TEST(SystemTest, LearnerRestartsFromItsCheckpointAndVersionsKeepIncreasing) {
@@ -99,8 +99,8 @@ TEST(SystemTest, LearnerRestartsFromItsCheckpointAndVersionsKeepIncreasing) {
   // it resumed (at least the last checkpoint's updates) rather than starting from zero
   EXPECT_NE(system.Output("learner").find("resumed from"), std::string::npos);
   // actors carried on
-  const uint64_t steps = system.nodes["actor-0"].env_steps;
-  EXPECT_TRUE(system.WaitUntil([&] { return system.nodes["actor-0"].env_steps > steps; }, 20s));
+  const uint64_t steps = system.nodes["actor-0"].report.steps;
+  EXPECT_TRUE(system.WaitUntil([&] { return system.nodes["actor-0"].report.steps > steps; }, 20s));
   EXPECT_TRUE(system.child("actor-0").running());
   EXPECT_TRUE(system.child("actor-1").running());
 }
@@ -134,7 +134,7 @@ TEST(SystemTest, LateActorGetsGraphAndWeightsWithinTwoSeconds) {
   ASSERT_TRUE(system.WaitUntil(
       [&] {
         auto it = system.nodes.find("actor-5");
-        return it != system.nodes.end() && it->second.graph_version > 0 && it->second.policy_version > 0;
+        return it != system.nodes.end() && it->second.report.graph_version > 0 && it->second.report.policy_version > 0;
       },
       10s))
       << system.Output("actor-5");
@@ -164,8 +164,8 @@ TEST(SystemTest, MalformedEpisodesFromAForeignParticipantAreDroppedAndCounted) {
   bad.actions.pop_back();  // wrong length
   for (int i = 0; i < 10; ++i) ASSERT_EQ(foreign.Write(bad), tr::WriteResult::kSent);
   const uint64_t updates = system.stats->updates;
-  ASSERT_TRUE(system.WaitUntil([&] { return system.nodes["learner-0"].dropped_samples >= 20; }, 20s))
-      << "learner dropped " << system.nodes["learner-0"].dropped_samples;
+  ASSERT_TRUE(system.WaitUntil([&] { return system.nodes["learner-0"].report.dropped >= 20; }, 20s))
+      << "learner dropped " << system.nodes["learner-0"].report.dropped;
   EXPECT_TRUE(system.WaitUntil([&] { return system.stats->updates > updates + 20; }, 30s)) << "training stopped";
   EXPECT_TRUE(system.child("learner").running());
   EXPECT_TRUE(system.child("graph").running());

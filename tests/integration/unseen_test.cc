@@ -58,8 +58,8 @@ TEST(UnseenCombinationTest, LearnedCatalogueGraphIsAcceptedAndEvaluationRunsOnTh
   // actors and learner accepted the graph: they follow its version and refused nothing
   for (const char* node : {"learner-0", "actor-0", "actor-1"}) {
     ASSERT_TRUE(system.nodes.count(node)) << node;
-    EXPECT_EQ(system.nodes[node].graph_version, system.graph->version) << node;
-    EXPECT_EQ(system.nodes[node].dropped_samples, 0u) << node << ": " << system.nodes[node].detail;
+    EXPECT_EQ(system.nodes[node].report.graph_version, system.graph->version) << node;
+    EXPECT_EQ(system.nodes[node].report.dropped, 0u) << node << ": " << system.nodes[node].report.detail;
   }
   for (const char* name : {"learner", "actor-0", "actor-1"})
     EXPECT_EQ(system.Output(name).find("ignored"), std::string::npos) << system.Output(name);

@@ -153,10 +153,10 @@ class Injector {
     send(evals_, r);
 
     // a status that would drive a terminal
-    NodeStatus st = testing::MakeNodeStatus(config_.transport.run_id, 900 + n % 10);
+    rl::NodeStatus st = testing::MakeNodeStatus(900 + n % 10);
     st.role = "intruder\x1b[2J";
     st.host = "lab\r\nhost\x07";
-    st.detail = "\x1b]0;owned\x07\x1b[31m red";
+    st.report.detail = "\x1b]0;owned\x07\x1b[31m red";
     send(status_, st);
     return written;
   }
@@ -183,7 +183,7 @@ class Injector {
   Writer<rl::GraphUpdate> graphs_;
   Writer<rl::LearnerReport> stats_;
   Writer<rl::EvalReport> evals_;
-  Writer<NodeStatus> status_;
+  Writer<rl::NodeStatus> status_;
   Reader<rl::WeightsUpdate> weights_in_;
   Reader<rl::LearnerReport> stats_in_;
   rl::Episode template_episode_;

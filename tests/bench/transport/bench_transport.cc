@@ -31,8 +31,8 @@
 #include <vector>
 
 #include "common/transport/dds_links.h"
-#include "common/transport/rl_convert.h"
 #include "common/transport/transport.h"
+#include "common/transport/wire.h"
 #include "tests/common/transport/peer_process.h"
 #include "tests/common/transport/test_samples.h"
 

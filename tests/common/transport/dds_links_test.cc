@@ -289,7 +289,7 @@ TEST_F(DdsLinksTest, ActorDoesNotSendOwnEpisodesOutsideTheLimits) {
 
 TEST_F(DdsLinksTest, StatusOfEveryLinkIsPublishedUnderItsRole) {
   Participant monitor_side(config_), graph_side(config_), learner_side(config_);
-  Reader<NodeStatus> monitor(monitor_side);
+  Reader<rl::NodeStatus> monitor(monitor_side);
   DdsGraphSink sink(graph_side);
   DdsLearnerLink learner(learner_side, limits_);
   rl::NodeReport report;
@@ -300,17 +300,17 @@ TEST_F(DdsLinksTest, StatusOfEveryLinkIsPublishedUnderItsRole) {
   sink.PublishStatus(report);
   report.phase = rl::NodePhase::kWaiting;
   learner.PublishStatus(report);
-  std::map<std::string, NodeStatus> seen;
+  std::map<std::string, rl::NodeStatus> seen;
   const auto deadline = Clock::now() + 10s;
-  NodeStatus status;
+  rl::NodeStatus status;
   while (seen.size() < 2 && Clock::now() < deadline)
     if (monitor.Take(&status, 100ms) == TakeStatus::kSample) seen[status.role] = status;
   ASSERT_EQ(seen.size(), 2u);
-  EXPECT_EQ(seen["graph"].state, NodeState::kTraining);
-  EXPECT_EQ(seen["graph"].graph_version, 4u);
-  EXPECT_EQ(seen["graph"].env_steps, 77u);
-  EXPECT_EQ(seen["graph"].detail, "training: 10/20 episodes");
-  EXPECT_EQ(seen["learner"].state, NodeState::kWaiting);
+  EXPECT_EQ(seen["graph"].report.phase, rl::NodePhase::kTraining);
+  EXPECT_EQ(seen["graph"].report.graph_version, 4u);
+  EXPECT_EQ(seen["graph"].report.steps, 77u);
+  EXPECT_EQ(seen["graph"].report.detail, "training: 10/20 episodes");
+  EXPECT_EQ(seen["learner"].report.phase, rl::NodePhase::kWaiting);
   EXPECT_EQ(seen["learner"].pid, static_cast<int32_t>(getpid()));
 }
 

@@ -12,8 +12,8 @@
 #include <tuple>
 
 #include "common/rl/graph.h"
-#include "common/transport/rl_convert.h"
 #include "common/transport/validation.h"
+#include "common/transport/wire.h"
 
 namespace srics::transport::testing {
 namespace {
@@ -189,20 +189,19 @@ rl::LearnerReport MakeLearnerStats(uint64_t seed) {
   return s;
 }
 
-NodeStatus MakeNodeStatus(const std::string& run_id, uint64_t seed) {
-  NodeStatus s;
-  s.run_id = run_id;
+rl::NodeStatus MakeNodeStatus(uint64_t seed) {
+  rl::NodeStatus s;
   s.role = "actor";
   s.node_id = static_cast<uint32_t>(seed);
   s.host = "host-" + std::to_string(seed);
   s.pid = 4242;
-  s.state = NodeState::kTraining;
-  s.policy_version = 7;
-  s.graph_version = 1;
-  s.env_steps = 99999;
-  s.dropped_samples = 2;
   s.uptime_ms = 3600000;
-  s.detail = "episode 12 of subgoal 3";
+  s.report.phase = rl::NodePhase::kTraining;
+  s.report.policy_version = 7;
+  s.report.graph_version = 1;
+  s.report.steps = 99999;
+  s.report.dropped = 2;
+  s.report.detail = "episode 12 of subgoal 3";
   return s;
 }
 

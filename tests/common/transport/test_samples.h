@@ -7,7 +7,7 @@
 
 #include "common/rl/episode.h"
 #include "common/transport/endpoint.h"
-#include "common/transport/messages.h"
+#include "common/transport/wire.h"
 
 namespace srics::transport::testing {
 
@@ -37,7 +37,7 @@ rl::WeightsUpdate MakePolicyWeights(uint64_t seed, size_t count = 1000);
 rl::GraphUpdate MakeInteractionGraph(uint64_t seed);  // its structure not the adjacency's
 rl::EvalReport MakeEvalResult(uint64_t seed);         // floats exact on the wire
 rl::LearnerReport MakeLearnerStats(uint64_t seed);    // floats exact on the wire
-NodeStatus MakeNodeStatus(const std::string& run_id, uint64_t seed);
+rl::NodeStatus MakeNodeStatus(uint64_t seed);
 
 // A well-formed graph of `entities` with every edge set, its true ancestor sets and depths
 // (16 entities hung the learner and the actors before the entity count was checked first).

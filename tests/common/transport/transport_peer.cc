@@ -69,7 +69,7 @@ int WithSample(const std::string& run, const std::string& topic, uint64_t seed, 
   if (topic == "interaction_graph") return act(MakeInteractionGraph(seed));
   if (topic == "eval_result") return act(MakeEvalResult(seed));
   if (topic == "learner_stats") return act(MakeLearnerStats(seed));
-  if (topic == "node_status") return act(MakeNodeStatus(run, seed));
+  if (topic == "node_status") return act(MakeNodeStatus(seed));
   return 2;
 }
 

@@ -76,24 +76,22 @@ void ExpectPeerReceives(const config::TransportConfig& config, const T& msg, con
 }
 
 TEST_F(TransportTest, EveryTypeRoundTripsBetweenProcesses) {
-  const std::string& run = config_.run_id;
   ExpectFromPeer(config_, "episode", testing::MakeEpisode(3), PeerArgs("write", {"episode", "3"}));
   ExpectFromPeer(config_, "policy_weights", testing::MakePolicyWeights(4), PeerArgs("write", {"policy_weights", "4"}));
   ExpectFromPeer(config_, "interaction_graph", testing::MakeInteractionGraph(5),
                  PeerArgs("write", {"interaction_graph", "5"}));
   ExpectFromPeer(config_, "eval_result", testing::MakeEvalResult(6), PeerArgs("write", {"eval_result", "6"}));
   ExpectFromPeer(config_, "learner_stats", testing::MakeLearnerStats(7), PeerArgs("write", {"learner_stats", "7"}));
-  ExpectFromPeer(config_, "node_status", testing::MakeNodeStatus(run, 8), PeerArgs("write", {"node_status", "8"}));
+  ExpectFromPeer(config_, "node_status", testing::MakeNodeStatus(8), PeerArgs("write", {"node_status", "8"}));
 }
 
 TEST_F(TransportTest, EveryTypeRoundTripsToAnotherProcess) {
-  const std::string& run = config_.run_id;
   ExpectPeerReceives(config_, testing::MakeEpisode(13), PeerArgs("read", {"episode", "13"}));
   ExpectPeerReceives(config_, testing::MakePolicyWeights(14), PeerArgs("read", {"policy_weights", "14"}));
   ExpectPeerReceives(config_, testing::MakeInteractionGraph(15), PeerArgs("read", {"interaction_graph", "15"}));
   ExpectPeerReceives(config_, testing::MakeEvalResult(16), PeerArgs("read", {"eval_result", "16"}));
   ExpectPeerReceives(config_, testing::MakeLearnerStats(17), PeerArgs("read", {"learner_stats", "17"}));
-  ExpectPeerReceives(config_, testing::MakeNodeStatus(run, 18), PeerArgs("read", {"node_status", "18"}));
+  ExpectPeerReceives(config_, testing::MakeNodeStatus(18), PeerArgs("read", {"node_status", "18"}));
 }
 
 // The same struct equality the round trips rely on, spelled out for one type, so a broken
@@ -302,13 +300,12 @@ TEST_F(TransportTest, WriterRefusesMalformedOutgoingSamples) {
   bad = testing::MakeEpisode(1);
   bad.states[9] = 1e30f;  // finite, far beyond any table
   EXPECT_THROW((void)writer.TryWrite(bad), InvalidMessage);
-  NodeStatus long_run = testing::MakeNodeStatus(config_.run_id, 1);
+  rl::NodeStatus long_role = testing::MakeNodeStatus(1);
   WriterOptions raw_options;
-  raw_options.stamp = false;
   raw_options.validate = false;
-  Writer<NodeStatus> raw(participant, raw_options);
-  long_run.run_id = std::string(65, 'x');
-  EXPECT_THROW((void)raw.TryWrite(long_run), InvalidMessage);  // beyond the IDL bound
+  Writer<rl::NodeStatus> raw(participant, raw_options);
+  long_role.role = std::string(33, 'x');
+  EXPECT_THROW((void)raw.TryWrite(long_role), InvalidMessage);  // beyond the IDL bound
 }
 
 // ------------------------------------------------------------------------------- shutdown
@@ -418,13 +415,13 @@ TEST_F(TransportTest, UnicastProfileWithLocalPeerWorks) {
   config_.network_interface = "lo";
   Participant a(config_);
   Participant b(config_);
-  Writer<NodeStatus> writer(a);
-  Reader<NodeStatus> reader(b);
+  Writer<rl::NodeStatus> writer(a);
+  Reader<rl::NodeStatus> reader(b);
   ASSERT_TRUE(writer.WaitForReaders(1, 10s));
-  ASSERT_EQ(writer.Write(testing::MakeNodeStatus(config_.run_id, 3)), WriteResult::kSent);
-  NodeStatus got;
+  ASSERT_EQ(writer.Write(testing::MakeNodeStatus(3)), WriteResult::kSent);
+  rl::NodeStatus got;
   ASSERT_EQ(reader.Take(&got, 10s), TakeStatus::kSample);
-  EXPECT_TRUE(got == testing::MakeNodeStatus(config_.run_id, 3));
+  EXPECT_TRUE(got == testing::MakeNodeStatus(3));
   EXPECT_EQ(reader.alive_writers(), 1u);
 }
 

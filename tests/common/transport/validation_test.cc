@@ -29,7 +29,7 @@ TEST(ValidationTest, GoodSamplesOfEveryTypeAreAccepted) {
   EXPECT_TRUE(Validate(testing::MakeInteractionGraph(1), {.run_id = run}, run).ok());
   EXPECT_TRUE(Validate(testing::MakeEvalResult(1), {.run_id = run}, run).ok());
   EXPECT_TRUE(Validate(testing::MakeLearnerStats(1), {.run_id = run}, run).ok());
-  EXPECT_TRUE(Validate(testing::MakeNodeStatus(run, 1), run).ok());
+  EXPECT_TRUE(Validate(testing::MakeNodeStatus(1), {.run_id = run}, run).ok());
   // an empty expected run id accepts every run (monitors)
   EXPECT_TRUE(Validate(testing::MakeEvalResult(1), {.run_id = "other"}, "").ok());
 }
@@ -37,7 +37,7 @@ TEST(ValidationTest, GoodSamplesOfEveryTypeAreAccepted) {
 TEST(ValidationTest, OtherRunIsNotMalformed) {
   const Validation v = Validate(testing::MakeEvalResult(1), {.run_id = "run-b"}, "run-a");
   EXPECT_EQ(v.verdict, Verdict::kOtherRun);
-  EXPECT_EQ(Validate(testing::MakeNodeStatus("run-b", 1), "run-a").verdict, Verdict::kOtherRun);
+  EXPECT_EQ(Validate(testing::MakeNodeStatus(1), {.run_id = "run-b"}, "run-a").verdict, Verdict::kOtherRun);
 }
 
 // Episodes carry no struct of their own: their envelope is checked on the received C sample
@@ -79,9 +79,7 @@ TEST(ValidationTest, ContractVersionAndRunIdAreChecked) {
   const rl::EvalReport e = testing::MakeEvalResult(1);
   ExpectMalformed(Validate(e, {kContractVersion + 1, "r"}, "r"), "contract_version");
   ExpectMalformed(Validate(e, {.run_id = ""}, ""), "run_id");
-  NodeStatus n = testing::MakeNodeStatus("r", 1);
-  n.contract_version = 0;
-  ExpectMalformed(Validate(n, "r"), "contract_version");
+  ExpectMalformed(Validate(testing::MakeNodeStatus(1), {0, "r"}, "r"), "contract_version");
 }
 
 TEST(ValidationTest, WeightsChecksumAndVersion) {
@@ -148,12 +146,12 @@ TEST(ValidationTest, EvalAndStatusRanges) {
   EXPECT_TRUE(Validate(r, of_r, "r").ok());
   r.summary.independent_undone = 4;
   ExpectMalformed(Validate(r, of_r, "r"), "independent_undone (4) exceeds independent_solved (3)");
-  NodeStatus n = testing::MakeNodeStatus("r", 1);
-  n.state = static_cast<NodeState>(9);
-  ExpectMalformed(Validate(n, "r"), "state");
-  n = testing::MakeNodeStatus("r", 1);
+  rl::NodeStatus n = testing::MakeNodeStatus(1);
+  n.report.phase = static_cast<rl::NodePhase>(9);
+  ExpectMalformed(Validate(n, of_r, "r"), "state");
+  n = testing::MakeNodeStatus(1);
   n.role.clear();
-  ExpectMalformed(Validate(n, "r"), "role");
+  ExpectMalformed(Validate(n, of_r, "r"), "role");
 }
 
 // Issue 15: each rejection names the counter it counts in ("<topic>.<check>").
@@ -175,11 +173,11 @@ TEST(ValidationTest, EveryRejectionNamesItsCounter) {
   rl::EvalReport e = testing::MakeEvalResult(1);
   e.summary.avg_distance = kInf;
   EXPECT_EQ(Validate(e, {.run_id = "r"}, "r").counter, "eval.nonfinite");
-  NodeStatus n = testing::MakeNodeStatus("r", 1);
+  rl::NodeStatus n = testing::MakeNodeStatus(1);
   n.host = std::string(200, 'h');
-  EXPECT_EQ(Validate(n, "r").counter, "status.size");
+  EXPECT_EQ(Validate(n, {.run_id = "r"}, "r").counter, "status.size");
   EXPECT_EQ(ValidateEnvelope(kContractVersion, "", "r").counter, "episode.envelope");
-  EXPECT_TRUE(Validate(testing::MakeNodeStatus("r", 1), "r").counter.empty());
+  EXPECT_TRUE(Validate(testing::MakeNodeStatus(1), {.run_id = "r"}, "r").counter.empty());
 }
 
 // Finite but huge parameters overflowed the actors' policies into NaN actions: refused.

@@ -29,7 +29,6 @@ namespace fs = std::filesystem;
 namespace mon = srics::monitor;
 using mon::testing::Eval;
 using mon::testing::Graph;
-using transport::NodeState;
 
 using Node = testing::Json;
 // The document read back strictly (any text that is not exactly JSON fails the test).
@@ -91,9 +90,9 @@ TEST(DashboardJsonTest, RunsNodesGraphAndLearnerFromTheMonitorState) {
   stats.budget_env_steps = 4000;
   mon::testing::SetTrainingSteps(&stats, 2100);
   mon::Apply(&state, "r1", stats, now);
-  mon::Apply(&state, mon::testing::Node("learner", 0, NodeState::kTraining), now);
-  mon::Apply(&state, mon::testing::Node("actor", 1, NodeState::kStopping), now - std::chrono::seconds(60));
-  mon::Apply(&state, mon::testing::Node("actor", 2, NodeState::kTraining), now - std::chrono::seconds(60));
+  mon::Apply(&state, "r1", mon::testing::Node("learner", 0, rl::NodePhase::kTraining), now);
+  mon::Apply(&state, "r1", mon::testing::Node("actor", 1, rl::NodePhase::kStopping), now - std::chrono::seconds(60));
+  mon::Apply(&state, "r1", mon::testing::Node("actor", 2, rl::NodePhase::kTraining), now - std::chrono::seconds(60));
   mon::RenderOptions render;
   render.title = "t";
   render.processes.push_back({.name = "actor-1", .pid = 42, .state = "running", .restarts = 2});
@@ -186,9 +185,9 @@ class RunFolderTest : public ::testing::Test {
     sink.Append("folder-run", eval(23, 2000, 0.15f, 0.55f), t0 + 40);
     sink.Append("folder-run", eval(31, 3000, 0.1f, 0.7f), t0 + 60);
     for (int k = 0; k <= 60; ++k) {
-      transport::NodeStatus learner = mon::testing::Node("learner", 0, NodeState::kTraining, "folder-run");
-      learner.env_steps = 50 * static_cast<uint64_t>(k);
-      sink.Append(learner, t0 + k);
+      rl::NodeStatus learner = mon::testing::Node("learner", 0, rl::NodePhase::kTraining);
+      learner.report.steps = 50 * static_cast<uint64_t>(k);
+      sink.Append("folder-run", learner, t0 + k);
       rl::LearnerReport s;
       s.updates = 10 * static_cast<uint64_t>(k);
       s.transitions_inserted = 2000 + 50 * static_cast<uint64_t>(k);
@@ -197,10 +196,10 @@ class RunFolderTest : public ::testing::Test {
       s.updates_per_second = 10;
       sink.Append("folder-run", s, t0 + k + 0.5);
     }
-    sink.Append(mon::testing::Node("actor", 0, NodeState::kTraining, "folder-run"), t0 + 45);
-    sink.Append(mon::testing::Node("actor", 1, NodeState::kStopping, "folder-run"), t0 + 50);
-    sink.Append(mon::testing::Node("actor", 1, NodeState::kStopping, "folder-run"), t0 + 55, "exited");
-    sink.Append(mon::testing::Node("actor", 0, NodeState::kTraining, "folder-run"), t0 + 55, "lost");
+    sink.Append("folder-run", mon::testing::Node("actor", 0, rl::NodePhase::kTraining), t0 + 45);
+    sink.Append("folder-run", mon::testing::Node("actor", 1, rl::NodePhase::kStopping), t0 + 50);
+    sink.Append("folder-run", mon::testing::Node("actor", 1, rl::NodePhase::kStopping), t0 + 55, "exited");
+    sink.Append("folder-run", mon::testing::Node("actor", 0, rl::NodePhase::kTraining), t0 + 55, "lost");
     graph_file::LearnedGraph graph = graph_file::AggregateGraph(2, {0.0, 0.46, 0.01, 0.0}, 0.06, /*action_entity=*/0);
     graph.version = 4;
     graph.entity_kinds = {0, 1};

@@ -21,20 +21,18 @@ Incarnation Launcher(const std::string& host, int32_t pid, int64_t start_ms, Rol
   return {.host = host, .pid = pid, .start_ms = start_ms, .share = std::move(share)};
 }
 
-transport::NodeStatus StatusOf(const Incarnation& incarnation) {
-  transport::NodeStatus status;
-  status.run_id = "exp7";
+rl::NodeStatus StatusOf(const Incarnation& incarnation) {
+  rl::NodeStatus status;
   status.role = "launcher";
   status.node_id = static_cast<uint32_t>(incarnation.pid);
   status.host = incarnation.host;
   status.pid = incarnation.pid;
-  status.detail = IncarnationDetail(incarnation);
+  status.report.detail = IncarnationDetail(incarnation);
   return status;
 }
 
-transport::NodeStatus Role(const std::string& role, uint32_t id, const std::string& host, int32_t pid) {
-  transport::NodeStatus status;
-  status.run_id = "exp7";
+rl::NodeStatus Role(const std::string& role, uint32_t id, const std::string& host, int32_t pid) {
+  rl::NodeStatus status;
   status.role = role;
   status.node_id = id;
   status.host = host;
@@ -46,8 +44,8 @@ TEST(RunGuardTest, TheDetailSaysTheStartAndTheRolesAndReadsBack) {
   RoleShare share{.graph = false, .learner = true, .actor_ids = {5, 0, 1, 2, 3, 7, 8}, .whole_run = false};
   const Incarnation self = Launcher("h1", 4242, 1733400000123, share);
   EXPECT_EQ(IncarnationDetail(self), "incarnation since 1733400000123; roles learner actors:0-3,5,7-8");
-  transport::NodeStatus status = StatusOf(self);
-  status.detail += " | rejected: status.foreign=1";  // what StatusPublisher appends
+  rl::NodeStatus status = StatusOf(self);
+  status.report.detail += " | rejected: status.foreign=1";  // what StatusPublisher appends
   const auto back = IncarnationOf(status);
   ASSERT_TRUE(back.has_value());
   EXPECT_EQ(back->host, "h1");
@@ -58,7 +56,7 @@ TEST(RunGuardTest, TheDetailSaysTheStartAndTheRolesAndReadsBack) {
   EXPECT_EQ(back->share.actor_ids, (std::vector<int>{0, 1, 2, 3, 5, 7, 8}));
   for (const char* bad : {"", "training", "incarnation since x; roles graph", "incarnation since 12; roles wizard",
                           "incarnation since 12; roles actors:3-1", "incarnation since 12 roles graph"}) {
-    status.detail = bad;
+    status.report.detail = bad;
     EXPECT_FALSE(IncarnationOf(status).has_value()) << bad;
   }
 }
@@ -77,8 +75,8 @@ TEST(RunGuardTest, OfTwoLaunchersOfTheSameRolesTheOneThatCameLaterLeaves) {
   // its own status is not in the way
   EXPECT_EQ(Judge(first, StatusOf(first), false).verdict, Verdict::kNotInTheWay);
   // a launcher status that does not say what it runs is taken as the whole run, there first
-  transport::NodeStatus vague = StatusOf(second);
-  vague.detail = "training";
+  rl::NodeStatus vague = StatusOf(second);
+  vague.report.detail = "training";
   EXPECT_EQ(Judge(first, vague, false).verdict, Verdict::kWasFirst);
 }
 

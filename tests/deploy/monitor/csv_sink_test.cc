@@ -16,7 +16,6 @@ namespace {
 namespace fs = std::filesystem;
 using testing::Eval;
 using testing::Node;
-using transport::NodeState;
 
 std::vector<std::string> Lines(const std::string& path) {
   std::ifstream in(path);
@@ -46,7 +45,7 @@ TEST_F(CsvSinkTest, WritesHeadersAndRows) {
   stats.transitions_inserted = 1000;
   stats.q_loss = 0.5f;
   sink.Append("r1", stats, 1700000001.0);
-  sink.Append(Node("actor", 3, NodeState::kTraining), 1700000002.0);
+  sink.Append("r1", Node("actor", 3, rl::NodePhase::kTraining), 1700000002.0);
 
   const auto eval = Lines(dir_ + "/sub/eval.csv");
   ASSERT_EQ(eval.size(), 2u);
@@ -80,9 +79,9 @@ TEST_F(CsvSinkTest, ReopeningAppendsWithoutASecondHeader) {
 
 TEST_F(CsvSinkTest, QuotesDetailAndMarksLostNodes) {
   CsvSink sink(dir_);
-  transport::NodeStatus status = Node("learner", 0, NodeState::kTraining);
-  status.detail = "waiting, for \"graph\"";
-  sink.Append(status, 5.0, "lost");
+  rl::NodeStatus status = Node("learner", 0, rl::NodePhase::kTraining);
+  status.report.detail = "waiting, for \"graph\"";
+  sink.Append("r1", status, 5.0, "lost");
   const auto nodes = Lines(dir_ + "/nodes.csv");
   ASSERT_EQ(nodes.size(), 2u);
   EXPECT_THAT(nodes[1], ::testing::HasSubstr(",lost,"));

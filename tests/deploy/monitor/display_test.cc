@@ -21,7 +21,6 @@ using testing::Graph;
 using ::testing::HasSubstr;
 using testing::Node;
 using ::testing::Not;
-using transport::NodeState;
 
 // The line of `text` that contains `needle` ("" if none).
 std::string LineWith(const std::string& text, const std::string& needle) {
@@ -51,11 +50,11 @@ class DisplayTest : public ::testing::Test {
     Apply(&state_, "r1", Eval(0, 0, 0.20f), t0_);
     Apply(&state_, "r1", Eval(30, 40000, 0.15f), t0_);
     Apply(&state_, "r1", Eval(42, 50000, 0.10f), t0_);
-    Apply(&state_, Node("graph", 0, NodeState::kTraining), t0_ + milliseconds(4500));
-    Apply(&state_, Node("learner", 0, NodeState::kTraining), t0_ + milliseconds(4000));
-    Apply(&state_, Node("actor", 0, NodeState::kTraining), t0_ + milliseconds(4000));
-    Apply(&state_, Node("actor", 1, NodeState::kStopping), t0_);
-    Apply(&state_, Node("actor", 2, NodeState::kTraining), t0_);  // crashed: quiet, no goodbye
+    Apply(&state_, "r1", Node("graph", 0, rl::NodePhase::kTraining), t0_ + milliseconds(4500));
+    Apply(&state_, "r1", Node("learner", 0, rl::NodePhase::kTraining), t0_ + milliseconds(4000));
+    Apply(&state_, "r1", Node("actor", 0, rl::NodePhase::kTraining), t0_ + milliseconds(4000));
+    Apply(&state_, "r1", Node("actor", 1, rl::NodePhase::kStopping), t0_);
+    Apply(&state_, "r1", Node("actor", 2, rl::NodePhase::kTraining), t0_);  // crashed: quiet, no goodbye
   }
   const Clock::time_point t0_{};
   const Clock::time_point now_ = t0_ + milliseconds(5000);
@@ -115,7 +114,7 @@ TEST_F(DisplayTest, ShowsPassiveResultsRefusedAsNotTheRuns) {
 
 TEST_F(DisplayTest, WithoutEvaluationSaysSo) {
   MonitorState state;
-  Apply(&state, Node("actor", 0, NodeState::kExploring), t0_);
+  Apply(&state, "r1", Node("actor", 0, rl::NodePhase::kExploring), t0_);
   const std::string text = Render(state, t0_, {});
   EXPECT_THAT(text, HasSubstr("no evaluation of a trained policy yet; no passive baseline yet"));
   EXPECT_THAT(text, HasSubstr("graph     none yet"));
@@ -134,7 +133,7 @@ TEST_F(DisplayTest, NodeHealthPerRow) {
 }
 
 TEST_F(DisplayTest, RunFilterHidesOtherRuns) {
-  Apply(&state_, Node("actor", 9, NodeState::kTraining, "other-run"), now_);
+  Apply(&state_, "other-run", Node("actor", 9, rl::NodePhase::kTraining), now_);
   Apply(&state_, "other-run", Eval(1, 10, 0.3f), now_);
   RenderOptions only_r1;
   only_r1.run_id = "r1";
@@ -176,14 +175,14 @@ TEST_F(DisplayTest, OneLineSummary) {
 TEST_F(DisplayTest, BeforeTheFirstGraphTheLineShowsWhatTheGraphServiceIsDoing) {
   MonitorState state;
   state.lost_after = milliseconds(3000);
-  transport::NodeStatus graph = Node("graph", 0, NodeState::kExploring, "r2");
-  graph.detail = "collecting: 120/1000 episodes, 0 updates";
-  Apply(&state, graph, t0_);
+  rl::NodeStatus graph = Node("graph", 0, rl::NodePhase::kExploring);
+  graph.report.detail = "collecting: 120/1000 episodes, 0 updates";
+  Apply(&state, "r2", graph, t0_);
   EXPECT_THAT(RenderOneLine(state, t0_, "r2", 100000), HasSubstr("graph: collecting: 120/1000 episodes, 0 updates"));
   EXPECT_THAT(LineWith(Render(state, t0_, {}), "graph     "),
               HasSubstr("none yet; the graph service: collecting: 120/1000 episodes, 0 updates"));
-  graph.detail = "training: 1000/1000 episodes, 400 updates, held-out 0.0123";
-  Apply(&state, graph, t0_ + milliseconds(1000));
+  graph.report.detail = "training: 1000/1000 episodes, 400 updates, held-out 0.0123";
+  Apply(&state, "r2", graph, t0_ + milliseconds(1000));
   EXPECT_THAT(RenderOneLine(state, t0_ + milliseconds(1000), "r2", 100000), HasSubstr("graph: training: 1000/1000"));
   // once a graph is published the line shows the graph, as before
   EXPECT_THAT(RenderOneLine(state_, now_, "r1", 100000), HasSubstr("graph v3 2 edges"));

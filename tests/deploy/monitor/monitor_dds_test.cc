@@ -40,7 +40,7 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   Monitor monitor(watcher, {.all_runs = false, .weights = true, .csv_dir = dir.string(), .csv_node_statuses = true});
   EXPECT_EQ(monitor.state().lost_after, milliseconds(900));
 
-  std::optional<tr::Writer<tr::NodeStatus>> status_writer(std::in_place, system);
+  std::optional<tr::Writer<rl::NodeStatus>> status_writer(std::in_place, system);
   tr::Writer<rl::LearnerReport> stats_writer(system);
   tr::Writer<rl::EvalReport> eval_writer(system);
   tr::Writer<rl::GraphUpdate> graph_writer(system);
@@ -48,10 +48,10 @@ TEST(MonitorDdsTest, EveryTopicArrivesAndADeadNodeIsLost) {
   ASSERT_TRUE(stats_writer.WaitForReaders(1, milliseconds(5000)));
   ASSERT_TRUE(eval_writer.WaitForReaders(1, milliseconds(5000)));
 
-  tr::NodeStatus status = tr::testing::MakeNodeStatus(transport.run_id, 1);
+  rl::NodeStatus status = tr::testing::MakeNodeStatus(1);
   status.role = "actor";
   status.node_id = 3;
-  status.state = tr::NodeState::kTraining;
+  status.report.phase = rl::NodePhase::kTraining;
   rl::LearnerReport stats = tr::testing::MakeLearnerStats(2);
   stats.updates = 777;
   rl::EvalReport eval = tr::testing::MakeEvalResult(3);

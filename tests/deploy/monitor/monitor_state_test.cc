@@ -14,7 +14,6 @@ using testing::Eval;
 using testing::Graph;
 using testing::Node;
 using testing::SetTrainingSteps;
-using transport::NodeState;
 
 TEST(MonitorStateTest, LostAfterIsLeasePlusTwoStatusPeriods) {
   config::TransportConfig transport;
@@ -26,13 +25,13 @@ TEST(MonitorStateTest, LostAfterIsLeasePlusTwoStatusPeriods) {
 TEST(MonitorStateTest, NodeStatusIsKeyedByRunRoleAndId) {
   MonitorState state;
   const Clock::time_point t0{};
-  Apply(&state, Node("actor", 0, NodeState::kExploring), t0);
-  Apply(&state, Node("actor", 0, NodeState::kTraining), t0 + milliseconds(100));
-  Apply(&state, Node("actor", 1, NodeState::kTraining), t0);
-  Apply(&state, Node("actor", 0, NodeState::kTraining, "r2"), t0);
+  Apply(&state, "r1", Node("actor", 0, rl::NodePhase::kExploring), t0);
+  Apply(&state, "r1", Node("actor", 0, rl::NodePhase::kTraining), t0 + milliseconds(100));
+  Apply(&state, "r1", Node("actor", 1, rl::NodePhase::kTraining), t0);
+  Apply(&state, "r2", Node("actor", 0, rl::NodePhase::kTraining), t0);
   ASSERT_EQ(state.nodes.size(), 3u);
   const NodeEntry& a0 = state.nodes.at({"r1", "actor", 0});
-  EXPECT_EQ(a0.status.state, NodeState::kTraining);
+  EXPECT_EQ(a0.status.report.phase, rl::NodePhase::kTraining);
   EXPECT_EQ(a0.statuses, 2u);
   EXPECT_EQ(a0.first_seen, t0);
   EXPECT_EQ(a0.last_seen, t0 + milliseconds(100));
@@ -49,18 +48,19 @@ TEST(MonitorStateTest, PeerStringsAreKeptPrintable) {
   EXPECT_EQ(PrintableText(std::string("a\0b", 3)), "a?b");
 
   MonitorState state;
-  transport::NodeStatus status = Node("actor\x1b[31m", 0, NodeState::kTraining,
-                                      "r\x1b"
-                                      "1");
+  rl::NodeStatus status = Node("actor\x1b[31m", 0, rl::NodePhase::kTraining);
   status.host = "h\r";
-  status.detail = "\x1b[H";
-  Apply(&state, status, Clock::time_point{});
+  status.report.detail = "\x1b[H";
+  Apply(&state,
+        "r\x1b"
+        "1",
+        status, Clock::time_point{});
   ASSERT_EQ(state.nodes.size(), 1u);
   const auto& [key, node] = *state.nodes.begin();
   EXPECT_EQ(key.run_id, "r?1");
   EXPECT_EQ(key.role, "actor?[31m");
   EXPECT_EQ(node.status.host, "h?");
-  EXPECT_EQ(node.status.detail, "?[H");
+  EXPECT_EQ(node.status.report.detail, "?[H");
 }
 
 // Node health over time: a node is lost 1000 ms after its last status; times are ms after t0.
@@ -68,7 +68,9 @@ class NodeHealthTest : public ::testing::Test {
  protected:
   NodeHealthTest() { state.lost_after = milliseconds(1000); }
   // `role` `id` reports state `s` at `ms`.
-  void Report(const std::string& role, uint32_t id, NodeState s, int ms) { Apply(&state, Node(role, id, s), At(ms)); }
+  void Report(const std::string& role, uint32_t id, rl::NodePhase s, int ms) {
+    Apply(&state, "r1", Node(role, id, s), At(ms));
+  }
   Clock::time_point At(int ms) const { return t0 + milliseconds(ms); }
   const NodeEntry& Entry(const std::string& role, uint32_t id) const { return state.nodes.at({"r1", role, id}); }
 
@@ -77,8 +79,8 @@ class NodeHealthTest : public ::testing::Test {
 };
 
 TEST_F(NodeHealthTest, QuietNodeIsLostUnlessItSaidStopping) {
-  Report("actor", 0, NodeState::kTraining, 0);
-  Report("learner", 0, NodeState::kStopping, 0);
+  Report("actor", 0, rl::NodePhase::kTraining, 0);
+  Report("learner", 0, rl::NodePhase::kStopping, 0);
   const NodeEntry& actor = Entry("actor", 0);
   const NodeEntry& learner = Entry("learner", 0);
   EXPECT_EQ(HealthOf(state, actor, At(1000)), NodeHealth::kAlive);
@@ -88,9 +90,9 @@ TEST_F(NodeHealthTest, QuietNodeIsLostUnlessItSaidStopping) {
 }
 
 TEST_F(NodeHealthTest, QuietNodeWithLiveWritersIsBusyNotLost) {
-  Report("graph", 0, NodeState::kTraining, 0);
-  Report("actor", 0, NodeState::kTraining, 1500);
-  Report("actor", 1, NodeState::kStopping, 0);  // said goodbye: its writer is gone
+  Report("graph", 0, rl::NodePhase::kTraining, 0);
+  Report("actor", 0, rl::NodePhase::kTraining, 1500);
+  Report("actor", 1, rl::NodePhase::kStopping, 0);  // said goodbye: its writer is gone
   const NodeEntry& graph = Entry("graph", 0);
   const Clock::time_point now = At(2000);
   state.liveliness_known = true;
@@ -104,15 +106,15 @@ TEST_F(NodeHealthTest, QuietNodeWithLiveWritersIsBusyNotLost) {
 }
 
 TEST_F(NodeHealthTest, NewlyGoneReportsEachTransitionOnceAndForgetsNodesThatCameBack) {
-  Report("actor", 0, NodeState::kTraining, 0);
-  Report("actor", 1, NodeState::kTraining, 1500);
+  Report("actor", 0, rl::NodePhase::kTraining, 0);
+  Report("actor", 1, rl::NodePhase::kTraining, 1500);
   std::map<NodeKey, NodeHealth> gone;
   std::vector<NodeKey> first = NewlyGone(state, At(2000), &gone);
   ASSERT_EQ(first.size(), 1u);
   EXPECT_EQ(first[0].node_id, 0u);
   EXPECT_TRUE(NewlyGone(state, At(2100), &gone).empty());
   // actor 0 restarts and reports again: alive, forgotten; it may be reported again later
-  Report("actor", 0, NodeState::kExploring, 2200);
+  Report("actor", 0, rl::NodePhase::kExploring, 2200);
   EXPECT_TRUE(NewlyGone(state, At(2300), &gone).empty());
   EXPECT_TRUE(gone.empty());
   // later both went quiet: actor 0 is reported a second time, actor 1 for the first time
@@ -250,11 +252,11 @@ TEST(MonitorBoundsTest, AFloodOfInventedIdsKeepsTheTablesAtTheirLimitsAndTheReal
   // the run's real nodes, heard from a few times
   for (int k = 0; k < 3; ++k)
     for (const char* role : {"learner", "graph"})
-      Apply(&state, testing::Node(role, 0, NodeState::kTraining), t0 + std::chrono::seconds(k));
+      Apply(&state, "r1", testing::Node(role, 0, rl::NodePhase::kTraining), t0 + std::chrono::seconds(k));
   rl::EvalReport own = testing::Eval(0, 0, 0.2f);
   Apply(&state, "r1", own, t0);
   for (uint32_t i = 0; i < 100000; ++i) {
-    Apply(&state, testing::Node("actor", 1000 + i, NodeState::kTraining), t0 + std::chrono::seconds(10));
+    Apply(&state, "r1", testing::Node("actor", 1000 + i, rl::NodePhase::kTraining), t0 + std::chrono::seconds(10));
     rl::EvalReport foreign = testing::Eval(3, 1000, 0.1f);
     Apply(&state, "flood-" + std::to_string(i), foreign, t0 + std::chrono::seconds(10));
   }

@@ -1,23 +1,21 @@
 #pragma once
 // Hand-built samples for the monitor tests.
 
-#include "common/transport/messages.h"
+#include "common/transport/wire.h"
 
 namespace srics::monitor::testing {
 
-inline transport::NodeStatus Node(const std::string& role, uint32_t id, transport::NodeState state,
-                                  const std::string& run_id = "r1") {
-  transport::NodeStatus s;
-  s.run_id = run_id;
+inline rl::NodeStatus Node(const std::string& role, uint32_t id, rl::NodePhase phase) {
+  rl::NodeStatus s;
   s.role = role;
   s.node_id = id;
   s.host = "host-" + role;
   s.pid = 1000 + static_cast<int>(id);
-  s.state = state;
-  s.policy_version = 7;
-  s.graph_version = 1;
-  s.env_steps = 12345;
   s.uptime_ms = 61000;
+  s.report.phase = phase;
+  s.report.policy_version = 7;
+  s.report.graph_version = 1;
+  s.report.steps = 12345;
   return s;
 }
 
@@ -58,7 +56,7 @@ inline rl::GraphUpdate Graph() {
 }
 
 // The learner's count against the budget: training_env_steps where the contract has it (a
-// template, so the tests build against either version of messages.h).
+// template, so the tests build against either version of the learner stats).
 template <typename Stats>
 void SetTrainingSteps(Stats* stats, uint64_t steps) {
   if constexpr (requires { stats->training_env_steps; }) {

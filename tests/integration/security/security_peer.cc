@@ -84,7 +84,7 @@ std::optional<uint32_t> ActorIdOf(const std::string& identity) {
 int WriteAs(const Participant& participant, uint32_t actor_id, int count, seconds wait) {
   Writer<srics::rl::Episode> episodes(participant);
   Writer<srics::rl::EvalReport> evals(participant);
-  Writer<NodeStatus> statuses(participant);
+  Writer<srics::rl::NodeStatus> statuses(participant);
   Say(episodes.WaitForReaders(1, wait) && evals.WaitForReaders(1, wait) && statuses.WaitForReaders(1, wait)
           ? "matched"
           : "no reader");
@@ -96,7 +96,7 @@ int WriteAs(const Participant& participant, uint32_t actor_id, int count, second
   }
   srics::rl::EvalReport eval = MakeEvalResult(3);
   eval.actor_id = actor_id;
-  NodeStatus status = MakeNodeStatus(participant.run_id(), 4);
+  srics::rl::NodeStatus status = MakeNodeStatus(4);
   status.role = "actor";
   status.node_id = actor_id;
   if (evals.Write(eval) != WriteResult::kSent || statuses.Write(status) != WriteResult::kSent) return 5;

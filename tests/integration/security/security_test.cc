@@ -349,7 +349,7 @@ TEST_F(SecurityTest, AnActorIdentityCannotSpeakForAnotherActor) {
   Participant learner(Secured("learner"));
   Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
   Reader<rl::EvalReport> evals(learner);
-  Reader<NodeStatus> statuses(learner);
+  Reader<rl::NodeStatus> statuses(learner);
 
   auto forger = Peer("actor-1", {"actor-as", "0", "5", "60"});
   EXPECT_TRUE(SaysLine(*forger, "matched"));
@@ -358,7 +358,7 @@ TEST_F(SecurityTest, AnActorIdentityCannotSpeakForAnotherActor) {
   EXPECT_EQ(TakeEpisodes(episodes, 1, 3s), 0u);
   rl::EvalReport eval;
   EXPECT_EQ(evals.Take(&eval, 1s), TakeStatus::kTimeout);
-  NodeStatus status;
+  rl::NodeStatus status;
   EXPECT_EQ(statuses.Take(&status, 1s), TakeStatus::kTimeout);
   const auto rejections = learner.rejections();
   auto count = [&](const std::string& counter) {
