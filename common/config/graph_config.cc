@@ -60,7 +60,8 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
     s.FailRule("refine_after_publish", "needs refine_share and refine_updates_per_episode above 0");
   if (out->object_ties == ObjectTies::kOneWay && (out->ground_truth || !out->file.empty()))
     s.FailRule("object_ties",
-               "one_way orients a learned graph's ties; graph.ground_truth and graph.file publish theirs as they are");
+               "one_way orients a learned graph's ties; graph.ground_truth and graph.file publish theirs as they are "
+               "(set graph.object_ties=two_way or joint with them)");
   if (out->ground_truth && !out->file.empty())
     s.FailRule("file", "and graph.ground_truth both name the graph to use: set one");
   if (out->min_updates > out->max_updates)

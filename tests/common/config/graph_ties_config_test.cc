@@ -49,5 +49,29 @@ TEST(GraphTiesConfigTest, UnknownFormsAndGivenGraphsAreRefused) {
   }
 }
 
+// The default run (./deploy/run.sh) takes the tie decision and the bf16 products
+// (docs/results.md): its learned rope one way, its products in bfloat16 where the CPU has them;
+// the library's defaults stay, so every other config resolves as before.
+TEST(GraphTiesConfigTest, TheDefaultRunOrientsItsRopeAndMultipliesInBf16) {
+  const Config run = LoadConfig(Configs() + "default.yaml");
+  EXPECT_EQ(run.graph.object_ties, ObjectTies::kOneWay);
+  EXPECT_EQ(run.learner.precision, ProductPrecision::kBf16);
+  EXPECT_FALSE(run.graph.ground_truth);
+  EXPECT_TRUE(run.graph.file.empty());
+  const Config library = LoadConfig(Configs() + "env/relational-2.yaml");
+  EXPECT_EQ(library.graph.object_ties, ObjectTies::kTwoWay);
+  EXPECT_EQ(library.learner.precision, ProductPrecision::kFp32);
+  // a given graph beside the default run's one_way: refused with what to set
+  try {
+    LoadConfig(Configs() + "default.yaml", {"graph.ground_truth=true"});
+    FAIL() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("set graph.object_ties=two_way"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(LoadConfig(Configs() + "default.yaml", {"graph.ground_truth=true", "graph.object_ties=two_way"})
+                .graph.object_ties,
+            ObjectTies::kTwoWay);
+}
+
 }  // namespace
 }  // namespace srics::config
