@@ -49,6 +49,9 @@ struct Progress {
   double held_out_zero_loss = -1;  // held-out MSE of predicting no motion
   // per entity held-out MSE and its no-motion baseline (which entities are predicted well)
   std::vector<double> entity_loss, entity_zero_loss;
+  // per graph entity, the data set's onsets of motion with nothing in reach (a tie's evidence;
+  // GnnTrainer::OnsetsAtADistance), once training starts
+  std::vector<int64_t> onsets_at_a_distance;
   int stable_evaluations = 0;        // consecutive evaluations with an unchanged graph
   std::string graph;                 // current thresholded graph (rl::DescribeGraph)
   std::vector<double> edge_scores;   // current read-out scores (N x N), thresholded

@@ -284,6 +284,33 @@ std::vector<double> GnnTrainer::OnsetClearance(const std::vector<double>& graph_
   return clearance;
 }
 
+std::vector<int64_t> GnnTrainer::OnsetsAtADistance() const {
+  std::vector<int64_t> count(static_cast<size_t>(data_.graph_entities()), 0);
+  if (contact_radius_.size() != count.size()) return count;
+  const int n = data_.num_entities();
+  const std::vector<double> clearance = OnsetClearance(contact_radius_);
+  const double onset_sq = config_.onset_motion_m * config_.onset_motion_m;
+  auto moved_sq = [&](int e, int t, int j) {  // squared displacement of j from t to t + 1
+    const float *a = data_.position(e, t, j), *b = data_.position(e, t + 1, j);
+    return std::pow(double(b[0]) - a[0], 2) + std::pow(double(b[1]) - a[1], 2);
+  };
+  for (int e = 0; e < data_.size(); ++e)
+    for (int t = 1; t < data_.episode_steps(); ++t)
+      for (int j = 0; j < n; ++j) {
+        if (!(moved_sq(e, t, j) > onset_sq && moved_sq(e, t - 1, j) <= onset_sq)) continue;
+        bool clear = true;
+        for (int i = 0; clear && i < n; ++i) {
+          const double c = clearance[static_cast<size_t>(i) * n + j];
+          if (i == j || c <= 0) continue;
+          const float *i0 = data_.position(e, t, i), *i1 = data_.position(e, t + 1, i);
+          const float *j0 = data_.position(e, t, j), *j1 = data_.position(e, t + 1, j);
+          clear = SegmentDistance(i0[0], i0[1], i1[0], i1[1], j0[0], j0[1], j1[0], j1[1]) > c;
+        }
+        if (clear) ++count[static_cast<size_t>(data_.graph_entity(e, j))];
+      }
+  return count;
+}
+
 void GnnTrainer::RestartSchedule() { schedule_start_ = updates_; }
 
 bool GnnTrainer::Settled() const {

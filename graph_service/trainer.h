@@ -118,6 +118,12 @@ class GnnTrainer {
   double last_mse() const { return last_mse_; }  // per transition, last batch
   double last_kl() const { return last_kl_; }    // per transition, last batch
   GnnModel<float>& model() { return model_; }
+  // Per graph entity, the onsets of motion in the whole data set (a step of more than
+  // onset_motion_m after one below it) with every other entity out of reach throughout the step
+  // (the onset weight's clearances: the arm's onsets never count): motion only a tie can start,
+  // so the data's evidence of each tie, before any training. Zeros without the entities' radii
+  // (SetContactRadii).
+  std::vector<int64_t> OnsetsAtADistance() const;
   // Logs the shapes of every matrix product of later updates (benchmark).
   void set_gemm_log(std::vector<nn::GemmShape>* log) { tape_.set_gemm_log(log); }
 

@@ -422,7 +422,15 @@ int LearnGraph(const LearnGraphOptions& o) {
   const auto& stop = transport::Shutdown::Process().flag();
   InProcessOptions options;
   options.graph_only = true;
-  options.on_graph_progress = [](const graph_service::Progress& p) {
+  options.on_graph_progress = [printed_onsets = false](const graph_service::Progress& p) mutable {
+    if (!printed_onsets && !p.onsets_at_a_distance.empty()) {
+      // the data's evidence of ties, before training: which objects ever start moving alone
+      std::string counts;
+      for (size_t j = 0; j < p.onsets_at_a_distance.size(); ++j)
+        counts += " " + std::to_string(j) + ": " + std::to_string(p.onsets_at_a_distance[j]);
+      std::printf("onsets at a distance (per entity, nothing in reach: a tie's evidence):%s\n", counts.c_str());
+      printed_onsets = true;
+    }
     std::printf(
         "[%7.1fs] %-10s episodes %d/%d (dropped %d) updates %lld held-out %.3g (no-motion %.3g) stable %d  %s\n",
         p.elapsed_seconds, graph_service::PhaseName(p.phase), p.episodes, p.target_episodes, p.dropped,

@@ -372,6 +372,32 @@ TEST(GnnTrainerTest, ApartWeightsCountOnlyStepsBeyondContact) {
   EXPECT_TRUE(paper.Evaluate().apart_weight.empty());
 }
 
+// The data's evidence of a tie: with a rope between the pucks, random actions start some puck
+// moving with nothing in reach (the rope drags it); without one, every puck's motion starts at
+// the arm (a push) and none counts. The arm's own onsets never count, and without the
+// entities' radii there is nothing to tell (zeros).
+TEST(GnnTrainerTest, OnsetsAtADistanceAreTheTiesEvidence) {
+  auto onsets = [](std::vector<std::pair<int, int>> ropes, std::vector<double> radii) {
+    ToyWorld world({.num_pucks = 2, .ropes = std::move(ropes), .steps = 40});
+    GraphDataset data = GraphDataset::ShapedLike(world.RandomEpisode(0));
+    for (int e = 0; e < 60; ++e) EXPECT_EQ(data.Add(world.RandomEpisode(300 + e)), "");
+    data.Split(0.25, 1);
+    config::GraphConfig config;
+    config.hidden_dim = 4;
+    config.mlp_hidden = 8;
+    GnnTrainer trainer(config, data, 3);
+    if (!radii.empty()) trainer.SetContactRadii(radii);
+    return trainer.OnsetsAtADistance();
+  };
+  const std::vector<double> radii = {0.03, 0.04, 0.04};  // the toy world's arm and pucks
+  const std::vector<int64_t> roped = onsets({{1, 2}}, radii);
+  ASSERT_EQ(roped.size(), 3u);
+  EXPECT_EQ(roped[0], 0);
+  EXPECT_GT(roped[1] + roped[2], 0);
+  EXPECT_EQ(onsets({}, radii), (std::vector<int64_t>{0, 0, 0}));
+  EXPECT_EQ(onsets({{1, 2}}, {}), (std::vector<int64_t>{0, 0, 0}));
+}
+
 // The onset weight needs every entity's size to tell a push from a pull at a distance: without
 // radii (toy worlds) a trainer with onset_loss_weight trains exactly as one without; once the
 // radii are set it weights onsets (its losses differ). Before, every onset was weighted without
