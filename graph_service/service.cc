@@ -391,6 +391,8 @@ void GraphService::EvaluateGraph() {
   // stable: only evaluations after the full KL weight is reached are compared
   const bool gated = state_.trainer->Settled();
   state_.stable = gated && current_ && SameStructure(current_->graph, graph.graph) ? state_.stable + 1 : 0;
+  if (gated && (!state_.lowest_loss || graph.held_out_loss < state_.lowest_loss->held_out_loss))
+    state_.lowest_loss = graph;
   current_ = std::move(graph);
   progress_.updates = state_.trainer->updates();
   progress_.train_loss = state_.trainer->last_mse();
@@ -406,6 +408,16 @@ void GraphService::EvaluateGraph() {
 }
 
 void GraphService::Finish() {
+  if (config_.publish == config::GraphPublish::kLowestHeldOutLoss && state_.lowest_loss &&
+      state_.lowest_loss->updates != current_->updates) {
+    spdlog::info(
+        "graph service: publishing the graph of update {} (held-out loss {:.3g}, the lowest), not of {} ({:.3g})",
+        state_.lowest_loss->updates, state_.lowest_loss->held_out_loss, current_->updates, current_->held_out_loss);
+    current_ = state_.lowest_loss;
+    progress_.graph = rl::DescribeGraph(current_->graph);
+    progress_.edge_scores = current_->edge_scores;
+    progress_.mean_weights = current_->mean_weights;
+  }
   PublishCurrent();
   if (config_.refine_after_publish) {
     StartRefinement();

@@ -21,6 +21,9 @@ std::vector<nn::CheckpointSection> TrainingState::Save() const {
     refine_data->Save(refine);
     sections.push_back({"graph.refine_data", "", {}, refine.Take()});
   }
+  if (lowest_loss) {
+    sections.push_back({"graph.lowest_loss", "", {}, graph_file::GraphToJson(*lowest_loss)});
+  }
   if (trainer)
     for (nn::CheckpointSection& section : trainer->SaveState()) sections.push_back(std::move(section));
   return sections;
@@ -54,6 +57,19 @@ TrainingState TrainingState::Restore(const std::vector<nn::CheckpointSection>& s
         state.refine_episodes < state.refine_data->size())
       throw nn::CheckpointError(path + ": the refinement's counters do not fit its " +
                                 std::to_string(state.refine_data->size()) + " episodes");
+  }
+  if (const auto section = std::find_if(sections.begin(), sections.end(),
+                                        [](const nn::CheckpointSection& s) { return s.name == "graph.lowest_loss"; });
+      section != sections.end()) {
+    try {
+      state.lowest_loss = graph_file::GraphFromJson(section->bytes);
+    } catch (const std::exception& e) {
+      throw nn::CheckpointError(path + ": graph.lowest_loss: " + e.what());
+    }
+    if (state.lowest_loss->graph.num_entities != empty.graph_entities())
+      throw nn::CheckpointError(path + ": graph.lowest_loss has " +
+                                std::to_string(state.lowest_loss->graph.num_entities) + " entities, the data set " +
+                                std::to_string(empty.graph_entities()));
   }
   const bool has_trainer =
       std::any_of(sections.begin(), sections.end(), [](const nn::CheckpointSection& s) { return s.name == "gnn"; });

@@ -6,10 +6,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/config/graph_config.h"
+#include "common/graph_file/graph_file.h"
 #include "common/nn/serialize.h"
 #include "graph_service/dataset.h"
 #include "graph_service/trainer.h"
@@ -25,9 +27,12 @@ struct TrainingState {
   int refine_cursor = 0;                      // the ring's next place once it is full
   int refine_episodes = 0;                    // training episodes taken in since the first publication
   bool refine_decided = false;                // the edges were decided again on training episodes
+  // of the evaluations after the warm-up and the KL ramp, the one with the lowest held-out loss
+  // (graph.publish: lowest_held_out_loss publishes it)
+  std::optional<graph_file::LearnedGraph> lowest_loss;
 
   // The checkpoint sections: graph.data, graph.service (the counters), graph.refine_data when
-  // refining, and the trainer's.
+  // refining, graph.lowest_loss once there is one (the graph file's JSON), and the trainer's.
   std::vector<nn::CheckpointSection> Save() const;
 
   // What Save wrote, into data sets of `empty`'s shape; the trainer is made again (the data set

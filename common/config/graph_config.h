@@ -31,6 +31,16 @@ enum class ObjectEdgeReadout {
   kApart,
 };
 
+// Which evaluation's graph the service publishes when training ends.
+enum class GraphPublish {
+  // the last one (the paper's: the model as trained)
+  kLast,
+  // of the evaluations after the warm-up and the KL ramp, the one with the lowest held-out loss
+  // (model selection on the held-out episodes, as early stopping): a late collapse of the arm's
+  // edges (held-out loss up by half within 500 updates) is not what gets published
+  kLowestHeldOutLoss,
+};
+
 // How a tied pair of objects (an object -> object pair the read-out keeps both ways, as
 // reciprocal_object_edges makes every tie) is published.
 enum class ObjectTies {
@@ -171,9 +181,12 @@ struct GraphConfig {
   bool hard_edges = true;  // straight-through (hard) Gumbel-softmax edge samples
   // paper 100k, reference code 300k updates: far beyond 15 minutes of one core here
   int max_updates = 5000;
-  int min_updates = 4500;         // no stop on a stable graph before this many updates
-  int eval_every_updates = 500;   // held-out loss and thresholded graph
-  int stable_evaluations = 2;     // stop once the graph is unchanged this many times
+  int min_updates = 4500;        // no stop on a stable graph before this many updates
+  int eval_every_updates = 500;  // held-out loss and thresholded graph
+  int stable_evaluations = 2;    // stop once the graph is unchanged this many times
+  // which evaluation's graph is published (GraphPublish); recorded in the resolved settings
+  // only when given. The stop rule is the same for both.
+  GraphPublish publish = GraphPublish::kLast;
   int eval_chunk_episodes = 100;  // episodes per forward pass when averaging edge weights
   // An update whose loss is not finite or whose gradient is beyond nn::kMaxUsableGradient is
   // skipped (the parameters stay as they were); this many in a row end the service with an

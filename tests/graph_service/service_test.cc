@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "common/links/in_memory_bus.h"
 #include "tests/graph_service/toy_world.h"
@@ -258,6 +259,60 @@ TEST(GraphServiceTest, ResumesAnInterruptedTrainingAndEndsWithTheUninterruptedGr
   EXPECT_EQ(sink.graphs[0].held_out_loss, reference.graphs[0].held_out_loss);
   EXPECT_FALSE(std::filesystem::exists(dir + "/graph_training.srics")) << "removed once graph.json is saved";
   EXPECT_TRUE(std::filesystem::exists(dir + "/graph.json"));
+}
+
+// graph.publish: lowest_held_out_loss publishes the evaluation after the warm-up and the KL ramp
+// whose held-out loss was the lowest, not the last one (which `last` publishes); the stop is the
+// same. A run killed after that evaluation and resumed publishes the same graph, number for
+// number: the candidate is part of the saved training state.
+TEST(GraphServiceTest, PublishesTheEvaluationOfTheLowestHeldOutLossWhenAsked) {
+  ToyWorld world({.num_pucks = 2, .steps = 10});
+  std::vector<rl::Episode> episodes;
+  for (int i = 0; i < 20; ++i) episodes.push_back(world.RandomEpisode(400 + i));
+  std::atomic<bool> stop{false};
+  config::GraphConfig config = ResumeConfig();
+  config.max_updates = 100;
+  config.learning_rate = 0.1;              // a noisy descent: its lowest held-out loss comes before the end
+  std::map<int64_t, double> settled_loss;  // evaluation -> held-out loss, after the warm-up and ramp
+  auto record = [&](const Progress& p) {
+    if (p.phase == Progress::Phase::kTraining && p.updates > config.warmup_updates + config.kl_ramp_updates)
+      settled_loss[p.updates] = p.held_out_loss;
+  };
+  ListSource all(episodes);
+  RecordingSink last;
+  GraphService by_last(config, ShapedOptions(world, FreshDir("service_publish_last")), &all, &last, record);
+  ASSERT_EQ(by_last.Run(stop), 0);
+  ASSERT_EQ(last.graphs.size(), 1u);
+  EXPECT_EQ(last.graphs[0].training_updates, 100u);
+  ASSERT_EQ(settled_loss.size(), 8u);  // 30, 40, ..., 100
+  const auto lowest = std::min_element(settled_loss.begin(), settled_loss.end(),
+                                       [](const auto& a, const auto& b) { return a.second < b.second; });
+  ASSERT_NE(lowest->first, 100) << "the toy run's loss is lowest at its end: the test would show nothing";
+
+  config.publish = config::GraphPublish::kLowestHeldOutLoss;
+  ListSource again(episodes);
+  RecordingSink chosen;
+  GraphService by_loss(config, ShapedOptions(world, FreshDir("service_publish_lowest")), &again, &chosen, {});
+  ASSERT_EQ(by_loss.Run(stop), 0);
+  ASSERT_EQ(chosen.graphs.size(), 1u);
+  EXPECT_EQ(chosen.graphs[0].training_updates, static_cast<uint64_t>(lowest->first));
+  EXPECT_EQ(chosen.graphs[0].held_out_loss, lowest->second);
+  EXPECT_EQ(by_loss.progress().updates, 100) << "the same stop";
+
+  const std::string dir = FreshDir("service_publish_lowest_resumed");
+  {
+    ListSource first(episodes);
+    RecordingSink sink;
+    GraphService killed(config, ShapedOptions(world, dir), &first, &sink, {});
+    while (killed.progress().updates < std::max<int64_t>(lowest->first, 60))
+      ASSERT_NE(killed.Step(), StepResult::kDone);
+  }
+  ListSource nothing({});
+  RecordingSink resumed;
+  GraphService after(config, ShapedOptions(world, dir), &nothing, &resumed, {});
+  ASSERT_EQ(after.Run(stop), 0);
+  ASSERT_EQ(resumed.graphs.size(), 1u);
+  EXPECT_EQ(resumed.graphs[0], chosen.graphs[0]);
 }
 
 TEST(GraphServiceTest, ResumesAnInterruptedCollectionWithTheEpisodesItHad) {
