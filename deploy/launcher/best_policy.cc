@@ -70,8 +70,8 @@ std::optional<BestEvaluation> ParseBestEvaluation(const std::string& text) {
   return best;
 }
 
-BestPolicy::BestPolicy(const config::Config& config, std::string dir)
-    : dir_(std::move(dir)), networks_(std::make_unique<Networks>(config)) {
+BestPolicy::BestPolicy(const config::Config& config, std::string dir, size_t kept_bytes)
+    : dir_(std::move(dir)), networks_(std::make_unique<Networks>(config)), kept_bytes_limit_(kept_bytes) {
   // a resumed run: only a better evaluation replaces the best so far
   if (std::ifstream(dir_ + "/best.yaml") && std::ifstream(dir_ + "/best.srics"))
     best_ = ParseBestEvaluation(files::ReadSmallFile(dir_ + "/best.yaml"));  // throws over the size limit
@@ -85,7 +85,11 @@ void BestPolicy::OnWeights(uint64_t version, uint64_t update_count, const std::s
   if (architecture != networks_->signature || static_cast<int64_t>(parameters.size()) != networks_->size) return;
   if (!kept_.empty() && kept_.back().version >= version) return;  // a repeat (transient-local)
   kept_.push_back({version, update_count, parameters});
-  while (kept_.size() > kKeptVersions) kept_.pop_front();
+  kept_bytes_ += parameters.size() * sizeof(float);
+  while (kept_.size() > kMinKeptVersions && kept_bytes_ > kept_bytes_limit_) {
+    kept_bytes_ -= kept_.front().parameters.size() * sizeof(float);
+    kept_.pop_front();
+  }
 }
 
 std::optional<BestEvaluation> BestPolicy::OnEval(uint64_t policy_version, uint64_t env_steps, double avg_distance) {

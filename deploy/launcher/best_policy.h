@@ -32,12 +32,16 @@ struct BestEvaluation {
 
 class BestPolicy {
  public:
-  // Weights versions kept for evaluations still to come (each version is the policy's size,
-  // ~5 MB for the default networks).
-  static constexpr size_t kKeptVersions = 4;
+  // Weights versions kept for evaluations still to come: as many as fit in this many bytes, and
+  // at least kMinKeptVersions. An evaluation reports a version 5-60 versions old when the learner
+  // publishes every 50 updates at 160 updates/s (the default run: with 4 kept, most of its best
+  // evaluations could not be copied); a version is the policy's size (0.26 MB for the default
+  // run's networks, up to ~5 MB for the paper's).
+  static constexpr size_t kKeptBytes = size_t{64} << 20;
+  static constexpr size_t kMinKeptVersions = 4;
 
   // `dir` is the run folder; the networks are built as an actor of `config` builds them.
-  BestPolicy(const config::Config& config, std::string dir);
+  BestPolicy(const config::Config& config, std::string dir, size_t kept_bytes = kKeptBytes);
   ~BestPolicy();
 
   // Weights as published (every version, in order).
@@ -58,6 +62,8 @@ class BestPolicy {
   std::string dir_;
   std::unique_ptr<Networks> networks_;
   std::deque<Kept> kept_;
+  size_t kept_bytes_limit_;
+  size_t kept_bytes_ = 0;
   std::optional<BestEvaluation> best_;
 };
 

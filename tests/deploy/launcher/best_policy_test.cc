@@ -53,7 +53,7 @@ class BestPolicyTest : public ::testing::Test {
 };
 
 TEST_F(BestPolicyTest, KeepsTheWeightsOfTheLowestAverageDistance) {
-  BestPolicy best(config_, dir_.string());
+  BestPolicy best(config_, dir_.string(), /*kept_bytes=*/0);  // keeps kMinKeptVersions
   best.OnWeights(1, 10, signature_, Weights(1));
   best.OnWeights(2, 20, signature_, Weights(2));
   EXPECT_FALSE(best.OnEval(0, 0, 0.05)) << "the passive policy never counts";
@@ -67,7 +67,7 @@ TEST_F(BestPolicyTest, KeepsTheWeightsOfTheLowestAverageDistance) {
   EXPECT_FALSE(best.OnEval(2, 2000, 0.30)) << "only a lower distance replaces it";
   EXPECT_EQ(Load().first, Weights(1));
 
-  // weights of another network are not kept; only the last kKeptVersions versions are
+  // weights of another network are not kept; only the last kMinKeptVersions versions are here
   best.OnWeights(3, 30, "another network", Weights(3));
   EXPECT_FALSE(best.OnEval(3, 3000, 0.1));
   for (uint64_t v = 3; v <= 7; ++v) best.OnWeights(v, 10 * v, signature_, Weights(v));
@@ -115,6 +115,22 @@ TEST(BestEvaluationTest, YamlRoundTripAndGarbage) {
   EXPECT_DOUBLE_EQ(back->avg_distance, 0.123456789);
   EXPECT_FALSE(ParseBestEvaluation("policy_version: 3\n"));
   EXPECT_FALSE(ParseBestEvaluation("policy_version: 3\nupdate_count: 1\nenv_steps: 2\navg_distance: x\n"));
+}
+
+// The default run publishes weights every 50 updates at about 160 updates/s, and an evaluation
+// reports its version 5-60 versions later: with the last 4 versions kept, most of its best
+// evaluations could not be copied ("weights are no longer kept", 2026-12-07). Versions are kept
+// within a byte budget: a small network's evaluation 100 versions back is still copied, and
+// the budget holds (the oldest go first, never fewer than kMinKeptVersions).
+TEST_F(BestPolicyTest, KeepsEnoughVersionsForAnEvaluationThatArrivesLate) {
+  const size_t version_bytes = Weights(1).size() * sizeof(float);
+  BestPolicy best(config_, dir_.string(), /*kept_bytes=*/150 * version_bytes);
+  for (uint64_t v = 1; v <= 200; ++v) best.OnWeights(v, 10 * v, signature_, Weights(v));
+  const auto late = best.OnEval(100, 5000, 0.2);
+  ASSERT_TRUE(late) << "v100 is 100 versions back";
+  EXPECT_EQ(Load().first, Weights(100));
+  EXPECT_FALSE(best.OnEval(40, 2000, 0.1)) << "v40 is beyond the budget of 150 versions";
+  EXPECT_GE(BestPolicy::kKeptBytes, 100 * size_t{260000}) << "the default run's 0.26 MB policy, 100 versions";
 }
 
 }  // namespace
