@@ -342,22 +342,25 @@ void ParseAlone(const std::string& name, const std::vector<std::string>& args, A
   cli::ParseOrThrow(app, args);
 }
 
-}  // namespace
-
-LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
-  LaunchOptions o;
-  RunText text;
-  ParseAlone("srics run", args, [&](CLI::App& app) { AddRunOptions(app, &o, &text); });
-  FinishRunOptions(&o, text);
+// A subcommand alone whose options keep text aside that is checked after parsing (run, sweep).
+template <typename Options, typename Text>
+Options ParseAloneWithText(const std::string& name, const std::vector<std::string>& args,
+                           void (*add)(CLI::App&, Options*, Text*), void (*finish)(Options*, const Text&)) {
+  Options o;
+  Text text;
+  ParseAlone(name, args, [&](CLI::App& app) { add(app, &o, &text); });
+  finish(&o, text);
   return o;
 }
 
+}  // namespace
+
+LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
+  return ParseAloneWithText("srics run", args, AddRunOptions, FinishRunOptions);
+}
+
 SweepOptions ParseSweepArgs(const std::vector<std::string>& args) {
-  SweepOptions o;
-  SweepText text;
-  ParseAlone("srics sweep", args, [&](CLI::App& app) { AddSweepOptions(app, &o, &text); });
-  FinishSweepOptions(&o, text);
-  return o;
+  return ParseAloneWithText("srics sweep", args, AddSweepOptions, FinishSweepOptions);
 }
 
 analysis::CompareOptions ParseCompareArgs(const std::vector<std::string>& args) {
