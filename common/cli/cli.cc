@@ -115,6 +115,10 @@ std::string FindConfig(const std::string& given) {
   return std::filesystem::is_regular_file(installed, error) ? installed.string() : given;
 }
 
+CLI::Option* AddSetOption(CLI::App& app, std::vector<std::string>* overrides, const std::string& help) {
+  return app.add_option("--set", *overrides, help)->allow_extra_args(false)->type_name("K=V")->default_str("");
+}
+
 CLI::Validator InstalledConfig() {
   return CLI::Validator(
       [](std::string& text) -> std::string {

@@ -58,6 +58,10 @@ CLI::Validator InstalledConfig();
 // <prefix>/share/srics-dds of the running program ("" when it is not installed so).
 std::string InstalledDataDir();
 
+// --set key.path=value: a config override, repeatable, one value each (every program that
+// loads a config takes it).
+CLI::Option* AddSetOption(CLI::App& app, std::vector<std::string>* overrides, const std::string& help);
+
 // Validators of option text, run before conversion; the error names the option
 // ("--actors: expected a positive integer, got '0'"); a max at or above INT_MAX is no bound.
 CLI::Validator Integer(int64_t min, int64_t max = std::numeric_limits<int64_t>::max());

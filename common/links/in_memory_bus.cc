@@ -45,11 +45,7 @@ class InMemoryBus::Actor : public ActorLink {
       if (bus->observer_) bus->observer_->OnEval(report);
     });
   }
-  void PublishStatus(const rl::NodeReport& report) override {
-    bus_->Deliver(outbox_, [bus = bus_, id = id_, report] {
-      if (bus->observer_) bus->observer_->OnStatus("actor", id, report);
-    });
-  }
+  void PublishStatus(const rl::NodeReport& report) override { bus_->DeliverStatus(outbox_, "actor", id_, report); }
 
  private:
   InMemoryBus* bus_;
@@ -86,11 +82,7 @@ class InMemoryBus::Learner : public LearnerLink {
       if (bus->observer_) bus->observer_->OnLearnerStats(report);
     });
   }
-  void PublishStatus(const rl::NodeReport& report) override {
-    bus_->Deliver(outbox_, [bus = bus_, report] {
-      if (bus->observer_) bus->observer_->OnStatus("learner", 0, report);
-    });
-  }
+  void PublishStatus(const rl::NodeReport& report) override { bus_->DeliverStatus(outbox_, "learner", 0, report); }
 
  private:
   InMemoryBus* bus_;
@@ -120,11 +112,7 @@ class InMemoryBus::Sink : public GraphSink {
     bus_->CheckGraphVersion(graph);
     bus_->Deliver(outbox_, [bus = bus_, graph] { bus->PublishGraph(graph); });
   }
-  void PublishStatus(const rl::NodeReport& report) override {
-    bus_->Deliver(outbox_, [bus = bus_, report] {
-      if (bus->observer_) bus->observer_->OnStatus("graph", 0, report);
-    });
-  }
+  void PublishStatus(const rl::NodeReport& report) override { bus_->DeliverStatus(outbox_, "graph", 0, report); }
 
  private:
   InMemoryBus* bus_;
@@ -149,6 +137,12 @@ void InMemoryBus::Deliver(Outbox* outbox, std::function<void()> publication) {
     outbox->push_back(std::move(publication));
   else
     publication();
+}
+
+void InMemoryBus::DeliverStatus(Outbox* outbox, std::string role, uint32_t node_id, const rl::NodeReport& report) {
+  Deliver(outbox, [this, role = std::move(role), node_id, report] {
+    if (observer_) observer_->OnStatus(role, node_id, report);
+  });
 }
 
 void InMemoryBus::Hold() { held_ = true; }

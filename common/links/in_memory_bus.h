@@ -79,6 +79,8 @@ class InMemoryBus {
   // A publication: applied now, or queued in its end's outbox while the bus is held.
   using Outbox = std::vector<std::function<void()>>;
   void Deliver(Outbox* outbox, std::function<void()> publication);
+  // A node's status, delivered as Deliver does, to the observer (if any).
+  void DeliverStatus(Outbox* outbox, std::string role, uint32_t node_id, const rl::NodeReport& report);
   // Delivery order of the outboxes: the graph service's (0), actor k's (1 + k), the learner's.
   static constexpr uint64_t kGraphOrder = 0, kLearnerOrder = UINT64_MAX;
   Outbox* OutboxFor(uint64_t order) { return &outboxes_[order]; }

@@ -20,10 +20,7 @@ std::optional<int> ParseRoleCommandLine(int argc, char** argv, const RoleProgram
   app.add_option("CONFIG", cl->config_path, "the run's config file (YAML)")
       ->required()
       ->transform(cli::InstalledConfig());
-  app.add_option("--set", cl->overrides, "override a config value, key.path=value (repeatable)")
-      ->allow_extra_args(false)
-      ->type_name("K=V")
-      ->default_str("");
+  cli::AddSetOption(app, &cl->overrides, "override a config value, key.path=value (repeatable)");
   app.add_option("--run-dir", cl->run_dir, "the run folder: logs, state files, checkpoints (default: none)")
       ->type_name("DIR");
   app.add_option("--log-level", cl->log_level, "trace, debug, info, warn, error (default: the config's run.log_level)")

@@ -8,44 +8,35 @@
 #include <vector>
 
 #include "common/rl/episode.h"
+#include "common/transport/topics.h"
 #include "common/transport/wire.h"
 #include "srics.h"
 
 namespace srics::transport::internal {
 
-// The generated C type and type descriptor of each type written on a topic.
+// What each type written on a topic is on the wire: the generated C type, its type descriptor
+// and the topic.
+template <typename C, const dds_topic_descriptor_t* kDescriptor, TopicId kTopicId>
+struct Wire {
+  using type = C;
+  static constexpr TopicId kTopic = kTopicId;
+  static const dds_topic_descriptor_t* Descriptor() { return kDescriptor; }
+};
 template <typename T>
 struct CType;
 template <>
-struct CType<rl::Episode> {
-  using type = srics_Episode;
-  static const dds_topic_descriptor_t* Descriptor() { return &srics_Episode_desc; }
+struct CType<rl::Episode> : Wire<srics_Episode, &srics_Episode_desc, TopicId::kEpisode> {};
+template <>
+struct CType<rl::WeightsUpdate> : Wire<srics_PolicyWeights, &srics_PolicyWeights_desc, TopicId::kPolicyWeights> {};
+template <>
+struct CType<rl::GraphUpdate> : Wire<srics_InteractionGraph, &srics_InteractionGraph_desc, TopicId::kInteractionGraph> {
 };
 template <>
-struct CType<rl::WeightsUpdate> {
-  using type = srics_PolicyWeights;
-  static const dds_topic_descriptor_t* Descriptor() { return &srics_PolicyWeights_desc; }
-};
+struct CType<rl::EvalReport> : Wire<srics_EvalResult, &srics_EvalResult_desc, TopicId::kEvalResult> {};
 template <>
-struct CType<rl::GraphUpdate> {
-  using type = srics_InteractionGraph;
-  static const dds_topic_descriptor_t* Descriptor() { return &srics_InteractionGraph_desc; }
-};
+struct CType<rl::LearnerReport> : Wire<srics_LearnerStats, &srics_LearnerStats_desc, TopicId::kLearnerStats> {};
 template <>
-struct CType<rl::EvalReport> {
-  using type = srics_EvalResult;
-  static const dds_topic_descriptor_t* Descriptor() { return &srics_EvalResult_desc; }
-};
-template <>
-struct CType<rl::LearnerReport> {
-  using type = srics_LearnerStats;
-  static const dds_topic_descriptor_t* Descriptor() { return &srics_LearnerStats_desc; }
-};
-template <>
-struct CType<rl::NodeStatus> {
-  using type = srics_NodeStatus;
-  static const dds_topic_descriptor_t* Descriptor() { return &srics_NodeStatus_desc; }
-};
+struct CType<rl::NodeStatus> : Wire<srics_NodeStatus, &srics_NodeStatus_desc, TopicId::kNodeStatus> {};
 
 // X(T) for each domain type converted with an Envelope (rl::Episode apart: it needs limits).
 #define SRICS_FOR_EACH_DOMAIN(X) \

@@ -122,12 +122,12 @@ template <typename T>
 struct Writer<T>::Impl {
   Impl(const Participant& p, WriterOptions o)
       : options(std::move(o)),
-        topic(p, TopicName(TopicOf<T>::kId, options.topic_name)),
+        topic(p, TopicName(internal::CType<T>::kTopic, options.topic_name)),
         participant(p.handle()),
         guard(p.guard()),
         shutdown(&p.shutdown()),
         run_id(p.run_id()) {
-    QosHolder qos{internal::CreateQos(Spec(TopicOf<T>::kId), internal::Side::kWriter, p.config())};
+    QosHolder qos{internal::CreateQos(Spec(internal::CType<T>::kTopic), internal::Side::kWriter, p.config())};
     // Cyclone takes the batching mode from the domain when the writer is created
     if (options.batch) dds_write_set_batch(true);
     writer = dds_create_writer(participant, topic.handle(), qos.qos, nullptr);
@@ -136,7 +136,7 @@ struct Writer<T>::Impl {
     if (writer == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY) {
       const std::string& identity = p.config().security.identity;
       operation += " (DDS Security: the permissions of identity '" + identity + "' do not allow it";
-      if (Spec(TopicOf<T>::kId).names_sender)
+      if (Spec(internal::CType<T>::kTopic).names_sender)
         operation += " in partition '" + identity +
                      "'; a keystore made before sender partitions (2026-12-06) lacks them: run "
                      "deploy/security/make-keystore.sh on it again";
@@ -320,15 +320,15 @@ template <typename T>
 struct Reader<T>::Impl {
   Impl(const Participant& p, ReaderOptions o)
       : options(std::move(o)),
-        topic(p, TopicName(TopicOf<T>::kId, options.topic_name)),
+        topic(p, TopicName(internal::CType<T>::kTopic, options.topic_name)),
         participant(p.handle()),
         guard(p.guard()),
         shutdown(&p.shutdown()),
         run_id(options.all_runs ? std::string() : p.run_id()),
         shared(p.counter_table()),
         limiter(std::chrono::seconds(p.config().rejected_log_interval_s)),
-        bind_senders(Spec(TopicOf<T>::kId).names_sender && !p.config().security.keystore.empty()) {
-    QosHolder qos{internal::CreateQos(Spec(TopicOf<T>::kId), internal::Side::kReader, p.config())};
+        bind_senders(Spec(internal::CType<T>::kTopic).names_sender && !p.config().security.keystore.empty()) {
+    QosHolder qos{internal::CreateQos(Spec(internal::CType<T>::kTopic), internal::Side::kReader, p.config())};
     // A writer's identity is noted when it matches: its last samples may be taken after it left
     // (an actor that wrote and exited), when DDS no longer knows it.
     dds_listener_t* listener = nullptr;
@@ -417,7 +417,7 @@ struct Reader<T>::Impl {
     const std::string identity = WriterIdentity(writer);
     if (identity == claimed) return {};
     return {Verdict::kMalformed, "it names " + claimed + " as its sender, but identity '" + identity + "' wrote it",
-            CounterPrefix(TopicOf<T>::kId) + ".sender"};
+            CounterPrefix(internal::CType<T>::kTopic) + ".sender"};
   }
 
   // The one partition of a matched writer (its identity under DDS Security), or a description
@@ -452,7 +452,7 @@ struct Reader<T>::Impl {
 
   // Counts a verdict and (rate-limited) logs a rejection; true for an accepted sample.
   bool Accept(const Validation& v) {
-    auto& row = shared->rows[static_cast<size_t>(TopicOf<T>::kId)];
+    auto& row = shared->rows[static_cast<size_t>(internal::CType<T>::kTopic)];
     switch (v.verdict) {
       case Verdict::kAccept:
         ++local.accepted;
@@ -465,7 +465,7 @@ struct Reader<T>::Impl {
       case Verdict::kMalformed: {
         ++local.rejected;
         row.rejected.fetch_add(1, std::memory_order_relaxed);
-        shared->CountRejection(v.counter.empty() ? std::string(Spec(TopicOf<T>::kId).name) : v.counter);
+        shared->CountRejection(v.counter.empty() ? std::string(Spec(internal::CType<T>::kTopic).name) : v.counter);
         uint64_t suppressed = 0;
         if (limiter.Allow(&suppressed))
           spdlog::warn(

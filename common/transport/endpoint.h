@@ -32,34 +32,6 @@
 
 namespace srics::transport {
 
-// The topic of each type written.
-template <typename T>
-struct TopicOf;
-template <>
-struct TopicOf<rl::Episode> {
-  static constexpr TopicId kId = TopicId::kEpisode;
-};
-template <>
-struct TopicOf<rl::WeightsUpdate> {
-  static constexpr TopicId kId = TopicId::kPolicyWeights;
-};
-template <>
-struct TopicOf<rl::GraphUpdate> {
-  static constexpr TopicId kId = TopicId::kInteractionGraph;
-};
-template <>
-struct TopicOf<rl::EvalReport> {
-  static constexpr TopicId kId = TopicId::kEvalResult;
-};
-template <>
-struct TopicOf<rl::LearnerReport> {
-  static constexpr TopicId kId = TopicId::kLearnerStats;
-};
-template <>
-struct TopicOf<rl::NodeStatus> {
-  static constexpr TopicId kId = TopicId::kNodeStatus;
-};
-
 enum class WriteResult {
   kSent,          // accepted by DDS (delivered reliably to matched readers)
   kBackPressure,  // TryWrite only: readers are behind, nothing was sent; try again later

@@ -38,6 +38,9 @@ class JsonWriter {
 
  private:
   void BeforeValue();
+  // an object's or an array's bracket
+  JsonWriter& Open(char bracket);
+  JsonWriter& Close(char bracket);
   std::string out_;
   std::vector<bool> first_;  // per open container: no element yet
   bool after_key_ = false;

@@ -50,6 +50,76 @@ struct Timed {
   std::variant<EvalRow, LearnerRow, NodeRow> sample;
 };
 
+// A row of eval.csv as the evaluation report it records.
+EvalRow ParseEvalRow(const run_folder::CsvRow& r) {
+  EvalRow row;
+  row.run_id = r.TextOrThrow("run_id");
+  rl::EvalReport& e = row.report;
+  e.actor_id = static_cast<uint32_t>(r.Unsigned("actor_id"));
+  e.policy_version = r.Unsigned("policy_version");
+  e.graph_version = r.Unsigned("graph_version");
+  e.env_steps = r.Unsigned("env_steps");
+  rl::EvaluationSummary& s = e.summary;
+  s.episodes = static_cast<int>(static_cast<uint32_t>(r.Unsigned("episodes")));
+  s.avg_distance = r.Float("avg_distance");
+  s.avg_object_distance = r.Float("avg_object_distance");
+  s.success_rate = r.Float("success_rate");
+  s.selectivity = r.Float("selectivity");
+  s.selectivity_episodes = s.episodes;  // as received
+  const std::vector<float> entity_distance = r.Floats("entity_distance");
+  const std::vector<float> subgoal_success = r.Floats("subgoal_success");
+  s.entity_distance.assign(entity_distance.begin(), entity_distance.end());
+  s.subgoal_success.assign(subgoal_success.begin(), subgoal_success.end());
+  return row;
+}
+
+// A row of learner.csv as the learner's stats; the budget is the run's config's (0: unknown).
+LearnerRow ParseLearnerRow(const run_folder::CsvRow& r, uint64_t budget) {
+  LearnerRow row;
+  row.run_id = r.TextOrThrow("run_id");
+  rl::LearnerReport& s = row.stats;
+  s.updates = r.Unsigned("updates");
+  s.transitions_inserted = r.Unsigned("transitions_inserted");
+  s.replay_size = r.Unsigned("replay_size");
+  s.episodes_accepted = r.Unsigned("episodes_accepted");
+  s.episodes_rejected = r.Unsigned("episodes_rejected");
+  s.policy_version = r.Unsigned("policy_version");
+  s.q_loss = r.Float("q_loss");
+  s.policy_loss = r.Float("policy_loss");
+  s.alpha = r.Float("alpha");
+  s.entropy = r.Float("entropy");
+  s.updates_per_second = r.Float("updates_per_second");
+  s.inserts_per_second = r.Float("inserts_per_second");
+  s.mean_reward = r.Float("mean_reward");
+  s.budget_env_steps = budget;
+  return row;
+}
+
+// A row of nodes.csv as the node's status, or as the monitor seeing it go.
+NodeRow ParseNodeRow(const run_folder::CsvRow& r) {
+  NodeRow n;
+  n.run_id = r.TextOrThrow("run_id");
+  n.status.role = r.TextOrThrow("role");
+  n.status.node_id = static_cast<uint32_t>(r.Unsigned("node_id"));
+  n.status.host = r.TextOrThrow("host");
+  n.status.pid = static_cast<int32_t>(r.Double("pid"));
+  const std::string& state_name = r.TextOrThrow("state");
+  if (state_name == "lost" || state_name == "exited") {
+    n.event = state_name;
+  } else {
+    const std::optional<rl::NodePhase> parsed = ParseNodePhase(state_name);
+    if (!parsed) throw std::invalid_argument("state: unknown");
+    n.status.report.phase = *parsed;
+  }
+  n.status.report.policy_version = r.Unsigned("policy_version");
+  n.status.report.graph_version = r.Unsigned("graph_version");
+  n.status.report.steps = r.Unsigned("env_steps");
+  n.status.report.dropped = r.Unsigned("dropped_samples");
+  n.status.uptime_ms = r.Unsigned("uptime_ms");
+  n.status.report.detail = r.TextOrThrow("detail");
+  return n;
+}
+
 }  // namespace
 
 RunFolderSource::RunFolderSource(std::string dir) : dir_(std::move(dir)) {
@@ -100,79 +170,17 @@ void RunFolderSource::Rebuild(mon::Clock::time_point now) {
   // every row of the three files, then applied in wall-time order
   uint64_t skipped = 0;
   std::vector<Timed> rows;
-  run_folder::ForEachRow(
-      dir / "eval.csv",
-      [&](const run_folder::CsvRow& r) {
-        EvalRow row;
-        row.run_id = r.TextOrThrow("run_id");
-        rl::EvalReport& e = row.report;
-        e.actor_id = static_cast<uint32_t>(r.Unsigned("actor_id"));
-        e.policy_version = r.Unsigned("policy_version");
-        e.graph_version = r.Unsigned("graph_version");
-        e.env_steps = r.Unsigned("env_steps");
-        rl::EvaluationSummary& s = e.summary;
-        s.episodes = static_cast<int>(static_cast<uint32_t>(r.Unsigned("episodes")));
-        s.avg_distance = r.Float("avg_distance");
-        s.avg_object_distance = r.Float("avg_object_distance");
-        s.success_rate = r.Float("success_rate");
-        s.selectivity = r.Float("selectivity");
-        s.selectivity_episodes = s.episodes;  // as received
-        const std::vector<float> entity_distance = r.Floats("entity_distance");
-        const std::vector<float> subgoal_success = r.Floats("subgoal_success");
-        s.entity_distance.assign(entity_distance.begin(), entity_distance.end());
-        s.subgoal_success.assign(subgoal_success.begin(), subgoal_success.end());
-        rows.push_back({r.Double("wall_time"), std::move(row)});
-      },
-      &skipped);
-  run_folder::ForEachRow(
-      dir / "learner.csv",
-      [&](const run_folder::CsvRow& r) {
-        LearnerRow row;
-        row.run_id = r.TextOrThrow("run_id");
-        rl::LearnerReport& s = row.stats;
-        s.updates = r.Unsigned("updates");
-        s.transitions_inserted = r.Unsigned("transitions_inserted");
-        s.replay_size = r.Unsigned("replay_size");
-        s.episodes_accepted = r.Unsigned("episodes_accepted");
-        s.episodes_rejected = r.Unsigned("episodes_rejected");
-        s.policy_version = r.Unsigned("policy_version");
-        s.q_loss = r.Float("q_loss");
-        s.policy_loss = r.Float("policy_loss");
-        s.alpha = r.Float("alpha");
-        s.entropy = r.Float("entropy");
-        s.updates_per_second = r.Float("updates_per_second");
-        s.inserts_per_second = r.Float("inserts_per_second");
-        s.mean_reward = r.Float("mean_reward");
-        s.budget_env_steps = budget;
-        rows.push_back({r.Double("wall_time"), std::move(row)});
-      },
-      &skipped);
-  run_folder::ForEachRow(
-      dir / "nodes.csv",
-      [&](const run_folder::CsvRow& r) {
-        NodeRow n;
-        n.run_id = r.TextOrThrow("run_id");
-        n.status.role = r.TextOrThrow("role");
-        n.status.node_id = static_cast<uint32_t>(r.Unsigned("node_id"));
-        n.status.host = r.TextOrThrow("host");
-        n.status.pid = static_cast<int32_t>(r.Double("pid"));
-        const std::string& state_name = r.TextOrThrow("state");
-        if (state_name == "lost" || state_name == "exited") {
-          n.event = state_name;
-        } else {
-          const std::optional<rl::NodePhase> parsed = ParseNodePhase(state_name);
-          if (!parsed) throw std::invalid_argument("state: unknown");
-          n.status.report.phase = *parsed;
-        }
-        n.status.report.policy_version = r.Unsigned("policy_version");
-        n.status.report.graph_version = r.Unsigned("graph_version");
-        n.status.report.steps = r.Unsigned("env_steps");
-        n.status.report.dropped = r.Unsigned("dropped_samples");
-        n.status.uptime_ms = r.Unsigned("uptime_ms");
-        n.status.report.detail = r.TextOrThrow("detail");
-        rows.push_back({r.Double("wall_time"), std::move(n)});
-      },
-      &skipped);
+  auto read = [&](const char* file, auto parse) {
+    run_folder::ForEachRow(
+        dir / file,
+        [&](const run_folder::CsvRow& r) {
+          rows.push_back({r.Double("wall_time"), parse(r)});
+        },
+        &skipped);
+  };
+  read("eval.csv", ParseEvalRow);
+  read("learner.csv", [budget](const run_folder::CsvRow& r) { return ParseLearnerRow(r, budget); });
+  read("nodes.csv", ParseNodeRow);
   std::stable_sort(rows.begin(), rows.end(), [](const Timed& a, const Timed& b) { return a.wall < b.wall; });
 
   const double wall_now = mon::WallTimeNow();

@@ -25,11 +25,6 @@ void AddDisplayOption(CLI::App& app, DisplayMode* display, const std::string& he
       ->default_str("auto");
 }
 
-// --set key.path=value, repeatable, one value each
-CLI::Option* AddSetOption(CLI::App& app, std::vector<std::string>* overrides, const std::string& help) {
-  return app.add_option("--set", *overrides, help)->allow_extra_args(false)->type_name("K=V")->default_str("");
-}
-
 std::vector<std::string> SplitList(const std::string& flag, const std::string& text) {
   std::vector<std::string> items;
   std::stringstream in(text);
@@ -98,7 +93,7 @@ void AddRunOptions(CLI::App& app, LaunchOptions* o, RunText* text) {
   app.add_option("--actors", o->actors, "actor processes (default: actors.count of the config)")
       ->check(cli::Integer(1))
       ->default_str("");
-  AddSetOption(app, &o->overrides, "override a config value (recorded in the run folder's config.yaml)");
+  cli::AddSetOption(app, &o->overrides, "override a config value (recorded in the run folder's config.yaml)");
   app.add_option("--run-dir", o->run_dir,
                  "the run folder (default <run.output_dir>/<run.name>-<timestamp>); an existing one is continued: the "
                  "learner resumes from its checkpoint, with the same config")
@@ -178,7 +173,7 @@ void AddSweepOptions(CLI::App& app, SweepOptions* o, SweepText* text) {
   app.add_option("--seeds", text->seeds, "run.seed values, comma-separated; A-B for a range (1-3)")
       ->required()
       ->type_name("LIST");
-  AddSetOption(app, &o->overrides, "a config override for every run");
+  cli::AddSetOption(app, &o->overrides, "a config override for every run");
   app.add_option("--out", o->out_dir,
                  "the sweep folder (default <run.output_dir>/<run.name>-sweep); DIR/sweep.yaml records the grid and "
                  "another grid into the same folder is refused")
@@ -264,7 +259,7 @@ void AddEvalOptions(CLI::App& app, eval::EvalArgs* a, bool* no_video) {
       ->type_name("FILE");
   app.add_option("--graph", a->graph_file, "the run's graph (default: graph.json beside the checkpoint)")
       ->type_name("FILE");
-  AddSetOption(app, &a->overrides, "override a value of the run's config");
+  cli::AddSetOption(app, &a->overrides, "override a value of the run's config");
   app.add_option("--width", a->render.width, "frame width in pixels (even, 16 to 4096)")->check(cli::Integer(1, 4096));
   app.add_option("--height", a->render.height, "frame height in pixels (even, 16 to 4096)")
       ->check(cli::Integer(1, 4096));
@@ -328,7 +323,7 @@ void AddLearnGraphOptions(CLI::App& app, LearnGraphOptions* o) {
   // dropped a seed pushed there before (every --seed gave seed 1's graph when --set was given)
   app.add_option("--seed", o->seed, "run.seed (the actors' and the graph service's random streams)")
       ->check(cli::Integer(0));
-  AddSetOption(app, &o->overrides, "override a config value");
+  cli::AddSetOption(app, &o->overrides, "override a config value");
   app.add_flag("--expected", o->expected_only, "print the graph the table implies by construction and exit");
 }
 
@@ -347,22 +342,25 @@ void ParseAlone(const std::string& name, const std::vector<std::string>& args, A
   cli::ParseOrThrow(app, args);
 }
 
-}  // namespace
-
-LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
-  LaunchOptions o;
-  RunText text;
-  ParseAlone("srics run", args, [&](CLI::App& app) { AddRunOptions(app, &o, &text); });
-  FinishRunOptions(&o, text);
+// A subcommand alone whose options keep text aside that is checked after parsing (run, sweep).
+template <typename Options, typename Text>
+Options ParseAloneWithText(const std::string& name, const std::vector<std::string>& args,
+                           void (*add)(CLI::App&, Options*, Text*), void (*finish)(Options*, const Text&)) {
+  Options o;
+  Text text;
+  ParseAlone(name, args, [&](CLI::App& app) { add(app, &o, &text); });
+  finish(&o, text);
   return o;
 }
 
+}  // namespace
+
+LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
+  return ParseAloneWithText("srics run", args, AddRunOptions, FinishRunOptions);
+}
+
 SweepOptions ParseSweepArgs(const std::vector<std::string>& args) {
-  SweepOptions o;
-  SweepText text;
-  ParseAlone("srics sweep", args, [&](CLI::App& app) { AddSweepOptions(app, &o, &text); });
-  FinishSweepOptions(&o, text);
-  return o;
+  return ParseAloneWithText("srics sweep", args, AddSweepOptions, FinishSweepOptions);
 }
 
 analysis::CompareOptions ParseCompareArgs(const std::vector<std::string>& args) {

@@ -77,19 +77,17 @@ Roles AddRoles(Supervisor* supervisor, const LaunchOptions& options, const RoleS
   };
   // a role that exits with 2 (config) or 65 (unusable state on disk) fails the run at once
   const std::vector<int> finals = {kExitUsage, kExitUnusableState};
+  // the graph service and the learner: one each, restarted up to max_restarts_service times
+  auto service = [&](const std::string& name, const std::string& program, const std::string& subdir) {
+    return supervisor->Add({.name = name,
+                            .argv = argv(FindProgram(program, subdir, options.bin_dir), {}),
+                            .output_file = dir + "/logs/" + name + ".out",
+                            .max_restarts = options.max_restarts_service,
+                            .final_exit_codes = finals});
+  };
   Roles roles;
-  if (share.graph)
-    roles.graph = supervisor->Add({.name = "graph",
-                                   .argv = argv(FindProgram("srics-graph", "graph_service", options.bin_dir), {}),
-                                   .output_file = dir + "/logs/graph.out",
-                                   .max_restarts = options.max_restarts_service,
-                                   .final_exit_codes = finals});
-  if (share.learner)
-    roles.learner = supervisor->Add({.name = "learner",
-                                     .argv = argv(FindProgram("srics-learner", "learner", options.bin_dir), {}),
-                                     .output_file = dir + "/logs/learner.out",
-                                     .max_restarts = options.max_restarts_service,
-                                     .final_exit_codes = finals});
+  if (share.graph) roles.graph = service("graph", "srics-graph", "graph_service");
+  if (share.learner) roles.learner = service("learner", "srics-learner", "learner");
   if (!share.actor_ids.empty()) {
     const std::string actor_bin = FindProgram("srics-actor", "actor", options.bin_dir);
     for (int k : share.actor_ids)

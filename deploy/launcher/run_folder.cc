@@ -50,6 +50,27 @@ void SeedGraphFile(const config::Config& config, const std::string& dir) {
 }
 namespace fs = std::filesystem;
 
+namespace {
+
+std::string FormatTime(const char* format, const std::tm& time) {
+  char buffer[64];
+  return std::string(buffer, std::strftime(buffer, sizeof buffer, format, &time));
+}
+
+}  // namespace
+
+std::string LocalTime(const char* format, std::time_t t) {
+  std::tm local{};
+  localtime_r(&t, &local);
+  return FormatTime(format, local);
+}
+
+std::string UtcTime(const char* format, std::time_t t) {
+  std::tm utc{};
+  gmtime_r(&t, &utc);
+  return FormatTime(format, utc);
+}
+
 std::string NewRunId() {
   char host[256] = {};
   if (gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "host");
@@ -66,13 +87,9 @@ std::string NewRunId() {
   do {
     ms = std::max(now, previous + 1);
   } while (!last.compare_exchange_weak(previous, ms));
-  const std::time_t seconds = static_cast<std::time_t>(ms / 1000);
-  std::tm utc{};
-  gmtime_r(&seconds, &utc);
-  char stamp[32];
-  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%S", &utc);
+  const std::string stamp = UtcTime("%Y%m%dT%H%M%S", static_cast<std::time_t>(ms / 1000));
   char id[96];
-  std::snprintf(id, sizeof id, "%s-%d-%s.%03d", name.c_str(), static_cast<int>(getpid()), stamp,
+  std::snprintf(id, sizeof id, "%s-%d-%s.%03d", name.c_str(), static_cast<int>(getpid()), stamp.c_str(),
                 static_cast<int>(ms % 1000));
   return id;
 }
@@ -83,15 +100,6 @@ std::string ChooseRunId(const std::string& run_dir) {
 }
 
 namespace {
-
-std::string Timestamp() {
-  const std::time_t t = std::time(nullptr);
-  std::tm local{};
-  localtime_r(&t, &local);
-  char buffer[32];
-  std::strftime(buffer, sizeof buffer, "%Y%m%d-%H%M%S", &local);
-  return buffer;
-}
 
 bool IsExecutable(const fs::path& path) {
   std::error_code error;
@@ -150,11 +158,7 @@ void CheckResumedConfig(const config::Config& config, const std::string& dir, bo
     throw std::invalid_argument("the configuration of " + dir + " changed since the run started (" + difference +
                                 "): a continued run goes on with the configuration it started with; restore it, "
                                 "or pass --allow-config-change (the change is then recorded in the folder)");
-  const std::time_t t = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&t, &utc);
-  char stamp[32];
-  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &utc);
+  const std::string stamp = UtcTime("%Y%m%dT%H%M%SZ");
   std::error_code error;
   fs::copy_file(path, path.string() + "." + stamp, fs::copy_options::overwrite_existing, error);
   const fs::path resolved = fs::path(dir) / "resolved-config.yaml";
@@ -171,7 +175,7 @@ std::string PrepareRunFolder(const config::Config& config, const std::string& re
   if (!requested.empty()) {
     dir = requested;
   } else {
-    const fs::path base = fs::path(config.run.output_dir) / (config.run.name + "-" + Timestamp());
+    const fs::path base = fs::path(config.run.output_dir) / (config.run.name + "-" + LocalTime("%Y%m%d-%H%M%S"));
     dir = base;
     for (int k = 2; fs::exists(dir); ++k) dir = base.string() + "-" + std::to_string(k);
   }

@@ -1,6 +1,7 @@
 #pragma once
 // The run folder and the files the launcher itself writes into it.
 
+#include <ctime>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,6 +37,10 @@ std::string ConfigChangeSince(const std::string& dir, const std::string& effecti
 // difference, unless `allow_change`; then the old file is kept as config.yaml.<UTC time> and
 // the change is appended to <dir>/config-changes.log. Nothing happens for a new folder.
 void CheckResumedConfig(const config::Config& config, const std::string& dir, bool allow_change);
+
+// The time `t` (default: now) as strftime's `format` writes it, in local time or in UTC.
+std::string LocalTime(const char* format, std::time_t t = std::time(nullptr));
+std::string UtcTime(const char* format, std::time_t t = std::time(nullptr));
 
 // A run id unique to this launch: "<host>-<pid>-<YYYYmmddTHHMMSS.mmm>" (the host name cut to
 // 16 characters); two calls in one process never give the same id.

@@ -30,15 +30,6 @@ using SteadyClock = std::chrono::steady_clock;
 
 namespace {
 
-std::string Now() {
-  const std::time_t t = std::time(nullptr);
-  std::tm local{};
-  localtime_r(&t, &local);
-  char buffer[32];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%d %H:%M:%S", &local);
-  return buffer;
-}
-
 // The manifest: the grid in a canonical form (sorted methods and seeds, overrides in order).
 std::string ManifestText(const std::string& config, std::vector<std::string> methods, std::vector<uint64_t> seeds,
                          const std::vector<std::string>& overrides) {
@@ -71,7 +62,7 @@ class SweepLog {
   explicit SweepLog(const std::string& dir) : file_(dir + "/sweep.log", std::ios::app) {}
   void operator()(const std::string& text) {
     std::cout << "srics sweep: " << text << std::endl;
-    file_ << "[" << Now() << "] " << text << std::endl;
+    file_ << "[" << LocalTime("%Y-%m-%d %H:%M:%S") << "] " << text << std::endl;
   }
 
  private:

@@ -65,10 +65,7 @@ std::optional<int> ParseArgs(int argc, char** argv, Args* args) {
   app.add_option("CONFIG", args->config,
                  "the run's config (domain id, run id, Cyclone profile come from it); optional with --run-dir")
       ->transform(srics::cli::InstalledConfig());
-  app.add_option("--set", args->overrides, "override a config value, as for the other srics programs")
-      ->allow_extra_args(false)
-      ->type_name("K=V")
-      ->default_str("");
+  srics::cli::AddSetOption(app, &args->overrides, "override a config value, as for the other srics programs");
   app.add_option("--csv", args->csv_dir, "append eval.csv, learner.csv, nodes.csv in DIR as samples arrive")
       ->type_name("DIR");
   app.add_flag("--once", args->once,

@@ -91,25 +91,11 @@ void Apply(MonitorState* state, const std::string& run_id, const rl::NodeStatus&
   ++node.statuses;
 }
 
-namespace {
-
-// Contract fields added in a later version of the learner stats are read when they exist, so
-// this library builds against either.
-template <typename Stats>
-uint64_t TrainingSteps(const Stats& stats) {
-  if constexpr (requires { stats.training_env_steps; })
-    return stats.training_env_steps;
-  else
-    return stats.transitions_inserted;
-}
-
-}  // namespace
-
 void Apply(MonitorState* state, const std::string& run_id, const rl::LearnerReport& stats, Clock::time_point now) {
   RunView& run = RunOf(state, PrintableText(run_id), now);
   run.learner = stats;
   run.learner_received = now;
-  const uint64_t steps = TrainingSteps(stats);
+  const uint64_t steps = stats.training_env_steps;
   if (!run.step_history.empty() && steps < run.step_history.back().second) {
     run.step_history.clear();
     run.learner_history = LearnerHistory{.max_points = run.learner_history.max_points};
@@ -236,22 +222,10 @@ std::vector<NodeKey> NewlyGone(const MonitorState& state, Clock::time_point now,
   return gone;
 }
 
-namespace {
-
-template <typename Stats>
-uint64_t Budget(const Stats& stats) {
-  if constexpr (requires { stats.budget_env_steps; })
-    return stats.budget_env_steps;
-  else
-    return 0;
-}
-
-}  // namespace
-
-uint64_t BudgetEnvSteps(const RunView& run) { return run.learner ? Budget(*run.learner) : 0; }
+uint64_t BudgetEnvSteps(const RunView& run) { return run.learner ? run.learner->budget_env_steps : 0; }
 
 uint64_t EnvSteps(const RunView& run) {
-  uint64_t steps = run.learner ? TrainingSteps(*run.learner) : 0;
+  uint64_t steps = run.learner ? run.learner->training_env_steps : 0;
   if (!run.evals.empty()) steps = std::max(steps, run.evals.back().env_steps);
   return steps;
 }

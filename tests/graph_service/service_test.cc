@@ -223,18 +223,30 @@ ServiceOptions ShapedOptions(ToyWorld& world, const std::string& dir) {
   return o;
 }
 
+// The 20 episodes of the resume tests: `world`'s random ones from seed `first_seed` on.
+std::vector<rl::Episode> ResumeEpisodes(ToyWorld& world, uint64_t first_seed) {
+  std::vector<rl::Episode> episodes;
+  for (uint64_t i = 0; i < 20; ++i) episodes.push_back(world.RandomEpisode(first_seed + i));
+  return episodes;
+}
+
+// The graph a service never interrupted publishes from `episodes` (its state in a fresh
+// folder `dir_name`): what a resumed one must end with.
+rl::GraphUpdate UninterruptedGraph(ToyWorld& world, const std::vector<rl::Episode>& episodes,
+                                   const std::string& dir_name) {
+  ListSource all(episodes);
+  RecordingSink sink;
+  GraphService uninterrupted(ResumeConfig(), ShapedOptions(world, FreshDir(dir_name)), &all, &sink, {});
+  std::atomic<bool> stop{false};
+  EXPECT_EQ(uninterrupted.Run(stop), 0);
+  EXPECT_EQ(sink.graphs.size(), 1u);
+  return sink.graphs.empty() ? rl::GraphUpdate{} : sink.graphs[0];
+}
+
 TEST(GraphServiceTest, ResumesAnInterruptedTrainingAndEndsWithTheUninterruptedGraph) {
   ToyWorld world({.num_pucks = 2, .steps = 10});
-  std::vector<rl::Episode> episodes;
-  for (int i = 0; i < 20; ++i) episodes.push_back(world.RandomEpisode(100 + i));
-  std::atomic<bool> stop{false};
-
-  const std::string reference_dir = FreshDir("service_resume_reference");
-  ListSource all(episodes);
-  RecordingSink reference;
-  GraphService uninterrupted(ResumeConfig(), ShapedOptions(world, reference_dir), &all, &reference, {});
-  ASSERT_EQ(uninterrupted.Run(stop), 0);
-  ASSERT_EQ(reference.graphs.size(), 1u);
+  const std::vector<rl::Episode> episodes = ResumeEpisodes(world, 100);
+  const rl::GraphUpdate reference = UninterruptedGraph(world, episodes, "service_resume_reference");
 
   const std::string dir = FreshDir("service_resume");
   {
@@ -249,14 +261,15 @@ TEST(GraphServiceTest, ResumesAnInterruptedTrainingAndEndsWithTheUninterruptedGr
   ListSource nothing({});
   RecordingSink sink;
   GraphService resumed(ResumeConfig(), ShapedOptions(world, dir), &nothing, &sink, {});
+  std::atomic<bool> stop{false};
   ASSERT_EQ(resumed.Run(stop), 0);
   EXPECT_EQ(nothing.polls, 0) << "the data set came from the training state";
   ASSERT_EQ(sink.graphs.size(), 1u);
   EXPECT_EQ(sink.graphs[0].training_updates, 40u);
   EXPECT_EQ(sink.graphs[0].episodes_used, 20u);
   // the same parameters, optimiser moments and batches: the same numbers, not just close ones
-  EXPECT_EQ(sink.graphs[0].mean_weights, reference.graphs[0].mean_weights);
-  EXPECT_EQ(sink.graphs[0].held_out_loss, reference.graphs[0].held_out_loss);
+  EXPECT_EQ(sink.graphs[0].mean_weights, reference.mean_weights);
+  EXPECT_EQ(sink.graphs[0].held_out_loss, reference.held_out_loss);
   EXPECT_FALSE(std::filesystem::exists(dir + "/graph_training.srics")) << "removed once graph.json is saved";
   EXPECT_TRUE(std::filesystem::exists(dir + "/graph.json"));
 }
@@ -317,14 +330,9 @@ TEST(GraphServiceTest, PublishesTheEvaluationOfTheLowestHeldOutLossWhenAsked) {
 
 TEST(GraphServiceTest, ResumesAnInterruptedCollectionWithTheEpisodesItHad) {
   ToyWorld world({.num_pucks = 2, .steps = 10});
-  std::vector<rl::Episode> episodes;
-  for (int i = 0; i < 20; ++i) episodes.push_back(world.RandomEpisode(200 + i));
+  const std::vector<rl::Episode> episodes = ResumeEpisodes(world, 200);
+  const rl::GraphUpdate reference = UninterruptedGraph(world, episodes, "service_collect_reference");
   std::atomic<bool> stop{false};
-  const std::string reference_dir = FreshDir("service_collect_reference");
-  ListSource all(episodes);
-  RecordingSink reference;
-  GraphService uninterrupted(ResumeConfig(), ShapedOptions(world, reference_dir), &all, &reference, {});
-  ASSERT_EQ(uninterrupted.Run(stop), 0);
 
   const std::string dir = FreshDir("service_collect");
   {
@@ -339,13 +347,12 @@ TEST(GraphServiceTest, ResumesAnInterruptedCollectionWithTheEpisodesItHad) {
   ASSERT_EQ(resumed.Run(stop), 0);
   ASSERT_EQ(sink.graphs.size(), 1u);
   EXPECT_EQ(sink.graphs[0].episodes_used, 20u);
-  EXPECT_EQ(sink.graphs[0].mean_weights, reference.graphs[0].mean_weights);
+  EXPECT_EQ(sink.graphs[0].mean_weights, reference.mean_weights);
 }
 
 TEST(GraphServiceTest, TrainingStateOfAnotherModelIsSetAsideAndLearnedAgain) {
   ToyWorld world({.num_pucks = 2, .steps = 10});
-  std::vector<rl::Episode> episodes;
-  for (int i = 0; i < 20; ++i) episodes.push_back(world.RandomEpisode(300 + i));
+  const std::vector<rl::Episode> episodes = ResumeEpisodes(world, 300);
   const std::string dir = FreshDir("service_other_model");
   {
     ListSource source(episodes);

@@ -102,6 +102,13 @@ class ForeignSamplesTest : public ::testing::Test {
  protected:
   config::Config config_ = RunConfig();
   rl::EpisodeLimits limits_ = rl::EpisodeLimitsFor(config_.env);
+
+  // Actor 1 of this run, playing no explore episodes while it waits for weights and a graph.
+  actor::ActorOptions ActorWithoutExploreOptions() const {
+    actor::ActorOptions options = actor::ActorOptionsFor(config_, 1);
+    options.explore_while_waiting_s = 0;
+    return options;
+  }
 };
 
 // Calls `f` and says how long it took.
@@ -192,8 +199,7 @@ TEST_F(ForeignSamplesTest, RefusedWeightsWithAHugeVersionDoNotFreezeTheActor) {
       graph_side(config_.transport);
   transport::DdsLearnerLink learner(learner_side, limits_);
   transport::DdsActorLink link(actor_side, 1, limits_, config_.run.total_env_steps, 0ms);
-  actor::ActorOptions options = actor::ActorOptionsFor(config_, 1);
-  options.explore_while_waiting_s = 0;
+  const actor::ActorOptions options = ActorWithoutExploreOptions();
   actor::ActorLoop actor(options, &link);
   Writer<rl::WeightsUpdate> raw(foreign, Raw());
   ASSERT_TRUE(raw.WaitForReaders(1, 10s));
@@ -272,8 +278,7 @@ TEST_F(ForeignSamplesTest, ForeignLearnerStatsDoNotEndTheActor) {
       actor_side(config_.transport);
   transport::DdsLearnerLink learner(learner_side, limits_);
   transport::DdsActorLink link(actor_side, 1, limits_, config_.run.total_env_steps, 0ms);
-  actor::ActorOptions options = actor::ActorOptionsFor(config_, 1);
-  options.explore_while_waiting_s = 0;
+  const actor::ActorOptions options = ActorWithoutExploreOptions();
   actor::ActorLoop actor(options, &link);
   Writer<rl::LearnerReport> raw(foreign, Raw()), other(other_run, Raw());
   ASSERT_TRUE(raw.WaitForReaders(1, 10s));

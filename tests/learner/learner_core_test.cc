@@ -103,14 +103,19 @@ TEST(LearnerCoreTest, RestartFromCheckpointKeepsTheReplayAndGoesOnAsIfUninterrup
   EXPECT_EQ(second.counters().policy_version, first.counters().policy_version + 1);
 }
 
+// Ingests `episodes` episodes of 3 entities (seeds 0, 1, ...) and runs every update they allow.
+void IngestAndUpdate(Learner& learner, int episodes) {
+  for (int i = 0; i < episodes; ++i) learner.Ingest(MakeEpisode(3, 20, i, 1));
+  while (learner.CanUpdate()) learner.Update();
+}
+
 // A truncated or corrupted checkpoint is a clear nn::CheckpointError and leaves the learner
 // as it was.
 TEST(LearnerCoreTest, ABrokenCheckpointIsRefusedWithAMessageAndChangesNothing) {
   const std::string path = ::testing::TempDir() + "/learner_core_broken.srics";
   config::Config config = SmallRun(config::Method::kSmorl);
   Learner first(LearnerOptionsFor(config));
-  for (int i = 0; i < 12; ++i) first.Ingest(MakeEpisode(3, 20, i, 1));
-  while (first.CanUpdate()) first.Update();
+  IngestAndUpdate(first, 12);
   first.SaveCheckpoint(path);
   std::string data;
   {
@@ -156,8 +161,7 @@ TEST(LearnerCoreTest, ACheckpointWithoutReplayLoadsAndRefillsBeforeUpdating) {
   const std::string path = ::testing::TempDir() + "/learner_core_old.srics";
   config::Config config = SmallRun(config::Method::kSmorl);
   Learner first(LearnerOptionsFor(config));
-  for (int i = 0; i < 20; ++i) first.Ingest(MakeEpisode(3, 20, i, 1));
-  while (first.CanUpdate()) first.Update();
+  IngestAndUpdate(first, 20);
   first.TakePolicyWeights();
   first.agent().SaveCheckpoint(path, first.counters());  // the old contents
 

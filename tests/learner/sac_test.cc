@@ -323,12 +323,17 @@ TEST(SacTest, Bf16ProductsGiveTheFp32UpdateWithinBfloat16Rounding) {
   }
 }
 
+// Sets both agents' products to bf16; false on a CPU without them.
+bool BothInBf16(SacAgent& a, SacAgent& b) {
+  if (a.SetProductPrecision(nn::GemmPrecision::kBf16) != nn::GemmPrecision::kBf16) return false;
+  b.SetProductPrecision(nn::GemmPrecision::kBf16);
+  return true;
+}
+
 TEST(SacTest, Bf16UpdatesWithTwoThreadsAreDeterministic) {
   SacAgent a(kShape, PaperSizedConfig(), 41, 2);
   SacAgent b(kShape, PaperSizedConfig(), 41, 2);
-  if (a.SetProductPrecision(nn::GemmPrecision::kBf16) != nn::GemmPrecision::kBf16)
-    GTEST_SKIP() << "no bf16 products on this CPU";
-  b.SetProductPrecision(nn::GemmPrecision::kBf16);
+  if (!BothInBf16(a, b)) GTEST_SKIP() << "no bf16 products on this CPU";
   ExpectIdenticalUpdates(a, b, 512, 42, 3);
 }
 
@@ -337,9 +342,7 @@ TEST(SacTest, Bf16UpdatesWithTwoThreadsAreDeterministic) {
 TEST(SacTest, Bf16ReachesEveryShardThread) {
   SacAgent one(kShape, PaperSizedConfig(), 51, 1);
   SacAgent two(kShape, PaperSizedConfig(), 51, 2);
-  if (one.SetProductPrecision(nn::GemmPrecision::kBf16) != nn::GemmPrecision::kBf16)
-    GTEST_SKIP() << "no bf16 products on this CPU";
-  two.SetProductPrecision(nn::GemmPrecision::kBf16);
+  if (!BothInBf16(one, two)) GTEST_SKIP() << "no bf16 products on this CPU";
   std::mt19937_64 rng(52);
   const TrainingBatch b = RandomBatch(rng, 512, [](const float* a) { return double(a[0]); });
   one.Update(b);

@@ -11,21 +11,15 @@
 
 #include "common/config/config.h"
 
-#include "tests/common/files/test_files.h"
+#include "tests/common/config/config_files.h"
 
 namespace srics::config {
 namespace {
 
 namespace fs = std::filesystem;
 
-class RejectedConfig : public ::testing::Test {
+class RejectedConfig : public testing::ConfigFiles {
  protected:
-  std::string Write(const std::string& name, const std::string& text) {
-    const fs::path path = dir_ / name;
-    std::ofstream(path) << text;
-    return path.string();
-  }
-
   // The ConfigError of loading `file`; fails the test when another exception (or none) came.
   static std::string ErrorOf(const std::string& file, const std::vector<std::string>& overrides = {}) {
     try {
@@ -39,8 +33,6 @@ class RejectedConfig : public ::testing::Test {
     ADD_FAILURE() << "accepted";
     return "";
   }
-
-  files::testing::ScratchFolder dir_{"srics-config-rejects"};
 };
 
 TEST_F(RejectedConfig, NonScalarKeyNamesFileLineAndWhereItIs) {

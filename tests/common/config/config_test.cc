@@ -9,25 +9,12 @@
 #include <filesystem>
 #include <fstream>
 
-#include "tests/common/files/test_files.h"
+#include "tests/common/config/config_files.h"
 
 namespace srics::config {
 namespace {
 
-namespace fs = std::filesystem;
-
-// A fresh folder of YAML files for one test, removed afterwards.
-class ConfigFiles : public ::testing::Test {
- protected:
-  std::string Write(const std::string& name, const std::string& text) {
-    const fs::path path = dir_ / name;
-    fs::create_directories(path.parent_path());
-    std::ofstream(path) << text;
-    return path.string();
-  }
-
-  files::testing::ScratchFolder dir_{"srics-config-test"};
-};
+using testing::ConfigFiles;
 
 // The ConfigError message of `load`, or "" when it did not throw.
 template <typename F>

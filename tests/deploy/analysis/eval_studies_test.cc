@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <regex>
 #include <sstream>
+#include <utility>
 
 #include "deploy/analysis/statistics.h"
 #include "deploy/run_folder/csv.h"
@@ -45,28 +46,30 @@ std::string WithoutWriter(const std::string& table) {
   return std::regex_replace(table, std::regex(" Written by [^\n]*\\.\n"), "\n");
 }
 
-std::vector<std::string> Lines(const std::string& text) {
-  std::istringstream in(text);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
+// Each row of a committed study's CSV after its header (which must be `header`), with its fields.
+std::vector<std::pair<std::string, std::vector<std::string>>> StudyRows(const std::string& csv,
+                                                                        const std::string& header) {
+  std::istringstream in(csv);
+  std::string first;
+  std::getline(in, first);
+  EXPECT_EQ(first, header);
+  std::vector<std::pair<std::string, std::vector<std::string>>> rows;
+  for (std::string line; std::getline(in, line);) rows.emplace_back(line, run_folder::SplitCsvLine(line));
+  EXPECT_FALSE(rows.empty()) << "a study without rows";
+  return rows;
 }
 
 TEST(CrossEvalTest, RowsAndTableOfTheCommittedStudyComeOutTheSame) {
   const fs::path study = kCampaign / "cross-eval";
   const std::string csv = ReadFile(study / "cross-eval.csv");
-  const std::vector<std::string> rows = Lines(csv);
-  ASSERT_GT(rows.size(), 1u);
-  EXPECT_EQ(rows[0], kCrossEvalHeader);
-  for (size_t i = 1; i < rows.size(); ++i) {
-    const std::vector<std::string> fields = run_folder::SplitCsvLine(rows[i]);
-    ASSERT_GE(fields.size(), 4u) << rows[i];
+  for (const auto& [row, fields] : StudyRows(csv, kCrossEvalHeader)) {
+    ASSERT_GE(fields.size(), 4u) << row;
     const std::string &run = fields[0], &method = fields[1], &protocol = fields[2], &goal_set = fields[3];
     const fs::path raw = study / "raw";
     const std::set<int> objects = AttemptedObjects(raw / (run + "-depth-goals" + goal_set));
     EXPECT_EQ(CrossEvalRow(run, method, protocol, std::stoull(goal_set),
                            raw / (run + "-" + protocol + "-goals" + goal_set), objects),
-              rows[i]);
+              row);
   }
   EXPECT_EQ(WithoutWriter(CrossEvalTable(csv, "1 2 3", 20)), WithoutWriter(ReadFile(study / "cross-eval.md")));
 }
@@ -74,18 +77,14 @@ TEST(CrossEvalTest, RowsAndTableOfTheCommittedStudyComeOutTheSame) {
 TEST(SeenUnseenTest, RowsAndTableOfTheCommittedStudyComeOutTheSame) {
   const fs::path study = kCampaign / "seen-unseen";
   const std::string csv = ReadFile(study / "seen-unseen.csv");
-  const std::vector<std::string> rows = Lines(csv);
-  ASSERT_GT(rows.size(), 1u);
-  EXPECT_EQ(rows[0], kSeenUnseenHeader);
-  for (size_t i = 1; i < rows.size(); ++i) {
-    const std::vector<std::string> fields = run_folder::SplitCsvLine(rows[i]);
-    ASSERT_GE(fields.size(), 3u) << rows[i];
+  for (const auto& [row, fields] : StudyRows(csv, kSeenUnseenHeader)) {
+    ASSERT_GE(fields.size(), 3u) << row;
     const std::string &run = fields[0], &combination = fields[1], &kind = fields[2];
     std::string tag = run + "-objects" + combination;
     for (char& c : tag) c = c == ' ' ? '-' : c;
     EXPECT_EQ(SeenUnseenRow(run, combination, kind, study / "raw" / (tag + "-policy") / "episodes.csv",
                             study / "raw" / (tag + "-passive") / "episodes.csv"),
-              rows[i]);
+              row);
   }
   EXPECT_EQ(WithoutWriter(SeenUnseenTable(csv, "1,2,3 1,2,4 1,3,4", "2,3,4", 50)),
             WithoutWriter(ReadFile(study / "seen-unseen.md")));

@@ -90,6 +90,16 @@ class LauncherTest : public ::testing::Test {
     return pids;
   }
 
+  // `launcher` exits 2 (a usage error) saying `what`, before it starts a role or makes its run
+  // folder.
+  void ExpectUsageExitSaying(ChildProcess& launcher, const std::string& what) {
+    const auto exit = launcher.WaitFor(milliseconds(20000));
+    ASSERT_TRUE(exit.has_value());
+    EXPECT_EQ(exit->Describe(), "exit code 2");
+    EXPECT_THAT(ReadFile(root_ / "launcher.out"), HasSubstr(what));
+    EXPECT_FALSE(fs::exists(run_dir_));
+  }
+
   files::testing::ScratchFolder root_{"srics_launcher_test"};
   fs::path run_dir_;
 };
@@ -185,20 +195,12 @@ TEST_F(LauncherTest, SigintStopsEveryChildAndExits130) {
 
 TEST_F(LauncherTest, BadConfigExitsWithCode2BeforeStartingAnything) {
   ChildProcess launcher = StartLauncher({"--set", "run.total_env_steps=lots"});
-  const auto exit = launcher.WaitFor(milliseconds(20000));
-  ASSERT_TRUE(exit.has_value());
-  EXPECT_EQ(exit->Describe(), "exit code 2");
-  EXPECT_THAT(ReadFile(root_ / "launcher.out"), HasSubstr("run.total_env_steps"));
-  EXPECT_FALSE(fs::exists(run_dir_));
+  ExpectUsageExitSaying(launcher, "run.total_env_steps");
 }
 
 TEST_F(LauncherTest, UnknownMethodExitsWithCode2NamingRunMethod) {
   ChildProcess launcher = StartLauncher({"--set", "run.method=feudal"});
-  const auto exit = launcher.WaitFor(milliseconds(20000));
-  ASSERT_TRUE(exit.has_value());
-  EXPECT_EQ(exit->Describe(), "exit code 2");
-  EXPECT_THAT(ReadFile(root_ / "launcher.out"), HasSubstr("run.method: expected one of"));
-  EXPECT_FALSE(fs::exists(run_dir_));
+  ExpectUsageExitSaying(launcher, "run.method: expected one of");
 }
 
 TEST_F(LauncherTest, MissingRoleProgramIsNamed) {
@@ -304,21 +306,11 @@ TEST_F(LauncherTest, ANonScalarKeyOrAZeroEvaluationPeriodExitsWithCode2NamingFil
   std::ofstream(config) << "extends: " << SRICS_SOURCE_DIR << "/deploy/configs/rearrange-1-cpu.yaml\n"
                         << "transport:\n  [domain_id, run_id]: 5\n";
   ChildProcess launcher = StartLauncher({}, true, config);
-  auto exit = launcher.WaitFor(milliseconds(20000));
-  ASSERT_TRUE(exit.has_value());
-  EXPECT_EQ(exit->Describe(), "exit code 2");
-  EXPECT_THAT(
-      ReadFile(root_ / "launcher.out"),
-      HasSubstr(config + ":3: transport: expected a plain key (a name such as 'domain_id'), got a list as a key"));
-  EXPECT_FALSE(fs::exists(run_dir_));
+  ASSERT_NO_FATAL_FAILURE(ExpectUsageExitSaying(
+      launcher, config + ":3: transport: expected a plain key (a name such as 'domain_id'), got a list as a key"));
 
   ChildProcess zero = StartLauncher({"--set", "actors.eval_every_env_steps=0"});
-  exit = zero.WaitFor(milliseconds(20000));
-  ASSERT_TRUE(exit.has_value());
-  EXPECT_EQ(exit->Describe(), "exit code 2");
-  EXPECT_THAT(ReadFile(root_ / "launcher.out"),
-              HasSubstr("command line: actors.eval_every_env_steps: expected a positive integer, got '0'"));
-  EXPECT_FALSE(fs::exists(run_dir_));
+  ExpectUsageExitSaying(zero, "command line: actors.eval_every_env_steps: expected a positive integer, got '0'");
 }
 
 // Issue 15: a role that hangs (here an actor stopped with SIGSTOP: alive for the kernel and

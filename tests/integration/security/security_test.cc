@@ -99,6 +99,12 @@ std::string ReadText(const std::string& path) {
   return text.str();
 }
 
+// The exit code of a shell command (-1 when it did not exit: a signal ended it).
+int ExitCodeOf(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 // Reads the peer's lines until one equals `expected`; the lines seen otherwise.
 ::testing::AssertionResult SaysLine(PeerProcess& peer, const std::string& expected,
                                     std::chrono::milliseconds timeout = 60s) {
@@ -180,23 +186,31 @@ std::string BytesOf(const std::vector<float>& values, size_t from, size_t count)
   return std::string(reinterpret_cast<const char*>(values.data() + from), count * sizeof(float));
 }
 
+// The learner's end of the exchanges below, in this process: it writes weights and reads
+// episodes.
+struct LearnerSide {
+  explicit LearnerSide(const config::TransportConfig& transport)
+      : participant(transport), weights(participant), episodes(participant, testing::SampleEpisodeReader()) {}
+  Participant participant;
+  Writer<rl::WeightsUpdate> weights;
+  Reader<rl::Episode> episodes;
+};
+
 // Two identities of the keystore in two processes: the actor reads the learner's weights
 // (transient-local, through authentication, key exchange and encryption) and its episodes
 // reach the learner; the read-only monitor identity reads the weights as well.
 TEST_F(SecurityTest, SecuredProcessesExchangeWeightsAndEpisodes) {
-  Participant learner(Secured("learner"));
-  Writer<rl::WeightsUpdate> weights(learner);
-  Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+  LearnerSide learner(Secured("learner"));
   const rl::WeightsUpdate published = testing::MakePolicyWeights(5);
-  ASSERT_EQ(weights.Write(published), WriteResult::kSent);
+  ASSERT_EQ(learner.weights.Write(published), WriteResult::kSent);
   const std::string got_weights = "weights " + std::to_string(published.version);
 
   auto actor = Peer("actor-0", {"actor", "4", "60"});
   EXPECT_TRUE(SaysLine(*actor, got_weights));
   EXPECT_TRUE(SaysLine(*actor, "matched"));
   EXPECT_TRUE(SaysLine(*actor, "wrote 4"));
-  EXPECT_EQ(TakeEpisodes(episodes, 4, 30s), 4u);
-  EXPECT_EQ(learner.counters(TopicId::kEpisode).accepted, 4u);
+  EXPECT_EQ(TakeEpisodes(learner.episodes, 4, 30s), 4u);
+  EXPECT_EQ(learner.participant.counters(TopicId::kEpisode).accepted, 4u);
   EXPECT_EQ(actor->Wait(30s), 0);
 
   auto monitor = Peer("monitor", {"read-weights", "60"});
@@ -209,29 +223,27 @@ TEST_F(SecurityTest, SecuredProcessesExchangeWeightsAndEpisodes) {
 // not even a sample to reject (every counter stays 0). An actor with credentials, after it,
 // shows the learner was listening all along.
 TEST_F(SecurityTest, ParticipantWithoutCredentialsSeesNothingAndCannotInject) {
-  Participant learner(Secured("learner"));
-  Writer<rl::WeightsUpdate> weights(learner);
-  Reader<rl::Episode> episodes(learner, testing::SampleEpisodeReader());
+  LearnerSide learner(Secured("learner"));
   const rl::WeightsUpdate published = testing::MakePolicyWeights(8);
-  ASSERT_EQ(weights.Write(published), WriteResult::kSent);
+  ASSERT_EQ(learner.weights.Write(published), WriteResult::kSent);
 
   auto stranger = Peer("", {"actor", "20", "8"});
   EXPECT_TRUE(SaysLine(*stranger, "no weights"));
   EXPECT_TRUE(SaysLine(*stranger, "no reader"));
   EXPECT_TRUE(SaysLine(*stranger, "wrote 20"));  // into the void
   EXPECT_EQ(stranger->Wait(30s), 0);
-  EXPECT_EQ(TakeEpisodes(episodes, 1, 3s), 0u);
-  const SampleCounters counters = learner.counters(TopicId::kEpisode);
+  EXPECT_EQ(TakeEpisodes(learner.episodes, 1, 3s), 0u);
+  const SampleCounters counters = learner.participant.counters(TopicId::kEpisode);
   EXPECT_EQ(counters.accepted, 0u);
   EXPECT_EQ(counters.rejected, 0u);
   EXPECT_EQ(counters.other_run, 0u);
-  EXPECT_EQ(learner.total_rejected(), 0u);
+  EXPECT_EQ(learner.participant.total_rejected(), 0u);
 
   auto actor = Peer("actor-1", {"actor", "2", "60"});
   EXPECT_TRUE(SaysLine(*actor, "weights " + std::to_string(published.version)));
   EXPECT_TRUE(SaysLine(*actor, "matched"));
-  EXPECT_EQ(TakeEpisodes(episodes, 2, 30s), 2u);
-  EXPECT_EQ(learner.counters(TopicId::kEpisode).accepted, 2u);
+  EXPECT_EQ(TakeEpisodes(learner.episodes, 2, 30s), 2u);
+  EXPECT_EQ(learner.participant.counters(TopicId::kEpisode).accepted, 2u);
 }
 
 // Only the learner publishes PolicyWeights and LearnerStats: the read-only monitor identity
@@ -437,9 +449,7 @@ TEST_F(SecurityTest, TheKeystoreScriptUpdatesOldPermissionsAndRefusesMisnamedRol
   EXPECT_NE(read(permissions).find("<partition>actor-1</partition>"), std::string::npos);
   EXPECT_EQ(read(copy + "/identities/actor-1/cert.pem"), cert);
   for (const std::string bad : {"actor-x=actor", "learner-2=learner", "launcher-b=launcher"}) {
-    const int status = std::system((script + " --add " + bad + " > " + copy + ".log 2>&1").c_str());
-    ASSERT_TRUE(WIFEXITED(status));
-    EXPECT_EQ(WEXITSTATUS(status), 2) << bad;
+    EXPECT_EQ(ExitCodeOf(script + " --add " + bad + " > " + copy + ".log 2>&1"), 2) << bad;
     EXPECT_FALSE(fs::exists(copy + "/identities/" + bad.substr(0, bad.find('=')))) << bad;
   }
   fs::remove_all(copy);
@@ -543,24 +553,18 @@ TEST_F(SecurityTest, KeystoreConfigIsCheckedBeforeAnythingStarts) {
                               "/deploy/configs/default.yaml --id 7 --set transport.run_id=x --set "
                               "transport.security.keystore=" +
                               *keystore_ + " > " + out + " 2>&1";
-  const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 2);
-  std::stringstream text;
-  text << std::ifstream(out).rdbuf();
-  EXPECT_NE(text.str().find("identities/actor-7/cert.pem is missing"), std::string::npos) << text.str();
+  EXPECT_EQ(ExitCodeOf(command), 2);
+  const std::string said = ReadText(out);
+  EXPECT_NE(said.find("identities/actor-7/cert.pem is missing"), std::string::npos) << said;
 
   // srics run checks every process's identity before it starts any: three actors, two identities
   const std::string run_dir = *keystore_ + ".run";
   const std::string run = std::string(SRICS_LAUNCHER_BIN) + " run " + SRICS_SOURCE_DIR +
                           "/deploy/configs/default.yaml --actors 3 --display none --run-dir " + run_dir +
                           " --set transport.security.keystore=" + *keystore_ + " > " + out + " 2>&1";
-  const int run_status = std::system(run.c_str());
-  ASSERT_TRUE(WIFEXITED(run_status));
-  EXPECT_EQ(WEXITSTATUS(run_status), 2);
-  std::stringstream run_text;
-  run_text << std::ifstream(out).rdbuf();
-  EXPECT_NE(run_text.str().find("identities/actor-2/cert.pem is missing"), std::string::npos) << run_text.str();
+  EXPECT_EQ(ExitCodeOf(run), 2);
+  const std::string run_said = ReadText(out);
+  EXPECT_NE(run_said.find("identities/actor-2/cert.pem is missing"), std::string::npos) << run_said;
   EXPECT_FALSE(fs::exists(run_dir + "/logs/learner.log")) << "a process was started";
   fs::remove_all(run_dir);
   fs::remove(out);
