@@ -181,17 +181,9 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape, const Wind
       const Mat& now = batch.deltas[t];
       const Mat& before = batch.deltas[t - 1];
       const Mat& x = batch.inputs[t];  // columns 0, 1: positions in metres
-      const bool clearance = onset_clearance_.size() == static_cast<size_t>(n) * n;
-      for (Eigen::Index r = 0; r < rows; ++r) {
-        const int j = static_cast<int>(r % n);
-        if (!(now.row(r).squaredNorm() > onset_sq && before.row(r).squaredNorm() <= onset_sq)) continue;
-        bool clear = true;
-        for (int i = 0; clearance && clear && i < n; ++i) {
-          const double c = onset_clearance_[static_cast<size_t>(i) * n + j];
-          if (i != j && c > 0) clear = ApartThroughTheStep(x, now, r - j + i, r, c);
-        }
-        if (clear) w(r, 0) *= T(1 + options_.onset_loss_weight);
-      }
+      for (Eigen::Index r = 0; r < rows; ++r)
+        if (OnsetAtADistance(x, now, before, r, n, onset_clearance_, onset_sq))
+          w(r, 0) *= T(1 + options_.onset_loss_weight);
       sq = tape.Mul(sq, tape.Constant(w));
     } else if (!entity_weights_.empty()) {
       sq = tape.Mul(sq, row_weight);

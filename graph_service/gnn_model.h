@@ -40,6 +40,25 @@ bool ApartThroughTheStep(const Matrix& x, const Matrix& dx, Eigen::Index a, Eige
   return SegmentDistance(at(a, 0), at(a, 1), to(a, 0), to(a, 1), at(b, 0), at(b, 1), to(b, 0), to(b, 1)) > distance;
 }
 
+// Whether row r (entity r % n of its sample of n entities) starts moving at this step, with
+// nothing in reach: |Δxy| > onset_motion now (onset_sq = onset_motion^2) and not in the step
+// before, and every other entity i of the sample farther from it than clearance[i * n + j]
+// along the step (ApartThroughTheStep; a clearance of 0, or a clearance not of n * n: no
+// condition). x's columns 0, 1 are positions, `now` and `before` the steps' motions. The onsets
+// the loss weights (GnnModel::WindowLoss), and a tie's evidence (GnnTrainer::OnsetsAtADistance).
+template <class Matrix>
+bool OnsetAtADistance(const Matrix& x, const Matrix& now, const Matrix& before, Eigen::Index r, int n,
+                      const std::vector<double>& clearance, typename Matrix::Scalar onset_sq) {
+  if (!(now.row(r).squaredNorm() > onset_sq && before.row(r).squaredNorm() <= onset_sq)) return false;
+  if (clearance.size() != static_cast<size_t>(n) * n) return true;
+  const int j = static_cast<int>(r % n);
+  for (int i = 0; i < n; ++i) {
+    const double c = clearance[static_cast<size_t>(i) * n + j];
+    if (i != j && c > 0 && !ApartThroughTheStep(x, now, r - j + i, r, c)) return false;
+  }
+  return true;
+}
+
 // Sizes and loss settings of the model.
 struct GnnOptions {
   int num_entities = 0;           // N

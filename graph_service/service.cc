@@ -220,9 +220,7 @@ bool GraphService::LoadSaved() {
     sink_->Publish(ToGraphUpdate(saved));
     progress_.phase = Progress::Phase::kPublished;
     progress_.published_version = saved.version;
-    progress_.graph = rl::DescribeGraph(saved.graph);
-    progress_.edge_scores = saved.edge_scores;
-    progress_.mean_weights = saved.mean_weights;
+    ShowGraph(saved);
     progress_.held_out_loss = saved.held_out_loss;
     progress_.updates = saved.updates;
     progress_.episodes = saved.episodes;
@@ -401,10 +399,14 @@ void GraphService::EvaluateGraph() {
   progress_.entity_loss = stats.held_out_entity_mse;
   progress_.entity_zero_loss = stats.held_out_entity_zero_mse;
   progress_.stable_evaluations = state_.stable;
-  progress_.graph = rl::DescribeGraph(current_->graph);
-  progress_.edge_scores = current_->edge_scores;
-  progress_.mean_weights = stats.mean_weight;
+  ShowGraph(*current_);
   Report();
+}
+
+void GraphService::ShowGraph(const LearnedGraph& graph) {
+  progress_.graph = rl::DescribeGraph(graph.graph);
+  progress_.edge_scores = graph.edge_scores;
+  progress_.mean_weights = graph.mean_weights;
 }
 
 void GraphService::Finish() {
@@ -414,9 +416,7 @@ void GraphService::Finish() {
         "graph service: publishing the graph of update {} (held-out loss {:.3g}, the lowest), not of {} ({:.3g})",
         state_.lowest_loss->updates, state_.lowest_loss->held_out_loss, current_->updates, current_->held_out_loss);
     current_ = state_.lowest_loss;
-    progress_.graph = rl::DescribeGraph(current_->graph);
-    progress_.edge_scores = current_->edge_scores;
-    progress_.mean_weights = current_->mean_weights;
+    ShowGraph(*current_);
   }
   PublishCurrent();
   if (config_.refine_after_publish) {

@@ -141,6 +141,8 @@ class GraphService {
   void UpdateModel();  // one GNN update; a skipped one is counted and its streak logged
   void EvaluateGraph();
   void Finish();
+  // the progress fields that name a graph: its edges, scores and mean weights
+  void ShowGraph(const LearnedGraph& graph);
   void PublishCurrent();  // current_ as the next version: saved, published
   void StartRefinement();
   StepResult RefineStep(std::chrono::milliseconds wait);

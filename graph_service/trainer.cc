@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <utility>
 
@@ -289,25 +290,19 @@ std::vector<int64_t> GnnTrainer::OnsetsAtADistance() const {
   if (contact_radius_.size() != count.size()) return count;
   const int n = data_.num_entities();
   const std::vector<double> clearance = OnsetClearance(contact_radius_);
-  const double onset_sq = config_.onset_motion_m * config_.onset_motion_m;
-  auto moved_sq = [&](int e, int t, int j) {  // squared displacement of j from t to t + 1
-    const float *a = data_.position(e, t, j), *b = data_.position(e, t + 1, j);
-    return std::pow(double(b[0]) - a[0], 2) + std::pow(double(b[1]) - a[1], 2);
-  };
-  for (int e = 0; e < data_.size(); ++e)
-    for (int t = 1; t < data_.episode_steps(); ++t)
-      for (int j = 0; j < n; ++j) {
-        if (!(moved_sq(e, t, j) > onset_sq && moved_sq(e, t - 1, j) <= onset_sq)) continue;
-        bool clear = true;
-        for (int i = 0; clear && i < n; ++i) {
-          const double c = clearance[static_cast<size_t>(i) * n + j];
-          if (i == j || c <= 0) continue;
-          const float *i0 = data_.position(e, t, i), *i1 = data_.position(e, t + 1, i);
-          const float *j0 = data_.position(e, t, j), *j1 = data_.position(e, t + 1, j);
-          clear = SegmentDistance(i0[0], i0[1], i1[0], i1[1], j0[0], j0[1], j1[0], j1[1]) > c;
-        }
-        if (clear) ++count[static_cast<size_t>(data_.graph_entity(e, j))];
-      }
+  // the loss's own rule on the loss's own inputs (float motions), whole episodes in chunks
+  const float onset_sq = static_cast<float>(config_.onset_motion_m * config_.onset_motion_m);
+  constexpr int kChunk = 64;
+  WindowBatch<float> batch;
+  for (int first = 0; first < data_.size(); first += kChunk) {
+    std::vector<int> chunk(static_cast<size_t>(std::min(kChunk, data_.size() - first)));
+    std::iota(chunk.begin(), chunk.end(), first);
+    data_.EpisodeBatch(chunk, &batch);
+    for (int t = 1; t < static_cast<int>(batch.deltas.size()); ++t)
+      for (Eigen::Index r = 0; r < batch.deltas[t].rows(); ++r)
+        if (OnsetAtADistance(batch.inputs[t], batch.deltas[t], batch.deltas[t - 1], r, n, clearance, onset_sq))
+          ++count[static_cast<size_t>(data_.graph_entity(chunk[static_cast<size_t>(r / n)], static_cast<int>(r % n)))];
+  }
   return count;
 }
 

@@ -29,6 +29,28 @@ TEST(GnnAcceptanceScriptTest, HeldOutIsTablesElevenToFortyWithTwoSeedsInFoldersO
       << text;
 }
 
+// A further held-out set for settings chosen after the first was reported: its own tables,
+// folders and record; never a table that was tuned on or already reported as held out.
+TEST(GnnAcceptanceScriptTest, AFurtherHeldOutRangeHasFoldersOfItsOwnAndNoTableEverTunedOn) {
+  const auto [code, text] = Plan("--held-out-range 41-70");
+  ASSERT_EQ(code, 0) << text;
+  EXPECT_EQ(text.find("table-41 1\ntable-41 2\ntable-42 1\n"), 0u) << text;
+  EXPECT_NE(text.find("table-70 2\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("table-71 "), std::string::npos) << text;
+  EXPECT_NE(text.find("60 runs; out " + std::string(SRICS_SOURCE_DIR) + "/runs/gnn-acceptance-heldout-41-70; record " +
+                      std::string(SRICS_SOURCE_DIR) + "/docs/results/gnn-acceptance-heldout-41-70"),
+            std::string::npos)
+      << text;
+  for (const std::string& range : {"35-50", "5-60", "2050-2090", "1990-2001"}) {
+    const auto [refused, why] = Plan("--held-out-range " + range);
+    EXPECT_EQ(refused, 2) << range << ": " << why;
+    EXPECT_NE(why.find("choose tables outside 1-40 and 2001-2080"), std::string::npos) << why;
+  }
+  const auto [bad, message] = Plan("--held-out-range 41");
+  EXPECT_EQ(bad, 2) << message;
+  EXPECT_NE(message.find("is not FIRST-LAST"), std::string::npos) << message;
+}
+
 TEST(GnnAcceptanceScriptTest, TheDefaultSetIsThePresetsAndTablesOneToTen) {
   const auto [code, text] = Plan("");
   ASSERT_EQ(code, 0) << text;

@@ -4,13 +4,17 @@
 # seeds 1..3 each, with the default GraphConfig, one thread per run, and compares each graph
 # with the one the table implies by construction (exact match of every edge).
 #   ./tests/bench.sh gnn-acceptance [--jobs N] [--tables "a b ..."] [--seeds "1 2 3"] [--set K=V]...
-#                                   [--record DIR] [--runs "table:seed ..."] [--held-out] [--dry-run]
+#                                   [--record DIR] [--runs "table:seed ..."] [--held-out]
+#                                   [--held-out-range FIRST-LAST] [--dry-run]
 #   tests/bench/gnn-acceptance/run.sh BUILD_DIR [same options]
 # --runs lists single runs instead of the tables x seeds grid (e.g. "table-4:3 rearrange-1:2").
 # --held-out: the held-out acceptance (issue 35): random tables 11-40, graph seeds 1-2, tables
 # no setting was ever chosen on; its own OUT (runs/gnn-acceptance-heldout) and record
 # (docs/results/gnn-acceptance-heldout) unless given. Run it once with the settings frozen and
-# report it as it came out. --dry-run prints the runs, OUT and the record folder, and stops.
+# report it as it came out. --held-out-range FIRST-LAST: a further held-out set, random tables
+# FIRST..LAST (seeds 1-2; runs/ and docs/results/gnn-acceptance-heldout-FIRST-LAST), for settings
+# chosen after the first was reported; it refuses the tables ever tuned on (1-10 and 2001-2080,
+# the five-object tie tuning set's range) and the first held-out set (11-40). --dry-run prints the runs, OUT and the record folder, and stops.
 # Table names: a preset's file name without .yaml, or table-N for random table N.
 # Output in $OUT (default runs/gnn-acceptance, kept across calls): OUT/<table>-s<seed>/ holds
 # the run's log, graph.json and pictures and result.txt. Resumable: a run with a result.txt
@@ -29,6 +33,7 @@ shift || true
 out="${OUT:-}"
 jobs=1
 held_out=0
+held_out_range=""
 dry_run=0
 tables=""
 seeds="1 2 3"
@@ -44,16 +49,33 @@ while [[ $# -gt 0 ]]; do
     --runs) runs="$2"; shift 2 ;;
     --record) record="$2"; [[ $record == /* ]] || record="$root/$record"; shift 2 ;;
     --held-out) held_out=1; shift ;;
+    --held-out-range) held_out_range="$2"; shift 2 ;;
     --dry-run) dry_run=1; shift ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
+first=11 last=40 suffix=""
+if [[ -n $held_out_range ]]; then
+  [[ $held_out_range =~ ^([0-9]+)-([0-9]+)$ ]] || { echo "--held-out-range: '$held_out_range' is not FIRST-LAST" >&2; exit 2; }
+  first=$((10#${BASH_REMATCH[1]})) last=$((10#${BASH_REMATCH[2]})) suffix="-$first-$last"
+  ((first <= last)) || { echo "--held-out-range: $first > $last" >&2; exit 2; }
+  # tables a setting was chosen on, or already reported as held out, can never be held out again
+  for used in 1-10:tuned 2001-2080:tuned 11-40:"the first held-out set"; do
+    lo=${used%%-*} rest=${used#*-} hi=${rest%%:*} what=${used#*:}
+    if ((first <= hi && last >= lo)); then
+      [[ $what == tuned ]] && what="tuned on"
+      echo "--held-out-range $first-$last: tables $lo-$hi are $what; choose tables outside 1-40 and 2001-2080" >&2
+      exit 2
+    fi
+  done
+  held_out=1
+fi
 if [[ $held_out == 1 ]]; then
-  [[ -z "$tables" ]] || { echo "--held-out names its own tables (11-40): no --tables with it" >&2; exit 2; }
-  for n in $(seq 11 40); do tables+="table-$n "; done
+  [[ -z "$tables" ]] || { echo "--held-out names its own tables ($first-$last): no --tables with it" >&2; exit 2; }
+  for n in $(seq "$first" "$last"); do tables+="table-$n "; done
   seeds="1 2"
-  out="${out:-$root/runs/gnn-acceptance-heldout}"
-  record="${record:-$root/docs/results/gnn-acceptance-heldout}"
+  out="${out:-$root/runs/gnn-acceptance-heldout$suffix}"
+  record="${record:-$root/docs/results/gnn-acceptance-heldout$suffix}"
 fi
 out="${out:-$root/runs/gnn-acceptance}"
 if [[ -z "$tables" ]]; then
