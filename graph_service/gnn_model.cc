@@ -150,6 +150,24 @@ typename GnnModel<T>::Step GnnModel<T>::Forward(nn::Tape<T>& tape, nn::Var<T> h,
 }
 
 template <typename T>
+const typename GnnModel<T>::Mat& GnnModel<T>::EdgeKlWeights(Eigen::Index rows) {
+  const int n = options_.num_entities;
+  if (edge_kl_weights_.size() != static_cast<size_t>(n) * n)
+    throw std::invalid_argument("GnnModel: edge KL weights do not match N * N");
+  if (edge_kl_rows_ != rows) {
+    const Eigen::Index edges = rows * (n - 1), per_sample = static_cast<Eigen::Index>(n) * (n - 1);
+    edge_kl_.resize(edges, 2);
+    for (Eigen::Index e = 0; e < edges; ++e) {
+      const int local = static_cast<int>(e % per_sample);
+      edge_kl_.row(e).setConstant(
+          T(edge_kl_weights_[static_cast<size_t>(edge_sender_entity(local)) * n + edge_receiver_entity(local)]));
+    }
+    edge_kl_rows_ = rows;
+  }
+  return edge_kl_;
+}
+
+template <typename T>
 typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape, const WindowBatch<T>& batch, nn::Rng& rng) {
   const int b = batch.batch, n = options_.num_entities;
   if (batch.num_entities != n) throw std::invalid_argument("WindowLoss: entity count mismatch");
@@ -191,7 +209,9 @@ typename GnnModel<T>::Loss GnnModel<T>::WindowLoss(nn::Tape<T>& tape, const Wind
     nn::Var<T> mse = tape.Mean(sq);
     // KL of the edge posterior to the Bernoulli prior, summed over edges, per receiver
     nn::Var<T> log_q = tape.LogSoftmax(step.edge_logits);
-    nn::Var<T> kl = tape.MulScalar(tape.Sum(tape.Mul(tape.Exp(log_q), tape.Sub(log_q, log_prior))), T(1.0 / rows));
+    nn::Var<T> per_edge = tape.Mul(tape.Exp(log_q), tape.Sub(log_q, log_prior));
+    if (!edge_kl_weights_.empty()) per_edge = tape.Mul(per_edge, tape.Constant(EdgeKlWeights(rows)));
+    nn::Var<T> kl = tape.MulScalar(tape.Sum(per_edge), T(1.0 / rows));
     nn::Var<T> term = tape.Add(mse, tape.MulScalar(kl, T(options_.kl_weight)));
     if (options_.gate_logit_decay > 0) {
       // a quadratic pull of every open gate's logit margin (> 0) towards 0, summed over

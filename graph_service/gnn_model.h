@@ -133,6 +133,12 @@ class GnnModel {
   // condition; infinity: j's onsets never count; empty: every onset counts)
   void set_onset_clearance(std::vector<double> c) { onset_clearance_ = std::move(c); }
   void set_onset_loss_weight(double w) { options_.onset_loss_weight = w; }
+  // Per-edge factors of the KL term, w[i * N + j] for the edge i -> j (size N * N; empty: every
+  // edge 1, the plain KL).
+  void set_edge_kl_weights(std::vector<double> w) {
+    edge_kl_weights_ = std::move(w);
+    edge_kl_rows_ = 0;  // rebuilt for the next batch
+  }
   // Changes the weight of the KL term (annealing).
   void set_kl_weight(double w) { options_.kl_weight = w; }
   // Standardisation of the node inputs: every network sees (x - mean) * inv_std (size F
@@ -145,6 +151,8 @@ class GnnModel {
 
  private:
   void BuildEdges(int batch);
+  // edge_kl_weights_ per edge of a batch of `rows` entity rows (both columns of the 2-way logits)
+  const Mat& EdgeKlWeights(Eigen::Index rows);
 
   GnnOptions options_;
   nn::Mlp<T> act_;                           // d_act: F -> M -> H
@@ -160,6 +168,9 @@ class GnnModel {
   std::vector<double> onset_clearance_;
   Mat input_mean_, input_inv_std_;  // 1 x F each (empty: no standardisation)
   Mat row_weights_;                 // (B*N) x 1 built from entity_weights_
+  std::vector<double> edge_kl_weights_;
+  Mat edge_kl_;                    // (B*N*(N-1)) x 2 built from edge_kl_weights_
+  Eigen::Index edge_kl_rows_ = 0;  // the batch rows edge_kl_ was built for
   int edges_batch_ = -1;
   std::vector<int> senders_, receivers_;
   Mat log_prior_;  // 1 x 2: log p, log (1 - p)

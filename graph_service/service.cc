@@ -56,8 +56,10 @@ std::string GraphService::training_path() const {
 void GraphService::SyncProgress() {
   progress_.dropped = state_.dropped;
   progress_.refine_episodes = state_.refine_episodes;
-  if (state_.trainer && progress_.onsets_at_a_distance.empty())
+  if (state_.trainer && progress_.onsets_at_a_distance.empty()) {
     progress_.onsets_at_a_distance = state_.trainer->OnsetsAtADistance();
+    progress_.tied_by_evidence = state_.trainer->TiedByEvidence();
+  }
 }
 
 void GraphService::Report() {

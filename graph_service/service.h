@@ -18,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/config/config.h"
@@ -52,6 +53,8 @@ struct Progress {
   // per graph entity, the data set's onsets of motion with nothing in reach (a tie's evidence;
   // GnnTrainer::OnsetsAtADistance), once training starts
   std::vector<int64_t> onsets_at_a_distance;
+  // the object pairs whose edges pay graph.tie_kl_factor times the KL (GnnTrainer::TiedByEvidence)
+  std::vector<std::pair<int, int>> tied_by_evidence;
   int stable_evaluations = 0;        // consecutive evaluations with an unchanged graph
   std::string graph;                 // current thresholded graph (rl::DescribeGraph)
   std::vector<double> edge_scores;   // current read-out scores (N x N), thresholded

@@ -250,10 +250,32 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
 
 void GnnTrainer::SetContactRadii(std::vector<double> radii) {
   contact_radius_ = std::move(radii);
+  const std::vector<std::pair<int, int>> tied = TiedByEvidence();
+  if (!tied.empty()) {
+    const int n = data_.num_entities();
+    std::vector<double> weights(static_cast<size_t>(n) * n, 1.0);
+    for (const auto& [i, j] : tied)
+      weights[static_cast<size_t>(i) * n + j] = weights[static_cast<size_t>(j) * n + i] = config_.tie_kl_factor;
+    model_.set_edge_kl_weights(std::move(weights));
+  }
   if (config_.onset_loss_weight <= 0) return;
   const bool sized = contact_radius_.size() == static_cast<size_t>(data_.graph_entities());
   model_.set_onset_loss_weight(sized ? config_.onset_loss_weight : 0);
   if (sized) model_.set_onset_clearance(OnsetClearance(contact_radius_));
+}
+
+std::vector<std::pair<int, int>> GnnTrainer::TiedByEvidence() const {
+  std::vector<std::pair<int, int>> tied;
+  if (config_.tie_evidence_per_episode <= 0 || config_.tie_kl_factor == 1 || data_.combinations() || data_.size() == 0)
+    return tied;
+  const std::vector<int64_t> onsets = OnsetsAtADistance();  // zeros without every radius
+  const double needed = config_.tie_evidence_per_episode * data_.size();
+  for (int i = 0; i < static_cast<int>(onsets.size()); ++i)
+    for (int j = i + 1; j < static_cast<int>(onsets.size()); ++j)
+      if (i != arm_ && j != arm_ && onsets[static_cast<size_t>(i)] >= needed &&
+          onsets[static_cast<size_t>(j)] >= needed)
+        tied.emplace_back(i, j);
+  return tied;
 }
 
 std::vector<double> GnnTrainer::OnsetClearance(const std::vector<double>& graph_radius) const {

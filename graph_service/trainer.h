@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "common/config/graph_config.h"
@@ -124,6 +125,11 @@ class GnnTrainer {
   // so the data's evidence of each tie, before any training. Zeros without the entities' radii
   // (SetContactRadii).
   std::vector<int64_t> OnsetsAtADistance() const;
+  // The object pairs (i < j, graph entities) whose both ends start moving at a distance at least
+  // tie_evidence_per_episode times per episode of the data: their edges pay tie_kl_factor times
+  // the KL (SetContactRadii sets it). Empty when off, without radii, or for a data set of
+  // combinations (whose samples order the entities differently).
+  std::vector<std::pair<int, int>> TiedByEvidence() const;
   // Logs the shapes of every matrix product of later updates (benchmark).
   void set_gemm_log(std::vector<nn::GemmShape>* log) { tape_.set_gemm_log(log); }
 

@@ -174,6 +174,15 @@ struct GraphConfig {
   // put-back static puck flies unseen within a step and sets pucks moving with no visible cause.
   double onset_loss_weight = 30.0;
   double onset_motion_m = 1e-3;
+  // Ties seen in the data (not in the reference; 0 = off): two movable objects that each start
+  // moving with nothing in reach (GnnTrainer::OnsetsAtADistance) at least tie_evidence_per_episode
+  // times per random episode pay tie_kl_factor times the KL on their edges both ways. The KL
+  // that keeps contacts shut (kl_weight) drops the ties of five-object tables, whose pulls are
+  // rarer; a lower kl_weight everywhere opens contacts between pushed pucks. Per 1,000 episodes
+  // the tuning tables' tied objects start at a distance 28-572 times, untied ones 0-23. Both keys
+  // are recorded in a run's settings only when given.
+  double tie_evidence_per_episode = 0;
+  double tie_kl_factor = 1;
   // a fresh Adam state when the gates start (end of the warm-up), with this beta2 (0.99, the
   // decay of the reference's RMSprop); see GnnTrainer::Update. Not in the reference.
   bool restart_adam_after_warmup = true;

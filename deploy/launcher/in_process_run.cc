@@ -429,6 +429,11 @@ int LearnGraph(const LearnGraphOptions& o) {
       for (size_t j = 0; j < p.onsets_at_a_distance.size(); ++j)
         counts += " " + std::to_string(j) + ": " + std::to_string(p.onsets_at_a_distance[j]);
       std::printf("onsets at a distance (per entity, nothing in reach: a tie's evidence):%s\n", counts.c_str());
+      if (!p.tied_by_evidence.empty()) {
+        std::string pairs;
+        for (const auto& [i, j] : p.tied_by_evidence) pairs += " " + std::to_string(i) + " <-> " + std::to_string(j);
+        std::printf("tied by that evidence (their edges' KL times graph.tie_kl_factor):%s\n", pairs.c_str());
+      }
       printed_onsets = true;
     }
     std::printf(

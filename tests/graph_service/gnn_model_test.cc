@@ -121,6 +121,39 @@ TEST(GnnModelTest, GradientsMatchFiniteDifferencesWithEdgeInputs) {
   EXPECT_LT(WindowLossGradientError(model, toy.batch, toy.rng), 1e-6);
 }
 
+// Per-edge KL factors: all 1 is the plain KL, bit for bit; 0.5 on every edge halves it exactly
+// (a power of two); 0 on one edge removes that edge's share, and the squared error never moves.
+// Gradients stay exact with factors (the tied pair's edges 1 <-> 2 at 0.25).
+TEST(GnnModelTest, EdgeKlWeightsScaleEachEdgesKl) {
+  ToyBatch<double> toy(4, 6, /*seed=*/3, 2, 3);
+  GnnModel<double> model(SmallGradientOptions(toy), toy.rng);
+  auto loss = [&](std::vector<double> weights) {
+    model.set_edge_kl_weights(std::move(weights));
+    nn::Tape<double> tape;
+    nn::Rng noise(11);
+    return model.WindowLoss(tape, toy.batch, noise);
+  };
+  const auto plain = loss({});
+  ASSERT_GT(plain.kl, 0);
+  const auto ones = loss(std::vector<double>(9, 1.0));
+  EXPECT_EQ(ones.kl, plain.kl);
+  EXPECT_EQ(ones.mse, plain.mse);  // (total is a node of the lambda's tape, gone by now)
+  const auto halves = loss(std::vector<double>(9, 0.5));
+  EXPECT_EQ(halves.kl, 0.5 * plain.kl);
+  EXPECT_EQ(halves.mse, plain.mse);
+  std::vector<double> without_one(9, 1.0);
+  without_one[1 * 3 + 2] = 0;  // the edge 1 -> 2
+  const auto fewer = loss(without_one);
+  EXPECT_LT(fewer.kl, plain.kl);
+  EXPECT_GT(fewer.kl, 0);
+  EXPECT_EQ(fewer.mse, plain.mse);
+  EXPECT_THROW(loss(std::vector<double>(4, 1.0)), std::invalid_argument);
+  std::vector<double> tied(9, 1.0);
+  tied[1 * 3 + 2] = tied[2 * 3 + 1] = 0.25;
+  model.set_edge_kl_weights(tied);
+  EXPECT_LT(WindowLossGradientError(model, toy.batch, toy.rng), 1e-6);
+}
+
 // Segment distances by hand: crossing paths 0; parallel ones their offset; an end point's
 // distance to the other segment's interior; and the case the end points miss: the hand runs
 // from 13 cm below an object at rest to 4.5 cm beyond it (clear at both ends, through it
@@ -396,6 +429,38 @@ TEST(GnnTrainerTest, OnsetsAtADistanceAreTheTiesEvidence) {
   EXPECT_GT(roped[1] + roped[2], 0);
   EXPECT_EQ(onsets({}, radii), (std::vector<int64_t>{0, 0, 0}));
   EXPECT_EQ(onsets({{1, 2}}, {}), (std::vector<int64_t>{0, 0, 0}));
+}
+
+// Ties seen in the data lower the KL of their pair only: with a rope between pucks 1 and 2 the
+// pair starts moving at a distance and is picked; the free puck 3 and the arm never are; without
+// the rope, or with the option off (factor 1 or no evidence threshold), no pair. A threshold
+// above what the rope produces picks nothing.
+TEST(GnnTrainerTest, TiedByEvidenceNamesThePairsThatStartMovingAtADistance) {
+  auto tied = [](std::vector<std::pair<int, int>> ropes, double per_episode, double factor) {
+    ToyWorld world({.num_pucks = 3, .ropes = std::move(ropes), .steps = 40});
+    GraphDataset data = GraphDataset::ShapedLike(world.RandomEpisode(0));
+    for (int e = 0; e < 60; ++e) EXPECT_EQ(data.Add(world.RandomEpisode(300 + e)), "");
+    data.Split(0.25, 1);
+    config::GraphConfig config;
+    config.hidden_dim = 4;
+    config.mlp_hidden = 8;
+    config.tie_evidence_per_episode = per_episode;
+    config.tie_kl_factor = factor;
+    GnnTrainer trainer(config, data, 3);
+    trainer.SetContactRadii({0.03, 0.04, 0.04, 0.04});  // the toy world's arm and pucks
+    const std::vector<int64_t> onsets = trainer.OnsetsAtADistance();
+    return std::make_pair(trainer.TiedByEvidence(), onsets);
+  };
+  const auto [roped, onsets] = tied({{1, 2}}, 1.0 / 60, 0.5);  // at least one onset each
+  ASSERT_EQ(onsets.size(), 4u);
+  ASSERT_GT(std::min(onsets[1], onsets[2]), 0) << "the toy rope shows no evidence on one end";
+  EXPECT_EQ(onsets[3], 0);
+  EXPECT_EQ(roped, (std::vector<std::pair<int, int>>{{1, 2}}));
+  EXPECT_TRUE(tied({}, 1.0 / 60, 0.5).first.empty());
+  EXPECT_TRUE(tied({{1, 2}}, 1.0 / 60, 1.0).first.empty());
+  EXPECT_TRUE(tied({{1, 2}}, 0, 0.5).first.empty());
+  const double above = (static_cast<double>(std::max(onsets[1], onsets[2])) + 1) / 60;
+  EXPECT_TRUE(tied({{1, 2}}, above, 0.5).first.empty());
 }
 
 // The onset weight needs every entity's size to tell a push from a pull at a distance: without
