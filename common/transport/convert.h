@@ -43,25 +43,32 @@ struct CType<rl::NodeStatus> : Wire<srics_NodeStatus, &srics_NodeStatus_desc, To
   X(rl::LearnerReport) X(rl::EvalReport) X(rl::WeightsUpdate) X(rl::GraphUpdate) X(rl::NodeStatus)
 
 // Where ToC puts the sequences whose domain element type is not the wire's (doubles sent as
-// floats): the C sample points into it, so it must outlive the use of the sample.
+// floats): the C sample points into it, so it must outlive the use of the sample. clear()
+// keeps the vectors: a writer converting one message after another reuses their memory.
 class SequenceBuffers {
  public:
   template <typename E>
   E* Hold(size_t n) {
     if constexpr (std::is_same_v<E, float>)
-      return floats_.emplace_back(n).data();
+      return Next(floats_, used_floats_, n);
     else
-      return shorts_.emplace_back(n).data();  // int16_t, the only other one
+      return Next(shorts_, used_shorts_, n);  // int16_t, the only other one
   }
-  void clear() {
-    floats_.clear();
-    shorts_.clear();
-  }
+  void clear() { used_floats_ = used_shorts_ = 0; }
 
  private:
-  // one vector per sequence: a vector moved by the outer one keeps its buffer
+  // one vector per sequence: a vector moved by the outer one keeps its buffer, so what an
+  // earlier Hold returned stays valid
+  template <typename E>
+  static E* Next(std::vector<std::vector<E>>& pool, size_t& used, size_t n) {
+    if (used == pool.size()) pool.emplace_back();
+    std::vector<E>& buffer = pool[used++];
+    buffer.resize(n);
+    return buffer.data();
+  }
   std::vector<std::vector<float>> floats_;
   std::vector<std::vector<int16_t>> shorts_;
+  size_t used_floats_ = 0, used_shorts_ = 0;
 };
 
 // ToC fills *out with pointers into `in` (and `buffers`) where it can (no copy of sequences):
