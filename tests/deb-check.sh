@@ -79,7 +79,7 @@ case "$products" in
   "onednn ("*) echo "deb-check: the learner's matrix products: $products" ;;
   *) fail "the learner does not multiply on oneDNN: '${products:-no line in logs/learner.out}'" ;;
 esac
-episodes=$(awk -F, 'NR > 1 && $6 + 0 > m { m = $6 + 0 } END { print m + 0 }' "$run_dir/learner.csv")
+episodes=$("$bin/srics" column "$run_dir/learner.csv" episodes_accepted) || fail "learner.csv: unreadable"
 [ "$episodes" -gt 0 ] || fail "the learner accepted no episode (learner.csv)"
 echo "deb-check: dpkg -x: srics run from $scratch/work: finished, 4 roles, $episodes episodes accepted"
 

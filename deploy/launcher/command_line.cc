@@ -353,6 +353,18 @@ Options ParseAloneWithText(const std::string& name, const std::vector<std::strin
   return o;
 }
 
+// ---- srics column
+void AddColumnOptions(CLI::App& app, analysis::ColumnOptions* o) {
+  app.description(
+      "the largest value of one column of a run folder's CSV file (eval.csv, learner.csv, nodes.csv, ...) over\n"
+      "the rows that match every --where; 0 when none has a number there yet. For scripts that watch a run.\n"
+      "Exit codes: 0 printed, 1 no such file or column");
+  app.add_option("FILE", o->file, "a run folder's CSV file")->required();
+  app.add_option("COLUMN", o->column, "the column, by its header name")->required();
+  app.add_option("--where", o->where, "only rows whose NAME field is VALUE (repeatable; text equality)")
+      ->type_name("NAME=VALUE");
+}
+
 }  // namespace
 
 LaunchOptions ParseRunArgs(const std::vector<std::string>& args) {
@@ -415,6 +427,8 @@ std::optional<int> ParseSricsCommandLine(int argc, char** argv, SricsCommand* co
                  &command->eval, &no_video);
   AddLearnGraphOptions(*add("learn-graph", "learn an environment's interaction graph in process", Kind::kLearnGraph),
                        &command->learn_graph);
+  AddColumnOptions(*add("column", "the largest value of a column of a run folder's CSV file", Kind::kColumn),
+                   &command->column);
   if (const auto code = cli::Parse(app, argc, argv)) return code;
   for (const Sub& sub : subs)
     if (sub.app->parsed()) command->kind = sub.kind;
@@ -426,6 +440,7 @@ std::optional<int> ParseSricsCommandLine(int argc, char** argv, SricsCommand* co
       case Kind::kCompare: break;
       case Kind::kEval: FinishEvalArgs(&command->eval, no_video); break;
       case Kind::kLearnGraph: FinishLearnGraphOptions(&command->learn_graph); break;
+      case Kind::kColumn: break;
     }
   } catch (const std::invalid_argument& e) {
     return cli::UsageError(command->name, e.what());

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "deploy/analysis/column.h"
 #include "deploy/analysis/compare.h"
 #include "deploy/eval/eval.h"
 #include "deploy/launcher/in_process_run.h"
@@ -19,7 +20,7 @@ namespace srics::launcher {
 
 // One parsed `srics` command line: which subcommand, and its options.
 struct SricsCommand {
-  enum class Kind { kRun, kSweep, kCompare, kEval, kLearnGraph };
+  enum class Kind { kRun, kSweep, kCompare, kEval, kLearnGraph, kColumn };
   Kind kind = Kind::kRun;
   std::string name;  // "srics run": what messages start with
   LaunchOptions run;
@@ -27,6 +28,7 @@ struct SricsCommand {
   analysis::CompareOptions compare;
   eval::EvalArgs eval;
   LearnGraphOptions learn_graph;
+  analysis::ColumnOptions column;
 };
 
 // Parses argv into *command. Returns nothing when the program goes on; else its exit code

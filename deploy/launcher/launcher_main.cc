@@ -2,7 +2,8 @@
 // (launcher.h); `srics sweep` a grid of runs over methods and seeds (sweep.h); `srics compare`
 // draws figures and tables from sweeps (deploy/analysis/compare.h); `srics eval` plays a trained policy's
 // evaluation episodes into metrics and videos (eval.h); `srics learn-graph` learns an
-// environment's graph (in_process_run.h). Options: command_line.h, `srics SUBCOMMAND --help`.
+// environment's graph (in_process_run.h); `srics column` the largest value of a run folder's CSV
+// column (deploy/analysis/column.h). Options: command_line.h, `srics SUBCOMMAND --help`.
 
 #include <iostream>
 #include <stdexcept>
@@ -27,6 +28,7 @@ int RunCommand(const launcher::SricsCommand& command) {
       return srics::eval::IsEvalStudy(command.eval) ? srics::eval::RunEvalStudy(command.eval)
                                                     : srics::eval::Eval(command.eval);
     case Kind::kLearnGraph: return launcher::LearnGraph(command.learn_graph);
+    case Kind::kColumn: return srics::analysis::Column(command.column);
   }
   return srics::kExitFailed;
 }

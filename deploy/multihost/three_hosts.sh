@@ -150,16 +150,13 @@ ip netns exec "$ns_c" "$monitor" "${common[@]}" --csv "$run/monitor" --no-weight
 pids+=($!)
 
 # --- the checks, on what the monitor on host C wrote ---
-# nodes.csv: wall_time,run_id,role,node_id,host,pid,state,policy_version,graph_version,env_steps,...
-# learner.csv: wall_time,run_id,updates,transitions_inserted,replay_size,episodes_accepted,
-#              episodes_rejected,policy_version,...
-actor_max() {  # actor_max ID COLUMN: the largest value of COLUMN in that actor's rows
-  awk -F, -v id="$1" -v col="$2" 'NR > 1 && $3 == "actor" && $4 == id && $col + 0 > m { m = $col + 0 }
-                                  END { print m + 0 }' "$run/monitor/nodes.csv" 2>/dev/null || echo 0
+# the largest value of a column of the monitor's files, by name (srics column: the run folder's
+# one CSV reader; 0 until a matching row has one)
+actor_max() {  # actor_max ID COLUMN: the largest value of COLUMN in that actor's rows of nodes.csv
+  "$srics" column "$run/monitor/nodes.csv" "$2" --where role=actor --where node_id="$1" 2>/dev/null || echo 0
 }
-learner_max() {  # learner_max COLUMN
-  awk -F, -v col="$1" 'NR > 1 && $col + 0 > m { m = $col + 0 } END { print m + 0 }' \
-    "$run/monitor/learner.csv" 2>/dev/null || echo 0
+learner_max() {  # learner_max COLUMN: of learner.csv
+  "$srics" column "$run/monitor/learner.csv" "$1" 2>/dev/null || echo 0
 }
 first_updates=""
 deadline=$((SECONDS + time_limit))
@@ -169,10 +166,11 @@ while [ $SECONDS -lt $deadline ]; do
   for pid in "${pids[@]:0:3}"; do
     kill -0 "$pid" 2>/dev/null || { echo "a host's srics run exited early (pid $pid)"; break 2; }
   done
-  episodes=$(learner_max 6); updates=$(learner_max 3); policy=$(learner_max 8)
+  episodes=$(learner_max episodes_accepted); updates=$(learner_max updates); policy=$(learner_max policy_version)
   [ -z "$first_updates" ] && [ "$updates" -gt 0 ] && first_updates=$updates
-  g0=$(actor_max 0 9); g1=$(actor_max 1 9); w0=$(actor_max 0 8); w1=$(actor_max 1 8)
-  s0=$(actor_max 0 10); s1=$(actor_max 1 10)
+  g0=$(actor_max 0 graph_version); g1=$(actor_max 1 graph_version)
+  w0=$(actor_max 0 policy_version); w1=$(actor_max 1 policy_version)
+  s0=$(actor_max 0 env_steps); s1=$(actor_max 1 env_steps)
   printf '[%4ds] episodes %s  env steps B %s C %s  graph B v%s C v%s  weights B v%s C v%s  updates %s  policy v%s\n' \
     "$SECONDS" "$episodes" "$s0" "$s1" "$g0" "$g1" "$w0" "$w1" "$updates" "$policy"
   if [ "$episodes" -gt 0 ] && [ "$s0" -gt 0 ] && [ "$s1" -gt 0 ] && [ "$g0" -ge 1 ] && [ "$g1" -ge 1 ] &&

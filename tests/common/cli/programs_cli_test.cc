@@ -33,6 +33,7 @@ std::vector<Program> Programs() {
       {"srics compare", {SRICS_PROGRAM, "compare"}, {"/tmp", "--out"}, "--out"},
       {"srics eval", {SRICS_PROGRAM, "eval"}, {"/tmp", "--episodes", "0"}, "--episodes"},
       {"srics learn-graph", {SRICS_PROGRAM, "learn-graph"}, {"--random-table", "-3"}, "--random-table"},
+      {"srics column", {SRICS_PROGRAM, "column"}, {"/tmp/x.csv"}, "COLUMN"},
       {"srics-actor", {SRICS_ACTOR_PROGRAM}, {kConfig, "--id", "x1"}, "--id"},
       {"srics-learner", {SRICS_LEARNER_PROGRAM}, {kConfig, "--log-level"}, "--log-level"},
       {"srics-graph", {SRICS_GRAPH_PROGRAM}, {kConfig, "--run-dir"}, "--run-dir"},
