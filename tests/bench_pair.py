@@ -69,7 +69,10 @@ def build_benches(commit, benches, work):
     env = dict(os.environ, SRICS_BUILD_DIR=os.path.join(work, "build"))
     targets = ["bench_" + b.replace("-", "_") for b in benches]
     print(f"bench_pair: building {' '.join(targets)} at {commit}", file=sys.stderr, flush=True)
-    run([os.path.join(tree, "tests", "build.sh"), "--target", *targets], env=env, stdout=subprocess.DEVNULL)
+    build = subprocess.run([os.path.join(tree, "tests", "build.sh"), "--target", *targets], env=env, text=True,
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    if build.returncode != 0:  # the compiler's output only when it failed
+        sys.exit(f"{build.stdout[-4000:]}\nbench_pair: the build of {commit} failed")
     out = os.path.join(work, "bin", commit)
     os.makedirs(out, exist_ok=True)
     paths = {}
