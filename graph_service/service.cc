@@ -86,12 +86,13 @@ ServiceOptions ServiceOptionsFor(const config::Config& config, const std::string
 
 namespace {
 
-// Renames an unusable file to <path>.rejected (kept for inspection); returns the new name.
-std::string SetAside(const std::string& path) {
+// Renames an unusable file to <path>.rejected (kept for inspection) and warns:
+// "graph service: <what> (<error>); moved to <path>.rejected, <then>".
+void SetAside(const std::string& path, const char* what, const std::exception& error, const char* then) {
   const std::string aside = path + ".rejected";
   std::error_code ec;
   std::filesystem::rename(path, aside, ec);
-  return aside;
+  spdlog::warn("graph service: {} ({}); moved to {}, {}", what, error.what(), aside, then);
 }
 
 rl::NodePhase NodePhaseOf(Progress::Phase phase) {
@@ -231,8 +232,7 @@ bool GraphService::LoadSaved() {
     return true;
   } catch (const std::exception& e) {
     // an unusable file is kept aside for inspection and the graph is learned again
-    const std::string aside = SetAside(path);
-    spdlog::warn("graph service: saved graph rejected ({}); moved to {}, learning again", e.what(), aside);
+    SetAside(path, "saved graph rejected", e, "learning again");
     return false;
   }
 }
@@ -277,8 +277,7 @@ bool GraphService::LoadTraining() {
     Report();
     return true;
   } catch (const std::exception& e) {
-    const std::string aside = SetAside(path);
-    spdlog::warn("graph service: training state not resumed ({}); moved to {}, starting over", e.what(), aside);
+    SetAside(path, "training state not resumed", e, "starting over");
     return false;
   }
 }

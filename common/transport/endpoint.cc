@@ -40,12 +40,8 @@ bool WaitForStatus(int32_t participant, int32_t guard, const Shutdown& shutdown,
                    std::chrono::milliseconds timeout, Ready ready) {
   const auto deadline = Clock::now() + timeout;
   Check(dds_set_status_mask(entity, status), "dds_set_status_mask");
-  const int32_t waitset = Check(dds_create_waitset(participant), "dds_create_waitset");
-  int32_t owned = waitset;
-  struct Cleanup {
-    int32_t* w;
-    ~Cleanup() { internal::DeleteEntity(w); }
-  } cleanup{&owned};
+  const OwnedEntity owned_waitset(Check(dds_create_waitset(participant), "dds_create_waitset"));
+  const int32_t waitset = owned_waitset.get();
   Check(dds_waitset_attach(waitset, entity, 0), "dds_waitset_attach");
   Check(dds_waitset_attach(waitset, guard, 0), "dds_waitset_attach");
   while (true) {
@@ -92,29 +88,11 @@ std::string CounterPrefix(TopicId id) {
 // ---------------------------------------------------------------------------------- Topic
 
 template <typename T>
-Topic<T>::Topic(const Participant& participant, const std::string& name) : name_(name) {
-  topic_ =
-      Check(dds_create_topic(participant.handle(), internal::CType<T>::Descriptor(), name.c_str(), nullptr, nullptr),
-            ("dds_create_topic " + name).c_str());
-}
-
-template <typename T>
-Topic<T>::~Topic() {
-  internal::DeleteEntity(&topic_);
-}
-
-template <typename T>
-Topic<T>::Topic(Topic&& other) noexcept : topic_(std::exchange(other.topic_, 0)), name_(std::move(other.name_)) {}
-
-template <typename T>
-Topic<T>& Topic<T>::operator=(Topic&& other) noexcept {
-  if (this != &other) {
-    internal::DeleteEntity(&topic_);
-    topic_ = std::exchange(other.topic_, 0);
-    name_ = std::move(other.name_);
-  }
-  return *this;
-}
+Topic<T>::Topic(const Participant& participant, const std::string& name)
+    : topic_(Check(
+          dds_create_topic(participant.handle(), internal::CType<T>::Descriptor(), name.c_str(), nullptr, nullptr),
+          ("dds_create_topic " + name).c_str())),
+      name_(name) {}
 
 // --------------------------------------------------------------------------------- Writer
 
@@ -254,14 +232,7 @@ struct Writer<T>::Impl {
 
 template <typename T>
 Writer<T>::Writer(const Participant& participant, WriterOptions options)
-    : impl_(std::make_unique<Impl>(participant, std::move(options))) {}
-
-template <typename T>
-Writer<T>::~Writer() = default;
-template <typename T>
-Writer<T>::Writer(Writer&& other) noexcept = default;
-template <typename T>
-Writer<T>& Writer<T>::operator=(Writer&& other) noexcept = default;
+    : impl_(new Impl(participant, std::move(options))) {}
 
 template <typename T>
 WriteResult Writer<T>::TryWrite(const T& msg) {
@@ -509,14 +480,7 @@ struct Reader<T>::Impl {
 
 template <typename T>
 Reader<T>::Reader(const Participant& participant, ReaderOptions options)
-    : impl_(std::make_unique<Impl>(participant, std::move(options))) {}
-
-template <typename T>
-Reader<T>::~Reader() = default;
-template <typename T>
-Reader<T>::Reader(Reader&& other) noexcept = default;
-template <typename T>
-Reader<T>& Reader<T>::operator=(Reader&& other) noexcept = default;
+    : impl_(new Impl(participant, std::move(options))) {}
 
 template <typename T>
 TakeStatus Reader<T>::Take(T* out, std::chrono::milliseconds timeout, std::string* run_id) {
@@ -563,6 +527,18 @@ bool Reader<T>::WaitForWriters(uint32_t count, std::chrono::milliseconds timeout
 template <typename T>
 SampleCounters Reader<T>::counters() const {
   return impl_->local;
+}
+
+// -------------------------------------------------------------------------- Impl deleters
+
+// Writers and readers delete their Impl here, where it is complete.
+template <typename T>
+void Writer<T>::DeleteImpl::operator()(Impl* impl) const {
+  delete impl;
+}
+template <typename T>
+void Reader<T>::DeleteImpl::operator()(Impl* impl) const {
+  delete impl;
 }
 
 #define SRICS_INSTANTIATE(T) \

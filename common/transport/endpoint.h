@@ -26,6 +26,7 @@
 
 #include "common/rl/episode.h"
 #include "common/rl/updates.h"
+#include "common/transport/owned_entity.h"
 #include "common/transport/participant.h"
 #include "common/transport/topics.h"
 #include "common/transport/wire.h"
@@ -70,36 +71,27 @@ struct ReaderOptions {
   rl::EpisodeLimits episode_limits;
 };
 
-// The DDS topic of T in one participant. Writers and readers create their own.
+// The DDS topic of T in one participant. Writers and readers create their own. Move-only,
+// as the entity it owns.
 template <typename T>
 class Topic {
  public:
   // Throws DdsError.
   Topic(const Participant& participant, const std::string& name);
-  ~Topic();
-  Topic(Topic&& other) noexcept;
-  Topic& operator=(Topic&& other) noexcept;
-  Topic(const Topic&) = delete;
-  Topic& operator=(const Topic&) = delete;
 
-  int32_t handle() const { return topic_; }
+  int32_t handle() const { return topic_.get(); }
   const std::string& name() const { return name_; }
 
  private:
-  int32_t topic_ = 0;
+  OwnedEntity topic_;
   std::string name_;
 };
 
 template <typename T>
 class Writer {
  public:
-  // Throws DdsError.
+  // Throws DdsError. Move-only.
   explicit Writer(const Participant& participant, WriterOptions options = {});
-  ~Writer();
-  Writer(Writer&& other) noexcept;
-  Writer& operator=(Writer&& other) noexcept;
-  Writer(const Writer&) = delete;
-  Writer& operator=(const Writer&) = delete;
 
   // One attempt: kSent, or kBackPressure when DDS blocked for writer_max_blocking_ms without
   // room (DDS_RETCODE_TIMEOUT; nothing was sent). Throws InvalidMessage (see WriterOptions)
@@ -126,20 +118,19 @@ class Writer {
 
  private:
   struct Impl;
-  std::unique_ptr<Impl> impl_;
+  // deletes the Impl in endpoint.cc, where it is complete: the destructor and moves are implicit
+  struct DeleteImpl {
+    void operator()(Impl* impl) const;
+  };
+  std::unique_ptr<Impl, DeleteImpl> impl_;
   uint64_t back_pressure_ = 0;
 };
 
 template <typename T>
 class Reader {
  public:
-  // Throws DdsError.
+  // Throws DdsError. Move-only.
   explicit Reader(const Participant& participant, ReaderOptions options = {});
-  ~Reader();
-  Reader(Reader&& other) noexcept;
-  Reader& operator=(Reader&& other) noexcept;
-  Reader(const Reader&) = delete;
-  Reader& operator=(const Reader&) = delete;
 
   // Waits up to `timeout` for a valid sample of this run. Malformed samples are dropped,
   // counted and logged at a limited rate; other runs' samples are dropped and counted.
@@ -160,7 +151,11 @@ class Reader {
 
  private:
   struct Impl;
-  std::unique_ptr<Impl> impl_;
+  // deletes the Impl in endpoint.cc, where it is complete: the destructor and moves are implicit
+  struct DeleteImpl {
+    void operator()(Impl* impl) const;
+  };
+  std::unique_ptr<Impl, DeleteImpl> impl_;
 };
 
 }  // namespace srics::transport

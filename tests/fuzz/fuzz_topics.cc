@@ -6,9 +6,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include "common/rl/episode.h"
 #include "common/rl/graph.h"
@@ -152,16 +154,19 @@ enum Topic : uint8_t { kEpisode, kWeights, kGraph, kEval, kStats, kStatus, kTopi
 constexpr char kRunId[] = "fuzz-run";
 
 // What a reader of T runs (endpoint.cc: FromC, then Validate with the envelope against the
-// run id).
+// run id); the sample if it passed.
 template <typename T>
-bool Receive(WireReader& in, bool of_run, T* out) {
+std::optional<T> Receive(WireReader& in, bool of_run) {
   typename internal::CType<T>::type sample{};
   Visit(in, sample);
-  internal::FromC(sample, out);
+  T out;
+  internal::FromC(sample, &out);
+  bool valid;
   if constexpr (std::is_same_v<T, rl::WeightsUpdate>)
-    return Validate(*out, internal::EnvelopeOf(sample), sample.checksum, of_run ? kRunId : "").ok();
+    valid = Validate(out, internal::EnvelopeOf(sample), sample.checksum, of_run ? kRunId : "").ok();
   else
-    return Validate(*out, internal::EnvelopeOf(sample), of_run ? kRunId : "").ok();
+    valid = Validate(out, internal::EnvelopeOf(sample), of_run ? kRunId : "").ok();
+  return valid ? std::optional<T>(std::move(out)) : std::nullopt;
 }
 
 void Run(const uint8_t* data, size_t size) {
@@ -182,33 +187,21 @@ void Run(const uint8_t* data, size_t size) {
       rl::ValidateEpisode(episode, limits);
       return;
     }
-    case kWeights: {
-      rl::WeightsUpdate w;
-      Receive(in, of_run, &w);
-      return;
-    }
+    case kWeights: Receive<rl::WeightsUpdate>(in, of_run); return;
     case kGraph: {
-      rl::GraphUpdate g;
-      if (!Receive(in, of_run, &g)) return;
-      if (g.graph.num_entities > rl::kMaxGraphEntities) return;  // graph_feed.cc refuses it before computing
-      AdoptComputedStructure(&g);                                // a reason: graph.structure, refused by the feed
+      std::optional<rl::GraphUpdate> g = Receive<rl::GraphUpdate>(in, of_run);
+      if (!g) return;
+      if (g->graph.num_entities > rl::kMaxGraphEntities) return;  // graph_feed.cc refuses it before computing
+      AdoptComputedStructure(&*g);                                // a reason: graph.structure, refused by the feed
       return;
     }
-    case kEval: {
-      rl::EvalReport r;
-      Receive(in, of_run, &r);
-      return;
-    }
+    case kEval: Receive<rl::EvalReport>(in, of_run); return;
     case kStats: {
-      rl::LearnerReport r;
-      if (Receive(in, of_run, &r)) rl::ImplausibleProgress(r.progress(), 1000000);
+      const std::optional<rl::LearnerReport> r = Receive<rl::LearnerReport>(in, of_run);
+      if (r) rl::ImplausibleProgress(r->progress(), 1000000);
       return;
     }
-    case kStatus: {
-      rl::NodeStatus s;
-      Receive(in, of_run, &s);
-      return;
-    }
+    case kStatus: Receive<rl::NodeStatus>(in, of_run); return;
     case kTopics: return;
   }
 }

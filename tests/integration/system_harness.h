@@ -3,6 +3,7 @@
 // integration tests, and watches the system through the public topics like a monitor.
 // Each System gets its own run folder, domain id and run id, so tests never see each other.
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -100,6 +101,11 @@ class System {
     for (int i = 0; i < actors; ++i) Start("actor-" + std::to_string(i));
   }
   launcher::ChildProcess& child(const std::string& name) { return children_.at(name); }
+  // Kills a role at once (SIGKILL) and reaps it: a crash, as the other roles see it.
+  void Crash(const std::string& name) {
+    child(name).Signal(SIGKILL);
+    child(name).WaitFor(5s);
+  }
 
   // Reads every topic's news into the latest_* fields; call often.
   void Poll() {

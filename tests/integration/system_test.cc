@@ -55,8 +55,7 @@ TEST(SystemTest, KilledActorLeavesNoPartialEpisodeAndResumesWithLatestWeightsAnd
   ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 50; }, 180s))
       << system.Output("learner");
   // mid-episode: an actor spends nearly all its time inside episodes
-  system.child("actor-1").Signal(SIGKILL);
-  system.child("actor-1").WaitFor(5s);
+  system.Crash("actor-1");
   const uint64_t updates_at_kill = system.stats->updates;
   ASSERT_TRUE(system.WaitUntil([&] { return system.stats->updates > updates_at_kill + 20; }, 30s))
       << "the learner stopped training after an actor died\n"
@@ -86,8 +85,7 @@ TEST(SystemTest, LearnerRestartsFromItsCheckpointAndVersionsKeepIncreasing) {
   system.StartAll(2);
   ASSERT_TRUE(system.WaitUntil([&] { return system.stats && system.stats->updates > 250; }, 180s))
       << system.Output("learner");
-  system.child("learner").Signal(SIGKILL);
-  system.child("learner").WaitFor(5s);
+  system.Crash("learner");
   const uint64_t updates_before = system.stats->updates;
   const uint64_t weights_before = system.latest_weights;
   system.Start("learner");

@@ -93,6 +93,24 @@ rl::GraphUpdate Graph(uint64_t version) {
 
 constexpr uint64_t kBudget = 9000;  // the run's budget of env steps (learner stats must carry it)
 
+// An actor's episodes on their way to a learner and a graph service, each in a participant of
+// its own; the actor waits (up to 10 s) until both readers matched.
+struct EpisodeRoute {
+  EpisodeRoute(const config::TransportConfig& config, const rl::EpisodeLimits& limits, uint32_t actor_id,
+               bool graph_takes_training_episodes = false)
+      : learner_side(config),
+        graph_side(config),
+        actor_side(config),
+        learner(learner_side, limits),
+        source(graph_side, limits, 100, graph_takes_training_episodes),
+        actor(actor_side, actor_id, limits, kBudget, 10s) {}
+
+  Participant learner_side, graph_side, actor_side;
+  DdsLearnerLink learner;
+  DdsEpisodeSource source;
+  DdsActorLink actor;
+};
+
 class DdsLinksTest : public ::testing::Test {
  protected:
   config::TransportConfig config_ = testing::IsolatedTransportConfig("links");
@@ -115,45 +133,38 @@ TEST(ActorEpisodeWriterOptionsTest, BatchedWithinTheConfiguredDelay) {
 }
 
 TEST_F(DdsLinksTest, ActorEpisodesArriveWholeAtLearnerAndGraphSource) {
-  Participant learner_side(config_), graph_side(config_), actor_side(config_);
-  DdsLearnerLink learner(learner_side, limits_);
-  DdsEpisodeSource source(graph_side, limits_, 100);
-  DdsActorLink actor(actor_side, 3, limits_, kBudget, 10s);  // waits for both readers
-
+  EpisodeRoute route(config_, limits_, 3);
   const rl::Episode explore = ExploreEpisode(11);
   const rl::Episode train = testing::MakeEpisode(12);
-  ASSERT_TRUE(actor.PublishEpisode(explore));
-  ASSERT_TRUE(actor.PublishEpisode(train));
+  ASSERT_TRUE(route.actor.PublishEpisode(explore));
+  ASSERT_TRUE(route.actor.PublishEpisode(train));
 
-  const std::vector<rl::Episode> at_learner = TakeFromLearner(learner, 2);
+  const std::vector<rl::Episode> at_learner = TakeFromLearner(route.learner, 2);
   ASSERT_EQ(at_learner.size(), 2u);
   EXPECT_TRUE(at_learner[0] == explore);
   EXPECT_TRUE(at_learner[1] == train);
   EXPECT_EQ(at_learner[1].states, train.states);  // spelled out: no operator== hides a loss
   EXPECT_EQ(at_learner[1].layout, train.layout);
   // the graph service gets the explore episode only
-  const std::vector<rl::Episode> at_source = TakeFromSource(source, 2, 1s);
+  const std::vector<rl::Episode> at_source = TakeFromSource(route.source, 2, 1s);
   ASSERT_EQ(at_source.size(), 1u);
   EXPECT_TRUE(at_source[0] == explore);
-  EXPECT_EQ(learner.rejected(), 0u);
-  EXPECT_EQ(source.rejected(), 0u);
+  EXPECT_EQ(route.learner.rejected(), 0u);
+  EXPECT_EQ(route.source.rejected(), 0u);
 }
 
 // graph.refine_after_publish: the graph service's source takes training episodes too.
 TEST_F(DdsLinksTest, ARefiningGraphSourceGetsTrainingEpisodesToo) {
-  Participant learner_side(config_), graph_side(config_), actor_side(config_);
-  DdsLearnerLink learner(learner_side, limits_);
-  DdsEpisodeSource source(graph_side, limits_, 100, /*training_episodes=*/true);
-  DdsActorLink actor(actor_side, 4, limits_, kBudget, 10s);
+  EpisodeRoute route(config_, limits_, 4, /*graph_takes_training_episodes=*/true);
   const rl::Episode explore = ExploreEpisode(21);
   const rl::Episode train = testing::MakeEpisode(22);
-  ASSERT_TRUE(actor.PublishEpisode(explore));
-  ASSERT_TRUE(actor.PublishEpisode(train));
-  const std::vector<rl::Episode> at_source = TakeFromSource(source, 2);
+  ASSERT_TRUE(route.actor.PublishEpisode(explore));
+  ASSERT_TRUE(route.actor.PublishEpisode(train));
+  const std::vector<rl::Episode> at_source = TakeFromSource(route.source, 2);
   ASSERT_EQ(at_source.size(), 2u);
   EXPECT_TRUE(at_source[0] == explore);
   EXPECT_TRUE(at_source[1] == train);
-  EXPECT_EQ(TakeFromLearner(learner, 2).size(), 2u) << "the learner still gets both";
+  EXPECT_EQ(TakeFromLearner(route.learner, 2).size(), 2u) << "the learner still gets both";
 }
 
 TEST_F(DdsLinksTest, WeightsGraphAndStatsArriveAsTheNewestOnly) {
@@ -271,20 +282,17 @@ TEST_F(DdsLinksTest, BrokenEpisodesAreRefusedCountedAndDoNotStopTheNextGoodOne) 
 }
 
 TEST_F(DdsLinksTest, ActorDoesNotSendOwnEpisodesOutsideTheLimits) {
-  Participant learner_side(config_), graph_side(config_), actor_side(config_);
-  DdsLearnerLink learner(learner_side, limits_);
-  DdsEpisodeSource source(graph_side, limits_, 100);
-  DdsActorLink actor(actor_side, 0, limits_, kBudget, 10s);  // both readers matched: a sent episode arrives
+  EpisodeRoute route(config_, limits_, 0);  // both readers matched: a sent episode arrives
   rl::Episode bad = testing::MakeEpisode(1);
   bad.actions[0] = 1.5f;
-  EXPECT_TRUE(actor.PublishEpisode(bad));  // refused, not a shutdown
-  EXPECT_EQ(actor.rejected(), 1u);
+  EXPECT_TRUE(route.actor.PublishEpisode(bad));  // refused, not a shutdown
+  EXPECT_EQ(route.actor.rejected(), 1u);
   const rl::Episode good = testing::MakeEpisode(2);
-  EXPECT_TRUE(actor.PublishEpisode(good));
-  const std::vector<rl::Episode> got = TakeFromLearner(learner, 2, 1s);
+  EXPECT_TRUE(route.actor.PublishEpisode(good));
+  const std::vector<rl::Episode> got = TakeFromLearner(route.learner, 2, 1s);
   ASSERT_EQ(got.size(), 1u);
   EXPECT_TRUE(got[0] == good);
-  EXPECT_EQ(learner.rejected(), 0u);
+  EXPECT_EQ(route.learner.rejected(), 0u);
 }
 
 TEST_F(DdsLinksTest, StatusOfEveryLinkIsPublishedUnderItsRole) {
