@@ -295,6 +295,15 @@ config::GraphConfig SmallTrainerConfig() {
   return config;
 }
 
+// 60 random episodes of 40 steps of a toy world with `num_pucks` pucks and these ropes, split.
+GraphDataset RandomToyEpisodes(int num_pucks, std::vector<std::pair<int, int>> ropes) {
+  ToyWorld world({.num_pucks = num_pucks, .ropes = std::move(ropes), .steps = 40});
+  GraphDataset data = GraphDataset::ShapedLike(world.RandomEpisode(0));
+  for (int e = 0; e < 60; ++e) EXPECT_EQ(data.Add(world.RandomEpisode(300 + e)), "");
+  data.Split(0.25, 1);
+  return data;
+}
+
 TEST(GnnTrainerTest, EvaluationAveragesEdgeProbabilities) {
   GraphDataset data = ToyData(8, 10);
   config::GraphConfig config = SmallTrainerConfig();
@@ -411,14 +420,8 @@ TEST(GnnTrainerTest, ApartWeightsCountOnlyStepsBeyondContact) {
 // entities' radii there is nothing to tell (zeros).
 TEST(GnnTrainerTest, OnsetsAtADistanceAreTheTiesEvidence) {
   auto onsets = [](std::vector<std::pair<int, int>> ropes, std::vector<double> radii) {
-    ToyWorld world({.num_pucks = 2, .ropes = std::move(ropes), .steps = 40});
-    GraphDataset data = GraphDataset::ShapedLike(world.RandomEpisode(0));
-    for (int e = 0; e < 60; ++e) EXPECT_EQ(data.Add(world.RandomEpisode(300 + e)), "");
-    data.Split(0.25, 1);
-    config::GraphConfig config;
-    config.hidden_dim = 4;
-    config.mlp_hidden = 8;
-    GnnTrainer trainer(config, data, 3);
+    const GraphDataset data = RandomToyEpisodes(2, std::move(ropes));
+    GnnTrainer trainer(SmallTrainerConfig(), data, 3);
     if (!radii.empty()) trainer.SetContactRadii(radii);
     return trainer.OnsetsAtADistance();
   };
@@ -437,13 +440,8 @@ TEST(GnnTrainerTest, OnsetsAtADistanceAreTheTiesEvidence) {
 // above what the rope produces picks nothing.
 TEST(GnnTrainerTest, TiedByEvidenceNamesThePairsThatStartMovingAtADistance) {
   auto tied = [](std::vector<std::pair<int, int>> ropes, double per_episode, double factor) {
-    ToyWorld world({.num_pucks = 3, .ropes = std::move(ropes), .steps = 40});
-    GraphDataset data = GraphDataset::ShapedLike(world.RandomEpisode(0));
-    for (int e = 0; e < 60; ++e) EXPECT_EQ(data.Add(world.RandomEpisode(300 + e)), "");
-    data.Split(0.25, 1);
-    config::GraphConfig config;
-    config.hidden_dim = 4;
-    config.mlp_hidden = 8;
+    const GraphDataset data = RandomToyEpisodes(3, std::move(ropes));
+    config::GraphConfig config = SmallTrainerConfig();
     config.tie_evidence_per_episode = per_episode;
     config.tie_kl_factor = factor;
     GnnTrainer trainer(config, data, 3);

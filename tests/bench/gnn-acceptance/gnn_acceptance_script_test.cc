@@ -15,6 +15,13 @@ std::pair<int, std::string> Plan(const std::string& arguments) {
                                     std::string(SRICS_SOURCE_DIR) + "/build' " + arguments + " --dry-run");
 }
 
+// The plan refuses `arguments` as bad usage (exit 2), saying `why`.
+void ExpectRefused(const std::string& arguments, const std::string& why) {
+  const auto [code, text] = Plan(arguments);
+  EXPECT_EQ(code, 2) << arguments << ": " << text;
+  EXPECT_NE(text.find(why), std::string::npos) << arguments << ": " << text;
+}
+
 TEST(GnnAcceptanceScriptTest, HeldOutIsTablesElevenToFortyWithTwoSeedsInFoldersOfItsOwn) {
   const auto [code, text] = Plan("--held-out");
   ASSERT_EQ(code, 0) << text;
@@ -41,14 +48,9 @@ TEST(GnnAcceptanceScriptTest, AFurtherHeldOutRangeHasFoldersOfItsOwnAndNoTableEv
                       std::string(SRICS_SOURCE_DIR) + "/docs/results/gnn-acceptance-heldout-41-70"),
             std::string::npos)
       << text;
-  for (const std::string& range : {"35-50", "5-60", "2050-2090", "1990-2001"}) {
-    const auto [refused, why] = Plan("--held-out-range " + range);
-    EXPECT_EQ(refused, 2) << range << ": " << why;
-    EXPECT_NE(why.find("choose tables outside 1-40 and 2001-2080"), std::string::npos) << why;
-  }
-  const auto [bad, message] = Plan("--held-out-range 41");
-  EXPECT_EQ(bad, 2) << message;
-  EXPECT_NE(message.find("is not FIRST-LAST"), std::string::npos) << message;
+  for (const std::string range : {"35-50", "5-60", "2050-2090", "1990-2001"})
+    ExpectRefused("--held-out-range " + range, "choose tables outside 1-40 and 2001-2080");
+  ExpectRefused("--held-out-range 41", "is not FIRST-LAST");
 }
 
 TEST(GnnAcceptanceScriptTest, TheDefaultSetIsThePresetsAndTablesOneToTen) {
@@ -83,9 +85,7 @@ TEST(GnnAcceptanceScriptTest, TheBenchCommandBuildsEveryProgramForIt) {
 }
 
 TEST(GnnAcceptanceScriptTest, HeldOutRefusesTablesOfItsOwn) {
-  const auto [code, text] = Plan("--held-out --tables table-3");
-  EXPECT_EQ(code, 2) << text;
-  EXPECT_NE(text.find("--held-out names its own tables"), std::string::npos) << text;
+  ExpectRefused("--held-out --tables table-3", "--held-out names its own tables");
 }
 
 }  // namespace
