@@ -45,7 +45,7 @@ bool ApartThroughTheStep(const Matrix& x, const Matrix& dx, Eigen::Index a, Eige
 // before, and every other entity i of the sample farther from it than clearance[i * n + j]
 // along the step (ApartThroughTheStep; a clearance of 0, or a clearance not of n * n: no
 // condition). x's columns 0, 1 are positions, `now` and `before` the steps' motions. The onsets
-// the loss weights (GnnModel::WindowLoss), and a tie's evidence (GnnTrainer::OnsetsAtADistance).
+// the loss weights (GnnModel::WindowLoss), and a tie's evidence (GnnTrainer::onsets_at_a_distance).
 template <class Matrix>
 bool OnsetAtADistance(const Matrix& x, const Matrix& now, const Matrix& before, Eigen::Index r, int n,
                       const std::vector<double>& clearance, typename Matrix::Scalar onset_sq) {

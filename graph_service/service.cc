@@ -57,8 +57,9 @@ void GraphService::SyncProgress() {
   progress_.dropped = state_.dropped;
   progress_.refine_episodes = state_.refine_episodes;
   if (state_.trainer && progress_.onsets_at_a_distance.empty()) {
-    progress_.onsets_at_a_distance = state_.trainer->OnsetsAtADistance();
-    progress_.tied_by_evidence = state_.trainer->TiedByEvidence();
+    progress_.onsets_at_a_distance = state_.trainer->onsets_at_a_distance();
+    progress_.onsets_while_moving = state_.trainer->onsets_while_moving();
+    progress_.tied_by_evidence = state_.trainer->tied_by_evidence();
   }
 }
 

@@ -51,9 +51,10 @@ struct Progress {
   // per entity held-out MSE and its no-motion baseline (which entities are predicted well)
   std::vector<double> entity_loss, entity_zero_loss;
   // per graph entity, the data set's onsets of motion with nothing in reach (a tie's evidence;
-  // GnnTrainer::OnsetsAtADistance), once training starts
+  // GnnTrainer::onsets_at_a_distance), once training starts
   std::vector<int64_t> onsets_at_a_distance;
-  // the object pairs whose edges pay graph.tie_kl_factor times the KL (GnnTrainer::TiedByEvidence)
+  std::vector<int64_t> onsets_while_moving;  // per ordered pair (GnnTrainer::onsets_while_moving)
+  // the object pairs whose edges pay graph.tie_kl_factor times the KL (GnnTrainer::tied_by_evidence)
   std::vector<std::pair<int, int>> tied_by_evidence;
   int stable_evaluations = 0;        // consecutive evaluations with an unchanged graph
   std::string graph;                 // current thresholded graph (rl::DescribeGraph)

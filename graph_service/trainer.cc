@@ -72,7 +72,9 @@ GnnTrainer::GnnTrainer(const config::GraphConfig& config, const GraphDataset& da
         return list;
       }()),
       optimizer_(params_, {.lr = config.learning_rate}),
-      adam_(params_, {.lr = config.learning_rate}) {
+      adam_(params_, {.lr = config.learning_rate}),
+      onsets_at_a_distance_(static_cast<size_t>(data.graph_entities()), 0),
+      onsets_while_moving_(static_cast<size_t>(data.graph_entities()) * data.graph_entities(), 0) {
   if (config.standardize_inputs) {
     // mean of x and of y over every entity and step of the training episodes, and one
     // standard deviation pooled over both axes (distances stay isotropic)
@@ -250,11 +252,13 @@ void GnnTrainer::LoadState(const std::vector<nn::CheckpointSection>& sections, c
 
 void GnnTrainer::SetContactRadii(std::vector<double> radii) {
   contact_radius_ = std::move(radii);
-  const std::vector<std::pair<int, int>> tied = TiedByEvidence();
-  if (!tied.empty()) {
+  // counted once, on the data the training starts with: what the KL factors and the progress say
+  CountOnsetsAtADistance();
+  tied_by_evidence_ = TiedByEvidence(onsets_at_a_distance_);
+  if (!tied_by_evidence_.empty()) {
     const int n = data_.num_entities();
     std::vector<double> weights(static_cast<size_t>(n) * n, 1.0);
-    for (const auto& [i, j] : tied)
+    for (const auto& [i, j] : tied_by_evidence_)
       weights[static_cast<size_t>(i) * n + j] = weights[static_cast<size_t>(j) * n + i] = config_.tie_kl_factor;
     model_.set_edge_kl_weights(std::move(weights));
   }
@@ -264,11 +268,10 @@ void GnnTrainer::SetContactRadii(std::vector<double> radii) {
   if (sized) model_.set_onset_clearance(OnsetClearance(contact_radius_));
 }
 
-std::vector<std::pair<int, int>> GnnTrainer::TiedByEvidence() const {
+std::vector<std::pair<int, int>> GnnTrainer::TiedByEvidence(const std::vector<int64_t>& onsets) const {
   std::vector<std::pair<int, int>> tied;
   if (config_.tie_evidence_per_episode <= 0 || config_.tie_kl_factor == 1 || data_.combinations() || data_.size() == 0)
     return tied;
-  const std::vector<int64_t> onsets = OnsetsAtADistance();  // zeros without every radius
   const double needed = config_.tie_evidence_per_episode * data_.size();
   for (int i = 0; i < static_cast<int>(onsets.size()); ++i)
     for (int j = i + 1; j < static_cast<int>(onsets.size()); ++j)
@@ -307,9 +310,11 @@ std::vector<double> GnnTrainer::OnsetClearance(const std::vector<double>& graph_
   return clearance;
 }
 
-std::vector<int64_t> GnnTrainer::OnsetsAtADistance() const {
-  std::vector<int64_t> count(static_cast<size_t>(data_.graph_entities()), 0);
-  if (contact_radius_.size() != count.size()) return count;
+void GnnTrainer::CountOnsetsAtADistance() {
+  const size_t graph_entities = static_cast<size_t>(data_.graph_entities());
+  onsets_at_a_distance_.assign(graph_entities, 0);
+  onsets_while_moving_.assign(graph_entities * graph_entities, 0);
+  if (contact_radius_.size() != graph_entities) return;
   const int n = data_.num_entities();
   const std::vector<double> clearance = OnsetClearance(contact_radius_);
   // the loss's own rule on the loss's own inputs (float motions), whole episodes in chunks
@@ -321,11 +326,18 @@ std::vector<int64_t> GnnTrainer::OnsetsAtADistance() const {
     std::iota(chunk.begin(), chunk.end(), first);
     data_.EpisodeBatch(chunk, &batch);
     for (int t = 1; t < static_cast<int>(batch.deltas.size()); ++t)
-      for (Eigen::Index r = 0; r < batch.deltas[t].rows(); ++r)
-        if (OnsetAtADistance(batch.inputs[t], batch.deltas[t], batch.deltas[t - 1], r, n, clearance, onset_sq))
-          ++count[static_cast<size_t>(data_.graph_entity(chunk[static_cast<size_t>(r / n)], static_cast<int>(r % n)))];
+      for (Eigen::Index r = 0; r < batch.deltas[t].rows(); ++r) {
+        if (!OnsetAtADistance(batch.inputs[t], batch.deltas[t], batch.deltas[t - 1], r, n, clearance, onset_sq))
+          continue;
+        const int episode = chunk[static_cast<size_t>(r / n)], j = static_cast<int>(r % n);
+        const size_t to = static_cast<size_t>(data_.graph_entity(episode, j));
+        ++onsets_at_a_distance_[to];
+        // which other object moves in that step: a tie's other end (the arm moves nearly always)
+        for (int i = 0; i < n; ++i)
+          if (i != j && i != arm_ && batch.deltas[t].row(r - j + i).squaredNorm() > onset_sq)
+            ++onsets_while_moving_[static_cast<size_t>(data_.graph_entity(episode, i)) * graph_entities + to];
+      }
   }
-  return count;
 }
 
 void GnnTrainer::RestartSchedule() { schedule_start_ = updates_; }

@@ -123,13 +123,18 @@ class GnnTrainer {
   // onset_motion_m after one below it) with every other entity out of reach throughout the step
   // (the onset weight's clearances: the arm's onsets never count): motion only a tie can start,
   // so the data's evidence of each tie, before any training. Zeros without the entities' radii
-  // (SetContactRadii).
-  std::vector<int64_t> OnsetsAtADistance() const;
+  // (SetContactRadii, which counts them on the data it finds).
+  const std::vector<int64_t>& onsets_at_a_distance() const { return onsets_at_a_distance_; }
+  // Those onsets by the object moving in the same step (more than onset_motion_m), per ordered
+  // pair of graph entities: [i * N + j] counts j's onsets at a distance while i moves (i an
+  // object; j's may count under several i). A tie's other end moves when it pulls; an untied
+  // object's rare onsets at a distance coincide with another's motion only by chance.
+  const std::vector<int64_t>& onsets_while_moving() const { return onsets_while_moving_; }
   // The object pairs (i < j, graph entities) whose both ends start moving at a distance at least
   // tie_evidence_per_episode times per episode of the data: their edges pay tie_kl_factor times
   // the KL (SetContactRadii sets it). Empty when off, without radii, or for a data set of
   // combinations (whose samples order the entities differently).
-  std::vector<std::pair<int, int>> TiedByEvidence() const;
+  const std::vector<std::pair<int, int>>& tied_by_evidence() const { return tied_by_evidence_; }
   // Logs the shapes of every matrix product of later updates (benchmark).
   void set_gemm_log(std::vector<nn::GemmShape>* log) { tape_.set_gemm_log(log); }
 
@@ -148,6 +153,10 @@ class GnnTrainer {
   // the onset weight's clearances (GnnModel::set_onset_clearance): the arm's onsets never
   // count; with a radius per graph entity, pushes and collisions do not either
   std::vector<double> OnsetClearance(const std::vector<double>& graph_radius) const;
+  void CountOnsetsAtADistance();  // both counts; zeros without every radius
+  std::vector<std::pair<int, int>> TiedByEvidence(const std::vector<int64_t>& onsets) const;
+  std::vector<int64_t> onsets_at_a_distance_, onsets_while_moving_;
+  std::vector<std::pair<int, int>> tied_by_evidence_;
   int arm_ = 0;  // SelectActionEntity of the data
   double refine_share_ = 0;
   int64_t updates_ = 0;

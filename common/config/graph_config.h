@@ -175,7 +175,7 @@ struct GraphConfig {
   double onset_loss_weight = 30.0;
   double onset_motion_m = 1e-3;
   // Ties seen in the data (not in the reference; 0 = off): two movable objects that each start
-  // moving with nothing in reach (GnnTrainer::OnsetsAtADistance) at least tie_evidence_per_episode
+  // moving with nothing in reach (GnnTrainer::onsets_at_a_distance) at least tie_evidence_per_episode
   // times per random episode pay tie_kl_factor times the KL on their edges both ways. The KL
   // that keeps contacts shut (kl_weight) drops the ties of five-object tables, whose pulls are
   // rarer; a lower kl_weight everywhere opens contacts between pushed pucks. Per 1,000 episodes

@@ -429,6 +429,15 @@ int LearnGraph(const LearnGraphOptions& o) {
       for (size_t j = 0; j < p.onsets_at_a_distance.size(); ++j)
         counts += " " + std::to_string(j) + ": " + std::to_string(p.onsets_at_a_distance[j]);
       std::printf("onsets at a distance (per entity, nothing in reach: a tie's evidence):%s\n", counts.c_str());
+      // by the object moving in that step: i->j counts j's onsets at a distance while i moves
+      const size_t n = p.onsets_at_a_distance.size();
+      std::string by_mover;
+      for (size_t i = 0; i < n && p.onsets_while_moving.size() == n * n; ++i)
+        for (size_t j = 0; j < n; ++j)
+          if (const int64_t count = p.onsets_while_moving[i * n + j]; count > 0)
+            by_mover += " " + std::to_string(i) + "->" + std::to_string(j) + ": " + std::to_string(count);
+      std::printf("  ... while another object moves (i->j: j starts while i moves):%s\n",
+                  by_mover.empty() ? " none" : by_mover.c_str());
       if (!p.tied_by_evidence.empty()) {
         std::string pairs;
         for (const auto& [i, j] : p.tied_by_evidence) pairs += " " + std::to_string(i) + " <-> " + std::to_string(j);

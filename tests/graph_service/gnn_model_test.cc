@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -423,7 +424,7 @@ TEST(GnnTrainerTest, OnsetsAtADistanceAreTheTiesEvidence) {
     const GraphDataset data = RandomToyEpisodes(2, std::move(ropes));
     GnnTrainer trainer(SmallTrainerConfig(), data, 3);
     if (!radii.empty()) trainer.SetContactRadii(radii);
-    return trainer.OnsetsAtADistance();
+    return trainer.onsets_at_a_distance();
   };
   const std::vector<double> radii = {0.03, 0.04, 0.04};  // the toy world's arm and pucks
   const std::vector<int64_t> roped = onsets({{1, 2}}, radii);
@@ -446,19 +447,29 @@ TEST(GnnTrainerTest, TiedByEvidenceNamesThePairsThatStartMovingAtADistance) {
     config.tie_kl_factor = factor;
     GnnTrainer trainer(config, data, 3);
     trainer.SetContactRadii({0.03, 0.04, 0.04, 0.04});  // the toy world's arm and pucks
-    const std::vector<int64_t> onsets = trainer.OnsetsAtADistance();
-    return std::make_pair(trainer.TiedByEvidence(), onsets);
+    const std::vector<int64_t> onsets = trainer.onsets_at_a_distance();
+    return std::make_tuple(trainer.tied_by_evidence(), onsets, trainer.onsets_while_moving());
   };
-  const auto [roped, onsets] = tied({{1, 2}}, 1.0 / 60, 0.5);  // at least one onset each
+  const auto [roped, onsets, while_moving] = tied({{1, 2}}, 1.0 / 60, 0.5);  // at least one onset each
   ASSERT_EQ(onsets.size(), 4u);
   ASSERT_GT(std::min(onsets[1], onsets[2]), 0) << "the toy rope shows no evidence on one end";
   EXPECT_EQ(onsets[3], 0);
+  // by the object moving in that step: a rope's end starts while the other end moves (pulled),
+  // far more often than beside the free puck; the arm is never the partner
+  ASSERT_EQ(while_moving.size(), 16u);
+  auto pair = [&while_moving = while_moving](int i, int j) {
+    return while_moving[i * 4 + j] + while_moving[j * 4 + i];
+  };
+  EXPECT_GT(pair(1, 2), 2 * (pair(1, 3) + pair(2, 3)));
+  EXPECT_GE(pair(1, 2), std::min(onsets[1], onsets[2]));
+  for (int j = 0; j < 4; ++j) EXPECT_EQ(while_moving[j], 0) << "the arm counted as the partner of " << j;
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(while_moving[i * 4 + i], 0);
   EXPECT_EQ(roped, (std::vector<std::pair<int, int>>{{1, 2}}));
-  EXPECT_TRUE(tied({}, 1.0 / 60, 0.5).first.empty());
-  EXPECT_TRUE(tied({{1, 2}}, 1.0 / 60, 1.0).first.empty());
-  EXPECT_TRUE(tied({{1, 2}}, 0, 0.5).first.empty());
+  EXPECT_TRUE(std::get<0>(tied({}, 1.0 / 60, 0.5)).empty());
+  EXPECT_TRUE(std::get<0>(tied({{1, 2}}, 1.0 / 60, 1.0)).empty());
+  EXPECT_TRUE(std::get<0>(tied({{1, 2}}, 0, 0.5)).empty());
   const double above = (static_cast<double>(std::max(onsets[1], onsets[2])) + 1) / 60;
-  EXPECT_TRUE(tied({{1, 2}}, above, 0.5).first.empty());
+  EXPECT_TRUE(std::get<0>(tied({{1, 2}}, above, 0.5)).empty());
 }
 
 // The onset weight needs every entity's size to tell a push from a pull at a distance: without
