@@ -18,19 +18,19 @@ namespace srics::actor {
 
 using Clock = std::chrono::steady_clock;
 
-ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, uint64_t first_episode_id) {
+ActorOptions ActorOptionsFor(const config::Config& config, const rl::RunShape& shape, uint32_t actor_id,
+                             uint64_t first_episode_id) {
   ActorOptions o;
   o.actor_id = actor_id;
   o.first_episode_id = first_episode_id;
   o.run_seed = config.run.seed;
   o.env = config.env;
-  o.policy =
-      rl::MakeNetworkConfig(rl::AgentShapeFor(config.env, config.run.method, config.graph.object_ties), config.agent);
-  if (config.run.method == config::Method::kHac)
-    o.high_policy = rl::MakeNetworkConfig(rl::HighLevelShapeFor(config.env), config.agent);
+  o.num_entities = shape.entities;
+  o.policy = rl::MakeNetworkConfig(shape.agent, config.agent);
+  if (config.run.method == config::Method::kHac) o.high_policy = rl::MakeNetworkConfig(shape.high, config.agent);
   o.uses_graph = rl::UsesGraph(config.run.method);
-  o.train = TrainOptionsFor(config);
-  o.eval = EvalOptionsFor(config);
+  o.train = TrainOptionsFor(config, shape);
+  o.eval = EvalOptionsFor(config, shape);
   o.explore = ExploreOptionsFor(config);
   o.explore_share = static_cast<uint64_t>(std::ceil(1.2 * config.graph.episodes / std::max(1, config.actors.count)));
   o.evaluator = static_cast<int>(actor_id) < config.actors.evaluators;
@@ -84,7 +84,7 @@ ActorLoop::ActorLoop(ActorOptions options, links::ActorLink* link)
   State& s = *state_;
   s.env = env::MakeRearrangeEnv(options_.env);
   // graphs are over the catalogue, whichever objects an episode presents
-  s.num_entities = 1 + static_cast<int>(config::EffectiveObjects(options_.env).size());
+  s.num_entities = options_.num_entities;
   s.rng.seed(
       rl::DeriveSeed(options_.run_seed, rl::SeedPurpose::kActorRng, options_.actor_id, options_.first_episode_id));
   s.policy = std::make_unique<rl::PolicyNetwork<float>>("policy", options_.policy, s.rng);

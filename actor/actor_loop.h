@@ -6,7 +6,7 @@
 // system only through a links::ActorLink: DDS in the srics-actor process, the in-memory bus
 // in `srics run --in-process`.
 //
-//   ActorLoop loop(ActorOptionsFor(config, id, first_episode_id), &link);
+//   ActorLoop loop(ActorOptionsFor(config, rl::RunShapeFor(config), id, first_episode_id), &link);
 //   loop.Run(stop);                       // or, to drive it by hand: while (loop.Step() != kDone)
 
 #include <atomic>
@@ -22,6 +22,7 @@
 #include "actor/train_episode.h"
 #include "common/config/config.h"
 #include "common/links/links.h"
+#include "common/rl/agent_shape.h"
 #include "common/rl/networks.h"
 
 namespace srics::actor {
@@ -32,6 +33,7 @@ struct ActorOptions {
   uint64_t first_episode_id = 0;  // a restarted actor continues its episode numbering
   uint64_t run_seed = 1;
   config::EnvConfig env;              // the environment this actor steps
+  int num_entities = 0;               // the arm and every catalogue object (graphs are over these)
   rl::AttentionNetworkConfig policy;  // its policy network (the learner's signature must match)
   // HAC: the high level's network (`policy` is then the low level's); weights carry the high
   // level's parameters, then the low level's
@@ -57,7 +59,8 @@ struct ActorOptions {
   double status_period_s = 1;
 };
 
-ActorOptions ActorOptionsFor(const config::Config& config, uint32_t actor_id, uint64_t first_episode_id = 0);
+ActorOptions ActorOptionsFor(const config::Config& config, const rl::RunShape& shape, uint32_t actor_id,
+                             uint64_t first_episode_id = 0);
 
 // The passive baseline (the hand never moves) on the run's evaluation goals, as the run's
 // evaluating actors play it and publish it as policy version 0 (EvaluatePolicy without a

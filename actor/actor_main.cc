@@ -24,8 +24,9 @@ int main(int argc, char** argv) {
     // a restarted actor's episode ids keep increasing
     const uint64_t first_id = process::NextActorFirstEpisodeId(cl.run_dir, name);
     transport::Participant participant(config.transport);
-    transport::DdsActorLink link(participant, id, rl::EpisodeLimitsFor(config.env), config.run.total_env_steps);
-    actor::ActorLoop loop(actor::ActorOptionsFor(config, id, first_id), &link);
+    const rl::RunShape shape = rl::RunShapeFor(config);
+    transport::DdsActorLink link(participant, id, shape.limits, config.run.total_env_steps);
+    actor::ActorLoop loop(actor::ActorOptionsFor(config, shape, id, first_id), &link);
     loop.set_eval_recorder(actor::RecorderFor(config, loop.environment(), id, cl.run_dir));
     spdlog::info("{} started: {} ({}), domain {}, run id '{}', first episode id {}", name,
                  config::MethodName(config.run.method), config.source_file, config.transport.domain_id,

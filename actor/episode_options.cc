@@ -2,29 +2,29 @@
 
 namespace srics::actor {
 
-HacActOptions HacActOptionsFor(const config::Config& config) {
+HacActOptions HacActOptionsFor(const config::Config& config, const rl::RunShape& shape) {
   HacActOptions hac;
   hac.horizon = config.agent.hac.horizon;
   hac.test_probability = config.agent.hac.subgoal_test_probability;
   hac.threshold = config.agent.hac.goal_threshold;
-  hac.box = rl::SubgoalBoxFor(config.env);
+  hac.box = shape.subgoal_box;
   return hac;
 }
 
-TrainOptions TrainOptionsFor(const config::Config& config) {
+TrainOptions TrainOptionsFor(const config::Config& config, const rl::RunShape& shape) {
   TrainOptions train;
   train.steps = config.actors.train_episode_steps;
   train.full_goal = config.run.method == config::Method::kSacHer;
   train.sampling = config.env.sampling;
   train.chain_episodes = config.actors.train_chain_episodes;
   if (config.run.method == config::Method::kHac) {
-    train.hac = HacActOptionsFor(config);
+    train.hac = HacActOptionsFor(config, shape);
     train.steps = train.hac->horizon * train.hac->horizon;
   }
   return train;
 }
 
-EvalOptions EvalOptionsFor(const config::Config& config) {
+EvalOptions EvalOptionsFor(const config::Config& config, const rl::RunShape& shape) {
   const config::Method method = config.run.method;
   EvalOptions eval;
   eval.attempt_steps = config.actors.eval_attempt_steps;
@@ -32,7 +32,7 @@ EvalOptions EvalOptionsFor(const config::Config& config) {
                       ? rl::EvaluationProtocol::kReference
                       : rl::EvaluationProtocol::kIndependentDraws;
   eval.full_goal = method == config::Method::kSacHer || method == config::Method::kHac;
-  if (method == config::Method::kHac) eval.hac = HacActOptionsFor(config);
+  if (method == config::Method::kHac) eval.hac = HacActOptionsFor(config, shape);
   eval.threshold = config.env.success_threshold;
   eval.epsilon = config.agent.reward.epsilon;
   eval.order = (method == config::Method::kSrics || method == config::Method::kSricsNoSelectivity)

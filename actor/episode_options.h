@@ -8,12 +8,13 @@
 #include "actor/hac_acting.h"
 #include "actor/train_episode.h"
 #include "common/config/config.h"
+#include "common/rl/agent_shape.h"
 
 namespace srics::actor {
 
 ExploreOptions ExploreOptionsFor(const config::Config& config);
-HacActOptions HacActOptionsFor(const config::Config& config);
-TrainOptions TrainOptionsFor(const config::Config& config);
-EvalOptions EvalOptionsFor(const config::Config& config);
+HacActOptions HacActOptionsFor(const config::Config& config, const rl::RunShape& shape);
+TrainOptions TrainOptionsFor(const config::Config& config, const rl::RunShape& shape);
+EvalOptions EvalOptionsFor(const config::Config& config, const rl::RunShape& shape);
 
 }  // namespace srics::actor

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "common/process/role_startup.h"
+#include "common/rl/agent_shape.h"
 #include "common/transport/dds_links.h"
 #include "common/transport/transport.h"
 #include "graph_service/service.h"
@@ -19,7 +20,8 @@ int main(int argc, char** argv) {
   return process::RunRole(argc, argv, program, [](const process::Role& role) {
     const config::Config& config = role.config;
     transport::Participant participant(config.transport);
-    const graph_service::ServiceOptions options = graph_service::ServiceOptionsFor(config, role.command_line.run_dir);
+    const graph_service::ServiceOptions options =
+        graph_service::ServiceOptionsFor(config, rl::RunShapeFor(config), role.command_line.run_dir);
     transport::DdsEpisodeSource source(participant, options.limits, static_cast<size_t>(config.graph.episodes),
                                        config.graph.refine_after_publish);
     transport::DdsGraphSink sink(participant);

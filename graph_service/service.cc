@@ -69,12 +69,13 @@ void GraphService::Report() {
   if (on_progress_) on_progress_(progress_);
 }
 
-ServiceOptions ServiceOptionsFor(const config::Config& config, const std::string& state_dir) {
+ServiceOptions ServiceOptionsFor(const config::Config& config, const rl::RunShape& run_shape,
+                                 const std::string& state_dir) {
   ServiceOptions options;
   options.state_dir = state_dir;
   options.seed = rl::DeriveSeed(config.run.seed, rl::SeedPurpose::kGraphService);
-  options.limits = rl::EpisodeLimitsFor(config.env);
-  const rl::EnvironmentShape shape = rl::FullEnvironmentShapeFor(config.env);
+  options.limits = run_shape.limits;
+  const rl::EnvironmentShape& shape = run_shape.full;
   options.shape = DatasetShape{shape.layout, shape.entity_kinds, shape.action_dim, shape.episode_kinds};
   // footprints: the hand's box, then every object of the catalogue (graph entities)
   options.contact_radius = {std::hypot(config.env.hand.half_size[0], config.env.hand.half_size[1])};

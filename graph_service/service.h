@@ -24,6 +24,7 @@
 #include "common/config/config.h"
 #include "common/config/graph_config.h"
 #include "common/links/links.h"
+#include "common/rl/agent_shape.h"
 #include "common/rl/episode.h"
 #include "graph_service/dataset.h"
 #include "graph_service/learned_graph.h"
@@ -78,7 +79,7 @@ struct ServiceOptions {
   std::chrono::milliseconds poll_timeout{200};
   rl::EpisodeLimits limits;  // what an episode of this run looks like (default: any layout)
   // The data set's layout, entity kinds and action size: the run's, from its config
-  // (rl::FullEnvironmentShapeFor); explore episodes of any other shape are dropped. The role
+  // (rl::RunShape::full); explore episodes of any other shape are dropped. The role
   // programs always set it. Unset (toy worlds in tests) the first valid episode fixes it.
   std::optional<DatasetShape> shape;
   // each graph entity's footprint bounding radius in metres (the arm's hand box, then the
@@ -93,7 +94,8 @@ struct ServiceOptions {
 
 // The options a run's config implies (both the srics-graph process and the in-process run):
 // its seed, shape, limits, status period and training episode length; state in `state_dir`.
-ServiceOptions ServiceOptionsFor(const config::Config& config, const std::string& state_dir);
+ServiceOptions ServiceOptionsFor(const config::Config& config, const rl::RunShape& run_shape,
+                                 const std::string& state_dir);
 
 enum class StepResult {
   kWorked,  // took episodes, trained, or published

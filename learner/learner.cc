@@ -9,13 +9,13 @@
 
 namespace srics::learner {
 
-LearnerOptions LearnerOptionsFor(const config::Config& config) {
+LearnerOptions LearnerOptionsFor(const config::Config& config, const rl::RunShape& shape) {
   LearnerOptions o;
   o.method = config.run.method;
   o.agent = config.agent;
   o.learner = config.learner;
-  o.shape = rl::AgentShapeFor(config.env, config.run.method, config.graph.object_ties);
-  o.limits = rl::EpisodeLimitsFor(config.env);
+  o.shape = shape.agent;
+  o.limits = shape.limits;
   const auto& sampling = config.env.sampling;
   o.goal_region = {sampling.subgoal_low[0], sampling.subgoal_high[0], sampling.subgoal_low[1],
                    sampling.subgoal_high[1]};
@@ -24,9 +24,9 @@ LearnerOptions LearnerOptionsFor(const config::Config& config) {
   // HAC's subgoal records are checked against its horizon; other methods' episodes carry none
   o.limits.max_subgoal_steps = config.run.method == config::Method::kHac ? config.agent.hac.horizon : rl::kNoSubgoals;
   o.hac = {config.agent.hac.horizon, config.agent.hac.goal_threshold, config.agent.hac.hindsight_goals,
-           rl::SubgoalBoxFor(config.env), config.agent.hac.bound_q};
-  o.high_shape = rl::HighLevelShapeFor(config.env);
-  o.max_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
+           shape.subgoal_box, config.agent.hac.bound_q};
+  o.high_shape = shape.high;
+  o.max_entities = shape.entities;
   return o;
 }
 

@@ -9,6 +9,7 @@
 
 #include "common/config/config.h"
 #include "common/files/durable_file.h"
+#include "common/rl/agent_shape.h"
 #include "common/rl/episode.h"
 #include "common/rl/graph.h"
 #include "common/rl/rate_limiter.h"
@@ -24,8 +25,8 @@ struct LearnerOptions {
   config::Method method = config::Method::kSrics;
   config::AgentConfig agent;
   config::LearnerConfig learner;
-  AgentShape shape;          // network sizes (rl::AgentShapeFor)
-  rl::EpisodeLimits limits;  // what an episode of this run looks like (rl::EpisodeLimitsFor)
+  AgentShape shape;          // network sizes (rl::RunShape::agent)
+  rl::EpisodeLimits limits;  // what an episode of this run looks like (rl::RunShape::limits)
   GoalRegion goal_region;    // where relabeled goals are sampled
   uint64_t run_seed = 1;
   uint64_t total_env_steps = 0;  // the run's budget of training env steps
@@ -35,7 +36,7 @@ struct LearnerOptions {
   int max_entities = 0;  // of the run's environment (HAC's replays pad to it)
 };
 
-LearnerOptions LearnerOptionsFor(const config::Config& config);
+LearnerOptions LearnerOptionsFor(const config::Config& config, const rl::RunShape& shape);
 
 class Learner {
  public:

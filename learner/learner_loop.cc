@@ -14,10 +14,11 @@ namespace srics::learner {
 
 using Clock = std::chrono::steady_clock;
 
-LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::string checkpoint_path) {
+LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, const rl::RunShape& shape,
+                                         std::string checkpoint_path) {
   LearnerLoopOptions o;
-  o.learner = LearnerOptionsFor(config);
-  o.num_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
+  o.learner = LearnerOptionsFor(config, shape);
+  o.num_entities = shape.entities;
   o.checkpoint_path = std::move(checkpoint_path);
   o.report_period_s = config.transport.status_period_s;
   if (!o.checkpoint_path.empty())

@@ -5,7 +5,7 @@
 // of the system only through a links::LearnerLink: DDS in the srics-learner process, the
 // in-memory bus in `srics run --in-process`.
 //
-//   LearnerLoop loop(LearnerLoopOptionsFor(config, run_dir + "/checkpoint.srics"), &link);
+//   LearnerLoop loop(LearnerLoopOptionsFor(config, rl::RunShapeFor(config), run_dir + "/checkpoint.srics"), &link);
 //   loop.Run(stop);                       // or: while (loop.Step() != StepResult::kDone)
 
 #include <atomic>
@@ -51,7 +51,8 @@ struct LearnerLoopOptions {
   int rejected_log_interval_s = 5;  // refused episodes and graphs, skipped updates: logged this often
 };
 
-LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, std::string checkpoint_path);
+LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, const rl::RunShape& shape,
+                                         std::string checkpoint_path);
 
 enum class StepResult { kWorked, kIdle, kDone };
 

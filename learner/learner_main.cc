@@ -22,9 +22,10 @@ int main(int argc, char** argv) {
     const config::Config& config = role.config;
     const std::string& run_dir = role.command_line.run_dir;
     transport::Participant participant(config.transport);
-    transport::DdsLearnerLink link(participant, rl::EpisodeLimitsFor(config.env));
+    const rl::RunShape shape = rl::RunShapeFor(config);
+    transport::DdsLearnerLink link(participant, shape.limits);
     learner::LearnerLoop loop(
-        learner::LearnerLoopOptionsFor(config, run_dir.empty() ? "" : run_dir + "/checkpoint.srics"), &link);
+        learner::LearnerLoopOptionsFor(config, shape, run_dir.empty() ? "" : run_dir + "/checkpoint.srics"), &link);
     spdlog::info(
         "learner started: {} ({}), domain {}, run id '{}', budget {} env steps, "
         "matrix products on {}",

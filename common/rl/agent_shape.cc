@@ -65,6 +65,17 @@ EnvironmentShape FullEnvironmentShapeFor(const config::EnvConfig& env) {
   return shape;
 }
 
+RunShape RunShapeFor(const config::Config& config) {
+  RunShape shape;
+  shape.entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
+  shape.agent = AgentShapeFor(config.env, config.run.method, config.graph.object_ties);
+  shape.high = HighLevelShapeFor(config.env);
+  shape.limits = EpisodeLimitsFor(config.env);
+  shape.full = FullEnvironmentShapeFor(config.env);
+  shape.subgoal_box = SubgoalBoxFor(config.env);
+  return shape;
+}
+
 AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::AgentConfig& agent) {
   AttentionNetworkConfig c;
   c.entity_dim = shape.entity_dim;

@@ -6,10 +6,12 @@
 #include <string>
 
 #include "common/config/agent_config.h"
+#include "common/config/config.h"
 #include "common/config/env_config.h"
 #include "common/config/graph_config.h"
 #include "common/config/run_config.h"
 #include "common/rl/episode.h"
+#include "common/rl/hac.h"
 #include "common/rl/networks.h"
 
 namespace srics::rl {
@@ -53,6 +55,19 @@ struct EnvironmentShape {
   std::vector<std::vector<uint16_t>> episode_kinds;
 };
 EnvironmentShape FullEnvironmentShapeFor(const config::EnvConfig& env);
+
+// What every role of a run sizes itself by, derived from the config once where the roles are
+// composed (RunInProcess, each role's main, srics eval) and handed to each role's *OptionsFor,
+// so that no role derives it again.
+struct RunShape {
+  int entities = 0;        // the arm and every catalogue object (graphs are over these)
+  AgentShape agent;        // the run's method's networks (HAC: its low level)
+  AgentShape high;         // HAC's high level (HighLevelShapeFor)
+  EpisodeLimits limits;    // what an episode of this run may look like (EpisodeLimitsFor)
+  EnvironmentShape full;   // every object present (FullEnvironmentShapeFor)
+  SubgoalBox subgoal_box;  // HAC's subgoal region (SubgoalBoxFor)
+};
+RunShape RunShapeFor(const config::Config& config);
 
 // The network configuration for a shape and the agent config.
 AttentionNetworkConfig MakeNetworkConfig(const AgentShape& shape, const config::AgentConfig& agent);

@@ -150,7 +150,8 @@ int Eval(const EvalArgs& args) {
   const std::string out_dir = args.out_dir.empty() ? (fs::path(files.dir) / "eval").string() : args.out_dir;
 
   // the acting networks, as an actor of this run builds them
-  const actor::ActorOptions actor = actor::ActorOptionsFor(config, 0);
+  const rl::RunShape shape = rl::RunShapeFor(config);
+  const actor::ActorOptions actor = actor::ActorOptionsFor(config, shape, 0);
   if (!args.protocol.empty() && (actor.eval.full_goal || actor.eval.hac))
     throw std::invalid_argument("--protocol: " + std::string(config::MethodName(config.run.method)) +
                                 " attempts the full goal; protocols apply to subgoal policies");
@@ -172,7 +173,7 @@ int Eval(const EvalArgs& args) {
 
   // the subgoals and their order: the run's graph, or every entity for methods without one
   // graphs are over the catalogue; each episode maps it onto the objects it presents
-  const int catalogue_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
+  const int catalogue_entities = shape.entities;
   rl::CatalogueSubgoals subgoals;
   std::string graph_text = "none (" + std::string(config::MethodName(config.run.method)) + " uses no graph)";
   actor::EvalOptions eval_options = actor.eval;

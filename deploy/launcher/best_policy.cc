@@ -19,7 +19,7 @@ namespace srics::launcher {
 // The acting networks of the run, filled from kept weights when an evaluation wins.
 struct BestPolicy::Networks {
   explicit Networks(const config::Config& config) {
-    const actor::ActorOptions actor = actor::ActorOptionsFor(config, 0);
+    const actor::ActorOptions actor = actor::ActorOptionsFor(config, rl::RunShapeFor(config), 0);
     nn::Rng init(0);
     policy = std::make_unique<rl::PolicyNetwork<float>>("policy", actor.policy, init);
     if (actor.high_policy) high = std::make_unique<rl::PolicyNetwork<float>>("policy", *actor.high_policy, init);

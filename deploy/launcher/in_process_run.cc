@@ -202,16 +202,17 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
                            InProcessOptions options)
     : loops_(std::make_unique<Loops>(observer)), options_(std::move(options)) {
   Loops& l = *loops_;
-  SeedGraphFile(config, dir);  // a given graph is re-published by the graph service
+  const rl::RunShape shape = rl::RunShapeFor(config);  // the roles' sizes, derived once for all of them
+  SeedGraphFile(config, dir);                          // a given graph is re-published by the graph service
   if (rl::UsesGraph(config.run.method) || options_.graph_only) {
     l.graph_source = l.bus.GraphSourceEnd(config.graph.refine_after_publish);
     l.graph_sink = l.bus.GraphSinkEnd();
-    const graph_service::ServiceOptions options = graph_service::ServiceOptionsFor(config, dir);
+    const graph_service::ServiceOptions options = graph_service::ServiceOptionsFor(config, shape, dir);
     l.graph = std::make_unique<graph_service::GraphService>(config.graph, options, l.graph_source.get(),
                                                             l.graph_sink.get(), options_.on_graph_progress);
   }
   learner::LearnerLoopOptions learner_options =
-      learner::LearnerLoopOptionsFor(config, dir.empty() ? "" : dir + "/checkpoint.srics");
+      learner::LearnerLoopOptionsFor(config, shape, dir.empty() ? "" : dir + "/checkpoint.srics");
   learner_options.report_period_s = 0;  // actors see exact progress: the run is deterministic
   learner_options.final_weights_grace = std::chrono::milliseconds(0);
   const bool two_threads = config.run.in_process_threads == 2 && !options_.graph_only;
@@ -230,7 +231,7 @@ InProcessRun::InProcessRun(const config::Config& config, const std::string& dir,
     // a resumed run's actors go on from their next episode ids, as restarted actor processes do
     const uint64_t first_id =
         options_.graph_only ? 0 : process::NextActorFirstEpisodeId(dir, "actor-" + std::to_string(k));
-    actor::ActorOptions options = actor::ActorOptionsFor(config, static_cast<uint32_t>(k), first_id);
+    actor::ActorOptions options = actor::ActorOptionsFor(config, shape, static_cast<uint32_t>(k), first_id);
     options.explore_while_waiting_s = 0;  // nothing is lost in memory: exactly the share
     l.actor_links.push_back(l.bus.ActorEnd(static_cast<uint32_t>(k)));
     l.actors.push_back(std::make_unique<actor::ActorLoop>(options, l.actor_links.back().get()));

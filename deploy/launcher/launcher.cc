@@ -19,6 +19,7 @@
 #include "common/config/config.h"
 #include "common/logging/logging.h"
 #include "common/process/role_startup.h"
+#include "common/rl/agent_shape.h"
 #include "common/transport/transport.h"
 #include "deploy/dashboard/server.h"
 #include "deploy/launcher/in_process_run.h"
@@ -173,12 +174,13 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config, tr:
   mon::MonitorOptions monitor_options{.all_runs = false, .weights = true, .csv_dir = dir, .csv_node_statuses = true};
   // the run's own learner and graph only: a stray sample never reaches learner.csv or the display
   monitor_options.budget_env_steps = config.run.total_env_steps;
-  monitor_options.num_entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());  // as the learner
+  const rl::RunShape shape = rl::RunShapeFor(config);
+  monitor_options.num_entities = shape.entities;  // as the learner
   // the passive baseline is played here, not taken from the wire: a stranger's policy-v0
   // EvalResult that disagrees is refused (issue 39)
   monitor_options.passive_baseline = [&]() -> std::optional<rl::EvaluationSummary> {
     try {
-      const actor::ActorOptions actor = actor::ActorOptionsFor(config, 0);
+      const actor::ActorOptions actor = actor::ActorOptionsFor(config, shape, 0);
       const auto start = SteadyClock::now();
       rl::EvaluationSummary baseline = actor::PlayPassiveBaseline(actor);
       char text[200];

@@ -65,7 +65,7 @@ struct EvaluatorOnBus {
         bus(&observer),
         link(bus.ActorEnd(0)),
         learner(bus.LearnerEnd()),
-        options(ActorOptionsFor(config, 0)),
+        options(ActorOptionsFor(config, rl::RunShapeFor(config), 0)),
         actor(options, link.get()) {
     bus.PublishGraph(GroundTruth(config, 1));
     learner->PublishWeights(WeightsFor(options, 1, 21));
@@ -92,7 +92,7 @@ TEST(ActorLoopTest, ExploresUntilGraphAndWeightsThenTrainsWithTheNewestWeights) 
   links::InMemoryBus bus;
   auto link = bus.ActorEnd(1);
   auto learner = bus.LearnerEnd();
-  ActorOptions options = ActorOptionsFor(config, 1);
+  ActorOptions options = ActorOptionsFor(config, rl::RunShapeFor(config), 1);
   options.explore_while_waiting_s = 0;
   ActorLoop actor(options, link.get());
 
@@ -178,7 +178,7 @@ TEST(ActorLoopTest, ChainedTrainingEpisodesStartWhereTheLastLeftTheTable) {
     links::InMemoryBus bus;
     auto link = bus.ActorEnd(1);
     auto learner = bus.LearnerEnd();
-    ActorOptions options = ActorOptionsFor(config, 1);
+    ActorOptions options = ActorOptionsFor(config, rl::RunShapeFor(config), 1);
     options.explore_while_waiting_s = 0;
     EXPECT_EQ(options.train.chain_episodes, chain);
     ActorLoop actor(options, link.get());
@@ -209,9 +209,9 @@ TEST(ActorLoopTest, ANewGraphVersionChangesTheSubgoalsFromTheNextEpisode) {
   links::InMemoryBus bus;
   auto link = bus.ActorEnd(1);
   auto learner = bus.LearnerEnd();
-  ActorLoop actor(ActorOptionsFor(config, 1), link.get());
+  ActorLoop actor(ActorOptionsFor(config, rl::RunShapeFor(config), 1), link.get());
   bus.PublishGraph(GroundTruth(config, 1));  // the arm drives the puck: both have subgoals
-  learner->PublishWeights(WeightsFor(ActorOptionsFor(config, 1), 1, 31));
+  learner->PublishWeights(WeightsFor(ActorOptionsFor(config, rl::RunShapeFor(config), 1), 1, 31));
   auto subgoals_of_next_episodes = [&](int count, uint64_t version) {
     std::set<int> entities;
     for (int i = 0; i < count; ++i) {
@@ -310,7 +310,7 @@ TEST(ActorLoopTest, HugeStepCountsNeitherHangTheScheduleNorWrapTheRateLimit) {
 TEST(ActorLoopTest, NonFiniteActionsDropTheEpisodeInsteadOfThrowing) {
   const config::Config config = SmallConfig();
   auto env = env::MakeRearrangeEnv(config.env);
-  const ActorOptions options = ActorOptionsFor(config, 0);
+  const ActorOptions options = ActorOptionsFor(config, rl::RunShapeFor(config), 0);
   nn::Rng rng(1);
   rl::PolicyNetwork<float> policy("policy", options.policy, rng);
   std::vector<float> flat = nn::Flatten(policy.Parameters());
@@ -342,7 +342,7 @@ TEST(ActorLoopTest, JointTiesTrainAndEvaluateTheTiedPairAsOneSubgoal) {
   const config::Config config = config::LoadConfig(
       configs + "relational-4.yaml",
       {"graph.object_ties=joint", "graph.file=" + configs + "campaign/graphs/relational-4-two-way.json"});
-  const ActorOptions options = ActorOptionsFor(config, 0);
+  const ActorOptions options = ActorOptionsFor(config, rl::RunShapeFor(config), 0);
   ASSERT_EQ(options.policy.goal_tokens, 2);
   auto env = env::MakeRearrangeEnv(config.env);
   nn::Rng rng(3);
@@ -386,7 +386,7 @@ TEST(ActorLoopTest, SameSeedSameEpisodes) {
     links::InMemoryBus bus;
     auto link = bus.ActorEnd(0);
     auto learner = bus.LearnerEnd();
-    ActorLoop actor(ActorOptionsFor(config, 0), link.get());
+    ActorLoop actor(ActorOptionsFor(config, rl::RunShapeFor(config), 0), link.get());
     for (int i = 0; i < 2; ++i) actor.Step();
     for (auto& e : Drain(*learner)) states.push_back(e.states);
   }

@@ -22,7 +22,7 @@ config::Config HacConfig() {
 
 TEST(HacRolloutTest, TrainingEpisodeRecordsHSubgoalsOfAtMostHSteps) {
   const config::Config config = HacConfig();
-  const ActorOptions options = ActorOptionsFor(config, 0);
+  const ActorOptions options = ActorOptionsFor(config, rl::RunShapeFor(config), 0);
   ASSERT_TRUE(options.high_policy.has_value());
   ASSERT_TRUE(options.train.hac.has_value());
   EXPECT_EQ(options.train.steps, 16);
@@ -67,7 +67,7 @@ TEST(HacRolloutTest, ActorSplitsTheWeightsIntoBothLevelsAndEvaluatesOnTheFullGoa
   links::InMemoryBus bus;
   auto link = bus.ActorEnd(0);
   auto learner = bus.LearnerEnd();
-  const ActorOptions options = ActorOptionsFor(config, 0);
+  const ActorOptions options = ActorOptionsFor(config, rl::RunShapeFor(config), 0);
   ActorLoop actor(options, link.get());
   nn::Rng rng(3);
   rl::PolicyNetwork<float> high("policy", *options.high_policy, rng), low("policy", options.policy, rng);

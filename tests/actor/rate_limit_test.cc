@@ -61,11 +61,11 @@ TEST(ActorRateLimitTest, StatsFromBeforeTheWarmUpEndedDoNotStallTheRun) {
   bus.PublishGraph(GroundTruth(config));  // a fast graph: training starts before the warm-up ends
   StatsGate gate(bus.ActorEnd(0));
   auto learner_link = bus.LearnerEnd();
-  learner::LearnerLoopOptions learner_options = learner::LearnerLoopOptionsFor(config, "");
+  learner::LearnerLoopOptions learner_options = learner::LearnerLoopOptionsFor(config, rl::RunShapeFor(config), "");
   learner_options.report_period_s = 0;  // it reports every step; the gate decides what the actor sees
   learner_options.final_weights_grace = std::chrono::milliseconds(0);
   learner::LearnerLoop learner(learner_options, learner_link.get());
-  ActorLoop actor(ActorOptionsFor(config, 0), &gate);
+  ActorLoop actor(ActorOptionsFor(config, rl::RunShapeFor(config), 0), &gate);
 
   StepUntilIdle(learner);  // first weights and stats
   gate.Deliver();
@@ -99,7 +99,7 @@ class HandFedActor : public ::testing::Test {
  protected:
   HandFedActor() : config_(SmallConfig()), link_(bus_.ActorEnd(0)), learner_(bus_.LearnerEnd()) {
     bus_.PublishGraph(GroundTruth(config_));
-    options_ = ActorOptionsFor(config_, 0);
+    options_ = ActorOptionsFor(config_, rl::RunShapeFor(config_), 0);
     options_.status_period_s = 0;  // the valve then counts waits only
     actor_ = std::make_unique<ActorLoop>(options_, link_.get());
     // weights of the actor's architecture
@@ -155,7 +155,7 @@ TEST(ActorOptionsTest, AnEvaluatorWithoutAnEvaluationPeriodIsRefused) {
   auto link = bus.ActorEnd(0);
   config::Config config = SmallConfig();
   config.actors.evaluators = 1;
-  ActorOptions options = ActorOptionsFor(config, 0);
+  ActorOptions options = ActorOptionsFor(config, rl::RunShapeFor(config), 0);
   options.eval_every_env_steps = 0;
   EXPECT_THROW(ActorLoop(options, link.get()), std::invalid_argument);
 }

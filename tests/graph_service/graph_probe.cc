@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
     env::RearrangeEnv env(cfg.env);
     const mjModel* m = env.model();
     const int n = env.layout().num_entities;
-    const std::vector<double> radius = graph_service::ServiceOptionsFor(cfg, "").contact_radius;
+    const std::vector<double> radius = graph_service::ServiceOptionsFor(cfg, rl::RunShapeFor(cfg), "").contact_radius;
     int shown = 0;
     double clear_onsets = 0, airborne = 0, steps_done = 0;
     for (int ep = 0; ep < 200; ++ep) {
@@ -342,7 +342,7 @@ int main(int argc, char** argv) {
   // have touched within the step all the same: its gap before the step is under the distance it
   // travelled in the step or the one before (a fast object hits and bounces back within a step)
   {
-    const std::vector<double> radius = graph_service::ServiceOptionsFor(cfg, "").contact_radius;
+    const std::vector<double> radius = graph_service::ServiceOptionsFor(cfg, rl::RunShapeFor(cfg), "").contact_radius;
     std::vector<double> weighted(n, 0), reachable(n * n, 0), unreached(n, 0), swept(n, 0);
     int shown = 0;
     for (const auto& e : episodes)
@@ -424,7 +424,7 @@ int main(int argc, char** argv) {
   graph_service::ServiceOptions options;
   options.seed = seed;
   options.render_pictures = false;
-  options.contact_radius = graph_service::ServiceOptionsFor(cfg, "").contact_radius;
+  options.contact_radius = graph_service::ServiceOptionsFor(cfg, rl::RunShapeFor(cfg), "").contact_radius;
   options.state_dir = "/tmp/graph_probe_out_" + std::filesystem::path(env_file).stem().string() + "_" +
                       std::to_string(seed) + "_" + std::to_string(getpid());
   std::filesystem::remove_all(options.state_dir);

@@ -53,7 +53,7 @@ using testing::RecordingSink;
 ServiceOptions RunOptions(const config::EnvConfig& env, uint64_t seed) {
   config::Config config;
   config.env = env;
-  ServiceOptions options = ServiceOptionsFor(config, "");
+  ServiceOptions options = ServiceOptionsFor(config, rl::RunShapeFor(config), "");
   options.seed = seed;
   options.render_pictures = false;
   return options;

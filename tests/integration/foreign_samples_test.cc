@@ -105,7 +105,7 @@ class ForeignSamplesTest : public ::testing::Test {
 
   // Actor 1 of this run, playing no explore episodes while it waits for weights and a graph.
   actor::ActorOptions ActorWithoutExploreOptions() const {
-    actor::ActorOptions options = actor::ActorOptionsFor(config_, 1);
+    actor::ActorOptions options = actor::ActorOptionsFor(config_, rl::RunShapeFor(config_), 1);
     options.explore_while_waiting_s = 0;
     return options;
   }
@@ -328,7 +328,7 @@ TEST_F(ForeignSamplesTest, ForeignLearnerStatsDoNotEndTheActor) {
 TEST_F(ForeignSamplesTest, EpisodeWithHugeFiniteStatesIsRefusedAndTheLearnerGoesOn) {
   Participant foreign(config_.transport), learner_side(config_.transport);
   transport::DdsLearnerLink link(learner_side, limits_);
-  learner::LearnerLoop loop(learner::LearnerLoopOptionsFor(config_, ""), &link);
+  learner::LearnerLoop loop(learner::LearnerLoopOptionsFor(config_, rl::RunShapeFor(config_), ""), &link);
   Writer<rl::Episode> raw(foreign, Raw());
   ASSERT_TRUE(raw.WaitForReaders(1, 10s));
   const rl::Episode good = ExploreEpisode(config_, 1);
@@ -399,7 +399,7 @@ TEST_F(ForeignSamplesTest, ALateJoinerGetsTheRunsGraphAndWeightsBesideAStrangers
   Participant foreign(config_.transport), graph_side(config_.transport), learner_side(config_.transport);
   transport::DdsGraphSink sink(graph_side);
   transport::DdsLearnerLink learner(learner_side, limits_);
-  const actor::ActorOptions options = actor::ActorOptionsFor(config_, 1);
+  const actor::ActorOptions options = actor::ActorOptionsFor(config_, rl::RunShapeFor(config_), 1);
   sink.Publish(GroundTruth(config_, 1));
   learner.PublishWeights(WeightsFor(options, 1, 11));
   std::this_thread::sleep_for(200ms);

@@ -232,7 +232,7 @@ config::Config HacRun() {
 
 // HandEpisode in the layout of HacRun's environment (the same: arm and one puck).
 TEST(HacLearnerTest, TrainsBothLevelsAndPublishesTheHighLevelThenTheLowLevel) {
-  Learner learner(LearnerOptionsFor(HacRun()));
+  Learner learner(testing::OptionsOf(HacRun()));
   ASSERT_NE(learner.hac(), nullptr);
   for (int i = 0; i < 30; ++i) ASSERT_EQ(learner.Ingest(HandEpisode()), "");
   // per attempt of 2 steps: 2 with the subgoal + 2 goals x 2 steps; high: 2 + 1 test + 2 x 2
@@ -273,7 +273,7 @@ TEST(HacLearnerTest, NodeStatusShowsTheHighLevelsLossAndTemperature) {
   auto actor = bus.ActorEnd(0);
   config::Config c = HacRun();
   c.run.total_env_steps = 100000;
-  LearnerLoopOptions options = LearnerLoopOptionsFor(c, "");
+  LearnerLoopOptions options = LearnerLoopOptionsFor(c, rl::RunShapeFor(c), "");
   options.report_period_s = 0;
   LearnerLoop loop(options, link.get());
   loop.Step();
@@ -306,21 +306,21 @@ TEST(HacLearnerTest, NodeStatusShowsTheHighLevelsLossAndTemperature) {
 // HAC's Q bound, [-H, 0] on both levels unless agent.hac.bound_q is false; SAC's agents are
 // unbounded.
 TEST(HacLearnerTest, BothLevelsBoundTheirTargetsToMinusHToZero) {
-  Learner hac(LearnerOptionsFor(HacRun()));
+  Learner hac(testing::OptionsOf(HacRun()));
   const std::pair<float, float> bound{-3.0f, 0.0f};
   EXPECT_EQ(hac.agent().target_bounds(), bound);
   EXPECT_EQ(hac.hac()->high().target_bounds(), bound);
   config::Config unbounded = HacRun();
   unbounded.agent.hac.bound_q = false;
-  Learner plain_hac(LearnerOptionsFor(unbounded));
+  Learner plain_hac(LearnerOptionsFor(unbounded, rl::RunShapeFor(unbounded)));
   EXPECT_FALSE(plain_hac.agent().target_bounds());
   EXPECT_FALSE(plain_hac.hac()->high().target_bounds());
-  Learner sac(LearnerOptionsFor(testing::SmallRun(config::Method::kSacHer)));
+  Learner sac(testing::OptionsOf(testing::SmallRun(config::Method::kSacHer)));
   EXPECT_FALSE(sac.agent().target_bounds());
 }
 
 TEST(HacLearnerTest, RejectsHacEpisodesThatDoNotFitAndSubgoalsElsewhere) {
-  Learner learner(LearnerOptionsFor(HacRun()));
+  Learner learner(testing::OptionsOf(HacRun()));
   rl::Episode no_subgoals = HandEpisode();
   no_subgoals.subgoal_starts.clear();
   no_subgoals.subgoals.clear();
@@ -337,18 +337,18 @@ TEST(HacLearnerTest, RejectsHacEpisodesThatDoNotFitAndSubgoalsElsewhere) {
   // a learner of another method refuses subgoals
   config::Config sac_her = HacRun();
   sac_her.run.method = config::Method::kSacHer;
-  Learner other(LearnerOptionsFor(sac_her));
+  Learner other(LearnerOptionsFor(sac_her, rl::RunShapeFor(sac_her)));
   EXPECT_THAT(other.Ingest(HandEpisode()), ::testing::HasSubstr("carry no subgoals"));
   EXPECT_EQ(other.episodes_rejected(), 1u);
 }
 
 TEST(HacLearnerTest, CheckpointHoldsBothLevels) {
   const std::string path = ::testing::TempDir() + "/hac_learner.srics";
-  Learner learner(LearnerOptionsFor(HacRun()));
+  Learner learner(testing::OptionsOf(HacRun()));
   for (int i = 0; i < 30; ++i) ASSERT_EQ(learner.Ingest(HandEpisode()), "");
   for (int i = 0; i < 2; ++i) learner.Update();
   learner.SaveCheckpoint(path);
-  Learner restored(LearnerOptionsFor(HacRun()));
+  Learner restored(testing::OptionsOf(HacRun()));
   EXPECT_NE(restored.TakePolicyWeights(), learner.TakePolicyWeights());
   restored.LoadCheckpoint(path);
   EXPECT_EQ(restored.hac()->high().PolicyWeights(), learner.hac()->high().PolicyWeights());
@@ -363,7 +363,7 @@ TEST(HacLearnerTest, CheckpointHoldsBothLevels) {
   // a checkpoint without the high level (another method's) is refused
   config::Config sac_her = HacRun();
   sac_her.run.method = config::Method::kSacHer;
-  Learner flat(LearnerOptionsFor(sac_her));
+  Learner flat(LearnerOptionsFor(sac_her, rl::RunShapeFor(sac_her)));
   flat.SaveCheckpoint(path);
   EXPECT_THROW(restored.LoadCheckpoint(path), nn::CheckpointError);
   std::filesystem::remove(path);
@@ -374,7 +374,7 @@ TEST(HacLearnerTest, CheckpointHoldsBothLevels) {
 TEST(ActingPolicyTest, LoadsBothLevelsOfAHacCheckpointAndRefusesOthers) {
   const std::string path = ::testing::TempDir() + "/hac_acting.srics";
   const config::Config run = HacRun();
-  Learner learner(LearnerOptionsFor(run));
+  Learner learner(LearnerOptionsFor(run, rl::RunShapeFor(run)));
   for (int i = 0; i < 30; ++i) ASSERT_EQ(learner.Ingest(HandEpisode()), "");
   for (int i = 0; i < 2; ++i) learner.Update();
   learner.SaveCheckpoint(path);
@@ -403,7 +403,7 @@ TEST(ActingPolicyTest, LoadsBothLevelsOfAHacCheckpointAndRefusesOthers) {
   // a flat method's checkpoint has no high level
   config::Config sac_her = run;
   sac_her.run.method = config::Method::kSacHer;
-  Learner flat(LearnerOptionsFor(sac_her));
+  Learner flat(LearnerOptionsFor(sac_her, rl::RunShapeFor(sac_her)));
   flat.SaveCheckpoint(path);
   EXPECT_THROW(LoadActingPolicies(path, low, &high), nn::CheckpointError);
   std::filesystem::remove(path);

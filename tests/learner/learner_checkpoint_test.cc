@@ -60,7 +60,7 @@ class LearnerCheckpointTest : public ::testing::Test {
     c.learner.checkpoint_every_updates = 10;
     c.learner.keep_checkpoints = 3;
     c.learner.publish_every_updates = 10;
-    LearnerLoopOptions o = LearnerLoopOptionsFor(c, path_);
+    LearnerLoopOptions o = LearnerLoopOptionsFor(c, rl::RunShapeFor(c), path_);
     o.report_period_s = 0;
     o.final_weights_grace = std::chrono::milliseconds(0);
     return o;

@@ -17,11 +17,12 @@ namespace srics::learner {
 namespace {
 
 using testing::MakeEpisode;
+using testing::OptionsOf;
 using testing::ResidentKb;
 using testing::SmallRun;
 
 TEST(LearnerCoreTest, GraphMethodsWaitForTheGraphWithoutPilingUpUpdates) {
-  Learner learner(LearnerOptionsFor(SmallRun(config::Method::kSrics)));
+  Learner learner(OptionsOf(SmallRun(config::Method::kSrics)));
   for (int i = 0; i < 50; ++i) ASSERT_EQ(learner.Ingest(MakeEpisode(3, 20, i, -1)), "");
   EXPECT_EQ(learner.counters().transitions_inserted, 1000u);
   EXPECT_FALSE(learner.CanUpdate()) << "no updates before the graph";
@@ -35,7 +36,7 @@ TEST(LearnerCoreTest, GraphMethodsWaitForTheGraphWithoutPilingUpUpdates) {
 }
 
 TEST(LearnerCoreTest, DistanceMethodsStartAfterWarmup) {
-  Learner learner(LearnerOptionsFor(SmallRun(config::Method::kSmorl)));
+  Learner learner(OptionsOf(SmallRun(config::Method::kSmorl)));
   for (int i = 0; i < 4; ++i) learner.Ingest(MakeEpisode(3, 20, i, 1));
   EXPECT_FALSE(learner.CanUpdate());  // 80 < warm-up of 100
   learner.Ingest(MakeEpisode(3, 20, 5, 1));
@@ -44,7 +45,7 @@ TEST(LearnerCoreTest, DistanceMethodsStartAfterWarmup) {
 }
 
 TEST(LearnerCoreTest, RejectsEpisodesThatDoNotFitAndCountsThem) {
-  Learner learner(LearnerOptionsFor(SmallRun(config::Method::kSrics)));
+  Learner learner(OptionsOf(SmallRun(config::Method::kSrics)));
   rl::Episode wrong_layout = MakeEpisode(4, 20, 1, 1);  // 4 entities: this run has 3
   EXPECT_NE(learner.Ingest(wrong_layout).find("num_entities 4 outside [3, 3]"), std::string::npos);
   rl::Episode nan = MakeEpisode(3, 20, 2, 1);
@@ -64,7 +65,7 @@ TEST(LearnerCoreTest, RestartFromCheckpointKeepsTheReplayAndGoesOnAsIfUninterrup
   const std::string path = ::testing::TempDir() + "/learner_core.srics";
   config::Config config = SmallRun(config::Method::kSrics);
   config.learner.replay_capacity = 300;  // some episodes have left already
-  Learner first(LearnerOptionsFor(config));
+  Learner first(LearnerOptionsFor(config, rl::RunShapeFor(config)));
   for (int i = 0; i < 10; ++i) first.Ingest(MakeEpisode(3, 20, i, -1));  // explore, before the graph
   const auto graph = rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(3));
   first.SetGraph(graph);
@@ -76,7 +77,7 @@ TEST(LearnerCoreTest, RestartFromCheckpointKeepsTheReplayAndGoesOnAsIfUninterrup
   first.TakePolicyWeights();
   first.SaveCheckpoint(path);
 
-  Learner second(LearnerOptionsFor(config));
+  Learner second(LearnerOptionsFor(config, rl::RunShapeFor(config)));
   second.LoadCheckpoint(path);
   second.SetGraph(graph);  // the graph service re-publishes its graph after a restart
   EXPECT_TRUE(second.replay_restored());
@@ -114,7 +115,7 @@ void IngestAndUpdate(Learner& learner, int episodes) {
 TEST(LearnerCoreTest, ABrokenCheckpointIsRefusedWithAMessageAndChangesNothing) {
   const std::string path = ::testing::TempDir() + "/learner_core_broken.srics";
   config::Config config = SmallRun(config::Method::kSmorl);
-  Learner first(LearnerOptionsFor(config));
+  Learner first(LearnerOptionsFor(config, rl::RunShapeFor(config)));
   IngestAndUpdate(first, 12);
   first.SaveCheckpoint(path);
   std::string data;
@@ -124,7 +125,7 @@ TEST(LearnerCoreTest, ABrokenCheckpointIsRefusedWithAMessageAndChangesNothing) {
   }
   auto expect_refused = [&](const std::string& contents, const std::string& what) {
     std::ofstream(path, std::ios::binary | std::ios::trunc).write(contents.data(), contents.size());
-    Learner second(LearnerOptionsFor(config));
+    Learner second(LearnerOptionsFor(config, rl::RunShapeFor(config)));
     second.Ingest(MakeEpisode(3, 20, 99, 1));
     try {
       second.LoadCheckpoint(path);
@@ -145,7 +146,7 @@ TEST(LearnerCoreTest, ABrokenCheckpointIsRefusedWithAMessageAndChangesNothing) {
   config::Config other = config;
   other.env.num_pucks = 3;
   std::ofstream(path, std::ios::binary | std::ios::trunc).write(data.data(), data.size());
-  Learner wider(LearnerOptionsFor(other));
+  Learner wider(LearnerOptionsFor(other, rl::RunShapeFor(other)));
   try {
     wider.LoadCheckpoint(path);
     ADD_FAILURE() << "a replay of 3 entities loaded into a run of 4";
@@ -160,12 +161,12 @@ TEST(LearnerCoreTest, ABrokenCheckpointIsRefusedWithAMessageAndChangesNothing) {
 TEST(LearnerCoreTest, ACheckpointWithoutReplayLoadsAndRefillsBeforeUpdating) {
   const std::string path = ::testing::TempDir() + "/learner_core_old.srics";
   config::Config config = SmallRun(config::Method::kSmorl);
-  Learner first(LearnerOptionsFor(config));
+  Learner first(LearnerOptionsFor(config, rl::RunShapeFor(config)));
   IngestAndUpdate(first, 20);
   first.TakePolicyWeights();
   first.agent().SaveCheckpoint(path, first.counters());  // the old contents
 
-  Learner second(LearnerOptionsFor(config));
+  Learner second(LearnerOptionsFor(config, rl::RunShapeFor(config)));
   second.LoadCheckpoint(path);
   EXPECT_FALSE(second.replay_restored());
   EXPECT_EQ(second.counters(), first.counters());
@@ -187,7 +188,7 @@ TEST(LearnerMemoryTest, FullReplayOf250kTransitionsAndPaperBatchStayUnder1GB) {
   config::Config c;
   c.env.num_pucks = 4;
   c.run.method = config::Method::kSrics;
-  Learner learner(LearnerOptionsFor(c));
+  Learner learner(LearnerOptionsFor(c, rl::RunShapeFor(c)));
   learner.SetGraph(rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(5)));
   for (int i = 0; i < 12600; ++i) ASSERT_EQ(learner.Ingest(testing::MakeEpisode(5, 20, i, i % 5)), "");
   EXPECT_EQ(learner.replay().transitions(), 250000u);
@@ -210,7 +211,7 @@ TEST(LearnerCoreTest, ACheckpointsBuffersDoNotStayResident) {
     const std::string path = ::testing::TempDir() + "/learner_core_resident.srics";
     config::Config config = SmallRun(config::Method::kSmorl);
     config.learner.replay_capacity = 200000;
-    Learner learner(LearnerOptionsFor(config));
+    Learner learner(LearnerOptionsFor(config, rl::RunShapeFor(config)));
     for (int i = 0; i < 10000; ++i) ASSERT_EQ(learner.Ingest(MakeEpisode(3, 20, i, 1)), "");
     // a first round sizes what stays (the update's buffers; glibc mmaps the first big blocks)
     learner.SaveCheckpoint(path);

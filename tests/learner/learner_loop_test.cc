@@ -30,7 +30,7 @@ LearnerLoopOptions SmallOptions() {
   config::Config c = testing::SmallRun(config::Method::kSrics);
   c.run.total_env_steps = 400;
   c.learner.publish_every_updates = 10;
-  LearnerLoopOptions o = LearnerLoopOptionsFor(c, "");
+  LearnerLoopOptions o = LearnerLoopOptionsFor(c, rl::RunShapeFor(c), "");
   o.report_period_s = 0;
   o.final_weights_grace = std::chrono::milliseconds(0);
   return o;

@@ -7,7 +7,9 @@
 #include <string>
 
 #include "common/config/config.h"
+#include "common/rl/agent_shape.h"
 #include "common/rl/episode.h"
+#include "learner/learner.h"
 
 #include "tests/sanitizer.h"
 #ifdef SRICS_TESTING_ASAN
@@ -15,6 +17,11 @@
 #endif
 
 namespace srics::learner::testing {
+
+// A learner's options for a test's run, its shape derived as a run's composition derives it.
+inline LearnerOptions OptionsOf(const config::Config& config) {
+  return LearnerOptionsFor(config, rl::RunShapeFor(config));
+}
 
 inline rl::Episode MakeEpisode(int num_entities, int num_steps, uint64_t seed, int subgoal_entity = 1,
                                int num_kinds = 0) {

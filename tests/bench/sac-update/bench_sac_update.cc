@@ -124,7 +124,7 @@ void DumpSpec(const std::string& path, const config::Config& c, const learner::L
 Result Measure(int batch, int threads, const std::vector<rl::Episode>& episodes, int repeats,
                const std::string& dump_dir, bool agent_only = false) {
   const config::Config c = LoadFor(batch, threads);
-  learner::Learner learner(learner::LearnerOptionsFor(c));
+  learner::Learner learner(learner::LearnerOptionsFor(c, rl::RunShapeFor(c)));
   learner.SetGraph(rl::ComputeSubgoalStructure(rl::InteractionGraph::Star(4)));
   for (const auto& e : episodes) learner.Ingest(e);
   Result r;

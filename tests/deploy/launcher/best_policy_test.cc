@@ -26,7 +26,8 @@ class BestPolicyTest : public ::testing::Test {
  protected:
   void SetUp() override {
     config_ = config::LoadConfig(std::string(SRICS_SOURCE_DIR) + "/deploy/configs/rearrange-1-cpu.yaml", {});
-    net_ = std::make_unique<rl::PolicyNetwork<float>>("policy", actor::ActorOptionsFor(config_, 0).policy, rng_);
+    net_ = std::make_unique<rl::PolicyNetwork<float>>(
+        "policy", actor::ActorOptionsFor(config_, rl::RunShapeFor(config_), 0).policy, rng_);
     signature_ = rl::PolicySignature(*net_);
   }
 
@@ -39,7 +40,7 @@ class BestPolicyTest : public ::testing::Test {
   // The policy in best.srics, as srics eval loads it, and its counters.
   std::pair<std::vector<float>, learner::LearnerCounters> Load() {
     nn::Rng rng(7);
-    rl::PolicyNetwork<float> policy("policy", actor::ActorOptionsFor(config_, 0).policy, rng);
+    rl::PolicyNetwork<float> policy("policy", actor::ActorOptionsFor(config_, rl::RunShapeFor(config_), 0).policy, rng);
     const learner::LearnerCounters counters =
         learner::LoadActingPolicies((dir_ / "best.srics").string(), policy, nullptr);
     return {nn::Flatten(policy.Parameters()), counters};

@@ -86,7 +86,7 @@ TEST_P(InProcessLearningTest, SricsLearnsToReachArmSubgoals) {
   while (run.Round()) {
   }
 
-  learner::Learner restored(learner::LearnerOptionsFor(config));
+  learner::Learner restored(learner::LearnerOptionsFor(config, rl::RunShapeFor(config)));
   restored.LoadCheckpoint(dir + "/checkpoint.srics");
   EXPECT_GE(restored.counters().transitions_inserted, 5000u);
   const ArmReach trained = ArmSubgoalSuccess(config, &restored.agent().policy(), 50);

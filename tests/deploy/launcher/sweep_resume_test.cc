@@ -39,7 +39,7 @@ class SweepResumeTest : public ::testing::Test {
 // The learner's checkpoint of a run folder, loaded as a resumed learner would.
 std::unique_ptr<learner::Learner> LoadLearner(const std::string& run_dir) {
   const config::Config config = config::LoadConfig(run_dir + "/config.yaml", {});
-  auto learner = std::make_unique<learner::Learner>(learner::LearnerOptionsFor(config));
+  auto learner = std::make_unique<learner::Learner>(learner::LearnerOptionsFor(config, rl::RunShapeFor(config)));
   learner->LoadCheckpoint(run_dir + "/checkpoint.srics");
   return learner;
 }
