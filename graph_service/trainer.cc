@@ -254,7 +254,7 @@ void GnnTrainer::SetContactRadii(std::vector<double> radii) {
   contact_radius_ = std::move(radii);
   // counted once, on the data the training starts with: what the KL factors and the progress say
   CountOnsetsAtADistance();
-  tied_by_evidence_ = TiedByEvidence(onsets_at_a_distance_);
+  tied_by_evidence_ = TiedByEvidence();
   if (!tied_by_evidence_.empty()) {
     const int n = data_.num_entities();
     std::vector<double> weights(static_cast<size_t>(n) * n, 1.0);
@@ -268,16 +268,22 @@ void GnnTrainer::SetContactRadii(std::vector<double> radii) {
   if (sized) model_.set_onset_clearance(OnsetClearance(contact_radius_));
 }
 
-std::vector<std::pair<int, int>> GnnTrainer::TiedByEvidence(const std::vector<int64_t>& onsets) const {
+std::vector<std::pair<int, int>> GnnTrainer::TiedByEvidence() const {
   std::vector<std::pair<int, int>> tied;
   if (config_.tie_evidence_per_episode <= 0 || config_.tie_kl_factor == 1 || data_.combinations() || data_.size() == 0)
     return tied;
+  const std::vector<int64_t>& onsets = onsets_at_a_distance_;
   const double needed = config_.tie_evidence_per_episode * data_.size();
-  for (int i = 0; i < static_cast<int>(onsets.size()); ++i)
-    for (int j = i + 1; j < static_cast<int>(onsets.size()); ++j)
-      if (i != arm_ && j != arm_ && onsets[static_cast<size_t>(i)] >= needed &&
-          onsets[static_cast<size_t>(j)] >= needed)
-        tied.emplace_back(i, j);
+  const size_t n = onsets.size();
+  // each end starts at a distance often, and mostly while the other end moves (pulled by it)
+  auto pulled_by = [&](size_t mover, size_t started) {
+    return onsets[started] >= needed && static_cast<double>(onsets_while_moving_[mover * n + started]) >=
+                                            config_.tie_evidence_share * static_cast<double>(onsets[started]);
+  };
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j)
+      if (static_cast<int>(i) != arm_ && static_cast<int>(j) != arm_ && pulled_by(i, j) && pulled_by(j, i))
+        tied.emplace_back(static_cast<int>(i), static_cast<int>(j));
   return tied;
 }
 

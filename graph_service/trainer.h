@@ -131,8 +131,9 @@ class GnnTrainer {
   // object's rare onsets at a distance coincide with another's motion only by chance.
   const std::vector<int64_t>& onsets_while_moving() const { return onsets_while_moving_; }
   // The object pairs (i < j, graph entities) whose both ends start moving at a distance at least
-  // tie_evidence_per_episode times per episode of the data: their edges pay tie_kl_factor times
-  // the KL (SetContactRadii sets it). Empty when off, without radii, or for a data set of
+  // tie_evidence_per_episode times per episode of the data, at least tie_evidence_share of those
+  // onsets while the other end moves: their edges pay tie_kl_factor times the KL (SetContactRadii
+  // sets it). Empty when off, without radii, or for a data set of
   // combinations (whose samples order the entities differently).
   const std::vector<std::pair<int, int>>& tied_by_evidence() const { return tied_by_evidence_; }
   // Logs the shapes of every matrix product of later updates (benchmark).
@@ -153,8 +154,8 @@ class GnnTrainer {
   // the onset weight's clearances (GnnModel::set_onset_clearance): the arm's onsets never
   // count; with a radius per graph entity, pushes and collisions do not either
   std::vector<double> OnsetClearance(const std::vector<double>& graph_radius) const;
-  void CountOnsetsAtADistance();  // both counts; zeros without every radius
-  std::vector<std::pair<int, int>> TiedByEvidence(const std::vector<int64_t>& onsets) const;
+  void CountOnsetsAtADistance();                            // both counts; zeros without every radius
+  std::vector<std::pair<int, int>> TiedByEvidence() const;  // from both counts
   std::vector<int64_t> onsets_at_a_distance_, onsets_while_moving_;
   std::vector<std::pair<int, int>> tied_by_evidence_;
   int arm_ = 0;  // SelectActionEntity of the data

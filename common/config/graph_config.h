@@ -179,10 +179,15 @@ struct GraphConfig {
   // times per random episode pay tie_kl_factor times the KL on their edges both ways. The KL
   // that keeps contacts shut (kl_weight) drops the ties of five-object tables, whose pulls are
   // rarer; a lower kl_weight everywhere opens contacts between pushed pucks. Per 1,000 episodes
-  // the tuning tables' tied objects start at a distance 28-572 times, untied ones 0-23. Both keys
-  // are recorded in a run's settings only when given.
+  // the tuning tables' tied objects start at a distance 28-572 times, untied ones 0-23. And at
+  // least tie_evidence_share of each end's onsets at a distance start while the other end moves
+  // (GnnTrainer::onsets_while_moving): a tie's ends 0.96-1.0 of them, objects of two different
+  // ties or an untied one at most 0.36 on the five-object tuning tables (without it two ties
+  // 1-5 and 2-3 also picked 1-2, 1-3, 2-5 and 3-5). The keys are recorded in a run's settings
+  // only when given.
   double tie_evidence_per_episode = 0;
   double tie_kl_factor = 1;
+  double tie_evidence_share = 0.5;
   // a fresh Adam state when the gates start (end of the warm-up), with this beta2 (0.99, the
   // decay of the reference's RMSprop); see GnnTrainer::Update. Not in the reference.
   bool restart_adam_after_warmup = true;

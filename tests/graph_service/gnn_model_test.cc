@@ -1,5 +1,6 @@
 #include "graph_service/gnn_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -470,6 +471,26 @@ TEST(GnnTrainerTest, TiedByEvidenceNamesThePairsThatStartMovingAtADistance) {
   EXPECT_TRUE(std::get<0>(tied({{1, 2}}, 0, 0.5)).empty());
   const double above = (static_cast<double>(std::max(onsets[1], onsets[2])) + 1) / 60;
   EXPECT_TRUE(std::get<0>(tied({{1, 2}}, above, 0.5)).empty());
+}
+
+// Two ties on one table (ropes 1-2 and 3-4): all four pucks start moving at a distance, so
+// counts per object alone (tie_evidence_share 0) pair every two of them; a tie's end starts
+// while its own partner moves, which picks the two ropes only.
+TEST(GnnTrainerTest, TiedByEvidenceTellsTwoTiesApart) {
+  const GraphDataset data = RandomToyEpisodes(4, {{1, 2}, {3, 4}});
+  auto tied = [&data](double share) {
+    config::GraphConfig config = SmallTrainerConfig();
+    config.tie_evidence_per_episode = 1.0 / 60;
+    config.tie_kl_factor = 0.5;
+    config.tie_evidence_share = share;
+    GnnTrainer trainer(config, data, 3);
+    trainer.SetContactRadii({0.03, 0.04, 0.04, 0.04, 0.04});
+    const std::vector<int64_t>& onsets = trainer.onsets_at_a_distance();
+    EXPECT_GT(*std::min_element(onsets.begin() + 1, onsets.end()), 0) << "a toy rope's end never pulled";
+    return trainer.tied_by_evidence();
+  };
+  EXPECT_EQ(tied(0.5), (std::vector<std::pair<int, int>>{{1, 2}, {3, 4}}));
+  EXPECT_EQ(tied(0).size(), 6u) << "counts per object pair every two tied objects";
 }
 
 // The onset weight needs every entity's size to tell a push from a pull at a distance: without
