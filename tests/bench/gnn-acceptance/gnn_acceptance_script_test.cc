@@ -53,6 +53,31 @@ TEST(GnnAcceptanceScriptTest, AFurtherHeldOutRangeHasFoldersOfItsOwnAndNoTableEv
   ExpectRefused("--held-out-range 41", "is not FIRST-LAST");
 }
 
+// A record names the commit its binaries were built from: the build folder's source tree, not
+// the checkout the script runs from (before, a queue run from another worktree's script recorded
+// that worktree's commit, one without the settings the runs used).
+TEST(GnnAcceptanceScriptTest, RecordsNameTheCommitOfTheBuildFoldersSources) {
+  const std::string dir = ::testing::TempDir() + "gnn_acceptance_commit";
+  const auto [made, log] = srics::cli::testing::Shell(
+      "rm -rf '" + dir + "' && mkdir -p '" + dir + "/src' '" + dir + "/build' && cd '" + dir +
+      "/src' && git init -q && echo a > f && git add f && git -c user.name=t -c user.email=t@t commit -qm one && "
+      "echo 'CMAKE_HOME_DIRECTORY:INTERNAL=" +
+      dir + "/src' > '" + dir +
+      "/build/CMakeCache.txt' && "
+      "git rev-parse --short HEAD");
+  ASSERT_EQ(made, 0) << log;
+  const std::string sources = log.substr(0, log.find('\n'));
+  auto plan = [&dir] {
+    return srics::cli::testing::Shell("'" + std::string(SRICS_SOURCE_DIR) + "/tests/bench/gnn-acceptance/run.sh' '" +
+                                      dir + "/build' --runs table-1:1 --dry-run");
+  };
+  const auto [code, text] = plan();
+  ASSERT_EQ(code, 0) << text;
+  EXPECT_NE(text.find("binaries from " + sources + "\n"), std::string::npos) << text;
+  ASSERT_EQ(srics::cli::testing::Shell("echo b > '" + dir + "/src/f'").first, 0);
+  EXPECT_NE(plan().second.find("binaries from " + sources + "+modified\n"), std::string::npos);
+}
+
 TEST(GnnAcceptanceScriptTest, TheDefaultSetIsThePresetsAndTablesOneToTen) {
   const auto [code, text] = Plan("");
   ASSERT_EQ(code, 0) << text;

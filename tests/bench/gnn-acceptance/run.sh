@@ -91,17 +91,21 @@ if [[ -n $runs ]]; then
 else
   for t in $tables; do for s in $seeds; do pairs+="$t $s"$'\n'; done; done
 fi
+# what every record names, taken once: the commit the binaries are built from (the build
+# folder's source tree, which need not be this script's checkout), "+modified" if that tree has
+# uncommitted changes
+source_dir=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null)
+commit=$(git -C "${source_dir:-$root}" rev-parse --short HEAD 2>/dev/null || echo unknown)
+git -C "${source_dir:-$root}" diff --quiet HEAD -- 2>/dev/null || commit+="+modified"
 if [[ $dry_run == 1 ]]; then
   printf '%s' "$pairs"
-  echo "$(printf '%s' "$pairs" | wc -l) runs; out $out; record ${record:-none}"
+  echo "$(printf '%s' "$pairs" | wc -l) runs; out $out; record ${record:-none}; binaries from $commit"
   exit 0
 fi
 srics="$build/deploy/launcher/srics"
 cmake --build "$build" --target srics -j1 >/dev/null
 mkdir -p "$out"
 [[ -n $record ]] && mkdir -p "$record"
-# what every record names, taken once: the commit the binary above was built from, the machine
-commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
 cpu_model=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
 # the model string alone may not tell (this machine's says "AMD EPYC"): the vector ISA too
 if grep -qw avx512f /proc/cpuinfo; then cpu_model+=" (AVX-512)"
