@@ -178,13 +178,13 @@ struct GraphConfig {
   // moving with nothing in reach (GnnTrainer::onsets_at_a_distance) at least tie_evidence_per_episode
   // times per random episode pay tie_kl_factor times the KL on their edges both ways. The KL
   // that keeps contacts shut (kl_weight) drops the ties of five-object tables, whose pulls are
-  // rarer; a lower kl_weight everywhere opens contacts between pushed pucks. Per 1,000 episodes
-  // the tuning tables' tied objects start at a distance 28-572 times, untied ones 0-23. And at
-  // least tie_evidence_share of each end's onsets at a distance start while the other end moves
-  // (GnnTrainer::onsets_while_moving): a tie's ends 0.96-1.0 of them, objects of two different
-  // ties or an untied one at most 0.36 on the five-object tuning tables (without it two ties
-  // 1-5 and 2-3 also picked 1-2, 1-3, 2-5 and 3-5). The keys are recorded in a run's settings
-  // only when given.
+  // rarer; a lower kl_weight everywhere opens contacts between pushed pucks. And at least
+  // tie_evidence_share of each end's onsets at a distance start while the other end moves
+  // (GnnTrainer::onsets_while_moving). On the tuning data (1,000 episodes; 40 tied and 229 untied
+  // pairs, tests/bench/gnn-acceptance/tie_evidence.py): a tie's rarer end 28-514 onsets, share
+  // 0.94-1.0; untied pairs with both ends at 25 or more (9: two ties on one table, the sliding
+  // pucks of rearrange-4-velocity) share at most 0.28, those sharing 0.5 or more (4) count at
+  // most 18. The keys are recorded in a run's settings only when given.
   double tie_evidence_per_episode = 0;
   double tie_kl_factor = 1;
   double tie_evidence_share = 0.5;

@@ -325,6 +325,9 @@ void AddLearnGraphOptions(CLI::App& app, LearnGraphOptions* o) {
       ->check(cli::Integer(0));
   cli::AddSetOption(app, &o->overrides, "override a config value");
   app.add_flag("--expected", o->expected_only, "print the graph the table implies by construction and exit");
+  app.add_flag("--evidence", o->evidence_only,
+               "collect the random-action data, print its tie evidence (onsets at a distance, by mover) and the "
+               "graph by construction, and stop before training");
 }
 
 void FinishLearnGraphOptions(LearnGraphOptions* o) {

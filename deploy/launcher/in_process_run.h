@@ -77,6 +77,7 @@ struct LearnGraphOptions {
   std::optional<uint64_t> seed;        // --seed N
   std::vector<std::string> overrides;  // --set, in order, then run.seed=N of --seed N
   bool expected_only = false;          // --expected: print the graph by construction and exit
+  bool evidence_only = false;          // --evidence: collect the data, print its tie evidence, stop
 };
 int LearnGraph(const LearnGraphOptions& options);
 

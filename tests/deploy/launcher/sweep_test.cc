@@ -30,6 +30,7 @@ using files::testing::ReadFile;
 using ::testing::HasSubstr;
 using testing::kConfig;
 using testing::kTinyRun;
+using ::testing::Not;
 using testing::RunSrics;
 
 class SweepTest : public ::testing::Test {
@@ -73,6 +74,27 @@ TEST(LearnGraphArgsTest, TheSeedSurvivesSetOverrides) {
     EXPECT_EQ(ParseLearnGraphArgs(args).overrides, (std::vector<std::string>{"a.b=1", "c=2", "run.seed=2"}));
   }
   EXPECT_EQ(ParseLearnGraphArgs({"--env", "e.yaml", "--out", "d"}).overrides, std::vector<std::string>{});
+}
+
+// `srics learn-graph --evidence`: the random-action data's tie evidence and the graph by
+// construction, then a stop before any training (no graph published). Random table 9 ties
+// pucks 1 and 3 with a rope: in 60 episodes each end starts at a distance only while the other
+// moves (the counts by mover equal the counts per object), and no other object does.
+TEST_F(SweepTest, LearnGraphEvidencePrintsTheDatasTieEvidenceAndStopsBeforeTraining) {
+  const auto [code, text] =
+      RunSrics(root_, {"learn-graph", "--random-table", "9", "--seed", "1", "--out", (root_ / "evidence").string(),
+                       "--evidence", "--set", "graph.episodes=60"});
+  ASSERT_EQ(code, 0) << text;
+  const std::regex evidence(
+      R"(at a distance \(per entity[^)]*\): 0: 0 1: (\d+) 2: 0 3: (\d+) 4: 0\n)"
+      R"(  \.\.\. while another object moves \(i->j: j starts while i moves\): 1->3: (\d+) 3->1: (\d+)\n)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(text, m, evidence)) << text;
+  EXPECT_GT(std::stoi(m[1]), 0);
+  EXPECT_EQ(m[2], m[3]) << "puck 3 started while puck 1 moved";
+  EXPECT_EQ(m[1], m[4]) << "puck 1 started while puck 3 moved";
+  EXPECT_THAT(text, HasSubstr("by construction: action->0, 0->1, 0->3, 1->3, 3->1\n"));
+  EXPECT_THAT(text, Not(HasSubstr("published graph")));
 }
 
 TEST_F(SweepTest, PlansOneRunFolderPerMethodAndSeedWithItsOwnRunId) {
