@@ -26,16 +26,17 @@
 
 namespace srics::env {
 
-// Layout of the entity states of the current episode (changes only at Reset).
+// Layout of the entity states of the current episode (changes only at Reset), in the words of
+// rl::EntityLayout (which the actor builds from it) plus each entity's kind.
 struct EntityLayout {
   int num_entities = 0;     // N = 1 + objects present
   int num_kinds = 0;        // K = 1 + objects in the catalogue (one-hot width)
   bool velocities = false;  // states carry vx, vy after x, y
-  int state_dim = 0;        // D = K + 2 (+ 2 with velocities)
+  int entity_dim = 0;       // D = K + 2 (+ 2 with velocities): one entity's floats
   // kind of each entity (0 = arm, i = catalogue object i); size N
   std::vector<int> kinds;
-  // column of x in an entity state (y is the next one, vx, vy follow when present)
-  int position_offset() const { return num_kinds; }
+  // offset of entity i's x inside a state (y is the next one, vx, vy follow when present)
+  int position_offset(int entity) const { return entity * entity_dim + num_kinds; }
 };
 
 // Distances of the current step to the episode's goals (docs/method.md section 1).

@@ -123,7 +123,7 @@ void RearrangeEnv::Reset(uint64_t seed, Split split) {
   layout_.num_entities = 1 + static_cast<int>(present_.size());
   layout_.num_kinds = 1 + static_cast<int>(objects_.size());
   layout_.velocities = config_.velocities;
-  layout_.state_dim = layout_.num_kinds + (config_.velocities ? 4 : 2);
+  layout_.entity_dim = layout_.num_kinds + (config_.velocities ? 4 : 2);
   layout_.kinds.assign(1, 0);
   layout_.kinds.insert(layout_.kinds.end(), present_.begin(), present_.end());
   steps_ = 0;
@@ -177,7 +177,7 @@ StepStatus RearrangeEnv::Step(std::span<const double> action) {
 
 void RearrangeEnv::GetStates(std::vector<double>* out) const {
   const mjData* d = mj_->data.get();
-  const int n = layout_.num_entities, dim = layout_.state_dim, k0 = layout_.num_kinds;
+  const int n = layout_.num_entities, dim = layout_.entity_dim, k0 = layout_.num_kinds;
   out->assign(static_cast<size_t>(n) * dim, 0.0);
   for (int j = 0; j < n; ++j) {
     double* row = out->data() + static_cast<size_t>(j) * dim;

@@ -214,7 +214,7 @@ TEST(RearrangeEnvTest, StateLayoutIsOneHotThenPosition) {
   const EntityLayout& l = env.layout();
   EXPECT_EQ(l.num_entities, 4);
   EXPECT_EQ(l.num_kinds, 4);
-  EXPECT_EQ(l.state_dim, 6);
+  EXPECT_EQ(l.entity_dim, 6);
   EXPECT_EQ(l.kinds, (std::vector<int>{0, 1, 2, 3}));
   std::vector<double> s;
   env.GetStates(&s);
@@ -231,17 +231,18 @@ TEST(RearrangeEnvTest, VelocityStatesFollowTheMotion) {
   RearrangeEnv env(Preset("rearrange-4-velocity"));
   env.Reset(0);
   const EntityLayout& l = env.layout();
-  EXPECT_EQ(l.state_dim, 5 + 4);
+  EXPECT_EQ(l.entity_dim, 5 + 4);
+  EXPECT_EQ(l.position_offset(2), 2 * 9 + 5);  // in the whole state, as rl::EntityLayout's
   std::vector<double> s;
   env.GetStates(&s);
-  EXPECT_EQ(s[l.position_offset() + 2], 0.0);  // at rest after Reset
+  EXPECT_EQ(s[l.position_offset(0) + 2], 0.0);  // at rest after Reset
   // moving right: the hand's vx is positive during the step (not yet settled at its end)
   env.Step(std::vector<double>{1.0, 0.0});
   env.GetStates(&s);
-  EXPECT_GT(s[l.position_offset() + 2], 0.0);
+  EXPECT_GT(s[l.position_offset(0) + 2], 0.0);
   for (int t = 0; t < 3; ++t) env.Step(std::vector<double>{0.0, 0.0});
   env.GetStates(&s);
-  EXPECT_NEAR(s[l.position_offset() + 2], 0.0, 0.01);  // and settles when it stops
+  EXPECT_NEAR(s[l.position_offset(0) + 2], 0.0, 0.01);  // and settles when it stops
 }
 
 TEST(RearrangeEnvTest, HeldOutCombinationKeepsIdentifiers) {
@@ -264,7 +265,7 @@ TEST(RearrangeEnvTest, HeldOutCombinationKeepsIdentifiers) {
   EXPECT_EQ(env.layout().kinds, (std::vector<int>{0, 2, 3, 4}));
   std::vector<double> s;
   env.GetStates(&s);
-  EXPECT_EQ(s[1 * env.layout().state_dim + 2], 1.0);  // entity 1 is catalogue object 2
+  EXPECT_EQ(s[1 * env.layout().entity_dim + 2], 1.0);  // entity 1 is catalogue object 2
   for (int t = 0; t < 20; ++t) ASSERT_EQ(env.Step(std::vector<double>{0.3, 1.0}), StepStatus::kOk);
 }
 

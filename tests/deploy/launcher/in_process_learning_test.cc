@@ -45,7 +45,7 @@ ArmReach ArmSubgoalSuccess(const config::Config& config, rl::PolicyNetwork<float
     for (int t = 0; t < config.actors.train_episode_steps; ++t) {
       env->GetStates(&states);
       nn::Tensor entities = Eigen::Map<Eigen::Matrix<double, -1, -1, Eigen::RowMajor>>(
-                                states.data(), env->layout().num_entities, env->layout().state_dim)
+                                states.data(), env->layout().num_entities, env->layout().entity_dim)
                                 .cast<float>();
       double action[2] = {0, 0};
       if (policy) {
