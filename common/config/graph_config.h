@@ -180,8 +180,8 @@ struct GraphConfig {
   // that keeps contacts shut (kl_weight) drops the ties of five-object tables, whose pulls are
   // rarer; a lower kl_weight everywhere opens contacts between pushed pucks. And at least
   // tie_evidence_share of each end's onsets at a distance start while the other end moves
-  // (GnnTrainer::onsets_while_moving). On the tuning data (1,000 episodes; 40 tied and 229 untied
-  // pairs, tests/bench/gnn-acceptance/tie_evidence.py): a tie's rarer end 28-514 onsets, share
+  // (GnnTrainer::onsets_while_moving). On the tuning data (1,000 episodes; 42 tied and 239 untied
+  // pairs, docs/results/tie-evidence): a tie's rarer end 28-514 onsets, share
   // 0.94-1.0; untied pairs with both ends at 25 or more (9: two ties on one table, the sliding
   // pucks of rearrange-4-velocity) share at most 0.28, those sharing 0.5 or more (4) count at
   // most 18. The keys are recorded in a run's settings only when given.
