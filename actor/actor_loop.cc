@@ -25,7 +25,7 @@ ActorOptions ActorOptionsFor(const config::Config& config, const rl::RunShape& s
   o.first_episode_id = first_episode_id;
   o.run_seed = config.run.seed;
   o.env = config.env;
-  o.num_entities = shape.entities;
+  o.num_entities = shape.entities();
   o.policy = rl::MakeNetworkConfig(shape.agent, config.agent);
   if (config.run.method == config::Method::kHac) o.high_policy = rl::MakeNetworkConfig(shape.high, config.agent);
   o.uses_graph = rl::UsesGraph(config.run.method);

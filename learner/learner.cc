@@ -26,7 +26,7 @@ LearnerOptions LearnerOptionsFor(const config::Config& config, const rl::RunShap
   o.hac = {config.agent.hac.horizon, config.agent.hac.goal_threshold, config.agent.hac.hindsight_goals,
            shape.subgoal_box, config.agent.hac.bound_q};
   o.high_shape = shape.high;
-  o.max_entities = shape.entities;
+  o.max_entities = shape.entities();
   return o;
 }
 

@@ -18,7 +18,7 @@ LearnerLoopOptions LearnerLoopOptionsFor(const config::Config& config, const rl:
                                          std::string checkpoint_path) {
   LearnerLoopOptions o;
   o.learner = LearnerOptionsFor(config, shape);
-  o.num_entities = shape.entities;
+  o.num_entities = shape.entities();
   o.checkpoint_path = std::move(checkpoint_path);
   o.report_period_s = config.transport.status_period_s;
   if (!o.checkpoint_path.empty())

@@ -67,7 +67,6 @@ EnvironmentShape FullEnvironmentShapeFor(const config::EnvConfig& env) {
 
 RunShape RunShapeFor(const config::Config& config) {
   RunShape shape;
-  shape.entities = 1 + static_cast<int>(config::EffectiveObjects(config.env).size());
   shape.agent = AgentShapeFor(config.env, config.run.method, config.graph.object_ties);
   shape.high = HighLevelShapeFor(config.env);
   shape.limits = EpisodeLimitsFor(config.env);

@@ -60,12 +60,13 @@ EnvironmentShape FullEnvironmentShapeFor(const config::EnvConfig& env);
 // composed (RunInProcess, each role's main, srics eval) and handed to each role's *OptionsFor,
 // so that no role derives it again.
 struct RunShape {
-  int entities = 0;        // the arm and every catalogue object (graphs are over these)
   AgentShape agent;        // the run's method's networks (HAC: its low level)
   AgentShape high;         // HAC's high level (HighLevelShapeFor)
   EpisodeLimits limits;    // what an episode of this run may look like (EpisodeLimitsFor)
   EnvironmentShape full;   // every object present (FullEnvironmentShapeFor)
   SubgoalBox subgoal_box;  // HAC's subgoal region (SubgoalBoxFor)
+  // the arm and every catalogue object (graphs are over these)
+  int entities() const { return full.layout.num_entities; }
 };
 RunShape RunShapeFor(const config::Config& config);
 

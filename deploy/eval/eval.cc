@@ -173,7 +173,7 @@ int Eval(const EvalArgs& args) {
 
   // the subgoals and their order: the run's graph, or every entity for methods without one
   // graphs are over the catalogue; each episode maps it onto the objects it presents
-  const int catalogue_entities = shape.entities;
+  const int catalogue_entities = shape.entities();
   rl::CatalogueSubgoals subgoals;
   std::string graph_text = "none (" + std::string(config::MethodName(config.run.method)) + " uses no graph)";
   actor::EvalOptions eval_options = actor.eval;

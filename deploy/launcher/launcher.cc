@@ -175,7 +175,7 @@ int RunProcesses(const LaunchOptions& options, const config::Config& config, tr:
   // the run's own learner and graph only: a stray sample never reaches learner.csv or the display
   monitor_options.budget_env_steps = config.run.total_env_steps;
   const rl::RunShape shape = rl::RunShapeFor(config);
-  monitor_options.num_entities = shape.entities;  // as the learner
+  monitor_options.num_entities = shape.entities();  // as the learner
   // the passive baseline is played here, not taken from the wire: a stranger's policy-v0
   // EvalResult that disagrees is refused (issue 39)
   monitor_options.passive_baseline = [&]() -> std::optional<rl::EvaluationSummary> {
