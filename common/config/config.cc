@@ -77,16 +77,56 @@ std::string RecordedRunId(const std::string& config_yaml) {
   }
 }
 
-Config ParseConfig(const std::string& yaml_text, const std::string& name) {
+namespace {
+
+YAML::Node ParseRoot(const std::string& yaml_text, const std::string& name) {
   YAML::Node root = ParsePlainYaml(yaml_text, name);
   if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   if (!root.IsMap()) throw ConfigError(name + ": expected a mapping at the top level");
   CheckKeys(root, "", name, true);
+  return root;
+}
+
+Config ParseRootWith(YAML::Node root, const std::vector<std::string>& overrides, const std::string& name) {
   try {
-    return ParseTree(root, std::make_shared<OriginMap>(), name);
+    auto origins = std::make_shared<OriginMap>();
+    for (const auto& assignment : overrides) ApplyOverride(&root, assignment, origins.get());
+    return ParseTree(root, origins, name);
   } catch (const YAML::Exception& e) {
     throw ConfigError(name + (e.mark.is_null() ? "" : ":" + std::to_string(e.mark.line + 1)) + ": " + e.msg);
   }
+}
+
+}  // namespace
+
+Config ParseConfig(const std::string& yaml_text, const std::string& name) {
+  return ParseRootWith(ParseRoot(yaml_text, name), {}, name);
+}
+
+const std::vector<EarlierDefault>& EarlierDefaults() {
+  // issue 35, 2026-12-07: the tie-evidence KL became the default (docs/results.md)
+  static const std::vector<EarlierDefault> earlier = {
+      {"graph.tie_evidence_per_episode", "0"},
+      {"graph.tie_kl_factor", "1"},
+  };
+  return earlier;
+}
+
+std::vector<std::string> EarlierDefaultsOf(const std::string& recorded_yaml, const std::string& name) {
+  const YAML::Node root = ParseRoot(recorded_yaml, name);
+  std::vector<std::string> overrides;
+  for (const EarlierDefault& d : EarlierDefaults()) {
+    const std::string key = d.key;
+    const size_t dot = key.find('.');
+    const YAML::Node section = root[key.substr(0, dot)];
+    // (a missing key reads as an invalid node, on which only the bool test is allowed)
+    if (!section || !section.IsMap() || !section[key.substr(dot + 1)]) overrides.push_back(key + "=" + d.value);
+  }
+  return overrides;
+}
+
+Config ParseRecordedConfig(const std::string& yaml_text, const std::string& name) {
+  return ParseRootWith(ParseRoot(yaml_text, name), EarlierDefaultsOf(yaml_text, name), name);
 }
 
 }  // namespace srics::config

@@ -48,4 +48,22 @@ std::string RecordedRunId(const std::string& config_yaml);
 // error messages in place of a file name.
 Config ParseConfig(const std::string& yaml_text, const std::string& name);
 
+// A setting whose default changed after run folders had recorded it only when given: a record
+// (resolved-config.yaml) without the key is from a run that had `value`. Since the change the
+// key is always recorded.
+struct EarlierDefault {
+  const char* key;    // "section.key"
+  const char* value;  // as an override's value
+};
+const std::vector<EarlierDefault>& EarlierDefaults();
+
+// The overrides ("graph.tie_kl_factor=1") that give a run recorded in `recorded_yaml` (a
+// resolved-config.yaml's text) the earlier defaults it ran with: one per EarlierDefaults key the
+// record lacks. Throws ConfigError for a record that is not YAML (`name` in the message).
+std::vector<std::string> EarlierDefaultsOf(const std::string& recorded_yaml, const std::string& name);
+
+// Parses a recorded resolved-config.yaml as this binary resolves it, the earlier defaults the
+// record's run had (EarlierDefaultsOf) applied: a default changed since is a change.
+Config ParseRecordedConfig(const std::string& yaml_text, const std::string& name);
+
 }  // namespace srics::config

@@ -45,11 +45,11 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
   s.ReadDouble("onset_loss_weight", &out->onset_loss_weight, 0, 1e3);
   s.ReadDouble("onset_motion_m", &out->onset_motion_m, 0, 1);
-  // recorded only when given: run folders made before the keys resume unchanged
-  if (s.Has("tie_evidence_per_episode"))
-    s.ReadDouble("tie_evidence_per_episode", &out->tie_evidence_per_episode, 0, 1e3);
-  if (s.Has("tie_kl_factor")) s.ReadDouble("tie_kl_factor", &out->tie_kl_factor, 1e-6, 1);
-  if (s.Has("tie_evidence_share")) s.ReadDouble("tie_evidence_share", &out->tie_evidence_share, 0, 1);
+  // always recorded since their defaults changed (a record without them ran with the tie KL
+  // off: config::EarlierDefaults)
+  s.ReadDouble("tie_evidence_per_episode", &out->tie_evidence_per_episode, 0, 1e3);
+  s.ReadDouble("tie_kl_factor", &out->tie_kl_factor, 1e-6, 1);
+  s.ReadDouble("tie_evidence_share", &out->tie_evidence_share, 0, 1);
   s.ReadBool("restart_adam_after_warmup", &out->restart_adam_after_warmup);
   s.ReadDouble("adam_beta2_after_warmup", &out->adam_beta2_after_warmup, 0, 1 - 1e-9);
   s.ReadBool("hard_edges", &out->hard_edges);

@@ -174,7 +174,8 @@ struct GraphConfig {
   // put-back static puck flies unseen within a step and sets pucks moving with no visible cause.
   double onset_loss_weight = 30.0;
   double onset_motion_m = 1e-3;
-  // Ties seen in the data (not in the reference; 0 = off): two movable objects that each start
+  // Ties seen in the data (not in the reference; tie_evidence_per_episode 0 = off, the default
+  // before 2026-12-07, config::EarlierDefaults): two movable objects that each start
   // moving with nothing in reach (GnnTrainer::onsets_at_a_distance) at least tie_evidence_per_episode
   // times per random episode pay tie_kl_factor times the KL on their edges both ways. The KL
   // that keeps contacts shut (kl_weight) drops the ties of five-object tables, whose pulls are
@@ -184,9 +185,11 @@ struct GraphConfig {
   // pairs, docs/results/tie-evidence): a tie's rarer end 28-514 onsets, share
   // 0.94-1.0; untied pairs with both ends at 25 or more (9: two ties on one table, the sliding
   // pucks of rearrange-4-velocity) share at most 0.28, those sharing 0.5 or more (4) count at
-  // most 18. The keys are recorded in a run's settings only when given.
-  double tie_evidence_per_episode = 0;
-  double tie_kl_factor = 1;
+  // most 18. 0.025 and 0.5 chosen on the tuning tables (presets, random tables 1-10 and
+  // 2011-2048: ties 43 of 45 runs exact, the defaults before 1 of 6 on five-object tables;
+  // docs/results.md, "The interaction graph").
+  double tie_evidence_per_episode = 0.025;
+  double tie_kl_factor = 0.5;
   double tie_evidence_share = 0.5;
   // a fresh Adam state when the gates start (end of the warm-up), with this beta2 (0.99, the
   // decay of the reference's RMSprop); see GnnTrainer::Update. Not in the reference.

@@ -301,7 +301,9 @@ RoleShare ShareOf(const LaunchOptions& options, const config::Config& config) {
 
 int Run(const LaunchOptions& options) {
   // config first: a bad one stops everything before a folder or a process exists
-  config::Config config = config::LoadConfig(options.config_file, options.overrides);
+  // a continued run keeps the defaults it started with (run_folder.h)
+  const std::vector<std::string> given = WithEarlierDefaults(options.run_dir, options.overrides);
+  config::Config config = config::LoadConfig(options.config_file, given);
   if (!ShareOf(options, config).whole_run) {
     if (options.in_process)
       throw std::invalid_argument("--roles, --ids: not with --in-process (one process runs every role)");
@@ -317,7 +319,7 @@ int Run(const LaunchOptions& options) {
     // this launch's own run id (or the one the folder recorded), written into the run
     // folder's config.yaml with the rest of the effective configuration; in process there is
     // no DDS to share, and a fixed id keeps eval.csv the same from launch to launch
-    std::vector<std::string> overrides = options.overrides;
+    std::vector<std::string> overrides = given;
     overrides.push_back("transport.run_id=" +
                         (options.in_process ? std::string("in-process") : ChooseRunId(options.run_dir)));
     config = config::LoadConfig(options.config_file, overrides);

@@ -139,7 +139,7 @@ std::string ConfigChangeSince(const std::string& dir, const std::string& effecti
     // started is absent there and takes its default, which is what the run had
     std::string recorded;
     try {
-      recorded = config::ParseConfig(WithoutComments(resolved.string()), resolved.string()).resolved_yaml;
+      recorded = config::ParseRecordedConfig(WithoutComments(resolved.string()), resolved.string()).resolved_yaml;
     } catch (const config::ConfigError& e) {
       return std::string("its recorded settings no longer load: ") + e.what();
     }
@@ -148,6 +148,19 @@ std::string ConfigChangeSince(const std::string& dir, const std::string& effecti
   const fs::path merged = fs::path(dir) / "config.yaml";
   if (!fs::exists(merged)) return "";
   return FirstDifference(WithoutComments(merged.string()), effective_yaml + "\n");
+}
+
+std::vector<std::string> WithEarlierDefaults(const std::string& dir, const std::vector<std::string>& overrides) {
+  const fs::path resolved = fs::path(dir) / "resolved-config.yaml";
+  if (dir.empty() || !fs::exists(resolved)) return overrides;
+  std::vector<std::string> all;
+  try {
+    all = config::EarlierDefaultsOf(WithoutComments(resolved.string()), resolved.string());
+  } catch (const config::ConfigError&) {
+    return overrides;  // an unreadable record: CheckResumedConfig names it
+  }
+  all.insert(all.end(), overrides.begin(), overrides.end());
+  return all;
 }
 
 void CheckResumedConfig(const config::Config& config, const std::string& dir, bool allow_change) {

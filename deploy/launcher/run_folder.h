@@ -32,6 +32,12 @@ std::string FirstDifference(const std::string& a, const std::string& b);
 std::string ConfigChangeSince(const std::string& dir, const std::string& effective_yaml,
                               const std::string& resolved_yaml);
 
+// The overrides a run continued in `dir` is loaded with: the earlier defaults its record lacks
+// (config::EarlierDefaultsOf: a default changed since the run started is not a change it
+// gets), then `overrides` (given ones win, and are then a change CheckResumedConfig names).
+// `overrides` alone when `dir` has no readable record.
+std::vector<std::string> WithEarlierDefaults(const std::string& dir, const std::vector<std::string>& overrides);
+
 // A continued run keeps the configuration it started with: when <dir>/config.yaml exists and
 // its settings differ from `config`'s (ConfigChangeSince), throws std::invalid_argument naming the first
 // difference, unless `allow_change`; then the old file is kept as config.yaml.<UTC time> and

@@ -27,21 +27,22 @@ TEST(GraphPublishConfigTest, LastByDefaultLowestLossWhenGivenOthersRefused) {
 }
 
 // graph.tie_evidence_per_episode, graph.tie_kl_factor and graph.tie_evidence_share (issue 35):
-// off (0 and 1; the share 0.5) and not recorded unless given; recorded when given; a factor
-// outside (0, 1] or a share outside [0, 1] refused naming the key.
-TEST(GraphPublishConfigTest, TieKlSettingsOffByDefaultRecordedWhenGivenBoundsChecked) {
+// on by default since 2026-12-07 (0.025, 0.5; the share 0.5) and always recorded; given values
+// recorded; a factor outside (0, 1] or a share outside [0, 1] refused naming the key.
+TEST(GraphPublishConfigTest, TieKlSettingsOnByDefaultRecordedBoundsChecked) {
   const Config plain = LoadConfig(Configs() + "env/relational-2.yaml");
-  EXPECT_EQ(plain.graph.tie_evidence_per_episode, 0);
-  EXPECT_EQ(plain.graph.tie_kl_factor, 1);
+  EXPECT_EQ(plain.graph.tie_evidence_per_episode, 0.025);
+  EXPECT_EQ(plain.graph.tie_kl_factor, 0.5);
   EXPECT_EQ(plain.graph.tie_evidence_share, 0.5);
-  EXPECT_EQ(plain.resolved_yaml.find("tie_"), std::string::npos) << plain.resolved_yaml;
+  EXPECT_NE(plain.resolved_yaml.find("tie_evidence_per_episode: 0.025"), std::string::npos) << plain.resolved_yaml;
+  EXPECT_NE(plain.resolved_yaml.find("tie_kl_factor: 0.5"), std::string::npos) << plain.resolved_yaml;
   const Config given =
       LoadConfig(Configs() + "env/relational-2.yaml",
-                 {"graph.tie_evidence_per_episode=0.025", "graph.tie_kl_factor=0.5", "graph.tie_evidence_share=0.75"});
-  EXPECT_EQ(given.graph.tie_evidence_per_episode, 0.025);
-  EXPECT_EQ(given.graph.tie_kl_factor, 0.5);
-  EXPECT_NE(given.resolved_yaml.find("tie_evidence_per_episode: 0.025"), std::string::npos) << given.resolved_yaml;
-  EXPECT_NE(given.resolved_yaml.find("tie_kl_factor: 0.5"), std::string::npos) << given.resolved_yaml;
+                 {"graph.tie_evidence_per_episode=0", "graph.tie_kl_factor=1", "graph.tie_evidence_share=0.75"});
+  EXPECT_EQ(given.graph.tie_evidence_per_episode, 0);
+  EXPECT_EQ(given.graph.tie_kl_factor, 1);
+  EXPECT_NE(given.resolved_yaml.find("tie_evidence_per_episode: 0\n"), std::string::npos) << given.resolved_yaml;
+  EXPECT_NE(given.resolved_yaml.find("tie_kl_factor: 1\n"), std::string::npos) << given.resolved_yaml;
   EXPECT_EQ(given.graph.tie_evidence_share, 0.75);
   EXPECT_NE(given.resolved_yaml.find("tie_evidence_share: 0.75"), std::string::npos) << given.resolved_yaml;
   for (const std::string bad : {"graph.tie_kl_factor=0", "graph.tie_kl_factor=1.5", "graph.tie_evidence_share=1.5"}) {
@@ -51,6 +52,33 @@ TEST(GraphPublishConfigTest, TieKlSettingsOffByDefaultRecordedWhenGivenBoundsChe
     } catch (const ConfigError& e) {
       EXPECT_NE(std::string(e.what()).find(bad.substr(0, bad.find('='))), std::string::npos) << e.what();
     }
+  }
+}
+
+// A record written before the tie KL was the default (resolved-config.yaml without its keys) ran
+// with it off: EarlierDefaultsOf gives those overrides and ParseRecordedConfig applies them; a
+// record with the keys gets none. Text that is not a mapping is refused naming the record.
+TEST(EarlierDefaultsTest, ARecordWithoutTheKeysRanWithTheEarlierDefaults) {
+  const Config now = LoadConfig(Configs() + "env/relational-2.yaml");
+  EXPECT_TRUE(EarlierDefaultsOf(now.resolved_yaml, "record").empty());
+  std::string old = now.resolved_yaml;
+  for (const std::string key : {"tie_evidence_per_episode", "tie_kl_factor"}) {
+    const size_t at = old.find("  " + key + ": ");
+    ASSERT_NE(at, std::string::npos) << old;
+    old.erase(at, old.find('\n', at) + 1 - at);
+  }
+  EXPECT_EQ(EarlierDefaultsOf(old, "record"),
+            (std::vector<std::string>{"graph.tie_evidence_per_episode=0", "graph.tie_kl_factor=1"}));
+  const Config recorded = ParseRecordedConfig(old, "record");
+  EXPECT_EQ(recorded.graph.tie_evidence_per_episode, 0);
+  EXPECT_EQ(recorded.graph.tie_kl_factor, 1);
+  EXPECT_EQ(ParseConfig(old, "record").graph.tie_evidence_per_episode, 0.025);  // what a plain parse says
+  EXPECT_EQ(EarlierDefaultsOf("{}", "record").size(), EarlierDefaults().size());
+  try {
+    EarlierDefaultsOf("- a list", "run/resolved-config.yaml");
+    FAIL() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("run/resolved-config.yaml"), std::string::npos) << e.what();
   }
 }
 

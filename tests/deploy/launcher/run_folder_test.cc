@@ -41,7 +41,9 @@ TEST(ConfigChangeSinceTest, TheCampaignsCommittedRunFoldersResolveToTheSettingsT
     for (const auto& entry : fs::directory_iterator(raw / group)) {
       const fs::path folder = entry.path();
       if (!fs::exists(folder / "config.yaml") || !fs::exists(folder / "resolved-config.yaml")) continue;
-      const config::Config config = config::LoadConfig((folder / "config.yaml").string());
+      // as srics run loads a continued run: the defaults it started with (run_folder.h)
+      const config::Config config =
+          config::LoadConfig((folder / "config.yaml").string(), WithEarlierDefaults(folder.string(), {}));
       EXPECT_EQ(ConfigChangeSince(folder.string(), config.effective_yaml, config.resolved_yaml), "") << folder;
       ++checked;
     }
@@ -175,6 +177,39 @@ TEST(CheckResumedConfigTest, TheResolvedSettingsDecide) {
   fs::remove(dir + "/resolved-config.yaml");
   EXPECT_NO_THROW(CheckResumedConfig(started, dir, false));
   EXPECT_THROW(CheckResumedConfig(pinned, dir, false), std::invalid_argument);
+}
+
+// A run started before a default changed (its record lacks the key: config::EarlierDefaults)
+// goes on with the value it had: srics run loads it with WithEarlierDefaults and the check passes,
+// where a plain load would hand it the new default unseen (it did: the record, re-resolved, took
+// the new default too). Given overrides still win, and are then a change.
+TEST(CheckResumedConfigTest, ARunFromBeforeADefaultChangedKeepsItsValue) {
+  const std::string dir = FreshDir("resume_earlier_default");
+  const std::string file = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/relational-2.yaml";
+  PrepareRunFolder(config::LoadConfig(file), dir);
+  std::ifstream in(dir + "/resolved-config.yaml");
+  std::string record((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const std::string key : {"tie_evidence_per_episode", "tie_kl_factor"}) {
+    const size_t at = record.find("  " + key + ": ");
+    ASSERT_NE(at, std::string::npos) << record;
+    record.erase(at, record.find('\n', at) + 1 - at);
+  }
+  std::ofstream(dir + "/resolved-config.yaml") << record;
+  const config::Config resumed = config::LoadConfig(file, WithEarlierDefaults(dir, {}));
+  EXPECT_EQ(resumed.graph.tie_evidence_per_episode, 0);
+  EXPECT_EQ(resumed.graph.tie_kl_factor, 1);
+  EXPECT_NO_THROW(CheckResumedConfig(resumed, dir, false));
+  try {
+    CheckResumedConfig(config::LoadConfig(file), dir, false);
+    FAIL() << "the new default was handed to a run that started without it";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("tie_"), std::string::npos) << e.what();
+  }
+  const config::Config asked = config::LoadConfig(file, WithEarlierDefaults(dir, {"graph.tie_kl_factor=0.5"}));
+  EXPECT_EQ(asked.graph.tie_kl_factor, 0.5);
+  EXPECT_THROW(CheckResumedConfig(asked, dir, false), std::invalid_argument);
+  // a folder without a record (a new run): the overrides as given
+  EXPECT_EQ(WithEarlierDefaults(FreshDir("resume_no_record"), {"run.seed=2"}), std::vector<std::string>{"run.seed=2"});
 }
 
 }  // namespace
