@@ -28,6 +28,13 @@ class LowestLossTest(unittest.TestCase):
         # counted from 0 the unsettled 3000 wins
         self.assertEqual(lowest_loss.outcomes(LOG, 0)[2], "action->0")
 
+    def test_last_is_the_last_evaluation_whichever_graph_the_run_published(self):
+        # a run with graph.publish: lowest_held_out_loss published 3500's graph
+        published_lowest = LOG.replace("published graph version 1: action->0\n",
+                                       "published graph version 1: action->0, 1->2, 2->1\n")
+        self.assertEqual(lowest_loss.outcomes(published_lowest, 3000),
+                         ("action->0, 1->2, 2->1", "action->0", "action->0, 1->2, 2->1"))
+
     def test_a_run_without_a_published_graph_or_settled_evaluations_is_left_out(self):
         self.assertIsNone(lowest_loss.outcomes(LOG.replace("published graph version 1", "stopped"), 3000))
         self.assertIsNone(lowest_loss.outcomes(LOG, 5000))
