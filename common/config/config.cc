@@ -104,10 +104,12 @@ Config ParseConfig(const std::string& yaml_text, const std::string& name) {
 }
 
 const std::vector<EarlierDefault>& EarlierDefaults() {
-  // issue 35, 2026-12-07: the tie-evidence KL became the default (docs/results.md)
+  // issue 35, 2026-12-07: the tie-evidence KL and the lowest-loss publish became the defaults
+  // (docs/results.md)
   static const std::vector<EarlierDefault> earlier = {
       {"graph.tie_evidence_per_episode", "0"},
       {"graph.tie_kl_factor", "1"},
+      {"graph.publish", "last"},
   };
   return earlier;
 }

@@ -39,9 +39,9 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   if (s.Has("object_ties"))
     s.ReadEnum("object_ties", &out->object_ties,
                {{"two_way", ObjectTies::kTwoWay}, {"one_way", ObjectTies::kOneWay}, {"joint", ObjectTies::kJoint}});
-  if (s.Has("publish"))
-    s.ReadEnum("publish", &out->publish,
-               {{"last", GraphPublish::kLast}, {"lowest_held_out_loss", GraphPublish::kLowestHeldOutLoss}});
+  // always recorded since its default changed (config::EarlierDefaults)
+  s.ReadEnum("publish", &out->publish,
+             {{"last", GraphPublish::kLast}, {"lowest_held_out_loss", GraphPublish::kLowestHeldOutLoss}});
   s.ReadDouble("gate_logit_decay", &out->gate_logit_decay, 0, 1e3);
   s.ReadDouble("onset_loss_weight", &out->onset_loss_weight, 0, 1e3);
   s.ReadDouble("onset_motion_m", &out->onset_motion_m, 0, 1);

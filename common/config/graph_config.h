@@ -201,9 +201,11 @@ struct GraphConfig {
   int min_updates = 4500;        // no stop on a stable graph before this many updates
   int eval_every_updates = 500;  // held-out loss and thresholded graph
   int stable_evaluations = 2;    // stop once the graph is unchanged this many times
-  // which evaluation's graph is published (GraphPublish); recorded in the resolved settings
-  // only when given. The stop rule is the same for both.
-  GraphPublish publish = GraphPublish::kLast;
+  // which evaluation's graph is published (GraphPublish); the stop rule is the same for both.
+  // The lowest held-out loss since 2026-12-07 (before: last, config::EarlierDefaults): on the
+  // tuning tables it keeps the two runs whose last evaluation lost a tie (45 runs with a tie)
+  // and loses none of the 33 without (docs/results.md, "The interaction graph").
+  GraphPublish publish = GraphPublish::kLowestHeldOutLoss;
   int eval_chunk_episodes = 100;  // episodes per forward pass when averaging edge weights
   // An update whose loss is not finite or whose gradient is beyond nn::kMaxUsableGradient is
   // skipped (the parameters stay as they were); this many in a row end the service with an

@@ -26,8 +26,9 @@ std::string FirstDifference(const std::string& a, const std::string& b);
 // How the run folder `dir`'s configuration differs from one now loaded ("line 3: 'a' now 'b'"),
 // "" when it does not or `dir` has none: every resolved setting when the folder records them
 // (resolved-config.yaml, read back through this binary's config, so a setting added since, which
-// the folder lacks, takes its default as the run had it; a key pinned to the value it had is no
-// change, and a default that changed between binaries is one); else (folders from before
+// the folder lacks, takes its default as the run had it, or its earlier default if that changed
+// since (config::ParseRecordedConfig); a key pinned to the value it had is no change, and a
+// default that changed between binaries is one); else (folders from before
 // 2026-12-03) the merged YAML.
 std::string ConfigChangeSince(const std::string& dir, const std::string& effective_yaml,
                               const std::string& resolved_yaml);

@@ -274,8 +274,8 @@ TEST(GraphServiceTest, ResumesAnInterruptedTrainingAndEndsWithTheUninterruptedGr
   EXPECT_TRUE(std::filesystem::exists(dir + "/graph.json"));
 }
 
-// graph.publish: lowest_held_out_loss publishes the evaluation after the warm-up and the KL ramp
-// whose held-out loss was the lowest, not the last one (which `last` publishes); the stop is the
+// graph.publish: lowest_held_out_loss (the default) publishes the evaluation after the warm-up
+// and the KL ramp whose held-out loss was the lowest, not the last one (which `last` publishes); the stop is the
 // same. A run killed after that evaluation and resumed publishes the same graph, number for
 // number: the candidate is part of the saved training state.
 TEST(GraphServiceTest, PublishesTheEvaluationOfTheLowestHeldOutLossWhenAsked) {
@@ -285,7 +285,8 @@ TEST(GraphServiceTest, PublishesTheEvaluationOfTheLowestHeldOutLossWhenAsked) {
   std::atomic<bool> stop{false};
   config::GraphConfig config = ResumeConfig();
   config.max_updates = 100;
-  config.learning_rate = 0.1;              // a noisy descent: its lowest held-out loss comes before the end
+  config.learning_rate = 0.1;  // a noisy descent: its lowest held-out loss comes before the end
+  config.publish = config::GraphPublish::kLast;
   std::map<int64_t, double> settled_loss;  // evaluation -> held-out loss, after the warm-up and ramp
   auto record = [&](const Progress& p) {
     if (p.phase == Progress::Phase::kTraining && p.updates > config.warmup_updates + config.kl_ramp_updates)

@@ -1,6 +1,6 @@
-// graph.publish (issue 35): which evaluation's graph the service publishes. `last` by default
-// and not recorded in the resolved settings unless given (configs written before the key
-// resolve as before); lowest_held_out_loss recorded; anything else refused naming the key.
+// graph.publish (issue 35): which evaluation's graph the service publishes. The lowest held-out
+// loss by default since 2026-12-07 and always recorded; last when given; anything else refused
+// naming the key.
 
 #include <gtest/gtest.h>
 
@@ -11,13 +11,13 @@ namespace {
 
 std::string Configs() { return std::string(SRICS_SOURCE_DIR) + "/deploy/configs/"; }
 
-TEST(GraphPublishConfigTest, LastByDefaultLowestLossWhenGivenOthersRefused) {
+TEST(GraphPublishConfigTest, LowestLossByDefaultLastWhenGivenOthersRefused) {
   const Config plain = LoadConfig(Configs() + "env/relational-2.yaml");
-  EXPECT_EQ(plain.graph.publish, GraphPublish::kLast);
-  EXPECT_EQ(plain.resolved_yaml.find(" publish: "), std::string::npos) << plain.resolved_yaml;
-  const Config lowest = LoadConfig(Configs() + "env/relational-2.yaml", {"graph.publish=lowest_held_out_loss"});
-  EXPECT_EQ(lowest.graph.publish, GraphPublish::kLowestHeldOutLoss);
-  EXPECT_NE(lowest.resolved_yaml.find("publish: lowest_held_out_loss"), std::string::npos) << lowest.resolved_yaml;
+  EXPECT_EQ(plain.graph.publish, GraphPublish::kLowestHeldOutLoss);
+  EXPECT_NE(plain.resolved_yaml.find("publish: lowest_held_out_loss"), std::string::npos) << plain.resolved_yaml;
+  const Config last = LoadConfig(Configs() + "env/relational-2.yaml", {"graph.publish=last"});
+  EXPECT_EQ(last.graph.publish, GraphPublish::kLast);
+  EXPECT_NE(last.resolved_yaml.find("publish: last"), std::string::npos) << last.resolved_yaml;
   try {
     LoadConfig(Configs() + "env/relational-2.yaml", {"graph.publish=best"});
     FAIL() << "accepted";
@@ -62,16 +62,18 @@ TEST(EarlierDefaultsTest, ARecordWithoutTheKeysRanWithTheEarlierDefaults) {
   const Config now = LoadConfig(Configs() + "env/relational-2.yaml");
   EXPECT_TRUE(EarlierDefaultsOf(now.resolved_yaml, "record").empty());
   std::string old = now.resolved_yaml;
-  for (const std::string key : {"tie_evidence_per_episode", "tie_kl_factor"}) {
+  for (const std::string key : {"tie_evidence_per_episode", "tie_kl_factor", "publish"}) {
     const size_t at = old.find("  " + key + ": ");
     ASSERT_NE(at, std::string::npos) << old;
     old.erase(at, old.find('\n', at) + 1 - at);
   }
-  EXPECT_EQ(EarlierDefaultsOf(old, "record"),
-            (std::vector<std::string>{"graph.tie_evidence_per_episode=0", "graph.tie_kl_factor=1"}));
+  EXPECT_EQ(
+      EarlierDefaultsOf(old, "record"),
+      (std::vector<std::string>{"graph.tie_evidence_per_episode=0", "graph.tie_kl_factor=1", "graph.publish=last"}));
   const Config recorded = ParseRecordedConfig(old, "record");
   EXPECT_EQ(recorded.graph.tie_evidence_per_episode, 0);
   EXPECT_EQ(recorded.graph.tie_kl_factor, 1);
+  EXPECT_EQ(recorded.graph.publish, GraphPublish::kLast);
   EXPECT_EQ(ParseConfig(old, "record").graph.tie_evidence_per_episode, 0.025);  // what a plain parse says
   EXPECT_EQ(EarlierDefaultsOf("{}", "record").size(), EarlierDefaults().size());
   try {
