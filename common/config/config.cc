@@ -114,8 +114,10 @@ const std::vector<EarlierDefault>& EarlierDefaults() {
   return earlier;
 }
 
-std::vector<std::string> EarlierDefaultsOf(const std::string& recorded_yaml, const std::string& name) {
-  const YAML::Node root = ParseRoot(recorded_yaml, name);
+namespace {
+
+// EarlierDefaultsOf on a parsed record (the record is parsed once per use)
+std::vector<std::string> EarlierDefaultsOfRoot(const YAML::Node& root) {
   std::vector<std::string> overrides;
   for (const EarlierDefault& d : EarlierDefaults()) {
     const std::string key = d.key;
@@ -127,8 +129,16 @@ std::vector<std::string> EarlierDefaultsOf(const std::string& recorded_yaml, con
   return overrides;
 }
 
+}  // namespace
+
+std::vector<std::string> EarlierDefaultsOf(const std::string& recorded_yaml, const std::string& name) {
+  return EarlierDefaultsOfRoot(ParseRoot(recorded_yaml, name));
+}
+
 Config ParseRecordedConfig(const std::string& yaml_text, const std::string& name) {
-  return ParseRootWith(ParseRoot(yaml_text, name), EarlierDefaultsOf(yaml_text, name), name);
+  YAML::Node root = ParseRoot(yaml_text, name);
+  const std::vector<std::string> earlier = EarlierDefaultsOfRoot(root);
+  return ParseRootWith(root, earlier, name);
 }
 
 }  // namespace srics::config

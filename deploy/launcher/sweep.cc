@@ -111,10 +111,9 @@ SweepPlan PlanSweep(const SweepOptions& options) {
         if (run_id.size() > 64) run_id = launch_id + "-r" + std::to_string(plan.runs.size() + 1);
       }
       run.overrides.push_back("transport.run_id=" + run_id);
-      // a resumed run keeps the defaults it started with (run_folder.h)
-      run.overrides = WithEarlierDefaults(run.dir, run.overrides);
-      // loading it checks the method name and every value (ConfigError names the key)
-      const config::Config loaded = config::LoadConfig(plan.config, run.overrides);
+      // loading it checks the method name and every value (ConfigError names the key); a
+      // resumed run keeps the defaults it started with (run_folder.h: its srics run adds them too)
+      const config::Config loaded = config::LoadConfig(plan.config, WithEarlierDefaults(run.dir, run.overrides));
       run.effective_yaml = loaded.effective_yaml;
       run.resolved_yaml = loaded.resolved_yaml;
       plan.runs.push_back(std::move(run));

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 
 #include "tests/common/files/test_files.h"
@@ -24,5 +25,19 @@ class ConfigFiles : public ::testing::Test {
 
   files::testing::ScratchFolder dir_{"srics-config-test"};
 };
+
+// `record` (a resolved-config.yaml's text) without the section keys `keys`, as a record written
+// before they were always recorded reads. A key that is not there fails the test.
+inline std::string WithoutRecordedKeys(std::string record, std::initializer_list<const char*> keys) {
+  for (const std::string key : keys) {
+    const size_t at = record.find("  " + key + ": ");
+    if (at == std::string::npos) {
+      ADD_FAILURE() << key << " is not in the record:\n" << record;
+      continue;
+    }
+    record.erase(at, record.find('\n', at) + 1 - at);
+  }
+  return record;
+}
 
 }  // namespace srics::config::testing

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "common/config/config.h"
+#include "tests/common/config/config_files.h"
 
 namespace srics::config {
 namespace {
@@ -61,12 +62,8 @@ TEST(GraphPublishConfigTest, TieKlSettingsOnByDefaultRecordedBoundsChecked) {
 TEST(EarlierDefaultsTest, ARecordWithoutTheKeysRanWithTheEarlierDefaults) {
   const Config now = LoadConfig(Configs() + "env/relational-2.yaml");
   EXPECT_TRUE(EarlierDefaultsOf(now.resolved_yaml, "record").empty());
-  std::string old = now.resolved_yaml;
-  for (const std::string key : {"tie_evidence_per_episode", "tie_kl_factor", "publish"}) {
-    const size_t at = old.find("  " + key + ": ");
-    ASSERT_NE(at, std::string::npos) << old;
-    old.erase(at, old.find('\n', at) + 1 - at);
-  }
+  const std::string old =
+      testing::WithoutRecordedKeys(now.resolved_yaml, {"tie_evidence_per_episode", "tie_kl_factor", "publish"});
   EXPECT_EQ(
       EarlierDefaultsOf(old, "record"),
       (std::vector<std::string>{"graph.tie_evidence_per_episode=0", "graph.tie_kl_factor=1", "graph.publish=last"}));

@@ -12,6 +12,7 @@
 
 #include "common/graph_file/graph_file.h"
 #include "common/rl/ground_truth.h"
+#include "tests/common/config/config_files.h"
 
 namespace srics::launcher {
 namespace {
@@ -188,13 +189,9 @@ TEST(CheckResumedConfigTest, ARunFromBeforeADefaultChangedKeepsItsValue) {
   const std::string file = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/relational-2.yaml";
   PrepareRunFolder(config::LoadConfig(file), dir);
   std::ifstream in(dir + "/resolved-config.yaml");
-  std::string record((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (const std::string key : {"tie_evidence_per_episode", "tie_kl_factor"}) {
-    const size_t at = record.find("  " + key + ": ");
-    ASSERT_NE(at, std::string::npos) << record;
-    record.erase(at, record.find('\n', at) + 1 - at);
-  }
-  std::ofstream(dir + "/resolved-config.yaml") << record;
+  const std::string record((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ofstream(dir + "/resolved-config.yaml")
+      << config::testing::WithoutRecordedKeys(record, {"tie_evidence_per_episode", "tie_kl_factor"});
   const config::Config resumed = config::LoadConfig(file, WithEarlierDefaults(dir, {}));
   EXPECT_EQ(resumed.graph.tie_evidence_per_episode, 0);
   EXPECT_EQ(resumed.graph.tie_kl_factor, 1);

@@ -19,6 +19,7 @@
 #include "deploy/launcher/command_line.h"
 #include "deploy/launcher/run_folder.h"
 #include "deploy/run_folder/outcome.h"
+#include "tests/common/config/config_files.h"
 #include "tests/common/files/test_files.h"
 #include "tests/deploy/launcher/sweep_testing.h"
 
@@ -170,6 +171,24 @@ TEST_F(SweepTest, TwoSweepLaunchesGetDifferentRunIdsAndAResumedRunKeepsItsOwn) {
   EXPECT_EQ(run_id(resumed.runs[0]), run_id(first.runs[0]));
   EXPECT_NE(run_id(resumed.runs[1]), run_id(first.runs[1])) << "a run that never started gets this launch's id";
   EXPECT_NO_THROW(CheckSweepFolder(resumed));
+}
+
+// A sweep resumed after a default changed (config::EarlierDefaults): a run folder whose record
+// lacks the key is planned with the value it ran with and passes the check; its own srics run
+// adds that value (run_folder.h), so the sweep passes on only the grid's overrides.
+TEST_F(SweepTest, ARunFromBeforeADefaultChangedIsPlannedWithTheValueItHad) {
+  const SweepPlan first = PlanSweep(Options({"srics"}, {1}));
+  CheckSweepFolder(first);
+  PrepareRunFolder(config::LoadConfig(kConfig, first.runs[0].overrides), first.runs[0].dir);
+  const std::string record = ReadFile(fs::path(first.runs[0].dir) / "resolved-config.yaml");
+  std::ofstream(first.runs[0].dir + "/resolved-config.yaml")
+      << config::testing::WithoutRecordedKeys(record, {"tie_kl_factor"});
+  const SweepPlan resumed = PlanSweep(Options({"srics"}, {1}));
+  EXPECT_THAT(resumed.runs[0].resolved_yaml, HasSubstr("tie_kl_factor: 1\n"));
+  EXPECT_THAT(first.runs[0].resolved_yaml, HasSubstr("tie_kl_factor: 0.5\n"));
+  EXPECT_NO_THROW(CheckSweepFolder(resumed));
+  EXPECT_EQ(resumed.runs[0].overrides, first.runs[0].overrides);
+  EXPECT_THROW(CheckSweepFolder(first), std::invalid_argument) << "the new default handed to the old run";
 }
 
 TEST_F(SweepTest, RunFinishedOnlyWhenTheOutcomeSaysSo) {
