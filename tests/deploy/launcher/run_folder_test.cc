@@ -8,11 +8,11 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 
 #include "common/graph_file/graph_file.h"
 #include "common/rl/ground_truth.h"
 #include "tests/common/config/config_files.h"
+#include "tests/common/files/test_files.h"
 
 namespace srics::launcher {
 namespace {
@@ -160,8 +160,7 @@ TEST(CheckResumedConfigTest, TheResolvedSettingsDecide) {
   ASSERT_NE(pinned.effective_yaml, started.effective_yaml);
   EXPECT_NO_THROW(CheckResumedConfig(pinned, dir, false));
   // the record of a binary whose default was the reference form
-  std::ifstream in(dir + "/resolved-config.yaml");
-  std::string record((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string record = files::testing::ReadFile(dir + "/resolved-config.yaml");
   const size_t at = record.find("selectivity_form: paper");
   ASSERT_NE(at, std::string::npos) << record;
   record.replace(at, std::string("selectivity_form: paper").size(), "selectivity_form: reference");
@@ -188,8 +187,7 @@ TEST(CheckResumedConfigTest, ARunFromBeforeADefaultChangedKeepsItsValue) {
   const std::string dir = FreshDir("resume_earlier_default");
   const std::string file = std::string(SRICS_SOURCE_DIR) + "/deploy/configs/env/relational-2.yaml";
   PrepareRunFolder(config::LoadConfig(file), dir);
-  std::ifstream in(dir + "/resolved-config.yaml");
-  const std::string record((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string record = files::testing::ReadFile(dir + "/resolved-config.yaml");
   std::ofstream(dir + "/resolved-config.yaml")
       << config::testing::WithoutRecordedKeys(record, {"tie_evidence_per_episode", "tie_kl_factor"});
   const config::Config resumed = config::LoadConfig(file, WithEarlierDefaults(dir, {}));
