@@ -63,6 +63,27 @@ std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int ar
   return out;
 }
 
+std::vector<double> CalibrateObjectPairs(const std::vector<double>& scores, int arm, const std::vector<bool>& moving,
+                                         const std::vector<std::pair<int, int>>& tied_pairs, double threshold,
+                                         double tied_threshold, double untied_threshold) {
+  const int n = CheckedObjectScores("CalibrateObjectPairs", scores, arm, moving);
+  if (!(threshold > 0 && tied_threshold > 0 && untied_threshold > 0))
+    throw std::invalid_argument("CalibrateObjectPairs: thresholds must be above 0");
+  std::vector<bool> tied(static_cast<size_t>(n) * n, false);
+  for (const auto& [i, j] : tied_pairs) {
+    if (i < 0 || i >= n || j < 0 || j >= n) throw std::invalid_argument("CalibrateObjectPairs: tied pair out of range");
+    tied[static_cast<size_t>(i) * n + j] = tied[static_cast<size_t>(j) * n + i] = true;
+  }
+  std::vector<double> out = scores;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      if (!MovingObjectPair(i, j, arm, moving)) continue;
+      const size_t ij = static_cast<size_t>(i) * n + j;
+      out[ij] = std::min(1.0, scores[ij] * threshold / (tied[ij] ? tied_threshold : untied_threshold));
+    }
+  return out;
+}
+
 std::vector<double> OneWayObjectTies(const std::vector<double>& scores, const std::vector<double>& orientation, int arm,
                                      double threshold) {
   int n = 0;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/graph_file/graph_file.h"
@@ -40,6 +41,17 @@ std::vector<double> ReciprocalObjectScores(const std::vector<double>& scores, in
 // not match, arm is out of range or share is outside [0, 1].
 std::vector<double> CutWeakObjectPairs(const std::vector<double>& scores, int arm, const std::vector<bool>& moving,
                                        double share);
+
+// Scores with every object -> object pair calibrated by the data's tie evidence: for i, j both
+// moving and neither `arm`, the score is multiplied by threshold / tied_threshold when {i, j}
+// (either order) is in `tied_pairs`, by threshold / untied_threshold otherwise, and capped at 1,
+// so that the one threshold keeps a pair the evidence names above tied_threshold and any other
+// above untied_threshold. Edges from or into the arm and into an entity that does not move are
+// left as they are. Throws std::invalid_argument when the sizes do not match, arm is out of range,
+// a pair names an entity out of range or a threshold is not above 0.
+std::vector<double> CalibrateObjectPairs(const std::vector<double>& scores, int arm, const std::vector<bool>& moving,
+                                         const std::vector<std::pair<int, int>>& tied_pairs, double threshold,
+                                         double tied_threshold, double untied_threshold);
 
 // Scores with the object -> object edges over `threshold` made one way (graph.object_ties:
 // one_way): they are taken in decreasing order of `orientation` (the model's mean edge weights

@@ -60,6 +60,7 @@ void GraphService::SyncProgress() {
     progress_.onsets_at_a_distance = state_.trainer->onsets_at_a_distance();
     progress_.onsets_while_moving = state_.trainer->onsets_while_moving();
     progress_.tied_by_evidence = state_.trainer->tied_by_evidence();
+    progress_.tie_evidence_counted = state_.trainer->tie_evidence_counted();
   }
 }
 

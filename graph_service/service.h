@@ -55,8 +55,10 @@ struct Progress {
   // GnnTrainer::onsets_at_a_distance), once training starts
   std::vector<int64_t> onsets_at_a_distance;
   std::vector<int64_t> onsets_while_moving;  // per ordered pair (GnnTrainer::onsets_while_moving)
-  // the object pairs whose edges pay graph.tie_kl_factor times the KL (GnnTrainer::tied_by_evidence)
+  // the object pairs whose edges pay graph.tie_kl_factor times the KL and are kept above
+  // graph.tied_pair_threshold (GnnTrainer::tied_by_evidence), when the evidence was counted
   std::vector<std::pair<int, int>> tied_by_evidence;
+  bool tie_evidence_counted = false;
   int stable_evaluations = 0;        // consecutive evaluations with an unchanged graph
   std::string graph;                 // current thresholded graph (rl::DescribeGraph)
   std::vector<double> edge_scores;   // current read-out scores (N x N), thresholded

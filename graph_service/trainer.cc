@@ -254,8 +254,10 @@ void GnnTrainer::SetContactRadii(std::vector<double> radii) {
   contact_radius_ = std::move(radii);
   // counted once, on the data the training starts with: what the KL factors and the progress say
   CountOnsetsAtADistance();
+  tie_evidence_counted_ = config_.tie_evidence_per_episode > 0 && !data_.combinations() && data_.size() > 0 &&
+                          contact_radius_.size() == static_cast<size_t>(data_.graph_entities());
   tied_by_evidence_ = TiedByEvidence();
-  if (!tied_by_evidence_.empty()) {
+  if (!tied_by_evidence_.empty() && config_.tie_kl_factor != 1) {
     const int n = data_.num_entities();
     std::vector<double> weights(static_cast<size_t>(n) * n, 1.0);
     for (const auto& [i, j] : tied_by_evidence_)
@@ -270,8 +272,7 @@ void GnnTrainer::SetContactRadii(std::vector<double> radii) {
 
 std::vector<std::pair<int, int>> GnnTrainer::TiedByEvidence() const {
   std::vector<std::pair<int, int>> tied;
-  if (config_.tie_evidence_per_episode <= 0 || config_.tie_kl_factor == 1 || data_.combinations() || data_.size() == 0)
-    return tied;
+  if (!tie_evidence_counted_) return tied;
   const std::vector<int64_t>& onsets = onsets_at_a_distance_;
   const double needed = config_.tie_evidence_per_episode * data_.size();
   const size_t n = onsets.size();
@@ -450,6 +451,8 @@ EdgeStatistics GnnTrainer::Evaluate() {
     stats.held_out_entity_mse.push_back(entity_transitions[e] > 0 ? entity_mse[e] / entity_transitions[e] : 0);
     stats.held_out_entity_zero_mse.push_back(entity_transitions[e] > 0 ? entity_zero[e] / entity_transitions[e] : 0);
   }
+  stats.tie_evidence_counted = tie_evidence_counted_;
+  stats.tied_by_evidence = tied_by_evidence_;
   return stats;
 }
 

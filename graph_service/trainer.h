@@ -38,6 +38,10 @@ struct EdgeStatistics {
   // where i and j are more than graph.contact_margin_m beyond touching, before and after the
   // step (0 where they never are). Empty unless object_edges is apart and the trainer has the entities' radii.
   std::vector<double> apart_weight;
+  // whether the tie evidence was counted (GnnTrainer::tie_evidence_counted) and the object pairs
+  // it names tied (GnnTrainer::tied_by_evidence): the read-out's calibration of object pairs
+  bool tie_evidence_counted = false;
+  std::vector<std::pair<int, int>> tied_by_evidence;
 };
 
 // Which entities move: the no-motion error of each (any scale) above `fraction` of the
@@ -133,9 +137,12 @@ class GnnTrainer {
   // The object pairs (i < j, graph entities) whose both ends start moving at a distance at least
   // tie_evidence_per_episode times per episode of the data, at least tie_evidence_share of those
   // onsets while the other end moves: their edges pay tie_kl_factor times the KL (SetContactRadii
-  // sets it). Empty when off, without radii, or for a data set of
-  // combinations (whose samples order the entities differently).
+  // sets it) and the read-out keeps them above graph.tied_pair_threshold. Empty when not counted.
   const std::vector<std::pair<int, int>>& tied_by_evidence() const { return tied_by_evidence_; }
+  // Whether the evidence was counted: tie_evidence_per_episode above 0, every entity's radius
+  // (SetContactRadii) and a data set of one table (not combinations, whose samples order the
+  // entities differently). Without it no pair counts as tied or untied by evidence.
+  bool tie_evidence_counted() const { return tie_evidence_counted_; }
   // Logs the shapes of every matrix product of later updates (benchmark).
   void set_gemm_log(std::vector<nn::GemmShape>* log) { tape_.set_gemm_log(log); }
 
@@ -158,6 +165,7 @@ class GnnTrainer {
   std::vector<std::pair<int, int>> TiedByEvidence() const;  // from both counts
   std::vector<int64_t> onsets_at_a_distance_, onsets_while_moving_;
   std::vector<std::pair<int, int>> tied_by_evidence_;
+  bool tie_evidence_counted_ = false;
   int arm_ = 0;  // SelectActionEntity of the data
   double refine_share_ = 0;
   int64_t updates_ = 0;

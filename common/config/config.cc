@@ -110,6 +110,9 @@ const std::vector<EarlierDefault>& EarlierDefaults() {
       {"graph.tie_evidence_per_episode", "0"},
       {"graph.tie_kl_factor", "1"},
       {"graph.publish", "last"},
+      // issue 35, 2026-12-07 (evening): object pairs read against the tie evidence (docs/results.md)
+      {"graph.tied_pair_threshold", "0"},
+      {"graph.untied_pair_threshold", "0"},
   };
   return earlier;
 }

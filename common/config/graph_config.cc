@@ -50,6 +50,8 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
   s.ReadDouble("tie_evidence_per_episode", &out->tie_evidence_per_episode, 0, 1e3);
   s.ReadDouble("tie_kl_factor", &out->tie_kl_factor, 1e-6, 1);
   s.ReadDouble("tie_evidence_share", &out->tie_evidence_share, 0, 1);
+  s.ReadDouble("tied_pair_threshold", &out->tied_pair_threshold, 0, 1);
+  s.ReadDouble("untied_pair_threshold", &out->untied_pair_threshold, 0, 1);
   s.ReadBool("restart_adam_after_warmup", &out->restart_adam_after_warmup);
   s.ReadDouble("adam_beta2_after_warmup", &out->adam_beta2_after_warmup, 0, 1 - 1e-9);
   s.ReadBool("hard_edges", &out->hard_edges);
@@ -70,6 +72,13 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
     s.FailRule("object_ties",
                "one_way orients a learned graph's ties; graph.ground_truth and graph.file publish theirs as they are "
                "(set graph.object_ties=two_way or joint with them)");
+  if ((out->tied_pair_threshold > 0) != (out->untied_pair_threshold > 0))
+    s.FailRule("tied_pair_threshold",
+               "and untied_pair_threshold are both above 0 (the evidence sets each object pair's bar) or both 0 (off)");
+  if (out->tied_pair_threshold > out->untied_pair_threshold)
+    s.FailRule("tied_pair_threshold", "must not exceed untied_pair_threshold (" +
+                                          std::to_string(out->untied_pair_threshold) +
+                                          "): evidence of a tie lowers an object pair's bar, never raises it");
   if (out->ground_truth && !out->file.empty())
     s.FailRule("file", "and graph.ground_truth both name the graph to use: set one");
   if (out->min_updates > out->max_updates)

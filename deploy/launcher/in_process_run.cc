@@ -443,7 +443,12 @@ int LearnGraph(const LearnGraphOptions& o) {
       if (!p.tied_by_evidence.empty()) {
         std::string pairs;
         for (const auto& [i, j] : p.tied_by_evidence) pairs += " " + std::to_string(i) + " <-> " + std::to_string(j);
-        std::printf("tied by that evidence (their edges' KL times graph.tie_kl_factor):%s\n", pairs.c_str());
+        std::printf(
+            "tied by that evidence (their edges' KL times graph.tie_kl_factor, kept above "
+            "graph.tied_pair_threshold):%s\n",
+            pairs.c_str());
+      } else if (p.tie_evidence_counted) {
+        std::printf("tied by that evidence: none (every object pair kept only above graph.untied_pair_threshold)\n");
       }
       printed_onsets = true;
     }

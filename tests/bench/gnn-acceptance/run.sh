@@ -20,7 +20,8 @@
 # the run's log, graph.json and pictures and result.txt. Resumable: a run with a result.txt
 # is not repeated (delete the folder to redo it), so a stopped acceptance continues where it
 # was. --record DIR (relative to the repository root, e.g. docs/results/gnn-acceptance) also
-# copies each finished run's result.txt and graph.json to DIR/<table>-s<seed>/, to be committed:
+# copies each finished run's result.txt, graph.json and evidence.txt (its log's tie evidence) to
+# DIR/<table>-s<seed>/, to be committed:
 # runs/ is not kept by a new checkout, DIR is, and a run recorded there is not repeated either
 # (the table counts it). Runs are niced; --jobs 2 runs two at a time (one per core: do not benchmark meanwhile).
 # Prints a markdown table of every run so far (docs/results/graph-service-history.md keeps those
@@ -154,6 +155,9 @@ PY
   if [[ -n $record ]]; then
     mkdir -p "$record/$table-s$seed"
     [[ -f "$dir/graph.json" ]] && cp "$dir/graph.json" "$record/$table-s$seed/"
+    # the data's tie evidence, which set each object pair's bar (pair_bars.py and tie_evidence.py read it)
+    grep -E '^onsets at a distance|while another object moves|^tied by that evidence|^by construction' \
+      "$dir/log.txt" >"$record/$table-s$seed/evidence.txt" || true
     cp "$dir/result.txt" "$record/$table-s$seed/"  # last: its presence = recorded
   fi
   echo "$table seed $seed: $(cat "$dir/result.txt")" >&2

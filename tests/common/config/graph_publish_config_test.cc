@@ -56,6 +56,40 @@ TEST(GraphPublishConfigTest, TieKlSettingsOnByDefaultRecordedBoundsChecked) {
   }
 }
 
+// graph.tied_pair_threshold and graph.untied_pair_threshold (issue 35): on by default (0.02,
+// 0.12) and always recorded; both 0 turns them off; one without the other, or a tied bar above
+// the untied one, is refused naming the key; a record without them ran with them off.
+TEST(GraphPublishConfigTest, PairBarsOnByDefaultBothOrNeitherTiedNotAboveUntied) {
+  const Config plain = LoadConfig(Configs() + "env/relational-2.yaml");
+  EXPECT_EQ(plain.graph.tied_pair_threshold, 0.02);
+  EXPECT_EQ(plain.graph.untied_pair_threshold, 0.12);
+  EXPECT_NE(plain.resolved_yaml.find("tied_pair_threshold: 0.02\n"), std::string::npos) << plain.resolved_yaml;
+  EXPECT_NE(plain.resolved_yaml.find("untied_pair_threshold: 0.12\n"), std::string::npos) << plain.resolved_yaml;
+  const Config off =
+      LoadConfig(Configs() + "env/relational-2.yaml", {"graph.tied_pair_threshold=0", "graph.untied_pair_threshold=0"});
+  EXPECT_EQ(off.graph.tied_pair_threshold, 0);
+  EXPECT_EQ(off.graph.untied_pair_threshold, 0);
+  for (const std::vector<std::string> bad :
+       std::vector<std::vector<std::string>>{{"graph.tied_pair_threshold=0"},
+                                             {"graph.untied_pair_threshold=0"},
+                                             {"graph.tied_pair_threshold=0.2"},
+                                             {"graph.untied_pair_threshold=1.5"}}) {
+    try {
+      LoadConfig(Configs() + "env/relational-2.yaml", bad);
+      FAIL() << "accepted " << bad[0];
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("pair_threshold"), std::string::npos) << e.what();
+    }
+  }
+  const std::string old =
+      testing::WithoutRecordedKeys(plain.resolved_yaml, {"tied_pair_threshold", "untied_pair_threshold"});
+  EXPECT_EQ(EarlierDefaultsOf(old, "record"),
+            (std::vector<std::string>{"graph.tied_pair_threshold=0", "graph.untied_pair_threshold=0"}));
+  const Config recorded = ParseRecordedConfig(old, "record");
+  EXPECT_EQ(recorded.graph.tied_pair_threshold, 0);
+  EXPECT_EQ(recorded.graph.untied_pair_threshold, 0);
+}
+
 // A record written before the tie KL was the default (resolved-config.yaml without its keys) ran
 // with it off: EarlierDefaultsOf gives those overrides and ParseRecordedConfig applies them; a
 // record with the keys gets none. Text that is not a mapping is refused naming the record.
