@@ -79,6 +79,7 @@ std::vector<double> CalibrateObjectPairs(const std::vector<double>& scores, int 
     for (int j = 0; j < n; ++j) {
       if (!MovingObjectPair(i, j, arm, moving)) continue;
       const size_t ij = static_cast<size_t>(i) * n + j;
+      // capped: a graph file's scores are probabilities in [0, 1]
       out[ij] = std::min(1.0, scores[ij] * threshold / (tied[ij] ? tied_threshold : untied_threshold));
     }
   return out;

@@ -59,7 +59,7 @@ std::vector<double> ReadOutScores(const EdgeStatistics& stats, const config::Gra
   // the data's tie evidence sets each object pair's bar: a pair seen pulling at a distance is
   // kept above tied_pair_threshold, any other (a contact the recurrent model remembers while
   // apart: two free pucks up to 0.062 on the tuning tables) above untied_pair_threshold
-  if (!cut && stats.tie_evidence_counted && config.tied_pair_threshold > 0 && config.untied_pair_threshold > 0)
+  if (!cut && stats.tie_evidence_counted && config.pair_bars_on())
     scores = CalibrateObjectPairs(scores, action_entity, moving, stats.tied_by_evidence, config.threshold,
                                   config.tied_pair_threshold, config.untied_pair_threshold);
   if (config.object_pair_share > 0)

@@ -254,8 +254,7 @@ void GnnTrainer::SetContactRadii(std::vector<double> radii) {
   contact_radius_ = std::move(radii);
   // counted once, on the data the training starts with: what the KL factors and the progress say
   CountOnsetsAtADistance();
-  tie_evidence_counted_ = config_.tie_evidence_per_episode > 0 && !data_.combinations() && data_.size() > 0 &&
-                          contact_radius_.size() == static_cast<size_t>(data_.graph_entities());
+  tie_evidence_counted_ = config_.tie_evidence_per_episode > 0 && !data_.combinations() && data_.size() > 0 && Sized();
   tied_by_evidence_ = TiedByEvidence();
   if (!tied_by_evidence_.empty() && config_.tie_kl_factor != 1) {
     const int n = data_.num_entities();
@@ -265,7 +264,7 @@ void GnnTrainer::SetContactRadii(std::vector<double> radii) {
     model_.set_edge_kl_weights(std::move(weights));
   }
   if (config_.onset_loss_weight <= 0) return;
-  const bool sized = contact_radius_.size() == static_cast<size_t>(data_.graph_entities());
+  const bool sized = Sized();
   model_.set_onset_loss_weight(sized ? config_.onset_loss_weight : 0);
   if (sized) model_.set_onset_clearance(OnsetClearance(contact_radius_));
 }
@@ -321,7 +320,7 @@ void GnnTrainer::CountOnsetsAtADistance() {
   const size_t graph_entities = static_cast<size_t>(data_.graph_entities());
   onsets_at_a_distance_.assign(graph_entities, 0);
   onsets_while_moving_.assign(graph_entities * graph_entities, 0);
-  if (contact_radius_.size() != graph_entities) return;
+  if (!Sized()) return;
   const int n = data_.num_entities();
   const std::vector<double> clearance = OnsetClearance(contact_radius_);
   // the loss's own rule on the loss's own inputs (float motions), whole episodes in chunks

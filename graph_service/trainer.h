@@ -161,7 +161,8 @@ class GnnTrainer {
   // the onset weight's clearances (GnnModel::set_onset_clearance): the arm's onsets never
   // count; with a radius per graph entity, pushes and collisions do not either
   std::vector<double> OnsetClearance(const std::vector<double>& graph_radius) const;
-  void CountOnsetsAtADistance();                            // both counts; zeros without every radius
+  void CountOnsetsAtADistance();  // both counts; zeros without every radius
+  bool Sized() const { return contact_radius_.size() == static_cast<size_t>(data_.graph_entities()); }
   std::vector<std::pair<int, int>> TiedByEvidence() const;  // from both counts
   std::vector<int64_t> onsets_at_a_distance_, onsets_while_moving_;
   std::vector<std::pair<int, int>> tied_by_evidence_;

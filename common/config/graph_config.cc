@@ -76,9 +76,12 @@ void ParseGraph(YamlSection s, GraphConfig* out) {
     s.FailRule("tied_pair_threshold",
                "and untied_pair_threshold are both above 0 (the evidence sets each object pair's bar) or both 0 (off)");
   if (out->tied_pair_threshold > out->untied_pair_threshold)
-    s.FailRule("tied_pair_threshold", "must not exceed untied_pair_threshold (" +
-                                          std::to_string(out->untied_pair_threshold) +
-                                          "): evidence of a tie lowers an object pair's bar, never raises it");
+    s.FailRule("tied_pair_threshold",
+               "must not exceed untied_pair_threshold: evidence of a tie lowers an object pair's bar, never raises it");
+  if (out->pair_bars_on() && out->threshold <= 0)
+    s.FailRule("threshold",
+               "must be above 0 with the object pairs' bars (tied_pair_threshold, untied_pair_threshold): "
+               "each pair's score is scaled by threshold / its bar");
   if (out->ground_truth && !out->file.empty())
     s.FailRule("file", "and graph.ground_truth both name the graph to use: set one");
   if (out->min_updates > out->max_updates)

@@ -198,9 +198,10 @@ struct GraphConfig {
   // evidence, as for object sets, every edge does). On one fixed threshold the two kinds of miss
   // overlap: two free pucks keep their contact at up to 0.062 while the data show no pull, and
   // ties of five-object tables score 0.027-0.053 (tuning tables; docs/results.md, "A bar per
-  // pair"). Chosen on the tuning tables only.
+  // object pair"). Chosen on the tuning tables only.
   double tied_pair_threshold = 0.02;
   double untied_pair_threshold = 0.12;
+  bool pair_bars_on() const { return tied_pair_threshold > 0 && untied_pair_threshold > 0; }
   // a fresh Adam state when the gates start (end of the warm-up), with this beta2 (0.99, the
   // decay of the reference's RMSprop); see GnnTrainer::Update. Not in the reference.
   bool restart_adam_after_warmup = true;

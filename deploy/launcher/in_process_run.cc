@@ -424,7 +424,7 @@ int LearnGraph(const LearnGraphOptions& o) {
   InProcessOptions options;
   options.graph_only = true;
   bool printed_onsets = false;
-  options.on_graph_progress = [&printed_onsets](const graph_service::Progress& p) {
+  options.on_graph_progress = [&printed_onsets, &graph = config.graph](const graph_service::Progress& p) {
     if (!printed_onsets && !p.onsets_at_a_distance.empty()) {
       // the data's evidence of ties, before training: which objects ever start moving alone
       std::string counts;
@@ -443,13 +443,16 @@ int LearnGraph(const LearnGraphOptions& o) {
       if (!p.tied_by_evidence.empty()) {
         std::string pairs;
         for (const auto& [i, j] : p.tied_by_evidence) pairs += " " + std::to_string(i) + " <-> " + std::to_string(j);
-        std::printf(
-            "tied by that evidence (their edges' KL times graph.tie_kl_factor, kept above "
-            "graph.tied_pair_threshold):%s\n",
-            pairs.c_str());
-      } else if (p.tie_evidence_counted) {
-        std::printf("tied by that evidence: none (every object pair kept only above graph.untied_pair_threshold)\n");
+        std::printf("tied by that evidence (their edges' KL times graph.tie_kl_factor):%s\n", pairs.c_str());
       }
+      // what the read-out makes of it (tests/bench/gnn-acceptance/pair_bars.py reads this line)
+      if (p.tie_evidence_counted && graph.pair_bars_on() && graph.readout == config::GraphReadout::kMeanWeight)
+        std::printf("object pairs' bars: %g for a pair tied by that evidence, %g for any other (the arm's edges %g)\n",
+                    graph.tied_pair_threshold, graph.untied_pair_threshold, graph.threshold);
+      else
+        std::printf("object pairs' bars: none (%s): every edge above %g\n",
+                    p.tie_evidence_counted ? "off" : "no tie evidence counted",
+                    graph.readout == config::GraphReadout::kCut ? graph.cut_threshold : graph.threshold);
       printed_onsets = true;
     }
     std::printf(

@@ -477,6 +477,13 @@ TEST(GnnTrainerTest, TiedByEvidenceNamesThePairsThatStartMovingAtADistance) {
   EXPECT_TRUE(std::get<0>(tied({{1, 2}}, 0, 0.5)).empty());
   const double above = (static_cast<double>(std::max(onsets[1], onsets[2])) + 1) / 60;
   EXPECT_TRUE(std::get<0>(tied({{1, 2}}, above, 0.5)).empty());
+  // without every entity's radius nothing is counted: no pair named, and no bar per pair
+  const GraphDataset data = RandomToyEpisodes(3, {{1, 2}});
+  GnnTrainer unsized(SmallTrainerConfig(), data, 3);
+  unsized.SetContactRadii({0.03, 0.04, 0.04});  // one short
+  EXPECT_FALSE(unsized.tie_evidence_counted());
+  EXPECT_TRUE(unsized.tied_by_evidence().empty());
+  EXPECT_FALSE(unsized.Evaluate().tie_evidence_counted);
 }
 
 // Two ties on one table (ropes 1-2 and 3-4): all four pucks start moving at a distance, so

@@ -245,7 +245,7 @@ TEST(CalibrateObjectPairsTest, ScalesEachObjectPairToItsBar) {
   at(s, 2, 4) = at(s, 4, 2) = 0.07;
   at(s, 1, 2) = 0.08;  // from the static puck: not a pair of moving objects
   at(s, 4, 0) = 0.03;  // into the arm
-  at(s, 3, 4) = 0.5;   // an untied pair over any bar: capped
+  at(s, 3, 4) = 0.5;   // an untied pair: halved, one way only (the scores are taken as given)
   const std::vector<bool> moving = {true, false, true, true, true};
   const std::vector<double> r = CalibrateObjectPairs(s, 0, moving, {{3, 2}}, 0.06, 0.02, 0.12);
   EXPECT_DOUBLE_EQ(r[2 * n + 3], 0.045 * 3);  // 0.06 / 0.02

@@ -29,12 +29,13 @@ class PairBarsTest(unittest.TestCase):
         self.folder = tempfile.mkdtemp()
         self.addCleanup(shutil.rmtree, self.folder)
 
-    def write_run(self, name, pair_score, expected, evidence=None):
-        """A record of arm 0 and pucks 1, 2 read at 0.06: graph.json, result.txt and evidence.txt."""
+    def write_run(self, name, pair_score, expected, evidence=None, scores=None):
+        """A record read at 0.06 (arm 0 and pucks 1, 2 unless scores are given): graph.json,
+        result.txt and evidence.txt."""
         run = os.path.join(self.folder, "records", name)
         os.makedirs(run)
-        scores = [[0, 0.9, 0.8], [0.01, 0, pair_score], [0.005, pair_score, 0]]
-        graph = {"num_entities": 3, "action_entity": 0, "threshold": 0.06, "edge_scores": scores}
+        scores = scores or [[0, 0.9, 0.8], [0.01, 0, pair_score], [0.005, pair_score, 0]]
+        graph = {"num_entities": len(scores), "action_entity": 0, "threshold": 0.06, "edge_scores": scores}
         with open(os.path.join(run, "graph.json"), "w") as f:
             json.dump(graph, f)
         with open(os.path.join(run, "result.txt"), "w") as f:
@@ -74,6 +75,34 @@ class PairBarsTest(unittest.TestCase):
             f.write("[ 1.0s] collecting\n" + UNTIED)
         _, summary = self.run_bars("--evidence", os.path.join(self.folder, "evidence"))
         self.assertEqual((summary["without_evidence"], summary["exact"]), (0, 1))
+
+    def test_a_record_the_service_read_with_its_bars_is_final(self):
+        # scored 0.045 raw, 0.135 as the service published it: not scaled again (0.405)
+        self.write_run("rope-s1", 0.135, "action->0, 0->1, 0->2, 1->2, 2->1",
+                       TIED + "object pairs' bars: 0.02 for a pair tied by that evidence, 0.12 for any other "
+                              "(the arm's edges 0.06)\n")
+        out, summary = self.run_bars()
+        self.assertEqual((summary["read_by_the_service"], summary["without_evidence"], summary["exact"]), (1, 0, 1))
+        self.assertIn("| rope-s1 | read by the service | yes | 0.1350 | 0.0100 |", out)
+
+    def test_a_log_without_the_graph_by_construction_takes_the_records(self):
+        self.write_run("rope-s1", 0.045, "action->0, 0->1, 0->2, 1->2, 2->1", TIED.split("by construction")[0])
+        out, summary = self.run_bars()
+        self.assertEqual((summary["without_evidence"], summary["exact"]), (0, 1))
+        self.assertIn("| rope-s1 | 1-2 | yes | 0.1350 |", out)
+
+    def test_the_pair_share_cuts_the_scaled_scores(self):
+        # pucks 1-2 named at 0.06 (scaled 0.18), a contact 2-3 at 0.14 (scaled 0.07, over the
+        # threshold but under half the tie's 0.18: cut, as the service cuts after scaling)
+        scores = [[0, 0.9, 0.8, 0.7], [0.01, 0, 0.06, 0], [0.005, 0.06, 0, 0.14], [0.004, 0, 0.14, 0]]
+        evidence = ("onsets at a distance (per entity, nothing in reach: a tie's evidence): 0: 0 1: 40 2: 38 3: 0\n"
+                    "  ... while another object moves (i->j: j starts while i moves): 1->2: 37 2->1: 39\n"
+                    "by construction: action->0, 0->1, 0->2, 0->3, 1->2, 2->1\n")
+        self.write_run("rope-s1", None, "action->0, 0->1, 0->2, 0->3, 1->2, 2->1", evidence, scores)
+        _, summary = self.run_bars()
+        self.assertEqual(summary["misses"], [])
+        _, unshared = self.run_bars("--pair-share", "0")
+        self.assertEqual(unshared["misses"], ["rope-s1"])
 
     def test_a_tied_bar_above_the_untied_one_is_refused(self):
         self.write_run("rope-s1", 0.045, "action->0, 0->1, 0->2, 1->2, 2->1", TIED)

@@ -81,6 +81,17 @@ TEST(GraphPublishConfigTest, PairBarsOnByDefaultBothOrNeitherTiedNotAboveUntied)
       EXPECT_NE(std::string(e.what()).find("pair_threshold"), std::string::npos) << e.what();
     }
   }
+  // each pair's score is scaled by threshold / its bar: a threshold of 0 only with the bars off
+  try {
+    LoadConfig(Configs() + "env/relational-2.yaml", {"graph.threshold=0"});
+    FAIL() << "accepted graph.threshold=0 with the bars";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("graph.threshold"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(LoadConfig(Configs() + "env/relational-2.yaml",
+                       {"graph.threshold=0", "graph.tied_pair_threshold=0", "graph.untied_pair_threshold=0"})
+                .graph.threshold,
+            0);
   const std::string old =
       testing::WithoutRecordedKeys(plain.resolved_yaml, {"tied_pair_threshold", "untied_pair_threshold"});
   EXPECT_EQ(EarlierDefaultsOf(old, "record"),

@@ -80,7 +80,8 @@ TEST(LearnGraphArgsTest, TheSeedSurvivesSetOverrides) {
 // `srics learn-graph --evidence`: the random-action data's tie evidence and the graph by
 // construction, then a stop before any training (no graph published). Random table 9 ties
 // pucks 1 and 3 with a rope: in 60 episodes each end starts at a distance only while the other
-// moves (the counts by mover equal the counts per object), and no other object does.
+// moves (the counts by mover equal the counts per object), and no other object does: the pair is
+// named, and the read-out's bars for object pairs are printed (off when set to 0).
 TEST_F(SweepTest, LearnGraphEvidencePrintsTheDatasTieEvidenceAndStopsBeforeTraining) {
   const auto [code, text] =
       RunSrics(root_, {"learn-graph", "--random-table", "9", "--seed", "1", "--out", (root_ / "evidence").string(),
@@ -96,6 +97,15 @@ TEST_F(SweepTest, LearnGraphEvidencePrintsTheDatasTieEvidenceAndStopsBeforeTrain
   EXPECT_EQ(m[1], m[4]) << "puck 1 started while puck 3 moved";
   EXPECT_THAT(text, HasSubstr("by construction: action->0, 0->1, 0->3, 1->3, 3->1\n"));
   EXPECT_THAT(text, Not(HasSubstr("published graph")));
+  EXPECT_THAT(text, HasSubstr("tied by that evidence (their edges' KL times graph.tie_kl_factor): 1 <-> 3\n"));
+  EXPECT_THAT(text, HasSubstr("object pairs' bars: 0.02 for a pair tied by that evidence, 0.12 for any other "
+                              "(the arm's edges 0.06)\n"));
+  const auto [off_code, off] =
+      RunSrics(root_, {"learn-graph", "--random-table", "9", "--seed", "1", "--out", (root_ / "off").string(),
+                       "--evidence", "--set", "graph.episodes=60", "--set", "graph.tied_pair_threshold=0", "--set",
+                       "graph.untied_pair_threshold=0"});
+  ASSERT_EQ(off_code, 0) << off;
+  EXPECT_THAT(off, HasSubstr("object pairs' bars: none (off): every edge above 0.06\n"));
 }
 
 TEST_F(SweepTest, PlansOneRunFolderPerMethodAndSeedWithItsOwnRunId) {
